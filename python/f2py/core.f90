@@ -1,0 +1,60 @@
+! f2py-facing layer for the core concern (pendula_physics). Plain subroutines,
+! c_double/c_int arguments, explicit-shape arrays, and a status code + message
+! that the Python side turns into an exception.  No numerics here.
+
+subroutine natural_frequency_f2py(g, l, w0, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t
+  use pendula_physics, only: natural_frequency
+  implicit none
+  !f2py threadsafe
+  real(c_double), intent(in) :: g, l
+  real(c_double), intent(out) :: w0
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  call natural_frequency(g, l, w0, st)
+  code = st%code
+  msg = st%message
+end subroutine natural_frequency_f2py
+
+subroutine damping_rate_f2py(b, mass, gamma, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t
+  use pendula_physics, only: damping_rate
+  implicit none
+  !f2py threadsafe
+  real(c_double), intent(in) :: b, mass
+  real(c_double), intent(out) :: gamma
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  call damping_rate(b, mass, gamma, st)
+  code = st%code
+  msg = st%message
+end subroutine damping_rate_f2py
+
+subroutine small_angle_period_f2py(n, w0, t0, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_physics, only: small_angle_period
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: w0(n)
+  real(c_double), intent(out) :: t0(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  do i = 1, n
+    call small_angle_period(w0(i), t0(i), st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+  end do
+end subroutine small_angle_period_f2py

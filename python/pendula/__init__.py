@@ -1,0 +1,32 @@
+"""pendula: the simple pendulum, exact where mathematics allows.
+
+A Fortran library with a Python API (f2py).  Special functions (complete and
+incomplete elliptic integrals, Jacobi elliptic functions), the undamped
+pendulum in closed form for any initial state, the linear damped pendulum in
+closed form, the nonlinear damped pendulum by RK4 and SUNDIALS CVODE, and
+scenes answered by the cheapest model that meets a tolerance.
+
+Units throughout: angles in rad, angular velocities in rad/s, times in s,
+rates (w0, gamma) in 1/s, g in m/s^2, lengths in m, masses in kg, b in kg/s.
+"""
+from ._config import HAVE_CVODE as _HAVE_CVODE, VERSION as __version__
+from ._errors import PendulaSolverError
+from . import physics as _physics
+from .physics import *  # noqa: F401,F403
+
+# Each concern module defines __all__; the package's public API is their union.
+# <concern imports: one line each, `from . import X as _X` then `from .X import *`>
+
+__all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "have_cvode"]
+                     # <concern __all__: one `+ _X.__all__` line each>
+                     ))
+
+
+def build_info():
+    """What this build contains: version and whether CVODE (SUNDIALS) was built."""
+    return {"version": __version__, "cvode": bool(_HAVE_CVODE)}
+
+
+def have_cvode():
+    """True when this build includes the SUNDIALS CVODE integrator."""
+    return bool(_HAVE_CVODE)

@@ -1,0 +1,53 @@
+!> Physical parameters of the pendulum as the text writes them (§1, §2):
+!> g [m/s^2], l [m], mass m [kg], damping coefficient b [kg/s], and the
+!> derived rates w0 = sqrt(g/l) [1/s] and gamma = b/m [1/s].
+module pendula_physics
+  use pendula_kinds, only: wp
+  use pendula_status, only: status_t, check_positive, check_nonnegative, PENDULA_OK
+  implicit none
+  private
+  public :: natural_frequency, damping_rate, small_angle_period, pi
+
+  real(wp), parameter :: pi = 3.141592653589793238462643383279502884_wp
+
+contains
+
+  !> Natural angular frequency w0 = sqrt(g/l) [1/s] (eq. 1.7).
+  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.
+  pure subroutine natural_frequency(g, l, w0, status)
+    real(wp), intent(in) :: g, l
+    real(wp), intent(out) :: w0
+    type(status_t), intent(out) :: status
+    w0 = 0
+    call check_positive('g', g, status)
+    call check_positive('l', l, status)
+    if (status%code /= PENDULA_OK) return
+    w0 = sqrt(g / l)
+  end subroutine natural_frequency
+
+  !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite;
+  !> otherwise status is set and gamma = 0.
+  pure subroutine damping_rate(b, mass, gamma, status)
+    real(wp), intent(in) :: b, mass
+    real(wp), intent(out) :: gamma
+    type(status_t), intent(out) :: status
+    gamma = 0
+    call check_nonnegative('b', b, status)
+    call check_positive('mass', mass, status)
+    if (status%code /= PENDULA_OK) return
+    gamma = b / mass
+  end subroutine damping_rate
+
+  !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 > 0 finite; otherwise
+  !> status is set and T0 = 0.  Correctly rounded up to the division: 1 ulp.
+  pure subroutine small_angle_period(w0, t0, status)
+    real(wp), intent(in) :: w0
+    real(wp), intent(out) :: t0
+    type(status_t), intent(out) :: status
+    t0 = 0
+    call check_positive('w0', w0, status)
+    if (status%code /= PENDULA_OK) return
+    t0 = 2 * pi / w0
+  end subroutine small_angle_period
+
+end module pendula_physics

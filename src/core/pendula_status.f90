@@ -1,0 +1,251 @@
+!> Status codes, messages and argument checks shared by every non-elemental procedure.
+!>
+!> Library code never stops or prints: a procedure that can fail takes a
+!> `type(status_t), intent(out) :: status` and fills it.  The codes below are the
+!> single table of failure kinds; the Python layer maps them to exceptions
+!> (argument errors -> ValueError, solver failures -> RuntimeError).
+module pendula_status
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+  use pendula_kinds, only: wp
+  implicit none
+  private
+
+  public :: status_t, status_ok, set_error, code_name
+  public :: check_finite, check_positive, check_nonnegative, check_range, &
+            check_all_finite, check_increasing, check_size
+  public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
+            PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
+            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_MSG_LEN
+
+  integer, parameter :: PENDULA_OK = 0
+  !> An argument is NaN or infinite where a finite value is required.
+  integer, parameter :: PENDULA_ERR_NONFINITE = 1
+  !> An argument is finite but outside its valid range.
+  integer, parameter :: PENDULA_ERR_DOMAIN = 2
+  !> Array sizes disagree, or an array is empty where values are required.
+  integer, parameter :: PENDULA_ERR_SIZE = 3
+  !> Output times are not strictly increasing.
+  integer, parameter :: PENDULA_ERR_ORDER = 4
+  !> A fixed step lies outside the method's stability region.
+  integer, parameter :: PENDULA_ERR_UNSTABLE = 5
+  !> An integrator (CVODE) reported a failure.
+  integer, parameter :: PENDULA_ERR_SOLVER = 6
+  !> The requested feature was not built (e.g. CVODE without SUNDIALS).
+  integer, parameter :: PENDULA_ERR_UNAVAILABLE = 7
+  !> The step budget was exhausted before the end of the window.
+  integer, parameter :: PENDULA_ERR_MAXSTEPS = 8
+
+  integer, parameter :: PENDULA_MSG_LEN = 256
+
+  !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
+  !> the table above and a message naming the argument and its valid range.
+  type :: status_t
+    integer :: code = PENDULA_OK
+    character(len=PENDULA_MSG_LEN) :: message = ''
+  end type status_t
+
+contains
+
+  !> True when `status` holds no error.
+  elemental logical function status_ok(status)
+    type(status_t), intent(in) :: status
+    status_ok = status%code == PENDULA_OK
+  end function status_ok
+
+  !> Record an error (only the first error of a call is kept).
+  pure subroutine set_error(status, code, message)
+    type(status_t), intent(inout) :: status
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: message
+    if (status%code /= PENDULA_OK) return
+    status%code = code
+    status%message = message
+  end subroutine set_error
+
+  !> Short name of a status code, for messages and logs.
+  pure function code_name(code) result(name)
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    select case (code)
+    case (PENDULA_OK);              name = 'ok'
+    case (PENDULA_ERR_NONFINITE);   name = 'non-finite argument'
+    case (PENDULA_ERR_DOMAIN);      name = 'argument out of range'
+    case (PENDULA_ERR_SIZE);        name = 'bad array size'
+    case (PENDULA_ERR_ORDER);       name = 'times not increasing'
+    case (PENDULA_ERR_UNSTABLE);    name = 'unstable step'
+    case (PENDULA_ERR_SOLVER);      name = 'solver failure'
+    case (PENDULA_ERR_UNAVAILABLE); name = 'not available in this build'
+    case (PENDULA_ERR_MAXSTEPS);    name = 'step budget exhausted'
+    case default;                   name = 'unknown status'
+    end select
+  end function code_name
+
+  !> Format a real for messages like C's "%.15g": 0.1 prints as 0.1,
+  !> -1 as -1, 1e300 as 1e+300.
+  pure function fmt(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=40) :: buf
+    character(len=:), allocatable :: mant
+    integer :: epos, expo, last
+    if (ieee_is_nan(x)) then
+      s = 'NaN'
+      return
+    else if (.not. ieee_is_finite(x)) then
+      s = merge('+Inf', '-Inf', x > 0)
+      return
+    end if
+    write (buf, '(es23.14e3)') x
+    buf = adjustl(buf)
+    epos = index(buf, 'E')
+    mant = buf(1:epos-1)
+    read (buf(epos+1:), *) expo
+    last = len(mant)
+    do while (mant(last:last) == '0')
+      last = last - 1
+    end do
+    if (mant(last:last) == '.') last = last - 1
+    mant = mant(1:last)
+    if (expo >= -4 .and. expo < 15) then
+      s = shift_point(mant, expo)
+    else
+      write (buf, '(i0)') abs(expo)
+      s = mant // 'e' // merge('+', '-', expo >= 0) // trim(buf)
+    end if
+  end function fmt
+
+  !> Move the decimal point of a mantissa "d.ddd" (optionally signed) by expo.
+  pure function shift_point(mant, expo) result(s)
+    character(len=*), intent(in) :: mant
+    integer, intent(in) :: expo
+    character(len=:), allocatable :: s, sign, digits
+    integer :: p
+    sign = ''
+    digits = mant
+    if (mant(1:1) == '-') then
+      sign = '-'
+      digits = mant(2:)
+    end if
+    p = index(digits, '.')
+    if (p > 0) digits = digits(1:p-1) // digits(p+1:)
+    ! digits now holds d1 d2 ... with the point after d1, i.e. at position 1 + expo
+    if (expo < 0) then
+      s = sign // '0.' // repeat('0', -expo - 1) // digits
+    else if (expo + 1 >= len(digits)) then
+      s = sign // digits // repeat('0', expo + 1 - len(digits))
+    else
+      s = sign // digits(1:expo+1) // '.' // digits(expo+2:)
+    end if
+  end function shift_point
+
+  !> Require `x` finite.
+  pure subroutine check_finite(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) call set_error(status, PENDULA_ERR_NONFINITE, &
+        name // ' = ' // fmt(x) // ' is invalid: it must be a finite real number')
+  end subroutine check_finite
+
+  !> Require `x` finite and > 0.
+  pure subroutine check_positive(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, &
+          name // ' = ' // fmt(x) // ' is invalid: it must be finite and > 0')
+    else if (.not. x > 0) then
+      call set_error(status, PENDULA_ERR_DOMAIN, &
+          name // ' = ' // fmt(x) // ' is out of range: it must be finite and > 0')
+    end if
+  end subroutine check_positive
+
+  !> Require `x` finite and >= 0.
+  pure subroutine check_nonnegative(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, &
+          name // ' = ' // fmt(x) // ' is invalid: it must be finite and >= 0')
+    else if (.not. x >= 0) then
+      call set_error(status, PENDULA_ERR_DOMAIN, &
+          name // ' = ' // fmt(x) // ' is out of range: it must be finite and >= 0')
+    end if
+  end subroutine check_nonnegative
+
+  !> Require lo <= x <= hi (x finite). `range_text` describes the range for the
+  !> message, e.g. '[0, 1]'.
+  pure subroutine check_range(name, x, lo, hi, range_text, status)
+    character(len=*), intent(in) :: name, range_text
+    real(wp), intent(in) :: x, lo, hi
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, &
+          name // ' = ' // fmt(x) // ' is invalid: it must be finite and in ' // range_text)
+    else if (x < lo .or. x > hi) then
+      call set_error(status, PENDULA_ERR_DOMAIN, &
+          name // ' = ' // fmt(x) // ' is out of range: it must be in ' // range_text)
+    end if
+  end subroutine check_range
+
+  !> Require every element of `x` finite; the message names the first bad index.
+  pure subroutine check_all_finite(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x(:)
+    type(status_t), intent(inout) :: status
+    integer :: i
+    character(len=16) :: ibuf
+    if (status%code /= PENDULA_OK) return
+    do i = 1, size(x)
+      if (.not. ieee_is_finite(x(i))) then
+        write (ibuf, '(i0)') i - 1
+        call set_error(status, PENDULA_ERR_NONFINITE, name // '[' // trim(ibuf) // '] = ' // &
+            fmt(x(i)) // ' is invalid: every element must be a finite real number')
+        return
+      end if
+    end do
+  end subroutine check_all_finite
+
+  !> Require `x` strictly increasing (and finite); the message names the first
+  !> offending index (0-based, as Python users see it).
+  pure subroutine check_increasing(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x(:)
+    type(status_t), intent(inout) :: status
+    integer :: i
+    character(len=16) :: ibuf
+    call check_all_finite(name, x, status)
+    if (status%code /= PENDULA_OK) return
+    do i = 2, size(x)
+      if (.not. x(i) > x(i-1)) then
+        write (ibuf, '(i0)') i - 1
+        call set_error(status, PENDULA_ERR_ORDER, name // ' must be strictly increasing, but ' // &
+            name // '[' // trim(ibuf) // '] = ' // fmt(x(i)) // ' does not exceed the previous value ' // &
+            fmt(x(i-1)))
+        return
+      end if
+    end do
+  end subroutine check_increasing
+
+  !> Require size(x) >= min_size.
+  pure subroutine check_size(name, n, min_size, status)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: n, min_size
+    type(status_t), intent(inout) :: status
+    character(len=16) :: b1, b2
+    if (status%code /= PENDULA_OK) return
+    if (n < min_size) then
+      write (b1, '(i0)') n
+      write (b2, '(i0)') min_size
+      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // trim(b1) // &
+          ' element(s): it needs at least ' // trim(b2))
+    end if
+  end subroutine check_size
+
+end module pendula_status

@@ -1,0 +1,9 @@
+!> Umbrella module: `use pendula` gives the whole public Fortran API.
+module pendula
+  use pendula_kinds
+  use pendula_status
+  use pendula_physics
+  ! <concern modules: one `use` line each, kept in architecture order>
+  implicit none
+  public
+end module pendula

@@ -1,0 +1,83 @@
+!> Minimal assertion toolkit for the Fortran tests (test code, not library).
+!>
+!> Each test program creates a `checker_t`, calls `check_*`, and ends with
+!> `call t%report()`, which prints "N passed, N failed" and sets the exit code
+!> (meson reads the exit code; the line is for people and CI logs).
+module pendula_testing
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
+  use pendula_kinds, only: wp
+  implicit none
+  private
+  public :: checker_t, ulps_between
+
+  type :: checker_t
+    integer :: passed = 0
+    integer :: failed = 0
+  contains
+    procedure :: check_true
+    procedure :: check_close
+    procedure :: check_ulps
+    procedure :: report
+  end type checker_t
+
+contains
+
+  !> Distance between a and b in units of eps * max(|a|, |b|, tiny).
+  elemental real(wp) function ulps_between(a, b) result(u)
+    real(wp), intent(in) :: a, b
+    real(wp) :: scale
+    if (a == b) then
+      u = 0
+    else if (ieee_is_nan(a) .or. ieee_is_nan(b)) then
+      u = huge(1.0_wp)
+    else
+      scale = max(abs(a), abs(b), tiny(1.0_wp))
+      u = abs(a - b) / (epsilon(1.0_wp) * scale)
+    end if
+  end function ulps_between
+
+  subroutine check_true(self, cond, label)
+    class(checker_t), intent(inout) :: self
+    logical, intent(in) :: cond
+    character(len=*), intent(in) :: label
+    if (cond) then
+      self%passed = self%passed + 1
+    else
+      self%failed = self%failed + 1
+      write (*, '(a)') 'FAIL: ' // label
+    end if
+  end subroutine check_true
+
+  !> |got - want| <= abs_tol + rel_tol*|want|
+  subroutine check_close(self, got, want, rel_tol, abs_tol, label)
+    class(checker_t), intent(inout) :: self
+    real(wp), intent(in) :: got, want, rel_tol, abs_tol
+    character(len=*), intent(in) :: label
+    logical :: ok
+    ok = abs(got - want) <= abs_tol + rel_tol * abs(want)
+    if (ieee_is_nan(want)) ok = ieee_is_nan(got)
+    if (.not. ok) write (*, '(a, 2es26.17)') 'FAIL: ' // label // ' got, want =', got, want
+    call self%check_true(ok, label)
+  end subroutine check_close
+
+  !> got within max_ulps of want (relative, in eps units).
+  subroutine check_ulps(self, got, want, max_ulps, label)
+    class(checker_t), intent(inout) :: self
+    real(wp), intent(in) :: got, want, max_ulps
+    character(len=*), intent(in) :: label
+    real(wp) :: u
+    u = ulps_between(got, want)
+    if (u > max_ulps) write (*, '(a, 2es26.17, a, es10.3)') 'FAIL: ' // label // ' got, want =', &
+        got, want, ' ulps =', u
+    call self%check_true(u <= max_ulps, label)
+  end subroutine check_ulps
+
+  !> Print the closing line and exit non-zero on any failure.
+  subroutine report(self, name)
+    class(checker_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    write (*, '(a, i0, a, i0, a)') name // ': ', self%passed, ' passed, ', self%failed, ' failed'
+    if (self%failed > 0) error stop 1
+  end subroutine report
+
+end module pendula_testing
