@@ -1,0 +1,59 @@
+"""Core concern: physical parameters (text eqs 1.7, 1.8, 2.1) and error plumbing."""
+import math
+
+import numpy as np
+import pytest
+
+import pendula
+
+
+def test_text_parameters_give_sqrt2():
+    # g = 9.8 m/s^2, l = 4.9 m as throughout the text: w0 = sqrt(2) to 1 ulp.
+    w0 = pendula.natural_frequency(g=9.8, length=4.9)
+    assert abs(w0 - math.sqrt(2.0)) <= 1 * np.spacing(math.sqrt(2.0))
+
+
+def test_small_angle_period_broadcasts_and_is_exact():
+    w0 = np.array([[0.5, 1.0], [2.0, math.sqrt(2.0)]])
+    t0 = pendula.small_angle_period(w0)
+    assert t0.shape == (2, 2)
+    np.testing.assert_allclose(t0, 2 * math.pi / w0, rtol=2 * np.finfo(float).eps, atol=0)
+    assert isinstance(pendula.small_angle_period(1.0), float)
+
+
+def test_damping_rate():
+    assert pendula.damping_rate(b=0.05, mass=0.1) == pytest.approx(0.5, rel=1e-15)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(g=-9.8, length=4.9), "g"),
+    (dict(g=9.8, length=0.0), "length"),
+    (dict(g=float("nan"), length=4.9), "g"),
+    (dict(g=9.8, length=float("inf")), "length"),
+])
+def test_bad_parameters_name_the_argument(kwargs, name):
+    with pytest.raises(ValueError) as err:
+        pendula.natural_frequency(**kwargs)
+    # The Fortran core calls the length 'l' (as the text does).
+    msg = str(err.value)
+    assert msg.startswith(name[0]) and ("> 0" in msg or "finite" in msg)
+
+
+def test_bad_types_raise_typeerror():
+    with pytest.raises(TypeError):
+        pendula.natural_frequency(g="9.8")
+    with pytest.raises(TypeError):
+        pendula.small_angle_period(np.array([1 + 1j]))
+
+
+def test_input_not_modified():
+    w0 = np.array([1.0, 2.0])
+    keep = w0.copy()
+    pendula.small_angle_period(w0)
+    assert np.array_equal(w0, keep)
+
+
+def test_build_info():
+    info = pendula.build_info()
+    assert info["version"] == pendula.__version__
+    assert isinstance(info["cvode"], bool) and info["cvode"] == pendula.have_cvode()
