@@ -1,0 +1,385 @@
+"""Bad input, everywhere (issue 9): every public function of ``pendula``.
+
+The table ``API`` below has one entry per public callable in ``pendula.__all__``.
+Each entry gives a call that must succeed (finite results) and, per argument,
+a *kind* (finite real, > 0, >= 0, increasing times, ...).  From the kinds the
+test generates the bad inputs: NaN and +-Inf, wrong signs, strings, None,
+complex numbers, object and string arrays, arrays with one NaN element, empty
+arrays, 2-D arrays where 1-D times are wanted, non-increasing and repeated
+times, incompatible shapes, out-of-range choices and counts.  Each must raise
+ValueError or TypeError whose message names the argument (or the name the
+Fortran core uses for it) -- never a silent NaN, garbage, a crash.  Array
+arguments are passed as numpy arrays and compared with copies afterwards: the
+library must never modify its input.
+
+Elliptic special functions follow their own documented rule (NaN in -> NaN
+out, finite out-of-domain -> ValueError); their entries say so with
+``nan="propagate"``.
+
+A new public function without an entry here, or an entry that declares no
+checked argument, FAILS ``test_every_public_callable_has_an_entry``: add it to
+the table (that is the point).
+"""
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import math
+import numbers
+
+import numpy as np
+import pytest
+
+import pendula
+
+NAN = float("nan")
+INF = float("inf")
+
+# ---- argument kinds ---------------------------------------------------------
+REAL = "real"          # any finite real (angles, velocities, a time)
+POS = "positive"       # finite and > 0 (g, l, m, w0, h, rtol, tol, ...)
+NONNEG = "nonneg"      # finite and >= 0 (gamma, b, atol, ...)
+TIMES = "times"        # 1-D, non-empty, finite, strictly increasing
+CHOICE = "choice"      # a string from a fixed set
+COUNT = "count"        # a positive integer
+OTHER = "other"        # checked by ``extra`` cases only
+
+
+@dataclasses.dataclass
+class Arg:
+    kind: str
+    # Names the message may use for this argument instead of the Python name
+    # (the Fortran core writes the text's symbols: l, m, ...).
+    aliases: tuple = ()
+    # Accepts arrays (broadcast elementwise); scalar-only arguments get a
+    # 1-element array as a wrong-shape case instead.
+    array: bool = False
+    # Extra bad values: (value, exception type).
+    extra: tuple = ()
+    # Values of a finite real that are out of domain (ValueError).
+    out_of_domain: tuple = ()
+
+
+@dataclasses.dataclass
+class Entry:
+    valid: dict
+    args: dict
+    nan: str = "raise"          # "propagate": NaN in -> NaN out (elliptic rule)
+    needs_cvode: bool = False
+    # Arguments of the signature deliberately not checked, with the reason.
+    unchecked: dict = dataclasses.field(default_factory=dict)
+
+
+# Public names that are not numerical entry points.
+NOT_ENTRY_POINTS = {
+    "PendulaSolverError": "exception class",
+    "build_info": "no arguments: build configuration",
+    "have_cvode": "no arguments: build configuration",
+}
+
+# ---- the table ----------------------------------------------------------------
+API: dict[str, Entry] = {
+    # physics (core)
+    "natural_frequency": Entry(
+        valid=dict(g=9.8, length=4.9),
+        args=dict(g=Arg(POS), length=Arg(POS, aliases=("l",)))),
+    "damping_rate": Entry(
+        valid=dict(b=0.05, mass=0.1),
+        args=dict(b=Arg(NONNEG), mass=Arg(POS, aliases=("m",)))),
+    "small_angle_period": Entry(
+        valid=dict(w0=1.5),
+        args=dict(w0=Arg(POS, array=True))),
+}
+
+
+# ---- helpers --------------------------------------------------------------------
+def _have_cvode():
+    return bool(pendula.have_cvode())
+
+
+def _public_callables():
+    out = {}
+    for name in pendula.__all__:
+        obj = getattr(pendula, name)
+        if callable(obj) and name not in NOT_ENTRY_POINTS:
+            out[name] = obj
+    return out
+
+
+def _walk_numbers(result):
+    """Every float/complex found in a result (arrays, tuples, dicts, objects)."""
+    if result is None or isinstance(result, (str, bytes, bool)):
+        return
+    if isinstance(result, numbers.Number):
+        yield result
+    elif isinstance(result, np.ndarray):
+        if result.dtype.kind in "fc":
+            yield from result.ravel().tolist()
+        elif result.dtype == object:
+            for x in result.ravel():
+                yield from _walk_numbers(x)
+    elif isinstance(result, dict):
+        for v in result.values():
+            yield from _walk_numbers(v)
+    elif isinstance(result, (list, tuple)):
+        for v in result:
+            yield from _walk_numbers(v)
+    elif dataclasses.is_dataclass(result):
+        for f in dataclasses.fields(result):
+            yield from _walk_numbers(getattr(result, f.name))
+    elif hasattr(result, "__dict__"):
+        for k, v in vars(result).items():
+            if not k.startswith("_"):
+                yield from _walk_numbers(v)
+
+
+def _all_nan(result):
+    vals = list(_walk_numbers(result))
+    return bool(vals) and all(isinstance(v, numbers.Number) and v != v for v in vals)
+
+
+def _snapshot(kwargs):
+    return {k: np.array(v, copy=True) for k, v in kwargs.items() if isinstance(v, np.ndarray)}
+
+
+def _assert_unmodified(kwargs, snap):
+    for k, before in snap.items():
+        after = kwargs[k]
+        assert after.shape == before.shape and after.dtype == before.dtype, \
+            f"argument {k} changed shape/dtype in the call"
+        if before.dtype.kind in "fc":
+            assert np.array_equal(after, before, equal_nan=True), f"argument {k} was modified in place"
+        else:
+            assert all(a is b or a == b for a, b in zip(after.ravel(), before.ravel())), \
+                f"argument {k} was modified in place"
+
+
+def _as_array_arg(value):
+    if isinstance(value, np.ndarray):
+        return value
+    return np.array([value, value], dtype=float)
+
+
+# ---- case generation ----------------------------------------------------------------
+@dataclasses.dataclass
+class Case:
+    func: str
+    arg: str
+    label: str
+    value: object
+    expect: object          # exception type, or "nan" (NaN out), or "error-or-empty"
+    others: dict = dataclasses.field(default_factory=dict)   # overrides of other args
+
+    @property
+    def id(self):
+        return f"{self.func}-{self.arg}-{self.label}"
+
+
+class _Obj:
+    pass
+
+
+def _cases_for(fname, entry):
+    cases = []
+    for aname, spec in entry.args.items():
+        v = entry.valid[aname]
+        add = lambda label, value, expect, others=None: cases.append(  # noqa: E731
+            Case(fname, aname, label, value, expect, others or {}))
+        if spec.kind in (REAL, POS, NONNEG, TIMES):
+            # non-finite values
+            if spec.kind == TIMES:
+                base = np.asarray(v, dtype=float)
+                for label, bad in (("nan", NAN), ("inf", INF), ("-inf", -INF)):
+                    t = base.copy()
+                    t[-1] = bad
+                    add(label, t, ValueError)
+            else:
+                nan_expect = "nan" if entry.nan == "propagate" else ValueError
+                add("nan", NAN, nan_expect)
+                if not spec.out_of_domain or INF not in spec.out_of_domain:
+                    add("inf", INF, ValueError if entry.nan == "raise" else (ValueError, "finite"))
+                if not spec.out_of_domain or -INF not in spec.out_of_domain:
+                    add("-inf", -INF, ValueError if entry.nan == "raise" else (ValueError, "finite"))
+                if spec.array:
+                    add("array-with-nan", np.array([v, NAN]), "nan-element" if entry.nan == "propagate"
+                        else ValueError)
+                    add("array-with-inf", np.array([v, INF]), ValueError if entry.nan == "raise"
+                        else (ValueError, "finite"))
+                    add("empty-array", np.array([], dtype=float), "error-or-empty")
+                    add("object-array", np.array([v, _Obj()], dtype=object), TypeError)
+                    add("string-array", np.array(["1.0", "2.0"]), TypeError)
+                    add("complex-array", np.array([v + 1j, v]), TypeError)
+                else:
+                    add("1-element-array", np.array([v]), (ValueError, TypeError))
+                    add("2-element-array", np.array([v, v]), (ValueError, TypeError))
+            # wrong signs
+            if spec.kind == POS:
+                add("zero", 0.0, ValueError)
+                add("negative", -abs(v) if v else -1.0, ValueError)
+                add("-0.0", -0.0, ValueError)
+            elif spec.kind == NONNEG:
+                add("negative", -1.0, ValueError)
+                add("tiny-negative", -5e-324, ValueError)
+            for i, bad in enumerate(spec.out_of_domain):
+                add(f"out-of-domain-{i}", bad, ValueError)
+            # wrong types
+            add("string", "1.0", TypeError)
+            add("None", None, TypeError)
+            add("complex", complex(float(np.ravel(v)[0]), 1.0), TypeError)
+            add("object", _Obj(), TypeError)
+            add("list-of-strings", ["a", "b"], TypeError)
+            if spec.kind == TIMES:
+                base = np.asarray(v, dtype=float)
+                add("empty", np.array([], dtype=float), ValueError)
+                rep = base.copy()
+                rep[-1] = rep[-2]
+                add("repeated", rep, ValueError)
+                add("decreasing", base[::-1].copy(), ValueError)
+                add("2-D", np.stack([base, base + 1]), ValueError)
+        elif spec.kind == CHOICE:
+            add("unknown", "no-such-choice", ValueError)
+            add("None", None, (TypeError, ValueError))
+            add("number", 1.0, (TypeError, ValueError))
+        elif spec.kind == COUNT:
+            add("zero", 0, ValueError)
+            add("negative", -3, ValueError)
+            add("float", 2.5, (TypeError, ValueError))
+            add("string", "10", TypeError)
+            add("None", None, TypeError)
+        for i, (bad, exc) in enumerate(spec.extra):
+            add(f"extra-{i}", bad, exc)
+    # incompatible shapes between two array arguments
+    arr = [a for a, s in entry.args.items() if s.array and s.kind in (REAL, POS, NONNEG)]
+    if len(arr) >= 2:
+        a, b = arr[:2]
+        cases.append(Case(fname, a, f"shape-mismatch-with-{b}",
+                          np.full(2, entry.valid[a], dtype=float), ValueError,
+                          {b: np.full(3, entry.valid[b], dtype=float)}))
+    return cases
+
+
+ALL_CASES = [c for f, e in API.items() for c in _cases_for(f, e)]
+
+
+def _call(fname, kwargs):
+    return getattr(pendula, fname)(**kwargs)
+
+
+def _skip_if_unavailable(entry):
+    if entry.needs_cvode and not _have_cvode():
+        pytest.skip("CVODE not built")
+
+
+# ---- the tests -------------------------------------------------------------------------
+def test_every_public_callable_has_an_entry():
+    public = _public_callables()
+    missing = sorted(set(public) - set(API))
+    assert not missing, ("public functions without a bad-input entry in "
+                         f"tests/python/test_bad_input.py: {missing}")
+    stale = sorted(set(API) - set(public))
+    assert not stale, f"table entries that are not public callables: {stale}"
+    for name, entry in API.items():
+        assert entry.args, f"{name}: an entry must declare at least one checked argument"
+        sig = inspect.signature(public[name])
+        params = {p.name for p in sig.parameters.values()
+                  if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)}
+        unknown = set(entry.args) - params
+        assert not unknown, f"{name}: table names arguments it does not have: {unknown}"
+        # Every real-valued or array parameter must be checked (or excused).
+        for p in sig.parameters.values():
+            if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
+                continue
+            if p.name in entry.args or p.name in entry.unchecked:
+                continue
+            d = p.default
+            assert d is None or isinstance(d, (bool, str)), (
+                f"{name}({p.name}=...) has no entry in the bad-input table "
+                "(add it to args, or to unchecked with a reason)")
+
+
+@pytest.mark.parametrize("fname", sorted(API))
+def test_valid_call_gives_finite_results_and_keeps_inputs(fname):
+    entry = API[fname]
+    _skip_if_unavailable(entry)
+    kwargs = {k: (np.array(v, dtype=float) if isinstance(v, (list, tuple)) else v)
+              for k, v in entry.valid.items()}
+    snap = _snapshot(kwargs)
+    result = _call(fname, kwargs)
+    _assert_unmodified(kwargs, snap)
+    vals = list(_walk_numbers(result))
+    assert vals, f"{fname}: the valid call returned no numbers"
+    assert all(np.isfinite(v) for v in vals), f"{fname}: the valid call returned non-finite values"
+    # Array variants of array arguments: broadcasting keeps them untouched too.
+    for aname, spec in entry.args.items():
+        if spec.array:
+            kw = dict(kwargs)
+            kw[aname] = _as_array_arg(entry.valid[aname])
+            snap = _snapshot(kw)
+            res = _call(fname, kw)
+            _assert_unmodified(kw, snap)
+            assert all(np.isfinite(v) for v in _walk_numbers(res))
+
+
+def _names_argument(msg, aname, spec):
+    low = msg.lower()
+    names = (aname,) + tuple(spec.aliases)
+    import re
+    for n in names:
+        if re.search(r"(?<![A-Za-z0-9_])" + re.escape(n.lower()) + r"(?![A-Za-z0-9_])", low):
+            return True
+    return False
+
+
+@pytest.mark.parametrize("case", ALL_CASES, ids=[c.id for c in ALL_CASES])
+def test_bad_input(case):
+    entry = API[case.func]
+    _skip_if_unavailable(entry)
+    spec = entry.args[case.arg]
+    kwargs = {k: (np.array(v, dtype=float) if isinstance(v, (list, tuple)) else v)
+              for k, v in entry.valid.items()}
+    kwargs.update(case.others)
+    kwargs[case.arg] = case.value
+    snap = _snapshot(kwargs)
+    expect = case.expect
+    if expect == "nan":
+        result = _call(case.func, kwargs)
+        assert _all_nan(result), f"{case.id}: NaN in must give NaN out, got {result!r}"
+    elif expect == "nan-element":
+        result = _call(case.func, kwargs)
+        arr = np.asarray(result, dtype=float)
+        assert np.isnan(arr[..., 1]).all() and np.isfinite(arr[..., 0]).all(), \
+            f"{case.id}: NaN element must give NaN only there, got {result!r}"
+    elif expect == "error-or-empty":
+        try:
+            result = _call(case.func, kwargs)
+        except ValueError as exc:
+            assert _names_argument(str(exc), case.arg, spec), \
+                f"{case.id}: message does not name {case.arg!r}: {exc}"
+        else:
+            vals = list(_walk_numbers(result))
+            assert not vals or all(np.isfinite(v) for v in vals)
+            arrs = [np.asarray(r) for r in (result if isinstance(result, tuple) else (result,))]
+            assert any(a.size == 0 for a in arrs), \
+                f"{case.id}: empty input must give an empty result or ValueError, got {result!r}"
+    else:
+        exc_types = expect
+        if isinstance(expect, tuple) and len(expect) == 2 and expect[1] == "finite":
+            exc_types = expect[0]
+        with pytest.raises(exc_types) as info:
+            result = _call(case.func, kwargs)
+            pytest.fail(f"{case.id}: no exception, returned {result!r}")  # pragma: no cover
+        msg = str(info.value)
+        if case.arg in case.others or case.label.startswith("shape-mismatch"):
+            assert _names_argument(msg, case.arg, spec) or "shape" in msg.lower() or "broadcast" in msg.lower()
+        else:
+            assert _names_argument(msg, case.arg, spec), \
+                f"{case.id}: message does not name {case.arg!r}: {msg!r}"
+    _assert_unmodified(kwargs, snap)
+
+
+def test_case_count_report():
+    """Not a check of the library: records how much this file tries."""
+    n_entry = len(API)
+    n_cases = len(ALL_CASES)
+    print(f"\nbad-input table: {n_entry} entry points, {n_cases} bad inputs")
+    assert n_cases >= 10 * n_entry
