@@ -1,0 +1,132 @@
+"""Thread safety (issue 9).
+
+1. Every public entry point (the table of test_bad_input.py, so a new function
+   is covered as soon as it has its bad-input entry) called concurrently from a
+   thread pool, in shuffled order and with different inputs per call, returns
+   results bit-for-bit identical to the serial calls.  The Fortran core has no
+   SAVE or module state that changes; this test would catch it if it had.
+2. The f2py layer releases the GIL (``!f2py threadsafe``) for the long-running
+   entry points of ``LONG``: while one thread is inside a long Fortran call, a
+   pure-Python counter thread keeps running.  If the GIL were held, the counter
+   would stand still for the whole call (it could only run in the few
+   switch intervals around it); the threshold (a quarter of its free-running
+   count) leaves a factor > 10 of margin either way.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import random
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import pendula
+from test_bad_input import API, NONNEG, POS, REAL, _walk_numbers
+
+N_ARRAY = 20_000
+
+
+def _varied_kwargs(fname, seed):
+    """The entry's valid call, array arguments widened to N_ARRAY varied values
+    (scaled towards zero by at most 5 %, which keeps every domain)."""
+    entry = API[fname]
+    kw = {}
+    rng = np.random.default_rng(seed)
+    for k, v in entry.valid.items():
+        spec = entry.args.get(k)
+        if spec is not None and spec.array and spec.kind in (REAL, POS, NONNEG) and np.ndim(v) == 0:
+            kw[k] = float(v) * (1 - 0.05 * rng.random(N_ARRAY))
+        elif isinstance(v, (list, tuple)):
+            kw[k] = np.array(v, dtype=float)
+        else:
+            kw[k] = v
+    return kw
+
+
+def _flatten(result):
+    return np.array(list(_walk_numbers(result)), dtype=complex)
+
+
+def _entries():
+    out = []
+    for name, entry in sorted(API.items()):
+        if entry.needs_cvode and not pendula.have_cvode():
+            continue
+        out.append(name)
+    return out
+
+
+def test_concurrent_calls_equal_serial_calls():
+    names = _entries()
+    jobs = [(name, seed) for name in names for seed in range(3)]
+    serial = {}
+    for name, seed in jobs:
+        serial[name, seed] = _flatten(getattr(pendula, name)(**_varied_kwargs(name, seed)))
+
+    def run(job):
+        name, seed = job
+        return job, _flatten(getattr(pendula, name)(**_varied_kwargs(name, seed)))
+
+    work = jobs * 4
+    random.Random(1234).shuffle(work)
+    with cf.ThreadPoolExecutor(max_workers=4) as pool:
+        for (job, got) in pool.map(run, work):
+            want = serial[job]
+            assert got.shape == want.shape, f"{job}: result size differs between threaded and serial call"
+            assert np.array_equal(got, want, equal_nan=True), \
+                f"{job}: threaded result differs from the serial one (shared state in the call?)"
+
+
+# ---- GIL release ------------------------------------------------------------------------------------
+# name -> (callable with no arguments making one long call (~0.1-0.5 s)).
+def _long_small_angle_period():
+    w0 = np.linspace(0.5, 2.0, 1_500_000)
+    return lambda: pendula.small_angle_period(w0)
+
+
+LONG = {
+    "small_angle_period": _long_small_angle_period,
+}
+
+
+@pytest.mark.parametrize("name", sorted(LONG))
+def test_long_call_releases_the_gil(name):
+    call = LONG[name]()
+    call()  # warm up (page faults, first-call costs)
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(0.001)
+    try:
+        stop = threading.Event()
+        count = [0]
+
+        def counter():
+            while not stop.is_set():
+                count[0] += 1
+
+        th = threading.Thread(target=counter)
+        th.start()
+        time.sleep(0.02)
+        # The counter's free rate, measured the same way while this thread sleeps.
+        s0 = time.perf_counter()
+        f0 = count[0]
+        time.sleep(0.1)
+        free_rate = (count[0] - f0) / (time.perf_counter() - s0)
+        t0 = time.perf_counter()
+        c0 = count[0]
+        call()
+        c1 = count[0]
+        dt = time.perf_counter() - t0
+        stop.set()
+        th.join()
+    finally:
+        sys.setswitchinterval(old)
+    if dt < 0.02:
+        pytest.skip(f"{name}: the long call took only {dt * 1e3:.1f} ms; enlarge it in LONG")
+    ran = (c1 - c0) / (free_rate * dt)
+    print(f"\n{name}: call {dt * 1e3:.0f} ms, counter ran {ran:.0%} of its free rate meanwhile")
+    assert ran > 0.25, (f"{name}: a pure-Python thread was blocked during the Fortran call "
+                        f"(ran {ran:.1%} of its free rate): the f2py routine holds the GIL; "
+                        "add `!f2py threadsafe`")
