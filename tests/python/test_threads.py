@@ -130,3 +130,128 @@ def test_long_call_releases_the_gil(name):
     assert ran > 0.25, (f"{name}: a pure-Python thread was blocked during the Fortran call "
                         f"(ran {ran:.1%} of its free rate): the f2py routine holds the GIL; "
                         "add `!f2py threadsafe`")
+
+
+# ---- static audit: no saved state in the Fortran sources ------------------------------------------
+import pathlib  # noqa: E402
+import re  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def _logical_lines(text):
+    """Fortran free-form source as (line number, statement) with comments
+    stripped and & continuations joined (good enough for declarations)."""
+    out, buf, start = [], "", None
+    for no, raw in enumerate(text.splitlines(), 1):
+        line, quote = [], None
+        for ch in raw:
+            if quote:
+                line.append(ch)
+                if ch == quote:
+                    quote = None
+            elif ch in "'\"":
+                quote = ch
+                line.append(ch)
+            elif ch == "!":
+                break
+            else:
+                line.append(ch)
+        s = "".join(line).strip()
+        if not s:
+            continue
+        if buf and s.startswith("&"):
+            s = s[1:]
+        if start is None:
+            start = no
+        if s.endswith("&"):
+            buf += s[:-1] + " "
+            continue
+        buf += s
+        for stmt in buf.split(";"):
+            if stmt.strip():
+                out.append((start, stmt.strip()))
+        buf, start = "", None
+    return out
+
+
+def saved_state(path):
+    """Findings: SAVE attributes/statements, DATA statements, module variables,
+    initialised local variables (implicit SAVE)."""
+    findings = []
+    scope = []              # stack: 'module-spec', 'proc', 'type', 'interface'
+    for no, st in _logical_lines(path.read_text()):
+        low = st.lower()
+        head = re.sub(r"^(?:(?:pure|elemental|impure|recursive|module|non_recursive)\s+)+", "", low)
+        if re.match(r"end\s*(module|submodule)\b", low) or low == "end":
+            scope.clear() if low != "end" else (scope.pop() if scope else None)
+            continue
+        if re.match(r"end\s*(subroutine|function|program|procedure)\b", low):
+            if scope:
+                scope.pop()
+            continue
+        if re.match(r"end\s*type\b", low) or re.match(r"end\s*interface\b", low):
+            if scope:
+                scope.pop()
+            continue
+        if re.match(r"(sub)?module\s+(?!procedure)\w+", low) and not low.startswith("module procedure"):
+            scope = ["module-spec"]
+            continue
+        if re.match(r"contains\b", low):
+            continue
+        if re.match(r"((abstract\s+)?interface)\b", low):
+            scope.append("interface")
+            continue
+        if re.match(r"type\s*(,[^:]*)?::\s*\w+|type\s+\w+\s*$", low):
+            scope.append("type")
+            continue
+        if re.match(r"(program|subroutine|(?:[\w()=*, ]+\s+)?function)\s+\w+", head) and \
+                not re.match(r"(real|integer|logical|character|type|class|complex)\b[^:]*::", head):
+            scope.append("proc")
+            continue
+        where = scope[-1] if scope else "proc"
+        if where in ("type", "interface"):
+            continue
+        if re.match(r"save\b", low) or re.search(r",\s*save\b", low.split("::")[0] if "::" in low else ""):
+            findings.append((no, "SAVE", st))
+            continue
+        if re.match(r"data\s", low):
+            findings.append((no, "DATA statement (implicit SAVE)", st))
+            continue
+        if "::" not in st or re.match(r"(use|public|private|import|procedure|generic|namelist)\b", low):
+            continue
+        attrs, ents = low.split("::", 1)
+        if not re.match(r"\s*(real|integer|logical|character|type|class|complex|double)\b", attrs):
+            continue
+        if "parameter" in attrs:
+            continue
+        if where == "module-spec":
+            findings.append((no, "module variable", st))
+        elif "=" in ents:
+            findings.append((no, "initialised local variable (implicit SAVE)", st))
+    return findings
+
+
+def _fortran_sources():
+    return sorted(list((ROOT / "src").rglob("*.f90")) + list((ROOT / "python" / "f2py").glob("*.f90")))
+
+
+@pytest.mark.skipif(not (ROOT / "src").is_dir(), reason="needs the source tree")
+def test_fortran_sources_have_no_saved_state():
+    bad = []
+    for path in _fortran_sources():
+        for no, what, st in saved_state(path):
+            bad.append(f"{path.relative_to(ROOT)}:{no}: {what}: {st}")
+    assert not bad, "state that survives a call (not thread-safe):\n" + "\n".join(bad)
+
+
+def test_audit_detects_saved_state(tmp_path):
+    # The audit itself must be able to fail.
+    f = tmp_path / "m.f90"
+    f.write_text("module m\n  implicit none\n  real :: counter\n  integer, parameter :: k = 1\n"
+                 "  type :: t\n    integer :: code = 0\n  end type t\ncontains\n"
+                 "  subroutine s(x)\n    real, intent(inout) :: x\n    integer :: calls = 0\n"
+                 "    real, save :: last\n    character(len=*), parameter :: nm = 'x'\n"
+                 "    calls = calls + 1\n    x = x + 1\n  end subroutine s\nend module m\n")
+    kinds = [w for _, w, _ in saved_state(f)]
+    assert kinds == ["module variable", "initialised local variable (implicit SAVE)", "SAVE"], kinds
