@@ -1,0 +1,407 @@
+!> Linear damped pendulum theta'' + gamma theta' + w0^2 theta = 0 (text eq. 2.4)
+!> in closed form, for every regime, as ONE evaluation:
+!>
+!>   theta(t) = e^{-a t} [ theta0 C(t) + (Omega0 + a theta0) S(t) ]
+!>   Omega(t) = e^{-a t} [ Omega0 C(t) - (w0^2 theta0 + a Omega0) S(t) ]
+!>
+!> with a = gamma/2, D = a^2 - w0^2 (= beta^2 of eq. 2.15), C = cosh(sqrt(D) t)
+!> and S = sinh(sqrt(D) t)/sqrt(D).  C and S/t are entire functions of
+!> z = D t^2 (cos/sin for z < 0, cosh/sinh for z > 0, 1 and t at z = 0), so the
+!> over-, critically and under-damped solutions of §2.1.1, §2.1.2 and §2.1.3 are
+!> one analytic family.  Numerically:
+!>  * |z| <= 1/4: Taylor series of C and S/t in z (no case split, no 0/0 and no
+!>    loss of digits as gamma -> 2 w0, where the text's eq. 2.29 divides by
+!>    lambda2 - lambda1 = 2 beta);
+!>  * z < -1/4 (under-damped): cos and sin of omega_d t, no cancellation;
+!>  * z > +1/4 (over-damped): the modal form of eq. 2.27 with the constants of
+!>    eq. 2.29 rewritten without cancellation, lambda2 = -w0^2/(a + beta) (the
+!>    text's -a + beta cancels when gamma >> w0), and e^{-a t} folded into
+!>    e^{lambda1 t}, e^{lambda2 t} so that nothing overflows: for gamma t up to
+!>    1e300 the answer underflows gracefully to 0.
+!> gamma = 0 is evaluated as the small-angle solution theta0 cos(w0 t) +
+!> (Omega0/w0) sin(w0 t) itself, so the two agree bit for bit.
+!> Units: t [s], theta [rad], Omega [rad/s], w0 and gamma [1/s].
+module pendula_linear_damped
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use pendula_kinds, only: wp
+  use pendula_status, only: status_t, set_error, check_finite, check_positive, &
+      check_nonnegative, PENDULA_OK, PENDULA_ERR_SIZE
+  use pendula_physics, only: pi
+  implicit none
+  private
+
+  public :: damping_regime_t, linear_damped_t
+  public :: DAMPING_UNDERDAMPED, DAMPING_CRITICAL, DAMPING_OVERDAMPED
+  public :: damping_regime, regime_name
+  public :: linear_damped_init, linear_damped_state, linear_damped_theta, &
+            linear_damped_omega, linear_damped_envelope, linear_damped_eval, linear_damped_arrays
+
+  !> Regime codes: gamma < 2 w0, gamma == 2 w0 (exactly, in floating point), gamma > 2 w0.
+  integer, parameter :: DAMPING_UNDERDAMPED = 1
+  integer, parameter :: DAMPING_CRITICAL = 2
+  integer, parameter :: DAMPING_OVERDAMPED = 3
+
+  !> Beyond |z| = |D| t^2 > Z_SERIES the closed forms replace the series.
+  real(wp), parameter :: Z_SERIES = 0.25_wp
+
+  !> The numbers of a regime (all rates in 1/s, times in s).
+  type :: damping_regime_t
+    !> DAMPING_UNDERDAMPED, DAMPING_CRITICAL or DAMPING_OVERDAMPED.
+    integer :: regime = DAMPING_UNDERDAMPED
+    real(wp) :: w0 = 0, gamma = 0
+    !> Eigenvalues of eq. 2.15, lambda1 <= lambda2 (real parts; conjugate pair
+    !> -gamma/2 -+ i omega_d when under-damped).  lambda2 = -w0^2/(gamma/2 + beta).
+    complex(wp) :: lambda1 = (0, 0), lambda2 = (0, 0)
+    !> Damped angular frequency omega_d = sqrt(w0^2 - gamma^2/4) (under-damped; 0 otherwise).
+    real(wp) :: omega_d = 0
+    !> beta = sqrt(gamma^2/4 - w0^2) of eq. 2.15 (over-damped; 0 otherwise).
+    real(wp) :: beta = 0
+    !> Decay rates -Re(lambda2) (slow) and -Re(lambda1) (fast); both gamma/2
+    !> unless over-damped.
+    real(wp) :: decay_slow = 0, decay_fast = 0
+    !> Quality factor Q = w0/gamma (+Inf when gamma = 0).
+    real(wp) :: quality_factor = 0
+    !> Logarithmic decrement ln(theta(t)/theta(t + T_d)) = pi gamma/omega_d
+    !> (under-damped; +Inf when the motion does not oscillate).
+    real(wp) :: log_decrement = 0
+    !> Damped period T_d = 2 pi/omega_d (under-damped; +Inf otherwise).
+    real(wp) :: damped_period = 0
+    !> Critical damping rate gamma_c = 2 w0 and damping ratio zeta = gamma/(2 w0).
+    real(wp) :: gamma_critical = 0, damping_ratio = 0
+  end type damping_regime_t
+
+  !> One trajectory, set up once by linear_damped_init and evaluated at any
+  !> t >= 0 by the elemental linear_damped_state / _theta / _omega.
+  type :: linear_damped_t
+    type(damping_regime_t) :: info
+    real(wp) :: theta0 = 0, omega0 = 0, w0 = 1, gamma = 0
+    !> Envelope amplitude R: theta = R e^{-gamma t/2} cos(omega_d t - phi)
+    !> when under-damped (0 otherwise).
+    real(wp) :: amplitude = 0
+    ! Private set-up of the evaluation (see the module comment).
+    real(wp), private :: a = 0           ! gamma/2
+    real(wp), private :: kappa = 0       ! sqrt(|D|): beta or omega_d
+    real(wp), private :: zsign = 0       ! sign of D
+    logical, private :: undamped = .false.
+    real(wp), private :: b = 0, w0th = 0, aom = 0   ! Omega0 + a theta0, w0 theta0, a Omega0
+    ! under-damped: theta = e^{-at}(theta0 cos + bs sin), Omega = e^{-at}(Omega0 cos - ds sin)
+    real(wp), private :: bs = 0, ds = 0
+    ! over-damped: theta = ca e^{l1 t} + cb e^{l2 t}, Omega = l1 ca e^{l1 t} + l2 cb e^{l2 t}
+    real(wp), private :: l1 = 0, l2 = 0, ca = 0, cb = 0, l1ca = 0, l2cb = 0
+  contains
+    procedure :: state => linear_damped_state
+    procedure :: theta => linear_damped_theta
+    procedure :: omega => linear_damped_omega
+    procedure :: envelope => linear_damped_envelope
+  end type linear_damped_t
+
+contains
+
+  !> Regime of theta'' + gamma theta' + w0^2 theta = 0 and its numbers
+  !> (eq. 2.15 and §2.1.3).  w0 > 0 and gamma >= 0, finite [1/s]; otherwise
+  !> status is set and info holds defaults.  Critical means gamma == 2 w0
+  !> exactly; nearness to it is damping_ratio - 1.  Every number is within a
+  !> few ulps of its exact value at the given inputs.
+  pure subroutine damping_regime(w0, gamma, info, status)
+    real(wp), intent(in) :: w0, gamma
+    type(damping_regime_t), intent(out) :: info
+    type(status_t), intent(out) :: status
+    real(wp) :: a, inf, kappa
+    call check_positive('w0', w0, status)
+    call check_nonnegative('gamma', gamma, status)
+    if (status%code /= PENDULA_OK) return
+    inf = ieee_value(1.0_wp, ieee_positive_inf)
+    a = gamma / 2
+    info%w0 = w0
+    info%gamma = gamma
+    info%gamma_critical = 2 * w0
+    info%damping_ratio = a / w0
+    info%quality_factor = merge(inf, w0 / max(gamma, tiny(1.0_wp)), gamma == 0)
+    ! sqrt|a - w0| sqrt(a + w0) is sqrt|a^2 - w0^2| without cancellation
+    ! (a - w0 is exact near the critical point) and without overflow.
+    if (gamma == 0) then
+      kappa = w0
+    else
+      kappa = sqrt(abs(a - w0)) * sqrt(a + w0)
+    end if
+    if (a < w0) then
+      info%regime = DAMPING_UNDERDAMPED
+      info%omega_d = kappa
+      info%lambda1 = cmplx(-a, -kappa, wp)
+      info%lambda2 = cmplx(-a, kappa, wp)
+      info%decay_slow = a
+      info%decay_fast = a
+      info%log_decrement = pi * (gamma / kappa)
+      info%damped_period = 2 * pi / kappa
+    else if (a == w0) then
+      info%regime = DAMPING_CRITICAL
+      info%lambda1 = cmplx(-a, 0, wp)
+      info%lambda2 = cmplx(-a, 0, wp)
+      info%decay_slow = a
+      info%decay_fast = a
+      info%log_decrement = inf
+      info%damped_period = inf
+    else
+      info%regime = DAMPING_OVERDAMPED
+      info%beta = kappa
+      ! lambda2 = -a + beta cancels for gamma >> w0; lambda1 lambda2 = w0^2.
+      info%lambda1 = cmplx(-(a + kappa), 0, wp)
+      info%lambda2 = cmplx(-(w0 * (w0 / (a + kappa))), 0, wp)
+      info%decay_slow = w0 * (w0 / (a + kappa))
+      info%decay_fast = a + kappa
+      info%log_decrement = inf
+      info%damped_period = inf
+    end if
+  end subroutine damping_regime
+
+  !> 'underdamped', 'critical' or 'overdamped' (or 'unknown').
+  pure function regime_name(regime) result(name)
+    integer, intent(in) :: regime
+    character(len=:), allocatable :: name
+    select case (regime)
+    case (DAMPING_UNDERDAMPED); name = 'underdamped'
+    case (DAMPING_CRITICAL);    name = 'critical'
+    case (DAMPING_OVERDAMPED);  name = 'overdamped'
+    case default;               name = 'unknown'
+    end select
+  end function regime_name
+
+  !> Set up the trajectory with theta(0) = theta0 [rad], Omega(0) = omega0
+  !> [rad/s] (finite), w0 > 0 and gamma >= 0 [1/s] (finite).  On bad input
+  !> status names the argument and sol is left at its defaults.
+  pure subroutine linear_damped_init(sol, theta0, omega0, w0, gamma, status)
+    type(linear_damped_t), intent(out) :: sol
+    real(wp), intent(in) :: theta0, omega0, w0, gamma
+    type(status_t), intent(out) :: status
+    real(wp) :: a, k, inv2k
+    call check_finite('theta0', theta0, status)
+    call check_finite('omega0', omega0, status)
+    if (status%code /= PENDULA_OK) return
+    call damping_regime(w0, gamma, sol%info, status)
+    if (status%code /= PENDULA_OK) return
+    sol%theta0 = theta0
+    sol%omega0 = omega0
+    sol%w0 = w0
+    sol%gamma = gamma
+    a = gamma / 2
+    sol%a = a
+    sol%undamped = gamma == 0
+    sol%b = omega0 + a * theta0
+    sol%w0th = w0 * theta0
+    sol%aom = a * omega0
+    select case (sol%info%regime)
+    case (DAMPING_UNDERDAMPED)
+      k = sol%info%omega_d
+      sol%kappa = k
+      sol%zsign = -1
+      sol%bs = omega0 / k + theta0 * (a / k)
+      sol%ds = sol%w0th * (w0 / k) + omega0 * (a / k)
+      if (sol%undamped) then
+        sol%bs = omega0 / w0
+        sol%ds = w0 * theta0
+      end if
+      ! theta = R e^{-at} cos(omega_d t - phi) with R = |(theta0, b/omega_d)|.
+      sol%amplitude = hypot(theta0, sol%bs)
+    case (DAMPING_OVERDAMPED)
+      k = sol%info%beta
+      sol%kappa = k
+      sol%zsign = 1
+      sol%l1 = real(sol%info%lambda1, wp)
+      sol%l2 = real(sol%info%lambda2, wp)
+      ! Eq. 2.29 with lambda2 - lambda1 = 2 beta, each term formed without
+      ! cancellation or overflow: A = (theta0 l2 - Omega0)/(2 beta),
+      ! B = (Omega0 - theta0 l1)/(2 beta) = Omega0/(2 beta) + theta0 (a + beta)/(2 beta).
+      inv2k = 0.5_wp / k
+      sol%ca = theta0 * (sol%l2 * inv2k) - omega0 * inv2k
+      sol%cb = omega0 * inv2k + theta0 * ((a + k) * inv2k)
+      sol%l1ca = sol%l1 * sol%ca
+      sol%l2cb = sol%l2 * sol%cb
+    case default
+      sol%kappa = 0
+      sol%zsign = 0
+    end select
+  end subroutine linear_damped_init
+
+  ! C(z) = cosh(sqrt z) = sum z^k/(2k)!, k <= 8: truncation < 1e-18 for |z| <= 1/4.
+  elemental real(wp) function c_series(z) result(c)
+    real(wp), intent(in) :: z
+    c = 1 + z / 2 * (1 + z / 12 * (1 + z / 30 * (1 + z / 56 * (1 + z / 90 * (1 + z / 132 &
+        * (1 + z / 182 * (1 + z / 240)))))))
+  end function c_series
+
+  ! S(z)/t = sinh(sqrt z)/sqrt z = sum z^k/(2k+1)!, k <= 8.
+  elemental real(wp) function s_series(z) result(s)
+    real(wp), intent(in) :: z
+    s = 1 + z / 6 * (1 + z / 20 * (1 + z / 42 * (1 + z / 72 * (1 + z / 110 * (1 + z / 156 &
+        * (1 + z / 210 * (1 + z / 272)))))))
+  end function s_series
+
+  !> theta(t) [rad] and Omega(t) [rad/s] at t >= 0 [s] for a trajectory set up
+  !> by linear_damped_init.  Error within a few eps of (|theta| + |Omega|/max(w0,
+  !> gamma) + condition of the problem); never overflows for t >= 0 (values
+  !> below the double range come out as 0).  t < 0 is outside the contract.
+  elemental subroutine linear_damped_state(sol, t, theta, omega)
+    class(linear_damped_t), intent(in) :: sol
+    real(wp), intent(in) :: t
+    real(wp), intent(out) :: theta, omega
+    real(wp) :: x, z, e, et, s, c, e1, e2
+    if (sol%undamped) then
+      ! The small-angle solution itself (gamma = 0).
+      x = min(sol%w0 * t, huge(1.0_wp))
+      c = cos(x)
+      s = sin(x)
+      theta = sol%theta0 * c + sol%bs * s
+      omega = sol%omega0 * c - sol%ds * s
+      return
+    end if
+    x = min(sol%kappa * t, huge(1.0_wp))
+    if (x * x <= Z_SERIES) then
+      z = sol%zsign * (x * x)
+      e = exp(-(sol%a * t))
+      if (e == 0) then
+        theta = 0
+        omega = 0
+        return
+      end if
+      c = e * c_series(z)
+      et = e * t
+      s = et * s_series(z)           ! e^{-at} S(t)
+      theta = sol%theta0 * c + sol%b * s
+      omega = sol%omega0 * c - (sol%w0th * (sol%w0 * s) + sol%aom * s)
+    else if (sol%zsign > 0) then
+      ! Over-damped (eq. 2.27): e^{lambda t} never overflows for t >= 0.
+      e2 = exp(sol%l2 * t)
+      if (e2 == 0) then
+        theta = 0
+        omega = 0
+        return
+      end if
+      e1 = exp(sol%l1 * t)
+      theta = sol%ca * e1 + sol%cb * e2
+      omega = sol%l1ca * e1 + sol%l2cb * e2
+    else
+      ! Under-damped (§2.1.3).
+      e = exp(-(sol%a * t))
+      if (e == 0) then
+        theta = 0
+        omega = 0
+        return
+      end if
+      c = cos(x)
+      s = sin(x)
+      theta = e * (sol%theta0 * c + sol%bs * s)
+      omega = e * (sol%omega0 * c - sol%ds * s)
+    end if
+  end subroutine linear_damped_state
+
+  !> theta(t) [rad] at t >= 0 [s]; see linear_damped_state.
+  elemental real(wp) function linear_damped_theta(sol, t) result(theta)
+    class(linear_damped_t), intent(in) :: sol
+    real(wp), intent(in) :: t
+    real(wp) :: omega
+    call linear_damped_state(sol, t, theta, omega)
+  end function linear_damped_theta
+
+  !> Omega(t) = theta'(t) [rad/s] at t >= 0 [s]; see linear_damped_state.
+  elemental real(wp) function linear_damped_omega(sol, t) result(omega)
+    class(linear_damped_t), intent(in) :: sol
+    real(wp), intent(in) :: t
+    real(wp) :: theta
+    call linear_damped_state(sol, t, theta, omega)
+  end function linear_damped_omega
+
+  !> Under-damped envelope R e^{-gamma t/2} [rad] (|theta(t)| <= envelope,
+  !> touching it once per half period, §2.1.3); 0 for the other regimes.
+  elemental real(wp) function linear_damped_envelope(sol, t) result(env)
+    class(linear_damped_t), intent(in) :: sol
+    real(wp), intent(in) :: t
+    env = 0
+    if (sol%info%regime == DAMPING_UNDERDAMPED .and. sol%amplitude > 0) &
+        env = sol%amplitude * exp(-(sol%a * t))
+  end function linear_damped_envelope
+
+  !> Evaluate a set-up trajectory at times t(:) >= 0 [s] (any order) into
+  !> theta(:), omega(:) of the same size.  Non-finite or negative t, or a size
+  !> mismatch, sets status (outputs are then 0).
+  pure subroutine linear_damped_eval(sol, t, theta, omega, status)
+    type(linear_damped_t), intent(in) :: sol
+    real(wp), intent(in) :: t(:)
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(status_t), intent(out) :: status
+    theta = 0
+    omega = 0
+    call check_same_size(size(t), size(theta), size(omega), status)
+    call check_times(t, status)
+    if (status%code /= PENDULA_OK) return
+    call linear_damped_state(sol, t, theta, omega)
+  end subroutine linear_damped_eval
+
+  !> Elementwise over equal-size arrays: theta(i), omega(i) of the trajectory
+  !> (theta0(i), omega0(i), w0(i), gamma(i)) at t(i) >= 0.  Consecutive equal
+  !> parameter sets share one set-up.  The first bad element sets status with
+  !> its (0-based) index; outputs are then 0.
+  pure subroutine linear_damped_arrays(t, theta0, omega0, w0, gamma, theta, omega, status)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:)
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(status_t), intent(out) :: status
+    type(linear_damped_t) :: sol
+    integer :: i, n
+    logical :: fresh
+    character(len=16) :: ibuf
+    theta = 0
+    omega = 0
+    n = size(t)
+    if (any([size(theta0), size(omega0), size(w0), size(gamma), size(theta), size(omega)] /= n)) then
+      call set_error(status, PENDULA_ERR_SIZE, 't, theta0, omega0, w0, gamma, theta and omega must have the same size')
+      return
+    end if
+    call check_times(t, status)
+    if (status%code /= PENDULA_OK) return
+    fresh = .true.
+    do i = 1, n
+      if (i > 1) fresh = theta0(i) /= theta0(i-1) .or. omega0(i) /= omega0(i-1) .or. &
+          w0(i) /= w0(i-1) .or. gamma(i) /= gamma(i-1)
+      if (fresh) then
+        call linear_damped_init(sol, theta0(i), omega0(i), w0(i), gamma(i), status)
+        if (status%code /= PENDULA_OK) then
+          if (n > 1) then
+            write (ibuf, '(i0)') i - 1
+            status%message = trim(status%message) // ' (element ' // trim(ibuf) // ')'
+          end if
+          theta = 0
+          omega = 0
+          return
+        end if
+      end if
+      call linear_damped_state(sol, t(i), theta(i), omega(i))
+    end do
+  end subroutine linear_damped_arrays
+
+  pure subroutine check_same_size(nt, nth, nom, status)
+    integer, intent(in) :: nt, nth, nom
+    type(status_t), intent(inout) :: status
+    if (nth /= nt .or. nom /= nt) call set_error(status, PENDULA_ERR_SIZE, &
+        'theta and omega must have the size of t')
+  end subroutine check_same_size
+
+  ! Every t finite and >= 0; the message names the first bad (0-based) index.
+  pure subroutine check_times(t, status)
+    real(wp), intent(in) :: t(:)
+    type(status_t), intent(inout) :: status
+    integer :: i
+    character(len=16) :: ibuf
+    if (status%code /= PENDULA_OK) return
+    do i = 1, size(t)
+      if (.not. (t(i) >= 0 .and. t(i) <= huge(1.0_wp))) then
+        write (ibuf, '(i0)') i - 1
+        if (t(i) < 0) then
+          call check_nonnegative('t[' // trim(ibuf) // ']', t(i), status)
+        else
+          call check_finite('t[' // trim(ibuf) // ']', t(i), status)
+        end if
+        return
+      end if
+    end do
+  end subroutine check_times
+
+end module pendula_linear_damped
