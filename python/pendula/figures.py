@@ -524,9 +524,86 @@ def figA3_period_vs_energy(out_dir, quick=False):
     return [_save(fig, out_dir, "figA3_period_and_revolution_time_vs_energy_through_separatrix.png")]
 
 
+_TRADEOFF_KEYS = {
+    "model": ("model", "method", "name"),
+    "setting": ("setting", "settings", "parameter", "param"),
+    "error": ("sup_error", "error", "err", "max_error"),
+    "time": ("wall_time", "time", "seconds", "wall", "wall_s"),
+    "evals": ("rhs_evals", "evaluations", "nfev", "rhs_evaluations", "evals"),
+}
+
+
+def tradeoff_rows(table):
+    """Rows (model, setting, sup error [rad], wall time [s], rhs evaluations) from pendula.tradeoff's table.
+
+    Accepts a list of dicts or objects, a dict of columns, or an object with
+    ``rows``/``records``; the column names are matched loosely.
+    """
+    for attr in ("rows", "records", "table"):
+        if not isinstance(table, (list, tuple, dict)) and hasattr(table, attr):
+            table = getattr(table, attr)
+            break
+    if isinstance(table, dict):  # dict of columns
+        n = len(next(iter(table.values())))
+        table = [{k: v[i] for k, v in table.items()} for i in range(n)]
+
+    def pick(rec, key):
+        for name in _TRADEOFF_KEYS[key]:
+            if isinstance(rec, dict) and name in rec:
+                return rec[name]
+            if not isinstance(rec, dict) and hasattr(rec, name):
+                return getattr(rec, name)
+        if isinstance(rec, (list, tuple)):
+            return rec[list(_TRADEOFF_KEYS).index(key)]
+        return None
+
+    rows = []
+    for rec in table:
+        evals = pick(rec, "evals")
+        rows.append((str(pick(rec, "model")), str(pick(rec, "setting")), float(pick(rec, "error")),
+                     float(pick(rec, "time")), "" if evals is None else int(evals)))
+    return rows
+
+
+def work_precision_plot(rows, path, title="Work-precision"):
+    """Log-log sup error (rad) against wall time (s), one line per model; returns the path."""
+    fig, axs = _figure(size=(8.0, 5.4))
+    ax = axs[0, 0]
+    models = []
+    for r in rows:
+        if r[0] not in models:
+            models.append(r[0])
+    markers = "osD^v<>ph*"
+    floor = 1e-17
+    for i, m in enumerate(models):
+        pts = sorted((r[3], max(r[2], floor)) for r in rows if r[0] == m)
+        x, y = zip(*pts)
+        ax.loglog(x, y, marker=markers[i % len(markers)], lw=1.3, label=m)
+    ax.set(title=title, xlabel="wall time per solve  (s)", ylabel="sup error of θ over the output grid  (rad)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=DPI)
+    return path
+
+
 def figA4_work_precision(out_dir, quick=False):
-    """Work-precision diagram on the text's §2.2 scene (b = 0.01 kg/s), from pendula.tradeoff."""
-    raise FigureUnavailable("not wired yet")
+    """Work-precision diagram (error vs wall time, log-log) on the text's §2.2 scene, b = 0.01 kg/s.
+
+    Every applicable model of pendula.tradeoff at several settings, against a
+    converged reference (the scenes module chooses and documents it).
+    """
+    scene_cls = getattr(_pd, "Scene", None)
+    tradeoff = getattr(_pd, "tradeoff", None)
+    if scene_cls is None or tradeoff is None:
+        raise FigureUnavailable("pendula.Scene / pendula.tradeoff (the scenes module) are not available")
+    t = np.linspace(0.0, _TEXT_TEND, 61 if quick else 301)
+    scene = scene_cls(theta0=0.0, omega0=2.0, t=t, g=G, length=LENGTH, mass=MASS, b=0.01, tol=1e-6)
+    rows = tradeoff_rows(tradeoff(scene))
+    path = Path(out_dir) / "figA4_work_precision_text_scene_b0.01.png"
+    return [work_precision_plot(rows, path, title="Work-precision, text's §2.2 scene (b = 0.01 kg/s, "
+                                                  "m = 0.1 kg, θ0 = 0, Ω0 = 2 rad/s, t ≤ 30 s)")]
 
 
 # --------------------------------------------------------------------------
@@ -575,4 +652,4 @@ def make_figures(out_dir, quick=False, only=None):
     return written, missing
 
 
-__all__ = ["make_figures", "FIGURES", "FigureUnavailable"] + [fn.__name__ for _, fn in FIGURES]
+__all__ = ["make_figures", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]

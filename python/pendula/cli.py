@@ -1,0 +1,346 @@
+"""Command line of pendula: ``python -m pendula`` or the ``pendula`` console script.
+
+Subcommands (``pendula SUBCOMMAND --help`` for each):
+
+  figures   draw every figure of the text (and the ones it lacks) into a folder
+  period    exact period (or time per revolution) against small-angle and series
+  solve     solve a scene (the library picks the cheapest model meeting --tol)
+  tradeoff  speed/accuracy table of every model on a scene (CSV, work-precision PNG)
+
+Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
+mass kg, b kg/s, gamma and w0 1/s.  Exit status 0 on success, 2 on a bad
+flag or value (with a message saying what is wrong), 1 when a solver fails.
+"""
+import argparse
+import csv
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+PROG = "pendula"
+
+
+class CliError(Exception):
+    """A bad value the parser could not see (e.g. inconsistent flags)."""
+
+
+# ---------------------------------------------------------------- value types
+
+def _finite(text):
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return x
+
+
+def _positive(text):
+    x = _finite(text)
+    if x <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be > 0")
+    return x
+
+
+def _nonnegative(text):
+    x = _finite(text)
+    if x < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be >= 0")
+    return x
+
+
+def _count(text):
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if n < 2 or n > 10_000_000:
+        raise argparse.ArgumentTypeError(f"{text!r} must be an integer in [2, 10000000]")
+    return n
+
+
+# ---------------------------------------------------------------- parser
+
+_PHYS_HELP = """physical parameters (the text's defaults: g = 9.8 m/s^2, l = 4.9 m, so w0 = sqrt(2) 1/s)"""
+
+
+def _add_physics(p, damping=True):
+    g = p.add_argument_group(_PHYS_HELP)
+    g.add_argument("--g", type=_positive, default=9.8, metavar="M/S2",
+                   help="gravitational acceleration g in m/s^2 (default 9.8)")
+    g.add_argument("--length", "-l", type=_positive, default=4.9, metavar="M",
+                   help="pendulum length l in m (default 4.9); w0 = sqrt(g/l) in 1/s")
+    if damping:
+        g.add_argument("--gamma", type=_nonnegative, default=None, metavar="1/S",
+                       help="damping rate gamma in 1/s (eq. 2.3); or give --mass and --b")
+        g.add_argument("--mass", "-m", type=_positive, default=None, metavar="KG",
+                       help="bob mass m in kg (with --b: gamma = b/m, eq. 2.2)")
+        g.add_argument("--b", type=_nonnegative, default=None, metavar="KG/S",
+                       help="damping constant b in kg/s (with --mass)")
+
+
+def _add_scene(p):
+    s = p.add_argument_group("initial state and window")
+    s.add_argument("--theta0", type=_finite, required=True, metavar="RAD",
+                   help="initial angle theta0 in rad (any real; 0 = hanging down)")
+    s.add_argument("--omega0", type=_finite, default=0.0, metavar="RAD/S",
+                   help="initial angular velocity Omega0 in rad/s (default 0)")
+    s.add_argument("--t-end", type=_positive, required=True, metavar="S",
+                   help="end of the time window in s (the window starts at t = 0)")
+    s.add_argument("--n", type=_count, default=201, metavar="N",
+                   help="number of equally spaced output times in [0, t-end] (default 201)")
+    s.add_argument("--tol", type=_positive, default=1e-6, metavar="RAD",
+                   help="absolute tolerance on theta in rad over the whole window "
+                        "(Omega scaled by w0); default 1e-6")
+    _add_physics(p)
+
+
+def build_parser():
+    """The argparse parser of the command line (exposed for tests and docs)."""
+    p = argparse.ArgumentParser(
+        prog=PROG,
+        description="The simple pendulum, exact where mathematics allows. "
+                    "Units: angles rad, angular velocities rad/s, times s, g m/s^2, "
+                    "length m, mass kg, b kg/s, gamma and w0 1/s.",
+        epilog="Run `pendula SUBCOMMAND --help` for the flags of each subcommand.")
+    p.add_argument("--version", action="store_true", help="print the version and build information")
+    sub = p.add_subparsers(dest="command", metavar="SUBCOMMAND")
+
+    f = sub.add_parser("figures", help="draw every figure of the text (and those it lacks) into a folder",
+                       description="Draw the text's figures 3-15 from the library (correct where the "
+                                   "text's listings were wrong) and the figures it lacks (underdamped "
+                                   "case, phase portrait, period vs energy, work-precision), as PNG "
+                                   "files into --out. Needs matplotlib; needs no display.")
+    f.add_argument("--out", metavar="DIR", help="output folder (created if missing); required unless --list")
+    f.add_argument("--quick", action="store_true", help="fewer points per curve (fast, for tests)")
+    f.add_argument("--only", default=None, metavar="KEYS",
+                   help="comma-separated figure keys to draw, e.g. fig03,fig14 (default: all)")
+    f.add_argument("--list", action="store_true", help="list the figure keys and exit")
+
+    q = sub.add_parser("period", help="exact period or revolution time vs small-angle and series",
+                       description="Exact period T = 4K(m)/w0 of the libration (eq. 1.53, any Omega0) or "
+                                   "the time per revolution 2K(1/m)/(sqrt(m) w0) of a rotation, against "
+                                   "the small-angle period T0 = 2 pi/w0 (eq. 1.8) and the series "
+                                   "T0 (1 + m/4 + 9 m^2/64), where m = sin^2(theta0/2) + (Omega0/2w0)^2 "
+                                   "is the energy over the separatrix energy. Times in s.")
+    q.add_argument("--theta0", type=_finite, nargs="+", required=True, metavar="RAD",
+                   help="one or more initial angles in rad")
+    q.add_argument("--omega0", type=_finite, default=0.0, metavar="RAD/S",
+                   help="initial angular velocity in rad/s (default 0)")
+    q.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    _add_physics(q, damping=False)
+
+    s = sub.add_parser("solve", help="solve a scene with the cheapest model that meets --tol",
+                       description="Describe a scene (parameters, initial state, window, tolerance); the "
+                                   "library picks the cheapest model whose error estimate fits the "
+                                   "tolerance (small-angle, exact elliptic, linear damped closed form, "
+                                   "RK4, CVODE), says which and why, and returns theta (rad) and "
+                                   "Omega (rad/s) at the output times (s).")
+    _add_scene(s)
+    s.add_argument("--model", default=None, metavar="NAME",
+                   help="force a model instead of letting the library choose")
+    s.add_argument("--csv", default=None, metavar="FILE",
+                   help="write t [s], theta [rad], omega [rad/s] as CSV (default: print a summary table)")
+
+    t = sub.add_parser("tradeoff", help="speed/accuracy table of every applicable model on a scene",
+                       description="Run every applicable model over a range of settings (RK4 steps, "
+                                   "CVODE tolerances, closed forms) on a scene, against a reference, "
+                                   "and print model, setting, sup error of the state over the output "
+                                   "grid (rad), wall time (s) and right-hand-side evaluations.")
+    _add_scene(t)
+    t.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    t.add_argument("--png", default=None, metavar="FILE", help="also draw the work-precision diagram (PNG)")
+    return p
+
+
+# ---------------------------------------------------------------- helpers
+
+def _damping(args):
+    """gamma in 1/s from --gamma or --mass/--b (None when undamped and nothing given)."""
+    if args.gamma is not None and (args.mass is not None or args.b is not None):
+        raise CliError("give either --gamma or --mass with --b, not both")
+    if (args.mass is None) != (args.b is None):
+        raise CliError("--mass and --b go together (gamma = b/m); or give --gamma in 1/s")
+    if args.gamma is not None:
+        return args.gamma
+    if args.mass is not None:
+        import pendula
+        return pendula.damping_rate(args.b, args.mass)
+    return 0.0
+
+
+def _scene(args):
+    import pendula
+    gamma = _damping(args)
+    scene_cls = getattr(pendula, "Scene", None)
+    if scene_cls is None:
+        raise NotImplementedError("pendula.Scene (the scenes module) is not available in this build")
+    t = np.linspace(0.0, args.t_end, args.n)
+    return scene_cls(theta0=args.theta0, omega0=args.omega0, t=t, g=args.g, length=args.length,
+                     gamma=gamma, tol=args.tol)
+
+
+def _fmt_table(header, rows):
+    cols = [[str(h)] + [str(r[i]) for r in rows] for i, h in enumerate(header)]
+    widths = [max(len(c) for c in col) for col in cols]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths)),
+             "  ".join("-" * w for w in widths)]
+    lines += ["  ".join(str(v).rjust(w) for v, w in zip(r, widths)) for r in rows]
+    return "\n".join(lines)
+
+
+def _write_csv(path, header, rows):
+    path = Path(path)
+    if path.parent and not path.parent.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        w.writerows(rows)
+    return path
+
+
+def _get(obj, *names, default=None):
+    for n in names:
+        if isinstance(obj, dict) and n in obj:
+            return obj[n]
+        if hasattr(obj, n):
+            return getattr(obj, n)
+    return default
+
+
+# ---------------------------------------------------------------- commands
+
+def cmd_figures(args, out):
+    from . import figures
+    keys = [k for k, _ in figures.FIGURES]
+    if args.list:
+        for k, fn in figures.FIGURES:
+            out.write(f"{k}  {(fn.__doc__ or '').strip().splitlines()[0]}\n")
+        return 0
+    if not args.out:
+        raise CliError("--out DIR is required (the folder to write the PNG files into)")
+    only = None
+    if args.only:
+        only = [k.strip() for k in args.only.split(",") if k.strip()]
+        bad = [k for k in only if k not in keys]
+        if bad:
+            raise CliError(f"--only: unknown figure key(s) {', '.join(bad)}; known: {', '.join(keys)}")
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise CliError("the figures need matplotlib: pip install matplotlib") from None
+    written, missing = figures.make_figures(args.out, quick=args.quick, only=only)
+    out.write(f"wrote {len(written)} figure(s) to {Path(args.out).resolve()}\n")
+    for p in written:
+        out.write(f"  {Path(p).name}\n")
+    for k, why in missing.items():
+        out.write(f"  not drawn: {k}: {why}\n")
+    return 0
+
+
+def cmd_period(args, out):
+    import pendula
+    w0 = pendula.natural_frequency(args.g, args.length)
+    t0 = float(pendula.small_angle_period(w0))
+    theta0 = np.asarray(args.theta0, dtype=float)
+    exact = np.atleast_1d(np.asarray(pendula.period(theta0, args.omega0, w0), dtype=float))
+    header = ["theta0_rad", "omega0_rad_per_s", "E_over_Esep", "motion", "T_exact_s",
+              "T0_small_angle_s", "T_series_s", "T_exact_over_T0"]
+    rows = []
+    for th, te in zip(theta0, exact):
+        m = math.sin(th / 2) ** 2 + (args.omega0 / (2 * w0)) ** 2
+        motion = "libration" if m < 1 else ("separatrix" if m == 1 else "rotation (per turn)")
+        series = t0 * (1 + m / 4 + 9 * m * m / 64) if m < 1 else float("nan")
+        rows.append([f"{th:.6g}", f"{args.omega0:.6g}", f"{m:.6g}", motion, f"{te:.12g}",
+                     f"{t0:.12g}", f"{series:.8g}", f"{te / t0:.8g}"])
+    out.write(f"g = {args.g} m/s^2, l = {args.length} m, w0 = {w0:.12g} 1/s\n")
+    out.write(_fmt_table(header, rows) + "\n")
+    if args.csv:
+        out.write(f"wrote {_write_csv(args.csv, header, rows)}\n")
+    return 0
+
+
+def cmd_solve(args, out):
+    import pendula
+    scene = _scene(args)
+    kw = {"model": args.model} if args.model else {}
+    res = pendula.solve(scene, **kw)
+    t = np.asarray(_get(res, "t"), dtype=float)
+    theta = np.asarray(_get(res, "theta"), dtype=float)
+    omega = np.asarray(_get(res, "omega"), dtype=float)
+    out.write(f"model: {_get(res, 'model')}\n")
+    out.write(f"reason: {_get(res, 'reason')}\n")
+    out.write(f"error estimate: {_get(res, 'error_estimate')} rad (tolerance {args.tol:g} rad)\n")
+    cost = _get(res, "cost")
+    if cost is not None:
+        out.write(f"cost: {cost}\n")
+    header = ["t_s", "theta_rad", "omega_rad_per_s"]
+    rows = [[f"{a:.17g}", f"{b:.17g}", f"{c:.17g}"] for a, b, c in zip(t, theta, omega)]
+    if args.csv:
+        out.write(f"wrote {len(rows)} rows to {_write_csv(args.csv, header, rows)}\n")
+    else:
+        show = rows if len(rows) <= 12 else rows[:6] + [["...", "...", "..."]] + rows[-5:]
+        out.write(_fmt_table(header, show) + "\n")
+    return 0
+
+
+def cmd_tradeoff(args, out):
+    import pendula
+    fn = getattr(pendula, "tradeoff", None)
+    if fn is None:
+        raise NotImplementedError("pendula.tradeoff (the scenes module) is not available in this build")
+    scene = _scene(args)
+    table = fn(scene)
+    rows = _tradeoff_rows(table)
+    header = ["model", "setting", "sup_error_rad", "wall_time_s", "rhs_evaluations"]
+    out.write(_fmt_table(header, [[r[0], r[1], f"{r[2]:.3g}", f"{r[3]:.3g}", r[4]] for r in rows]) + "\n")
+    if args.csv:
+        out.write(f"wrote {_write_csv(args.csv, header, rows)}\n")
+    if args.png:
+        from .figures import work_precision_plot
+        out.write(f"wrote {work_precision_plot(rows, args.png, title='Work-precision')}\n")
+    return 0
+
+
+def _tradeoff_rows(table):
+    """Normalise pendula.tradeoff's table into rows (model, setting, error, time, evaluations)."""
+    from .figures import tradeoff_rows
+    return tradeoff_rows(table)
+
+
+COMMANDS = {"figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff}
+
+
+def main(argv=None, out=None):
+    """Entry point of the ``pendula`` console script and ``python -m pendula``; returns the exit code."""
+    out = out or sys.stdout
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        import pendula
+        info = pendula.build_info()
+        out.write(f"pendula {info['version']} (CVODE: {'yes' if info['cvode'] else 'no'})\n")
+        return 0
+    if args.command is None:
+        parser.print_help(out)
+        return 2
+    sub = f"{PROG} {args.command}"
+    try:
+        return COMMANDS[args.command](args, out)
+    except (CliError, ValueError, TypeError) as exc:
+        sys.stderr.write(f"{sub}: error: {exc}\n")
+        return 2
+    except NotImplementedError as exc:
+        sys.stderr.write(f"{sub}: not available: {exc}\n")
+        return 2
+    except RuntimeError as exc:  # PendulaSolverError and friends
+        sys.stderr.write(f"{sub}: solver failed: {exc}\n")
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
