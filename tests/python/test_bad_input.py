@@ -89,6 +89,18 @@ API: dict[str, Entry] = {
     "small_angle_period": Entry(
         valid=dict(w0=1.5),
         args=dict(w0=Arg(POS, array=True))),
+    # linear damped (src/damped, linear.py)
+    "linear_damped": Entry(
+        valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
+        args=dict(t=Arg(NONNEG, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True))),
+    "linear_damped_envelope": Entry(
+        valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
+        args=dict(t=Arg(NONNEG, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True))),
+    "damping_regime": Entry(
+        valid=dict(w0=1.4, gamma=0.3),
+        args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),
 }
 
 
@@ -101,6 +113,9 @@ def _public_callables():
     out = {}
     for name in pendula.__all__:
         obj = getattr(pendula, name)
+        # Result records (dataclasses) carry no checks of their own.
+        if inspect.isclass(obj) and dataclasses.is_dataclass(obj):
+            continue
         if callable(obj) and name not in NOT_ENTRY_POINTS:
             out[name] = obj
     return out
