@@ -5,6 +5,7 @@ module pendula
   use pendula_physics
   ! <concern modules: one `use` line each, kept in architecture order>
   use pendula_linear_damped
+  use pendula_integrators
   implicit none
   public
 end module pendula

@@ -1,0 +1,91 @@
+! f2py-facing layer for the integrators concern (pendula_rk4, pendula_cvode).
+! Plain subroutines, c_double/c_int arguments, explicit-shape arrays, a status
+! code + message.  Counters (int64 in Fortran) travel as doubles: exact up to
+! 2**53, and f2py handles them without kind trouble.  No numerics here.
+
+subroutine rk4_f2py(n, t, theta0, omega0, w0, gamma, h, theta, omega, stats, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t
+  use pendula_ode, only: ode_stats_t
+  use pendula_rk4, only: rk4_solve
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, h
+  real(c_double), intent(out) :: theta(n), omega(n), stats(7)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  type(ode_stats_t) :: s
+  call rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, s, st)
+  stats = [real(s%steps, c_double), real(s%rhs_evals, c_double), real(s%jac_evals, c_double), &
+      real(s%err_test_fails, c_double), real(s%nonlin_iters, c_double), real(s%nonlin_fails, c_double), &
+      real(s%root_evals, c_double)]
+  code = st%code
+  msg = st%message
+end subroutine rk4_f2py
+
+subroutine rk4_max_stable_step_f2py(w0, gamma, h_max, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t
+  use pendula_rk4, only: rk4_max_stable_step
+  implicit none
+  !f2py threadsafe
+  real(c_double), intent(in) :: w0, gamma
+  real(c_double), intent(out) :: h_max
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  call rk4_max_stable_step(w0, gamma, h_max, st)
+  code = st%code
+  msg = st%message
+end subroutine rk4_max_stable_step_f2py
+
+subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, m, &
+    theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t
+  use pendula_ode, only: ode_stats_t
+  use pendula_cvode, only: cvode_solve, cvode_solve_events
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n, method, m
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, rtol, atol, max_steps
+  real(c_double), intent(out) :: theta(n), omega(n), stats(7)
+  real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
+  integer(c_int), intent(out) :: ev_kind(m), n_events, truncated
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  type(ode_stats_t) :: s
+  integer :: kinds(m), nev
+  logical :: trunc
+  integer(i8) :: budget
+  ! max_steps arrives as a double (Python int of any size); clamp to int64.
+  budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
+  if (m > 0) then
+    call cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, &
+        theta, omega, ev_t, kinds, ev_theta, ev_omega, nev, trunc, s, st)
+  else
+    call cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, s, st)
+    nev = 0
+    trunc = .false.
+  end if
+  ev_kind = kinds
+  n_events = nev
+  truncated = merge(1, 0, trunc)
+  stats = [real(s%steps, c_double), real(s%rhs_evals, c_double), real(s%jac_evals, c_double), &
+      real(s%err_test_fails, c_double), real(s%nonlin_iters, c_double), real(s%nonlin_fails, c_double), &
+      real(s%root_evals, c_double)]
+  code = st%code
+  msg = st%message
+end subroutine cvode_f2py
+
+subroutine cvode_available_f2py(flag)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use pendula_cvode, only: cvode_available
+  implicit none
+  integer(c_int), intent(out) :: flag
+  flag = merge(1, 0, cvode_available())
+end subroutine cvode_available_f2py

@@ -1,0 +1,457 @@
+!> SUNDIALS CVODE (Hindmarsh et al., ACM TOMS 31 (2005) 363; SUNDIALS 6.4)
+!> for the nonlinear damped pendulum theta'' + gamma theta' + w0**2 sin(theta) = 0
+!> (text eq. 2.2): variable-step, variable-order Adams (non-stiff) or BDF
+!> (stiff), Newton iteration with a dense linear solver and the analytic
+!> Jacobian, scalar relative/absolute tolerances, output at requested times and
+!> root finding for turning points (Omega = 0) and zero crossings (theta = 0).
+!>
+!> Built only when meson found the SUNDIALS Fortran 2003 modules; otherwise
+!> pendula_cvode_unavailable.f90 provides this module with the same API, whose
+!> procedures return PENDULA_ERR_UNAVAILABLE.
+!>
+!> Thread safety: the parameters reach the callbacks through CVODE's user_data
+!> (a pointer to a local variable); there is no module state.  Every SUNDIALS
+!> object is created and freed inside one call, on every path.  CVODE's own
+!> error messages are captured (never printed) and returned in the status.
+module pendula_cvode
+  use, intrinsic :: iso_c_binding
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use pendula_kinds, only: wp, i8
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, PENDULA_OK, &
+      PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE
+  use pendula_ode, only: ode_stats_t, check_problem, check_output_size, &
+      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
+  use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer, FN_VDestroy
+  use fsundials_matrix_mod, only: SUNMatrix, FSUNMatDestroy
+  use fsundials_linearsolver_mod, only: SUNLinearSolver, FSUNLinSolFree
+  use fnvector_serial_mod, only: FN_VNew_Serial
+  use fsunmatrix_dense_mod, only: FSUNDenseMatrix, FSUNDenseMatrix_Data
+  use fsunlinsol_dense_mod, only: FSUNLinSol_Dense
+  use fcvode_mod
+  implicit none
+  private
+  public :: cvode_solve, cvode_solve_events, cvode_available
+  public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+
+  !> What the callbacks see through user_data: the parameters, and room for
+  !> the last error message CVODE reports.
+  type :: cv_data_t
+    real(c_double) :: w0sq = 0
+    real(c_double) :: gamma = 0
+    character(len=200) :: errmsg = ''
+  end type cv_data_t
+
+contains
+
+  !> True: this build includes SUNDIALS CVODE.
+  pure logical function cvode_available()
+    cvode_available = .true.
+  end function cvode_available
+
+  !> Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with CVODE and
+  !> return theta(i) [rad], omega(i) [rad/s] at the output times t(i) [s].
+  !>
+  !> t: strictly increasing, finite, size >= 1; t(1) is the initial time of
+  !> (theta0, omega0).  w0 > 0, gamma >= 0 [1/s].  rtol > 0, atol >= 0: CVODE
+  !> keeps each step's local error below rtol |y| + atol (the global error is
+  !> typically 1-100x that).  method: PENDULA_CVODE_ADAMS (non-stiff) or
+  !> PENDULA_CVODE_BDF (stiff, e.g. gamma >> w0).  max_steps >= 1: total step
+  !> budget for the whole run.  theta, omega: size(t).  stats: all counters of
+  !> ode_stats_t.  Errors: bad arguments (outputs zero); CVODE failures
+  !> (PENDULA_ERR_SOLVER) and exhausted budget (PENDULA_ERR_MAXSTEPS) with
+  !> CVODE's reason, outputs before the failure time kept, later ones zero.
+  subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
+      theta, omega, stats, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    real(wp) :: et(0), eth(0), eom(0)
+    integer :: ek(0), n_events
+    logical :: truncated
+    call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .false., &
+        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status)
+  end subroutine cvode_solve
+
+  !> As cvode_solve, and also locate the events: turning points (Omega = 0,
+  !> kind PENDULA_EVENT_TURNING) and zero crossings (theta = 0, kind
+  !> PENDULA_EVENT_ZERO) in (t(1), t(n)], in time order, with the state there
+  !> (event_theta, event_omega).  A root exactly at t(1) (e.g. theta0 = 0) is
+  !> not reported.  The event arrays (all of one size, the maximum number of
+  !> events kept, may be 0) receive the first n_events; truncated is true when
+  !> more occurred.  Event times are accurate to about the integration error.
+  subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(out) :: event_t(:), event_theta(:), event_omega(:)
+    integer, intent(out) :: event_kind(:)
+    integer, intent(out) :: n_events
+    logical, intent(out) :: truncated
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .true., &
+        theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+  end subroutine cvode_solve_events
+
+  subroutine solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, with_events, &
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    logical, intent(in) :: with_events
+    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(out) :: event_t(:), event_theta(:), event_omega(:)
+    integer, intent(out) :: event_kind(:)
+    integer, intent(out) :: n_events
+    logical, intent(out) :: truncated
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+
+    type(cv_data_t), target :: data
+    type(c_ptr) :: ctx, cvode_mem
+    type(N_Vector), pointer :: y
+    type(SUNMatrix), pointer :: amat
+    type(SUNLinearSolver), pointer :: ls
+    real(c_double), pointer :: yv(:)
+    real(c_double) :: tret(1)
+    integer(c_int) :: ierr, lmm, roots(2)
+    integer(c_long) :: nst(1)
+    integer :: i, k, nt
+
+    theta = 0
+    omega = 0
+    event_t = 0
+    event_kind = 0
+    event_theta = 0
+    event_omega = 0
+    n_events = 0
+    truncated = .false.
+    nt = size(t)
+    call check_problem(t, theta0, omega0, w0, gamma, status)
+    call check_positive('rtol', rtol, status)
+    call check_nonnegative('atol', atol, status)
+    if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // itoa(int(method, i8)) // &
+            ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
+    if (status%code == PENDULA_OK .and. max_steps < 1) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // itoa(max_steps) // &
+            ' is out of range: it must be >= 1')
+    call check_output_size('theta', size(theta), nt, status)
+    call check_output_size('omega', size(omega), nt, status)
+    if (status%code == PENDULA_OK .and. (size(event_kind) /= size(event_t) .or. &
+        size(event_theta) /= size(event_t) .or. size(event_omega) /= size(event_t))) &
+        call set_error(status, PENDULA_ERR_SIZE, 'event_t, event_kind, event_theta and event_omega ' // &
+            'must all have the same size (the maximum number of events kept)')
+    if (status%code /= PENDULA_OK) return
+    theta(1) = theta0
+    omega(1) = omega0
+    if (nt == 1) return
+
+    data%w0sq = w0 * w0
+    data%gamma = gamma
+    ctx = c_null_ptr
+    cvode_mem = c_null_ptr
+    nullify (y, amat, ls)
+    i = 2
+
+    ! One pass through the set-up; the first failure skips the rest (the
+    ! `block` exits) and the clean-up after it runs on every path.
+    setup: block
+      ierr = FSUNContext_Create(c_null_ptr, ctx)
+      if (fail(ierr, 'SUNContext_Create')) exit setup
+      y => FN_VNew_Serial(2_c_int64_t, ctx)
+      if (.not. associated(y)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: N_VNew_Serial could not allocate the state vector')
+        exit setup
+      end if
+      yv => FN_VGetArrayPointer(y)
+      yv(1) = theta0
+      yv(2) = omega0
+      lmm = CV_ADAMS
+      if (method == PENDULA_CVODE_BDF) lmm = CV_BDF
+      cvode_mem = FCVodeCreate(lmm, ctx)
+      if (.not. c_associated(cvode_mem)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: CVodeCreate could not allocate the solver memory')
+        exit setup
+      end if
+      ierr = FCVodeSetErrHandlerFn(cvode_mem, c_funloc(capture_error), c_loc(data))
+      if (fail(ierr, 'CVodeSetErrHandlerFn')) exit setup
+      ierr = FCVodeInit(cvode_mem, c_funloc(rhs), t(1), y)
+      if (fail(ierr, 'CVodeInit')) exit setup
+      ierr = FCVodeSetUserData(cvode_mem, c_loc(data))
+      if (fail(ierr, 'CVodeSetUserData')) exit setup
+      ierr = FCVodeSStolerances(cvode_mem, rtol, atol)
+      if (fail(ierr, 'CVodeSStolerances')) exit setup
+      amat => FSUNDenseMatrix(2_c_int64_t, 2_c_int64_t, ctx)
+      if (.not. associated(amat)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNDenseMatrix could not allocate the Jacobian')
+        exit setup
+      end if
+      ls => FSUNLinSol_Dense(y, amat, ctx)
+      if (.not. associated(ls)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSol_Dense could not create the linear solver')
+        exit setup
+      end if
+      ierr = FCVodeSetLinearSolver(cvode_mem, ls, amat)
+      if (fail(ierr, 'CVodeSetLinearSolver')) exit setup
+      ierr = FCVodeSetJacFn(cvode_mem, c_funloc(jacobian))
+      if (fail(ierr, 'CVodeSetJacFn')) exit setup
+      ! Stop exactly at the last output instead of stepping past it.
+      ierr = FCVodeSetStopTime(cvode_mem, t(nt))
+      if (fail(ierr, 'CVodeSetStopTime')) exit setup
+      if (with_events) then
+        ierr = FCVodeRootInit(cvode_mem, 2_c_int, c_funloc(root_functions))
+        if (fail(ierr, 'CVodeRootInit')) exit setup
+        ! theta0 = 0 or omega0 = 0 makes a root function vanish at t(1);
+        ! CVODE then deactivates it until it moves away: not a warning here.
+        ierr = FCVodeSetNoInactiveRootWarn(cvode_mem)
+        if (fail(ierr, 'CVodeSetNoInactiveRootWarn')) exit setup
+      end if
+
+      do while (i <= nt)
+        ! The budget is for the whole run; CVODE's mxstep counts per call.
+        ierr = FCVodeGetNumSteps(cvode_mem, nst)
+        if (fail(ierr, 'CVodeGetNumSteps')) exit setup
+        if (int(nst(1), i8) >= max_steps) then
+          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
+              itoa(max_steps) // ' before t = ' // rtoa(t(i)) // ': raise max_steps, loosen rtol/atol,' // &
+              ' or use method BDF if the problem is stiff')
+          exit setup
+        end if
+        ierr = FCVodeSetMaxNumSteps(cvode_mem, int(max_steps - int(nst(1), i8), c_long))
+        if (fail(ierr, 'CVodeSetMaxNumSteps')) exit setup
+        ierr = FCVode(cvode_mem, t(i), y, tret, CV_NORMAL)
+        if (ierr == CV_ROOT_RETURN) then
+          ierr = FCVodeGetRootInfo(cvode_mem, roots)
+          if (fail(ierr, 'CVodeGetRootInfo')) exit setup
+          do k = 1, 2
+            if (roots(k) == 0) cycle
+            if (n_events < size(event_t)) then
+              n_events = n_events + 1
+              event_t(n_events) = tret(1)
+              event_kind(n_events) = merge(PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, k == 1)
+              event_theta(n_events) = yv(1)
+              event_omega(n_events) = yv(2)
+            else
+              truncated = .true.
+            end if
+          end do
+          cycle
+        end if
+        if (ierr == CV_TOO_MUCH_WORK) then
+          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
+              itoa(max_steps) // ' before t = ' // rtoa(t(i)) // ': raise max_steps, loosen rtol/atol,' // &
+              ' or use method BDF if the problem is stiff')
+          exit setup
+        end if
+        if (ierr /= CV_SUCCESS .and. ierr /= CV_TSTOP_RETURN) then
+          if (fail(ierr, 'CVode')) exit setup
+        end if
+        theta(i) = yv(1)
+        omega(i) = yv(2)
+        i = i + 1
+      end do
+    end block setup
+
+    if (c_associated(cvode_mem)) call collect_stats(cvode_mem, with_events, stats, status)
+    if (status%code /= PENDULA_OK) then
+      ! Keep the outputs reached before the failure; zero the rest.
+      theta(i:) = 0
+      omega(i:) = 0
+    end if
+
+    ! Clean-up, whatever happened above (each object is freed once, if made).
+    if (c_associated(cvode_mem)) call FCVodeFree(cvode_mem)
+    if (associated(ls)) ierr = FSUNLinSolFree(ls)
+    if (associated(amat)) call FSUNMatDestroy(amat)
+    if (associated(y)) call FN_VDestroy(y)
+    if (c_associated(ctx)) ierr = FSUNContext_Free(ctx)
+
+  contains
+
+    !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation.
+    logical function fail(flag, what)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      character(len=:), allocatable :: why
+      fail = flag < 0
+      if (.not. fail) return
+      why = trim(data%errmsg)
+      if (len(why) == 0) why = flag_meaning(flag)
+      if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
+      call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+          itoa(int(flag, i8)) // ' (' // flag_name(flag) // '): ' // why)
+    end function fail
+
+  end subroutine solve
+
+  !> Copy CVODE's counters into stats; a failing getter is itself an error.
+  subroutine collect_stats(mem, with_events, stats, status)
+    type(c_ptr), intent(in) :: mem
+    logical, intent(in) :: with_events
+    type(ode_stats_t), intent(inout) :: stats
+    type(status_t), intent(inout) :: status
+    integer(c_long) :: v(1)
+    integer(c_int) :: ierr
+    ierr = FCVodeGetNumSteps(mem, v);            call take(ierr, 'CVodeGetNumSteps', stats%steps)
+    ierr = FCVodeGetNumRhsEvals(mem, v);         call take(ierr, 'CVodeGetNumRhsEvals', stats%rhs_evals)
+    ierr = FCVodeGetNumJacEvals(mem, v);         call take(ierr, 'CVodeGetNumJacEvals', stats%jac_evals)
+    ierr = FCVodeGetNumErrTestFails(mem, v);     call take(ierr, 'CVodeGetNumErrTestFails', stats%err_test_fails)
+    ierr = FCVodeGetNumNonlinSolvIters(mem, v);  call take(ierr, 'CVodeGetNumNonlinSolvIters', stats%nonlin_iters)
+    ierr = FCVodeGetNumNonlinSolvConvFails(mem, v)
+    call take(ierr, 'CVodeGetNumNonlinSolvConvFails', stats%nonlin_fails)
+    if (with_events) then
+      ierr = FCVodeGetNumGEvals(mem, v);         call take(ierr, 'CVodeGetNumGEvals', stats%root_evals)
+    end if
+  contains
+    subroutine take(flag, what, dest)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      integer(i8), intent(out) :: dest
+      dest = 0
+      if (flag < 0) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+            itoa(int(flag, i8)) // ' (' // flag_name(flag) // ')')
+      else
+        dest = int(v(1), i8)
+      end if
+    end subroutine take
+  end subroutine collect_stats
+
+  ! ---- callbacks (C calling convention; parameters arrive in user_data) ----
+
+  !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
+  integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C)
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y, sunvec_f
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    real(c_double), pointer :: yy(:), ff(:)
+    call c_f_pointer(user_data, p)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    ff => FN_VGetArrayPointer(sunvec_f)
+    ff(1) = yy(2)
+    ff(2) = -p%gamma * yy(2) - p%w0sq * sin(yy(1))
+    ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
+    ierr = 0
+    if (.not. (ieee_is_finite(ff(1)) .and. ieee_is_finite(ff(2)))) ierr = -1
+  end function rhs
+
+  !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
+  integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
+      result(ierr) bind(C)
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y, sunvec_f, tmp1, tmp2, tmp3
+    type(SUNMatrix) :: sunmat_j
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    real(c_double), pointer :: yy(:), jd(:)
+    call c_f_pointer(user_data, p)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    jd => FSUNDenseMatrix_Data(sunmat_j)
+    jd(1) = 0
+    jd(2) = -p%w0sq * cos(yy(1))
+    jd(3) = 1
+    jd(4) = -p%gamma
+    ierr = 0
+  end function jacobian
+
+  !> Event functions: g1 = Omega (turning point), g2 = theta (zero crossing).
+  integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C)
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y
+    real(c_double) :: gout(2)
+    type(c_ptr), value :: user_data
+    real(c_double), pointer :: yy(:)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    gout(1) = yy(2)
+    gout(2) = yy(1)
+    ierr = 0
+  end function root_functions
+
+  !> CVODE error handler: keep the message of errors (flag < 0) in user data
+  !> instead of printing it; warnings are dropped.
+  subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C)
+    integer(c_int), value :: error_code
+    type(c_ptr), value :: module_name, function_name, msg, eh_data
+    type(cv_data_t), pointer :: p
+    character(kind=c_char), pointer :: chars(:)
+    integer :: j, nmax
+    if (error_code >= 0 .or. .not. c_associated(eh_data) .or. .not. c_associated(msg)) return
+    call c_f_pointer(eh_data, p)
+    nmax = len(p%errmsg)
+    call c_f_pointer(msg, chars, [nmax])
+    p%errmsg = ''
+    do j = 1, nmax
+      if (chars(j) == c_null_char) exit
+      p%errmsg(j:j) = chars(j)
+    end do
+  end subroutine capture_error
+
+  ! ---- small helpers for messages ----
+
+  pure function flag_name(flag) result(s)
+    integer(c_int), intent(in) :: flag
+    character(len=:), allocatable :: s
+    select case (flag)
+    case (CV_TOO_MUCH_WORK);      s = 'CV_TOO_MUCH_WORK'
+    case (CV_TOO_MUCH_ACC);       s = 'CV_TOO_MUCH_ACC'
+    case (CV_ERR_FAILURE);        s = 'CV_ERR_FAILURE'
+    case (CV_CONV_FAILURE);       s = 'CV_CONV_FAILURE'
+    case (CV_LINIT_FAIL);         s = 'CV_LINIT_FAIL'
+    case (CV_LSETUP_FAIL);        s = 'CV_LSETUP_FAIL'
+    case (CV_LSOLVE_FAIL);        s = 'CV_LSOLVE_FAIL'
+    case (CV_RHSFUNC_FAIL);       s = 'CV_RHSFUNC_FAIL'
+    case (CV_FIRST_RHSFUNC_ERR);  s = 'CV_FIRST_RHSFUNC_ERR'
+    case (CV_REPTD_RHSFUNC_ERR);  s = 'CV_REPTD_RHSFUNC_ERR'
+    case (CV_UNREC_RHSFUNC_ERR);  s = 'CV_UNREC_RHSFUNC_ERR'
+    case (CV_RTFUNC_FAIL);        s = 'CV_RTFUNC_FAIL'
+    case (CV_NLS_INIT_FAIL);      s = 'CV_NLS_INIT_FAIL'
+    case (CV_NLS_SETUP_FAIL);     s = 'CV_NLS_SETUP_FAIL'
+    case (CV_NLS_FAIL);           s = 'CV_NLS_FAIL'
+    case (CV_MEM_FAIL);           s = 'CV_MEM_FAIL'
+    case (CV_MEM_NULL);           s = 'CV_MEM_NULL'
+    case (CV_ILL_INPUT);          s = 'CV_ILL_INPUT'
+    case (CV_NO_MALLOC);          s = 'CV_NO_MALLOC'
+    case (CV_BAD_T);              s = 'CV_BAD_T'
+    case (CV_TOO_CLOSE);          s = 'CV_TOO_CLOSE'
+    case default;                 s = 'flag ' // itoa(int(flag, i8))
+    end select
+  end function flag_name
+
+  pure function flag_meaning(flag) result(s)
+    integer(c_int), intent(in) :: flag
+    character(len=:), allocatable :: s
+    select case (flag)
+    case (CV_TOO_MUCH_ACC);   s = 'the requested accuracy could not be met'
+    case (CV_ERR_FAILURE);    s = 'repeated error-test failures (the step size hit its minimum)'
+    case (CV_CONV_FAILURE);   s = 'repeated nonlinear-solver convergence failures'
+    case (CV_MEM_FAIL);       s = 'out of memory'
+    case (CV_ILL_INPUT);      s = 'an input to CVODE was invalid'
+    case default;             s = 'see the SUNDIALS CVODE documentation'
+    end select
+  end function flag_meaning
+
+  pure function itoa(n) result(s)
+    integer(i8), intent(in) :: n
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write (buf, '(i0)') n
+    s = trim(buf)
+  end function itoa
+
+  pure function rtoa(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf
+    write (buf, '(es14.7)') x
+    s = trim(adjustl(buf))
+  end function rtoa
+
+end module pendula_cvode

@@ -1,0 +1,292 @@
+!> The classic four-stage Runge-Kutta method (Kutta 1901; Hairer, Norsett &
+!> Wanner, "Solving ODEs I", table II.1.2) for the nonlinear damped pendulum
+!> theta'' + gamma theta' + w0**2 sin(theta) = 0 (text eq. 2.2, section 2.2).
+!>
+!> This is the scheme the text's section 2.2 listing means to implement, without
+!> its line-67 typo (`m2 = m1 * h * k1 / 2.0` for `m2 = m1 + h * k1 / 2.0`).
+!> Fixed step: between consecutive output times the interval is cut into the
+!> smallest number of equal substeps that are at most h.  Global error O(h**4).
+!>
+!> Before integrating, the step is compared with RK4's absolute-stability
+!> region for the eigenvalues of the problem linearised about theta = 0
+!> (text eqs. 2.4-2.18); a step outside it is refused with the largest stable
+!> step in the message, instead of returning an exploding solution.
+module pendula_rk4
+  use pendula_kinds, only: wp, i8
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, PENDULA_OK, &
+      PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER
+  use pendula_ode, only: ode_stats_t, check_problem, check_output_size, linear_eigenvalues
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+  public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
+
+  !> Refuse windows that need more steps than this (about 30 days of CPU).
+  real(wp), parameter :: max_total_steps = 1.0e15_wp
+
+contains
+
+  !> RK4 stability function R(z) = 1 + z + z**2/2 + z**3/6 + z**4/24: one step
+  !> multiplies a mode of y' = lambda y by R(h lambda).
+  elemental complex(wp) function rk4_stability_function(z) result(r)
+    complex(wp), intent(in) :: z
+    r = 1 + z * (1 + z * (0.5_wp + z * (1.0_wp / 6 + z / 24)))
+  end function rk4_stability_function
+
+  !> Largest step h_max [s] for which RK4 is absolutely stable on the pendulum
+  !> linearised about theta = 0: |R(h lambda)| <= 1 for both eigenvalues
+  !> lambda = -gamma/2 +- sqrt(gamma**2/4 - w0**2) and every step in (0, h_max].
+  !> On the negative real axis this is h |lambda| = 2.7853 (overdamped), on the
+  !> imaginary axis h w0 = 2 sqrt(2) (gamma = 0).  Relative accuracy ~1e-14
+  !> (bisection along the ray).  w0 > 0 [1/s], gamma >= 0 [1/s], both finite.
+  pure subroutine rk4_max_stable_step(w0, gamma, h_max, status)
+    real(wp), intent(in) :: w0, gamma
+    real(wp), intent(out) :: h_max
+    type(status_t), intent(out) :: status
+    complex(wp) :: lam1, lam2
+    h_max = 0
+    call check_positive('w0', w0, status)
+    call check_nonnegative('gamma', gamma, status)
+    if (status%code /= PENDULA_OK) return
+    call linear_eigenvalues(w0, gamma, lam1, lam2)
+    h_max = min(ray_limit(lam1), ray_limit(lam2))
+  end subroutine rk4_max_stable_step
+
+  !> First exit of the ray h -> h lambda from RK4's stability region, as a step.
+  !> The region lies inside |z| < 3 (its extent is 2.785 on the real axis and
+  !> 2.828 on the imaginary one), so a scan of |z| in (0, 3.5] finds the first
+  !> sample outside and bisection refines the crossing.
+  pure real(wp) function ray_limit(lam) result(h)
+    complex(wp), intent(in) :: lam
+    integer, parameter :: nscan = 3500
+    real(wp), parameter :: smax = 3.5_wp
+    complex(wp) :: d
+    real(wp) :: a, b, m, mod_lam
+    integer :: i, it
+    mod_lam = abs(lam)
+    d = lam / mod_lam
+    a = 0
+    b = smax
+    do i = 1, nscan
+      if (.not. inside(d * (smax * i / nscan))) then
+        b = smax * i / nscan
+        exit
+      end if
+      a = smax * i / nscan
+    end do
+    do it = 1, 200
+      m = (a + b) / 2
+      if (m <= a .or. m >= b) exit
+      if (inside(d * m)) then
+        a = m
+      else
+        b = m
+      end if
+    end do
+    ! a is a stable |z|; dividing by a tiny |lambda| may overflow: cap at huge.
+    if (mod_lam < a / huge(1.0_wp)) then
+      h = huge(1.0_wp)
+    else
+      h = a / mod_lam
+    end if
+  contains
+    pure logical function inside(z)
+      complex(wp), intent(in) :: z
+      complex(wp) :: r
+      r = rk4_stability_function(z)
+      ! 4 eps: on the imaginary axis |R|**2 = 1 - y**6/72 + y**8/576 is 1 to
+      ! rounding for small y; that is stable, not an exit.
+      inside = real(r)**2 + aimag(r)**2 <= 1 + 4 * epsilon(1.0_wp)
+    end function inside
+  end function ray_limit
+
+  !> Number of equal substeps of at most h that cover dt: ceiling(dt/h), except
+  !> that dt/h within 1e-9 of an integer counts as that integer (output grids
+  !> like 0.05*k are multiples of h only up to rounding).
+  pure integer(i8) function substeps(dt, h) result(n)
+    real(wp), intent(in) :: dt, h
+    real(wp) :: r, nr
+    r = dt / h
+    nr = anint(r)
+    if (r <= 1) then
+      n = 1
+    else if (abs(r - nr) <= 1.0e-9_wp * nr) then
+      n = int(nr, i8)
+    else
+      n = int(ceiling(r), i8)
+    end if
+  end function substeps
+
+  !> Validate h against the window t(1)..t(n): positive, not so small that the
+  !> run needs more than 1e15 steps, and stable (see rk4_max_stable_step).
+  pure subroutine check_step(t, w0, gamma, h, status)
+    real(wp), intent(in) :: t(:), w0, gamma, h
+    type(status_t), intent(inout) :: status
+    real(wp) :: total, h_used, h_max, dt
+    type(status_t) :: st2
+    integer :: i
+    integer(i8) :: n
+    call check_positive('h', h, status)
+    if (status%code /= PENDULA_OK) return
+    total = 0
+    h_used = 0
+    do i = 1, size(t) - 1
+      dt = t(i+1) - t(i)
+      if (.not. ieee_is_finite(dt)) then
+        call set_error(status, PENDULA_ERR_ORDER, 't spans more than the largest real: ' // &
+            'consecutive output times must differ by a finite amount')
+        return
+      end if
+      total = total + dt / h
+      if (total > max_total_steps) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'h = ' // num(h) // ' is too small for the window t = ' // &
+            num(t(1)) // ' .. ' // num(t(size(t))) // ': RK4 would need more than 1e15 steps')
+        return
+      end if
+      n = substeps(dt, h)
+      h_used = max(h_used, dt / real(n, wp))
+    end do
+    if (size(t) == 1) return
+    call rk4_max_stable_step(w0, gamma, h_max, st2)
+    if (h_used > h_max) then
+      call set_error(status, PENDULA_ERR_UNSTABLE, 'h = ' // num(h) // ' is unstable for RK4 with w0 = ' // &
+          num(w0) // ', gamma = ' // num(gamma) // ' (substep ' // num(h_used) // &
+          '): h*lambda leaves the stability region for the eigenvalues lambda of the linearisation' // &
+          ' about theta = 0; the largest stable h is ' // num(h_max) // ' (or use CVODE BDF)')
+    end if
+  end subroutine check_step
+
+  !> Short text of a real for messages (6 significant digits).
+  pure function num(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf
+    if (x == 0) then
+      s = '0'
+      return
+    end if
+    if (abs(x) >= 1.0e-3_wp .and. abs(x) < 1.0e6_wp) then
+      write (buf, '(f0.6)') x
+      s = trim(buf)
+      do while (s(len(s):len(s)) == '0')
+        s = s(1:len(s)-1)
+      end do
+      if (s(len(s):len(s)) == '.') s = s(1:len(s)-1)
+      if (s(1:1) == '.') s = '0' // s
+      if (s(1:2) == '-.') s = '-0' // s(2:)
+    else
+      write (buf, '(es12.5)') x
+      s = trim(adjustl(buf))
+    end if
+  end function num
+
+  !> n RK4 steps of size hs from (theta, omega).  w0sq = w0**2.
+  pure subroutine advance(theta, omega, w0sq, gamma, hs, n)
+    real(wp), intent(inout) :: theta, omega
+    real(wp), intent(in) :: w0sq, gamma, hs
+    integer(i8), intent(in) :: n
+    real(wp) :: y, u, k1, k2, k3, k4, m2, m3, m4, half, sixth
+    integer(i8) :: i
+    y = theta
+    u = omega
+    half = hs / 2
+    sixth = hs / 6
+    do i = 1, n
+      ! stage slopes: theta' = Omega (the m's of the text), Omega' = f (the k's)
+      k1 = -gamma * u - w0sq * sin(y)
+      m2 = u + half * k1
+      k2 = -gamma * m2 - w0sq * sin(y + half * u)
+      m3 = u + half * k2
+      k3 = -gamma * m3 - w0sq * sin(y + half * m2)
+      m4 = u + hs * k3
+      k4 = -gamma * m4 - w0sq * sin(y + hs * m3)
+      y = y + sixth * (u + 2 * (m2 + m3) + m4)
+      u = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+    end do
+    theta = y
+    omega = u
+  end subroutine advance
+
+  !> Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with classic RK4
+  !> and return theta(i) [rad], omega(i) [rad/s] at the output times t(i) [s].
+  !>
+  !> t: strictly increasing, finite, size >= 1; t(1) is the initial time where
+  !> (theta0, omega0) holds.  Between t(i) and t(i+1) RK4 takes the fewest
+  !> equal substeps of at most h [s] (h > 0).  w0 > 0 and gamma >= 0 [1/s].
+  !> theta and omega must have size(t) elements.  stats: steps and rhs_evals
+  !> (4 per step).  Errors (status /= OK, outputs zero): bad arguments; a step
+  !> outside RK4's stability region (PENDULA_ERR_UNSTABLE, the message gives
+  !> the largest stable h); more than 1e15 steps.  Global error O(h**4): about
+  !> 3e-7 rad for the text's scenario (t <= 30 s, h = 0.05 s).
+  pure subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    real(wp) :: y, u, w0sq, dt
+    integer(i8) :: n
+    integer :: i
+    theta = 0
+    omega = 0
+    call check_problem(t, theta0, omega0, w0, gamma, status)
+    call check_output_size('theta', size(theta), size(t), status)
+    call check_output_size('omega', size(omega), size(t), status)
+    call check_step(t, w0, gamma, h, status)
+    if (status%code /= PENDULA_OK) return
+    w0sq = w0 * w0
+    y = theta0
+    u = omega0
+    theta(1) = y
+    omega(1) = u
+    do i = 1, size(t) - 1
+      dt = t(i+1) - t(i)
+      n = substeps(dt, h)
+      call advance(y, u, w0sq, gamma, dt / real(n, wp), n)
+      stats%steps = stats%steps + n
+      if (.not. (ieee_is_finite(y) .and. ieee_is_finite(u))) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // num(t(i+1)))
+        theta = 0
+        omega = 0
+        exit
+      end if
+      theta(i+1) = y
+      omega(i+1) = u
+    end do
+    stats%rhs_evals = 4 * stats%steps
+  end subroutine rk4_solve
+
+  !> Final state only: integrate from (t0, theta0, omega0) to t_end >= t0 [s]
+  !> with the fewest equal RK4 steps of at most h and return theta_end [rad],
+  !> omega_end [rad/s].  No history is kept: memory is O(1) however long the
+  !> run (e.g. 1e5 periods).  Same checks, errors and accuracy as rk4_solve.
+  pure subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
+      stats, status)
+    real(wp), intent(in) :: t0, t_end, theta0, omega0, w0, gamma, h
+    real(wp), intent(out) :: theta_end, omega_end
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    real(wp) :: th(2), om(2)
+    theta_end = 0
+    omega_end = 0
+    call check_finite('t0', t0, status)
+    call check_finite('t_end', t_end, status)
+    if (status%code /= PENDULA_OK) return
+    if (t_end == t0) then
+      call check_problem([t0], theta0, omega0, w0, gamma, status)
+      call check_positive('h', h, status)
+      if (status%code /= PENDULA_OK) return
+      theta_end = theta0
+      omega_end = omega0
+      return
+    end if
+    if (t_end < t0) then
+      call set_error(status, PENDULA_ERR_ORDER, 't_end = ' // num(t_end) // ' must not precede t0 = ' // num(t0))
+      return
+    end if
+    call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status)
+    if (status%code /= PENDULA_OK) return
+    theta_end = th(2)
+    omega_end = om(2)
+  end subroutine rk4_final_state
+
+end module pendula_rk4
