@@ -4,6 +4,7 @@ module pendula
   use pendula_status
   use pendula_physics
   ! <concern modules: one `use` line each, kept in architecture order>
+  use pendula_elliptic
   use pendula_linear_damped
   use pendula_integrators
   implicit none

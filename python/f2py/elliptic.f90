@@ -1,0 +1,119 @@
+! f2py-facing layer for the elliptic concern (pendula_elliptic).  Plain
+! subroutines over explicit-shape arrays; domain errors come back as NaN
+! (documented in pendula_elliptic) and the Python side turns them into
+! ValueError.  No numerics here.
+
+subroutine ellipk_f2py(n, m, k)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipk
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: m(n)
+  real(c_double), intent(out) :: k(n)
+  k = ellipk(m)
+end subroutine ellipk_f2py
+
+subroutine ellipkc_f2py(n, mc, k)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipkc
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: mc(n)
+  real(c_double), intent(out) :: k(n)
+  k = ellipkc(mc)
+end subroutine ellipkc_f2py
+
+subroutine ellipe_f2py(n, m, e)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipe
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: m(n)
+  real(c_double), intent(out) :: e(n)
+  e = ellipe(m)
+end subroutine ellipe_f2py
+
+subroutine ellipec_f2py(n, mc, e)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipec
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: mc(n)
+  real(c_double), intent(out) :: e(n)
+  e = ellipec(mc)
+end subroutine ellipec_f2py
+
+subroutine ellipf_f2py(n, phi, m, f)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipf
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: phi(n), m(n)
+  real(c_double), intent(out) :: f(n)
+  f = ellipf(phi, m)
+end subroutine ellipf_f2py
+
+subroutine ellipfc_f2py(n, phi, mc, f)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipfc
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: phi(n), mc(n)
+  real(c_double), intent(out) :: f(n)
+  f = ellipfc(phi, mc)
+end subroutine ellipfc_f2py
+
+subroutine ellipj_f2py(n, u, m, sn, cn, dn, ph)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipj
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: u(n), m(n)
+  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
+  call ellipj(u, m, sn, cn, dn, ph)
+end subroutine ellipj_f2py
+
+subroutine ellipjc_f2py(n, u, mc, sn, cn, dn, ph)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipjc
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: u(n), mc(n)
+  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
+  call ellipjc(u, mc, sn, cn, dn, ph)
+end subroutine ellipjc_f2py
+
+! One parameter, many u: the m-dependent work is done once (ellipj_plan).
+subroutine ellipj_plan_f2py(n, u, m, sn, cn, dn, ph)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_eval
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: u(n), m
+  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
+  type(ellipj_plan_t) :: plan
+  plan = ellipj_plan(m)
+  call ellipj_eval(plan, u, sn, cn, dn, ph)
+end subroutine ellipj_plan_f2py
+
+subroutine ellipjc_plan_f2py(n, u, mc, sn, cn, dn, ph)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipj_plan_t, ellipj_planc, ellipj_eval
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: u(n), mc
+  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
+  type(ellipj_plan_t) :: plan
+  plan = ellipj_planc(mc)
+  call ellipj_eval(plan, u, sn, cn, dn, ph)
+end subroutine ellipjc_plan_f2py

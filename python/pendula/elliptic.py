@@ -1,0 +1,142 @@
+"""Elliptic integrals and Jacobi elliptic functions for every real parameter.
+
+Names, the parameter convention (m = k**2) and the return order follow
+``scipy.special`` so code can switch by changing an import:
+
+* ``ellipk(m)``, ``ellipkm1(p)`` (= K(1 - p)), ``ellipe(m)``, ``ellipem1(p)``
+  (= E(1 - p)): complete integrals, m <= 1 (p >= 0).
+* ``ellipf(phi, m)`` (alias ``ellipkinc``), ``ellipfm1(phi, p)`` (= F(phi | 1 - p)):
+  incomplete integral of the first kind, any real phi (rad), m sin^2(phi) <= 1.
+* ``ellipj(u, m) -> (sn, cn, dn, ph)``, ``ellipjm1(u, p)`` (= ellipj(u, 1 - p)):
+  Jacobi functions and amplitude for all real u and m.
+
+The ``*m1`` complement forms take p = 1 - m directly: near m = 1 (the
+pendulum's separatrix) forming 1 - m in floating point loses every digit,
+while p can be as small as the smallest subnormal double.
+
+Beyond SciPy: m < 0 and m > 1 are supported (SciPy returns NaN); for m > 1 the
+amplitude is ph = atan2(sn, cn), which stays in [-pi/2, pi/2] since cn > 0.
+NaN input gives NaN output; out-of-domain input raises ValueError.
+"""
+import numpy as np
+
+from . import _elliptic
+from ._arrays import broadcast_real, restore
+
+__all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc",
+           "ellipfm1", "ellipj", "ellipjm1"]
+
+
+def _first_bad(bad, **arrays):
+    i = int(np.flatnonzero(bad)[0])
+    return ", ".join(f"{k} = {float(v[i])!r}" for k, v in arrays.items())
+
+
+def _check_nan_domain(out, message, **inputs):
+    """NaN from non-NaN input means the Fortran core met a domain error."""
+    bad = np.isnan(out)
+    if bad.any():
+        for v in inputs.values():
+            bad &= ~np.isnan(v)
+        if bad.any():
+            raise ValueError(f"{message} (got {_first_bad(bad, **inputs)})")
+
+
+def ellipk(m):
+    """Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
+
+    K(1) = inf.  ValueError for m > 1.  Accuracy: a few ulps (AGM).
+    """
+    shape, scalar, f = broadcast_real(m=m)
+    k = _elliptic.ellipk_f2py(f["m"])
+    _check_nan_domain(k, "ellipk: m must be <= 1", m=f["m"])
+    return restore(k, shape, scalar)
+
+
+def ellipkm1(p):
+    """K(1 - p) for p >= 0, accurate for tiny p (down to the smallest subnormal).
+
+    Same name and meaning as scipy.special.ellipkm1.  ValueError for p < 0.
+    """
+    shape, scalar, f = broadcast_real(p=p)
+    k = _elliptic.ellipkc_f2py(f["p"])
+    _check_nan_domain(k, "ellipkm1: p = 1 - m must be >= 0", p=f["p"])
+    return restore(k, shape, scalar)
+
+
+def ellipe(m):
+    """Complete elliptic integral of the second kind E(m), m <= 1 (E(1) = 1).
+
+    ValueError for m > 1.  Accuracy: a few ulps.
+    """
+    shape, scalar, f = broadcast_real(m=m)
+    e = _elliptic.ellipe_f2py(f["m"])
+    _check_nan_domain(e, "ellipe: m must be <= 1", m=f["m"])
+    return restore(e, shape, scalar)
+
+
+def ellipem1(p):
+    """E(1 - p) for p >= 0, accurate for tiny p.  ValueError for p < 0."""
+    shape, scalar, f = broadcast_real(p=p)
+    e = _elliptic.ellipec_f2py(f["p"])
+    _check_nan_domain(e, "ellipem1: p = 1 - m must be >= 0", p=f["p"])
+    return restore(e, shape, scalar)
+
+
+def ellipf(phi, m):
+    """Incomplete elliptic integral of the first kind F(phi | m).
+
+    phi in rad, any real value (F(phi + n pi) = F(phi) + 2 n K(m)); any real m
+    with m sin^2(phi) <= 1, including m > 1 (there the quasi-period uses
+    Re K(m) = K(1/m)/sqrt(m)).  ValueError where m sin^2(phi) > 1.
+    Same as scipy.special.ellipkinc (alias ``ellipkinc``) where SciPy is defined.
+    """
+    shape, scalar, f = broadcast_real(phi=phi, m=m)
+    out = _elliptic.ellipf_f2py(f["phi"], f["m"])
+    _check_nan_domain(out, "ellipf: need m*sin(phi)**2 <= 1", phi=f["phi"], m=f["m"])
+    return restore(out, shape, scalar)
+
+
+ellipkinc = ellipf
+
+
+def ellipfm1(phi, p):
+    """F(phi | 1 - p) with the complementary parameter p = 1 - m (accurate near m = 1).
+
+    ValueError where (1 - p) sin^2(phi) > 1.
+    """
+    shape, scalar, f = broadcast_real(phi=phi, p=p)
+    out = _elliptic.ellipfc_f2py(f["phi"], f["p"])
+    _check_nan_domain(out, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=f["phi"], p=f["p"])
+    return restore(out, shape, scalar)
+
+
+def _jacobi(u, m, name, vec, plan):
+    shape, scalar, f = broadcast_real(u=u, **{name: m})
+    marr = np.asarray(m)
+    if not scalar and marr.ndim == 0:
+        # one parameter, many u: the m-dependent work is done once
+        res = plan(f["u"], float(marr))
+    else:
+        res = vec(f["u"], f[name])
+    return tuple(restore(r, shape, scalar) for r in res)
+
+
+def ellipj(u, m):
+    """Jacobi elliptic functions ``(sn, cn, dn, ph) = ellipj(u, m)``, like scipy.special.
+
+    All real u and m (m = k**2; m < 0 and m > 1 through the modulus
+    transformations).  ph is the amplitude am(u|m) in rad.  Accuracy: a few eps
+    times the condition number, also for |u| large (u is reduced modulo the
+    period with K in double-double) and for m within 1e-300 of 1 via ``ellipjm1``.
+    """
+    return _jacobi(u, m, "m", _elliptic.ellipj_f2py, _elliptic.ellipj_plan_f2py)
+
+
+def ellipjm1(u, p):
+    """``ellipj(u, 1 - p)`` with the complementary parameter p = 1 - m (any real p).
+
+    Use it near the separatrix (m -> 1), where 1 - m cannot be formed in floating
+    point: p down to the smallest subnormal double keeps full accuracy.
+    """
+    return _jacobi(u, p, "p", _elliptic.ellipjc_f2py, _elliptic.ellipjc_plan_f2py)

@@ -1,0 +1,690 @@
+!> Complete and incomplete elliptic integrals of the first and second kind and
+!> the Jacobi elliptic functions, for every real parameter m = k**2.
+!>
+!> Conventions follow DLMF ch. 19 and 22 (and scipy.special): parameter m = k**2,
+!> F(phi|m) = int_0^phi dt / sqrt(1 - m sin^2 t), K(m) = F(pi/2|m), E(m) likewise.
+!> Every function has a complement form taking mc = 1 - m directly (suffix c),
+!> because near the separatrix (m -> 1) forming 1 - m loses every digit.
+!>
+!> Domain errors in the elemental functions give a quiet NaN (never stop/print):
+!> K, E need m <= 1 (mc >= 0); F needs m sin^2(phi) <= 1; NaN in gives NaN out.
+!>
+!> Algorithms (own implementations from the papers):
+!>  * K, E: arithmetic-geometric mean with the sum of c_n^2 kept in the stable
+!>    product form c_{n+1} = c_n^2/(4 a_{n+1}) (DLMF 19.8.1-19.8.6); for m > 1/2
+!>    E comes from Legendre's relation (DLMF 19.7.1) so that E(m) near m = 1 is a sum
+!>    of positive terms.  m < 0 by the imaginary-modulus transformation (DLMF 19.7.5).
+!>  * F: Carlson's R_F by duplication (DLMF 19.36.1, Carlson 1995), any real phi by
+!>    F(phi + n pi) = F(phi) + 2 n K with n*pi subtracted in double-double.
+!>  * sn, cn, dn: Maclaurin series at u/2^N followed by N duplications, first on the
+!>    complements 1 - cn, 1 - dn and then on cn, dn written without cancellation
+!>    (cn(2u) = (cn^2 dn^2 - mc sn^2)/D, dn(2u) = (mc + m cn^4)/D,
+!>    D = cn^2 + sn^2 dn^2), after the idea of Fukushima's conditional duplication
+!>    (Numer. Math. 2012).  u is reduced modulo 2K with K in double-double (AGM in
+!>    double-double arithmetic) and [K/2, K] is mapped to [0, K/2] by u -> K - u
+!>    (DLMF 22.4.3), which keeps cn and dn relatively accurate when mc is tiny.
+!>    m < 0 by DLMF 22.6.12 (imaginary modulus), m > 1 by DLMF 22.6.11 (reciprocal).
+module pendula_elliptic
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, &
+      ieee_is_nan, ieee_is_finite
+  use pendula_kinds, only: wp
+  implicit none
+  private
+
+  public :: ellipk, ellipkc, ellipe, ellipec, ellipf, ellipfc
+  public :: ellipj, ellipjc
+  public :: ellipj_plan_t, ellipj_plan, ellipj_planc, ellipj_eval
+
+  real(wp), parameter :: pi = 3.141592653589793115997963468544185_wp
+  real(wp), parameter :: pi_lo = 1.2246467991473532e-16_wp      ! pi - pi(double)
+  real(wp), parameter :: half_pi = 0.5_wp * pi, half_pi_lo = 0.5_wp * pi_lo
+  real(wp), parameter :: eps = epsilon(1.0_wp)
+  !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
+  real(wp), parameter :: wmax = 0.1_wp
+  !> Switch from complement (1-cn, 1-dn) to direct duplication once 1 - cn exceeds this.
+  real(wp), parameter :: xswitch = 0.25_wp
+
+  ! Maclaurin coefficients, js(j,k): coefficient of m^j w^(2k+1) in sn;
+  ! jc(j,k): of m^j w^(2k+2) in 1 - cn; jd(j,k): of m^(j+1) w^(2k+2) in 1 - dn.
+  ! Generated exactly by tests/python/gen_elliptic_coeffs.py.
+  real(wp), parameter :: js(0:6, 0:6) = reshape([ &
+      1.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, -1.66666666666666657e-01_wp, -1.66666666666666657e-01_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 8.33333333333333322e-03_wp, &
+      1.16666666666666669e-01_wp, 8.33333333333333322e-03_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      -1.98412698412698413e-04_wp, -2.67857142857142842e-02_wp, -2.67857142857142842e-02_wp, &
+      -1.98412698412698413e-04_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 2.75573192239858925e-06_wp, 3.38403880070546744e-03_wp, &
+      1.50958994708994716e-02_wp, 3.38403880070546744e-03_wp, 2.75573192239858925e-06_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, -2.50521083854417202e-08_wp, &
+      -2.77301787718454409e-04_wp, -4.15429092512425817e-03_wp, -4.15429092512425817e-03_wp, &
+      -2.77301787718454409e-04_wp, -2.50521083854417202e-08_wp, 0.00000000000000000e+00_wp, &
+      1.60590438368216133e-10_wp, 1.60015524598857930e-05_wp, 7.21749797270630636e-04_wp, &
+      2.11662501593057155e-03_wp, 7.21749797270630636e-04_wp, 1.60015524598857930e-05_wp, &
+      1.60590438368216133e-10_wp], [7, 7])
+  real(wp), parameter :: jc(0:6, 0:6) = reshape([ &
+      5.00000000000000000e-01_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, -4.16666666666666644e-02_wp, -1.66666666666666657e-01_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 1.38888888888888894e-03_wp, &
+      6.11111111111111091e-02_wp, 2.22222222222222231e-02_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      -2.48015873015873016e-05_wp, -1.01190476190476195e-02_wp, -2.26190476190476185e-02_wp, &
+      -1.58730158730158730e-03_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 2.75573192239858883e-07_wp, 1.01631393298059970e-03_wp, &
+      8.47883597883597809e-03_wp, 4.35626102292768942e-03_wp, 7.05467372134038740e-05_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, -2.08767569878681002e-09_wp, &
+      -6.93358853081075301e-05_wp, -1.81761397039174812e-03_wp, -3.21201432312543441e-03_wp, &
+      -5.41392763614985829e-04_wp, -2.13777991555769346e-06_wp, 0.00000000000000000e+00_wp, &
+      1.14707455977297245e-11_wp, 3.42897292302054208e-06_wp, 2.63196900101662034e-04_wp, &
+      1.22648662331202021e-03_wp, 7.45700507605269523e-04_wp, 4.79590955781431980e-05_wp, &
+      4.69841739683009516e-08_wp], [7, 7])
+  real(wp), parameter :: jd(0:6, 0:6) = reshape([ &
+      5.00000000000000000e-01_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, -1.66666666666666657e-01_wp, -4.16666666666666644e-02_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 2.22222222222222231e-02_wp, &
+      6.11111111111111091e-02_wp, 1.38888888888888894e-03_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      -1.58730158730158730e-03_wp, -2.26190476190476185e-02_wp, -1.01190476190476195e-02_wp, &
+      -2.48015873015873016e-05_wp, 0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, &
+      0.00000000000000000e+00_wp, 7.05467372134038740e-05_wp, 4.35626102292768942e-03_wp, &
+      8.47883597883597809e-03_wp, 1.01631393298059970e-03_wp, 2.75573192239858883e-07_wp, &
+      0.00000000000000000e+00_wp, 0.00000000000000000e+00_wp, -2.13777991555769346e-06_wp, &
+      -5.41392763614985829e-04_wp, -3.21201432312543441e-03_wp, -1.81761397039174812e-03_wp, &
+      -6.93358853081075301e-05_wp, -2.08767569878681002e-09_wp, 0.00000000000000000e+00_wp, &
+      4.69841739683009516e-08_wp, 4.79590955781431980e-05_wp, 7.45700507605269523e-04_wp, &
+      1.22648662331202021e-03_wp, 2.63196900101662034e-04_wp, 3.42897292302054208e-06_wp, &
+      1.14707455977297245e-11_wp], [7, 7])
+
+  !> m-dependent work for many evaluations of sn, cn, dn at one parameter.
+  type :: ellipj_plan_t
+    private
+    integer :: kind = -1        ! -1 NaN/invalid, 0: 0<=m<1, 1: m==1, 2: m>1, 3: m<0
+    real(wp) :: m = 0, mc = 1   ! core parameter in [0,1] and its complement
+    real(wp) :: khi = 0, klo = 0! K(m) of the core parameter, double-double
+    real(wp) :: sqmc = 1        ! sqrt(mc)
+    real(wp) :: uscale = 1      ! u is multiplied by this before the core
+    real(wp) :: oscale = 1      ! sn scale (m>1: 1/k, m<0: 1/sqrt(1-m))
+    real(wp) :: cs(0:6) = 0, cc(0:6) = 0, cd(0:6) = 0  ! series coefficients at m
+  end type ellipj_plan_t
+
+contains
+
+  ! ------------------------------------------------------------------ helpers
+  pure elemental real(wp) function qnan()
+    qnan = ieee_value(1.0_wp, ieee_quiet_nan)
+  end function qnan
+
+  !> Exact product a*b = p + e (Dekker/Veltkamp, no fma needed).
+  pure elemental subroutine two_prod(a, b, p, e)
+    real(wp), intent(in) :: a, b
+    real(wp), intent(out) :: p, e
+    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
+    real(wp) :: t, ah, al, bh, bl
+    p = a * b
+    t = split * a; ah = t - (t - a); al = a - ah
+    t = split * b; bh = t - (t - b); bl = b - bh
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+  end subroutine two_prod
+
+  pure elemental subroutine two_sum(a, b, s, e)
+    real(wp), intent(in) :: a, b
+    real(wp), intent(out) :: s, e
+    real(wp) :: bb
+    s = a + b
+    bb = s - a
+    e = (a - (s - bb)) + (b - bb)
+  end subroutine two_sum
+
+  pure subroutine dd_add(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: s, e, t, f, f2
+    call two_sum(ah, bh, s, e)
+    call two_sum(al, bl, t, f)
+    e = e + t
+    call two_sum(s, e, t, f2)
+    e = f2 + f
+    call two_sum(t, e, ch, cl)
+  end subroutine dd_add
+
+  pure subroutine dd_mul(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: p, e
+    call two_prod(ah, bh, p, e)
+    e = e + (ah * bl + al * bh)
+    call two_sum(p, e, ch, cl)
+  end subroutine dd_mul
+
+  pure subroutine dd_div(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: q1, q2, ph, pl, rh, rl
+    q1 = ah / bh
+    call dd_mul(q1, 0.0_wp, bh, bl, ph, pl)
+    call dd_add(ah, al, -ph, -pl, rh, rl)
+    q2 = rh / bh
+    call two_sum(q1, q2, ch, cl)
+  end subroutine dd_div
+
+  pure subroutine dd_sqrt(ah, al, ch, cl)
+    real(wp), intent(in) :: ah, al
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: s, p, e, r
+    if (ah <= 0) then
+      ch = 0; cl = 0
+      return
+    end if
+    s = sqrt(ah)
+    call two_prod(s, s, p, e)
+    r = ((ah - p) - e + al) / (2 * s)
+    call two_sum(s, r, ch, cl)
+  end subroutine dd_sqrt
+
+  !> K(m) from mc = 1 - m > 0 (any mc > 0, also mc > 1 for m < 0) in double-double:
+  !> K = (pi/2) / AGM(1, sqrt(mc)) (DLMF 19.8.5).
+  pure subroutine kdd(mc, khi, klo)
+    real(wp), intent(in) :: mc
+    real(wp), intent(out) :: khi, klo
+    real(wp) :: ah, al, bh, bl, th, tl, ph, pl, x
+    integer :: i, sh
+    ! sqrt(mc) in double-double; scale subnormal/tiny mc so the residual stays exact
+    sh = 0
+    x = mc
+    if (x < 2.0_wp**(-900)) then
+      x = scale(x, 1000)
+      sh = -500
+    end if
+    call dd_sqrt(x, 0.0_wp, bh, bl)
+    bh = scale(bh, sh); bl = scale(bl, sh)
+    ah = 1; al = 0
+    do i = 1, 80
+      call dd_add(ah, al, -bh, -bl, th, tl)
+      if (abs(th) <= 1.0e-33_wp * ah) exit
+      call dd_add(ah, al, bh, bl, th, tl)
+      call dd_mul(ah, al, bh, bl, ph, pl)
+      ah = 0.5_wp * th; al = 0.5_wp * tl
+      call dd_sqrt(ph, pl, bh, bl)
+    end do
+    call dd_div(half_pi, half_pi_lo, ah, al, khi, klo)
+  end subroutine kdd
+
+  !> AGM(1, sqrt(pc)) = M and S = sum_{n>=0} 2^(n-1) c_n^2 with c_0^2 = p (p + pc = 1).
+  !> Then K(p) = (pi/2)/M and K(p) - E(p) = K(p) S (DLMF 19.8.6), S a sum of positive terms.
+  pure subroutine agm_ms(p, pc, mm, s)
+    real(wp), intent(in) :: p, pc
+    real(wp), intent(out) :: mm, s
+    real(wp) :: a, b, an, cc, w
+    integer :: i
+    a = 1
+    b = sqrt(pc)
+    cc = p
+    w = 0.5_wp
+    s = 0.5_wp * p
+    do i = 1, 60
+      if (abs(a - b) <= 1.0e-9_wp * a) exit
+      an = 0.5_wp * (a + b)
+      b = sqrt(a * b)
+      cc = (cc / (4 * an))**2
+      w = 2 * w
+      s = s + w * cc
+      a = an
+    end do
+    an = 0.5_wp * (a + b)
+    cc = (cc / (4 * an))**2
+    s = s + 2 * w * cc
+    mm = an
+  end subroutine agm_ms
+
+  !> AGM(1, b) in double, quadratically convergent; the final mean is within 1e-18 relative.
+  pure elemental real(wp) function agm1(b) result(mm)
+    real(wp), intent(in) :: b
+    real(wp) :: a, bb, an
+    integer :: i
+    a = 1
+    bb = b
+    do i = 1, 60
+      if (abs(a - bb) <= 1.0e-9_wp * a) exit
+      an = 0.5_wp * (a + bb)
+      bb = sqrt(a * bb)
+      a = an
+    end do
+    mm = 0.5_wp * (a + bb)
+  end function agm1
+
+  ! ------------------------------------------------------- complete integrals
+  !> Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
+  !> K(1) = +Inf; NaN for m > 1 or NaN.  Accuracy: a few ulps (AGM, DLMF 19.8.5).
+  elemental real(wp) function ellipk(m) result(k)
+    real(wp), intent(in) :: m
+    if (m < 1) then
+      k = kfun(1 - m)
+    else if (m == 1) then
+      k = ieee_value(1.0_wp, ieee_positive_inf)
+    else
+      k = qnan()
+    end if
+  end function ellipk
+
+  !> K as a function of the complementary parameter mc = 1 - m >= 0 (mc = 0 gives +Inf,
+  !> NaN for mc < 0).  Exact to a few ulps down to the smallest subnormal mc.
+  elemental real(wp) function ellipkc(mc) result(k)
+    real(wp), intent(in) :: mc
+    if (mc > 0) then
+      k = kfun(mc)
+    else if (mc == 0) then
+      k = ieee_value(1.0_wp, ieee_positive_inf)
+    else
+      k = qnan()
+    end if
+  end function ellipkc
+
+  pure elemental real(wp) function kfun(mc) result(k)
+    real(wp), intent(in) :: mc
+    if (mc > huge(1.0_wp)) then   ! m = -Inf
+      k = 0
+      return
+    end if
+    k = half_pi / agm1(sqrt(mc))
+  end function kfun
+
+  !> Complete elliptic integral of the second kind E(m), m <= 1 (E(1) = 1,
+  !> E(-Inf) = +Inf); NaN for m > 1 or NaN.  A few ulps.
+  elemental real(wp) function ellipe(m) result(e)
+    real(wp), intent(in) :: m
+    if (m <= 1) then
+      e = efun(m, 1 - m)
+    else
+      e = qnan()
+    end if
+  end function ellipe
+
+  !> E as a function of mc = 1 - m >= 0 (mc = 0 gives 1); NaN for mc < 0 or NaN.
+  elemental real(wp) function ellipec(mc) result(e)
+    real(wp), intent(in) :: mc
+    if (mc >= 0) then
+      e = efun(1 - mc, mc)
+    else
+      e = qnan()
+    end if
+  end function ellipec
+
+  !> E(m) given both m and mc = 1 - m (mc accurate), m <= 1.
+  pure elemental real(wp) function efun(m, mc) result(e)
+    real(wp), intent(in) :: m, mc
+    real(wp) :: mu, muc, r
+    if (mc == 0) then
+      e = 1
+    else if (m >= 0) then
+      e = efun01(m, mc)
+    else if (.not. ieee_is_finite(mc)) then
+      e = mc
+    else
+      ! imaginary modulus: E(m) = sqrt(1-m) E(-m/(1-m)) (DLMF 19.7.5)
+      r = sqrt(mc)
+      muc = 1 / mc
+      mu = -m / mc
+      e = r * efun01(mu, muc)
+    end if
+  end function efun
+
+  pure elemental real(wp) function efun01(m, mc) result(e)
+    real(wp), intent(in) :: m, mc
+    real(wp) :: mm, s, k, kp, kpme
+    if (m <= 0.5_wp) then
+      call agm_ms(m, mc, mm, s)
+      k = half_pi / mm
+      e = k - k * s
+    else
+      ! Legendre's relation E K' + E' K - K K' = pi/2 (DLMF 19.7.1) with primes at mc:
+      ! E = (pi/2 + K (K' - E')) / K', all terms positive.
+      call agm_ms(mc, m, mm, s)
+      kp = half_pi / mm
+      kpme = kp * s
+      k = kfun(mc)
+      e = (half_pi + k * kpme) / kp
+    end if
+  end function efun01
+
+  ! ------------------------------------------------------- incomplete integral
+  !> Carlson's symmetric integral R_F(x, y, z), x, y, z >= 0, at most one zero
+  !> (DLMF 19.36.1 with the 7th-order series of Carlson 1995).
+  pure elemental real(wp) function carlson_rf(x0, y0, z0) result(rf)
+    real(wp), intent(in) :: x0, y0, z0
+    real(wp) :: x, y, z, a, lam, sx, sy, sz, dx, dy, dz, e2, e3, f
+    integer :: i
+    x = x0; y = y0; z = z0
+    f = 1
+    do i = 1, 200
+      a = (x + y + z) / 3
+      dx = (a - x); dy = (a - y); dz = (a - z)
+      if (max(abs(dx), abs(dy), abs(dz)) <= 2.0e-3_wp * a) exit
+      sx = sqrt(x); sy = sqrt(y); sz = sqrt(z)
+      lam = sx * (sy + sz) + sy * sz
+      x = 0.25_wp * (x + lam); y = 0.25_wp * (y + lam); z = 0.25_wp * (z + lam)
+    end do
+    dx = dx / a; dy = dy / a; dz = -(dx + dy)
+    e2 = dx * dy - dz * dz
+    e3 = dx * dy * dz
+    rf = (1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44 - 5 * e2**3 / 208 &
+         + 3 * e3 * e3 / 104 + e2 * e2 * e3 / 16) / sqrt(a)
+  end function carlson_rf
+
+  !> Reduce phi to r in [-pi/2, pi/2] with phi = n pi + r, n*pi in double-double.
+  pure elemental subroutine reduce_pi(phi, n, r)
+    real(wp), intent(in) :: phi
+    real(wp), intent(out) :: n, r
+    real(wp) :: p, e
+    n = anint(phi / pi)
+    if (n == 0) then
+      r = phi
+      return
+    end if
+    call two_prod(n, pi, p, e)
+    r = ((phi - p) - e) - n * pi_lo
+  end subroutine reduce_pi
+
+  !> Incomplete elliptic integral of the first kind F(phi|m) for any real phi (rad)
+  !> and any real m with m sin^2(phi) <= 1 (including m > 1; there, like K, the
+  !> quasi-period uses Re K(m) = K(1/m)/sqrt(m)); NaN outside or for NaN input.
+  !> F(phi + n pi) = F(phi) + 2 n K(m).  A few ulps (Carlson R_F).
+  elemental real(wp) function ellipf(phi, m) result(f)
+    real(wp), intent(in) :: phi, m
+    f = ffun(phi, m, 1 - m, .false.)
+  end function ellipf
+
+  !> F(phi|m) with the complementary parameter mc = 1 - m (accurate near m = 1).
+  elemental real(wp) function ellipfc(phi, mc) result(f)
+    real(wp), intent(in) :: phi, mc
+    f = ffun(phi, 1 - mc, mc, .true.)
+  end function ellipfc
+
+  pure elemental real(wp) function ffun(phi, m, mc, usemc) result(f)
+    real(wp), intent(in) :: phi, m, mc
+    logical, intent(in) :: usemc
+    real(wp) :: n, r, s, c, d2, kk
+    if (ieee_is_nan(phi) .or. ieee_is_nan(m) .or. ieee_is_nan(mc)) then
+      f = qnan(); return
+    end if
+    if (.not. ieee_is_finite(phi)) then
+      if (m <= 1 .and. (mc > 0 .or. .not. usemc .and. m < 1)) then
+        f = phi           ! F grows linearly in phi without bound
+      else
+        f = qnan()
+      end if
+      return
+    end if
+    call reduce_pi(phi, n, r)
+    s = sin(r); c = cos(r)
+    if (usemc) then
+      d2 = c * c + mc * (s * s)
+    else
+      d2 = 1 - m * (s * s)
+    end if
+    if (d2 < 0 .or. ieee_is_nan(d2)) then
+      f = qnan(); return
+    end if
+    if (d2 == 0 .and. c == 0) then
+      f = sign(ieee_value(1.0_wp, ieee_positive_inf), r)
+    else if (s == 0) then
+      f = r
+    else
+      f = s * carlson_rf(c * c, d2, 1.0_wp)
+    end if
+    if (n /= 0) then
+      if (m <= 1 .and. mc >= 0) then
+        kk = kfun(mc)
+        if (mc == 0) kk = ieee_value(1.0_wp, ieee_positive_inf)
+      else
+        kk = kfun((m - 1) / m) / sqrt(m)   ! Re K(m) for m > 1 (DLMF 19.7.3)
+      end if
+      f = f + 2 * n * kk
+    end if
+  end function ffun
+
+  ! ------------------------------------------------------- Jacobi functions
+  !> Series coefficients of sn, 1 - cn, 1 - dn in w^2 at parameter m (Horner in m).
+  pure subroutine series_coeffs(m, cs, cc, cd)
+    real(wp), intent(in) :: m
+    real(wp), intent(out) :: cs(0:6), cc(0:6), cd(0:6)
+    integer :: k, j
+    do k = 0, 6
+      cs(k) = js(k, k); cc(k) = jc(k, k); cd(k) = jd(k, k)
+      do j = k - 1, 0, -1
+        cs(k) = cs(k) * m + js(j, k)
+        cc(k) = cc(k) * m + jc(j, k)
+        cd(k) = cd(k) * m + jd(j, k)
+      end do
+      cd(k) = cd(k) * m
+    end do
+  end subroutine series_coeffs
+
+  !> sn, cn, dn at 0 <= v <= K(m)/2 for 0 <= m <= 1 (mc = 1 - m accurate).
+  pure subroutine jcore(v, m, mc, cs, cc, cd, s, c, d)
+    real(wp), intent(in) :: v, m, mc, cs(0:6), cc(0:6), cd(0:6)
+    real(wp), intent(out) :: s, c, d
+    real(wp) :: w, w2, x, y, s2, den, r, c2, d2
+    integer :: n, i
+    n = 0
+    if (v > wmax) n = exponent(v / wmax)
+    w = scale(v, -n)
+    w2 = w * w
+    s = w * (cs(0) + w2 * (cs(1) + w2 * (cs(2) + w2 * (cs(3) + w2 * (cs(4) + w2 * (cs(5) + w2 * cs(6)))))))
+    x = w2 * (cc(0) + w2 * (cc(1) + w2 * (cc(2) + w2 * (cc(3) + w2 * (cc(4) + w2 * (cc(5) + w2 * cc(6)))))))
+    y = w2 * (cd(0) + w2 * (cd(1) + w2 * (cd(2) + w2 * (cd(3) + w2 * (cd(4) + w2 * (cd(5) + w2 * cd(6)))))))
+    i = 0
+    ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u)
+    do while (i < n .and. x < xswitch)
+      c = 1 - x; d = 1 - y
+      s2 = s * s
+      den = c * c + s2 * (d * d)
+      r = 2 / den
+      x = r * s2 * (d * d)
+      y = r * m * s2 * (c * c)
+      s = r * s * c * d
+      i = i + 1
+    end do
+    c = 1 - x; d = 1 - y
+    ! direct duplication, cancellation-free forms for 0 <= m <= 1
+    do while (i < n)
+      s2 = s * s
+      c2 = c * c; d2 = d * d
+      den = c2 + s2 * d2
+      r = 1 / den
+      s = 2 * r * s * c * d
+      c = r * (c2 * d2 - mc * s2)
+      d = r * (mc + m * (c2 * c2))
+      i = i + 1
+    end do
+  end subroutine jcore
+
+  !> Plan for sn, cn, dn at one parameter m (all real m; NaN m gives NaN results).
+  !> Does the m-dependent work once: the transformation to a core parameter in [0,1],
+  !> K in double-double for the period reduction, the series coefficients.
+  pure function ellipj_plan(m) result(plan)
+    real(wp), intent(in) :: m
+    type(ellipj_plan_t) :: plan
+    plan = make_plan(m, 1 - m, .false., .true.)
+  end function ellipj_plan
+
+  !> Plan from the complementary parameter mc = 1 - m (mc >= 0, accurate near m = 1).
+  pure function ellipj_planc(mc) result(plan)
+    real(wp), intent(in) :: mc
+    type(ellipj_plan_t) :: plan
+    plan = make_plan(1 - mc, mc, .true., .true.)
+  end function ellipj_planc
+
+  pure function make_plan(m, mc, usemc, full) result(plan)
+    real(wp), intent(in) :: m, mc
+    logical, intent(in) :: usemc, full
+    type(ellipj_plan_t) :: plan
+    real(wp) :: mm, mmc, k
+    if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then
+      plan%kind = -1
+      return
+    end if
+    if ((usemc .and. mc == 0) .or. (.not. usemc .and. m == 1)) then
+      plan%kind = 1
+      plan%m = 1; plan%mc = 0
+      return
+    end if
+    if ((usemc .and. mc > 0 .and. mc <= 1) .or. (.not. usemc .and. m >= 0 .and. m < 1)) then
+      plan%kind = 0
+      mm = m; mmc = mc
+      plan%uscale = 1; plan%oscale = 1
+    else if ((usemc .and. mc < 0) .or. (.not. usemc .and. m > 1)) then
+      ! reciprocal modulus (DLMF 22.6.11): core parameter 1/m, u scaled by k = sqrt(m)
+      plan%kind = 2
+      if (usemc) then
+        mm = 1 / (1 - mc); mmc = (-mc) / (1 - mc)
+      else
+        mm = 1 / m; mmc = (m - 1) / m
+      end if
+      if (.not. ieee_is_finite(m)) then
+        plan%kind = -1; return
+      end if
+      k = sqrt(merge(1 - mc, m, usemc))
+      plan%uscale = k; plan%oscale = 1 / k
+    else
+      ! imaginary modulus (DLMF 22.6.12): mu = -m/(1-m), u scaled by sqrt(1-m)
+      plan%kind = 3
+      if (.not. ieee_is_finite(mc)) then
+        plan%kind = -1; return
+      end if
+      mm = -m / mc; mmc = 1 / mc
+      k = sqrt(mc)
+      plan%uscale = k; plan%oscale = 1 / k
+    end if
+    plan%m = mm; plan%mc = mmc
+    plan%sqmc = sqrt(mmc)
+    if (full) then
+      call kdd(mmc, plan%khi, plan%klo)
+    else
+      plan%khi = kfun(mmc); plan%klo = 0
+    end if
+    call series_coeffs(mm, plan%cs, plan%cc, plan%cd)
+  end function make_plan
+
+  !> Evaluate sn, cn, dn (and optionally am, rad) at u with a plan (see ellipj).
+  elemental subroutine ellipj_eval(plan, u, sn, cn, dn, am)
+    type(ellipj_plan_t), intent(in) :: plan
+    real(wp), intent(in) :: u
+    real(wp), intent(out) :: sn, cn, dn
+    real(wp), intent(out), optional :: am
+    real(wp) :: a
+    call eval_plan(plan, u, .true., sn, cn, dn, a)
+    if (present(am)) am = a
+  end subroutine ellipj_eval
+
+  pure subroutine eval_plan(plan, u, exact_k, sn, cn, dn, am)
+    type(ellipj_plan_t), intent(in) :: plan
+    real(wp), intent(in) :: u
+    logical, intent(in) :: exact_k
+    real(wp), intent(out) :: sn, cn, dn, am
+    real(wp) :: v, s, c, d, n, khi, klo, p, e, r, t, sg, ex
+    if (plan%kind < 0 .or. ieee_is_nan(u)) then
+      sn = qnan(); cn = sn; dn = sn; am = sn
+      return
+    end if
+    if (plan%kind == 1) then
+      ! m = 1: sn = tanh, cn = dn = sech, am = gd(u)
+      ex = exp(-2 * abs(u))
+      sn = sign((1 - ex) / (1 + ex), u)
+      cn = 2 * sqrt(ex) / (1 + ex)
+      dn = cn
+      am = atan2(sn, cn)
+      return
+    end if
+    if (.not. ieee_is_finite(u)) then
+      sn = qnan(); cn = sn; dn = sn; am = sn
+      return
+    end if
+    v = abs(u) * plan%uscale
+    khi = plan%khi; klo = plan%klo
+    n = 0
+    r = v
+    if (v > khi) then
+      n = anint(v / (2 * khi))
+      if (.not. exact_k .and. n > 4) then
+        call kdd(plan%mc, khi, klo)
+        n = anint(v / (2 * khi))
+      end if
+      call two_prod(n, 2 * khi, p, e)
+      r = ((v - p) - e) - n * (2 * klo)
+    end if
+    t = abs(r)
+    if (t > 0.5_wp * khi) then
+      ! sn(K - t) = cn/dn, cn(K - t) = sqrt(mc) sn/dn, dn(K - t) = sqrt(mc)/dn (DLMF 22.4.3)
+      call jcore((khi - t) + klo, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
+      r = sign(1.0_wp, r)
+      t = c / d
+      c = plan%sqmc * s / d
+      d = plan%sqmc / d
+      s = t * r
+    else
+      call jcore(t, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
+      s = sign(s, r)
+    end if
+    ! s, c, d now at r in [-K, K] (c >= 0); undo the half-period shift and the scaling
+    select case (plan%kind)
+    case (2)   ! m > 1: sn = sn'/k, cn = dn', dn = cn'
+      sg = 1
+      if (mod(n, 2.0_wp) /= 0) sg = -1
+      sn = sg * s * plan%oscale
+      cn = d
+      dn = sg * c
+      am = atan2(sn, cn)
+    case (3)   ! m < 0: sn = k1' sd, cn = cd, dn = nd
+      sg = 1
+      if (mod(n, 2.0_wp) /= 0) sg = -1
+      am = n * pi + atan2(s * plan%oscale, c)
+      sn = sg * plan%oscale * s / d
+      cn = sg * c / d
+      dn = 1 / d
+    case default
+      sg = 1
+      if (mod(n, 2.0_wp) /= 0) sg = -1
+      am = n * pi + atan2(s, c)
+      sn = sg * s
+      cn = sg * c
+      dn = d
+    end select
+    if (u < 0) then
+      sn = -sn
+      am = -am
+    end if
+  end subroutine eval_plan
+
+  !> Jacobi elliptic functions sn(u|m), cn(u|m), dn(u|m) and the amplitude am(u|m)
+  !> (rad, optional) for all real u and all real m (m = k**2; m < 0 and m > 1 by the
+  !> modulus transformations; for m > 1 am = asin-branch atan2(sn, cn)).  NaN in gives
+  !> NaN out.  Accuracy: a few eps times the condition number; u is reduced
+  !> modulo 2K with K in double-double, so large |u| does not lose u*eps.
+  elemental subroutine ellipj(u, m, sn, cn, dn, am)
+    real(wp), intent(in) :: u, m
+    real(wp), intent(out) :: sn, cn, dn
+    real(wp), intent(out), optional :: am
+    real(wp) :: a
+    call eval_plan(make_plan(m, 1 - m, .false., .false.), u, .false., sn, cn, dn, a)
+    if (present(am)) am = a
+  end subroutine ellipj
+
+  !> Jacobi functions with the complementary parameter mc = 1 - m (any real mc;
+  !> accurate near m = 1 including the smallest subnormal mc; mc = 0 gives tanh/sech).
+  elemental subroutine ellipjc(u, mc, sn, cn, dn, am)
+    real(wp), intent(in) :: u, mc
+    real(wp), intent(out) :: sn, cn, dn
+    real(wp), intent(out), optional :: am
+    real(wp) :: a
+    call eval_plan(make_plan(1 - mc, mc, .true., .false.), u, .false., sn, cn, dn, a)
+    if (present(am)) am = a
+  end subroutine ellipjc
+
+end module pendula_elliptic
