@@ -405,8 +405,9 @@ def fig15_nonlinear_damped_phase_plane(out_dir, quick=False):
 def figA1_underdamped_linear(out_dir, quick=False):
     """§2.1.3 (empty in the text): underdamped linear θ(t) with its envelope.
 
-    θ0 = 0.1 rad, Ω0 = 0, γ = 0.1, 0.5, 1.0 × w0; dotted: ±A e^{-γt/2} with
-    A = sqrt(θ0² + ((Ω0 + γθ0/2)/ω_d)²), ω_d = sqrt(w0² - γ²/4).
+    θ0 = 0.1 rad, Ω0 = 0, γ = 0.1, 0.5, 1.0 × w0; dotted: the envelope
+    ±R e^{-γt/2} (pendula.linear_damped_envelope), legend: Q, ω_d and the
+    logarithmic decrement from pendula.damping_regime.
     """
     w0 = _w0()
     t = np.linspace(0.0, 5 * 2 * np.pi / w0, _npts(quick))
@@ -416,11 +417,11 @@ def figA1_underdamped_linear(out_dir, quick=False):
     for i, r in enumerate((0.1, 0.5, 1.0)):
         gamma = r * w0
         th, _ = _linear(t, theta0, omega0, w0, gamma)
-        wd = np.sqrt(w0**2 - gamma**2 / 4)
-        amp = np.hypot(theta0, (omega0 + gamma * theta0 / 2) / wd)
+        info = _need("damping_regime")(w0, gamma)
         c = f"C{i}"
-        ax.plot(t, th, color=c, lw=1.8, label=f"γ = {r:g} w0 (Q = {w0 / gamma:.3g}, ω_d = {wd:.3f} 1/s)")
-        env = amp * np.exp(-gamma * t / 2)
+        ax.plot(t, th, color=c, lw=1.8, label=f"γ = {r:g} w0 (Q = {info.quality_factor:.3g}, "
+                f"ω_d = {info.omega_d:.3f} 1/s, log decrement {info.log_decrement:.3g})")
+        env = _need("linear_damped_envelope")(t, theta0, omega0, w0, gamma)
         ax.plot(t, env, color=c, lw=0.9, ls=":")
         ax.plot(t, -env, color=c, lw=0.9, ls=":")
     ax.plot([], [], color="grey", ls=":", label="envelope ±A e^(−γt/2)")

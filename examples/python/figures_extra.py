@@ -1,0 +1,30 @@
+#!/usr/bin/env python3
+"""Figures the text lacks, drawn from the library (PNG files, no display needed).
+
+figA1 the under-damped linear case with its envelope (§2.1.3 is empty in the text);
+figA2 the full phase portrait: librations, the separatrix, rotations, every curve a
+trajectory of pendula.undamped; figA3 period and time per revolution against energy
+through the separatrix; figA4 work-precision diagram (error vs wall time) of every
+model on the text's §2.2 scene, from pendula.tradeoff.
+"""
+import argparse
+
+from pendula import figures
+
+EXTRA_FIGURES = ["figA1", "figA2", "figA3", "figA4"]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=".", help="folder for the PNG files (default: .)")
+    ap.add_argument("--quick", action="store_true", help="fewer points per curve and settings (fast)")
+    args = ap.parse_args(argv)
+    written, missing = figures.make_figures(args.out, quick=args.quick, only=EXTRA_FIGURES)
+    for path in written:
+        print(f"wrote {path}")
+    for key, why in missing.items():
+        print(f"not drawn: {key}: {why}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""Period of the pendulum: exact vs small-angle vs the usual approximations (text §1.2, fig 4).
+
+Mirrors examples/fortran/example_period_table.f90.  For amplitudes theta0 from
+1 to 179.999 degrees released from rest (g = 9.8 m/s^2, l = 4.9 m) it prints the
+exact period T = 4 K(k^2)/w0 (eq. 1.53, k = sin(theta0/2)) and the relative error
+of the small-angle period T0 = 2 pi/w0 (eq. 1.8), the series T0 (1 + k^2/4 + 9k^4/64),
+Kidd-Fogg T0/sqrt(cos(theta0/2)) and Lima-Arun -T0 ln(c)/(1 - c), c = cos(theta0/2);
+then periods of states the text cannot handle (Omega0 != 0, rotation).
+Writes period_table.csv into --out.
+"""
+import argparse
+import csv
+from pathlib import Path
+
+import numpy as np
+
+import pendula
+
+DEGREES = [1, 5, 10, 20, 30, 45, 60, 90, 120, 150, 170, 179, 179.9, 179.999]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=".", help="folder for period_table.csv (default: .)")
+    ap.add_argument("--quick", action="store_true", help="accepted for symmetry with the other examples")
+    args = ap.parse_args(argv)
+
+    w0 = pendula.natural_frequency(9.8, 4.9)
+    t0 = pendula.small_angle_period(w0)
+    theta0 = np.radians(DEGREES)
+    t_exact = pendula.period(theta0, 0.0, w0)          # array in, array out
+    k = np.sin(theta0 / 2)
+    c = np.cos(theta0 / 2)
+    approx = {
+        "small_angle": np.full_like(theta0, t0),
+        "series": t0 * (1 + k**2 / 4 + 9 * k**4 / 64),
+        "kidd_fogg": t0 / np.sqrt(c),
+        "lima_arun": -t0 * np.log(c) / (1 - c),
+    }
+    print(f"w0 = {w0:.12f} 1/s, small-angle period T0 = {t0:.12f} s")
+    print("Released from rest; relative errors (approximation - exact)/exact")
+    print(f"{'theta0 [deg]':>12} {'T exact [s]':>16} {'T/T0':>8} " +
+          " ".join(f"{name:>12}" for name in approx))
+    rows = []
+    for i, deg in enumerate(DEGREES):
+        errs = {name: (a[i] - t_exact[i]) / t_exact[i] for name, a in approx.items()}
+        print(f"{deg:12.3f} {t_exact[i]:16.10f} {t_exact[i] / t0:8.4f} " +
+              " ".join(f"{e:12.3e}" for e in errs.values()))
+        rows.append([deg, theta0[i], t_exact[i], t0] + [approx[n][i] for n in approx])
+
+    print("\nAny initial state (the text covers only Omega0 = 0 and theta0 = 0):")
+    print(f"{'theta0 [rad]':>14} {'Omega0 [rad/s]':>15} {'E/E_sep':>10} {'period or time per turn [s]':>28}")
+    for th0, om0 in [(0.5, 1.0), (0.0, 1.999 * w0), (0.0, 2.001 * w0), (1.0, 4.0), (np.pi - 1e-10, 0.0)]:
+        m = np.sin(th0 / 2) ** 2 + (om0 / (2 * w0)) ** 2
+        print(f"{th0:14.10f} {om0:15.8f} {m:10.6f} {pendula.period(th0, om0, w0):28.16e}")
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "period_table.csv"
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["theta0_deg", "theta0_rad", "T_exact_s", "T0_small_angle_s", "T_small_angle_s",
+                    "T_series_s", "T_kidd_fogg_s", "T_lima_arun_s"])
+        w.writerows(rows)
+    print(f"\nwrote {path}")
+
+
+if __name__ == "__main__":
+    main()
