@@ -33,7 +33,7 @@ from hypothesis import strategies as st
 import pendula
 
 EPS = np.finfo(float).eps
-SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
@@ -193,3 +193,161 @@ def test_fortran_and_python_paths_agree_linear(fortran_linear):
     # separates the paths, which is exact; allow 2 ulps for a different -O.
     np.testing.assert_allclose(f[:, 0], th, rtol=4 * EPS, atol=4 * EPS * np.max(np.abs(th)))
     np.testing.assert_allclose(f[:, 1], om, rtol=4 * EPS, atol=4 * EPS * np.max(np.abs(om)))
+
+
+# ---- elliptic functions -----------------------------------------------------------------------------------
+ms = fin(-5.0, 0.999)
+us = fin(-20.0, 20.0)
+
+
+@SETTINGS
+@given(u=us, m=fin(-10.0, 10.0))
+def test_jacobi_identities(u, m):
+    # sn^2 + cn^2 = 1 and dn^2 + m sn^2 = 1 for every real m (DLMF 22.6.1).
+    sn, cn, dn, ph = pendula.ellipj(u, m)
+    assert abs(sn * sn + cn * cn - 1) <= 16 * EPS
+    assert abs(dn * dn + m * sn * sn - 1) <= 16 * EPS * (1 + abs(m))
+
+
+@SETTINGS
+@given(u=fin(-8.0, 8.0), k=st.integers(3, 12))
+def test_jacobi_continuous_across_m_equal_1(u, k):
+    # At m = 1: sn = tanh u, cn = dn = sech u (DLMF 22.5.iv); both sides of
+    # m = 1 must approach them linearly in delta = |1 - m|, with
+    # |d(sn, cn, dn)/dm| <= cosh(u)^2 while delta cosh(u)^2 << 1 (beyond, u
+    # nears the quarter period K ~ ln(16/delta)/2 and the limit is not uniform).
+    delta = 10.0**-k
+    bound = 2 * delta * math.cosh(u) ** 2
+    assume(bound < 1e-2)
+    ref = (math.tanh(u), 1 / math.cosh(u), 1 / math.cosh(u))
+    for p in (delta, -delta):
+        got = pendula.ellipjm1(u, p)[:3]
+        got_m = pendula.ellipj(u, 1 - p)[:3]
+        for g, gm, r in zip(got, got_m, ref):
+            assert abs(g - r) <= bound + 64 * EPS
+            assert abs(gm - r) <= bound + 64 * EPS
+    at1 = pendula.ellipj(u, 1.0)[:3]
+    for g, r in zip(at1, ref):
+        assert abs(g - r) <= 16 * EPS
+
+
+@SETTINGS
+@given(phi=fin(-1.5, 1.5), k=st.integers(3, 12))
+def test_incomplete_integral_continuous_across_m_equal_1(phi, k):
+    # F(phi | 1) = atanh(sin phi) for |phi| < pi/2; dF/dm is bounded there.
+    delta = 10.0**-k
+    ref = math.atanh(math.sin(phi))
+    bound = delta * (1 + abs(ref)) * 1e2 / math.cos(phi) ** 2
+    for p in (delta, -delta):
+        assert abs(pendula.ellipfm1(phi, p) - ref) <= bound + 64 * EPS * (1 + abs(ref))
+    assert abs(pendula.ellipf(phi, 1.0) - ref) <= 64 * EPS * (1 + abs(ref))
+
+
+@SETTINGS
+@given(m=ms)
+def test_complete_integrals_and_complement_forms_agree(m):
+    p = 1 - m   # exact for m in [-5, 1) up to one rounding of 1 - m
+    assert abs(pendula.ellipk(m) - pendula.ellipkm1(p)) <= 8 * EPS * pendula.ellipk(m) * (1 + 1 / p)
+    assert abs(pendula.ellipe(m) - pendula.ellipem1(p)) <= 8 * EPS * pendula.ellipe(m) * (1 + 1 / p)
+    # F(pi/2 | m) = K(m) and F is odd in phi.
+    assert abs(pendula.ellipf(math.pi / 2, m) - pendula.ellipk(m)) <= 16 * EPS * pendula.ellipk(m)
+    assert pendula.ellipf(-0.7, m) == -pendula.ellipf(0.7, m)
+
+
+@SETTINGS
+@given(u=fin(-5.0, 5.0), m=fin(0.0, 0.99), n=st.integers(-3, 3))
+def test_jacobi_periodicity(u, m, n):
+    # sn and cn have period 4K, dn period 2K; sn(u + 2K) = -sn(u).
+    K = pendula.ellipk(m)
+    sn, cn, dn, _ = pendula.ellipj(u, m)
+    sn4, cn4, dn4, _ = pendula.ellipj(u + 4 * n * K, m)
+    sn2, cn2, dn2, _ = pendula.ellipj(u + 2 * K, m)
+    tol = 64 * EPS * (1 + abs(u) + 4 * abs(n) * K) / (1 - m) ** 0.5
+    assert abs(sn4 - sn) <= tol and abs(cn4 - cn) <= tol and abs(dn4 - dn) <= tol
+    assert abs(sn2 + sn) <= tol and abs(cn2 + cn) <= tol and abs(dn2 - dn) <= tol
+
+
+@SETTINGS
+@given(u=us, m=fin(-10.0, 10.0))
+def test_jacobi_time_reversal(u, m):
+    # sn and am are odd in u, cn and dn even (DLMF 22.6.ii).
+    a = pendula.ellipj(u, m)
+    b = pendula.ellipj(-u, m)
+    assert b[0] == -a[0] and b[1] == a[1] and b[2] == a[2] and b[3] == -a[3]
+
+
+# ---- integrators -------------------------------------------------------------------------------------------
+def _energy(theta, omega, w0):
+    # Mechanical energy per m l^2 of the nonlinear pendulum, minimum 0 at rest.
+    return 0.5 * omega**2 + 2 * w0**2 * np.sin(theta / 2) ** 2
+
+
+@SETTINGS
+@given(theta0=fin(-3.0, 3.0), omega0=fin(-3.0, 3.0), w0=fin(0.3, 3.0), gamma=fin(0.01, 3.0))
+def test_rk4_energy_never_increases_with_damping(theta0, omega0, w0, gamma):
+    # dE/dt = -gamma Omega^2 <= 0; RK4's local error at h = 0.01/max(w0, gamma)
+    # (~1e-10 relative per step) must not make it rise.
+    h = 0.01 / max(w0, gamma)
+    t = np.linspace(0.0, 10.0 / w0, 201)
+    r = pendula.rk4(t, theta0, omega0, w0, gamma, h)
+    e = _energy(r.theta, r.omega, w0)
+    e0 = _energy(theta0, omega0, w0)
+    assert np.all(np.diff(e) <= 1e-9 * e0 + 1e-300), f"energy rose by {np.max(np.diff(e)) / e0:.3g}"
+
+
+@pytest.mark.skipif(not pendula.have_cvode(), reason="CVODE not built")
+@SETTINGS
+@given(theta0=fin(-3.0, 3.0), omega0=fin(-3.0, 3.0), w0=fin(0.3, 3.0), gamma=fin(0.01, 3.0))
+def test_cvode_energy_never_increases_with_damping(theta0, omega0, w0, gamma):
+    t = np.linspace(0.0, 10.0 / w0, 201)
+    r = pendula.cvode(t, theta0, omega0, w0, gamma, rtol=1e-11, atol=1e-13)
+    e = _energy(r.theta, r.omega, w0)
+    e0 = _energy(theta0, omega0, w0)
+    assert np.all(np.diff(e) <= 1e-8 * e0 + 1e-300), f"energy rose by {np.max(np.diff(e)) / e0:.3g}"
+
+
+@SETTINGS
+@given(a=fin(-1.0, 1.0), b=fin(-1.0, 1.0), w0=fin(0.3, 3.0), gamma=fin(0.0, 8.0))
+def test_integrators_agree_with_linear_closed_form_at_small_amplitude(a, b, w0, gamma):
+    # theta0 = 1e-5 a: sin(theta) = theta (1 - theta^2/6), so the nonlinear
+    # solution is the linear closed form up to ~ theta^3/6 ~ 2e-16 relative to
+    # the amplitude; what remains is the integrator's own error.
+    theta0, omega0 = 1e-5 * a, 1e-5 * b * w0
+    assume(abs(a) + abs(b) > 1e-3)
+    t = np.linspace(0.0, 8.0 / w0, 41)
+    th, om = pendula.linear_damped(t, theta0, omega0, w0, gamma)
+    s = scale(theta0, omega0, w0)
+    h = 0.002 / max(w0, gamma)
+    r = pendula.rk4(t, theta0, omega0, w0, gamma, h)
+    # RK4 global error ~ (h max(w0, gamma))^4 * rate * T ~ 1e-10 here.
+    np.testing.assert_allclose(r.theta, th, rtol=0, atol=1e-8 * s)
+    np.testing.assert_allclose(r.omega, om, rtol=0, atol=1e-8 * s * max(w0, gamma))
+    if pendula.have_cvode():
+        c = pendula.cvode(t, theta0, omega0, w0, gamma, rtol=1e-11, atol=1e-13 * s, method="bdf")
+        np.testing.assert_allclose(c.theta, th, rtol=0, atol=2e-7 * s)
+        np.testing.assert_allclose(c.omega, om, rtol=0, atol=2e-7 * s * max(w0, gamma))
+
+
+@SETTINGS
+@given(theta0=fin(-2.5, 2.5), omega0=fin(-1.0, 1.0), w0=fin(0.3, 3.0), gamma=fin(0.0, 2.0))
+def test_rk4_and_cvode_agree(theta0, omega0, w0, gamma):
+    if not pendula.have_cvode():
+        pytest.skip("CVODE not built")
+    t = np.linspace(0.0, 10.0 / w0, 21)
+    r = pendula.rk4(t, theta0, omega0, w0, gamma, 0.002 / w0)
+    c = pendula.cvode(t, theta0, omega0, w0, gamma, rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(r.theta, c.theta, rtol=0, atol=1e-7 * (1 + abs(theta0)))
+    np.testing.assert_allclose(r.omega, c.omega, rtol=0, atol=1e-7 * w0 * (1 + abs(theta0)))
+
+
+@SETTINGS
+@given(theta0=fin(-2.0, 2.0), omega0=fin(-1.0, 1.0), w0=fin(0.3, 3.0), gamma=fin(0.0, 2.0),
+       split=st.integers(1, 19))
+def test_rk4_restart_is_consistent(theta0, omega0, w0, gamma, split):
+    # Integrating [0, T] in one go or restarting from the state at t_k on the
+    # same grid is the same sequence of steps (to rounding of the restart).
+    t = np.linspace(0.0, 10.0 / w0, 21)
+    h = 0.01 / w0
+    full = pendula.rk4(t, theta0, omega0, w0, gamma, h)
+    part = pendula.rk4(t[split:], full.theta[split], full.omega[split], w0, gamma, h)
+    np.testing.assert_allclose(part.theta, full.theta[split:], rtol=0, atol=1e-12 * (1 + abs(theta0)))
