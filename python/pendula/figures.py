@@ -189,7 +189,8 @@ def _theta_vs_small_angle(out_dir, key, quick):
         ths, _ = _small(t, theta0, 0.0, w0)
         ax.plot(t, th, lw=2, label="exact, pendula.undamped (eq. 1.52)")
         ax.plot(t, ths, "--", lw=1.5, label="small angle θ0 cos(w0 t) (eq. 1.18)")
-        ax.set(title=f"({tag}) θ0 = {_pi_label(frac)} rad", ylabel="θ(t)  (rad)")
+        ax.set(title=f"({tag}) θ0 = {_pi_label(frac)} rad;  max |exact − small angle| = "
+                     f"{np.max(np.abs(th - ths)):.2g} rad", ylabel="θ(t)  (rad)")
         ax.grid(True, alpha=0.3)
     axs[-1, 0].set_xlabel("time t  (s)")
     axs[-1, 0].legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8)
@@ -424,7 +425,7 @@ def figA1_underdamped_linear(out_dir, quick=False):
         env = _need("linear_damped_envelope")(t, theta0, omega0, w0, gamma)
         ax.plot(t, env, color=c, lw=0.9, ls=":")
         ax.plot(t, -env, color=c, lw=0.9, ls=":")
-    ax.plot([], [], color="grey", ls=":", label="envelope ±A e^(−γt/2)")
+    ax.plot([], [], color="grey", ls=":", label="envelope ±R e^(−γt/2), pendula.linear_damped_envelope")
     ax.set(title="Underdamped linear pendulum (§2.1.3, empty in the text), θ0 = 0.1 rad, Ω0 = 0",
            xlabel="time t  (s)", ylabel="θ(t)  (rad)")
     ax.grid(True, alpha=0.3)
@@ -437,7 +438,8 @@ def figA2_phase_portrait(out_dir, quick=False):
 
     Every curve is a trajectory from pendula.undamped (not a contour of the
     energy), so the figure also shows that the closed form covers all three
-    regimes.  Centres at (2nπ, 0), saddles at ((2n+1)π, 0) (text §1.1).
+    regimes.  Centres at (2nπ, 0), saddles at ((2n+1)π, 0) with their
+    linearised eigenvalues from pendula.equilibria (text §1.1).
     """
     w0 = _w0()
     n = _npts(quick, 1500)
@@ -471,10 +473,13 @@ def figA2_phase_portrait(out_dir, quick=False):
             th, om = _exact(t, -sgn * 3 * np.pi, om0, w0)
             ax.plot(th, om, color="C2", lw=1.1, label="rotations (E > 2mgl)" if first else None)
             first = False
-    cx = np.array([-2 * np.pi, 0, 2 * np.pi])
-    ax.plot(cx, 0 * cx, "o", color="k", ms=5, label="centres (2nπ, 0): stable")
-    sx = np.array([-3 * np.pi, -np.pi, np.pi, 3 * np.pi])
-    ax.plot(sx, 0 * sx, "x", color="k", ms=8, mew=2, label="saddles ((2n+1)π, 0): unstable")
+    # equilibria (n pi, 0) and their linearisation from the library (text §1.1)
+    eq_theta, eq_lambda, eq_kind = _need("equilibria")(np.arange(-3, 4), w0)
+    for kind, marker, text in (("centre", "o", "centres (2nπ, 0): eigenvalues ±i w0, stable"),
+                               ("saddle", "x", "saddles ((2n+1)π, 0): eigenvalues ±w0, unstable")):
+        sel = eq_kind == kind
+        ax.plot(eq_theta[sel], 0 * eq_theta[sel], marker, color="k", ms=5 if marker == "o" else 8,
+                mew=2, label=text)
     ax.set(title="Phase portrait of the undamped pendulum, w0 = √2 1/s (all from pendula.undamped)",
            xlabel="θ  (rad)", ylabel="Ω  (rad/s)", xlim=(-3 * np.pi, 3 * np.pi))
     ax.set_xticks(np.arange(-3, 4) * np.pi, [f"{i}π" if i not in (0, 1, -1) else
