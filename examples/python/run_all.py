@@ -76,7 +76,7 @@ def _run(label, path, out_dir, extra, log_dir, timeout):
     log = log_dir / (Path(label).stem + ".txt")
     log.write_text(f"$ {' '.join(cmd)}\n\n{stdout}\n--- stderr ---\n{stderr}")
     new = [p for p in _files(out_dir) if before.get(p) != p.stat().st_mtime_ns]
-    notes = [ln.strip() for ln in stdout.splitlines() if ln.strip().startswith("not drawn:")]
+    notes = [ln.strip() for ln in stdout.splitlines() if ln.strip().startswith(("not drawn:", "not run:"))]
     if code != 0:
         tail = (stderr.strip().splitlines() or ["(no message)"])[-1]
         notes.append(f"FAILED ({code}): {tail}")
