@@ -12,6 +12,8 @@ gamma = 2 w0, for gamma >> w0, and never overflows (see the Fortran module
 """
 import dataclasses
 
+import numpy as np
+
 from . import _linear
 from ._arrays import broadcast_real, real_scalar, restore
 from ._errors import raise_for_status
@@ -20,8 +22,7 @@ _REGIMES = {1: "underdamped", 2: "critical", 3: "overdamped"}
 
 
 def _call(t, theta0, omega0, w0, gamma):
-    shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    return shape, scalar, f
+    return broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
 
 
 def linear_damped(t, theta0, omega0, w0, gamma):
@@ -42,6 +43,8 @@ def linear_damped(t, theta0, omega0, w0, gamma):
     Raises ValueError naming the argument for bad input.
     """
     shape, scalar, f = _call(t, theta0, omega0, w0, gamma)
+    if f["t"].size == 0:
+        return np.empty(shape), np.empty(shape)
     theta, omega, code, msg = _linear.linear_damped_f2py(
         f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
@@ -56,6 +59,8 @@ def linear_damped_envelope(t, theta0, omega0, w0, gamma):
     Arguments as for :func:`linear_damped`; 0 for critical or over-damped motion.
     """
     shape, scalar, f = _call(t, theta0, omega0, w0, gamma)
+    if f["t"].size == 0:
+        return np.empty(shape)
     env, code, msg = _linear.linear_damped_envelope_f2py(
         f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
