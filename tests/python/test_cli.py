@@ -1,0 +1,192 @@
+"""The command line: python -m pendula {figures, period, solve, tradeoff}, help and errors."""
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import pendula
+from pendula import cli
+
+W0 = np.sqrt(2.0)
+
+
+def run(argv, capsys):
+    """Run the CLI in-process; returns (exit code, stdout, stderr)."""
+    try:
+        code = cli.main(argv)
+    except SystemExit as exc:  # argparse: --help (0) and bad flags (2)
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+# ---------------------------------------------------------------- help
+
+def test_help_lists_subcommands_and_units(capsys):
+    code, out, _ = run(["--help"], capsys)
+    assert code == 0
+    for word in ("figures", "period", "solve", "tradeoff", "rad/s", "m/s^2", "kg/s"):
+        assert word in out
+
+
+@pytest.mark.parametrize("sub, words", [
+    ("figures", ["--out", "--quick", "PNG"]),
+    ("period", ["--theta0", "rad", "rad/s", "m/s^2", "Times in s"]),
+    ("solve", ["--theta0", "--t-end", "--tol", "--gamma", "kg/s", "--csv", "1/s"]),
+    ("tradeoff", ["--theta0", "--csv", "--png", "wall time"]),
+])
+def test_subcommand_help_explains_flags_with_units(capsys, sub, words):
+    code, out, _ = run([sub, "--help"], capsys)
+    assert code == 0
+    for w in words:
+        assert w in out, f"{sub} --help lacks {w!r}"
+
+
+def test_no_subcommand_prints_help_and_fails(capsys):
+    code, out, _ = run([], capsys)
+    assert code == 2 and "SUBCOMMAND" in out
+
+
+def test_version(capsys):
+    code, out, _ = run(["--version"], capsys)
+    assert code == 0 and pendula.__version__ in out
+
+
+# ---------------------------------------------------------------- period
+
+def test_period_matches_library_and_writes_csv(capsys, tmp_path):
+    path = tmp_path / "p.csv"
+    code, out, _ = run(["period", "--theta0", "0.1", "1.0", "3.0", "--csv", str(path)], capsys)
+    assert code == 0
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["theta0_rad"]) for r in rows] == [0.1, 1.0, 3.0]
+    exact = pendula.period(np.array([0.1, 1.0, 3.0]), 0.0, W0)
+    got = np.array([float(r["T_exact_s"]) for r in rows])
+    np.testing.assert_allclose(got, exact, rtol=1e-11)
+    assert all(float(r["T0_small_angle_s"]) == pytest.approx(2 * np.pi / W0, rel=1e-12) for r in rows)
+    assert "libration" in out
+
+
+def test_period_rotation_and_custom_length(capsys):
+    code, out, _ = run(["period", "--theta0", "0", "--omega0", "8", "--length", "1.0", "--g", "9.81"], capsys)
+    assert code == 0
+    w0 = np.sqrt(9.81)
+    assert "rotation" in out
+    assert f"{float(pendula.period(0.0, 8.0, w0)):.12g}" in out
+
+
+# ---------------------------------------------------------------- errors
+
+@pytest.mark.parametrize("argv, expect", [
+    (["period", "--theta0", "nan"], "--theta0: 'nan' is not a finite number"),
+    (["period", "--theta0", "abc"], "--theta0: 'abc' is not a number"),
+    (["period", "--theta0", "1", "--g", "-9.8"], "--g: '-9.8' must be > 0"),
+    (["period", "--theta0", "1", "--length", "0"], "--length/-l: '0' must be > 0"),
+    (["period"], "the following arguments are required: --theta0"),
+    (["solve", "--theta0", "1"], "--t-end"),
+    (["solve", "--theta0", "1", "--t-end", "5", "--n", "1"], "--n: '1' must be an integer in [2, 10000000]"),
+    (["solve", "--theta0", "1", "--t-end", "5", "--tol", "0"], "--tol: '0' must be > 0"),
+    (["solve", "--theta0", "1", "--t-end", "5", "--gamma", "-1"], "--gamma: '-1' must be >= 0"),
+    (["solve", "--theta0", "1", "--t-end", "inf"], "--t-end: 'inf' is not a finite number"),
+    (["bogus"], "invalid choice: 'bogus'"),
+    (["period", "--theta0", "1", "--frobnicate"], "unrecognized arguments: --frobnicate"),
+])
+def test_bad_flags_exit_2_with_message(capsys, argv, expect):
+    code, _, err = run(argv, capsys)
+    assert code == 2
+    assert expect in err
+
+
+@pytest.mark.parametrize("extra, expect", [
+    (["--gamma", "1", "--mass", "0.1", "--b", "0.01"], "either --gamma or --mass with --b"),
+    (["--b", "0.01"], "--mass and --b go together"),
+    (["--mass", "0.1"], "--mass and --b go together"),
+])
+def test_inconsistent_damping_flags(capsys, extra, expect):
+    code, _, err = run(["solve", "--theta0", "1", "--t-end", "5"] + extra, capsys)
+    assert code == 2
+    assert expect in err and err.startswith("pendula solve: error:")
+
+
+def test_figures_errors(capsys, tmp_path):
+    code, _, err = run(["figures"], capsys)
+    assert code == 2 and "--out DIR is required" in err
+    code, _, err = run(["figures", "--out", str(tmp_path), "--only", "fig03,fig99"], capsys)
+    assert code == 2 and "unknown figure key(s) fig99" in err
+    assert not any(tmp_path.iterdir())
+
+
+def test_figures_list(capsys):
+    code, out, _ = run(["figures", "--list"], capsys)
+    assert code == 0
+    for key in ["fig03", "fig09", "fig14", "fig15", "figA2", "figA4"]:
+        assert key in out
+
+
+# ---------------------------------------------------------------- figures
+
+def test_figures_writes_pngs(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    code, out, _ = run(["figures", "--out", str(tmp_path), "--quick", "--only", "fig03,fig10,figA3"], capsys)
+    assert code == 0
+    pngs = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert pngs == ["fig03_complete_elliptic_K_vs_k.png", "fig10_overdamped_gamma_3w0_theta_omega.png",
+                    "figA3_period_and_revolution_time_vs_energy_through_separatrix.png"]
+    for p in tmp_path.glob("*.png"):
+        assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 10_000
+    assert f"wrote 3 figure(s) to {tmp_path.resolve()}" in out
+
+
+# ---------------------------------------------------------------- solve / tradeoff
+
+needs_scenes = pytest.mark.skipif(not (hasattr(pendula, "Scene") and hasattr(pendula, "solve")),
+                                  reason="the scenes module is not in this build")
+
+
+@needs_scenes
+def test_solve_undamped_csv_matches_exact(capsys, tmp_path):
+    path = tmp_path / "s.csv"
+    code, out, err = run(["solve", "--theta0", "2.0", "--t-end", "10", "--n", "51", "--tol", "1e-8",
+                          "--csv", str(path)], capsys)
+    assert code == 0, err
+    assert "model:" in out and "reason:" in out
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    assert data.shape == (51, 3)
+    np.testing.assert_allclose(data[:, 0], np.linspace(0, 10, 51), rtol=0, atol=1e-14)
+    theta, omega = pendula.undamped(data[:, 0], 2.0, 0.0, W0)
+    assert np.max(np.abs(data[:, 1] - theta)) <= 1e-7  # within 10 x tol
+    assert np.max(np.abs(data[:, 2] - omega)) <= 1e-7 * W0 * 10
+
+
+@needs_scenes
+def test_solve_prints_table_with_mass_and_b(capsys):
+    code, out, err = run(["solve", "--theta0", "0", "--omega0", "2", "--t-end", "30", "--mass", "0.1",
+                          "--b", "0.01", "--n", "31"], capsys)
+    assert code == 0, err
+    assert "t_s" in out and "theta_rad" in out and "..." in out
+
+
+@needs_scenes
+def test_tradeoff_writes_csv(capsys, tmp_path):
+    path = tmp_path / "t.csv"
+    code, out, err = run(["tradeoff", "--theta0", "1.0", "--t-end", "5", "--n", "11", "--csv", str(path)],
+                         capsys)
+    assert code == 0, err
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows and all(float(r["sup_error_rad"]) >= 0 and float(r["wall_time_s"]) > 0 for r in rows)
+
+
+# ---------------------------------------------------------------- python -m pendula
+
+def test_python_dash_m_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "pendula", "period", "--theta0", "1.0"],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert f"{float(pendula.period(1.0, 0.0, W0)):.12g}" in proc.stdout
+    proc = subprocess.run([sys.executable, "-m", "pendula", "period", "--theta0", "x"],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2 and "'x' is not a number" in proc.stderr
