@@ -505,6 +505,19 @@ contains
     end do
   end subroutine jcore
 
+  !> cd = cn/dn without the cancellation of two nearly equal small numbers when m -> 1:
+  !> dn^2 - cn^2 = mc sn^2, so cd = 1 - mc sn^2 / (dn (dn + cn)) (cn >= 0 here).
+  pure elemental real(wp) function cd_ratio(s, c, d, mc) result(cd)
+    real(wp), intent(in) :: s, c, d, mc
+    real(wp) :: t
+    t = mc * (s * s) / (d * (d + c))
+    if (t <= 0.5_wp) then
+      cd = 1 - t
+    else
+      cd = c / d
+    end if
+  end function cd_ratio
+
   !> Plan for sn, cn, dn at one parameter m (all real m; NaN m gives NaN results).
   !> Does the m-dependent work once: the transformation to a core parameter in [0,1],
   !> K in double-double for the period reduction, the series coefficients.
@@ -595,9 +608,13 @@ contains
     end if
     if (plan%kind == 1) then
       ! m = 1: sn = tanh, cn = dn = sech, am = gd(u)
-      ex = exp(-2 * abs(u))
-      sn = sign((1 - ex) / (1 + ex), u)
-      cn = 2 * sqrt(ex) / (1 + ex)
+      sn = tanh(u)
+      if (abs(u) < 20) then
+        cn = 1 / cosh(u)
+      else
+        ex = exp(-abs(u))      ! sech without overflow, subnormal tail kept
+        cn = 2 * ex / (1 + ex * ex)
+      end if
       dn = cn
       am = atan2(sn, cn)
       return
@@ -624,7 +641,7 @@ contains
       ! sn(K - t) = cn/dn, cn(K - t) = sqrt(mc) sn/dn, dn(K - t) = sqrt(mc)/dn (DLMF 22.4.3)
       call jcore((khi - t) + klo, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
       r = sign(1.0_wp, r)
-      t = c / d
+      t = cd_ratio(s, c, d, plan%mc)
       c = plan%sqmc * s / d
       d = plan%sqmc / d
       s = t * r
@@ -646,7 +663,7 @@ contains
       if (mod(n, 2.0_wp) /= 0) sg = -1
       am = n * pi + atan2(s * plan%oscale, c)
       sn = sg * plan%oscale * s / d
-      cn = sg * c / d
+      cn = sg * cd_ratio(s, c, d, plan%mc)
       dn = 1 / d
     case default
       sg = 1

@@ -1,0 +1,80 @@
+"""Benchmark pendula's elliptic functions against scipy.special in the same run.
+
+Prints ns/point (best of several repeats) and throughput ratios (SciPy time /
+pendula time, > 1 means pendula is faster) on N points (default 1e6):
+
+  ellipj   random (u, m): u ~ U(-10, 10), m ~ U(0, 1)
+  ellipj   scalar m = 0.7, u ~ U(-10, 10)         (pendulum time series)
+  ellipk   m ~ U(0, 1)
+  ellipe   m ~ U(0, 1)
+  ellipf   phi ~ U(-pi/2, pi/2), m ~ U(0, 1)      (scipy: ellipkinc)
+
+Usage: python3 benchmarks/bench_elliptic.py [--quick] [--n N] [--out DIR]
+"""
+import argparse
+import os
+import time
+
+import numpy as np
+import scipy
+import scipy.special as sc
+
+import pendula
+
+
+def best_time(fn, repeat):
+    fn()  # warm up
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def cases(n, rng):
+    u = rng.uniform(-10, 10, n)
+    m = rng.uniform(0, 1, n)
+    phi = rng.uniform(-np.pi / 2, np.pi / 2, n)
+    return [
+        ("ellipj random (u, m)", lambda: pendula.ellipj(u, m), lambda: sc.ellipj(u, m)),
+        ("ellipj scalar m, array u", lambda: pendula.ellipj(u, 0.7), lambda: sc.ellipj(u, 0.7)),
+        ("ellipk", lambda: pendula.ellipk(m), lambda: sc.ellipk(m)),
+        ("ellipe", lambda: pendula.ellipe(m), lambda: sc.ellipe(m)),
+        ("ellipf", lambda: pendula.ellipf(phi, m), lambda: sc.ellipkinc(phi, m)),
+    ]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="1e5 points, 3 repeats (a few seconds)")
+    ap.add_argument("--n", type=int, default=None, help="points per case (default 1e6)")
+    ap.add_argument("--repeat", type=int, default=None)
+    ap.add_argument("--out", default=None, help="also write elliptic_bench.md and .csv there")
+    args = ap.parse_args(argv)
+    n = args.n or (100_000 if args.quick else 1_000_000)
+    repeat = args.repeat or (3 if args.quick else 7)
+    rng = np.random.default_rng(1)
+    rows = []
+    for name, fp, fs in cases(n, rng):
+        tp = best_time(fp, repeat) / n * 1e9
+        ts = best_time(fs, repeat) / n * 1e9
+        rows.append((name, tp, ts, ts / tp))
+    head = f"pendula vs scipy {scipy.__version__}"
+    lines = [head, "", "| function | pendula ns/pt | scipy ns/pt | speed-up |", "|---|---:|---:|---:|"]
+    for name, tp, ts, r in rows:
+        lines.append(f"| {name} | {tp:.1f} | {ts:.1f} | {r:.2f}x |")
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+        with open(os.path.join(args.out, "elliptic_bench.md"), "w") as fh:
+            fh.write(text + "\n")
+        with open(os.path.join(args.out, "elliptic_bench.csv"), "w") as fh:
+            fh.write("function,pendula_ns,scipy_ns,speedup\n")
+            for name, tp, ts, r in rows:
+                fh.write(f"{name},{tp:.2f},{ts:.2f},{r:.3f}\n")
+
+
+if __name__ == "__main__":
+    main()
