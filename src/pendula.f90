@@ -5,6 +5,9 @@ module pendula
   use pendula_physics
   ! <concern modules: one `use` line each, kept in architecture order>
   use pendula_elliptic
+  use pendula_undamped
+  use pendula_small_angle
+  use pendula_equilibria
   use pendula_linear_damped
   use pendula_integrators
   implicit none

@@ -1,0 +1,194 @@
+! f2py-facing layer for the undamped concern (pendula_undamped,
+! pendula_small_angle, pendula_equilibria).  Plain subroutines over flat
+! broadcast arrays, c_double/c_int arguments, a status code + message.  No
+! numerics: a motion is (re)built only when the initial state changes from one
+! element to the next, so one state at many times costs one setup.
+
+subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, check_finite, PENDULA_OK
+  use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n)
+  real(c_double), intent(out) :: theta(n), omega(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(undamped_motion_t) :: motion
+  type(status_t) :: st
+  integer :: i
+  logical :: built
+  code = PENDULA_OK
+  msg = ''
+  theta = 0
+  omega = 0
+  built = .false.
+  do i = 1, n
+    if (built) built = theta0(i) == theta0(i - 1) .and. omega0(i) == omega0(i - 1) &
+        .and. w0(i) == w0(i - 1)
+    if (.not. built) then
+      call undamped_init(motion, theta0(i), omega0(i), w0(i), st)
+      if (st%code /= PENDULA_OK) exit
+      built = .true.
+    end if
+    call check_finite('t', t(i), st)
+    if (st%code /= PENDULA_OK) exit
+    call undamped_eval(motion, t(i), theta(i), omega(i))
+  end do
+  code = st%code
+  msg = st%message
+end subroutine undamped_f2py
+
+subroutine small_angle_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_small_angle, only: small_angle_solve
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n)
+  real(c_double), intent(out) :: theta(n), omega(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  theta = 0
+  omega = 0
+  do i = 1, n
+    call small_angle_solve(t(i:i), theta0(i), omega0(i), w0(i), theta(i:i), omega(i:i), st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+  end do
+end subroutine small_angle_f2py
+
+subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, check_finite, PENDULA_OK
+  use pendula_undamped, only: undamped_motion_t, undamped_init
+  use pendula_small_angle, only: small_angle_bound
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: tmax(n), theta0(n), omega0(n), w0(n)
+  real(c_double), intent(out) :: dtheta(n), domega(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(undamped_motion_t) :: motion
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  dtheta = 0
+  domega = 0
+  do i = 1, n
+    call undamped_init(motion, theta0(i), omega0(i), w0(i), st)
+    if (st%code /= PENDULA_OK) exit
+    call check_finite('tmax', tmax(i), st)
+    if (st%code /= PENDULA_OK) exit
+    call small_angle_bound(motion, tmax(i), dtheta(i), domega(i))
+  end do
+  code = st%code
+  msg = st%message
+end subroutine small_angle_bound_f2py
+
+subroutine undamped_props_f2py(n, theta0, omega0, w0, m, mc, period, amplitude, energy, regime, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_undamped, only: undamped_motion_t, undamped_init
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: theta0(n), omega0(n), w0(n)
+  real(c_double), intent(out) :: m(n), mc(n), period(n), amplitude(n), energy(n)
+  integer(c_int), intent(out) :: regime(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(undamped_motion_t) :: motion
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  m = 0; mc = 0; period = 0; amplitude = 0; energy = 0; regime = 0
+  do i = 1, n
+    call undamped_init(motion, theta0(i), omega0(i), w0(i), st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+    m(i) = motion%m
+    mc(i) = motion%mc
+    period(i) = motion%period
+    amplitude(i) = motion%amplitude
+    energy(i) = motion%energy
+    regime(i) = motion%regime
+  end do
+end subroutine undamped_props_f2py
+
+subroutine pendulum_energy_f2py(n, theta, omega, w0, energy, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, check_finite, check_positive, PENDULA_OK
+  use pendula_undamped, only: pendulum_energy
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: theta(n), omega(n), w0(n)
+  real(c_double), intent(out) :: energy(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  energy = 0
+  do i = 1, n
+    call check_finite('theta', theta(i), st)
+    call check_finite('omega', omega(i), st)
+    call check_positive('w0', w0(i), st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+    energy(i) = pendulum_energy(theta(i), omega(i), w0(i))
+  end do
+end subroutine pendulum_energy_f2py
+
+subroutine equilibria_f2py(n, idx, w0, theta, lam_re, lam_im, kind, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_kinds, only: wp
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_equilibria, only: equilibrium
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  integer(c_int), intent(in) :: idx(n)
+  real(c_double), intent(in) :: w0(n)
+  real(c_double), intent(out) :: theta(n), lam_re(n), lam_im(n)
+  integer(c_int), intent(out) :: kind(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  complex(wp) :: l1, l2
+  integer :: i, k
+  code = PENDULA_OK
+  msg = ''
+  theta = 0; lam_re = 0; lam_im = 0; kind = 0
+  do i = 1, n
+    call equilibrium(int(idx(i)), w0(i), theta(i), l1, l2, k, st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+    lam_re(i) = real(l1, wp)
+    lam_im(i) = aimag(l1)
+    kind(i) = k
+  end do
+end subroutine equilibria_f2py
