@@ -20,14 +20,14 @@ from . import elliptic as _elliptic
 from .elliptic import *  # noqa: F401,F403
 from . import undamped as _undamped; from .undamped import *  # noqa: E702,F401,F403
 from . import linear as _linear; from .linear import *  # noqa: E702,F401,F403
-from . import integrate as _integrate; from .integrate import *  # noqa: E702,F401,F403
+from . import integrate as _integrate_api; from .integrate import *  # noqa: E702,F401,F403
 
 __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "have_cvode"]
                      # <concern __all__: one `+ _X.__all__` line each>
                      + _elliptic.__all__
                      + _undamped.__all__
                      + _linear.__all__
-                     + _integrate.__all__
+                     + _integrate_api.__all__
                      ))
 
 

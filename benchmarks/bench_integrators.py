@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""Speed of pendula.rk4 / pendula.cvode at matched accuracy, and memory of long runs.
+
+Problem: the text's section 2.2 scenario (g = 9.8, l = 4.9, m = 0.1 kg,
+b = 0.01 kg/s, theta0 = 0, Omega0 = 2 rad/s), outputs every 0.05 s on
+t in [0, 30] (601 points).  Error = sup over the output grid of |theta - ref|,
+ref = SciPy DOP853 at rtol 1e-13 (checked here against the mpmath table of
+tests/data when present).  For each error target every method gets its
+cheapest setting that meets it: the largest h (dividing 0.05) for the fixed-
+step RK4s, the loosest rtol (atol = rtol/100) for the adaptive ones.  Then it
+is timed (best of repeats) in this same run, and the table prints ns per
+output point and the speed ratios against the best of SciPy's solve_ivp
+(RK45, DOP853, LSODA) and against the text's pure-Python RK4 loop
+(pendula.textbook.text_listing_rk4 with the typo fixed).
+
+Memory: a final-state-only run of 1e5 small-angle periods (t = [0, t_end])
+against a run that keeps every output, measured with tracemalloc (numpy
+arrays are traced) -- memory grows with the outputs only.
+
+    python3 benchmarks/bench_integrators.py [--quick] [--out DIR]
+"""
+import argparse
+import csv
+import math
+import pathlib
+import sys
+import time
+import tracemalloc
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+import pendula
+from pendula.textbook import text_listing_rk4
+
+W0 = math.sqrt(9.8 / 4.9)
+GAMMA = 0.01 / 0.1
+T = np.arange(601) * 0.05
+HS = [0.05, 0.025, 0.01, 0.005, 0.0025, 0.001, 0.0005]
+RTOLS = [10.0 ** (-k / 2) for k in range(6, 28)]   # 1e-3 ... 1e-13.5
+
+
+def reference():
+    sol = solve_ivp(lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])], (0, 30), [0.0, 2.0],
+                    method="DOP853", rtol=1e-13, atol=1e-15, t_eval=T)
+    ref = sol.y[0]
+    table = pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "integrators_reference.csv"
+    if table.exists():
+        rows = [ln.split(",") for ln in table.read_text().splitlines()[2:] if ln.startswith("0.01,")]
+        got = max(abs(ref[int(round(float(r[2]) / 0.05))] - float(r[3])) for r in rows)
+        print(f"reference: DOP853 rtol 1e-13, max deviation from the mpmath table {got:.1e} rad")
+    return ref
+
+
+def timeit(fn, budget):
+    """Best wall time of fn() over repeats filling about `budget` seconds (>= 3 runs)."""
+    best = math.inf
+    spent = 0.0
+    runs = 0
+    while runs < 3 or spent < budget:
+        t0 = time.perf_counter()
+        fn()
+        dt = time.perf_counter() - t0
+        best = min(best, dt)
+        spent += dt
+        runs += 1
+        if runs >= 200:
+            break
+    return best
+
+
+def make_methods():
+    f = lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])]   # noqa: E731
+    methods = {}
+    methods["pendula.rk4"] = ("h", HS, lambda h: pendula.rk4(T, 0.0, 2.0, W0, GAMMA, h).theta)
+    if pendula.have_cvode():
+        for m in ("adams", "bdf"):
+            methods[f"pendula.cvode {m}"] = ("rtol", RTOLS, lambda r, m=m: pendula.cvode(
+                T, 0.0, 2.0, W0, GAMMA, rtol=r, atol=r / 100, method=m).theta)
+    for m in ("RK45", "DOP853", "LSODA"):
+        methods[f"scipy {m}"] = ("rtol", RTOLS, lambda r, m=m: solve_ivp(
+            f, (0, 30), [0.0, 2.0], method=m, rtol=r, atol=r / 100, t_eval=T).y[0])
+
+    def text_loop(h):
+        t, th, _ = text_listing_rk4(30.0, h, 0.0, 2.0, W0, GAMMA, typo=False)
+        stride = int(round(0.05 / h))
+        return th[::stride][:601]
+    methods["text listing (pure Python)"] = ("h", HS, text_loop)
+    return methods
+
+
+def cheapest(fn, settings, ref, target):
+    """First (cheapest) setting whose sup error meets the target: (setting, error)."""
+    for s in settings:
+        err = float(np.max(np.abs(fn(s) - ref)))
+        if err <= target:
+            return s, err
+    return None, None
+
+
+def memory_run(periods):
+    t_end = periods * 2 * math.pi / W0
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    r = pendula.rk4([0.0, t_end], 0.0, 2.0, W0, 0.0, 0.05)
+    wall = time.perf_counter() - t0
+    _, peak_final = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    n_dense = 200_000
+    tracemalloc.start()
+    pendula.rk4(np.linspace(0.0, t_end, n_dense), 0.0, 2.0, W0, 0.0, 0.05)
+    _, peak_dense = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    rows = [("pendula.rk4 final state only", periods, 2, r.stats["steps"], wall, peak_final),
+            ("pendula.rk4 dense output", periods, n_dense, None, None, peak_dense)]
+    if pendula.have_cvode():
+        cper = periods // 10
+        tracemalloc.start()
+        t0 = time.perf_counter()
+        c = pendula.cvode([0.0, cper * 2 * math.pi / W0], 0.0, 2.0, W0, 0.0, rtol=1e-8, atol=1e-10,
+                          max_steps=10**9)
+        wall = time.perf_counter() - t0
+        _, peak_c = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        rows.append(("pendula.cvode final state only", cper, 2, c.stats["steps"], wall, peak_c))
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer targets, short timing, 1e4 periods")
+    ap.add_argument("--out", type=pathlib.Path, help="also write bench_integrators.md/.csv here")
+    a = ap.parse_args(argv)
+    budget = 0.05 if a.quick else 0.5
+    targets = [1e-5] if a.quick else [1e-4, 1e-5, 1e-7, 1e-9]
+    ref = reference()
+    methods = make_methods()
+    rows = []
+    for target in targets:
+        times = {}
+        for name, (kind, settings, fn) in methods.items():
+            if name.startswith("text") and a.quick and target < 1e-5:
+                continue
+            s, err = cheapest(fn, settings, ref, target)
+            if s is None:
+                rows.append(dict(target=target, method=name, setting="not reached", error="", ns_per_point="",
+                                 vs_best_scipy="", vs_text_loop=""))
+                continue
+            wall = timeit(lambda fn=fn, s=s: fn(s), budget)
+            times[name] = wall
+            rows.append(dict(target=target, method=name, setting=f"{kind}={s:.3g}", error=f"{err:.2e}",
+                             ns_per_point=f"{wall / len(T) * 1e9:.0f}", wall=wall))
+        scipy_best = min((v for k, v in times.items() if k.startswith("scipy")), default=None)
+        text = times.get("text listing (pure Python)")
+        for r in rows:
+            if r["target"] == target and "wall" in r:
+                r["vs_best_scipy"] = f"{scipy_best / r['wall']:.1f}x" if scipy_best else ""
+                r["vs_text_loop"] = f"{text / r['wall']:.1f}x" if text else ""
+
+    cols = ["target", "method", "setting", "error", "ns_per_point", "vs_best_scipy", "vs_text_loop"]
+    head = ("| sup-error target | method | cheapest setting | sup error [rad] | ns/point | "
+            "speed-up vs best SciPy | speed-up vs text loop |")
+    lines = [head, "|" + "---|" * len(cols)]
+    for r in rows:
+        lines.append("| " + " | ".join(f"{r[c]:.0e}" if c == "target" else str(r[c]) for c in cols) + " |")
+    table = "\n".join(lines)
+    print("\nText scenario (b = 0.01 kg/s), 601 outputs on [0, 30] s; each method at its cheapest setting"
+          " meeting the target; best-of-repeats wall time, this run:\n")
+    print(table)
+
+    periods = 10_000 if a.quick else 100_000
+    mem = memory_run(periods)
+    mlines = ["| run | periods | outputs | steps | wall [s] | peak traced memory |", "|---|---|---|---|---|---|"]
+    for name, per, nout, steps, wall, peak in mem:
+        mlines.append(f"| {name} | {per:.0e} | {nout} | {steps if steps is not None else ''} | "
+                      f"{'' if wall is None else f'{wall:.2f}'} | {peak / 1024:.1f} KiB |")
+    mtable = "\n".join(mlines)
+    print("\nLong runs (gamma = 0, theta0 = 0, Omega0 = 2, RK4 h = 0.05 s, CVODE rtol 1e-8):\n")
+    print(mtable)
+
+    if a.out:
+        a.out.mkdir(parents=True, exist_ok=True)
+        (a.out / "bench_integrators.md").write_text(table + "\n\n" + mtable + "\n")
+        with open(a.out / "bench_integrators.csv", "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=cols, extrasaction="ignore")
+            w.writeheader()
+            w.writerows(rows)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
