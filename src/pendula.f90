@@ -10,6 +10,7 @@ module pendula
   use pendula_equilibria
   use pendula_linear_damped
   use pendula_integrators
+  use pendula_scene
   implicit none
   public
 end module pendula

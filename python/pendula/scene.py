@@ -1,0 +1,483 @@
+"""Scenes: describe a pendulum and a tolerance; the library picks the cheapest
+model whose error fits, says which and why, and backs it with an error estimate.
+
+A ``Scene`` holds the text's parameters (g, length, and either gamma or mass
+and b), the initial state (theta0, omega0) at t = 0, the output times ``t``,
+what is wanted and a tolerance ``tol``.  ``solve(scene)`` answers it;
+``tradeoff(scene)`` measures the speed/accuracy trade of every applicable model.
+
+The tolerance is ABSOLUTE, on theta in rad, over the whole window, with Omega
+scaled by w0: the error measure is sup_t max(|d theta|, |d Omega|/w0).
+
+Models, cheapest first (the choice and the solve are in Fortran,
+``pendula_scene``):
+
+- ``"small_angle"`` (gamma = 0): theta0 cos(w0 t) + (omega0/w0) sin(w0 t),
+  chosen when its rigorous bound over the window (phase drift ~ (m/4) w0 t) is
+  <= tol;
+- ``"linear"`` (gamma > 0): the linear damped closed form, chosen when the
+  estimated error of dropping sin(theta) - theta (amplitude^2 frequency shift
+  accumulated over the decaying window, and a Green's-function bound) is <= tol;
+- ``"exact"`` (gamma = 0): the elliptic closed form (error a few eps times the
+  condition number);
+- ``"rk4"``: step h from tol and the window length (global error ~ C h^4 T),
+  verified a posteriori by a second run at 2h (Richardson), refined until the
+  estimate meets tol;
+- ``"cvode"``: rtol from tol and the number of periods (a local tolerance is not
+  a global error), verified by a run ten times tighter; used instead of RK4
+  when RK4 would need more than 2e6 steps (long or stiff runs) and SUNDIALS
+  was built.
+
+Units: angles rad, Omega rad/s, t s, g m/s^2, length m, mass kg, b kg/s,
+gamma and w0 1/s, energies per unit m l^2 in 1/s^2.
+"""
+from dataclasses import dataclass, field
+import csv as _csv
+import numbers
+import time
+
+import numpy as np
+
+from . import _scene
+from ._arrays import as_real, real_scalar
+from ._config import HAVE_CVODE
+from ._errors import raise_for_status
+from .integrate import Events
+
+MODELS = ("small_angle", "exact", "linear", "rk4", "cvode")
+"""Model names accepted by ``solve(scene, model=...)`` (plus "auto")."""
+WANTS = ("state", "theta", "final", "energy", "period", "events")
+"""What a scene can ask for (see ``Scene``)."""
+
+_MODEL_CODE = {"auto": 0, "small_angle": 1, "exact": 2, "linear": 3, "rk4": 4, "cvode": 5}
+_MODEL_NAME = {v: k for k, v in _MODEL_CODE.items()}
+_WANT_CODE = {w: i + 1 for i, w in enumerate(WANTS)}
+
+
+def _model_code(model, name="model"):
+    if model is None:
+        return 0
+    if not isinstance(model, str):
+        raise TypeError(f"{name} must be a string, one of {', '.join(('auto',) + MODELS)}; "
+                        f"got {type(model).__name__}")
+    key = model.strip().lower()
+    if key == "linear_damped":
+        key = "linear"
+    if key not in _MODEL_CODE:
+        raise ValueError(f"{name} = {model!r} is unknown: it must be one of {', '.join(('auto',) + MODELS)}")
+    return _MODEL_CODE[key]
+
+
+class Scene:
+    """A pendulum scene: parameters, initial state, window, wanted quantity, tolerance.
+
+    Parameters
+    ----------
+    theta0, omega0 : float
+        Initial angle [rad] and angular velocity [rad/s] at t = 0 (any finite values).
+    t : float or 1-D array
+        Output times [s], finite, >= 0, strictly increasing (the window is
+        [0, t[-1]]).  May be omitted only for ``want="period"``.
+    g, length : float
+        Gravity [m/s^2] and pendulum length [m] (> 0); w0 = sqrt(g/length).
+        Defaults: the text's g = 9.8, length = 4.9 (w0 = sqrt(2)).
+    gamma : float, optional
+        Damping rate [1/s] >= 0 (theta'' + gamma theta' + w0^2 sin theta = 0).
+    mass, b : float, optional
+        Bob mass [kg] > 0 and damping constant [kg/s] >= 0: gamma = b/mass
+        (text eq. 2.1).  Give both or neither; giving gamma as well is allowed
+        only when it equals b/mass.  No damping given: gamma = 0.
+    tol : float
+        Absolute tolerance [rad] > 0 on theta over the whole window (Omega/w0 too).
+    want : str
+        ``"state"``: theta and omega at t; ``"theta"``: theta only;
+        ``"final"``: the state at t[-1] only (no history kept);
+        ``"energy"``: energy per unit m l^2 [1/s^2], Omega^2/2 + w0^2 (1 - cos theta), at t;
+        ``"period"``: the period (libration) or time per revolution (rotation) [s],
+        gamma = 0 only (K computed once, no time series);
+        ``"events"``: turning points (Omega = 0) and zero crossings (theta = 0) in (0, t[-1]].
+
+    Raises ValueError (naming the argument) for inconsistent or out-of-range
+    parameters, TypeError for non-real input.  The scene keeps its own copy of t.
+    """
+
+    def __init__(self, theta0, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
+                 tol=1e-6, want="state"):
+        self.theta0 = real_scalar(theta0, "theta0")
+        self.omega0 = real_scalar(omega0, "omega0")
+        self.g = real_scalar(g, "g")
+        self.length = real_scalar(length, "length")
+        self.gamma_given = None if gamma is None else real_scalar(gamma, "gamma")
+        self.mass = None if mass is None else real_scalar(mass, "mass")
+        self.b = None if b is None else real_scalar(b, "b")
+        self.tol = real_scalar(tol, "tol")
+        if not isinstance(want, str):
+            raise TypeError(f"want must be a string, one of {', '.join(WANTS)}; got {type(want).__name__}")
+        if want.strip().lower() not in _WANT_CODE:
+            raise ValueError(f"want = {want!r} is unknown: it must be one of {', '.join(WANTS)}")
+        self.want = want.strip().lower()
+        w0, gam, code, msg = _scene.scene_physics_f2py(
+            self.g, self.length,
+            0.0 if self.gamma_given is None else self.gamma_given,
+            1.0 if self.mass is None else self.mass,
+            0.0 if self.b is None else self.b,
+            int(self.gamma_given is not None), int(self.mass is not None), int(self.b is not None))
+        raise_for_status(code, msg)
+        self.w0 = float(w0)
+        self.gamma = float(gam)
+        if t is None:
+            if self.want != "period":
+                raise ValueError("t is missing: give the output times (only want='period' needs none)")
+            tt = np.zeros(0)
+            self._scalar_t = False
+        else:
+            arr = as_real(t, "t")
+            if arr.ndim > 1:
+                raise ValueError(f"t must be a scalar or a 1-D array of output times, got shape {arr.shape}")
+            self._scalar_t = arr.ndim == 0
+            tt = np.ascontiguousarray(arr.reshape(-1))
+        tt.setflags(write=False)
+        self.t = tt
+        code, msg = _scene.scene_check_f2py(self._t_arg(), self.theta0, self.omega0, self.w0, self.gamma,
+                                            self.tol, _WANT_CODE[self.want], 0)
+        raise_for_status(code, msg)
+
+    def _t_arg(self):
+        # f2py needs at least one element; a period scene without t passes a dummy
+        # (scene_init ignores t for want = period when it is empty... it is not
+        # empty here, so pass 0, which is a valid window for a period scene).
+        return self.t if self.t.size else np.zeros(1)
+
+    @property
+    def periods(self):
+        """Length of the window in small-angle periods, w0 t[-1] / (2 pi)."""
+        return float(self.w0 * self.t[-1] / (2 * np.pi)) if self.t.size else 0.0
+
+    def __repr__(self):
+        damping = f"gamma={self.gamma:g}"
+        if self.mass is not None:
+            damping += f" (b={self.b:g}, mass={self.mass:g})"
+        n = self.t.size
+        window = f"t[{n}] in [{self.t[0]:g}, {self.t[-1]:g}]" if n else "no t"
+        return (f"Scene(theta0={self.theta0:g}, omega0={self.omega0:g}, w0={self.w0:.6g}, {damping}, "
+                f"{window}, tol={self.tol:g}, want={self.want!r})")
+
+
+@dataclass(frozen=True)
+class SceneResult:
+    """The answer to a scene.
+
+    model: the model used ("small_angle", "exact", "linear", "rk4", "cvode");
+    reason: why it was chosen; error_estimate: estimated sup over the window of
+    max(|d theta| [rad], |d Omega|/w0); tol_met: error_estimate <= tol;
+    setting: RK4 step h [s] or CVODE rtol of the returned run (None for closed
+    forms); cost: dict with closed_form_evals, rhs_evals, steps, runs
+    (integrator runs, verification included), wall_time (s, inside Fortran)
+    and python_wall_time (s, the whole call).
+
+    Quantities (None when not asked for): t, theta, omega (want "state",
+    "theta" -- omega None --, "final" -- scalars at t[-1] --, "energy");
+    energy [1/s^2] (want "energy"); period [s] (want "period"); events
+    (``pendula.Events``, want "events") and event_time_error [s].
+    """
+    model: str
+    reason: str
+    error_estimate: float
+    tol_met: bool
+    setting: object
+    cost: dict
+    t: object = None
+    theta: object = None
+    omega: object = None
+    energy: object = None
+    period: object = None
+    events: Events = field(default=None)
+    event_time_error: object = None
+
+
+def _run(scene, model_code, fixed, setting):
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
+    if model_code == _MODEL_CODE["cvode"] and not HAVE_CVODE:
+        raise NotImplementedError("model = 'cvode' is not available: this build has no SUNDIALS CVODE "
+                                  "(see pendula.have_cvode())")
+    tt = scene._t_arg()
+    m = 16
+    if scene.want == "events":
+        m = int(min(2**30, 8 * scene.w0 * tt[-1] / (2 * np.pi) + 64))
+    start = time.perf_counter()
+    while True:
+        out = _scene.scene_solve_f2py(tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol,
+                                      _WANT_CODE[scene.want], model_code, int(fixed), float(setting), m)
+        (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
+         reason, code, msg) = out
+        raise_for_status(code, msg)
+        if int(n_ev) <= m:
+            break
+        m = int(n_ev) + 16
+    wall = time.perf_counter() - start
+    return (int(nout), tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, int(n_ev),
+            int(model_out), info, reason, wall)
+
+
+def _text(s):
+    if hasattr(s, "tobytes"):
+        s = s.tobytes()
+    if isinstance(s, (bytes, bytearray)):
+        s = s.decode("ascii", "replace")
+    return str(s).strip().strip("\x00").strip()
+
+
+def _result(scene, raw):
+    (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info, reason,
+     wall) = raw
+    est, setting, period, fwall, ncf, nrhs, nsteps, nruns, met, ev_err = (float(x) for x in info)
+    model = _MODEL_NAME.get(model_out, "unknown")
+    cost = {"closed_form_evals": int(ncf), "rhs_evals": int(nrhs), "steps": int(nsteps), "runs": int(nruns),
+            "wall_time": fwall, "python_wall_time": wall}
+    kw = {}
+    want = scene.want
+    if want in ("state", "theta", "energy"):
+        t = tout[:nout].copy()
+        th = theta[:nout].copy()
+        om = omega[:nout].copy()
+        if scene._scalar_t:
+            t, th, om = float(t[0]), float(th[0]), float(om[0])
+        kw.update(t=t, theta=th, omega=None if want == "theta" else om)
+        if want == "energy":
+            e = energy[:nout].copy()
+            kw.update(energy=float(e[0]) if scene._scalar_t else e)
+            if model == "exact":   # conserved: no time series was evaluated
+                kw.update(theta=None, omega=None)
+    elif want == "final":
+        kw.update(t=float(tout[0]), theta=float(theta[0]), omega=float(omega[0]))
+    elif want == "period":
+        kw.update(period=period)
+    elif want == "events":
+        n = n_ev
+        kw.update(events=Events(t=ev_t[:n].copy(), kind=ev_kind[:n].astype(np.int64),
+                                theta=ev_theta[:n].copy(), omega=ev_omega[:n].copy(), truncated=False),
+                  event_time_error=ev_err)
+    return SceneResult(model=model, reason=_text(reason), error_estimate=est, tol_met=bool(met),
+                       setting=setting if model in ("rk4", "cvode") else None, cost=cost, **kw)
+
+
+def solve(scene, model=None):
+    """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
+
+    model: None or "auto" to let the library choose, or one of ``MODELS`` to
+    force it (its setting is still chosen from tol and verified).  Returns a
+    ``SceneResult`` (model, reason, error_estimate, tol_met, cost, and the
+    wanted quantities).  When no model can meet tol (e.g. tol below the
+    rounding floor of the exact solution over a long window), the most accurate
+    one is used and ``tol_met`` is False with the reason saying so.
+
+    Raises ValueError for an unknown model name or a model that does not apply
+    (small_angle/exact with gamma > 0), NotImplementedError for "cvode" in a
+    build without SUNDIALS, ``PendulaSolverError`` when an integrator fails.
+    """
+    code = _model_code(model)
+    if code in (1, 2) and isinstance(scene, Scene) and scene.gamma > 0:
+        raise ValueError(f"model = {model!r} needs gamma = 0 (gamma = {scene.gamma:g}): "
+                         "use 'linear', 'rk4' or 'cvode'")
+    if code != 0 and isinstance(scene, Scene):
+        _scene_check_model(scene, code)
+    return _result(scene, _run(scene, code, False, 0.0))
+
+
+def _scene_check_model(scene, code):
+    c, msg = _scene.scene_check_f2py(scene._t_arg(), scene.theta0, scene.omega0, scene.w0, scene.gamma,
+                                     scene.tol, _WANT_CODE[scene.want], code)
+    raise_for_status(c, msg)
+
+
+def run_model(scene, model, setting=None):
+    """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
+
+    setting: RK4 step h [s] or CVODE rtol (atol = rtol * state scale / 100);
+    ignored for the closed forms.  For work-precision studies (``tradeoff``).
+    """
+    code = _model_code(model)
+    if code == 0:
+        raise ValueError("model = 'auto' is not a model: use solve(scene) to let the library choose")
+    if code in (4, 5):
+        if setting is None:
+            raise ValueError(f"setting is missing: model {model!r} needs a step h (rk4) or an rtol (cvode)")
+        setting = real_scalar(setting, "setting")
+    else:
+        setting = 0.0
+    return _result(scene, _run(scene, code, True, setting))
+
+
+class TradeoffTable:
+    """Rows of a speed/accuracy study (see ``tradeoff``).
+
+    rows: list of dicts with model, setting, sup_error [rad] (sup over the
+    output grid of max(|d theta|, |d Omega|/w0) against the reference),
+    wall_time [s] (best of the repeats, the whole Python call),
+    rhs_evals, closed_form_evals, error_estimate (what the model claimed, 0
+    when unverified).  reference: how the reference was made.
+    """
+
+    COLUMNS = ("model", "setting", "sup_error", "wall_time", "rhs_evals", "closed_form_evals",
+               "error_estimate")
+
+    def __init__(self, scene, rows, reference):
+        self.scene = scene
+        self.rows = rows
+        self.reference = reference
+
+    def __iter__(self):
+        return iter(self.rows)
+
+    def __len__(self):
+        return len(self.rows)
+
+    def __getitem__(self, i):
+        return self.rows[i]
+
+    def column(self, name):
+        """One column as a list."""
+        return [r[name] for r in self.rows]
+
+    def to_csv(self, path):
+        """Write the table as CSV (one row per run); returns the path."""
+        with open(path, "w", newline="") as fh:
+            w = _csv.DictWriter(fh, fieldnames=self.COLUMNS, extrasaction="ignore")
+            w.writeheader()
+            for r in self.rows:
+                w.writerow(r)
+        return path
+
+    def plot(self, path, title=None, ax=None):
+        """Work-precision plot: sup error against wall time, log-log, one line per model."""
+        import matplotlib
+        if ax is None:
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        own = ax is None
+        if own:
+            fig, ax = plt.subplots(figsize=(7.5, 5.0))
+        names = []
+        for r in self.rows:
+            if r["model"] not in names:
+                names.append(r["model"])
+        markers = "osD^v<>ph*x+"
+        floor = 1e-17
+        for i, name in enumerate(names):
+            rs = [r for r in self.rows if r["model"] == name]
+            x = [r["wall_time"] for r in rs]
+            y = [max(r["sup_error"], floor) for r in rs]
+            ax.loglog(x, y, marker=markers[i % len(markers)], linestyle="-" if len(rs) > 1 else "none",
+                      label=name)
+        ax.axhline(self.scene.tol, color="grey", linestyle=":", label=f"tol = {self.scene.tol:g} rad")
+        ax.set(xlabel="wall time per solve [s]", ylabel="sup error over the grid [rad]",
+               title=title or f"Work-precision: {self.scene!r}"[:90])
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        if own:
+            fig.tight_layout()
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+        return path
+
+
+def _sup_error(theta, omega, ref_theta, ref_omega, w0):
+    return float(max(np.max(np.abs(theta - ref_theta)), np.max(np.abs(omega - ref_omega)) / w0))
+
+
+def _timed(fn, repeat):
+    best = np.inf
+    out = None
+    for _ in range(max(1, repeat)):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return out, best
+
+
+def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv=None, plot=None,
+             max_steps=2_000_000):
+    """Measure the speed/accuracy trade of every applicable model on ``scene``.
+
+    Runs the closed forms that apply (small_angle and exact when gamma = 0,
+    linear otherwise), RK4 over a range of steps h (halving from just inside
+    the stability limit while the run stays under ``max_steps`` steps) and
+    CVODE over rtol = 1e-3 ... 1e-12 (when built), each at a FIXED setting with
+    no verification, on the state (theta, Omega) at scene.t.  The error is the
+    sup over the output grid of max(|d theta|, |d Omega|/w0) against a
+    reference: the exact elliptic solution when gamma = 0, otherwise
+    ``solve`` at tol = 1e-12 (verified RK4 or CVODE; its own estimate is
+    reported in ``table.reference``).  Wall time is the best of ``repeat``
+    calls.  models: subset of ``MODELS`` to run; rk4_steps / cvode_rtols:
+    explicit settings.  csv / plot: paths to also write the CSV and a log-log
+    work-precision PNG.  Returns a ``TradeoffTable``.
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
+    if scene.t.size < 1:
+        raise ValueError("tradeoff needs output times: the scene has no t")
+    st = Scene(theta0=scene.theta0, omega0=scene.omega0, t=scene.t, g=scene.g, length=scene.length,
+               gamma=scene.gamma, tol=scene.tol, want="state")
+    damped = st.gamma > 0
+    applicable = ["linear", "rk4"] if damped else ["small_angle", "exact", "rk4"]
+    if HAVE_CVODE:
+        applicable.append("cvode")
+    if models is None:
+        models = applicable
+    else:
+        for mname in models:
+            _model_code(mname, "models")
+        bad = [mname for mname in models if mname not in applicable]
+        if bad:
+            raise ValueError(f"models {bad} do not apply to this scene (applicable: {applicable})")
+    if damped:
+        ref_scene = Scene(theta0=st.theta0, omega0=st.omega0, t=st.t, g=st.g, length=st.length,
+                          gamma=st.gamma, tol=1e-12, want="state")
+        ref = solve(ref_scene)
+        reference = (f"converged integration: solve(tol=1e-12) -> {ref.model} at setting {ref.setting:.3g}, "
+                     f"its a posteriori estimate {ref.error_estimate:.2g} rad")
+    else:
+        ref = run_model(st, "exact")
+        reference = f"exact elliptic solution (rounding estimate {ref.error_estimate:.2g} rad)"
+    rows = []
+
+    def add(name, setting, fn):
+        res, wall = _timed(fn, repeat)
+        rows.append({"model": name, "setting": setting,
+                     "sup_error": _sup_error(res.theta, res.omega, ref.theta, ref.omega, st.w0),
+                     "wall_time": wall, "rhs_evals": res.cost["rhs_evals"],
+                     "closed_form_evals": res.cost["closed_form_evals"],
+                     "error_estimate": res.error_estimate})
+
+    tend = float(st.t[-1])
+    for name in models:
+        if name in ("small_angle", "exact", "linear"):
+            add(name, "closed form", lambda name=name: run_model(st, name))
+        elif name == "rk4":
+            from .integrate import rk4_max_stable_step
+            steps = rk4_steps
+            if steps is None:
+                h = 0.9 * rk4_max_stable_step(st.w0, st.gamma)
+                steps = []
+                while tend / h <= max_steps and len(steps) < 14:
+                    steps.append(h)
+                    h /= 2
+            for h in steps:
+                add("rk4", f"h={h:.3g}", lambda h=h: run_model(st, "rk4", h))
+        elif name == "cvode":
+            rtols = cvode_rtols if cvode_rtols is not None else [10.0**-k for k in range(3, 13)]
+            for r in rtols:
+                try:
+                    add("cvode", f"rtol={r:.0e}", lambda r=r: run_model(st, "cvode", r))
+                except RuntimeError:
+                    pass   # budget exhausted at this setting: no point to plot
+    table = TradeoffTable(st, rows, reference)
+    if csv is not None:
+        table.to_csv(csv)
+    if plot is not None:
+        table.plot(plot)
+    return table
+
+
+__all__ = ["Scene", "SceneResult", "solve", "run_model", "tradeoff", "TradeoffTable"]
