@@ -21,7 +21,7 @@ from .elliptic import *  # noqa: F401,F403
 from . import undamped as _undamped; from .undamped import *  # noqa: E702,F401,F403
 from . import linear as _linear; from .linear import *  # noqa: E702,F401,F403
 from . import integrate as _integrate_api; from .integrate import *  # noqa: E702,F401,F403
-from . import scene as _scene; from .scene import *  # noqa: E702,F401,F403
+from . import scene as _scene_api; from .scene import *  # noqa: E702,F401,F403
 
 __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "have_cvode"]
                      # <concern __all__: one `+ _X.__all__` line each>
@@ -29,7 +29,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      + _undamped.__all__
                      + _linear.__all__
                      + _integrate_api.__all__
-                     + _scene.__all__
+                     + _scene_api.__all__
                      ))
 
 
