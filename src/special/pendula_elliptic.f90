@@ -109,7 +109,9 @@ module pendula_elliptic
     real(wp) :: m = 0, mc = 1   ! core parameter in [0,1] and its complement
     real(wp) :: khi = 0, klo = 0! K(m) of the core parameter, double-double
     real(wp) :: sqmc = 1        ! sqrt(mc)
+    real(wp) :: mcl = 0         ! low part of mc (double-double), for K in extra precision
     real(wp) :: uscale = 1      ! u is multiplied by this before the core
+    real(wp) :: uscale_lo = 0   ! ... in double-double, so large u keeps its digits
     real(wp) :: oscale = 1      ! sn scale (m>1: 1/k, m<0: 1/sqrt(1-m))
     real(wp) :: cs(0:6) = 0, cc(0:6) = 0, cd(0:6) = 0  ! series coefficients at m
   end type ellipj_plan_t
@@ -188,22 +190,21 @@ contains
     call two_sum(s, r, ch, cl)
   end subroutine dd_sqrt
 
-  !> K(m) from mc = 1 - m > 0 (any mc > 0, also mc > 1 for m < 0) in double-double:
-  !> K = (pi/2) / AGM(1, sqrt(mc)) (DLMF 19.8.5).
-  pure subroutine kdd(mc, khi, klo)
-    real(wp), intent(in) :: mc
+  !> K(m) in double-double from mc = 1 - m = mch + mcl > 0 given in double-double (any
+  !> mc > 0, also mc > 1 for m < 0): K = (pi/2) / AGM(1, sqrt(mc)) (DLMF 19.8.5).
+  pure subroutine kdd(mch, mcl, khi, klo)
+    real(wp), intent(in) :: mch, mcl
     real(wp), intent(out) :: khi, klo
-    real(wp) :: ah, al, bh, bl, th, tl, ph, pl, x
+    real(wp) :: ah, al, bh, bl, th, tl, ph, pl
     integer :: i, sh
-    ! sqrt(mc) in double-double; scale subnormal/tiny mc so the residual stays exact
+    ! sqrt(mc) in double-double; scale tiny mc so the residual stays exact
     sh = 0
-    x = mc
-    if (x < 2.0_wp**(-900)) then
-      x = scale(x, 1000)
-      sh = -500
+    if (mch < 2.0_wp**(-900)) then
+      call dd_sqrt(scale(mch, 1000), scale(mcl, 1000), bh, bl)
+      bh = scale(bh, -500); bl = scale(bl, -500)
+    else
+      call dd_sqrt(mch, mcl, bh, bl)
     end if
-    call dd_sqrt(x, 0.0_wp, bh, bl)
-    bh = scale(bh, sh); bl = scale(bl, sh)
     ah = 1; al = 0
     do i = 1, 80
       call dd_add(ah, al, -bh, -bl, th, tl)
@@ -538,7 +539,7 @@ contains
     real(wp), intent(in) :: m, mc
     logical, intent(in) :: usemc, full
     type(ellipj_plan_t) :: plan
-    real(wp) :: mm, mmc, k
+    real(wp) :: mm, wh, wl, ah, al, qh, ql
     if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then
       plan%kind = -1
       return
@@ -548,39 +549,49 @@ contains
       plan%m = 1; plan%mc = 0
       return
     end if
-    if ((usemc .and. mc > 0 .and. mc <= 1) .or. (.not. usemc .and. m >= 0 .and. m < 1)) then
+    ! w = 1 - m exactly, as a double-double
+    if (usemc) then
+      wh = mc; wl = 0
+    else
+      call two_sum(1.0_wp, -m, wh, wl)
+    end if
+    if (.not. ieee_is_finite(wh)) then
+      plan%kind = -1
+      return
+    end if
+    if (wh > 0 .and. wh <= 1) then
       plan%kind = 0
-      mm = m; mmc = mc
-      plan%uscale = 1; plan%oscale = 1
-    else if ((usemc .and. mc < 0) .or. (.not. usemc .and. m > 1)) then
+      mm = m
+      plan%mc = wh; plan%mcl = wl
+      plan%uscale = 1; plan%uscale_lo = 0
+    else if (wh < 0) then
       ! reciprocal modulus (DLMF 22.6.11): core parameter 1/m, u scaled by k = sqrt(m)
       plan%kind = 2
-      if (usemc) then
-        mm = 1 / (1 - mc); mmc = (-mc) / (1 - mc)
-      else
-        mm = 1 / m; mmc = (m - 1) / m
-      end if
-      if (.not. ieee_is_finite(m)) then
-        plan%kind = -1; return
-      end if
-      k = sqrt(merge(1 - mc, m, usemc))
-      plan%uscale = k; plan%oscale = 1 / k
+      call two_sum(1.0_wp, -wh, ah, al)         ! m = 1 - w
+      al = al - wl
+      mm = 1 / ah
+      call dd_div(-wh, -wl, ah, al, qh, ql)     ! core mc = (m - 1)/m
+      plan%mc = qh; plan%mcl = ql
+      call dd_sqrt(ah, al, qh, ql)
+      plan%uscale = qh; plan%uscale_lo = ql
+      plan%oscale = 1 / qh
     else
-      ! imaginary modulus (DLMF 22.6.12): mu = -m/(1-m), u scaled by sqrt(1-m)
+      ! imaginary modulus (DLMF 22.6.12): core mu = -m/(1-m), mc = 1/(1-m), u scaled by sqrt(1-m)
       plan%kind = 3
-      if (.not. ieee_is_finite(mc)) then
-        plan%kind = -1; return
-      end if
-      mm = -m / mc; mmc = 1 / mc
-      k = sqrt(mc)
-      plan%uscale = k; plan%oscale = 1 / k
+      mm = -m / wh
+      if (usemc) mm = (mc - 1) / mc
+      call dd_div(1.0_wp, 0.0_wp, wh, wl, qh, ql)
+      plan%mc = qh; plan%mcl = ql
+      call dd_sqrt(wh, wl, qh, ql)
+      plan%uscale = qh; plan%uscale_lo = ql
+      plan%oscale = 1 / qh
     end if
-    plan%m = mm; plan%mc = mmc
-    plan%sqmc = sqrt(mmc)
+    plan%m = mm
+    plan%sqmc = sqrt(plan%mc)
     if (full) then
-      call kdd(mmc, plan%khi, plan%klo)
+      call kdd(plan%mc, plan%mcl, plan%khi, plan%klo)
     else
-      plan%khi = kfun(mmc); plan%klo = 0
+      plan%khi = kfun(plan%mc); plan%klo = 0
     end if
     call series_coeffs(mm, plan%cs, plan%cc, plan%cd)
   end function make_plan
@@ -601,7 +612,7 @@ contains
     real(wp), intent(in) :: u
     logical, intent(in) :: exact_k
     real(wp), intent(out) :: sn, cn, dn, am
-    real(wp) :: v, s, c, d, n, khi, klo, p, e, r, t, sg, ex
+    real(wp) :: v, vl, s, c, d, n, khi, klo, p, e, r, t, sg, ex
     if (plan%kind < 0 .or. ieee_is_nan(u)) then
       sn = qnan(); cn = sn; dn = sn; am = sn
       return
@@ -628,13 +639,16 @@ contains
     n = 0
     r = v
     if (v > khi) then
+      ! u * scale and n * 2K both in double-double: large u keeps its digits
+      call two_prod(abs(u), plan%uscale, v, vl)
+      vl = vl + abs(u) * plan%uscale_lo
       n = anint(v / (2 * khi))
       if (.not. exact_k .and. n > 4) then
-        call kdd(plan%mc, khi, klo)
+        call kdd(plan%mc, plan%mcl, khi, klo)
         n = anint(v / (2 * khi))
       end if
       call two_prod(n, 2 * khi, p, e)
-      r = ((v - p) - e) - n * (2 * klo)
+      r = (((v - p) - e) + vl) - n * (2 * klo)
     end if
     t = abs(r)
     if (t > 0.5_wp * khi) then

@@ -1,0 +1,128 @@
+!> Tests of pendula_elliptic: mpmath references (40+ digits, exact double inputs,
+!> values from tests/python/gen_elliptic_refs.py), identities over grids in every
+!> parameter region, plan = elementwise, NaN/domain behaviour.
+program test_elliptic
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite, ieee_value, ieee_quiet_nan
+  use pendula_kinds, only: wp
+  use pendula_elliptic
+  use pendula_testing, only: checker_t, ulps_between
+  implicit none
+  type(checker_t) :: t
+  real(wp), parameter :: eps = epsilon(1.0_wp)
+  real(wp) :: sn, cn, dn, am, nan, x
+  real(wp) :: u(2001), s(2001), c(2001), d(2001), a(2001), s2(2001), c2(2001), d2(2001), a2(2001)
+  real(wp) :: ms(10), pcs(5)
+  type(ellipj_plan_t) :: plan
+  integer :: i, j
+
+  nan = ieee_value(1.0_wp, ieee_quiet_nan)
+
+  ! ---- complete and incomplete integrals (mpmath, 4 ulps)
+  call t%check_ulps(ellipk(0.5_wp), 1.8540746773013719_wp, 4.0_wp, 'K(0.5)')
+  call t%check_ulps(ellipe(0.5_wp), 1.3506438810476755_wp, 4.0_wp, 'E(0.5)')
+  call t%check_ulps(ellipk(-1.0e10_wp), 0.00012899219825792638_wp, 4.0_wp, 'K(-1e10)')
+  call t%check_ulps(ellipe(-1.0e10_wp), 100000.0000669961_wp, 4.0_wp, 'E(-1e10)')
+  call t%check_ulps(ellipkc(1.0e-300_wp), 346.77405831022674_wp, 4.0_wp, 'K(mc=1e-300)')
+  call t%check_ulps(ellipkc(5.0e-324_wp), 373.6063303218105_wp, 4.0_wp, 'K(mc=5e-324)')
+  call t%check_ulps(ellipec(1.0e-300_wp), 1.0_wp, 4.0_wp, 'E(mc=1e-300)')
+  call t%check_ulps(ellipf(1.2_wp, 0.9_wp), 1.5648981345066715_wp, 4.0_wp, 'F(1.2|0.9)')
+  call t%check_ulps(ellipf(10.0_wp, 0.3_wp), 10.867848645988321_wp, 4.0_wp, 'F(10|0.3)')
+  call t%check_ulps(ellipfc(1.5_wp, 1.0e-200_wp), 3.340677542798311_wp, 4.0_wp, 'F(1.5|mc=1e-200)')
+  call t%check_ulps(ellipf(0.3_wp, 4.0_wp), 0.321243014549783_wp, 4.0_wp, 'F(0.3|4)')
+  call t%check_true(.not. ieee_is_finite(ellipk(1.0_wp)) .and. ellipk(1.0_wp) > 0, 'K(1) = +Inf')
+  call t%check_true(.not. ieee_is_finite(ellipkc(0.0_wp)), 'K(mc=0) = +Inf')
+  call t%check_true(ellipe(1.0_wp) == 1, 'E(1) = 1')
+
+  ! ---- Jacobi functions (mpmath; tolerance 8 eps * cond, cond from the generator)
+  call jac(0.7_wp, 0.3_wp, .false., [0.6323047763108646_wp, 0.7747197363269298_wp, &
+      0.9381136396814302_wp, 0.6845245936612939_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 'generic')
+  ! large u: raw error checked at 64 eps, far below u*eps = 1e6 eps
+  call jac(1.0e6_wp, 0.3_wp, .false., [0.34227400996444113_wp, 0.9396001820470564_wp, &
+      0.9822701006499478_wp, 916509.7405383877_wp], [8.0_wp, 8.0_wp, 8.0_wp, 1.0_wp], 'u=1e6')
+  call jac(300.0_wp, 1.0e-300_wp, .true., [1.0_wp, 1.0296400444824027e-130_wp, &
+      1.0296400444824027e-130_wp, 1.5707963267948966_wp], [1.0_wp, 300.0_wp, 300.0_wp, 1.0_wp], 'mc=1e-300')
+  call jac(20.0_wp, 1.0e-10_wp, .true., [0.9999816107201293_wp, -0.006064505056132994_wp, &
+      0.0060645133005200694_wp, 1.5768608690252632_wp], [1.0_wp, 21.0_wp, 21.0_wp, 1.0_wp], 'mc=1e-10')
+  call jac(0.5_wp, -1.0e10_wp, .false., [6.858821793081104e-05_wp, 0.9999999976478282_wp, &
+      6.93133727279551_wp, 6088.406631245237_wp], [73833.95_wp, 1.0_wp, 72297.63_wp, 1.0_wp], 'm=-1e10')
+  call jac(0.4_wp, 4.0_wp, .false., [0.35210607077358375_wp, 0.9359601032759827_wp, &
+      0.7099896194294337_wp, 0.3598203254761276_wp], [1.0_wp, 1.0_wp, 1.13_wp, 1.0_wp], 'm=4')
+
+  ! ---- exact m = 0 and m = 1
+  call ellipj(0.3_wp, 0.0_wp, sn, cn, dn, am)
+  call t%check_ulps(sn, sin(0.3_wp), 2.0_wp, 'sn(u|0) = sin')
+  call t%check_ulps(cn, cos(0.3_wp), 2.0_wp, 'cn(u|0) = cos')
+  call t%check_true(dn == 1, 'dn(u|0) = 1')
+  call ellipj(400.0_wp, 1.0_wp, sn, cn, dn, am)
+  call t%check_true(sn == 1 .and. cn > 0 .and. cn < 1.0e-170_wp .and. dn == cn, 'm=1, u=400: tanh, sech')
+
+  ! ---- identities on grids, every region; plan equals elementwise to a few eps
+  ms = [-1.0e10_wp, -3.0_wp, -0.1_wp, 0.0_wp, 0.3_wp, 0.9_wp, 0.999999_wp, 1.0_wp, 1.5_wp, 1.0e4_wp]
+  u = [(-60.0_wp + 0.06_wp * i, i = 0, 2000)]
+  do j = 1, size(ms)
+    call ellipj(u, ms(j), s, c, d, a)
+    call t%check_true(maxval(abs(s**2 + c**2 - 1)) <= 4 * eps, 'sn^2 + cn^2 = 1')
+    call t%check_true(maxval(abs(d**2 + ms(j) * s**2 - 1)) <= 8 * eps * max(1.0_wp, abs(ms(j))), &
+        'dn^2 + m sn^2 = 1')
+    plan = ellipj_plan(ms(j))
+    call ellipj_eval(plan, u, s2, c2, d2, a2)
+    x = max(maxval(abs(s2 - s)), maxval(abs(c2 - c)), maxval(abs(d2 - d) / max(1.0_wp, abs(d))))
+    call t%check_true(x <= 64 * eps, 'plan = elementwise')
+  end do
+  pcs = [1.0e-3_wp, 1.0e-10_wp, 1.0e-100_wp, 1.0e-300_wp, 5.0e-324_wp]
+  do j = 1, size(pcs)
+    call ellipjc(u, pcs(j), s, c, d, a)
+    call t%check_true(maxval(abs(s**2 + c**2 - 1)) <= 4 * eps, 'complement: sn^2 + cn^2 = 1')
+    call t%check_true(maxval(abs(d**2 - pcs(j) * s**2 - c**2)) <= 8 * eps, 'complement: dn^2 = cn^2 + mc sn^2')
+    plan = ellipj_planc(pcs(j))
+    call ellipj_eval(plan, u, s2, c2, d2)
+    x = max(maxval(abs(s2 - s)), maxval(abs(c2 - c)), maxval(abs(d2 - d)))
+    call t%check_true(x <= 64 * eps, 'planc = elementwise')
+  end do
+
+  ! ---- 4K period and F(am(u)) = u
+  x = ellipk(0.8_wp)
+  call ellipj(u, 0.8_wp, s, c, d, a)
+  call ellipj(u + 4 * x, 0.8_wp, s2, c2, d2, a2)
+  call t%check_true(maxval(abs(s2 - s)) <= 256 * eps .and. maxval(abs(c2 - c)) <= 256 * eps, '4K period')
+  call t%check_true(maxval(abs(a2 - a - 8 * atan(1.0_wp))) <= 256 * eps, 'am(u + 4K) = am(u) + 2 pi')
+  call t%check_true(maxval(abs(ellipf(a, 0.8_wp) - u) / max(1.0_wp, abs(u))) <= 16 * eps, 'F(am(u)) = u')
+
+  ! ---- NaN and domain (NaN, no stop)
+  call t%check_true(ieee_is_nan(ellipk(1.5_wp)) .and. ieee_is_nan(ellipe(2.0_wp)), 'K, E: m > 1 -> NaN')
+  call t%check_true(ieee_is_nan(ellipkc(-1.0_wp)) .and. ieee_is_nan(ellipec(-1.0_wp)), 'mc < 0 -> NaN')
+  call t%check_true(ieee_is_nan(ellipf(1.2_wp, 2.0_wp)), 'F: m sin^2 > 1 -> NaN')
+  call t%check_true(ieee_is_nan(ellipk(nan)) .and. ieee_is_nan(ellipf(nan, 0.5_wp)), 'NaN in, NaN out')
+  call ellipj(nan, 0.5_wp, sn, cn, dn, am)
+  call t%check_true(ieee_is_nan(sn) .and. ieee_is_nan(cn) .and. ieee_is_nan(dn) .and. ieee_is_nan(am), &
+      'ellipj NaN u')
+  call ellipj(0.5_wp, nan, sn, cn, dn)
+  call t%check_true(ieee_is_nan(sn) .and. ieee_is_nan(cn) .and. ieee_is_nan(dn), 'ellipj NaN m')
+
+  call t%report('test_elliptic')
+
+contains
+
+  subroutine jac(uu, p, comp, ref, cond, label)
+    real(wp), intent(in) :: uu, p, ref(4), cond(4)
+    logical, intent(in) :: comp
+    character(len=*), intent(in) :: label
+    real(wp) :: v(4)
+    type(ellipj_plan_t) :: pl
+    if (comp) then
+      call ellipjc(uu, p, v(1), v(2), v(3), v(4))
+    else
+      call ellipj(uu, p, v(1), v(2), v(3), v(4))
+    end if
+    call t%check_true(all(ulps_between(v, ref) <= 8 * cond), label // ' (elementwise)')
+    if (.not. all(ulps_between(v, ref) <= 8 * cond)) print '(4es25.16)', v, ref
+    if (comp) then
+      pl = ellipj_planc(p)
+    else
+      pl = ellipj_plan(p)
+    end if
+    call ellipj_eval(pl, uu, v(1), v(2), v(3), v(4))
+    call t%check_true(all(ulps_between(v, ref) <= 8 * cond), label // ' (plan)')
+  end subroutine jac
+
+end program test_elliptic

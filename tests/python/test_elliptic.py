@@ -1,0 +1,212 @@
+"""Tests of pendula's elliptic integrals and Jacobi functions.
+
+References: tests/data/elliptic_refs.npz, made by tests/python/gen_elliptic_refs.py
+with mpmath at >= 60 digits (340 for the complement forms, so that 1 - mc is
+exact) at the EXACT double inputs, with the condition number of each problem.
+Errors are reported as relative error / (eps * cond).
+"""
+import importlib
+import os
+
+import numpy as np
+import pytest
+import scipy.special as sc
+
+import pendula
+# the f2py extension (pendula/__init__ binds the name _elliptic to the Python module)
+_elliptic = importlib.import_module("pendula._elliptic")
+
+EPS = np.finfo(float).eps
+DATA = np.load(os.path.join(os.path.dirname(__file__), "..", "data", "elliptic_refs.npz"))
+TOL_COND = 8.0   # issue 3: rel. error <= 8 eps * cond for sn, cn, dn, am
+TOL_ULPS = 4.0   # issue 3: K, E, F within 4 ulps
+
+
+def _rel(got, ref):
+    got = np.asarray(got, float)
+    ref = np.asarray(ref, float)
+    return np.abs(got - ref) / np.maximum(np.abs(ref), np.finfo(float).tiny) / EPS
+
+
+def _jac_table():
+    j = DATA["jac"]
+    return j[:, 0], j[:, 1], j[:, 2].astype(bool), j[:, 3:7], j[:, 7:11], DATA["jac_region"]
+
+
+@pytest.mark.parametrize("region", ["generic", "mneg", "near1", "mgt1", "largeu", "m0", "m1"])
+@pytest.mark.parametrize("path", ["elementwise", "plan"])
+def test_jacobi_against_mpmath(region, path):
+    u, p, comp, ref, cond, reg = _jac_table()
+    sel = reg == region
+    assert sel.sum() >= 8
+    worst = 0.0
+    for i in np.flatnonzero(sel):
+        if path == "elementwise":
+            got = (pendula.ellipjm1 if comp[i] else pendula.ellipj)(u[i], p[i])
+        else:  # the scalar-parameter (plan) routine, fed a one-element array
+            fn = _elliptic.ellipjc_plan_f2py if comp[i] else _elliptic.ellipj_plan_f2py
+            got = [g[0] for g in fn(np.array([u[i]]), p[i])]
+        e = _rel(got, ref[i]) / cond[i]
+        worst = max(worst, float(e.max()))
+        assert e.max() <= TOL_COND, (u[i], p[i], comp[i], got, ref[i], e)
+    print(f"{region}/{path}: worst rel.err/(eps*cond) = {worst:.2f}")
+
+
+def test_large_u_error_does_not_grow_like_u_eps():
+    # u up to 1e6: raw relative error stays at a few hundred eps at most, far below u*eps
+    u, p, comp, ref, cond, reg = _jac_table()
+    sel = (reg == "largeu") & ~comp
+    for i in np.flatnonzero(sel):
+        got = pendula.ellipj(u[i], p[i])
+        e = _rel(got, ref[i])
+        big = np.abs(ref[i]) > 1e-3
+        assert (e[big] <= 1e-3 * abs(u[i]) + 64).all(), (u[i], p[i], e)
+
+
+def test_complete_integrals_against_mpmath():
+    for p, comp, kref, eref in DATA["ke"]:
+        k = pendula.ellipkm1(p) if comp else pendula.ellipk(p)
+        e = pendula.ellipem1(p) if comp else pendula.ellipe(p)
+        assert _rel(k, kref) <= TOL_ULPS, (p, comp, k, kref)
+        assert _rel(e, eref) <= TOL_ULPS, (p, comp, e, eref)
+
+
+def test_incomplete_integral_against_mpmath():
+    for phi, p, comp, fref, cond in DATA["f"]:
+        f = pendula.ellipfm1(phi, p) if comp else pendula.ellipf(phi, p)
+        assert _rel(f, fref) <= TOL_ULPS * cond, (phi, p, comp, f, fref, cond)
+
+
+def test_special_values():
+    assert pendula.ellipk(1.0) == np.inf
+    assert pendula.ellipkm1(0.0) == np.inf
+    assert pendula.ellipe(1.0) == 1.0
+    assert pendula.ellipk(0.0) == pytest.approx(np.pi / 2, rel=EPS)
+    assert pendula.ellipe(0.0) == pytest.approx(np.pi / 2, rel=EPS)
+    # smallest subnormal complement: K = ln(4/sqrt(mc)) + O(mc)
+    mc = 5e-324
+    assert pendula.ellipkm1(mc) == pytest.approx(np.log(4) - 0.5 * np.log(mc), rel=2 * EPS)
+    assert pendula.ellipem1(mc) == 1.0
+    sn, cn, dn, ph = pendula.ellipj(0.3, 0.0)
+    assert (sn, cn, dn) == pytest.approx((np.sin(0.3), np.cos(0.3), 1.0), rel=2 * EPS)
+    sn, cn, dn, ph = pendula.ellipj(2.0, 1.0)
+    assert (sn, cn, dn) == pytest.approx((np.tanh(2.0), 1 / np.cosh(2.0), 1 / np.cosh(2.0)), rel=2 * EPS)
+    # m = 1 beyond the cosh overflow (SciPy gives NaN above u = 355.6)
+    sn, cn, dn, ph = pendula.ellipj(400.0, 1.0)
+    assert sn == 1.0 and 0 < cn < 1e-170 and ph == pytest.approx(np.pi / 2)
+
+
+def test_identities_all_regions():
+    rng = np.random.default_rng(7)
+    u = rng.uniform(-50, 50, 4000)
+    for m in [-1e10, -3.0, -0.1, 0.0, 0.3, 0.9, 0.999999, 1.0, 1.5, 1e4]:
+        sn, cn, dn, ph = pendula.ellipj(u, m)
+        assert np.abs(sn**2 + cn**2 - 1).max() <= 4 * EPS
+        big = max(1.0, abs(m))
+        assert np.abs(dn**2 + m * sn**2 - 1).max() <= 8 * EPS * big
+        if m <= 1:
+            np.testing.assert_allclose(np.sin(ph), sn, rtol=0, atol=8 * EPS * np.abs(ph).max())
+    for p in [1e-3, 1e-10, 1e-100, 1e-300, 5e-324]:
+        sn, cn, dn, ph = pendula.ellipjm1(u, p)
+        assert np.abs(sn**2 + cn**2 - 1).max() <= 4 * EPS
+        assert np.abs(dn**2 - p * sn**2 - cn**2).max() <= 8 * EPS
+
+
+def test_period_4k_and_amplitude():
+    for m, p in [(0.3, None), (0.9, None), (None, 1e-12), (-5.0, None)]:
+        if p is None:
+            k = pendula.ellipk(m) if m >= 0 else pendula.ellipk(m / (m - 1)) / np.sqrt(1 - m)
+            f = lambda x: pendula.ellipj(x, m)  # noqa: E731
+        else:
+            k = pendula.ellipkm1(p)
+            f = lambda x: pendula.ellipjm1(x, p)  # noqa: E731
+        u = np.linspace(-k, 3 * k, 97)
+        a, b = f(u), f(u + 4 * k)
+        for x, y in zip(a[:3], b[:3]):
+            np.testing.assert_allclose(y, x, rtol=0, atol=64 * EPS * (1 + 4 * k))
+        # am advances by 2 pi over a period
+        np.testing.assert_allclose(b[3] - a[3], 2 * np.pi, rtol=0, atol=64 * EPS * (1 + 4 * k))
+
+
+def test_amplitude_inverts_ellipf():
+    # F(am(u|m) | m) = u, the definition of am; and d(am)/du = dn by central differences
+    rng = np.random.default_rng(3)
+    for m in [0.2, 0.7, 0.99, -2.0]:
+        u = rng.uniform(-3, 3, 200)
+        _, _, dn, ph = pendula.ellipj(u, m)
+        np.testing.assert_allclose(pendula.ellipf(ph, m), u, rtol=16 * EPS, atol=16 * EPS)
+        h = 1e-4
+        d = (pendula.ellipj(u + h, m)[3] - pendula.ellipj(u - h, m)[3]) / (2 * h)
+        np.testing.assert_allclose(d, dn, rtol=0, atol=1e-7 * max(1, abs(m)))
+
+
+def test_agrees_with_scipy_where_scipy_is_right():
+    rng = np.random.default_rng(11)
+    u = rng.uniform(-20, 20, 20000)
+    m = rng.uniform(0, 0.99, 20000)
+    ours = pendula.ellipj(u, m)
+    theirs = sc.ellipj(u, m)
+    for a, b in zip(ours, theirs):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(pendula.ellipk(m), sc.ellipk(m), rtol=4 * EPS)
+    np.testing.assert_allclose(pendula.ellipe(m), sc.ellipe(m), rtol=4 * EPS)
+    p = 10.0 ** rng.uniform(-300, 0, 2000)
+    np.testing.assert_allclose(pendula.ellipkm1(p), sc.ellipkm1(p), rtol=4 * EPS)
+    phi = rng.uniform(-10, 10, 20000)
+    np.testing.assert_allclose(pendula.ellipf(phi, m), sc.ellipkinc(phi, m), rtol=8 * EPS, atol=1e-15)
+    # the scalar-m fast path gives the same numbers as SciPy too
+    ours = pendula.ellipj(u, 0.8)
+    theirs = sc.ellipj(u, 0.8)
+    for a, b in zip(ours, theirs):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+
+
+def test_scipy_failures_fixed():
+    # scipy issue 8480: garbage for 1 - m <= 1e-10 and u >= 1.5 K
+    p = 1e-12
+    k = pendula.ellipkm1(p)
+    sn, cn, dn, ph = pendula.ellipjm1(1.7 * k, p)
+    assert abs(cn) <= 1 and abs(sn) <= 1 and 0 < dn <= 1
+    assert sn**2 + cn**2 == pytest.approx(1, abs=4 * EPS)
+    # m > 1 and m < 0 are defined (SciPy: NaN)
+    assert np.isfinite(pendula.ellipj(0.3, 4.0)).all()
+    assert np.isfinite(pendula.ellipj(0.3, -4.0)).all()
+    assert np.isfinite(pendula.ellipf(0.4, 4.0))
+
+
+def test_nan_and_domain():
+    assert np.isnan(pendula.ellipk(np.nan))
+    assert np.isnan(pendula.ellipe(np.nan))
+    assert np.isnan(pendula.ellipf(np.nan, 0.5)) and np.isnan(pendula.ellipf(0.5, np.nan))
+    assert all(np.isnan(pendula.ellipj(np.nan, 0.5)))
+    assert all(np.isnan(pendula.ellipj(0.5, np.nan)))
+    assert all(np.isnan(pendula.ellipj(np.array([np.nan, np.nan]), 0.5)[0]))
+    with pytest.raises(ValueError, match="m must be <= 1"):
+        pendula.ellipk(1.5)
+    with pytest.raises(ValueError, match="m must be <= 1"):
+        pendula.ellipe([0.1, 2.0])
+    with pytest.raises(ValueError, match=r"p = 1 - m must be >= 0"):
+        pendula.ellipkm1(-1e-3)
+    with pytest.raises(ValueError, match=r"m\*sin\(phi\)\*\*2 <= 1"):
+        pendula.ellipf(1.2, 2.0)
+    with pytest.raises(ValueError, match=r"m\*sin\(phi\)\*\*2 <= 1"):
+        pendula.ellipkinc(np.array([0.1, 1.2]), 2.0)
+    with pytest.raises(TypeError):
+        pendula.ellipk("a")
+
+
+def test_shapes_scalars_broadcasting_and_no_input_change():
+    assert isinstance(pendula.ellipk(0.5), float)
+    assert isinstance(pendula.ellipj(0.5, 0.5)[0], float)
+    u = np.linspace(0, 1, 6).reshape(2, 3)
+    m = np.array([0.1, 0.5, 0.9])
+    u0, m0 = u.copy(), m.copy()
+    sn, cn, dn, ph = pendula.ellipj(u, m)
+    assert sn.shape == (2, 3)
+    np.testing.assert_array_equal(u, u0)
+    np.testing.assert_array_equal(m, m0)
+    for a, b in zip((sn, cn, dn, ph), sc.ellipj(u, m)):
+        np.testing.assert_allclose(a, b, rtol=4 * EPS, atol=4 * EPS)
+    assert pendula.ellipf(np.zeros((4, 1)), np.zeros(5)).shape == (4, 5)
+    with pytest.raises(ValueError):
+        pendula.ellipj(np.zeros(3), np.zeros(4))
