@@ -84,3 +84,26 @@ subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, bet
   code = st%code
   msg = st%message
 end subroutine damping_regime_f2py
+
+subroutine linear_damped_one_f2py(n, t, theta0, omega0, w0, gamma, theta, omega, code, msg)
+  ! One trajectory (scalar parameters) at n times: set up once, no per-point
+  ! parameter arrays.
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_eval
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma
+  real(c_double), intent(out) :: theta(n), omega(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  type(linear_damped_t) :: sol
+  theta = 0
+  omega = 0
+  call linear_damped_init(sol, theta0, omega0, w0, gamma, st)
+  if (st%code == PENDULA_OK) call linear_damped_eval(sol, t, theta, omega, st)
+  code = st%code
+  msg = st%message
+end subroutine linear_damped_one_f2py

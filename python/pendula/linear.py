@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 
 from . import _linear
-from ._arrays import broadcast_real, real_scalar, restore
+from ._arrays import as_real, broadcast_real, real_scalar, restore
 from ._errors import raise_for_status
 
 _REGIMES = {1: "underdamped", 2: "critical", 3: "overdamped"}
@@ -42,11 +42,22 @@ def linear_damped(t, theta0, omega0, w0, gamma):
     Values below the double range come out as 0, never NaN/Inf.
     Raises ValueError naming the argument for bad input.
     """
-    shape, scalar, f = _call(t, theta0, omega0, w0, gamma)
-    if f["t"].size == 0:
-        return np.empty(shape), np.empty(shape)
-    theta, omega, code, msg = _linear.linear_damped_f2py(
-        f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
+    params = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    if all(np.ndim(v) == 0 for v in params.values()) and not isinstance(t, (str, bytes)):
+        # One trajectory: set up once in Fortran, no broadcast copies of the parameters.
+        tt = as_real(t, "t")
+        shape, scalar = tt.shape, tt.ndim == 0
+        p = {k: float(as_real(v, k)) for k, v in params.items()}
+        if tt.size == 0:
+            return np.empty(shape), np.empty(shape)
+        theta, omega, code, msg = _linear.linear_damped_one_f2py(
+            tt.reshape(-1), p["theta0"], p["omega0"], p["w0"], p["gamma"])
+    else:
+        shape, scalar, f = _call(t, theta0, omega0, w0, gamma)
+        if f["t"].size == 0:
+            return np.empty(shape), np.empty(shape)
+        theta, omega, code, msg = _linear.linear_damped_f2py(
+            f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
