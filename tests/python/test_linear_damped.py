@@ -297,6 +297,13 @@ def test_broadcasting_scalars_and_input_untouched():
     assert isinstance(th00, float) and isinstance(om00, float)
     assert th00 == th[1, 2] and om00 == om[1, 2]
     assert pendula.linear_damped(0.0, 0.1, 0.5, 1.0, 3.0) == (0.1, 0.5)
+    # One trajectory (scalar parameters, set up once) and the fully broadcast
+    # path (parameter arrays) give the same bits.
+    t = np.linspace(0, 30, 301)
+    for g in (0.0, 0.7, 2.0, 2.0 * (1 + 1e-9), 5.0):
+        a = pendula.linear_damped(t, 0.1, -0.5, 1.0, g)
+        b = pendula.linear_damped(t, np.full(t.shape, 0.1), -0.5, 1.0, np.full(t.shape, g))
+        assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
 
 
 @pytest.mark.parametrize("kwargs, name", [
