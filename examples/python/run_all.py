@@ -34,21 +34,24 @@ EXAMPLES = [
 ]
 
 
+def _quick_flag(path, wanted):
+    """["--quick"] when wanted and the script accepts it (scripts added later may not)."""
+    return ["--quick"] if wanted and "--quick" in path.read_text(errors="replace") else []
+
+
 def _steps(quick, full_benchmarks, skip_benchmarks):
     steps = []
     for script, sub in EXAMPLES:
         path = HERE / script
         if path.exists():
-            args = ["--quick"] if quick else []
-            steps.append((f"examples/python/{script}", path, sub, args))
+            steps.append((f"examples/python/{script}", path, sub, _quick_flag(path, quick)))
     known = {s for s, _ in EXAMPLES} | {"run_all.py"}
     for path in sorted(HERE.glob("*.py")):  # any example added later, not listed above
         if path.name not in known and not path.name.startswith("_"):
-            steps.append((f"examples/python/{path.name}", path, "tables", ["--quick"] if quick else []))
+            steps.append((f"examples/python/{path.name}", path, "tables", _quick_flag(path, quick)))
     if not skip_benchmarks:
         for path in sorted((ROOT / "benchmarks").glob("bench_*.py")):
-            args = [] if full_benchmarks else ["--quick"]
-            steps.append((f"benchmarks/{path.name}", path, "benchmarks", args))
+            steps.append((f"benchmarks/{path.name}", path, "benchmarks", _quick_flag(path, not full_benchmarks)))
     return steps
 
 

@@ -302,7 +302,8 @@ def cmd_tradeoff(args, out):
         out.write(f"wrote {_write_csv(args.csv, header, rows)}\n")
     if args.png:
         from .figures import work_precision_plot
-        out.write(f"wrote {work_precision_plot(rows, args.png, title='Work-precision')}\n")
+        note = str(getattr(table, "reference", "") or "")
+        out.write(f"wrote {work_precision_plot(rows, args.png, title='Work-precision', tol=args.tol, note=note or None)}\n")
     return 0
 
 

@@ -172,8 +172,9 @@ def test_every_example_script_is_run_by_the_main_job():
             assert f"examples/python/{path.name}" in labels
     for path in (ROOT / "benchmarks").glob("bench_*.py"):
         step = [s for s in steps if s[0] == f"benchmarks/{path.name}"]
-        assert step and step[0][2] == "benchmarks" and step[0][3] == ["--quick"]
-    assert all(s[3] == ["--quick"] for s in steps)
+        assert step and step[0][2] == "benchmarks"
+    for label, path, _, args in steps:  # --quick wherever the script accepts it
+        assert args == (["--quick"] if "--quick" in path.read_text() else []), label
 
 
 def test_run_all_reports_a_failing_step(tmp_path, monkeypatch):
