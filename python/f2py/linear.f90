@@ -22,7 +22,7 @@ end subroutine linear_damped_f2py
 
 subroutine linear_damped_envelope_f2py(n, t, theta0, omega0, w0, gamma, env, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, check_finite, check_nonnegative, PENDULA_OK
+  use pendula_status, only: status_t, check_nonnegative, PENDULA_OK
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_envelope
   implicit none
   !f2py threadsafe
@@ -38,7 +38,6 @@ subroutine linear_damped_envelope_f2py(n, t, theta0, omega0, w0, gamma, env, cod
   code = PENDULA_OK
   msg = ''
   do i = 1, n
-    call check_finite('t', t(i), st)
     call check_nonnegative('t', t(i), st)
     if (st%code == PENDULA_OK) call linear_damped_init(sol, theta0(i), omega0(i), w0(i), gamma(i), st)
     if (st%code /= PENDULA_OK) then

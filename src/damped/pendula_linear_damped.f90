@@ -22,7 +22,7 @@
 !> (Omega0/w0) sin(w0 t) itself, so the two agree bit for bit.
 !> Units: t [s], theta [rad], Omega [rad/s], w0 and gamma [1/s].
 module pendula_linear_damped
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, PENDULA_OK, PENDULA_ERR_SIZE
@@ -41,8 +41,9 @@ module pendula_linear_damped
   integer, parameter :: DAMPING_CRITICAL = 2
   integer, parameter :: DAMPING_OVERDAMPED = 3
 
-  !> Beyond |z| = |D| t^2 > Z_SERIES the closed forms replace the series.
-  real(wp), parameter :: Z_SERIES = 0.25_wp
+  !> Beyond |z| = |D| t^2 > 1/4, i.e. x = sqrt|D| t > X_SERIES, the closed
+  !> forms replace the series.
+  real(wp), parameter :: X_SERIES = 0.5_wp
   ! C(z) = cosh(sqrt z) = sum_{k<=8} z^k/(2k)!, S(z)/t = sinh(sqrt z)/sqrt z =
   ! sum_{k<=8} z^k/(2k+1)!: truncation < 1e-18 for |z| <= 1/4; Horner with the
   ! reciprocal factorials (each within half an ulp) keeps the sum within ~1 ulp.
@@ -126,7 +127,12 @@ contains
     info%gamma = gamma
     info%gamma_critical = 2 * w0
     info%damping_ratio = a / w0
-    info%quality_factor = merge(inf, w0 / max(gamma, tiny(1.0_wp)), gamma == 0)
+    ! Q = w0/gamma, +Inf when gamma = 0 or when w0/gamma exceeds the double range.
+    if (gamma > w0 / huge(1.0_wp)) then
+      info%quality_factor = w0 / gamma
+    else
+      info%quality_factor = inf
+    end if
     ! sqrt|a - w0| sqrt(a + w0) is sqrt|a^2 - w0^2| without cancellation
     ! (a - w0 is exact near the critical point) and without overflow.
     if (gamma == 0) then
@@ -250,6 +256,19 @@ contains
     end do
   end function s_series
 
+  ! r * t for r, t >= 0, saturated at huge() instead of overflowing (the
+  ! checked build traps overflow; exp(-huge) is 0 and cos(huge) finite).
+  elemental real(wp) function mul_sat(r, t) result(x)
+    real(wp), intent(in) :: r, t
+    if (r > 1) then
+      if (t > huge(1.0_wp) / r) then
+        x = huge(1.0_wp)
+        return
+      end if
+    end if
+    x = r * t
+  end function mul_sat
+
   !> theta(t) [rad] and Omega(t) [rad/s] at t >= 0 [s] for a trajectory set up
   !> by linear_damped_init.  Error within a few eps of (|theta| + |Omega|/max(w0,
   !> gamma) + condition of the problem); never overflows for t >= 0 (values
@@ -261,17 +280,17 @@ contains
     real(wp) :: x, z, e, et, s, c, e1, e2
     if (sol%undamped) then
       ! The small-angle solution itself (gamma = 0).
-      x = min(sol%w0 * t, huge(1.0_wp))
+      x = mul_sat(sol%w0, t)
       c = cos(x)
       s = sin(x)
       theta = sol%theta0 * c + sol%bs * s
       omega = sol%omega0 * c - sol%ds * s
       return
     end if
-    x = min(sol%kappa * t, huge(1.0_wp))
-    if (x * x <= Z_SERIES) then
+    x = mul_sat(sol%kappa, t)
+    if (x <= X_SERIES) then
       z = sol%zsign * (x * x)
-      e = exp(-(sol%a * t))
+      e = exp(-mul_sat(sol%a, t))
       if (e == 0) then
         theta = 0
         omega = 0
@@ -289,18 +308,18 @@ contains
       omega = sol%omega0 * c - (sol%w0th * (sol%w0 * s) + sol%aom * s)
     else if (sol%zsign > 0) then
       ! Over-damped (eq. 2.27): e^{lambda t} never overflows for t >= 0.
-      e2 = exp(sol%l2 * t)
+      e2 = exp(-mul_sat(-sol%l2, t))
       if (e2 == 0) then
         theta = 0
         omega = 0
         return
       end if
-      e1 = exp(sol%l1 * t)
+      e1 = exp(-mul_sat(-sol%l1, t))
       theta = sol%ca * e1 + sol%cb * e2
       omega = sol%l1ca * e1 + sol%l2cb * e2
     else
       ! Under-damped (§2.1.3).
-      e = exp(-(sol%a * t))
+      e = exp(-mul_sat(sol%a, t))
       if (e == 0) then
         theta = 0
         omega = 0
@@ -336,7 +355,7 @@ contains
     real(wp), intent(in) :: t
     env = 0
     if (sol%info%regime == DAMPING_UNDERDAMPED .and. sol%amplitude > 0) &
-        env = sol%amplitude * exp(-(sol%a * t))
+        env = sol%amplitude * exp(-mul_sat(sol%a, t))
   end function linear_damped_envelope
 
   !> Evaluate a set-up trajectory at times t(:) >= 0 [s] (any order) into
@@ -411,13 +430,14 @@ contains
     character(len=16) :: ibuf
     if (status%code /= PENDULA_OK) return
     do i = 1, size(t)
-      if (.not. (t(i) >= 0 .and. t(i) <= huge(1.0_wp))) then
+      ! ieee_is_finite first: an ordered comparison with NaN may trap.
+      if (.not. ieee_is_finite(t(i))) then
         write (ibuf, '(i0)') i - 1
-        if (t(i) < 0) then
-          call check_nonnegative('t[' // trim(ibuf) // ']', t(i), status)
-        else
-          call check_finite('t[' // trim(ibuf) // ']', t(i), status)
-        end if
+        call check_finite('t[' // trim(ibuf) // ']', t(i), status)
+        return
+      else if (t(i) < 0) then
+        write (ibuf, '(i0)') i - 1
+        call check_nonnegative('t[' // trim(ibuf) // ']', t(i), status)
         return
       end if
     end do
