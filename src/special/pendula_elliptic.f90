@@ -43,6 +43,11 @@ module pendula_elliptic
   real(wp), parameter :: wmax = 0.1_wp
   !> Switch from complement (1-cn, 1-dn) to direct duplication once 1 - cn exceeds this.
   real(wp), parameter :: xswitch = 0.25_wp
+  !> Tabulated plans: Taylor polynomials of degree ntay about a grid of step 1/16 in the core
+  !> argument; |delta| <= 1/32 and the nearest singularity is >= K' >= pi/2 away, so the
+  !> truncation is below (1/32 / (pi/2))**11 ~ 2e-19 relative.
+  integer, parameter :: ntay = 10
+  real(wp), parameter :: tab_step = 0.0625_wp, tab_inv_step = 16.0_wp
 
   ! Maclaurin coefficients, js(j,k): coefficient of m^j w^(2k+1) in sn;
   ! jc(j,k): of m^j w^(2k+2) in 1 - cn; jd(j,k): of m^(j+1) w^(2k+2) in 1 - dn.
@@ -102,18 +107,27 @@ module pendula_elliptic
       1.22648662331202021e-03_wp, 2.63196900101662034e-04_wp, 3.42897292302054208e-06_wp, &
       1.14707455977297245e-11_wp], [7, 7])
 
-  !> m-dependent work for many evaluations of sn, cn, dn at one parameter.
-  type :: ellipj_plan_t
-    private
+  !> Parameter-dependent constants of sn, cn, dn at one m (no table; cheap to build).
+  type :: jpar_t
     integer :: kind = -1        ! -1 NaN/invalid, 0: 0<=m<1, 1: m==1, 2: m>1, 3: m<0
     real(wp) :: m = 0, mc = 1   ! core parameter in [0,1] and its complement
-    real(wp) :: khi = 0, klo = 0! K(m) of the core parameter, double-double
-    real(wp) :: sqmc = 1        ! sqrt(mc)
     real(wp) :: mcl = 0         ! low part of mc (double-double), for K in extra precision
+    real(wp) :: khi = 0, klo = 0! K of the core parameter, double-double
+    real(wp) :: sqmc = 1        ! sqrt(mc)
     real(wp) :: uscale = 1      ! u is multiplied by this before the core
     real(wp) :: uscale_lo = 0   ! ... in double-double, so large u keeps its digits
     real(wp) :: oscale = 1      ! sn scale (m>1: 1/k, m<0: 1/sqrt(1-m))
     real(wp) :: cs(0:6) = 0, cc(0:6) = 0, cd(0:6) = 0  ! series coefficients at m
+  end type jpar_t
+
+  !> m-dependent work for many evaluations of sn, cn, dn at one parameter: the
+  !> modulus transformation, K in double-double and a table of Taylor polynomials.
+  type :: ellipj_plan_t
+    private
+    type(jpar_t) :: par
+    integer :: ntab = -1
+    !> Taylor coefficients of sn, cn, dn, am about t_j = j*tab_step, j = 0..ntab (core argument)
+    real(wp), allocatable :: tab(:, :, :)
   end type ellipj_plan_t
 
 contains
@@ -525,20 +539,20 @@ contains
   pure function ellipj_plan(m) result(plan)
     real(wp), intent(in) :: m
     type(ellipj_plan_t) :: plan
-    plan = make_plan(m, 1 - m, .false., .true.)
+    plan = make_plan(m, 1 - m, .false.)
   end function ellipj_plan
 
   !> Plan from the complementary parameter mc = 1 - m (mc >= 0, accurate near m = 1).
   pure function ellipj_planc(mc) result(plan)
     real(wp), intent(in) :: mc
     type(ellipj_plan_t) :: plan
-    plan = make_plan(1 - mc, mc, .true., .true.)
+    plan = make_plan(1 - mc, mc, .true.)
   end function ellipj_planc
 
-  pure function make_plan(m, mc, usemc, full) result(plan)
+  pure function make_par(m, mc, usemc, full) result(plan)
     real(wp), intent(in) :: m, mc
     logical, intent(in) :: usemc, full
-    type(ellipj_plan_t) :: plan
+    type(jpar_t) :: plan
     real(wp) :: mm, wh, wl, ah, al, qh, ql
     if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then
       plan%kind = -1
@@ -594,25 +608,151 @@ contains
       plan%khi = kfun(plan%mc); plan%klo = 0
     end if
     call series_coeffs(mm, plan%cs, plan%cc, plan%cd)
+  end function make_par
+
+  pure function make_plan(m, mc, usemc) result(plan)
+    real(wp), intent(in) :: m, mc
+    logical, intent(in) :: usemc
+    type(ellipj_plan_t) :: plan
+    integer :: j
+    plan%par = make_par(m, mc, usemc, .true.)
+    if (plan%par%kind == 0 .or. plan%par%kind >= 2) then
+      plan%ntab = ceiling(plan%par%khi * tab_inv_step) + 1
+      allocate(plan%tab(0:ntay, 4, 0:plan%ntab))
+      do j = 0, plan%ntab
+        call taylor_at(plan%par, j * tab_step, plan%tab(:, :, j))
+      end do
+    end if
   end function make_plan
 
   !> Evaluate sn, cn, dn (and optionally am, rad) at u with a plan (see ellipj).
+  !> With a tabulated plan (the default) a point costs one table look-up and four
+  !> short polynomials, no division and no transcendental call.
   elemental subroutine ellipj_eval(plan, u, sn, cn, dn, am)
     type(ellipj_plan_t), intent(in) :: plan
     real(wp), intent(in) :: u
     real(wp), intent(out) :: sn, cn, dn
     real(wp), intent(out), optional :: am
     real(wp) :: a
-    call eval_plan(plan, u, .true., sn, cn, dn, a)
+    if (allocated(plan%tab)) then
+      call eval_plan(plan%par, u, .true., present(am), sn, cn, dn, a, plan%tab, plan%ntab)
+    else
+      call eval_plan(plan%par, u, .true., present(am), sn, cn, dn, a)
+    end if
     if (present(am)) am = a
   end subroutine ellipj_eval
 
-  pure subroutine eval_plan(plan, u, exact_k, sn, cn, dn, am)
-    type(ellipj_plan_t), intent(in) :: plan
+  !> Core functions at 0 <= t <= K (+ one table step): s, c, d of the core parameter.
+  pure subroutine core_at(plan, t, s, c, d)
+    type(jpar_t), intent(in) :: plan
+    real(wp), intent(in) :: t
+    real(wp), intent(out) :: s, c, d
+    real(wp) :: w
+    if (t > 0.5_wp * plan%khi) then
+      ! sn(K - w) = cd(w), cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w) (DLMF 22.4.3)
+      w = (plan%khi - t) + plan%klo
+      call jcore(abs(w), plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
+      if (w < 0) s = -s
+      w = cd_ratio(s, c, d, plan%mc)
+      c = plan%sqmc * s / d
+      d = plan%sqmc / d
+      s = w
+    else
+      call jcore(t, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
+    end if
+  end subroutine core_at
+
+  !> The final sn, cn, dn, am of the caller's parameter at core argument t >= 0
+  !> (no half-period shift), from the core values by the modulus transformations.
+  pure subroutine final_at(plan, t, want_am, fs, fc, fd, fa)
+    type(jpar_t), intent(in) :: plan
+    real(wp), intent(in) :: t
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: fs, fc, fd, fa
+    real(wp) :: s, c, d
+    call core_at(plan, t, s, c, d)
+    fa = 0
+    select case (plan%kind)
+    case (2)   ! m > 1 (DLMF 22.6.11): sn = sn'/k, cn = dn', dn = cn'; am on the asin branch
+      fs = s * plan%oscale; fc = d; fd = c
+      if (want_am) fa = atan2(fs, d)
+    case (3)   ! m < 0 (DLMF 22.6.12): sn = k1' sd', cn = cd', dn = nd'
+      fs = plan%oscale * s / d
+      fc = cd_ratio(s, c, d, plan%mc)
+      fd = 1 / d
+      if (want_am) fa = atan2(plan%oscale * s, c)
+    case default
+      fs = s; fc = c; fd = d
+      if (want_am) fa = atan2(s, c)
+    end select
+  end subroutine final_at
+
+  !> Taylor coefficients (degree ntay) of the final sn, cn, dn, am about t, from the
+  !> ODEs sn' = cn dn, cn' = -sn dn, dn' = -m sn cn of the core (DLMF 22.13).
+  pure subroutine taylor_at(plan, t, tab)
+    type(jpar_t), intent(in) :: plan
+    real(wp), intent(in) :: t
+    real(wp), intent(out) :: tab(0:ntay, 4)
+    real(wp) :: s(0:ntay), c(0:ntay), d(0:ntay), r(0:ntay), fs, fc, fd, fa, acc1, acc2, acc3
+    integer :: k, i
+    call core_at(plan, t, s(0), c(0), d(0))
+    do k = 0, ntay - 1
+      acc1 = 0; acc2 = 0; acc3 = 0
+      do i = 0, k
+        acc1 = acc1 + c(i) * d(k - i)
+        acc2 = acc2 + s(i) * d(k - i)
+        acc3 = acc3 + s(i) * c(k - i)
+      end do
+      s(k + 1) = acc1 / (k + 1)
+      c(k + 1) = -acc2 / (k + 1)
+      d(k + 1) = -plan%m * acc3 / (k + 1)
+    end do
+    call final_at(plan, t, .true., fs, fc, fd, fa)
+    select case (plan%kind)
+    case (2)
+      tab(:, 1) = plan%oscale * s
+      tab(:, 2) = d
+      tab(:, 3) = c
+      tab(1:, 4) = plan%oscale * c(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+    case (3)
+      r(0) = 1 / d(0)
+      do k = 1, ntay
+        acc1 = 0
+        do i = 1, k
+          acc1 = acc1 + d(i) * r(k - i)
+        end do
+        r(k) = -acc1 * r(0)
+      end do
+      do k = 0, ntay
+        acc1 = 0; acc2 = 0
+        do i = 0, k
+          acc1 = acc1 + s(i) * r(k - i)
+          acc2 = acc2 + c(i) * r(k - i)
+        end do
+        tab(k, 1) = plan%oscale * acc1
+        tab(k, 2) = acc2
+      end do
+      tab(:, 3) = r
+      tab(1:, 4) = plan%oscale * r(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+    case default
+      tab(:, 1) = s
+      tab(:, 2) = c
+      tab(:, 3) = d
+      tab(1:, 4) = d(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+    end select
+    ! the values themselves from the accurate path (cancellation-free cd etc.)
+    tab(0, 1) = fs; tab(0, 2) = fc; tab(0, 3) = fd; tab(0, 4) = fa
+  end subroutine taylor_at
+
+  pure subroutine eval_plan(plan, u, exact_k, want_am, sn, cn, dn, am, tab, ntab)
+    type(jpar_t), intent(in) :: plan
+    real(wp), intent(in), optional :: tab(0:, :, 0:)
+    integer, intent(in), optional :: ntab
     real(wp), intent(in) :: u
-    logical, intent(in) :: exact_k
+    logical, intent(in) :: exact_k, want_am
     real(wp), intent(out) :: sn, cn, dn, am
-    real(wp) :: v, vl, s, c, d, n, khi, klo, p, e, r, t, sg, ex
+    real(wp) :: v, vl, n, khi, klo, p, e, r, t, ex, fs, fc, fd, fa, del
+    integer :: j, parity
     if (plan%kind < 0 .or. ieee_is_nan(u)) then
       sn = qnan(); cn = sn; dn = sn; am = sn
       return
@@ -627,7 +767,8 @@ contains
         cn = 2 * ex / (1 + ex * ex)
       end if
       dn = cn
-      am = atan2(sn, cn)
+      am = 0
+      if (want_am) am = atan2(sn, cn)
       return
     end if
     if (.not. ieee_is_finite(u)) then
@@ -637,6 +778,7 @@ contains
     v = abs(u) * plan%uscale
     khi = plan%khi; klo = plan%klo
     n = 0
+    parity = 0
     r = v
     if (v > khi) then
       ! u * scale and n * 2K both in double-double: large u keeps its digits
@@ -649,49 +791,50 @@ contains
       end if
       call two_prod(n, 2 * khi, p, e)
       r = (((v - p) - e) + vl) - n * (2 * klo)
+      if (n < 1.0e15_wp) then
+        parity = int(mod(int(n, kind=8), 2_8))
+      else
+        parity = merge(1, 0, mod(n, 2.0_wp) /= 0)
+      end if
     end if
     t = abs(r)
-    if (t > 0.5_wp * khi) then
-      ! sn(K - t) = cn/dn, cn(K - t) = sqrt(mc) sn/dn, dn(K - t) = sqrt(mc)/dn (DLMF 22.4.3)
-      call jcore((khi - t) + klo, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
-      r = sign(1.0_wp, r)
-      t = cd_ratio(s, c, d, plan%mc)
-      c = plan%sqmc * s / d
-      d = plan%sqmc / d
-      s = t * r
+    if (present(tab)) then
+      j = min(nint(t * tab_inv_step), ntab)
+      del = t - j * tab_step
+      fs = horner(tab(:, 1, j), del)
+      fc = horner(tab(:, 2, j), del)
+      fd = horner(tab(:, 3, j), del)
+      fa = 0
+      if (want_am) fa = horner(tab(:, 4, j), del)
     else
-      call jcore(t, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
-      s = sign(s, r)
+      call final_at(plan, t, want_am, fs, fc, fd, fa)
     end if
-    ! s, c, d now at r in [-K, K] (c >= 0); undo the half-period shift and the scaling
-    select case (plan%kind)
-    case (2)   ! m > 1: sn = sn'/k, cn = dn', dn = cn'
-      sg = 1
-      if (mod(n, 2.0_wp) /= 0) sg = -1
-      sn = sg * s * plan%oscale
-      cn = d
-      dn = sg * c
-      am = atan2(sn, cn)
-    case (3)   ! m < 0: sn = k1' sd, cn = cd, dn = nd
-      sg = 1
-      if (mod(n, 2.0_wp) /= 0) sg = -1
-      am = n * pi + atan2(s * plan%oscale, c)
-      sn = sg * plan%oscale * s / d
-      cn = sg * cd_ratio(s, c, d, plan%mc)
-      dn = 1 / d
-    case default
-      sg = 1
-      if (mod(n, 2.0_wp) /= 0) sg = -1
-      am = n * pi + atan2(s, c)
-      sn = sg * s
-      cn = sg * c
-      dn = d
-    end select
+    fs = sign(fs, r)
+    fa = sign(fa, r)
+    if (parity /= 0) then
+      select case (plan%kind)
+      case (2)
+        fs = -fs; fd = -fd; fa = -fa
+      case default
+        fs = -fs; fc = -fc
+      end select
+    end if
+    if (plan%kind /= 2) fa = fa + n * pi
     if (u < 0) then
-      sn = -sn
-      am = -am
+      fs = -fs
+      fa = -fa
     end if
+    sn = fs; cn = fc; dn = fd; am = fa
   end subroutine eval_plan
+
+  pure real(wp) function horner(p, x) result(y)
+    real(wp), intent(in) :: p(0:ntay), x
+    integer :: k
+    y = p(ntay)
+    do k = ntay - 1, 0, -1
+      y = y * x + p(k)
+    end do
+  end function horner
 
   !> Jacobi elliptic functions sn(u|m), cn(u|m), dn(u|m) and the amplitude am(u|m)
   !> (rad, optional) for all real u and all real m (m = k**2; m < 0 and m > 1 by the
@@ -703,7 +846,7 @@ contains
     real(wp), intent(out) :: sn, cn, dn
     real(wp), intent(out), optional :: am
     real(wp) :: a
-    call eval_plan(make_plan(m, 1 - m, .false., .false.), u, .false., sn, cn, dn, a)
+    call eval_plan(make_par(m, 1 - m, .false., .false.), u, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipj
 
@@ -714,7 +857,7 @@ contains
     real(wp), intent(out) :: sn, cn, dn
     real(wp), intent(out), optional :: am
     real(wp) :: a
-    call eval_plan(make_plan(1 - mc, mc, .true., .false.), u, .false., sn, cn, dn, a)
+    call eval_plan(make_par(1 - mc, mc, .true., .false.), u, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipjc
 
