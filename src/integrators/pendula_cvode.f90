@@ -351,10 +351,12 @@ contains
     type(SUNMatrix) :: sunmat_j
     type(c_ptr), value :: user_data
     type(cv_data_t), pointer :: p
-    real(c_double), pointer :: yy(:), jd(:)
+    real(c_double), pointer :: yy(:), first(:), jd(:)
     call c_f_pointer(user_data, p)
     yy => FN_VGetArrayPointer(sunvec_y)
-    jd => FSUNDenseMatrix_Data(sunmat_j)
+    ! The SWIG wrapper returns the data as a 1-element array; view all 4.
+    first => FSUNDenseMatrix_Data(sunmat_j)
+    call c_f_pointer(c_loc(first(1)), jd, [4])
     jd(1) = 0
     jd(2) = -p%w0sq * cos(yy(1))
     jd(3) = 1
