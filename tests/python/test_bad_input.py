@@ -59,6 +59,9 @@ class Arg:
     extra: tuple = ()
     # Values of a finite real that are out of domain (ValueError).
     out_of_domain: tuple = ()
+    # Other arguments to change for every case of this argument (e.g. drop
+    # mass and b when trying bad gamma values on a Scene).
+    others: dict = dataclasses.field(default_factory=dict)
 
 
 @dataclasses.dataclass
@@ -74,6 +77,7 @@ class Entry:
 # Public names that are not numerical entry points.
 NOT_ENTRY_POINTS = {
     "PendulaSolverError": "exception class",
+    "TradeoffTable": "result container built by tradeoff() from checked runs",
     "cvode_available": "no arguments: build configuration",
     "build_info": "no arguments: build configuration",
     "have_cvode": "no arguments: build configuration",
@@ -145,6 +149,56 @@ API: dict[str, Entry] = {
                       (0, ValueError, dict(events=True)), (-1, ValueError, dict(events=True)),
                       (2.5, TypeError, dict(events=True)), ("7", TypeError, dict(events=True)),
                       (2**40, ValueError, dict(events=True)))))),
+    # undamped (src/undamped, undamped.py): any real t, any real state, w0 > 0
+    "undamped": Entry(valid=dict(t=1.3, theta0=1.0, omega0=0.2, w0=1.4), args=dict(
+        t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+        w0=Arg(POS, array=True))),
+    "small_angle": Entry(valid=dict(t=1.3, theta0=0.1, omega0=0.2, w0=1.4), args=dict(
+        t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+        w0=Arg(POS, array=True))),
+    "small_angle_error": Entry(valid=dict(tmax=10.0, theta0=0.1, omega0=0.2, w0=1.4), args=dict(
+        tmax=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+        w0=Arg(POS, array=True))),
+    **{name: Entry(valid=dict(theta0=1.0, omega0=0.2, w0=1.4), args=dict(
+        theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), w0=Arg(POS, array=True)))
+       for name in ("period", "amplitude", "elliptic_parameter", "regime")},
+    "energy": Entry(valid=dict(theta=1.0, omega=0.2, w0=1.4), args=dict(
+        theta=Arg(REAL, array=True), omega=Arg(REAL, array=True), w0=Arg(POS, array=True))),
+    "equilibria": Entry(valid=dict(n=3, w0=1.4), args=dict(
+        n=Arg(OTHER, extra=((1.5, TypeError), ("1", TypeError), (None, TypeError), (True, TypeError),
+                            (np.array([1.0, 2.0]), TypeError), (1 + 1j, TypeError), (2**40, ValueError),
+                            (np.array([[1, 2]]), ValueError, dict(w0=np.array([1.0, 2.0, 3.0]))))),
+        w0=Arg(POS, array=True))),
+    # scenes (src/scene, scene.py)
+    "Scene": Entry(
+        valid=dict(theta0=0.3, omega0=0.1, t=[0.0, 1.0, 2.0], g=9.8, length=4.9, mass=0.1, b=0.01,
+                   tol=1e-6, want="state"),
+        args=dict(theta0=Arg(REAL), omega0=Arg(REAL), g=Arg(POS), length=Arg(POS, aliases=("l",)),
+                  mass=Arg(POS, aliases=("m",)), b=Arg(NONNEG), tol=Arg(POS), want=Arg(CHOICE),
+                  gamma=Arg(NONNEG, others=dict(mass=None, b=None)),
+                  t=Arg(TIMES, extra=((np.array([-1.0, 0.0, 1.0]), ValueError), (np.array([]), ValueError))))),
+    "solve": Entry(
+        valid=dict(scene="SCENE", model=None),
+        args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError), (1.0, TypeError))),
+                  model=Arg(CHOICE, extra=(("exact", ValueError, dict(scene="DAMPED")),)))),
+    "run_model": Entry(
+        valid=dict(scene="SCENE", model="rk4", setting=0.01),
+        args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
+                  model=Arg(CHOICE, extra=(("auto", ValueError),)),
+                  setting=Arg(POS, aliases=("h",)))),
+    "tradeoff": Entry(
+        valid=dict(scene="SCENE", models=["small_angle", "rk4"], rk4_steps=[0.1, 0.05], cvode_rtols=[1e-6],
+                   repeat=1),
+        args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
+                  models=Arg(OTHER, extra=((["nope"], ValueError), (["linear"], ValueError), ("rk4", ValueError))),
+                  rk4_steps=Arg(OTHER, extra=(([NAN], ValueError), ([-0.1], ValueError), ([0.0], ValueError))),
+                  cvode_rtols=Arg(OTHER, extra=(
+                      (([NAN], ValueError, dict(models=["cvode"])), ([-1e-6], ValueError, dict(models=["cvode"])))
+                      if pendula.have_cvode() else ())),
+                  repeat=Arg(COUNT),
+                  # max_steps bounds the automatic RK4 sweep (rk4_steps=None)
+                  max_steps=Arg(COUNT, others=dict(rk4_steps=None))),
+        unchecked=dict(csv="output path (file I/O)", plot="output path (file I/O)")),
 }
 
 
@@ -249,7 +303,9 @@ def _cases_for(fname, entry):
     for aname, spec in entry.args.items():
         v = entry.valid[aname] if aname in entry.valid else defaults.get(aname)
         add = lambda label, value, expect, others=None: cases.append(  # noqa: E731
-            Case(fname, aname, label, value, expect, others or {}))
+            Case(fname, aname, label, value, expect, {**spec.others, **(others or {})}))
+        if v is None:
+            v = 1.0   # an optional real left at None in the valid call
         if spec.kind in (REAL, POS, NONNEG, TIMES):
             # non-finite values
             if spec.kind == TIMES:
@@ -291,7 +347,8 @@ def _cases_for(fname, entry):
                 add(f"out-of-domain-{i}", bad, ValueError)
             # wrong types
             add("string", "1.0", TypeError)
-            add("None", None, TypeError)
+            if defaults.get(aname, "") is not None:   # None is valid for optional arguments
+                add("None", None, TypeError)
             add("complex", complex(float(np.ravel(v)[0]), 1.0), TypeError)
             add("object", _Obj(), TypeError)
             add("list-of-strings", ["a", "b"], TypeError)
@@ -305,14 +362,16 @@ def _cases_for(fname, entry):
                 add("2-D", np.stack([base, base + 1]), ValueError)
         elif spec.kind == CHOICE:
             add("unknown", "no-such-choice", ValueError)
-            add("None", None, (TypeError, ValueError))
+            if defaults.get(aname, "") is not None:
+                add("None", None, (TypeError, ValueError))
             add("number", 1.0, (TypeError, ValueError))
         elif spec.kind == COUNT:
             add("zero", 0, ValueError)
             add("negative", -3, ValueError)
             add("float", 2.5, (TypeError, ValueError))
             add("string", "10", TypeError)
-            add("None", None, TypeError)
+            if defaults.get(aname, "") is not None:
+                add("None", None, TypeError)
         for i, ex in enumerate(spec.extra):
             add(f"extra-{i}", ex[0], ex[1], ex[2] if len(ex) > 2 else None)
     # incompatible shapes between two array arguments
@@ -328,7 +387,23 @@ def _cases_for(fname, entry):
 ALL_CASES = [c for f, e in API.items() for c in _cases_for(f, e)]
 
 
+_PLACEHOLDERS = {
+    "SCENE": lambda: pendula.Scene(theta0=0.3, omega0=0.1, t=np.linspace(0.0, 2.0, 5), tol=1e-6),
+    "DAMPED": lambda: pendula.Scene(theta0=0.3, omega0=0.1, t=np.linspace(0.0, 2.0, 5), gamma=0.1, tol=1e-6),
+}
+
+
+def _materialise(v):
+    """Lists of numbers in the table become float arrays (to check they stay unmodified)."""
+    if isinstance(v, (list, tuple)) and all(isinstance(x, numbers.Real) for x in v):
+        return np.array(v, dtype=float)
+    return v
+
+
 def _call(fname, kwargs):
+    for k, v in list(kwargs.items()):
+        if isinstance(v, str) and v in _PLACEHOLDERS:
+            kwargs[k] = _PLACEHOLDERS[v]()
     return getattr(pendula, fname)(**kwargs)
 
 
@@ -368,13 +443,13 @@ def test_every_public_callable_has_an_entry():
 def test_valid_call_gives_finite_results_and_keeps_inputs(fname):
     entry = API[fname]
     _skip_if_unavailable(entry)
-    kwargs = {k: (np.array(v, dtype=float) if isinstance(v, (list, tuple)) else v)
-              for k, v in entry.valid.items()}
+    kwargs = {k: _materialise(v) for k, v in entry.valid.items()}
     snap = _snapshot(kwargs)
     result = _call(fname, kwargs)
     _assert_unmodified(kwargs, snap)
     vals = list(_walk_numbers(result))
-    assert vals, f"{fname}: the valid call returned no numbers"
+    is_text = isinstance(result, str) or (isinstance(result, np.ndarray) and result.dtype.kind in "UO")
+    assert vals or is_text, f"{fname}: the valid call returned no numbers"
     assert all(np.isfinite(v) for v in vals), f"{fname}: the valid call returned non-finite values"
     # Array variants of array arguments: broadcasting keeps them untouched too.
     for aname, spec in entry.args.items():
@@ -402,8 +477,7 @@ def test_bad_input(case):
     entry = API[case.func]
     _skip_if_unavailable(entry)
     spec = entry.args[case.arg]
-    kwargs = {k: (np.array(v, dtype=float) if isinstance(v, (list, tuple)) else v)
-              for k, v in entry.valid.items()}
+    kwargs = {k: _materialise(v) for k, v in entry.valid.items()}
     kwargs.update(case.others)
     kwargs[case.arg] = case.value
     snap = _snapshot(kwargs)
