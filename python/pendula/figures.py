@@ -586,7 +586,7 @@ def work_precision_plot(rows, path, title="Work-precision", tol=None, note=None)
     markers = "osD^v<>ph*"
     floor = 1e-17
     for i, m in enumerate(models):
-        pts = sorted((r[3], max(r[2], floor)) for r in rows if r[0] == m)
+        pts = [(r[3], max(r[2], floor)) for r in rows if r[0] == m]  # in setting order
         x, y = zip(*pts)
         ax.loglog(x, y, marker=markers[i % len(markers)], lw=1.3, ls="-" if len(pts) > 1 else "none",
                   label=m if len(pts) > 1 else f"{m} (closed form)")
