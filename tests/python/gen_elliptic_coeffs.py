@@ -64,5 +64,63 @@ def fortran_arrays():
     return "\n".join(out)
 
 
-if __name__ == "__main__":
+if __name__ == "__main__" and "--ke" not in __import__("sys").argv:
     print(fortran_arrays())
+
+
+# ---------------------------------------------------------------- K and E
+# Piecewise polynomials (Chebyshev interpolants at 40 digits, written as powers of
+# y = m - centre): 17 intervals of width 1/20 on 0 <= m < 0.85, and for
+# mc = 1 - m <= 0.15 the logarithmic form (DLMF 19.12.1 structure)
+#   K = P(mc) - ln(mc) Q(mc),   E = Pe(mc) - ln(mc) mc Qe1(mc),
+# with Q = K(mc)/pi and mc Qe1 = (K(mc) - E(mc))/pi analytic for |mc| < 1.
+KE_DEG = 12
+KE_NINT = 17
+KE_WIDTH = 0.05
+KE_MC_MAX = 0.15
+
+
+def _cheb_monomial(f, a, b, n, mp):
+    c = (a + b) / 2
+    h = (b - a) / 2
+    xs = [mp.cos(mp.pi * (k + mp.mpf(1) / 2) / (n + 1)) for k in range(n + 1)]
+    fs = [f(c + h * x) for x in xs]
+    V = mp.matrix(n + 1, n + 1)
+    for i, x in enumerate(xs):
+        for j in range(n + 1):
+            V[i, j] = x ** j
+    co = mp.lu_solve(V, mp.matrix(fs))
+    return [co[j] / h ** j for j in range(n + 1)]
+
+
+def ke_tables():
+    import mpmath as mp
+    mp.mp.dps = 40
+    kt, et = [], []
+    for i in range(KE_NINT):
+        a, b = mp.mpf(i) * KE_WIDTH, mp.mpf(i + 1) * KE_WIDTH
+        kt.append(_cheb_monomial(mp.ellipk, a, b, KE_DEG, mp))
+        et.append(_cheb_monomial(mp.ellipe, a, b, KE_DEG, mp))
+    P = lambda x: mp.ellipk(1 - x) + mp.log(x) * mp.ellipk(x) / mp.pi  # noqa: E731
+    Q = lambda x: mp.ellipk(x) / mp.pi  # noqa: E731
+    Pe = lambda x: mp.ellipe(1 - x) + mp.log(x) * (mp.ellipk(x) - mp.ellipe(x)) / mp.pi  # noqa: E731
+    Qe1 = lambda x: (mp.ellipk(x) - mp.ellipe(x)) / (mp.pi * x)  # noqa: E731
+    lo, hi = mp.mpf(0), mp.mpf(KE_MC_MAX)
+    near = [_cheb_monomial(f, lo, hi, KE_DEG, mp) for f in (P, Q, Pe, Qe1)]
+    return kt, et, near
+
+
+def ke_fortran():
+    kt, et, near = ke_tables()
+    n = KE_DEG + 1
+
+    def arr(name, rows):
+        vals = [f"{float(x):.17e}_wp" for r in rows for x in r]
+        body = ", &\n      ".join(", ".join(vals[i:i + 3]) for i in range(0, len(vals), 3))
+        return (f"  real(wp), parameter :: {name}(0:{n-1}, 0:{len(rows)-1}) = reshape([ &\n"
+                f"      {body}], [{n}, {len(rows)}])")
+    return "\n".join([arr("kpoly", kt), arr("epoly", et), arr("kepoly1", near)])
+
+
+if __name__ == "__main__" and "--ke" in __import__("sys").argv:
+    print(ke_fortran())
