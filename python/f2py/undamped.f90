@@ -192,3 +192,21 @@ subroutine equilibria_f2py(n, idx, w0, theta, lam_re, lam_im, kind, code, msg)
     kind(i) = k
   end do
 end subroutine equilibria_f2py
+
+subroutine undamped_one_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
+  ! One initial state at n times (the common case: no broadcast copies of the state).
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_undamped, only: undamped_solve
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0
+  real(c_double), intent(out) :: theta(n), omega(n)
+  integer(c_int), intent(out) :: code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  call undamped_solve(t, theta0, omega0, w0, theta, omega, st)
+  code = st%code
+  msg = st%message
+end subroutine undamped_one_f2py

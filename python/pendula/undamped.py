@@ -40,6 +40,13 @@ def undamped(t, theta0, omega0=0.0, w0=1.0):
 
     Returns ``(theta, omega)`` in rad and rad/s, of the broadcast shape.
     """
+    state = [as_real(x, name) for x, name in ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"))]
+    if all(x.ndim == 0 for x in state):
+        # one state at many times: only t is copied, the motion is built once
+        ta = as_real(t, "t")
+        theta, omega, code, msg = _undamped.undamped_one_f2py(ta.reshape(-1), *(float(x) for x in state))
+        raise_for_status(code, msg)
+        return restore(theta, ta.shape, ta.ndim == 0), restore(omega, ta.shape, ta.ndim == 0)
     shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0)
     theta, omega, code, msg = _undamped.undamped_f2py(f["t"], f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)

@@ -1,0 +1,134 @@
+"""Benchmark pendula.undamped against the text's listing expression, same run.
+
+Speed: theta(t) at N times (default 1e6) for one state, versus the text's
+listings 1.3/1.4 (eq. 1.52)
+
+    theta = 2*arcsin(k*scipy.special.ellipj(K - w0*t, k*k)[0]),  K = ellipk(k*k)
+
+(K computed once, outside the timing, as the listing does).  pendula returns
+theta AND Omega; the listing only theta.  Ratio = listing time / pendula time.
+
+Accuracy: the same two against mpmath (60 digits, at the exact double inputs)
+for Omega0 = 0 and theta0 = pi - delta over two periods.  The listing forms
+k*k = sin^2(theta0/2) in double, so 1 - m is lost near the top (delta <~ 1e-8
+gives m == 1 exactly and K = inf: NaN), and 2 asin(k sn) loses half the digits
+at the turning points; pendula passes 1 - m = cos^2(theta0/2) to the
+complement forms and uses cos(theta/2) = dn.  Rotation states are timed too
+(the listing has no answer there).
+
+Usage: python3 benchmarks/bench_undamped.py [--quick] [--n N] [--out DIR]
+"""
+import argparse
+import math
+import os
+import sys
+import time
+
+import mpmath as mp
+import numpy as np
+import scipy
+import scipy.special as sc
+
+import pendula
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "python"))
+import gen_undamped_reference as ref  # noqa: E402
+
+
+def best_time(fn, repeat):
+    fn()  # warm up
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def listing(t, theta0, w0):
+    """The text's expression (eq. 1.52, listings 1.3/1.4), Omega0 = 0 only."""
+    k = np.sin(theta0 / 2)
+    K = sc.ellipk(k * k)
+    return lambda: 2 * np.arcsin(k * sc.ellipj(K - w0 * t, k * k)[0])
+
+
+def speed_rows(n, repeat, rng):
+    w0 = math.sqrt(2.0)
+    rows = []
+    for label, theta0 in [("theta0 = 0.25 pi", 0.25 * math.pi), ("theta0 = 0.75 pi", 0.75 * math.pi),
+                          ("theta0 = 0.999 pi", 0.999 * math.pi)]:
+        T = pendula.period(theta0, 0.0, w0)
+        t = np.sort(rng.uniform(0, 100 * T, n))
+        tp = best_time(lambda: pendula.undamped(t, theta0, 0.0, w0), repeat) / n * 1e9
+        ts = best_time(listing(t, theta0, w0), repeat) / n * 1e9
+        rows.append((f"libration, {label}", tp, ts))
+    for label, omega0 in [("rotation, Omega0 = 3 w0", 3 * w0), ("rotation, 1 - m = -1e-12", 2 * w0 * (1 + 5e-13))]:
+        T = pendula.period(0.0, omega0, w0)
+        t = np.sort(rng.uniform(0, 100 * T, n))
+        tp = best_time(lambda: pendula.undamped(t, 0.0, omega0, w0), repeat) / n * 1e9
+        rows.append((label, tp, float("nan")))
+    return rows
+
+
+def accuracy_rows(npts):
+    w0 = math.sqrt(2.0)
+    rows = []
+    for delta in (1e-1, 1e-3, 1e-5, 1e-7, 1e-8, 1e-10, 1e-12):
+        theta0 = math.pi - delta
+        with mp.workdps(ref.DPS):
+            st = ref.State(theta0, 0.0, w0)
+            T = float(st.period)
+            t = np.linspace(0, 2 * T, npts)
+            want = np.array([float(st.at(x)[0]) for x in t])
+        ours = pendula.undamped(t, theta0, 0.0, w0)[0]
+        with np.errstate(all="ignore"):
+            theirs = listing(t, theta0, w0)()
+        e_ours = float(np.max(np.abs(ours - want)))
+        e_list = float(np.max(np.abs(theirs - want))) if np.all(np.isfinite(theirs)) else float("nan")
+        nan_frac = float(np.mean(~np.isfinite(theirs)))
+        rows.append((delta, e_ours, e_list, nan_frac))
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="1e5 points, 3 repeats, fewer reference points")
+    ap.add_argument("--n", type=int, default=None, help="times per state (default 1e6)")
+    ap.add_argument("--repeat", type=int, default=None)
+    ap.add_argument("--out", default=None, help="also write undamped_bench.md and .csv there")
+    args = ap.parse_args(argv)
+    n = args.n or (100_000 if args.quick else 1_000_000)
+    repeat = args.repeat or (3 if args.quick else 7)
+    rng = np.random.default_rng(1)
+    speed = speed_rows(n, repeat, rng)
+    acc = accuracy_rows(40 if args.quick else 200)
+
+    lines = [f"pendula.undamped vs the text's listing (scipy {scipy.__version__}), {n} times per state, w0 = sqrt(2)",
+             "", "| case | pendula ns/pt (theta and Omega) | listing ns/pt (theta only) | speed-up |",
+             "|---|---:|---:|---:|"]
+    for name, tp, ts in speed:
+        r = f"{ts / tp:.2f}x" if np.isfinite(ts) else "n/a (no answer)"
+        tss = f"{ts:.1f}" if np.isfinite(ts) else "-"
+        lines.append(f"| {name} | {tp:.1f} | {tss} | {r} |")
+    lines += ["", "Max |theta - mpmath| over two periods, Omega0 = 0, theta0 = pi - delta:", "",
+              "| delta | pendula | listing | listing NaN fraction |", "|---:|---:|---:|---:|"]
+    for delta, eo, el, nf in acc:
+        els = f"{el:.2e}" if np.isfinite(el) else "NaN"
+        lines.append(f"| {delta:.0e} | {eo:.2e} | {els} | {nf:.2f} |")
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+        with open(os.path.join(args.out, "undamped_bench.md"), "w") as fh:
+            fh.write(text + "\n")
+        with open(os.path.join(args.out, "undamped_bench.csv"), "w") as fh:
+            fh.write("case,pendula_ns,listing_ns,speedup\n")
+            for name, tp, ts in speed:
+                fh.write(f"{name},{tp:.2f},{ts:.2f},{ts / tp:.3f}\n")
+            fh.write("\ndelta,pendula_max_err,listing_max_err,listing_nan_fraction\n")
+            for delta, eo, el, nf in acc:
+                fh.write(f"{delta:.0e},{eo:.3e},{el:.3e},{nf:.3f}\n")
+
+
+if __name__ == "__main__":
+    main()
