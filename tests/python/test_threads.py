@@ -26,7 +26,7 @@ import pytest
 import pendula
 from test_bad_input import API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
 
-N_ARRAY = 20_000
+N_ARRAY = 2_000
 
 
 def _varied_kwargs(fname, seed):
@@ -98,9 +98,25 @@ def _long_small_angle_period():
     return lambda: pendula.small_angle_period(w0)
 
 
+def _long(fn, **kw):
+    return lambda: (lambda: fn(**kw))
+
+
+_T = np.linspace(0.0, 200.0, 400_000)
+_U = np.linspace(-50.0, 50.0, 400_000)
 LONG = {
     "small_angle_period": _long_small_angle_period,
+    "undamped": _long(pendula.undamped, t=_T, theta0=2.0, omega0=0.3, w0=1.4),
+    "linear_damped": _long(pendula.linear_damped, t=_T, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
+    "ellipj": _long(pendula.ellipj, u=_U, m=np.full(_U.size, 0.7)),
+    "ellipf": _long(pendula.ellipf, phi=_U, m=0.7),
+    "rk4": _long(pendula.rk4, t=np.array([0.0, 3000.0]), theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.005),
+    "run_model": lambda: (lambda: pendula.run_model(
+        pendula.Scene(theta0=1.0, t=np.linspace(0, 400.0, 100), gamma=0.1, tol=1e-9), "rk4", 2e-4)),
 }
+if pendula.have_cvode():
+    LONG["cvode"] = _long(pendula.cvode, t=np.array([0.0, 20000.0]), theta0=0.0, omega0=2.0, w0=1.4,
+                          gamma=0.01, rtol=1e-11, atol=1e-13)
 
 
 @pytest.mark.parametrize("name", sorted(LONG))
