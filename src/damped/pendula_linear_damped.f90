@@ -44,6 +44,13 @@ module pendula_linear_damped
   !> Beyond |z| = |D| t^2 > 1/4, i.e. x = sqrt|D| t > X_SERIES, the closed
   !> forms replace the series.
   real(wp), parameter :: X_SERIES = 0.5_wp
+  !> exp(x) is normal for x >= X_NORMAL; c exp(x) underflows to 0 for every
+  !> double c when x < X_ZERO.
+  real(wp), parameter :: X_NORMAL = -708.0_wp, X_ZERO = -1500.0_wp
+  !> ln 2 = LN2_HI + LN2_LO, LN2_HI with trailing zero bits so n LN2_HI is exact
+  !> for |n| < 2^20 (Cody and Waite's argument reduction).
+  real(wp), parameter :: LN2_HI = 6.93147180369123816490e-01_wp, &
+      LN2_LO = 1.90821492927058770002e-10_wp
   ! C(z) = cosh(sqrt z) = sum_{k<=8} z^k/(2k)!, S(z)/t = sinh(sqrt z)/sqrt z =
   ! sum_{k<=8} z^k/(2k+1)!: truncation < 1e-18 for |z| <= 1/4; Horner with the
   ! reciprocal factorials (each within half an ulp) keeps the sum within ~1 ulp.
@@ -256,6 +263,21 @@ contains
     end do
   end function s_series
 
+  ! exp(x) = m 2^n with m in (1/2, 1], for X_ZERO <= x <= 0 (m = 0 below), so
+  ! that c exp(x) = scale(c m, n) never underflows before the last step.
+  elemental subroutine split_exp(x, m, n)
+    real(wp), intent(in) :: x
+    real(wp), intent(out) :: m
+    integer, intent(out) :: n
+    real(wp) :: r
+    m = 0
+    n = 0
+    if (x < X_ZERO) return
+    n = ceiling(x / LN2_HI)
+    r = (x - n * LN2_HI) - n * LN2_LO
+    m = exp(r)
+  end subroutine split_exp
+
   ! r * t for r, t >= 0, saturated at huge() instead of overflowing (the
   ! checked build traps overflow; exp(-huge) is 0 and cos(huge) finite).
   elemental real(wp) function mul_sat(r, t) result(x)
@@ -277,7 +299,10 @@ contains
     class(linear_damped_t), intent(in) :: sol
     real(wp), intent(in) :: t
     real(wp), intent(out) :: theta, omega
-    real(wp) :: x, z, e, et, s, c, e1, e2
+    real(wp) :: x, z, xe, e, et, s, c, p, q, m1, m2
+    integer :: n1, n2
+    theta = 0
+    omega = 0
     if (sol%undamped) then
       ! The small-angle solution itself (gamma = 0).
       x = mul_sat(sol%w0, t)
@@ -288,47 +313,66 @@ contains
       return
     end if
     x = mul_sat(sol%kappa, t)
-    if (x <= X_SERIES) then
-      z = sol%zsign * (x * x)
-      e = exp(-mul_sat(sol%a, t))
-      if (e == 0) then
-        theta = 0
-        omega = 0
-        return
-      end if
-      et = e * t
-      if (sol%zsign == 0) then       ! critical: C = 1, S = t exactly (eq. 2.45)
-        c = e
-        s = et
+    if (x <= X_SERIES .or. sol%zsign < 0) then
+      ! theta = e^{-at} p, Omega = e^{-at} q, with the series (near critical,
+      ! small t) or cos/sin (under-damped) in the brackets p and q.
+      xe = -mul_sat(sol%a, t)
+      if (xe < X_ZERO) return
+      if (x <= X_SERIES) then
+        if (sol%zsign == 0) then     ! critical: C = 1, S = t exactly (eq. 2.45)
+          c = 1
+          s = 1
+        else
+          z = sol%zsign * (x * x)
+          c = c_series(z)
+          s = s_series(z)            ! S(t)/t
+        end if
+        ! b t would overflow only for extreme b, t: then fold e^{-at} into t first.
+        if (t > 1) then
+          if (abs(sol%b) > huge(1.0_wp) / t) then
+            e = exp(xe)
+            et = e * t
+            theta = sol%theta0 * (e * c) + sol%b * (et * s)
+            omega = sol%omega0 * (e * c) - (sol%w0th * (sol%w0 * et) + sol%aom * et) * s
+            return
+          end if
+        end if
+        p = sol%theta0 * c + (sol%b * t) * s
+        q = sol%omega0 * c - (sol%w0th * (sol%w0 * t) + sol%aom * t) * s
       else
-        c = e * c_series(z)
-        s = et * s_series(z)         ! e^{-at} S(t)
+        ! Under-damped (§2.1.3).
+        c = cos(x)
+        s = sin(x)
+        p = sol%theta0 * c + sol%bs * s
+        q = sol%omega0 * c - sol%ds * s
       end if
-      theta = sol%theta0 * c + sol%b * s
-      omega = sol%omega0 * c - (sol%w0th * (sol%w0 * s) + sol%aom * s)
-    else if (sol%zsign > 0) then
-      ! Over-damped (eq. 2.27): e^{lambda t} never overflows for t >= 0.
-      e2 = exp(-mul_sat(-sol%l2, t))
-      if (e2 == 0) then
-        theta = 0
-        omega = 0
-        return
+      if (xe >= X_NORMAL) then
+        e = exp(xe)
+        theta = e * p
+        omega = e * q
+      else
+        ! e^{-at} itself would be subnormal: multiply by its significand and
+        ! scale by its power of 2 last, so a representable answer keeps its digits.
+        call split_exp(xe, m1, n1)
+        theta = scale(m1 * p, n1)
+        omega = scale(m1 * q, n1)
       end if
-      e1 = exp(-mul_sat(-sol%l1, t))
-      theta = sol%ca * e1 + sol%cb * e2
-      omega = sol%l1ca * e1 + sol%l2cb * e2
     else
-      ! Under-damped (§2.1.3).
-      e = exp(-mul_sat(sol%a, t))
-      if (e == 0) then
-        theta = 0
-        omega = 0
-        return
+      ! Over-damped (eq. 2.27): e^{lambda t} never overflows for t >= 0.
+      xe = -mul_sat(-sol%l2, t)      ! lambda2 t, the slow mode
+      if (xe < X_ZERO) return
+      x = -mul_sat(-sol%l1, t)       ! lambda1 t <= lambda2 t
+      if (xe >= X_NORMAL .and. x >= X_NORMAL) then
+        m1 = exp(x)
+        m2 = exp(xe)
+        theta = sol%ca * m1 + sol%cb * m2
+        omega = sol%l1ca * m1 + sol%l2cb * m2
+      else
+        call split_exp(x, m1, n1)
+        call split_exp(xe, m2, n2)
+        theta = scale(sol%ca * m1, n1) + scale(sol%cb * m2, n2)
+        omega = scale(sol%l1ca * m1, n1) + scale(sol%l2cb * m2, n2)
       end if
-      c = cos(x)
-      s = sin(x)
-      theta = e * (sol%theta0 * c + sol%bs * s)
-      omega = e * (sol%omega0 * c - sol%ds * s)
     end if
   end subroutine linear_damped_state
 

@@ -10,9 +10,10 @@ and the condition numbers cond_theta = sum_x |x d theta/dx|, x in {t, theta0,
 Omega0, w0, gamma} (derivatives at 50 digits: exact for t, theta0, Omega0,
 mpmath.diff for w0, gamma), require
     |d theta|   <= 16 eps (size + cond_theta)   + floor
-    |d Omega|/m <= 16 eps (size + cond_Omega/m) + floor
-where floor = 2^-1022 (the smallest normal double) lets results below the
-double range underflow to 0.
+    |d Omega|/m <= 16 eps (size + cond_Omega/m) + floor/m
+where floor = 2^-1022 (the smallest normal double) is subtracted from |d theta|
+and |d Omega| (before dividing by m): results below the normal range may
+underflow to subnormals or 0.
 """
 import math
 from pathlib import Path
@@ -77,10 +78,11 @@ def error_ratio(t, th0, om0, w0, g, th, om):
     m = max(w0, g)
     size = abs(rth) + abs(rom) / m
     e_th = abs(mp.mpf(th) - rth)
-    e_om = abs(mp.mpf(om) - rom) / m
+    e_om = abs(mp.mpf(om) - rom)
+    # The underflow allowance applies to theta and Omega themselves.
     r_th = max(e_th - FLOOR, 0) / (EPS * (size + cth))
-    r_om = max(e_om - FLOOR, 0) / (EPS * (size + com / m))
-    rel = max(e_th, e_om) / size if size > 1e-300 else mp.mpf(0)
+    r_om = max(e_om - FLOOR, 0) / m / (EPS * (size + com / m))
+    rel = max(e_th, e_om / m) / size if size > 1e-300 else mp.mpf(0)
     return float(max(r_th, r_om)), float(rel / EPS)
 
 
@@ -134,6 +136,27 @@ def test_random_sweep_against_mpmath():
     th, om = pendula.linear_damped(t, th0, om0, w0, g)
     worst = max((error_ratio(*args)[0], args) for args in zip(t, th0, om0, w0, g, th, om))
     print(f"random sweep: {n} points, worst error = {worst[0]:.3f} eps (size + cond) at {worst[1][:5]}")
+    assert worst[0] <= 16
+
+
+def test_extreme_scales_sweep_against_mpmath():
+    # Seeded sweep over extreme scales: w0 in [1e-100, 1e100], theta0 and
+    # Omega0/w0 in [1e-50, 1e50], w0 t in [1e-8, 1e6]; answers down to the
+    # subnormal range keep their digits (e^{-at} is split as m 2^n).
+    rng = np.random.default_rng(6)
+    n = 400
+    w0 = 10 ** rng.uniform(-100, 100, n)
+    ratio = np.where(rng.random(n) < 0.3, 10 ** rng.uniform(-15, 12, n),
+                     2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(-16, 0, n)))
+    ratio[rng.random(n) < 0.05] = 0
+    g = ratio * w0
+    t = 10 ** rng.uniform(-8, 6, n) / w0
+    th0 = rng.uniform(-1, 1, n) * 10 ** rng.uniform(-50, 50, n)
+    om0 = rng.uniform(-1, 1, n) * w0 * 10 ** rng.uniform(-50, 50, n)
+    th, om = pendula.linear_damped(t, th0, om0, w0, g)
+    assert np.all(np.isfinite(th)) and np.all(np.isfinite(om))
+    worst = max((error_ratio(*args)[0], args) for args in zip(t, th0, om0, w0, g, th, om))
+    print(f"extreme scales: {n} points, worst error = {worst[0]:.3f} eps (size + cond) at {worst[1][:5]}")
     assert worst[0] <= 16
 
 
