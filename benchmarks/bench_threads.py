@@ -52,27 +52,36 @@ def _workloads(n):
             m = rng.random(n) * 0.999
             return lambda: pendula.ellipj(u, m)
         out["ellipj"] = (n, mk)
+    if have("ellipf"):
+        def mk(i):
+            phi = rng.random(n) * 10
+            return lambda: pendula.ellipf(phi, 0.7)
+        out["ellipf"] = (n, mk)
     if have("undamped"):
         def mk(i):
             t = np.linspace(0.0, 100.0, n)
-            return lambda: pendula.undamped(t=t, theta0=1.0 + 0.1 * i, omega0=0.0)
+            return lambda: pendula.undamped(t, 1.0 + 0.1 * i, 0.0, 1.4)
         out["undamped"] = (n, mk)
+    if have("period"):
+        def mk(i):
+            th = rng.random(max(n // 50, 10)) * 3
+            return lambda: pendula.period(th, 0.0, 1.4)
+        out["period"] = (max(n // 50, 10), mk)
     if have("linear_damped"):
         def mk(i):
             t = np.linspace(0.0, 100.0, n)
-            return lambda: pendula.linear_damped(t=t, theta0=0.1, omega0=0.5 + 0.1 * i, gamma=0.3)
+            return lambda: pendula.linear_damped(t, 0.1, 0.5 + 0.1 * i, 1.4, 0.3)
         out["linear_damped"] = (n, mk)
     # Integrators: a long window sampled at n // 10 points (the stepping dominates).
     if have("rk4"):
         def mk(i):
             t = np.linspace(0.0, 2000.0, max(n // 10, 10))
-            return lambda: pendula.rk4(t=t, theta0=0.0, omega0=2.0 + 0.1 * i, gamma=0.1, h=0.005)
+            return lambda: pendula.rk4(t, 0.0, 2.0 + 0.1 * i, 1.4, 0.1, 0.005)
         out["rk4"] = (max(n // 10, 10), mk)
     if have("cvode") and pendula.have_cvode():
         def mk(i):
             t = np.linspace(0.0, 2000.0, max(n // 10, 10))
-            return lambda: pendula.cvode(t=t, theta0=0.0, omega0=2.0 + 0.1 * i, gamma=0.1,
-                                         rtol=1e-10, atol=1e-12)
+            return lambda: pendula.cvode(t, 0.0, 2.0 + 0.1 * i, 1.4, 0.1, rtol=1e-10, atol=1e-12)
         out["cvode"] = (max(n // 10, 10), mk)
     return out
 
@@ -92,8 +101,8 @@ def main(argv=None):
     ap.add_argument("--out", type=pathlib.Path, help="also write bench_threads.md/.csv into this folder")
     ap.add_argument("--threads", type=int, default=2, help="threads (and chunks); default 2")
     args = ap.parse_args(argv)
-    n = 200_000 if args.quick else 2_000_000
-    repeats = 3 if args.quick else 5
+    n = 100_000 if args.quick else 1_000_000
+    repeats = 2 if args.quick else 5
     k = args.threads
 
     rows = []
