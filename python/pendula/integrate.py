@@ -137,7 +137,7 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     iteration with a dense solver and the analytic Jacobian.  max_steps: total
     step budget for the whole run.  events=True also locates turning points
     (Omega = 0) and zero crossings (theta = 0) after t[0], keeping at most
-    max_events of them (``result.events.truncated`` tells if more occurred);
+    max_events (<= 10**7) of them (``result.events.truncated`` tells if more occurred);
     use them to measure the period and the decrement of the motion.
 
     Returns an ``IntegrationResult``.  Raises ValueError for bad arguments,
@@ -167,8 +167,9 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     if events:
         if isinstance(max_events, bool) or not isinstance(max_events, numbers.Integral):
             raise TypeError(f"max_events must be an integer, got {type(max_events).__name__}")
-        if max_events < 1 or max_events > 2**31 - 1:
-            raise ValueError(f"max_events = {max_events} is out of range: it must be in [1, 2**31 - 1]")
+        if max_events < 1 or max_events > 10**7:
+            # the event arrays are allocated up front: 28 bytes per event
+            raise ValueError(f"max_events = {max_events} is out of range: it must be in [1, 10**7]")
         m = int(max_events)
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _integrate.cvode_f2py(
         tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m)

@@ -291,6 +291,7 @@ def test_rk4_type_errors_and_input_untouched():
     (dict(t=[0.0, float("nan")]), ValueError, "NaN"), (dict(method="rk45"), ValueError, "method"),
     (dict(max_steps=0), ValueError, "max_steps"), (dict(max_steps=1.5), TypeError, "max_steps"),
     (dict(events="yes"), TypeError, "events"), (dict(events=True, max_events=0), ValueError, "max_events"),
+    (dict(events=True, max_events=10**8), ValueError, "max_events"),
 ])
 def test_cvode_bad_input(kw, exc, match):
     args = dict(t=[0.0, 1.0], theta0=0.1, omega0=0.0, w0=W0, gamma=0.1)
