@@ -7,6 +7,8 @@ The Fortran test evaluates the same points natively and requires agreement
 within 1 ulp; the Python test requires the current build to reproduce the
 table.  Run with the built package on PYTHONPATH:
   PYTHONPATH=$(tools/dev-python.sh build/x) python3 tests/python/gen_linear_table.py
+then touch tests/fortran/test_linear_damped.f90 (ninja does not track the
+include) and rebuild.
 """
 import math
 from pathlib import Path
