@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 
 PROG = "pendula"
+MODELS = ("small_angle", "exact", "linear", "rk4", "cvode")
+WANTS = ("state", "theta", "final", "energy", "period", "events")
 
 
 class CliError(Exception):
@@ -140,8 +142,13 @@ def build_parser():
                                    "RK4, CVODE), says which and why, and returns theta (rad) and "
                                    "Omega (rad/s) at the output times (s).")
     _add_scene(s)
-    s.add_argument("--model", default=None, metavar="NAME",
+    s.add_argument("--model", default=None, choices=MODELS,
                    help="force a model instead of letting the library choose")
+    s.add_argument("--want", default="state", choices=WANTS,
+                   help="what to compute: state (theta [rad] and Omega [rad/s] at the output times, "
+                        "default), theta, final (the state at t-end only, no history), energy "
+                        "(per unit m l^2, 1/s^2), period (period or time per revolution [s], "
+                        "undamped only), events (turning points and zero crossings [s])")
     s.add_argument("--csv", default=None, metavar="FILE",
                    help="write t [s], theta [rad], omega [rad/s] as CSV (default: print a summary table)")
 
@@ -172,7 +179,7 @@ def _damping(args):
     return 0.0
 
 
-def _scene(args):
+def _scene(args, want="state"):
     import pendula
     gamma = _damping(args)
     scene_cls = getattr(pendula, "Scene", None)
@@ -180,7 +187,7 @@ def _scene(args):
         raise NotImplementedError("pendula.Scene (the scenes module) is not available in this build")
     t = np.linspace(0.0, args.t_end, args.n)
     return scene_cls(theta0=args.theta0, omega0=args.omega0, t=t, g=args.g, length=args.length,
-                     gamma=gamma, tol=args.tol)
+                     gamma=gamma, tol=args.tol, want=want)
 
 
 def _fmt_table(header, rows):
@@ -248,14 +255,15 @@ def cmd_period(args, out):
     t0 = float(pendula.small_angle_period(w0))
     theta0 = np.asarray(args.theta0, dtype=float)
     exact = np.atleast_1d(np.asarray(pendula.period(theta0, args.omega0, w0), dtype=float))
-    header = ["theta0_rad", "omega0_rad_per_s", "E_over_Esep", "motion", "T_exact_s",
+    header = ["theta0_rad", "omega0_rad_per_s", "E_over_Esep", "1_minus_E_over_Esep", "motion", "T_exact_s",
               "T0_small_angle_s", "T_series_s", "T_exact_over_T0"]
+    m_all, mc_all = (np.atleast_1d(x) for x in pendula.elliptic_parameter(theta0, args.omega0, w0))
+    regimes = np.atleast_1d(pendula.regime(theta0, args.omega0, w0))
     rows = []
-    for th, te in zip(theta0, exact):
-        m = math.sin(th / 2) ** 2 + (args.omega0 / (2 * w0)) ** 2
-        motion = "libration" if m < 1 else ("separatrix" if m == 1 else "rotation (per turn)")
-        series = t0 * (1 + m / 4 + 9 * m * m / 64) if m < 1 else float("nan")
-        rows.append([f"{th:.6g}", f"{args.omega0:.6g}", f"{m:.6g}", motion, f"{te:.12g}",
+    for th, te, m, mc, reg in zip(theta0, exact, m_all, mc_all, regimes):
+        motion = "rotation (per turn)" if reg == "rotation" else str(reg)
+        series = t0 * (1 + m / 4 + 9 * m * m / 64) if reg == "libration" else float("nan")
+        rows.append([f"{th:.10g}", f"{args.omega0:.10g}", f"{m:.10g}", f"{mc:.6g}", motion, f"{te:.12g}",
                      f"{t0:.12g}", f"{series:.8g}", f"{te / t0:.8g}"])
     out.write(f"g = {args.g} m/s^2, l = {args.length} m, w0 = {w0:.12g} 1/s\n")
     out.write(_fmt_table(header, rows) + "\n")
@@ -266,24 +274,41 @@ def cmd_period(args, out):
 
 def cmd_solve(args, out):
     import pendula
-    scene = _scene(args)
+    scene = _scene(args, want=args.want)
     kw = {"model": args.model} if args.model else {}
     res = pendula.solve(scene, **kw)
-    t = np.asarray(_get(res, "t"), dtype=float)
-    theta = np.asarray(_get(res, "theta"), dtype=float)
-    omega = np.asarray(_get(res, "omega"), dtype=float)
     out.write(f"model: {_get(res, 'model')}\n")
     out.write(f"reason: {_get(res, 'reason')}\n")
     out.write(f"error estimate: {_get(res, 'error_estimate')} rad (tolerance {args.tol:g} rad)\n")
     cost = _get(res, "cost")
     if cost is not None:
         out.write(f"cost: {cost}\n")
-    header = ["t_s", "theta_rad", "omega_rad_per_s"]
-    rows = [[f"{a:.17g}", f"{b:.17g}", f"{c:.17g}"] for a, b, c in zip(t, theta, omega)]
+    if args.want == "period":
+        out.write(f"period or time per revolution: {float(res.period):.17g} s\n")
+        header, rows = ["period_s"], [[f"{float(res.period):.17g}"]]
+    elif args.want == "final":
+        out.write(f"final state at t = {args.t_end:g} s: theta = {float(res.theta):.17g} rad, "
+                  f"Omega = {float(res.omega):.17g} rad/s\n")
+        header = ["t_s", "theta_rad", "omega_rad_per_s"]
+        rows = [[f"{args.t_end:.17g}", f"{float(res.theta):.17g}", f"{float(res.omega):.17g}"]]
+    elif args.want == "events":
+        ev = res.events
+        kinds = {getattr(pendula, "TURNING_POINT", 1): "turning point (Omega = 0)",
+                 getattr(pendula, "ZERO_CROSSING", 2): "zero crossing (theta = 0)"}
+        header = ["t_s", "kind", "theta_rad", "omega_rad_per_s"]
+        rows = [[f"{a:.17g}", kinds.get(int(k), str(k)), f"{b:.17g}", f"{c:.17g}"]
+                for a, k, b, c in zip(ev.t, ev.kind, ev.theta, ev.omega)]
+        out.write(f"{len(rows)} event(s) in (0, {args.t_end:g}] s, time error ~ {res.event_time_error} s\n")
+    else:
+        t = np.asarray(res.t, dtype=float)
+        cols = [("theta_rad", res.theta), ("omega_rad_per_s", res.omega), ("energy_per_ml2_1_per_s2", res.energy)]
+        cols = [(n, np.asarray(v, dtype=float)) for n, v in cols if v is not None]
+        header = ["t_s"] + [n for n, _ in cols]
+        rows = [[f"{x:.17g}" for x in vals] for vals in zip(t, *(v for _, v in cols))]
     if args.csv:
         out.write(f"wrote {len(rows)} rows to {_write_csv(args.csv, header, rows)}\n")
-    else:
-        show = rows if len(rows) <= 12 else rows[:6] + [["...", "...", "..."]] + rows[-5:]
+    elif len(rows) > 1 or args.want in ("events",):
+        show = rows if len(rows) <= 12 else rows[:6] + [["..."] * len(header)] + rows[-5:]
         out.write(_fmt_table(header, show) + "\n")
     return 0
 

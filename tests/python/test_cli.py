@@ -190,3 +190,38 @@ def test_python_dash_m_entry_point():
     proc = subprocess.run([sys.executable, "-m", "pendula", "period", "--theta0", "x"],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and "'x' is not a number" in proc.stderr
+
+
+@needs_scenes
+def test_solve_want_period_final_events(capsys, tmp_path):
+    code, out, err = run(["solve", "--theta0", "2.0", "--t-end", "10", "--want", "period"], capsys)
+    assert code == 0, err
+    assert f"{float(pendula.period(2.0, 0.0, W0)):.12g}"[:12] in out
+    code, out, err = run(["solve", "--theta0", "2.0", "--t-end", "10", "--want", "final", "--tol", "1e-9"], capsys)
+    assert code == 0, err
+    th, om = pendula.undamped(10.0, 2.0, 0.0, W0)
+    line = [ln for ln in out.splitlines() if ln.startswith("final state")][0]
+    assert abs(float(line.split("theta = ")[1].split(" rad")[0]) - th) < 1e-8
+    path = tmp_path / "ev.csv"
+    code, out, err = run(["solve", "--theta0", "0", "--omega0", "2", "--t-end", "30", "--mass", "0.1",
+                          "--b", "0.01", "--want", "events", "--csv", str(path)], capsys)
+    assert code == 0, err
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) > 10 and {r["kind"] for r in rows} == {"turning point (Omega = 0)",
+                                                             "zero crossing (theta = 0)"}
+    assert all(float(a["t_s"]) < float(b["t_s"]) for a, b in zip(rows, rows[1:]))
+
+
+def test_solve_rejects_unknown_model_and_want(capsys):
+    code, _, err = run(["solve", "--theta0", "1", "--t-end", "5", "--model", "euler"], capsys)
+    assert code == 2 and "--model: invalid choice: 'euler'" in err
+    code, _, err = run(["solve", "--theta0", "1", "--t-end", "5", "--want", "everything"], capsys)
+    assert code == 2 and "--want: invalid choice: 'everything'" in err
+
+
+@needs_scenes
+def test_solve_library_error_is_reported_not_raised(capsys):
+    # the period of a damped motion is not defined: the library's ValueError becomes exit 2
+    code, _, err = run(["solve", "--theta0", "1", "--t-end", "5", "--gamma", "0.5", "--want", "period"], capsys)
+    assert code == 2 and err.startswith("pendula solve: error:")
