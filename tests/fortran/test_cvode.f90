@@ -180,6 +180,10 @@ contains
     call tc%check_true(index(st%message, 'CVODE') > 0 .and. len_trim(st%message) > 30, &
         'solver error message: ' // trim(st%message))
     call tc%check_true(th(1) == 0 .and. om(2) == 0 .and. om(3) == 0, 'failed outputs zeroed')
+    ! tolerances below double precision: CV_TOO_MUCH_ACC, with CVODE's reason
+    call cvode_solve(t, 0.1_wp, 0.1_wp, w0, 0.1_wp, 1.0e-30_wp, 1.0e-30_wp, PENDULA_CVODE_BDF, budget, th, om, s, st)
+    call tc%check_true(st%code == PENDULA_ERR_SOLVER .and. index(st%message, 'CV_TOO_MUCH_ACC') > 0, &
+        'too much accuracy: ' // trim(st%message))
     ! atol = 0 is fine when no component vanishes... until theta crosses 0
     call cvode_solve([0.0_wp, 0.1_wp], 0.5_wp, 0.1_wp, w0, 0.1_wp, 1.0e-8_wp, 0.0_wp, PENDULA_CVODE_BDF, budget, &
         th(1:2), om(1:2), s, st)
