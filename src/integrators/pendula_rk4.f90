@@ -176,8 +176,11 @@ contains
         s = s(1:len(s)-1)
       end do
       if (s(len(s):len(s)) == '.') s = s(1:len(s)-1)
-      if (s(1:1) == '.') s = '0' // s
-      if (s(1:2) == '-.') s = '-0' // s(2:)
+      if (s(1:1) == '.') then
+        s = '0' // s
+      else if (len(s) >= 2) then
+        if (s(1:2) == '-.') s = '-0' // s(2:)
+      end if
     else
       write (buf, '(es12.5)') x
       s = trim(adjustl(buf))
