@@ -21,10 +21,21 @@ NaN input gives NaN output; out-of-domain input raises ValueError.
 import numpy as np
 
 from . import _elliptic
-from ._arrays import broadcast_real, restore
+from ._arrays import broadcast_real, real_scalar, restore
 
 __all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc",
            "ellipfm1", "ellipj", "ellipjm1"]
+
+
+def _prepare(**named):
+    """(shape, scalar, flat float64 arrays): like _arrays.broadcast_real, but a single
+    float64 contiguous array (the common large case) is passed on without a copy;
+    the f2py routines take it intent(in) and never write to it."""
+    vals = list(named.values())
+    if all(isinstance(v, np.ndarray) and v.dtype == np.float64 and v.flags.c_contiguous
+           and v.ndim >= 1 and v.shape == vals[0].shape for v in vals):
+        return vals[0].shape, False, {k: v.reshape(-1) for k, v in named.items()}
+    return broadcast_real(**named)
 
 
 def _first_bad(bad, **arrays):
@@ -34,6 +45,8 @@ def _first_bad(bad, **arrays):
 
 def _check_nan_domain(out, message, **inputs):
     """NaN from non-NaN input means the Fortran core met a domain error."""
+    if not np.isnan(np.sum(out)):   # one fast pass: no NaN at all (Inf alone sums to Inf)
+        return
     bad = np.isnan(out)
     if bad.any():
         for v in inputs.values():
@@ -47,7 +60,7 @@ def ellipk(m):
 
     K(1) = inf.  ValueError for m > 1.  Accuracy: a few ulps (AGM).
     """
-    shape, scalar, f = broadcast_real(m=m)
+    shape, scalar, f = _prepare(m=m)
     k = _elliptic.ellipk_f2py(f["m"])
     _check_nan_domain(k, "ellipk: m must be <= 1", m=f["m"])
     return restore(k, shape, scalar)
@@ -58,7 +71,7 @@ def ellipkm1(p):
 
     Same name and meaning as scipy.special.ellipkm1.  ValueError for p < 0.
     """
-    shape, scalar, f = broadcast_real(p=p)
+    shape, scalar, f = _prepare(p=p)
     k = _elliptic.ellipkc_f2py(f["p"])
     _check_nan_domain(k, "ellipkm1: p = 1 - m must be >= 0", p=f["p"])
     return restore(k, shape, scalar)
@@ -69,7 +82,7 @@ def ellipe(m):
 
     ValueError for m > 1.  Accuracy: a few ulps.
     """
-    shape, scalar, f = broadcast_real(m=m)
+    shape, scalar, f = _prepare(m=m)
     e = _elliptic.ellipe_f2py(f["m"])
     _check_nan_domain(e, "ellipe: m must be <= 1", m=f["m"])
     return restore(e, shape, scalar)
@@ -77,7 +90,7 @@ def ellipe(m):
 
 def ellipem1(p):
     """E(1 - p) for p >= 0, accurate for tiny p.  ValueError for p < 0."""
-    shape, scalar, f = broadcast_real(p=p)
+    shape, scalar, f = _prepare(p=p)
     e = _elliptic.ellipec_f2py(f["p"])
     _check_nan_domain(e, "ellipem1: p = 1 - m must be >= 0", p=f["p"])
     return restore(e, shape, scalar)
@@ -91,7 +104,7 @@ def ellipf(phi, m):
     Re K(m) = K(1/m)/sqrt(m)).  ValueError where m sin^2(phi) > 1.
     Same as scipy.special.ellipkinc (alias ``ellipkinc``) where SciPy is defined.
     """
-    shape, scalar, f = broadcast_real(phi=phi, m=m)
+    shape, scalar, f = _prepare(phi=phi, m=m)
     out = _elliptic.ellipf_f2py(f["phi"], f["m"])
     _check_nan_domain(out, "ellipf: need m*sin(phi)**2 <= 1", phi=f["phi"], m=f["m"])
     return restore(out, shape, scalar)
@@ -105,20 +118,24 @@ def ellipfm1(phi, p):
 
     ValueError where (1 - p) sin^2(phi) > 1.
     """
-    shape, scalar, f = broadcast_real(phi=phi, p=p)
+    shape, scalar, f = _prepare(phi=phi, p=p)
     out = _elliptic.ellipfc_f2py(f["phi"], f["p"])
     _check_nan_domain(out, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=f["phi"], p=f["p"])
     return restore(out, shape, scalar)
 
 
+_PLAN_MIN = 32   # below this many points the plan's table costs more than it saves
+
+
 def _jacobi(u, m, name, vec, plan):
-    shape, scalar, f = broadcast_real(u=u, **{name: m})
-    marr = np.asarray(m)
-    if not scalar and marr.ndim == 0:
-        # one parameter, many u: the m-dependent work is done once
-        res = plan(f["u"], float(marr))
-    else:
-        res = vec(f["u"], f[name])
+    if np.ndim(m) == 0 and np.ndim(u) > 0 and np.size(u) >= _PLAN_MIN:
+        # one parameter, many u: the m-dependent work (and a table) is done once
+        mval = real_scalar(m, name)
+        shape, _, f = _prepare(u=u)
+        res = plan(f["u"], mval)
+        return tuple(r.reshape(shape) for r in res)
+    shape, scalar, f = _prepare(u=u, **{name: m})
+    res = vec(f["u"], f[name])
     return tuple(restore(r, shape, scalar) for r in res)
 
 

@@ -73,7 +73,8 @@ if __name__ == "__main__" and "--ke" not in __import__("sys").argv:
 # y = m - centre): 17 intervals of width 1/20 on 0 <= m < 0.85, and for
 # mc = 1 - m <= 0.15 the logarithmic form (DLMF 19.12.1 structure)
 #   K = P(mc) - ln(mc) Q(mc),   E = Pe(mc) - ln(mc) mc Qe1(mc),
-# with Q = K(mc)/pi and mc Qe1 = (K(mc) - E(mc))/pi analytic for |mc| < 1.
+# with Q = K(mc)/pi and mc Qe1 = (K(mc) - E(mc))/pi analytic for |mc| < 1, as powers
+# of mc itself (so that mc -> 0 gives the exact limits P(0) = ln 4, Pe(0) = 1).
 KE_DEG = 12
 KE_NINT = 17
 KE_WIDTH = 0.05
@@ -93,6 +94,15 @@ def _cheb_monomial(f, a, b, n, mp):
     return [co[j] / h ** j for j in range(n + 1)]
 
 
+def _shift_to_zero(co, c, mp):
+    """Coefficients of sum co[j] (x - c)^j as powers of x (exact binomial expansion)."""
+    out = [mp.mpf(0)] * len(co)
+    for j, a in enumerate(co):
+        for i in range(j + 1):
+            out[i] += a * mp.binomial(j, i) * (-c) ** (j - i)
+    return out
+
+
 def ke_tables():
     import mpmath as mp
     mp.mp.dps = 40
@@ -106,7 +116,8 @@ def ke_tables():
     Pe = lambda x: mp.ellipe(1 - x) + mp.log(x) * (mp.ellipk(x) - mp.ellipe(x)) / mp.pi  # noqa: E731
     Qe1 = lambda x: (mp.ellipk(x) - mp.ellipe(x)) / (mp.pi * x)  # noqa: E731
     lo, hi = mp.mpf(0), mp.mpf(KE_MC_MAX)
-    near = [_cheb_monomial(f, lo, hi, KE_DEG, mp) for f in (P, Q, Pe, Qe1)]
+    near = [_shift_to_zero(_cheb_monomial(f, lo, hi, KE_DEG, mp), (lo + hi) / 2, mp)
+            for f in (P, Q, Pe, Qe1)]
     return kt, et, near
 
 

@@ -101,14 +101,14 @@ def test_identities_all_regions():
     u = rng.uniform(-50, 50, 4000)
     for m in [-1e10, -3.0, -0.1, 0.0, 0.3, 0.9, 0.999999, 1.0, 1.5, 1e4]:
         sn, cn, dn, ph = pendula.ellipj(u, m)
-        assert np.abs(sn**2 + cn**2 - 1).max() <= 4 * EPS
+        assert np.abs(sn**2 + cn**2 - 1).max() <= 6 * EPS
         big = max(1.0, abs(m))
         assert np.abs(dn**2 + m * sn**2 - 1).max() <= 8 * EPS * big
         if m <= 1:
             np.testing.assert_allclose(np.sin(ph), sn, rtol=0, atol=8 * EPS * np.abs(ph).max())
     for p in [1e-3, 1e-10, 1e-100, 1e-300, 5e-324]:
         sn, cn, dn, ph = pendula.ellipjm1(u, p)
-        assert np.abs(sn**2 + cn**2 - 1).max() <= 4 * EPS
+        assert np.abs(sn**2 + cn**2 - 1).max() <= 6 * EPS
         assert np.abs(dn**2 - p * sn**2 - cn**2).max() <= 8 * EPS
 
 
