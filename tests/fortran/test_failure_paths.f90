@@ -1,0 +1,129 @@
+!> Failure paths of the integrators, repeated, for the checked and memcheck legs
+!> (issue 9): every way CVODE can fail (step budget, illegal error weight,
+!> repeated error-test failures, events truncated or cut short by a failure)
+!> and the RK4 refusals.  Each path runs REPEAT times, so a leak on it shows up
+!> under valgrind as REPEAT lost blocks; every failure must come back as a
+!> status with a message and finite (zeroed) outputs, never a stop or a NaN.
+!> PENDULA_TEST_QUICK=1 (set by tools/memcheck.sh) lowers REPEAT.
+program test_failure_paths
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_exceptions, only: ieee_usual, ieee_get_halting_mode, ieee_set_halting_mode
+  use pendula
+  use pendula_testing, only: checker_t
+  implicit none
+  type(checker_t) :: tc
+  integer :: repeat, r
+  character(len=8) :: quick
+  integer :: qlen, qstat
+
+  call get_environment_variable('PENDULA_TEST_QUICK', quick, qlen, qstat)
+  repeat = 20
+  if (qstat == 0 .and. qlen > 0) then
+    if (quick(1:1) /= '0') repeat = 3
+  end if
+
+  do r = 1, repeat
+    call rk4_refusals(r == 1)
+    if (cvode_available()) call cvode_failures(r == 1)
+  end do
+  if (.not. cvode_available()) call cvode_unavailable()
+  call tc%report('test_failure_paths')
+
+contains
+
+  logical function all_finite(x)
+    real(wp), intent(in) :: x(:)
+    all_finite = all(ieee_is_finite(x))
+  end function all_finite
+
+  subroutine expect_failure(st, code, label, first)
+    type(status_t), intent(in) :: st
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: label
+    logical, intent(in) :: first
+    ! Counted once (first repetition) so the totals do not depend on REPEAT;
+    ! later repetitions still fail the run if the behaviour changes.
+    if (first .or. st%code /= code .or. len_trim(st%message) == 0) then
+      call tc%check_true(st%code == code, label // ': status ' // code_name(st%code) // &
+          ' (expected ' // code_name(code) // '): ' // trim(st%message))
+      call tc%check_true(len_trim(st%message) > 10, label // ': a message says why')
+    end if
+  end subroutine expect_failure
+
+  subroutine rk4_refusals(first)
+    logical, intent(in) :: first
+    real(wp) :: th(3), om(3), t(3)
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    t = [0.0_wp, 50.0_wp, 100.0_wp]
+    ! h beyond the stability limit (2.06 s here) over a long spacing: refused.
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 50.0_wp, th, om, s, st)
+    call expect_failure(st, PENDULA_ERR_UNSTABLE, 'rk4 unstable h', first)
+    ! h so small the window needs > 1e15 steps: refused up front.
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-300_wp, th, om, s, st)
+    call tc%check_true(st%code /= PENDULA_OK, 'rk4 tiny h refused: ' // trim(st%message))
+    call tc%check_true(all_finite(th) .and. all_finite(om), 'rk4 refused: outputs finite')
+    ! times not increasing
+    call rk4_solve([0.0_wp, 2.0_wp, 1.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st)
+    call expect_failure(st, PENDULA_ERR_ORDER, 'rk4 t decreasing', first)
+    ! output arrays of the wrong size
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th(1:2), om, s, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'rk4 output size', first)
+  end subroutine rk4_refusals
+
+  subroutine cvode_failures(first)
+    logical, intent(in) :: first
+    real(wp) :: th(3), om(3), t(3), et(4), eth(4), eom(4)
+    integer :: ek(4), n_ev
+    logical :: trunc, halting(size(ieee_usual))
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    t = [0.0_wp, 500.0_wp, 1000.0_wp]
+    ! 1. step budget exhausted (CV_TOO_MUCH_WORK or our own budget)
+    call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, 10_i8, &
+        th, om, s, st)
+    call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'cvode step budget', first)
+    call tc%check_true(all_finite(th) .and. all_finite(om), 'cvode budget: outputs finite')
+    ! 2. the same with BDF and events on
+    call cvode_solve_events(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_BDF, &
+        10_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
+    call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'cvode events step budget', first)
+    ! 3. atol = 0 with a zero state component: CVODE rejects the error weight
+    call cvode_solve(t, 0.0_wp, 1.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 0.0_wp, PENDULA_CVODE_ADAMS, 100000_i8, &
+        th, om, s, st)
+    call expect_failure(st, PENDULA_ERR_SOLVER, 'cvode zero error weight', first)
+    ! 4. a stiff fast oscillation CVODE cannot follow: repeated error-test
+    ! failures.  SUNDIALS' own C code overflows on the way (reported to the
+    ! integrators concern); halting is switched off around this one call so
+    ! that the checked leg still runs the path's cleanup, which is the point here.
+    call ieee_get_halting_mode(ieee_usual, halting)
+    call ieee_set_halting_mode(ieee_usual, .false.)
+    call cvode_solve([0.0_wp, 1.0_wp], 0.0_wp, 2.0_wp, 1.0e154_wp, 0.0_wp, 1.0e-8_wp, 1.0e-10_wp, &
+        PENDULA_CVODE_ADAMS, 100000_i8, th(1:2), om(1:2), s, st)
+    call ieee_set_halting_mode(ieee_usual, halting)
+    call tc%check_true(st%code == PENDULA_ERR_SOLVER .or. st%code == PENDULA_ERR_MAXSTEPS, &
+        'cvode w0 = 1e154 fails cleanly: ' // trim(st%message))
+    call tc%check_true(all_finite(th(1:2)) .and. all_finite(om(1:2)), 'cvode w0 = 1e154: outputs finite')
+    ! 5. more events than room: truncated, not an error
+    call cvode_solve_events([0.0_wp, 100.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, &
+        PENDULA_CVODE_ADAMS, 1000000_i8, th(1:2), om(1:2), et, ek, eth, eom, n_ev, trunc, s, st)
+    if (first .or. st%code /= PENDULA_OK .or. .not. trunc) then
+      call tc%check_true(st%code == PENDULA_OK .and. trunc .and. n_ev == size(et), &
+          'cvode events truncated at the array size: ' // trim(st%message))
+    end if
+    ! 6. argument errors before any SUNDIALS object exists
+    call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, -1.0_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, 100_i8, &
+        th, om, s, st)
+    call expect_failure(st, PENDULA_ERR_DOMAIN, 'cvode rtol < 0', first)
+  end subroutine cvode_failures
+
+  subroutine cvode_unavailable()
+    real(wp) :: th(2), om(2)
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    call cvode_solve([0.0_wp, 1.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, &
+        PENDULA_CVODE_ADAMS, 100_i8, th, om, s, st)
+    call expect_failure(st, PENDULA_ERR_UNAVAILABLE, 'cvode not built', .true.)
+  end subroutine cvode_unavailable
+
+end program test_failure_paths
