@@ -5,13 +5,14 @@ figA1 the under-damped linear case with its envelope (§2.1.3 is empty in the te
 figA2 the full phase portrait: librations, the separatrix, rotations, every curve a
 trajectory of pendula.undamped; figA3 period and time per revolution against energy
 through the separatrix; figA4 work-precision diagram (error vs wall time) of every
-model on the text's §2.2 scene, from pendula.tradeoff.
+model on the text's §2.2 scene, from pendula.tradeoff; figA5 how far the text's printed
+RK4 listing drifts, against pendula.rk4 at the same step.
 """
 import argparse
 
 from pendula import figures
 
-EXTRA_FIGURES = ["figA1", "figA2", "figA3", "figA4"]
+EXTRA_FIGURES = ["figA1", "figA2", "figA3", "figA4", "figA5"]
 
 
 def main(argv=None):

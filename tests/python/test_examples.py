@@ -46,6 +46,7 @@ EXTRA_FIGURES = [
     "figA2_phase_portrait_librations_separatrix_rotations.png",
     "figA3_period_and_revolution_time_vs_energy_through_separatrix.png",
 ]
+LISTING_EXTRA = "figA5_text_listing_error_vs_time_vs_correct_rk4.png"
 WORK_PRECISION = "figA4_work_precision_text_scene_b0.01.png"
 
 TABLES = {
@@ -114,7 +115,7 @@ def test_table_examples(main_job, script):
         assert "not run: pendula.Scene" in log
         assert not (out / "tables" / TABLES[script]).exists()
         return
-    rows = _check_csv(out / "tables" / TABLES[script])
+    _check_csv(out / "tables" / TABLES[script])
     assert "wrote" in log
 
 
@@ -156,6 +157,8 @@ def test_extra_figures(main_job):
     out, _ = main_job
     for name in EXTRA_FIGURES:
         _check_png(out / "figures" / name)
+    if HAVE_TEXTBOOK:
+        _check_png(out / "figures" / LISTING_EXTRA)
     if HAVE_SCENES:
         _check_png(out / "figures" / WORK_PRECISION)
     else:
