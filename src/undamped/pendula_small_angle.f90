@@ -43,11 +43,12 @@ contains
   elemental subroutine small_angle(t, theta0, omega0, w0, theta, omega)
     real(wp), intent(in) :: t, theta0, omega0, w0
     real(wp), intent(out) :: theta, omega
-    real(wp) :: n, r_hi, r_lo, c, s, center
+    real(wp) :: n, r_hi, r_lo, c, s, center, x
     call reduce_angle_2pi(theta0, n, r_hi, r_lo)
     center = theta0 - r_hi   ! 2 pi n to the rounding of theta0 (exact when n = 0)
-    c = cos(w0 * t)
-    s = sin(w0 * t)
+    x = phase(w0, t)
+    c = cos(x)
+    s = sin(x)
     theta = center + (r_hi * c + (omega0 / w0) * s)
     omega = -(r_hi * w0) * s + omega0 * c
   end subroutine small_angle
@@ -79,12 +80,24 @@ contains
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: t
     real(wp), intent(out) :: theta, omega
-    real(wp) :: c, s
-    c = cos(motion%w0 * t)
-    s = sin(motion%w0 * t)
+    real(wp) :: c, s, x
+    x = phase(motion%w0, t)
+    c = cos(x)
+    s = sin(x)
     theta = motion%center + (motion%theta_r * c + (motion%omega0 / motion%w0) * s)
     omega = -(motion%theta_r * motion%w0) * s + motion%omega0 * c
   end subroutine small_angle_eval
+
+  !> w0 t, with whole periods 2 pi/w0 taken out first (exactly, by modulo) when
+  !> w0 t would overflow.
+  elemental real(wp) function phase(w0, t) result(x)
+    real(wp), intent(in) :: w0, t
+    if (exponent(t) > 1000 - exponent(w0)) then
+      x = w0 * modulo(t, 2 * pi / w0)
+    else
+      x = w0 * t
+    end if
+  end function phase
 
   !> Relative frequency defect 1 - w/w0 = 1 - pi/(2 K(m)) of the exact libration
   !> (~ m/4 for small m; the phase error of the model grows like this times

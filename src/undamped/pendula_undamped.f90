@@ -317,11 +317,25 @@ contains
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: t
     real(wp), intent(out) :: theta, omega
-    real(wp) :: a, sa, ca, da, ama, y, x, z, den, sb, ss, cc, delta, ex
+    real(wp) :: a, sa, ca, da, ama, y, x, z, den, sb, ss, cc, delta, ex, tt, turns
     real(wp), parameter :: half_pi = 0.5_wp * pi
+    tt = t
+    turns = 0
+    if (motion%regime == REGIME_SEPARATRIX) then
+      ! |w0 t| ~> 1e301 would overflow; theta is pi to the last bit long before
+      if (exponent(t) > 1000 - exponent(motion%rate)) tt = sign(1.0e300_wp, t) / motion%rate
+    else if (exponent(t) > 40 - exponent(motion%rate)) then
+      ! |rate t| >~ 5e11: take whole periods out first (modulo is exact; the
+      ! period's rounding moves t by ~eps |t|, inside the condition number).
+      ! WORKAROUND, not silent: pendula_elliptic's ellipj_eval mis-reduces
+      ! |u| >~ 2^53 K (|sn| > 1 from u ~ 1e17, a crash near u ~ 1e25-1e30), and
+      ! rate t would overflow near 1e308 anyway.  Reported to the integrator.
+      tt = modulo(t, motion%period)
+      turns = anint((t - tt) / motion%period)
+    end if
     select case (motion%regime)
     case (REGIME_LIBRATION)
-      a = motion%rate * t
+      a = motion%rate * tt
       call ellipj_eval(motion%plan, a, sa, ca, da)
       ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
       ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
@@ -333,7 +347,7 @@ contains
       theta = motion%center + 2 * atan2(y, x)
       omega = 2 * motion%w0 * (z / den)
     case (REGIME_ROTATION)
-      a = motion%rate * t
+      a = motion%rate * tt
       call ellipj_eval(motion%plan, a, sa, ca, da, ama)
       ! sn(a+b), cn(a+b) times the denominator, at parameter 1/m, with
       ! sn b = s sh, cn b = ch, dn b = dnb; then am(a+b) = am(a) + delta where
@@ -346,6 +360,7 @@ contains
       if (sb > 0 .and. delta < -half_pi) delta = delta + 2 * pi
       if (sb < 0 .and. delta > half_pi) delta = delta - 2 * pi
       theta = motion%center + 2 * motion%s * (ama + delta)
+      if (turns /= 0) theta = theta + motion%s * (2 * pi) * turns
       den = ca * ca + (sa * motion%dnb)**2
       omega = 2 * motion%s * motion%rate * ((da * motion%dnb - sa * sb * ca * motion%ch / motion%m) / den)
     case default
@@ -354,7 +369,7 @@ contains
         omega = 0
         return
       end if
-      x = motion%w0 * t + motion%phase
+      x = motion%w0 * tt + motion%phase
       ! gd(x) = 2 atan(tanh(x/2)), sech(x) = 2 e^-|x| / (1 + e^-2|x|): no overflow
       ex = exp(-abs(x))
       theta = motion%center + motion%s * 4 * atan(tanh(0.5_wp * x))

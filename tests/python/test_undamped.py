@@ -295,6 +295,31 @@ def test_rotation_counts_turns():
     assert abs(th[0] - (4 * math.pi + 0.3)) <= 2 * EPS * 13 and abs(th[1] - th[0]) < 1e-3
 
 
+def test_huge_times_finite_and_within_cond():
+    """t far beyond 100 periods (up to 1e308): finite, in range, and within 16 eps cond where
+    mpmath can still say something (t = 1e12, 1e15)."""
+    for theta0, omega0, w0 in [(0.5, 0.1, 3.0), (0.0, 7.0, 3.0), (math.pi - 1e-10, 0.0, 1.0), (0.3, -2.0000001, 1.0)]:
+        times = [1e12, -1e15]
+        rows, _ = ref.reference(theta0, omega0, w0, times)
+        th, om = pendula.undamped(np.array(times), theta0, omega0, w0)
+        for j, (tr, orf, ct, co) in enumerate(rows):
+            assert abs(th[j] - float(tr)) <= 16 * EPS * (float(ct) + abs(float(tr)))
+            assert abs(om[j] - float(orf)) <= 16 * EPS * (float(co) + abs(float(orf)))
+        big = np.array([1e20, -1e20, 1e300, 1e308, -1e308])
+        th, om = pendula.undamped(big, theta0, omega0, w0)
+        if pendula.regime(theta0, omega0, w0) == "rotation":
+            # theta ~ 2 pi t/T itself exceeds the double range at |t| = 1e308: +-inf, signed right
+            T = pendula.period(theta0, omega0, w0)
+            fits = np.abs(big) < 1e308 / (2 * math.pi / T)
+            assert np.all(np.isfinite(th[fits])) and np.all(np.sign(th[~fits]) == np.sign(big[~fits]))
+        else:
+            assert np.all(np.isfinite(th))
+        assert np.all(np.isfinite(om))
+        assert np.all(np.abs(om) <= 2 * math.sqrt(pendula.elliptic_parameter(theta0, omega0, w0)[0]) * w0 * (1 + 1e-15))
+        ths, oms = pendula.small_angle(big, theta0, omega0, w0)
+        assert np.all(np.isfinite(ths)) and np.all(np.isfinite(oms))
+
+
 # ---------------------------------------------------------------- small-angle model and its bound
 def test_small_angle_formula():
     t = np.linspace(-5, 5, 11)
