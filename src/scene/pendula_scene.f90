@@ -479,7 +479,7 @@ contains
     real(wp), intent(out) :: est
     character(len=:), allocatable, intent(out) :: why
     type(status_t), intent(inout) :: status
-    real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps
+    real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps, rk4_round
     type(status_t) :: st
     if (scene%gamma == 0) then
       call scene_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
@@ -516,10 +516,15 @@ contains
     model = SCENE_MODEL_RK4
     call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
     nsteps = tend / min(0.9_wp * hmax, rk4_apriori_step(scene, tend))
-    if (cvode_available() .and. nsteps > RK4_STEP_LIMIT) then
+    ! RK4's rounding floor grows like sqrt(steps) times max|theta| (unwrapped
+    ! rotations): when it would eat tol, CVODE's fewer, longer steps do better
+    rk4_round = integrator_rounding(scene, [abs(scene%theta0) + abs(scene%omega0) * tend], nsteps)
+    if (cvode_available() .and. (nsteps > RK4_STEP_LIMIT .or. rk4_round > scene%tol / 4 .or. &
+        (is_stiff(scene) .and. nsteps > 1.0e5_wp))) then
       model = SCENE_MODEL_CVODE
       why = 'gamma > 0, the linear model is off by ~' // num(e_lin) // ' rad; RK4 would need ~' // &
-          num(nsteps) // ' steps, so CVODE (' // trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
+          num(nsteps) // ' steps (rounding ~' // num(rk4_round) // ' rad), so CVODE (' // &
+          trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
           ') with tolerances from tol and the window, verified by a run 10x tighter'
     else
       why = 'gamma > 0, the linear model is off by ~' // num(e_lin) // ' rad: RK4 with h from ' // &
@@ -542,11 +547,11 @@ contains
     end if
   end function period_small_angle_error
 
-  ! Rounding estimate of the exact elliptic solution over [0, tend]: a few eps
-  ! times the condition number sum |x d theta/dx| (x in theta0, Omega0, w0, t).
-  ! Perturbing an input by eps moves the energy parameter m by delta_m and the
-  ! frequency by t |d ln T/d m| delta_m, which near the separatrix (T ~ ln(16/mc))
-  ! dominates; theta moves by the phase error times max|Omega|/w ~ Omega_max t.
+  ! Rounding estimate of the exact elliptic solution over [0, tend] at the
+  ! given (exact double) inputs: the phase w0 t is rounded (theta moves by
+  ! ~eps Omega_max t), and the energy parameter carries an error delta_m that
+  ! shifts the frequency by t |d ln T/d m| delta_m (T ~ ln(16/mc) near the
+  ! separatrix); theta moves by the phase error times max|Omega|/w.
   pure real(wp) function exact_estimate(motion, tend) result(e)
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: tend
@@ -557,7 +562,10 @@ contains
     end if
     omax = 2 * sqrt(motion%m) * motion%w0          ! max |Omega| (libration and rotation)
     mc = motion%mc
-    dm = eps * (abs(motion%theta_r * sin(motion%theta_r)) / 2 + 2 * motion%m + abs(motion%center) * eps)
+    ! pendula_undamped forms 1 - m as (c - q)(c + q) with c, q carried to ~2
+    ! doubles, so mc is known to a few eps RELATIVE to itself: near the
+    ! separatrix the energy error is that small, not eps * m
+    dm = 4 * eps * abs(mc) + eps**2 * (1 + abs(motion%center))
     if (motion%regime == REGIME_SEPARATRIX .or. mc == 0) then
       dlnt = 1 / max(abs(mc), dm)
     else
@@ -677,18 +685,30 @@ contains
     end function int_exp_s
   end function linear_estimate
 
-  ! A priori RK4 step for the window: global error ~ C A (w0 h)^4 w0 T with
-  ! C = 1/120 for the harmonic oscillator (the phase error of one step is
-  ! (w0 h)^5/120); C is raised x8 for the nonlinear pendulum.
+  ! A priori RK4 step for the window: global error ~ C A (w0 h)^4 w0 T_eff
+  ! with C = 1/120 for the harmonic oscillator (the phase error of one step is
+  ! (w0 h)^5/120), doubled for the nonlinear pendulum.  With damping the error
+  ! stops growing once the motion has decayed below tol, so T_eff is the
+  ! window or the time the slowest mode needs to decay from A to tol.  The
+  ! a posteriori check (run at 2h) catches what this misjudges.
   pure real(wp) function rk4_apriori_step(scene, tend) result(h)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
-    real(wp) :: a, wt, c
+    real(wp) :: a, teff, c, slow, half
     a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
     a = min(a, 2 * pi)
-    wt = max(scene%w0 * tend, 1.0_wp)
-    c = 8.0_wp / 120
-    h = (scene%tol / (c * a * wt))**0.25_wp / scene%w0
+    teff = tend
+    if (scene%gamma > 0) then
+      half = scene%gamma / 2
+      if (half > scene%w0) then
+        slow = scene%w0**2 / (half + sqrt(half - scene%w0) * sqrt(half + scene%w0))
+      else
+        slow = half
+      end if
+      teff = min(tend, (1 + log(max(exp(1.0_wp), a / scene%tol))) / slow)
+    end if
+    c = 2.0_wp / 120
+    h = (scene%tol / (c * a * max(scene%w0 * teff, 1.0_wp)))**0.25_wp / scene%w0
     h = min(h, 0.5_wp / scene%w0)
   end function rk4_apriori_step
 
@@ -1000,6 +1020,23 @@ contains
     if (size(th1) > 0) d = max(maxval(abs(th1 - th2)), maxval(abs(om1 - om2)) / w0)
   end function state_diff
 
+  ! Rounding floor of an integration that the comparison of two runs cannot
+  ! see: each of n steps rounds theta (up to max|theta|, large for unwrapped
+  ! rotations) by ~eps, a random walk ~ sqrt(n); and a start near the unstable
+  ! equilibrium (pi, 0) amplifies any perturbation by ~1/d0 while the
+  ! pendulum hangs there (growth e^(w0 t) until it leaves, t ~ ln(1/d0)/w0),
+  ! d0 the distance of the initial state from the top in (theta, Omega/w0).
+  pure real(wp) function integrator_rounding(scene, theta, nsteps) result(r)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: theta(:), nsteps
+    real(wp) :: big, d0, xr
+    big = abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi
+    if (size(theta) > 0) big = max(big, maxval(abs(theta)))
+    xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)          ! |theta0| reduced to [0, pi]
+    d0 = hypot(pi - xr, scene%omega0 / scene%w0)
+    r = 4 * eps * big * sqrt(max(nsteps, 1.0_wp)) + 4 * eps * pi / max(d0, eps)
+  end function integrator_rounding
+
   ! RK4 with h from tol and the window, verified by a run at 2h; refined
   ! from the observed error (which scales like h^4) until it meets tol.
   subroutine solve_rk4(scene, tend, result, status)
@@ -1037,16 +1074,15 @@ contains
             ' steps to meet tol = ' // num(scene%tol) // ' over this window; use cvode or a larger tol')
         return
       end if
-      call integrate_grid(h, tgrid, result%theta, result%omega)
+      call rk4_run(scene, tgrid, h, 1, result%theta, result%omega, result%cost, status)
       if (status%code /= PENDULA_OK) return
-      call integrate_grid(min(2 * h, hmax), tgrid, th2, om2)
+      call rk4_run(scene, tgrid, h, 2, th2, om2, result%cost, status)
       if (status%code /= PENDULA_OK) return
       d = state_diff(result%theta, result%omega, th2, om2, scene%w0)
-      round = 8 * eps * (abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi) * sqrt(tend / h)
+      round = integrator_rounding(scene, result%theta, tend / h)
       est = RK4_SAFETY * d / 15 + round
-      if (2 * h > hmax) est = max(est, RK4_SAFETY * d)   ! no Richardson ratio without 2h
       if (est <= scene%tol) exit
-      if (it == MAX_REFINE) exit
+      if (it == MAX_REFINE .or. round > 0.5_wp * est) exit   ! a smaller h only adds rounding
       ! e ~ C h^4: step for tol/4, at least halved, at most /16
       h = h * max(1.0_wp / 16, min(0.5_wp, 0.8_wp * (scene%tol / (4 * est))**0.25_wp))
     end do
@@ -1060,14 +1096,75 @@ contains
     else
       call finish_outputs(scene, result)
     end if
-  contains
-    subroutine integrate_grid(hh, tg, th, om)
-      real(wp), intent(in) :: hh, tg(:)
-      real(wp), intent(out) :: th(:), om(:)
-      call integrate(scene, SCENE_MODEL_RK4, hh, tg, th, om, stats, status)
-      call add_stats(result%cost, stats)
-    end subroutine integrate_grid
   end subroutine solve_rk4
+
+  ! RK4 from t = 0 through the outputs tg(:) with, on every interval dt_i
+  ! between consecutive times (0 first), n_i = 2 ceil(dt_i/(2 h)) equal
+  ! substeps (factor = 1) or exactly half as many (factor = 2).  Both runs
+  ! thus halve the step on EVERY interval, so that their difference / 15 is
+  ! the Richardson estimate of the fine run's error even when the outputs are
+  ! denser than h.  A uniform grid goes to rk4_solve in one call (the step
+  ! dt/n makes it take exactly n substeps); otherwise one rk4_final_state
+  ! call per interval.  Final-state scenes integrate one interval.
+  subroutine rk4_run(scene, tg, h, factor, th, om, cost, status)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tg(:), h
+    integer, intent(in) :: factor
+    real(wp), intent(out) :: th(:), om(:)
+    type(scene_cost_t), intent(inout) :: cost
+    type(status_t), intent(inout) :: status
+    real(wp), allocatable :: tt(:), th1(:), om1(:)
+    real(wp) :: dt, x, v, t0, x1, v1
+    real(wp) :: nsub
+    type(ode_stats_t) :: stats
+    integer :: i, off, n
+    logical :: uniform
+    n = size(tg)
+    off = merge(1, 0, tg(1) > 0)
+    allocate (tt(n + off))
+    tt(1) = 0
+    tt(1+off:) = tg
+    uniform = .true.
+    dt = tt(min(2, size(tt))) - tt(1)
+    do i = 2, size(tt)
+      if (abs((tt(i) - tt(i-1)) - dt) > 1.0e-12_wp * dt) uniform = .false.
+    end do
+    if (size(tt) >= 2 .and. uniform) then
+      nsub = substeps(dt)
+      allocate (th1(size(tt)), om1(size(tt)))
+      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt / nsub, th1, om1, &
+          stats, status)
+      call add_stats(cost, stats)
+      th = th1(1+off:)
+      om = om1(1+off:)
+      return
+    end if
+    x = scene%theta0
+    v = scene%omega0
+    t0 = 0
+    do i = 1, n
+      if (tg(i) > t0) then
+        dt = tg(i) - t0
+        call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substeps(dt), x1, v1, &
+            stats, status)
+        x = x1
+        v = v1
+        call add_stats(cost, stats)
+        cost%runs = cost%runs - 1
+        if (status%code /= PENDULA_OK) return
+      end if
+      th(i) = x
+      om(i) = v
+      t0 = tg(i)
+    end do
+    cost%runs = cost%runs + 1
+  contains
+    pure real(wp) function substeps(d) result(ns)
+      real(wp), intent(in) :: d
+      ns = 2 * ceiling(d / (2 * h), i8)
+      ns = ns / factor
+    end function substeps
+  end subroutine rk4_run
 
   ! CVODE with rtol from tol and the number of periods in the window, checked
   ! by a run 10x tighter; the tighter run is returned, and the difference of
@@ -1104,7 +1201,7 @@ contains
       call add_stats(result%cost, stats)
       if (status%code /= PENDULA_OK) return
       est = state_diff(th1, om1, result%theta, result%omega, scene%w0) &
-          + 8 * eps * scale * (1 + scene%w0 * tend)
+          + integrator_rounding(scene, result%theta, real(stats%steps, wp))
       if (est <= scene%tol .or. rtol <= 1.0e-14_wp .or. it == MAX_REFINE) exit
       rtol = max(rtol * max(1.0e-3_wp, 0.3_wp * scene%tol / est), 1.0e-14_wp)
     end do
