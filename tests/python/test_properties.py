@@ -352,3 +352,144 @@ def test_rk4_restart_is_consistent(theta0, omega0, w0, gamma, split):
     full = pendula.rk4(t, theta0, omega0, w0, gamma, h)
     part = pendula.rk4(t[split:], full.theta[split], full.omega[split], w0, gamma, h)
     np.testing.assert_allclose(part.theta, full.theta[split:], rtol=0, atol=1e-12 * (1 + abs(theta0)))
+
+
+# ---- exact undamped solution ----------------------------------------------------------------------------------
+def _cond_scale(theta0, omega0, w0, t):
+    # The exact solution's own sensitivity grows with the number of periods
+    # (a phase error ~ eps w0 t) and near the separatrix; bound it generously.
+    m = math.sin(theta0 / 2) ** 2 + (omega0 / (2 * w0)) ** 2
+    return (1 + w0 * abs(t)) / max(abs(1 - m), 1e-6) ** 0.5
+
+
+@SETTINGS
+@given(theta0=fin(-6.0, 6.0), omega0=fin(-6.0, 6.0), w0=fin(0.2, 5.0), t=st.lists(fin(-50.0, 50.0), min_size=1,
+                                                                                    max_size=16))
+def test_undamped_energy_is_constant(theta0, omega0, w0, t):
+    t = np.array(t)
+    th, om = pendula.undamped(t, theta0, omega0, w0)
+    e0 = pendula.energy(theta0, omega0, w0)
+    e = pendula.energy(th, om, w0)
+    cond = max(_cond_scale(theta0, omega0, w0, x) for x in t)
+    assert np.all(np.abs(e - e0) <= 64 * EPS * cond * (e0 + w0 * w0)), (e - e0) / e0
+
+
+@SETTINGS
+@given(theta0=fin(-3.1, 3.1), omega0=fin(-6.0, 6.0), w0=fin(0.2, 5.0), t=fin(0.0, 30.0))
+def test_undamped_time_reversal(theta0, omega0, w0, t):
+    # theta(-t; theta0, omega0) = theta(t; theta0, -omega0), omega flips sign.
+    a_th, a_om = pendula.undamped(-t, theta0, omega0, w0)
+    b_th, b_om = pendula.undamped(t, theta0, -omega0, w0)
+    c = 64 * EPS * _cond_scale(theta0, omega0, w0, t)
+    assert abs(a_th - b_th) <= c * (1 + abs(a_th))
+    assert abs(a_om + b_om) <= c * (w0 + abs(a_om))
+
+
+@SETTINGS
+@given(theta0=fin(-3.0, 3.0), omega0=fin(-1.0, 1.0), w0=fin(0.2, 5.0), t=fin(0.0, 20.0), n=st.integers(1, 4))
+def test_undamped_periodicity(theta0, omega0, w0, t, n):
+    assume(pendula.regime(theta0, omega0, w0) == "libration")
+    T = pendula.period(theta0, omega0, w0)
+    assume(T < 1e3)
+    th, om = pendula.undamped(t, theta0, omega0, w0)
+    thn, omn = pendula.undamped(t + n * T, theta0, omega0, w0)
+    c = 64 * EPS * _cond_scale(theta0, omega0, w0, t + n * T) * (1 + w0 * T)
+    assert abs(thn - th) <= c * (1 + abs(th))
+    assert abs(omn - om) <= c * (w0 + abs(om))
+
+
+@SETTINGS
+@given(w0=fin(0.2, 5.0), t=fin(0.0, 3.0), k=st.integers(4, 12))
+def test_undamped_continuous_across_separatrix(w0, t, k):
+    # theta0 = 0, omega0 = 2 w0 (1 -+ delta): libration just below, rotation
+    # just above m = 1; at finite t both approach the separatrix motion
+    # theta = 4 atan(tanh(w0 t / 2)) (the gudermannian, eq. 1.66's limit).
+    delta = 10.0**-k
+    ref = 4 * math.atan(math.tanh(w0 * t / 2))
+    bound = 8 * delta * math.cosh(w0 * t) ** 2 + 1e-13
+    for om0 in (2 * w0 * (1 - delta), 2 * w0 * (1 + delta)):
+        th, _ = pendula.undamped(t, 0.0, om0, w0)
+        assert abs(th - ref) <= bound, (om0, th, ref)
+    th1, _ = pendula.undamped(t, 0.0, 2 * w0, w0)
+    assert abs(th1 - ref) <= 1e-13
+
+
+@SETTINGS
+@given(theta0=fin(-3.0, 3.0), omega0=fin(-2.0, 2.0), w0=fin(0.3, 3.0))
+def test_integrators_agree_with_exact_undamped(theta0, omega0, w0):
+    t = np.linspace(0.0, 10.0 / w0, 21)
+    th, om = pendula.undamped(t, theta0, omega0, w0)
+    m = pendula.elliptic_parameter(theta0, omega0, w0)[1]
+    assume(abs(m) > 1e-3)   # keep away from the separatrix (unbounded sensitivity)
+    r = pendula.rk4(t, theta0, omega0, w0, 0.0, 0.002 / w0)
+    tol = 1e-7 * (1 + abs(theta0) + abs(omega0) / w0) / abs(m)
+    np.testing.assert_allclose(r.theta, th, rtol=0, atol=tol)
+    np.testing.assert_allclose(r.omega, om, rtol=0, atol=tol * w0)
+    if pendula.have_cvode():
+        c = pendula.cvode(t, theta0, omega0, w0, 0.0, rtol=1e-11, atol=1e-13)
+        np.testing.assert_allclose(c.theta, th, rtol=0, atol=10 * tol)
+        np.testing.assert_allclose(c.omega, om, rtol=0, atol=10 * tol * w0)
+
+
+def test_small_angle_limit_of_undamped():
+    # theta0 -> 0: the exact solution tends to the harmonic one, error ~ theta0^3.
+    t = np.linspace(0.0, 20.0, 50)
+    for a in (1e-2, 1e-4, 1e-6):
+        th, _ = pendula.undamped(t, a, 0.0, 1.4)
+        sa, _ = pendula.small_angle(t, a, 0.0, 1.4)
+        assert np.max(np.abs(th - sa)) <= a**3 * (1 + 1.4 * 20.0) / 8 + 64 * EPS * a
+
+
+FORTRAN_EXACT = r"""
+program fortran_exact
+  use pendula
+  implicit none
+  real(wp) :: u, m, sn, cn, dn, am, t, theta0, omega0, w0, th, om
+  type(undamped_motion_t) :: mo
+  type(status_t) :: st
+  integer :: ios
+  do
+    read (*, *, iostat=ios) u, m, t, theta0, omega0, w0
+    if (ios /= 0) exit
+    call ellipj(u, m, sn, cn, dn, am)
+    call undamped_init(mo, theta0, omega0, w0, st)
+    th = -999; om = -999
+    if (st%code == PENDULA_OK) call undamped_eval(mo, t, th, om)
+    write (*, '(6(es25.17e3,1x))') sn, cn, dn, am, th, om
+  end do
+end program fortran_exact
+"""
+
+
+@pytest.fixture(scope="module")
+def fortran_exact(tmp_path_factory):
+    return _fortran_program(tmp_path_factory, "fortran_exact", FORTRAN_EXACT)
+
+
+def test_fortran_and_python_paths_agree_elliptic_and_undamped(fortran_exact):
+    rng = np.random.default_rng(99)
+    n = 300
+    u = rng.uniform(-30, 30, n)
+    m = np.concatenate([rng.uniform(-3, 0.999, n - 40), 1 - 10.0 ** -rng.uniform(3, 15, 20),
+                        rng.uniform(1.0, 4.0, 20)])
+    t = rng.uniform(-40, 40, n)
+    theta0 = rng.uniform(-7, 7, n)
+    omega0 = rng.uniform(-6, 6, n)
+    w0 = rng.uniform(0.2, 5, n)
+    rows = zip(u, m, t, theta0, omega0, w0)
+    lines = "\n".join(" ".join(repr(float(v)) for v in row) for row in rows)
+    out = subprocess.run([str(fortran_exact)], input=lines + "\n", capture_output=True, text=True,
+                         check=True).stdout.split("\n")
+    f = np.array([[float(x) for x in line.split()] for line in out if line.strip()])
+    py = np.array(pendula.ellipj(u, m)).T
+    th, om = pendula.undamped(t, theta0, omega0, w0)
+    # The Python API may take a different (vectorised) kernel than the
+    # elemental Fortran procedure, so agreement is within the documented
+    # accuracy, a few eps times the condition number (~ |u| for the Jacobi
+    # functions, ~ w0 |t| for the motion); a conversion error in the Python
+    # layer would be O(1).
+    ju = 16 * EPS * (1 + np.abs(u))[:, None]
+    assert np.all(np.abs(f[:, :4] - py) <= ju * (1 + np.abs(py))), np.max(np.abs(f[:, :4] - py) / ju)
+    c = 64 * EPS * (1 + w0 * np.abs(t))
+    assert np.all(np.abs(f[:, 4] - th) <= c * (1 + np.abs(th))), np.max(np.abs(f[:, 4] - th) / c)
+    assert np.all(np.abs(f[:, 5] - om) <= c * (w0 + np.abs(om))), np.max(np.abs(f[:, 5] - om) / c)
