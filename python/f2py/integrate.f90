@@ -59,20 +59,22 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   character(len=256), intent(out) :: msg
   type(status_t) :: st
   type(ode_stats_t) :: s
-  integer :: kinds(m), nev
+  integer :: nev
   logical :: trunc
   integer(i8) :: budget
+  ! integer(c_int) is the default integer of gfortran, so ev_kind goes straight
+  ! to the library (no automatic array: max_events can be 1e7).
   ! max_steps arrives as a double (Python int of any size); clamp to int64.
   budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
   if (m > 0) then
     call cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, &
-        theta, omega, ev_t, kinds, ev_theta, ev_omega, nev, trunc, s, st)
+        theta, omega, ev_t, ev_kind, ev_theta, ev_omega, nev, trunc, s, st)
   else
     call cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, s, st)
     nev = 0
     trunc = .false.
+    ev_kind = 0
   end if
-  ev_kind = kinds
   n_events = nev
   truncated = merge(1, 0, trunc)
   stats = [real(s%steps, c_double), real(s%rhs_evals, c_double), real(s%jac_evals, c_double), &
