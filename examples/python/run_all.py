@@ -86,6 +86,41 @@ def _run(label, path, out_dir, extra, log_dir, timeout):
     return {"label": label, "ok": code == 0, "seconds": seconds, "new": new, "notes": notes, "log": log}
 
 
+def _highlights(out):
+    """A few headline numbers read back from the tables (lines for the summary; empty if absent)."""
+    import csv
+    lines = []
+    try:
+        with open(out / "tables" / "integrators_comparison.csv", newline="") as fh:
+            rows = {(r["scenario"], r["b_kg_per_s"], r["method"]): r for r in csv.DictReader(fh)}
+        for b in ("0.01", "0.05"):
+            lst = float(rows[("text scene", b, "text listing as printed h=0.05")]["max_theta_error_rad"])
+            rk4 = float(rows[("text scene", b, "rk4 h=0.05")]["max_theta_error_rad"])
+            lines.append(f"| text §2.2 scene, b = {b} kg/s: max abs θ error, t = 0, 1, ..., 30 s | "
+                         f"printed listing {lst:.3g} rad | pendula.rk4 (same h = 0.05 s) {rk4:.2g} rad |")
+    except (OSError, KeyError, ValueError):
+        pass
+    try:
+        with open(out / "tables" / "scene_solver.csv", newline="") as fh:
+            for r in csv.DictReader(fh):
+                lines.append(f"| scene: {r['scene']} (tol {float(r['tol_rad']):g} rad) | model {r['model']} | "
+                             f"estimate {float(r['error_estimate_rad']):.2g}, true {float(r['true_error_rad']):.2g} rad |")
+    except (OSError, KeyError, ValueError):
+        pass
+    try:
+        with open(out / "tables" / "period_table.csv", newline="") as fh:
+            for r in csv.DictReader(fh):
+                if r["theta0_deg"] in ("90", "179"):
+                    t, t0 = float(r["T_exact_s"]), float(r["T0_small_angle_s"])
+                    lines.append(f"| period at θ0 = {r['theta0_deg']}° | exact {t:.6f} s | "
+                                 f"small-angle {t0:.6f} s ({(t0 - t) / t:+.1%}) |")
+    except (OSError, KeyError, ValueError):
+        pass
+    if lines:
+        lines = ["| highlight | value | compared with |", "|---|---|---|"] + lines
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", required=True, help="output folder (created if missing)")
@@ -122,8 +157,10 @@ def main(argv=None):
         if files:
             listing.append(f"\n{folder}/ ({len(files)} file(s)):")
             listing += [f"  {p.relative_to(out)}  ({p.stat().st_size} bytes)" for p in files]
+    highlights = "\n".join(_highlights(out))
     summary = (f"# pendula main job\n\nOutput folder: {out}\n\n{table}\n\n"
-               f"Logs of every step: {log_dir}\n" + "\n".join(listing) + "\n")
+               + (f"{highlights}\n\n" if highlights else "")
+               + f"Logs of every step: {log_dir}\n" + "\n".join(listing) + "\n")
     (out / "summary.md").write_text(summary)
 
     print(f"\nEverything is in {out}")
@@ -134,6 +171,8 @@ def main(argv=None):
     print(f"  logs:       {log_dir}")
     print(f"  summary:    {out / 'summary.md'}\n")
     print(table)
+    if highlights:
+        print("\n" + highlights)
     print("\n".join(listing))
     failed = [r["label"] for r in results if not r["ok"]]
     if failed:
