@@ -268,10 +268,18 @@ contains
 
     ! Clean-up, whatever happened above (each object is freed once, if made).
     if (c_associated(cvode_mem)) call FCVodeFree(cvode_mem)
-    if (associated(ls)) ierr = FSUNLinSolFree(ls)
+    if (associated(ls)) then
+      ierr = FSUNLinSolFree(ls)
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag ' // &
+          itoa(int(ierr, i8)))
+    end if
     if (associated(amat)) call FSUNMatDestroy(amat)
     if (associated(y)) call FN_VDestroy(y)
-    if (c_associated(ctx)) ierr = FSUNContext_Free(ctx)
+    if (c_associated(ctx)) then
+      ierr = FSUNContext_Free(ctx)
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag ' // &
+          itoa(int(ierr, i8)))
+    end if
 
   contains
 
