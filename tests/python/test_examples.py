@@ -104,6 +104,8 @@ def test_main_job_succeeds_and_prints_where_and_summary(main_job):
     assert "| step | status | time (s) | files written | notes |" in proc.stdout
     assert (out / "summary.md").read_text().startswith("# pendula main job")
     assert "FAILED" not in proc.stdout
+    assert "| highlight | value | compared with |" in proc.stdout
+    assert "printed listing" in proc.stdout and "period at θ0 = 179°" in proc.stdout
 
 
 @pytest.mark.parametrize("script", sorted(TABLES))
