@@ -24,6 +24,9 @@ def main(argv=None):
         print(f"wrote {path}")
     for key, why in missing.items():
         print(f"not drawn: {key}: {why}")
+    failed = [key for key, why in missing.items() if why.startswith("FAILED")]
+    if failed:
+        raise SystemExit(f"figure(s) failed: {', '.join(failed)}")
 
 
 if __name__ == "__main__":

@@ -246,6 +246,10 @@ def cmd_figures(args, out):
         out.write(f"  {Path(p).name}\n")
     for k, why in missing.items():
         out.write(f"  not drawn: {k}: {why}\n")
+    failed = [k for k, why in missing.items() if why.startswith("FAILED")]
+    if failed:
+        sys.stderr.write(f"{PROG} figures: {len(failed)} figure(s) failed: {', '.join(failed)}\n")
+        return 1
     return 0
 
 

@@ -689,7 +689,8 @@ def make_figures(out_dir, quick=False, only=None):
 
     Returns ``(written, missing)``: the list of paths written and a dict
     {figure key: reason} for figures this build cannot draw (a part of the
-    library missing); no placeholder is ever written for those.
+    library missing) or that failed (reason starting with "FAILED:"); no
+    placeholder is ever written for those.
     """
     keys = {k for k, _ in FIGURES}
     if only is not None:
@@ -704,6 +705,8 @@ def make_figures(out_dir, quick=False, only=None):
             written.extend(fn(out_dir, quick=quick))
         except FigureUnavailable as exc:
             missing[key] = str(exc)
+        except Exception as exc:  # one broken figure must not cost the others
+            missing[key] = f"FAILED: {type(exc).__name__}: {exc}"
     return written, missing
 
 

@@ -225,3 +225,18 @@ def test_solve_library_error_is_reported_not_raised(capsys):
     # the period of a damped motion is not defined: the library's ValueError becomes exit 2
     code, _, err = run(["solve", "--theta0", "1", "--t-end", "5", "--gamma", "0.5", "--want", "period"], capsys)
     assert code == 2 and err.startswith("pendula solve: error:")
+
+
+def test_a_failing_figure_is_reported_and_the_others_drawn(capsys, tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    from pendula import figures
+
+    def broken(out_dir, quick=False):
+        raise ZeroDivisionError("deliberately broken")
+
+    monkeypatch.setattr(figures, "FIGURES", [("fig03", figures.fig03_complete_elliptic_K), ("figXX", broken)])
+    code, out, err = run(["figures", "--out", str(tmp_path), "--quick"], capsys)
+    assert code == 1
+    assert "not drawn: figXX: FAILED: ZeroDivisionError: deliberately broken" in out
+    assert "1 figure(s) failed: figXX" in err
+    assert (tmp_path / "fig03_complete_elliptic_K_vs_k.png").is_file()
