@@ -160,6 +160,10 @@ def build_parser():
     _add_scene(t)
     t.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     t.add_argument("--png", default=None, metavar="FILE", help="also draw the work-precision diagram (PNG)")
+    t.add_argument("--models", default=None, metavar="NAMES",
+                   help="comma-separated subset of " + ", ".join(MODELS) + " (default: every applicable one)")
+    t.add_argument("--repeat", type=_count, default=3, metavar="N",
+                   help="wall time is the best of N >= 2 calls (default 3)")
     return p
 
 
@@ -323,7 +327,13 @@ def cmd_tradeoff(args, out):
     if fn is None:
         raise NotImplementedError("pendula.tradeoff (the scenes module) is not available in this build")
     scene = _scene(args)
-    table = fn(scene)
+    kw = {"repeat": args.repeat}
+    if args.models:
+        kw["models"] = [m.strip() for m in args.models.split(",") if m.strip()]
+        bad = [m for m in kw["models"] if m not in MODELS]
+        if bad:
+            raise CliError(f"--models: unknown model(s) {', '.join(bad)}; known: {', '.join(MODELS)}")
+    table = fn(scene, **kw)
     rows = _tradeoff_rows(table)
     header = ["model", "setting", "sup_error_rad", "wall_time_s", "rhs_evaluations"]
     out.write(_fmt_table(header, [[r[0], r[1], f"{r[2]:.3g}", f"{r[3]:.3g}", r[4]] for r in rows]) + "\n")

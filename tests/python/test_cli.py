@@ -240,3 +240,16 @@ def test_a_failing_figure_is_reported_and_the_others_drawn(capsys, tmp_path, mon
     assert "not drawn: figXX: FAILED: ZeroDivisionError: deliberately broken" in out
     assert "1 figure(s) failed: figXX" in err
     assert (tmp_path / "fig03_complete_elliptic_K_vs_k.png").is_file()
+
+
+@needs_scenes
+def test_tradeoff_models_subset_and_errors(capsys, tmp_path):
+    code, out, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--n", "11", "--models", "exact,rk4",
+                          "--repeat", "2"], capsys)
+    assert code == 0, err
+    lines = [ln.split()[0] for ln in out.splitlines()[2:] if ln.strip()]
+    assert set(lines) == {"exact", "rk4"}
+    code, _, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--models", "euler"], capsys)
+    assert code == 2 and "--models: unknown model(s) euler" in err
+    code, _, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--gamma", "1", "--models", "exact"], capsys)
+    assert code == 2 and "do not apply" in err   # the library's ValueError, reported
