@@ -64,6 +64,7 @@ module pendula_undamped
     real(wp) :: ch = 1            !< cos(theta_r/2) = dn(u0|m) = cn(v0|1/m)
     real(wp) :: q = 0             !< Omega0/(2 w0) = k cn(u0|m) = s k dn(v0|1/m)
     real(wp) :: dnb = 1           !< dn(v0|1/m) = |q|/k (rotation)
+    logical :: free = .false.     !< |Omega0/(2 w0)| > 1e150: gravity below 1e-300 relative, free rotor
     real(wp) :: kk = 0            !< K of the elliptic parameter in use: K(m) or K(1/m)
     real(wp) :: period = 0        !< 4K(m)/w0, 2K(1/m)/(k w0) per turn, or +inf [s]
     real(wp) :: amplitude = 0     !< max |theta - center| (libration), pi, or +inf [rad]
@@ -244,20 +245,39 @@ contains
     ! ~t/(T (1-m) K); a double-double c keeps 1 - m relatively exact.
     call cos_dd(h, hlo, ch, chlo)
     ! q = Omega0/(2 w0) with its rounding error qlo (exact residual by two_prod)
-    w2 = 2 * w0
-    q = omega0 / w2
-    call two_prod(q, w2, p, e)
-    qlo = ((omega0 - p) - e) / w2
+    w2 = omega0 / w0                  ! Omega0/w0, halved below (exact); no 2 w0 overflow
+    q = 0.5_wp * w2
     motion%sh = sh
     motion%ch = ch
     motion%q = q
+    if (abs(q) > 1.0e150_wp) then
+      ! m = q^2 would overflow; the pull of gravity is below 1e-300 of the
+      ! motion, so the free rotor theta0 + Omega0 t is exact in double.
+      motion%regime = REGIME_ROTATION
+      motion%free = .true.
+      motion%s = sign(1.0_wp, q)
+      motion%k = abs(q)
+      motion%m = ieee_value(1.0_wp, ieee_positive_inf)
+      motion%mc = -motion%m
+      motion%rate = abs(omega0)
+      motion%period = 2 * pi / abs(omega0)
+      motion%amplitude = ieee_value(1.0_wp, ieee_positive_inf)
+      motion%energy = 0.5_wp * omega0 * omega0
+      motion%plan = ellipj_planc(1.0_wp)      ! unused
+      return
+    end if
+    qlo = 0
+    if (max(abs(w2), w0) < 1.0e290_wp) then   ! the Veltkamp split would overflow beyond
+      call two_prod(w2, w0, p, e)
+      qlo = 0.5_wp * (((omega0 - p) - e) / w0)
+    end if
     motion%m = sh * sh + q * q
     motion%k = sqrt(motion%m)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double
     call dd_add(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
     a = ch + abs(q)
     motion%mc = (d + dlo) * a
-    motion%energy = 2 * w0 * w0 * motion%m
+    motion%energy = 2 * (w0 * motion%k)**2
 
     if (motion%mc > 0) then
       motion%regime = REGIME_LIBRATION
@@ -321,6 +341,11 @@ contains
     real(wp), parameter :: half_pi = 0.5_wp * pi
     tt = t
     turns = 0
+    if (motion%free) then
+      theta = motion%theta0 + motion%omega0 * t
+      omega = motion%omega0
+      return
+    end if
     if (motion%regime == REGIME_SEPARATRIX) then
       ! |w0 t| ~> 1e301 would overflow; theta is pi to the last bit long before
       if (exponent(t) > 1000 - exponent(motion%rate)) tt = sign(1.0e300_wp, t) / motion%rate
@@ -345,7 +370,7 @@ contains
       z = ca * motion%q - sa * motion%sh * da * motion%ch
       den = ca * ca + (sa * motion%ch)**2
       theta = motion%center + 2 * atan2(y, x)
-      omega = 2 * motion%w0 * (z / den)
+      omega = 2 * (motion%w0 * (z / den))   ! w0 first: no spurious overflow
     case (REGIME_ROTATION)
       a = motion%rate * tt
       call ellipj_eval(motion%plan, a, sa, ca, da, ama)
@@ -362,7 +387,7 @@ contains
       theta = motion%center + 2 * motion%s * (ama + delta)
       if (turns /= 0) theta = theta + motion%s * (2 * pi) * turns
       den = ca * ca + (sa * motion%dnb)**2
-      omega = 2 * motion%s * motion%rate * ((da * motion%dnb - sa * sb * ca * motion%ch / motion%m) / den)
+      omega = 2 * (motion%s * motion%rate * ((da * motion%dnb - sa * sb * ca * motion%ch / motion%m) / den))
     case default
       if (motion%s == 0) then
         theta = motion%center + motion%theta_r
@@ -373,7 +398,7 @@ contains
       ! gd(x) = 2 atan(tanh(x/2)), sech(x) = 2 e^-|x| / (1 + e^-2|x|): no overflow
       ex = exp(-abs(x))
       theta = motion%center + motion%s * 4 * atan(tanh(0.5_wp * x))
-      omega = motion%s * 4 * motion%w0 * ex / (1 + ex * ex)
+      omega = 2 * (motion%s * motion%w0 * (2 * ex / (1 + ex * ex)))
     end select
   end subroutine undamped_eval
 
