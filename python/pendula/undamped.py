@@ -44,10 +44,14 @@ def undamped(t, theta0, omega0=0.0, w0=1.0):
     if all(x.ndim == 0 for x in state):
         # one state at many times: only t is copied, the motion is built once
         ta = as_real(t, "t")
+        if ta.size == 0:
+            return np.empty(ta.shape), np.empty(ta.shape)
         theta, omega, code, msg = _undamped.undamped_one_f2py(ta.reshape(-1), *(float(x) for x in state))
         raise_for_status(code, msg)
         return restore(theta, ta.shape, ta.ndim == 0), restore(omega, ta.shape, ta.ndim == 0)
     shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0)
+    if f["t"].size == 0:
+        return np.empty(shape), np.empty(shape)
     theta, omega, code, msg = _undamped.undamped_f2py(f["t"], f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
@@ -61,6 +65,8 @@ def small_angle(t, theta0, omega0=0.0, w0=1.0):
     how far it is from ``undamped``.  Returns ``(theta, omega)``.
     """
     shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0)
+    if f["t"].size == 0:
+        return np.empty(shape), np.empty(shape)
     theta, omega, code, msg = _undamped.small_angle_f2py(f["t"], f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
@@ -76,6 +82,8 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
     (the model cannot go over the top).  Non-decreasing in |tmax|.
     """
     shape, scalar, f = broadcast_real(tmax=tmax, theta0=theta0, omega0=omega0, w0=w0)
+    if f["tmax"].size == 0:
+        return np.empty(shape), np.empty(shape)
     dth, dom, code, msg = _undamped.small_angle_bound_f2py(f["tmax"], f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return restore(dth, shape, scalar), restore(dom, shape, scalar)
@@ -83,6 +91,9 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
 
 def _props(theta0, omega0, w0):
     shape, scalar, f = broadcast_real(theta0=theta0, omega0=omega0, w0=w0)
+    if f["theta0"].size == 0:
+        e = np.empty(0)
+        return shape, scalar, (e, e, e, e, e, np.empty(0, dtype=np.int32))
     out = _undamped.undamped_props_f2py(f["theta0"], f["omega0"], f["w0"])
     raise_for_status(out[-2], out[-1])
     return shape, scalar, out[:-2]
@@ -128,6 +139,8 @@ def energy(theta, omega, w0=1.0):
     Computed as omega^2/2 + 2 w0^2 sin^2(theta/2) (no cancellation near theta = 0).
     """
     shape, scalar, f = broadcast_real(theta=theta, omega=omega, w0=w0)
+    if f["theta"].size == 0:
+        return np.empty(shape)
     e, code, msg = _undamped.pendulum_energy_f2py(f["theta"], f["omega"], f["w0"])
     raise_for_status(code, msg)
     return restore(e, shape, scalar)
@@ -158,6 +171,8 @@ def equilibria(n, w0=1.0):
     scalar = narr.ndim == 0 and w0a.ndim == 0
     nf = np.ascontiguousarray(np.broadcast_to(narr, shape), dtype=np.int32).reshape(-1)
     wf = np.ascontiguousarray(np.broadcast_to(w0a, shape), dtype=np.float64).reshape(-1)
+    if nf.size == 0:
+        return np.empty(shape), np.empty(shape + (2,), dtype=complex), np.empty(shape, dtype="<U6")
     theta, lre, lim, kind, code, msg = _undamped.equilibria_f2py(nf, wf)
     raise_for_status(code, msg)
     lam = np.empty(nf.shape + (2,), dtype=complex)

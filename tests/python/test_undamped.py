@@ -458,3 +458,17 @@ def test_type_and_shape_errors():
         pendula.undamped(1.0, 0.1 + 1j)
     with pytest.raises(ValueError, match="broadcast"):
         pendula.undamped(np.zeros(3), np.zeros(2))
+
+
+def test_empty_arrays_give_empty_results():
+    e = np.array([])
+    for fn in (pendula.undamped, pendula.small_angle):
+        th, om = fn(e, 0.1, 0.0, 1.0)
+        assert th.shape == (0,) and om.shape == (0,)
+        th, om = fn(1.0, np.zeros((2, 0)))
+        assert th.shape == (2, 0)
+    assert pendula.period(e).shape == (0,) and pendula.regime(e).shape == (0,)
+    assert pendula.small_angle_error(e, 0.1)[0].shape == (0,)
+    assert pendula.energy(e, 0.0).shape == (0,)
+    theta, lam, kind = pendula.equilibria(np.array([], dtype=int))
+    assert theta.shape == (0,) and lam.shape == (0, 2) and kind.shape == (0,)
