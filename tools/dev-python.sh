@@ -8,6 +8,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 bdir=${1:-build/dev}
 shift || true
 case "$bdir" in /*) ;; *) bdir="$here/$bdir" ;; esac
+mkdir -p "$(dirname "$bdir")"
 if [ ! -f "$bdir/build.ninja" ]; then
   meson setup "$bdir" "$here" -Dpython=enabled "$@" >"$bdir.setup.log" 2>&1 || { cat "$bdir.setup.log" >&2; exit 1; }
 fi
