@@ -1,6 +1,7 @@
 """Benchmark pendula's elliptic functions against scipy.special in the same run.
 
-Prints ns/point (best of several repeats) and throughput ratios (SciPy time /
+Prints ns/point (best of several interleaved repeats, process CPU time so that
+other processes on a shared machine disturb the figures less) and throughput ratios (SciPy time /
 pendula time, > 1 means pendula is faster) on N points (default 1e6):
 
   ellipj   random (u, m): u ~ U(-10, 10), m ~ U(0, 1)
@@ -25,9 +26,9 @@ import pendula
 def best_time(fn, repeat):
     best = np.inf
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         fn()
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, time.process_time() - t0)
     return best
 
 

@@ -5,13 +5,13 @@
 
 subroutine ellipk_f2py(n, m, k)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipk
+  use pendula_elliptic, only: ellipk_array
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: m(n)
   real(c_double), intent(out) :: k(n)
-  k = ellipk(m)
+  call ellipk_array(m, k)
 end subroutine ellipk_f2py
 
 subroutine ellipkc_f2py(n, mc, k)
@@ -27,13 +27,13 @@ end subroutine ellipkc_f2py
 
 subroutine ellipe_f2py(n, m, e)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipe
+  use pendula_elliptic, only: ellipe_array
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: m(n)
   real(c_double), intent(out) :: e(n)
-  e = ellipe(m)
+  call ellipe_array(m, e)
 end subroutine ellipe_f2py
 
 subroutine ellipec_f2py(n, mc, e)
@@ -94,7 +94,7 @@ end subroutine ellipjc_f2py
 ! One parameter, many u: the m-dependent work is done once (ellipj_plan).
 subroutine ellipj_plan_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_eval
+  use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_eval_array
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
@@ -102,12 +102,12 @@ subroutine ellipj_plan_f2py(n, u, m, sn, cn, dn, ph)
   real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
   type(ellipj_plan_t) :: plan
   plan = ellipj_plan(m)
-  call ellipj_eval(plan, u, sn, cn, dn, ph)
+  call ellipj_eval_array(plan, u, sn, cn, dn, ph)
 end subroutine ellipj_plan_f2py
 
 subroutine ellipjc_plan_f2py(n, u, mc, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_planc, ellipj_eval
+  use pendula_elliptic, only: ellipj_plan_t, ellipj_planc, ellipj_eval_array
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
@@ -115,5 +115,5 @@ subroutine ellipjc_plan_f2py(n, u, mc, sn, cn, dn, ph)
   real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
   type(ellipj_plan_t) :: plan
   plan = ellipj_planc(mc)
-  call ellipj_eval(plan, u, sn, cn, dn, ph)
+  call ellipj_eval_array(plan, u, sn, cn, dn, ph)
 end subroutine ellipjc_plan_f2py

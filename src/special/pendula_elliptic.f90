@@ -31,9 +31,9 @@ module pendula_elliptic
   implicit none
   private
 
-  public :: ellipk, ellipkc, ellipe, ellipec, ellipf, ellipfc
+  public :: ellipk, ellipkc, ellipe, ellipec, ellipf, ellipfc, ellipk_array, ellipe_array
   public :: ellipj, ellipjc
-  public :: ellipj_plan_t, ellipj_plan, ellipj_planc, ellipj_eval
+  public :: ellipj_plan_t, ellipj_plan, ellipj_planc, ellipj_eval, ellipj_eval_array
 
   real(wp), parameter :: pi = 3.141592653589793115997963468544185_wp
   real(wp), parameter :: pi_lo = 1.2246467991473532e-16_wp      ! pi - pi(double)
@@ -325,6 +325,17 @@ contains
     e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
   end subroutine two_prod
 
+  !> Veltkamp split a = hi + lo, each with at most 26 significant bits.
+  pure elemental subroutine two_prod_split(a, hi, lo)
+    real(wp), intent(in) :: a
+    real(wp), intent(out) :: hi, lo
+    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
+    real(wp) :: t
+    t = split * a
+    hi = t - (t - a)
+    lo = a - hi
+  end subroutine two_prod_split
+
   pure elemental subroutine two_sum(a, b, s, e)
     real(wp), intent(in) :: a, b
     real(wp), intent(out) :: s, e
@@ -484,6 +495,35 @@ contains
     end if
   end function kfun
 
+  !> ellipk over a rank-1 array (k of the size of m): the same numbers as the
+  !> elemental function, with the polynomial evaluation inlined in one loop.
+  pure subroutine ellipk_array(m, k)
+    real(wp), intent(in) :: m(:)
+    real(wp), intent(out) :: k(:)
+    integer :: i
+    do i = 1, size(m)
+      if (m(i) >= 0 .and. m(i) < 1) then
+        k(i) = kpair(m(i), 1 - m(i))
+      else
+        k(i) = ellipk(m(i))
+      end if
+    end do
+  end subroutine ellipk_array
+
+  !> ellipe over a rank-1 array (same numbers as the elemental function).
+  pure subroutine ellipe_array(m, e)
+    real(wp), intent(in) :: m(:)
+    real(wp), intent(out) :: e(:)
+    integer :: i
+    do i = 1, size(m)
+      if (m(i) >= 0 .and. m(i) < 1) then
+        e(i) = epair(m(i), 1 - m(i))
+      else
+        e(i) = ellipe(m(i))
+      end if
+    end do
+  end subroutine ellipe_array
+
   !> Complete elliptic integral of the second kind E(m), m <= 1 (E(1) = 1,
   !> E(-Inf) = +Inf); NaN for m > 1 or NaN.  A few ulps.
   elemental real(wp) function ellipe(m) result(e)
@@ -538,10 +578,12 @@ contains
     integer :: i
     x = x0; y = y0; z = z0
     f = 1
+    ! the series below is exact through degree 7 in the deviations, so stopping at
+    ! |dev| <= 5e-3 leaves a truncation ~ (5e-3)**8 ~ 4e-19 (Carlson 1995, DLMF 19.36.1)
     do i = 1, 200
-      a = (x + y + z) / 3
+      a = (x + y + z) * (1.0_wp / 3)
       dx = (a - x); dy = (a - y); dz = (a - z)
-      if (max(abs(dx), abs(dy), abs(dz)) <= 2.0e-3_wp * a) exit
+      if (max(abs(dx), abs(dy), abs(dz)) <= 5.0e-3_wp * a) exit
       sx = sqrt(x); sy = sqrt(y); sz = sqrt(z)
       lam = sx * (sy + sz) + sy * sz
       x = 0.25_wp * (x + lam); y = 0.25_wp * (y + lam); z = 0.25_wp * (z + lam)
@@ -839,6 +881,87 @@ contains
     if (present(am)) am = a
   end subroutine ellipj_eval
 
+  !> ellipj_eval over rank-1 arrays (sn, cn, dn and the optional am of the size of u):
+  !> the same numbers as the elemental form, with the table look-up inlined in one loop.
+  pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, am)
+    type(ellipj_plan_t), intent(in) :: plan
+    real(wp), intent(in) :: u(:)
+    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(out), optional :: am(:)
+    real(wp) :: a
+    integer :: i
+    if (allocated(plan%tab)) then
+      if (present(am)) then
+        call tab_loop(plan%par, plan%tab, plan%ntab, size(u), u, .true., sn, cn, dn, am)
+      else
+        call tab_loop(plan%par, plan%tab, plan%ntab, size(u), u, .false., sn, cn, dn, sn)
+      end if
+    else
+      do i = 1, size(u)
+        call eval_plan(plan%par, u(i), .true., present(am), sn(i), cn(i), dn(i), a)
+        if (present(am)) am(i) = a
+      end do
+    end if
+  end subroutine ellipj_eval_array
+
+  !> The loop of ellipj_eval_array for tabulated plans.  Points the fast reduction
+  !> cannot take (NaN, Inf, n >= 2**26 half periods) go through eval_plan.
+  pure subroutine tab_loop(par, tab, ntab, n, u, want_am, sn, cn, dn, am)
+    type(jpar_t), intent(in) :: par
+    integer, intent(in) :: ntab, n
+    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab), u(n)
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn(n), cn(n), dn(n)
+    real(wp), intent(inout) :: am(*)
+    real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
+    integer :: i, j, parity
+    call two_prod_split(2 * par%khi, c1, c2)
+    c3 = 2 * par%klo
+    inv2k = 1 / (2 * par%khi)
+    vmax = 2.0_wp**25 * (2 * par%khi)
+    do i = 1, n
+      v = abs(u(i)) * par%uscale
+      if (.not. (v < vmax)) then
+        call eval_plan(par, u(i), .true., want_am, sn(i), cn(i), dn(i), a, tab, ntab)
+        if (want_am) am(i) = a
+        cycle
+      end if
+      vl = 0
+      if (par%kind /= 0) then
+        call two_prod(abs(u(i)), par%uscale, v, vl)
+        vl = vl + abs(u(i)) * par%uscale_lo
+      end if
+      q = anint(v * inv2k)
+      r = (((v - q * c1) - q * c2) + vl) - q * c3
+      t = abs(r)
+      j = min(int(t * tab_inv_step + 0.5_wp), ntab)
+      del = t - j * tab_step
+      fs = sign(horner(tab(:, 1, j), del), r)
+      fc = horner(tab(:, 2, j), del)
+      fd = horner(tab(:, 3, j), del)
+      parity = iand(int(q), 1)
+      if (par%kind == 2) then
+        if (parity /= 0) then
+          fs = -fs; fd = -fd
+        end if
+      else if (parity /= 0) then
+        fs = -fs; fc = -fc
+      end if
+      if (u(i) < 0) fs = -fs
+      sn(i) = fs; cn(i) = fc; dn(i) = fd
+      if (want_am) then
+        fa = sign(horner(tab(:, 4, j), del), r)
+        if (par%kind == 2) then
+          if (parity /= 0) fa = -fa
+        else
+          fa = fa + q * pi
+        end if
+        if (u(i) < 0) fa = -fa
+        am(i) = fa
+      end if
+    end do
+  end subroutine tab_loop
+
   !> Core functions at 0 <= t <= K (+ one table step): s, c, d of the core parameter.
   pure subroutine core_at(plan, t, s, c, d)
     type(jpar_t), intent(in) :: plan
@@ -978,16 +1101,25 @@ contains
     parity = 0
     r = v
     if (v > khi) then
-      ! u * scale and n * 2K both in double-double: large u keeps its digits
-      call two_prod(abs(u), plan%uscale, v, vl)
-      vl = vl + abs(u) * plan%uscale_lo
+      ! u * scale and n * 2K both in extra precision: large u keeps its digits
+      vl = 0
+      if (plan%kind /= 0) then
+        call two_prod(abs(u), plan%uscale, v, vl)
+        vl = vl + abs(u) * plan%uscale_lo
+      end if
       n = anint(v / (2 * khi))
       if (.not. exact_k .and. n > 4) then
         call kdd(plan%mc, plan%mcl, khi, klo)
         n = anint(v / (2 * khi))
       end if
-      call two_prod(n, 2 * khi, p, e)
-      r = (((v - p) - e) + vl) - n * (2 * klo)
+      if (n < 2.0_wp**26) then
+        ! Cody-Waite: 2K = c1 + c2 + 2 klo with c1, c2 of 26 bits, so n*c1, n*c2 are exact
+        call two_prod_split(2 * khi, p, e)
+        r = (((v - n * p) - n * e) + vl) - n * (2 * klo)
+      else
+        call two_prod(n, 2 * khi, p, e)
+        r = (((v - p) - e) + vl) - n * (2 * klo)
+      end if
       if (n < 1.0e15_wp) then
         parity = int(mod(int(n, kind=8), 2_8))
       else

@@ -80,6 +80,21 @@ program test_elliptic
     call t%check_true(x <= 64 * eps, 'planc = elementwise')
   end do
 
+  ! ---- array forms give the same numbers as the elemental ones
+  do j = 1, size(ms)
+    plan = ellipj_plan(ms(j))
+    call ellipj_eval(plan, u, s, c, d, a)
+    call ellipj_eval_array(plan, u, s2, c2, d2, a2)
+    x = max(maxval(abs(s2 - s)), maxval(abs(c2 - c)), maxval(abs(d2 - d) / max(1.0_wp, abs(d))), &
+        maxval(abs(a2 - a) / max(1.0_wp, abs(a))))
+    call t%check_true(x <= 4 * eps, 'ellipj_eval_array = ellipj_eval')
+  end do
+  s = -2.0_wp + 0.0015_wp * [(i, i = 0, 2000)]
+  call ellipk_array(s, c)
+  call ellipe_array(s, d)
+  call t%check_true(all(c == ellipk(s) .or. (c /= c .and. ellipk(s) /= ellipk(s))), 'ellipk_array = ellipk')
+  call t%check_true(all(d == ellipe(s) .or. (d /= d .and. ellipe(s) /= ellipe(s))), 'ellipe_array = ellipe')
+
   ! ---- 4K period and F(am(u)) = u
   x = ellipk(0.8_wp)
   call ellipj(u, 0.8_wp, s, c, d, a)
