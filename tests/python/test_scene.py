@@ -184,7 +184,9 @@ def test_stiff_damping_uses_cvode_bdf_when_built():
     r = pendula.solve(s)
     if pendula.have_cvode():
         assert r.model == "cvode" and "BDF" in r.reason
-    assert r.cost["rhs_evals"] < 1e6
+        assert r.cost["rhs_evals"] < 1e5
+    else:
+        assert r.model == "rk4"   # held to RK4's stability limit h <= 2.785/gamma: slow but right
     # the overdamped pendulum creeps to the bottom at the slow rate w0^2/gamma
     slow = W0**2 / (1e4 * W0)
     assert r.theta[-1] == pytest.approx(2 * np.arctan(np.tan(0.5) * np.exp(-slow * 200)), rel=1e-4)
