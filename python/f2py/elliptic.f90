@@ -71,24 +71,24 @@ end subroutine ellipfc_f2py
 
 subroutine ellipj_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj
+  use pendula_elliptic, only: ellipj_array
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: u(n), m(n)
   real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
-  call ellipj(u, m, sn, cn, dn, ph)
+  call ellipj_array(u, m, sn, cn, dn, ph)
 end subroutine ellipj_f2py
 
 subroutine ellipjc_f2py(n, u, mc, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipjc
+  use pendula_elliptic, only: ellipjc_array
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: u(n), mc(n)
   real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
-  call ellipjc(u, mc, sn, cn, dn, ph)
+  call ellipjc_array(u, mc, sn, cn, dn, ph)
 end subroutine ellipjc_f2py
 
 ! One parameter, many u: the m-dependent work is done once (ellipj_plan).

@@ -32,7 +32,7 @@ module pendula_elliptic
   private
 
   public :: ellipk, ellipkc, ellipe, ellipec, ellipf, ellipfc, ellipk_array, ellipe_array
-  public :: ellipj, ellipjc
+  public :: ellipj, ellipjc, ellipj_array, ellipjc_array
   public :: ellipj_plan_t, ellipj_plan, ellipj_planc, ellipj_eval, ellipj_eval_array
 
   real(wp), parameter :: pi = 3.141592653589793115997963468544185_wp
@@ -282,6 +282,16 @@ module pendula_elliptic
       1.58705036572104261e-02_wp, 1.75811415006300181e-02_wp, 3.38361490522440548e-03_wp, &
       3.25575758460640574e-02_wp], [13, 4])
 
+
+  ! atan(w) = w + w t P(t), t = w**2 <= tan(pi/8)**2: P of degree 10 (Chebyshev interpolant,
+  ! tests/python/gen_elliptic_coeffs.py --atan); atan on [-1, 1] within 1.2 ulps.
+  real(wp), parameter :: atpoly(0:10) = [ &
+      -3.33333333333333315e-01_wp, 1.99999999999955214e-01_wp, -1.42857142846665425e-01_wp, &
+      1.11111110152563614e-01_wp, -9.09090457812390257e-02_wp, 7.69218319082608654e-02_wp, &
+      -6.66451144738194751e-02_wp, 5.85814891280221003e-02_wp, -5.08544973794025981e-02_wp, &
+      3.92316582955871893e-02_wp, -1.91768871190622602e-02_wp]
+
+  real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp
 
   !> Parameter-dependent constants of sn, cn, dn at one m (no table; cheap to build).
   type :: jpar_t
@@ -725,8 +735,11 @@ contains
     real(wp) :: w, w2, x, y, s2, den, r, c2, d2
     integer :: n, i
     n = 0
-    if (v > wmax) n = exponent(v / wmax)
-    w = scale(v, -n)
+    w = v
+    do while (w > wmax)
+      w = 0.5_wp * w
+      n = n + 1
+    end do
     w2 = w * w
     s = w * (cs(0) + w2 * (cs(1) + w2 * (cs(2) + w2 * (cs(3) + w2 * (cs(4) + w2 * (cs(5) + w2 * cs(6)))))))
     x = w2 * (cc(0) + w2 * (cc(1) + w2 * (cc(2) + w2 * (cc(3) + w2 * (cc(4) + w2 * (cc(5) + w2 * cc(6)))))))
@@ -962,6 +975,32 @@ contains
     end do
   end subroutine tab_loop
 
+  !> Amplitude atan2(sn, cn) for normalized sn**2 + cn**2 = 1 and cn >= 0 (always the case
+  !> on the core interval [0, K]): am = 2 atan(sn/(1 + cn)) by the half-angle identity,
+  !> atan by a polynomial; no libm call (glibc atan2 dominated the cost).
+  pure elemental real(wp) function am_of(s, c) result(am)
+    real(wp), intent(in) :: s, c
+    real(wp) :: as, c1, w, t, t2, t4, p, base
+    ! x = |s|/(1 + c) in [0, 1]; above tan(pi/8) use atan x = pi/4 + atan((x - 1)/(x + 1)),
+    ! formed directly from s and c with a single division
+    as = abs(s)
+    c1 = 1 + c
+    if (as > tan_pi8 * c1) then
+      w = (as - c1) / (as + c1)
+      base = 0.25_wp * pi
+    else
+      w = as / c1
+      base = 0
+    end if
+    t = w * w
+    t2 = t * t
+    t4 = t2 * t2
+    p = ((atpoly(0) + atpoly(1) * t) + (atpoly(2) + atpoly(3) * t) * t2) &
+        + ((atpoly(4) + atpoly(5) * t) + (atpoly(6) + atpoly(7) * t) * t2) * t4 &
+        + ((atpoly(8) + atpoly(9) * t) + atpoly(10) * t2) * (t4 * t4)
+    am = sign(2 * (base + (w + w * t * p)), s)
+  end function am_of
+
   !> Core functions at 0 <= t <= K (+ one table step): s, c, d of the core parameter.
   pure subroutine core_at(plan, t, s, c, d)
     type(jpar_t), intent(in) :: plan
@@ -995,16 +1034,14 @@ contains
     select case (plan%kind)
     case (2)   ! m > 1 (DLMF 22.6.11): sn = sn'/k, cn = dn', dn = cn'; am on the asin branch
       fs = s * plan%oscale; fc = d; fd = c
-      if (want_am) fa = atan2(fs, d)
     case (3)   ! m < 0 (DLMF 22.6.12): sn = k1' sd', cn = cd', dn = nd'
       fs = plan%oscale * s / d
       fc = cd_ratio(s, c, d, plan%mc)
       fd = 1 / d
-      if (want_am) fa = atan2(plan%oscale * s, c)
     case default
       fs = s; fc = c; fd = d
-      if (want_am) fa = atan2(s, c)
     end select
+    if (want_am) fa = am_of(fs, fc)
   end subroutine final_at
 
   !> Taylor coefficients (degree ntay) of the final sn, cn, dn, am about t, from the
@@ -1088,7 +1125,7 @@ contains
       end if
       dn = cn
       am = 0
-      if (want_am) am = atan2(sn, cn)
+      if (want_am) am = am_of(sn, cn)
       return
     end if
     if (.not. ieee_is_finite(u)) then
@@ -1179,6 +1216,35 @@ contains
     call eval_plan(make_par(m, 1 - m, .false., .false.), u, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipj
+
+  !> ellipj over rank-1 arrays u, m (and outputs) of one size: the same numbers as the
+  !> elemental form, in one loop inside this module.
+  pure subroutine ellipj_array(u, m, sn, cn, dn, am)
+    real(wp), intent(in) :: u(:), m(:)
+    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(out), optional :: am(:)
+    real(wp) :: a
+    integer :: i
+    do i = 1, size(u)
+      call eval_plan(make_par(m(i), 1 - m(i), .false., .false.), u(i), .false., present(am), &
+          sn(i), cn(i), dn(i), a)
+      if (present(am)) am(i) = a
+    end do
+  end subroutine ellipj_array
+
+  !> ellipjc over rank-1 arrays (same numbers as the elemental form).
+  pure subroutine ellipjc_array(u, mc, sn, cn, dn, am)
+    real(wp), intent(in) :: u(:), mc(:)
+    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(out), optional :: am(:)
+    real(wp) :: a
+    integer :: i
+    do i = 1, size(u)
+      call eval_plan(make_par(1 - mc(i), mc(i), .true., .false.), u(i), .false., present(am), &
+          sn(i), cn(i), dn(i), a)
+      if (present(am)) am(i) = a
+    end do
+  end subroutine ellipjc_array
 
   !> Jacobi functions with the complementary parameter mc = 1 - m (any real mc;
   !> accurate near m = 1 including the smallest subnormal mc; mc = 0 gives tanh/sech).

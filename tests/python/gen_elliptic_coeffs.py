@@ -64,7 +64,7 @@ def fortran_arrays():
     return "\n".join(out)
 
 
-if __name__ == "__main__" and "--ke" not in __import__("sys").argv:
+if __name__ == "__main__" and len(__import__("sys").argv) == 1:
     print(fortran_arrays())
 
 
@@ -135,3 +135,25 @@ def ke_fortran():
 
 if __name__ == "__main__" and "--ke" in __import__("sys").argv:
     print(ke_fortran())
+
+
+# ---------------------------------------------------------------- amplitude
+# atan(w) = w + w t P(t), t = w^2 <= tan(pi/8)^2 (after atan(x) = pi/4 + atan((x-1)/(x+1))),
+# P of degree 10 (Chebyshev interpolant at 40 digits, powers of t): <= 1.2 ulps measured.
+def atan_poly(deg=10):
+    import mpmath as mp
+    mp.mp.dps = 40
+    T = (mp.sqrt(2) - 1) ** 2
+
+    def g(t):
+        if t == 0:
+            return mp.mpf(-1) / 3
+        w = mp.sqrt(t)
+        return (mp.atan(w) - w) / (w * t)
+    return _shift_to_zero(_cheb_monomial(g, mp.mpf(0), T, deg, mp), T / 2, mp)
+
+
+if __name__ == "__main__" and "--atan" in __import__("sys").argv:
+    vals = [f"{float(x):.17e}_wp" for x in atan_poly()]
+    body = ", &\n      ".join(", ".join(vals[i:i + 3]) for i in range(0, len(vals), 3))
+    print(f"  real(wp), parameter :: atpoly(0:{len(vals)-1}) = [ &\n      {body}]")
