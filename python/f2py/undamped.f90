@@ -17,7 +17,7 @@ subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   character(len=256), intent(out) :: msg
   type(undamped_motion_t) :: motion
   type(status_t) :: st
-  integer :: i
+  integer :: i, run
   logical :: built
   code = PENDULA_OK
   msg = ''
@@ -28,7 +28,14 @@ subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
     if (built) built = theta0(i) == theta0(i - 1) .and. omega0(i) == omega0(i - 1) &
         .and. w0(i) == w0(i - 1)
     if (.not. built) then
-      call undamped_init(motion, theta0(i), omega0(i), w0(i), st)
+      ! how many of the next elements share this state: a Jacobi plan pays
+      ! for itself from ~8 times on
+      run = 1
+      do while (i + run <= n .and. run < 8)
+        if (theta0(i + run) /= theta0(i) .or. omega0(i + run) /= omega0(i) .or. w0(i + run) /= w0(i)) exit
+        run = run + 1
+      end do
+      call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=run >= 8)
       if (st%code /= PENDULA_OK) exit
       built = .true.
     end if
@@ -87,7 +94,7 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
   dtheta = 0
   domega = 0
   do i = 1, n
-    call undamped_init(motion, theta0(i), omega0(i), w0(i), st)
+    call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=.false.)
     if (st%code /= PENDULA_OK) exit
     call check_finite('tmax', tmax(i), st)
     if (st%code /= PENDULA_OK) exit
@@ -116,7 +123,7 @@ subroutine undamped_props_f2py(n, theta0, omega0, w0, m, mc, period, amplitude, 
   msg = ''
   m = 0; mc = 0; period = 0; amplitude = 0; energy = 0; regime = 0
   do i = 1, n
-    call undamped_init(motion, theta0(i), omega0(i), w0(i), st)
+    call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=.false.)
     if (st%code /= PENDULA_OK) then
       code = st%code
       msg = st%message
