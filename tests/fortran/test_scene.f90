@@ -83,6 +83,7 @@ program test_scene
   if (nz == 8) call tc%check_close(maxval(abs(tz - [(per / 4 + i * per / 2, i = 0, 7)])), 0.0_wp, 0.0_wp, &
       1.0e-9_wp * per, 'zero crossings at T/4 + k T/2')
   call tc%check_true(count(res%event_kind == PENDULA_EVENT_TURNING) == 8, 'eight turning points')
+  deallocate (tz)   ! main-program allocatables are never freed at exit: keep memcheck clean
 
   ! --- forced models and names
   call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.0_wp, 1.0e-9_wp, SCENE_WANT_STATE, st, model=SCENE_MODEL_RK4)
