@@ -124,11 +124,30 @@ def ellipfm1(phi, p):
     return restore(out, shape, scalar)
 
 
-_PLAN_MIN = 32   # below this many points the plan's table costs more than it saves
+def _core_k(m, name):
+    """K of the parameter the Fortran core works with after the modulus
+    transformations (sizes the plan's table: 16 K entries of ~1 us each)."""
+    if (name == "p" and m == 0) or (name == "m" and m == 1) or not np.isfinite(m):
+        return 0.0   # m = 1 (tanh, sech) or invalid: no table
+    if name == "p":
+        pc = m if 0 < m <= 1 else (1 / m if m > 1 else -m / (1 - m))
+        return float(_elliptic.ellipkc_f2py(np.array([pc]))[0])
+    mm = m if 0 <= m < 1 else (1 / m if m > 1 else -m / (1 - m))
+    return float(_elliptic.ellipk_f2py(np.array([mm]))[0])
+
+
+def _use_plan(m, u, name):
+    # a plan pays off when each of its ~16 K table entries serves >= 16 points
+    if np.ndim(m) != 0 or np.ndim(u) == 0 or np.size(u) < 32:
+        return False
+    mval = float(np.asarray(m))
+    if np.isnan(mval):
+        return True
+    return np.size(u) >= 256 * _core_k(mval, name)
 
 
 def _jacobi(u, m, name, vec, plan):
-    if np.ndim(m) == 0 and np.ndim(u) > 0 and np.size(u) >= _PLAN_MIN:
+    if _use_plan(m, u, name):
         # one parameter, many u: the m-dependent work (and a table) is done once
         mval = real_scalar(m, name)
         shape, _, f = _prepare(u=u)

@@ -468,7 +468,9 @@ contains
   !> K(1) = +Inf; NaN for m > 1 or NaN.  Accuracy: a few ulps (AGM, DLMF 19.8.5).
   elemental real(wp) function ellipk(m) result(k)
     real(wp), intent(in) :: m
-    if (m >= 0 .and. m < 1) then
+    if (ieee_is_nan(m)) then     ! before any ordered comparison (quiet under -ffpe-trap)
+      k = m
+    else if (m >= 0 .and. m < 1) then
       k = kpair(m, 1 - m)
     else if (m < 0) then
       k = kfun(1 - m)
@@ -483,7 +485,9 @@ contains
   !> NaN for mc < 0).  Exact to a few ulps down to the smallest subnormal mc.
   elemental real(wp) function ellipkc(mc) result(k)
     real(wp), intent(in) :: mc
-    if (mc > 0) then
+    if (ieee_is_nan(mc)) then
+      k = mc
+    else if (mc > 0) then
       k = kfun(mc)
     else if (mc == 0) then
       k = ieee_value(1.0_wp, ieee_positive_inf)
@@ -512,7 +516,9 @@ contains
     real(wp), intent(out) :: k(:)
     integer :: i
     do i = 1, size(m)
-      if (m(i) >= 0 .and. m(i) < 1) then
+      if (ieee_is_nan(m(i))) then
+        k(i) = m(i)
+      else if (m(i) >= 0 .and. m(i) < 1) then
         k(i) = kpair(m(i), 1 - m(i))
       else
         k(i) = ellipk(m(i))
@@ -526,7 +532,9 @@ contains
     real(wp), intent(out) :: e(:)
     integer :: i
     do i = 1, size(m)
-      if (m(i) >= 0 .and. m(i) < 1) then
+      if (ieee_is_nan(m(i))) then
+        e(i) = m(i)
+      else if (m(i) >= 0 .and. m(i) < 1) then
         e(i) = epair(m(i), 1 - m(i))
       else
         e(i) = ellipe(m(i))
@@ -538,7 +546,9 @@ contains
   !> E(-Inf) = +Inf); NaN for m > 1 or NaN.  A few ulps.
   elemental real(wp) function ellipe(m) result(e)
     real(wp), intent(in) :: m
-    if (m <= 1) then
+    if (ieee_is_nan(m)) then
+      e = m
+    else if (m <= 1) then
       e = efun(m, 1 - m)
     else
       e = qnan()
@@ -548,7 +558,9 @@ contains
   !> E as a function of mc = 1 - m >= 0 (mc = 0 gives 1); NaN for mc < 0 or NaN.
   elemental real(wp) function ellipec(mc) result(e)
     real(wp), intent(in) :: mc
-    if (mc >= 0) then
+    if (ieee_is_nan(mc)) then
+      e = mc
+    else if (mc >= 0) then
       e = efun(1 - mc, mc)
     else
       e = qnan()
@@ -928,13 +940,16 @@ contains
     real(wp), intent(inout) :: am(*)
     real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
     integer :: i, j, parity
+    logical :: big
     call two_prod_split(2 * par%khi, c1, c2)
     c3 = 2 * par%klo
     inv2k = 1 / (2 * par%khi)
     vmax = 2.0_wp**25 * (2 * par%khi)
     do i = 1, n
       v = abs(u(i)) * par%uscale
-      if (.not. (v < vmax)) then
+      big = ieee_is_nan(v)
+      if (.not. big) big = v >= vmax
+      if (big) then
         call eval_plan(par, u(i), .true., want_am, sn(i), cn(i), dn(i), a, tab, ntab)
         if (want_am) am(i) = a
         cycle
@@ -1030,6 +1045,15 @@ contains
     real(wp), intent(out) :: fs, fc, fd, fa
     real(wp) :: s, c, d
     call core_at(plan, t, s, c, d)
+    call finalize(plan, s, c, d, want_am, fs, fc, fd, fa)
+  end subroutine final_at
+
+  !> The modulus transformations from core s, c, d to the caller's sn, cn, dn, am.
+  pure subroutine finalize(plan, s, c, d, want_am, fs, fc, fd, fa)
+    type(jpar_t), intent(in) :: plan
+    real(wp), intent(in) :: s, c, d
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: fs, fc, fd, fa
     fa = 0
     select case (plan%kind)
     case (2)   ! m > 1 (DLMF 22.6.11): sn = sn'/k, cn = dn', dn = cn'; am on the asin branch
@@ -1042,7 +1066,7 @@ contains
       fs = s; fc = c; fd = d
     end select
     if (want_am) fa = am_of(fs, fc)
-  end subroutine final_at
+  end subroutine finalize
 
   !> Taylor coefficients (degree ntay) of the final sn, cn, dn, am about t, from the
   !> ODEs sn' = cn dn, cn' = -sn dn, dn' = -m sn cn of the core (DLMF 22.13).
@@ -1064,7 +1088,7 @@ contains
       c(k + 1) = -acc2 / (k + 1)
       d(k + 1) = -plan%m * acc3 / (k + 1)
     end do
-    call final_at(plan, t, .true., fs, fc, fd, fa)
+    call finalize(plan, s(0), c(0), d(0), .true., fs, fc, fd, fa)
     select case (plan%kind)
     case (2)
       tab(:, 1) = plan%oscale * s
@@ -1162,6 +1186,13 @@ contains
       else
         parity = merge(1, 0, mod(n, 2.0_wp) /= 0)
       end if
+    end if
+    if (.not. (abs(r) <= 1.5_wp * khi)) then
+      ! only when n*2K outruns the double-double K (|u| > ~1e15 K): the phase is then
+      ! below the resolution of u itself (error within eps*cond); keep r in range
+      r = modulo(r, 2 * khi)
+      if (r > khi) r = r - 2 * khi
+      if (.not. (abs(r) <= 1.5_wp * khi)) r = 0
     end if
     t = abs(r)
     if (present(tab)) then

@@ -174,6 +174,19 @@ def test_scipy_failures_fixed():
     assert np.isfinite(pendula.ellipf(0.4, 4.0))
 
 
+def test_extreme_arguments_stay_bounded():
+    # |u| far beyond the precision of the period, huge |m|, infinities: no crash, bounded output
+    u = np.array([1e15, -1e200, 1e308, 3.0, 0.5])
+    for m in [0.5, 1e300, -1e300, 1 - 1e-16, 1e-300]:
+        for res in (pendula.ellipj(u, m), pendula.ellipj(np.tile(u, 100), m)):
+            sn, cn, dn, ph = res
+            assert (np.abs(sn) <= 1).all() and (np.abs(cn) <= 1 + 4 * EPS).all()
+    sn, cn, dn, ph = pendula.ellipj(np.inf, 0.5)
+    assert np.isnan(sn) and np.isnan(cn) and np.isnan(dn)
+    assert np.isnan(pendula.ellipj(1.0, -np.inf)[0])
+    assert pendula.ellipk(-np.inf) == 0.0
+
+
 def test_nan_and_domain():
     assert np.isnan(pendula.ellipk(np.nan))
     assert np.isnan(pendula.ellipe(np.nan))
