@@ -24,7 +24,7 @@ module pendula_undamped
   use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
       PENDULA_OK
   use pendula_physics, only: pi
-  use pendula_elliptic, only: ellipkc, ellipfc, ellipj_plan_t, ellipj_planc, ellipj_eval, ellipjc
+  use pendula_elliptic, only: ellipkc, ellipfc, ellipj_plan_t, ellipj_planc, ellipj_eval, ellipj_eval_array, ellipjc
   implicit none
   private
 
@@ -457,7 +457,7 @@ contains
       a(1:nc) = motion%rate * t(i0:i1)
       if (motion%regime == REGIME_LIBRATION) then
         if (motion%planned) then
-          call ellipj_eval(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc))
+          call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc))
         else
           call ellipjc(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc))
         end if
@@ -477,7 +477,7 @@ contains
         end do
       else
         if (motion%planned) then
-          call ellipj_eval(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
+          call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
         else
           call ellipjc(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
         end if
