@@ -649,7 +649,8 @@ contains
   pure elemental real(wp) function ffun(phi, m, mc, usemc) result(f)
     real(wp), intent(in) :: phi, m, mc
     logical, intent(in) :: usemc
-    real(wp) :: n, r, s, c, d2, kk
+    real(wp) :: n, r, s, c, d2, kh, kl, p, e
+    type(jpar_t) :: par
     if (ieee_is_nan(phi) .or. ieee_is_nan(m) .or. ieee_is_nan(mc)) then
       f = qnan(); return
     end if
@@ -679,13 +680,21 @@ contains
       f = s * carlson_rf(c * c, d2, 1.0_wp)
     end if
     if (n /= 0) then
-      if (m <= 1 .and. mc >= 0) then
-        kk = kfun(mc)
-        if (mc == 0) kk = ieee_value(1.0_wp, ieee_positive_inf)
+      ! F + 2 n K with K in double-double: the sum may cancel (phi in (-pi, -pi/2) etc.)
+      par = make_par(m, mc, usemc, .true.)
+      if (par%kind == 1) then
+        f = f + n * ieee_value(1.0_wp, ieee_positive_inf)
+      else if (par%kind < 0) then
+        f = qnan()
       else
-        kk = kfun((m - 1) / m) / sqrt(m)   ! Re K(m) for m > 1 (DLMF 19.7.3)
+        kh = par%khi; kl = par%klo
+        if (par%kind /= 0) then
+          ! Re K(m) = K(core)/k for m > 1 (DLMF 19.7.3); K(m) = K(mu)/sqrt(1-m) for m < 0
+          call dd_div(par%khi, par%klo, par%uscale, par%uscale_lo, kh, kl)
+        end if
+        call two_prod(2 * n, kh, p, e)
+        f = p + (f + (e + 2 * n * kl))
       end if
-      f = f + 2 * n * kk
     end if
   end function ffun
 
