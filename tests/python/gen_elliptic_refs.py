@@ -118,6 +118,18 @@ def jacobi_inputs(rng):
     for u in [0.0, 1e-300, 0.5, 1.0, 3.0, 30.0, 400.0, 1e5]:
         rows.append((u, 0.0, False, "m0"))
         rows.append((u, 1.0, False, "m1"))
+    # 1 - m from 1e-3 to 1e-10 (complement form) and m near 1 passed as m itself
+    for _ in range(60):
+        mc = 10 ** rng.uniform(-10, -3)
+        rows.append((float(rng.uniform(-4.2, 4.2) * _kc(mc)), float(mc), True, "near1"))
+    for _ in range(40):
+        m = 1 - 10 ** rng.uniform(-15, -3)
+        rows.append((float(rng.uniform(-4.2, 4.2) * _kc(1 - m)), float(m), False, "near1m"))
+    # large u with m < 0 and m > 1 (double-double scaling of u)
+    for _ in range(30):
+        rows.append((float(rng.choice([-1, 1]) * 10 ** rng.uniform(2, 6)), float(-10 ** rng.uniform(-2, 3)), False, "largeu"))
+    for _ in range(30):
+        rows.append((float(rng.choice([-1, 1]) * 10 ** rng.uniform(2, 6)), float(1 + 10 ** rng.uniform(-2, 2)), False, "largeu"))
     return rows
 
 

@@ -33,7 +33,7 @@ def _jac_table():
     return j[:, 0], j[:, 1], j[:, 2].astype(bool), j[:, 3:7], j[:, 7:11], DATA["jac_region"]
 
 
-@pytest.mark.parametrize("region", ["generic", "mneg", "near1", "mgt1", "largeu", "m0", "m1"])
+@pytest.mark.parametrize("region", ["generic", "mneg", "near1", "near1m", "mgt1", "largeu", "m0", "m1"])
 @pytest.mark.parametrize("path", ["elementwise", "plan"])
 def test_jacobi_against_mpmath(region, path):
     u, p, comp, ref, cond, reg = _jac_table()
