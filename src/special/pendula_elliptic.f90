@@ -753,7 +753,7 @@ contains
   pure subroutine jcore(v, m, mc, cs, cc, cd, s, c, d)
     real(wp), intent(in) :: v, m, mc, cs(0:6), cc(0:6), cd(0:6)
     real(wp), intent(out) :: s, c, d
-    real(wp) :: w, w2, x, y, s2, den, r, c2, d2
+    real(wp) :: w, w2, x, y, s2, den, r, c2, d2, q
     integer :: n, i
     n = 0
     w = v
@@ -766,17 +766,27 @@ contains
     x = w2 * (cc(0) + w2 * (cc(1) + w2 * (cc(2) + w2 * (cc(3) + w2 * (cc(4) + w2 * (cc(5) + w2 * cc(6)))))))
     y = w2 * (cd(0) + w2 * (cd(1) + w2 * (cd(2) + w2 * (cd(3) + w2 * (cd(4) + w2 * (cd(5) + w2 * cd(6)))))))
     i = 0
-    ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u)
-    do while (i < n .and. x < xswitch)
-      c = 1 - x; d = 1 - y
-      s2 = s * s
-      den = c * c + s2 * (d * d)
-      r = 2 / den
-      x = r * s2 * (d * d)
-      y = r * m * s2 * (c * c)
-      s = r * s * c * d
-      i = i + 1
-    end do
+    ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u),
+    ! kept as fractions x = xq/q, y = yq/q, s = sq/q so that the steps need no division:
+    ! with c = q - xq, d = q - yq (times 1/q),
+    !   xq' = 2 sq^2 d^2, yq' = 2 m sq^2 c^2, sq' = 2 sq q c d, q' = c^2 q^2 + sq^2 d^2.
+    ! Here cn >= 3/4, so 1 - m sn^4 >= 0.8 and q' >= 0.8 q^4: at most 4 steps keep q >= 1e-8.
+    if (n > 0 .and. x < xswitch) then
+      q = 1
+      do while (i < n)
+        c = q - x; d = q - y
+        s2 = s * s
+        c2 = c * c; d2 = d * d
+        x = 2 * s2 * d2
+        y = 2 * m * s2 * c2
+        s = 2 * s * q * c * d
+        q = c2 * (q * q) + s2 * d2
+        i = i + 1
+        if (x >= xswitch * q) exit
+      end do
+      r = 1 / q
+      x = x * r; y = y * r; s = s * r
+    end if
     c = 1 - x; d = 1 - y
     ! direct duplication, cancellation-free forms for 0 <= m <= 1
     do while (i < n)
