@@ -299,7 +299,6 @@ module pendula_elliptic
     real(wp) :: m = 0, mc = 1   ! core parameter in [0,1] and its complement
     real(wp) :: mcl = 0         ! low part of mc (double-double), for K in extra precision
     real(wp) :: khi = 0, klo = 0! K of the core parameter, double-double
-    real(wp) :: sqmc = 1        ! sqrt(mc)
     real(wp) :: uscale = 1      ! u is multiplied by this before the core
     real(wp) :: uscale_lo = 0   ! ... in double-double, so large u keeps its digits
     real(wp) :: oscale = 1      ! sn scale (m>1: 1/k, m<0: 1/sqrt(1-m))
@@ -882,7 +881,6 @@ contains
       plan%oscale = 1 / qh
     end if
     plan%m = mm
-    plan%sqmc = sqrt(plan%mc)
     if (full) then
       call kdd(plan%mc, plan%mcl, plan%khi, plan%klo)
     else if (plan%kind == 0) then
@@ -1040,15 +1038,25 @@ contains
     type(jpar_t), intent(in) :: plan
     real(wp), intent(in) :: t
     real(wp), intent(out) :: s, c, d
-    real(wp) :: w
+    real(wp) :: w, rd, sq
     if (t > 0.5_wp * plan%khi) then
       ! sn(K - w) = cd(w), cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w) (DLMF 22.4.3)
       w = (plan%khi - t) + plan%klo
       call jcore(abs(w), plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
       if (w < 0) s = -s
-      w = cd_ratio(s, c, d, plan%mc)
-      c = plan%sqmc * s / d
-      d = plan%sqmc / d
+      ! one division: rd = 1/(d (d + c)) gives 1/d = rd (d + c) and the cancellation-free
+      ! cd = 1 - mc s^2 rd (see cd_ratio)
+      rd = 1 / (d * (d + c))
+      sq = sqrt(plan%mc)
+      w = plan%mc * (s * s) * rd
+      if (w <= 0.5_wp) then
+        w = 1 - w
+      else
+        w = c * (d + c) * rd
+      end if
+      rd = rd * (d + c)
+      c = sq * s * rd
+      d = sq * rd
       s = w
     else
       call jcore(t, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
