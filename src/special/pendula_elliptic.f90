@@ -1013,17 +1013,14 @@ contains
   pure elemental real(wp) function am_of(s, c) result(am)
     real(wp), intent(in) :: s, c
     real(wp) :: as, c1, w, t, t2, t4, p, base
+    logical :: big
     ! x = |s|/(1 + c) in [0, 1]; above tan(pi/8) use atan x = pi/4 + atan((x - 1)/(x + 1)),
     ! formed directly from s and c with a single division
     as = abs(s)
     c1 = 1 + c
-    if (as > tan_pi8 * c1) then
-      w = (as - c1) / (as + c1)
-      base = 0.25_wp * pi
-    else
-      w = as / c1
-      base = 0
-    end if
+    big = as > tan_pi8 * c1      ! merge, not a branch: the test is unpredictable
+    w = merge(as - c1, as, big) / merge(as + c1, c1, big)
+    base = merge(0.25_wp * pi, 0.0_wp, big)
     t = w * w
     t2 = t * t
     t4 = t2 * t2
@@ -1038,17 +1035,23 @@ contains
     type(jpar_t), intent(in) :: plan
     real(wp), intent(in) :: t
     real(wp), intent(out) :: s, c, d
+    call core_at2(plan%m, plan%mc, plan%khi, plan%klo, plan%cs, plan%cc, plan%cd, t, s, c, d)
+  end subroutine core_at
+
+  pure subroutine core_at2(m, mc, khi, klo, cs, cc, cd, t, s, c, d)
+    real(wp), intent(in) :: m, mc, khi, klo, cs(0:6), cc(0:6), cd(0:6), t
+    real(wp), intent(out) :: s, c, d
     real(wp) :: w, rd, sq
-    if (t > 0.5_wp * plan%khi) then
+    if (t > 0.5_wp * khi) then
       ! sn(K - w) = cd(w), cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w) (DLMF 22.4.3)
-      w = (plan%khi - t) + plan%klo
-      call jcore(abs(w), plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
+      w = (khi - t) + klo
+      call jcore(abs(w), m, mc, cs, cc, cd, s, c, d)
       if (w < 0) s = -s
       ! one division: rd = 1/(d (d + c)) gives 1/d = rd (d + c) and the cancellation-free
       ! cd = 1 - mc s^2 rd (see cd_ratio)
       rd = 1 / (d * (d + c))
-      sq = sqrt(plan%mc)
-      w = plan%mc * (s * s) * rd
+      sq = sqrt(mc)
+      w = mc * (s * s) * rd
       if (w <= 0.5_wp) then
         w = 1 - w
       else
@@ -1059,9 +1062,9 @@ contains
       d = sq * rd
       s = w
     else
-      call jcore(t, plan%m, plan%mc, plan%cs, plan%cc, plan%cd, s, c, d)
+      call jcore(t, m, mc, cs, cc, cd, s, c, d)
     end if
-  end subroutine core_at
+  end subroutine core_at2
 
   !> The final sn, cn, dn, am of the caller's parameter at core argument t >= 0
   !> (no half-period shift), from the core values by the modulus transformations.
@@ -1283,12 +1286,56 @@ contains
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: done
     do i = 1, size(u)
-      call eval_plan(make_par(m(i), 1 - m(i), .false., .false.), u(i), .false., present(am), &
-          sn(i), cn(i), dn(i), a)
+      done = .false.
+      if (.not. (ieee_is_nan(m(i)) .or. ieee_is_nan(u(i)))) then
+        if (m(i) >= 0 .and. m(i) < 1) call jac01(u(i), m(i), present(am), sn(i), cn(i), dn(i), a, done)
+      end if
+      if (.not. done) call eval_plan(make_par(m(i), 1 - m(i), .false., .false.), u(i), .false., &
+          present(am), sn(i), cn(i), dn(i), a)
       if (present(am)) am(i) = a
     end do
   end subroutine ellipj_array
+
+  !> ellipj for 0 <= m < 1 and |u| < 9 K (the common case) with all work inline; the same
+  !> steps as make_par + eval_plan.  done = .false. leaves the point to the general path.
+  pure subroutine jac01(u, m, want_am, sn, cn, dn, am, done)
+    real(wp), intent(in) :: u, m
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    logical, intent(out) :: done
+    real(wp) :: mc, k, v, n, r, t, c1, c2, s, c, d, cs(0:6), cc(0:6), cd(0:6)
+    mc = 1 - m
+    k = kpair(m, mc)
+    v = abs(u)
+    n = 0
+    r = v
+    if (v > k) then
+      n = anint(v / (2 * k))
+      if (n > 4) then
+        done = .false.
+        sn = 0; cn = 0; dn = 0; am = 0
+        return
+      end if
+      call two_prod_split(2 * k, c1, c2)
+      r = (v - n * c1) - n * c2
+    end if
+    t = abs(r)
+    call series_coeffs(m, cs, cc, cd)
+    call core_at2(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
+    am = 0
+    if (want_am) am = sign(am_of(s, c), r) + n * pi
+    s = sign(s, r)
+    if (iand(int(n), 1) /= 0) then
+      s = -s; c = -c
+    end if
+    if (u < 0) then
+      s = -s; am = -am
+    end if
+    sn = s; cn = c; dn = d
+    done = .true.
+  end subroutine jac01
 
   !> ellipjc over rank-1 arrays (same numbers as the elemental form).
   pure subroutine ellipjc_array(u, mc, sn, cn, dn, am)
