@@ -26,6 +26,7 @@ import dataclasses
 import inspect
 import math
 import numbers
+import re
 
 import numpy as np
 import pytest
@@ -59,6 +60,9 @@ class Arg:
     extra: tuple = ()
     # Values of a finite real that are out of domain (ValueError).
     out_of_domain: tuple = ()
+    # Extreme valid values to try instead of the kind's default set (a step
+    # size of 1e-10 s is valid but would take hours of honest work).
+    extremes: tuple = None
     # Other arguments to change for every case of this argument (e.g. drop
     # mass and b when trying bad gamma values on a Scene).
     others: dict = dataclasses.field(default_factory=dict)
@@ -132,12 +136,13 @@ API: dict[str, Entry] = {
         args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL),
                   w0=Arg(POS), gamma=Arg(NONNEG),
                   # a step outside RK4's stability region is refused, not integrated into garbage
-                  h=Arg(POS, extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)))),
+                  h=Arg(POS, extremes=(1e300, 1e154, 1e-300, 5e-324),
+                        extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)))),
     "rk4_max_stable_step": Entry(
         valid=dict(w0=1.4, gamma=0.1),
         args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),
     "cvode": Entry(
-        valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1),
+        valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, max_steps=200_000),
         needs_cvode=True,
         args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG),
                   rtol=Arg(POS), atol=Arg(NONNEG), method=Arg(CHOICE),
@@ -185,7 +190,7 @@ API: dict[str, Entry] = {
         valid=dict(scene="SCENE", model="rk4", setting=0.01),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
                   model=Arg(CHOICE, extra=(("auto", ValueError),)),
-                  setting=Arg(POS, aliases=("h",)))),
+                  setting=Arg(POS, aliases=("h",), extremes=(1e300, 1e154, 1e-300, 5e-324)))),
     "tradeoff": Entry(
         valid=dict(scene="SCENE", models=["small_angle", "rk4"], rk4_steps=[0.1, 0.05], cvode_rtols=[1e-6],
                    repeat=1),
@@ -465,7 +470,6 @@ def test_valid_call_gives_finite_results_and_keeps_inputs(fname):
 def _names_argument(msg, aname, spec):
     low = msg.lower()
     names = (aname,) + tuple(spec.aliases)
-    import re
     for n in names:
         if re.search(r"(?<![A-Za-z0-9_])" + re.escape(n.lower()) + r"(?![A-Za-z0-9_])", low):
             return True
@@ -526,9 +530,49 @@ def test_bad_input(case):
     _assert_unmodified(kwargs, snap)
 
 
+# ---- extreme but valid values -------------------------------------------------------------------
+EXTREMES = {
+    REAL: (1e300, -1e300, 1e-300, -5e-324, 1e20),
+    POS: (1e-300, 5e-324, 1e300, 1e154, 1e-10, 1e10),
+    NONNEG: (0.0, 5e-324, 1e300, 1e10),
+}
+EXTREME_CASES = [(f, a, x) for f, e in API.items() for a, spec in e.args.items()
+                 for x in (spec.extremes if spec.extremes is not None else EXTREMES.get(spec.kind, ()))
+                 if x not in spec.out_of_domain]
+# A number printed without its exponent letter ("1.00000+300", Fortran's Ew.d
+# for 3-digit exponents) is garbage in a message.
+_MANGLED = re.compile(r"\d[+-]\d{3}(?![\d.])")
+
+
+@pytest.mark.parametrize("fname, arg, value", EXTREME_CASES,
+                         ids=[f"{f}-{a}-{x!r}" for f, a, x in EXTREME_CASES])
+def test_extreme_valid_values(fname, arg, value):
+    """Huge, tiny and subnormal values inside the domain: a result without NaN,
+    or a clear error (ValueError naming the argument, or PendulaSolverError
+    when an integrator cannot do it) -- never a silent NaN."""
+    entry = API[fname]
+    _skip_if_unavailable(entry)
+    kwargs = {k: _materialise(v) for k, v in entry.valid.items()}
+    kwargs.update(entry.args[arg].others)
+    kwargs[arg] = value
+    try:
+        result = _call(fname, kwargs)
+    except ValueError as exc:
+        msg = str(exc)
+        assert not _MANGLED.search(msg), f"{fname}({arg}={value!r}): mangled number in message: {msg}"
+    except pendula.PendulaSolverError as exc:
+        msg = str(exc)
+        assert not _MANGLED.search(msg), f"{fname}({arg}={value!r}): mangled number in message: {msg}"
+    else:
+        vals = list(_walk_numbers(result))
+        nan = [v for v in vals if v != v]
+        assert not nan, f"{fname}({arg}={value!r}): silent NaN in the result {result!r}"
+
+
 def test_case_count_report():
     """Not a check of the library: records how much this file tries."""
     n_entry = len(API)
     n_cases = len(ALL_CASES)
-    print(f"\nbad-input table: {n_entry} entry points, {n_cases} bad inputs")
+    print(f"\nbad-input table: {n_entry} entry points, {n_cases} bad inputs, "
+          f"{len(EXTREME_CASES)} extreme valid values")
     assert n_cases >= 10 * n_entry
