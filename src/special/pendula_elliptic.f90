@@ -752,7 +752,7 @@ contains
   pure subroutine jcore(v, m, mc, cs, cc, cd, s, c, d)
     real(wp), intent(in) :: v, m, mc, cs(0:6), cc(0:6), cd(0:6)
     real(wp), intent(out) :: s, c, d
-    real(wp) :: w, w2, x, y, s2, den, r, c2, d2, q
+    real(wp) :: w, w2, w4, x, y, s2, den, r, c2, d2, q
     integer :: n, i
     n = 0
     w = v
@@ -761,9 +761,11 @@ contains
       n = n + 1
     end do
     w2 = w * w
-    s = w * (cs(0) + w2 * (cs(1) + w2 * (cs(2) + w2 * (cs(3) + w2 * (cs(4) + w2 * (cs(5) + w2 * cs(6)))))))
-    x = w2 * (cc(0) + w2 * (cc(1) + w2 * (cc(2) + w2 * (cc(3) + w2 * (cc(4) + w2 * (cc(5) + w2 * cc(6)))))))
-    y = w2 * (cd(0) + w2 * (cd(1) + w2 * (cd(2) + w2 * (cd(3) + w2 * (cd(4) + w2 * (cd(5) + w2 * cd(6)))))))
+    w4 = w2 * w2
+    ! Estrin's scheme (short dependency chains); terms fall by >= 400x each
+    s = w * (((cs(0) + cs(1) * w2) + (cs(2) + cs(3) * w2) * w4) + ((cs(4) + cs(5) * w2) + cs(6) * w4) * (w4 * w4))
+    x = w2 * (((cc(0) + cc(1) * w2) + (cc(2) + cc(3) * w2) * w4) + ((cc(4) + cc(5) * w2) + cc(6) * w4) * (w4 * w4))
+    y = w2 * (((cd(0) + cd(1) * w2) + (cd(2) + cd(3) * w2) * w4) + ((cd(4) + cd(5) * w2) + cd(6) * w4) * (w4 * w4))
     i = 0
     ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u),
     ! kept as fractions x = xq/q, y = yq/q, s = sq/q so that the steps need no division:
