@@ -32,7 +32,8 @@ else
   meson configure "$bdir" -Dchecked=true -Dpython=disabled >/dev/null
 fi
 if ! ninja -C "$bdir" >"$bdir.ninja.log" 2>&1; then
-  grep -v '^\[' "$bdir.ninja.log" | tail -40 >&2
+  # The compiler's errors, not the pages of warnings around them.
+  grep -E -A6 '^FAILED:|Error:|error:' "$bdir.ninja.log" | head -60 >&2
   echo "checked-build: build FAILED (log: $bdir.ninja.log)" >&2
   exit 2
 fi

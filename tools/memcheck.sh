@@ -33,7 +33,8 @@ if [ ! -f "$bdir/build.ninja" ]; then
     || { cat "$bdir.setup.log" >&2; echo "memcheck: meson setup FAILED" >&2; exit 2; }
 fi
 if ! ninja -C "$bdir" >"$bdir.ninja.log" 2>&1; then
-  grep -v '^\[' "$bdir.ninja.log" | tail -40 >&2
+  # The compiler's errors, not the pages of warnings around them.
+  grep -E -A6 '^FAILED:|Error:|error:' "$bdir.ninja.log" | head -60 >&2
   echo "memcheck: build FAILED (log: $bdir.ninja.log)" >&2
   exit 2
 fi
