@@ -576,3 +576,76 @@ def test_case_count_report():
     print(f"\nbad-input table: {n_entry} entry points, {n_cases} bad inputs, "
           f"{len(EXTREME_CASES)} extreme valid values")
     assert n_cases >= 10 * n_entry
+
+
+# ---- the Fortran API: every public non-elemental procedure reports a status -----------------------------
+# House rule: non-elemental Fortran procedures take a type(status_t) argument
+# (message naming the argument and its range).  Elemental procedures cannot
+# carry one and follow their documented value rule (NaN in -> NaN out, or a
+# documented limit), which the concern tests check.  Exemptions, with reasons:
+FORTRAN_NO_STATUS = {
+    # total functions of integer codes / no arguments
+    "code_name": "total function of a status code",
+    "regime_name": "total function of a regime code",
+    "equilibrium_type_name": "total function of a type code",
+    "undamped_regime_name": "total function of a regime code",
+    "scene_model_code": "total function of a name", "scene_model_name": "total function of a code",
+    "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
+    "cvode_available": "no arguments",
+    # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
+    "ellipk_array": "elliptic rule", "ellipe_array": "elliptic rule", "ellipj_array": "elliptic rule",
+    "ellipjc_array": "elliptic rule", "ellipj_eval_array": "elliptic rule",
+    "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
+    # documented unchecked kernels with a checked entry point (reported to their concerns)
+    "undamped_eval_many": "unchecked fast path of undamped_solve (sizes not checked!)",
+    "rk4_advance": "RK4 inner kernel of rk4_solve",
+    "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
+    "pendulum_jacobian": "helper of the integrators on checked inputs",
+}
+
+
+def _fortran_public_procedures():
+    from test_threads import _logical_lines
+    out = []
+    for path in sorted((ROOT / "src").rglob("*.f90")):
+        lines = _logical_lines(path.read_text())
+        public = set()
+        for _, st in lines:
+            m = re.match(r"public\s*::\s*(.*)", st, re.I)
+            if m:
+                public |= {x.strip().lower() for x in m.group(1).split(",")}
+        cur = None
+        procs = {}
+        for _, st in lines:
+            low = st.lower()
+            m = re.match(r"((?:(?:pure|elemental|impure|recursive|module)\s+)*)"
+                         r"(?:(?:real|integer|logical|character|type|class|complex)\b[^:]*?\s+)?"
+                         r"(subroutine|function)\s+(\w+)\s*\(", low)
+            if m and not low.startswith("end"):
+                cur = m.group(3)
+                procs[cur] = {"elemental": "elemental" in m.group(1), "status": False}
+                continue
+            if cur and re.match(r"(type|class)\s*\(\s*status_t\s*\)", low):
+                procs[cur]["status"] = True
+            if re.match(r"end\s*(subroutine|function)\b", low):
+                cur = None
+        for name in sorted(public & set(procs)):
+            out.append((path.relative_to(ROOT), name, procs[name]))
+    return out
+
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.skipif(not (ROOT / "src").is_dir(), reason="needs the source tree")
+def test_fortran_public_procedures_report_a_status():
+    procs = _fortran_public_procedures()
+    assert len(procs) > 20, "the scan of src/ found too few public procedures"
+    bad = [f"{path}: {name}" for path, name, p in procs
+           if not p["elemental"] and not p["status"] and name not in FORTRAN_NO_STATUS
+           and not str(path).endswith("pendula_status.f90")]
+    assert not bad, ("public non-elemental Fortran procedures without a type(status_t) argument "
+                     "(add one, or an exemption with its reason to FORTRAN_NO_STATUS):\n" + "\n".join(bad))
+    print(f"\nFortran API: {len(procs)} public procedures, "
+          f"{sum(1 for _, _, p in procs if p['status'])} with a status, "
+          f"{sum(1 for _, _, p in procs if p['elemental'])} elemental")
