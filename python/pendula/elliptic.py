@@ -126,7 +126,7 @@ def ellipfm1(phi, p):
 
 def _core_k(m, name):
     """K of the parameter the Fortran core works with after the modulus
-    transformations (sizes the plan's table: 16 K entries of ~1 us each)."""
+    transformations (sizes the plan's table: 32 K entries)."""
     if (name == "p" and m == 0) or (name == "m" and m == 1) or not np.isfinite(m):
         return 0.0   # m = 1 (tanh, sech) or invalid: no table
     if name == "p":
@@ -137,13 +137,13 @@ def _core_k(m, name):
 
 
 def _use_plan(m, u, name):
-    # a plan pays off when each of its ~16 K table entries serves >= 16 points
+    # a plan pays off when each of its ~32 K table entries (~1 us each) serves >= 16 points
     if np.ndim(m) != 0 or np.ndim(u) == 0 or np.size(u) < 32:
         return False
     mval = float(np.asarray(m))
     if np.isnan(mval):
         return True
-    return np.size(u) >= 256 * _core_k(mval, name)
+    return np.size(u) >= 512 * _core_k(mval, name)
 
 
 def _jacobi(u, m, name, vec, plan):

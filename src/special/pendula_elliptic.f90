@@ -43,11 +43,11 @@ module pendula_elliptic
   real(wp), parameter :: wmax = 0.1_wp
   !> Switch from complement (1-cn, 1-dn) to direct duplication once 1 - cn exceeds this.
   real(wp), parameter :: xswitch = 0.25_wp
-  !> Tabulated plans: Taylor polynomials of degree ntay about a grid of step 1/16 in the core
-  !> argument; |delta| <= 1/32 and the nearest singularity is >= K' >= pi/2 away, so the
-  !> truncation is below (1/32 / (pi/2))**11 ~ 2e-19 relative.
-  integer, parameter :: ntay = 10
-  real(wp), parameter :: tab_step = 0.0625_wp, tab_inv_step = 16.0_wp
+  !> Tabulated plans: Taylor polynomials of degree ntay about a grid of step 1/32 in the core
+  !> argument; |delta| <= 1/64 and the nearest singularity is >= K' >= pi/2 away, so the
+  !> truncation is below ~ (1/64 / (pi/2))**9 ~ 1e-18 relative.
+  integer, parameter :: ntay = 8
+  real(wp), parameter :: tab_step = 0.03125_wp, tab_inv_step = 32.0_wp
 
   ! Maclaurin coefficients, js(j,k): coefficient of m^j w^(2k+1) in sn;
   ! jc(j,k): of m^j w^(2k+2) in 1 - cn; jd(j,k): of m^(j+1) w^(2k+2) in 1 - dn.
@@ -1259,11 +1259,11 @@ contains
   pure real(wp) function horner(p, x) result(y)
     real(wp), intent(in) :: p(0:ntay), x
     real(wp) :: x2, x4
-    ! Estrin's scheme for degree ntay = 10
+    ! Estrin's scheme for degree ntay = 8
     x2 = x * x
     x4 = x2 * x2
     y = ((p(0) + p(1) * x) + (p(2) + p(3) * x) * x2) + ((p(4) + p(5) * x) + (p(6) + p(7) * x) * x2) * x4 &
-        + ((p(8) + p(9) * x) + p(10) * x2) * (x4 * x4)
+        + p(8) * (x4 * x4)
   end function horner
 
   !> Jacobi elliptic functions sn(u|m), cn(u|m), dn(u|m) and the amplitude am(u|m)
