@@ -282,3 +282,28 @@ def test_audit_detects_saved_state(tmp_path):
                  "    calls = calls + 1\n    x = x + 1\n  end subroutine s\nend module m\n")
     kinds = [w for _, w, _ in saved_state(f)]
     assert kinds == ["module variable", "initialised local variable (implicit SAVE)", "SAVE"], kinds
+
+
+# f2py routines that return at once (no loop, no integrator) may keep the GIL.
+F2PY_GIL_EXEMPT = {"cvode_available_f2py": "returns a build constant"}
+
+
+@pytest.mark.skipif(not (ROOT / "python" / "f2py").is_dir(), reason="needs the source tree")
+def test_every_f2py_routine_releases_the_gil():
+    missing = []
+    n = 0
+    for path in sorted((ROOT / "python" / "f2py").glob("*.f90")):
+        name, threadsafe = None, False
+        for line in path.read_text().splitlines():
+            m = re.match(r"\s*subroutine\s+(\w+)", line, re.I)
+            if m:
+                name, threadsafe = m.group(1).lower(), False
+                n += 1
+            elif re.match(r"\s*!f2py\s+threadsafe\b", line, re.I):
+                threadsafe = True
+            elif re.match(r"\s*end\s*subroutine\b", line, re.I) and name:
+                if not threadsafe and name not in F2PY_GIL_EXEMPT:
+                    missing.append(f"{path.relative_to(ROOT)}: {name}")
+                name = None
+    assert n > 10, "found too few f2py routines"
+    assert not missing, "f2py routines without `!f2py threadsafe` (they hold the GIL):\n" + "\n".join(missing)
