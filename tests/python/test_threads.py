@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import pendula
-from test_bad_input import API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
+from test_bad_input import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
 
 N_ARRAY = 2_000
 
@@ -89,6 +89,30 @@ def test_concurrent_calls_equal_serial_calls():
             assert got.shape == want.shape, f"{job}: result size differs between threaded and serial call"
             assert np.array_equal(got, want, equal_nan=True), \
                 f"{job}: threaded result differs from the serial one (shared state in the call?)"
+
+
+def _outcome(case):
+    kwargs = {k: _materialise(v) for k, v in API[case.func].valid.items()}
+    kwargs.update(case.others)
+    kwargs[case.arg] = case.value
+    try:
+        return ("ok", _flatten(_call(case.func, kwargs)).tobytes())
+    except Exception as exc:  # noqa: BLE001 - the outcome is what is compared
+        return (type(exc).__name__, str(exc))
+
+
+def test_concurrent_failures_equal_serial_failures():
+    # Error paths too: a message or status kept anywhere but in the call's own
+    # variables (e.g. a SUNDIALS error handler writing to shared storage) would
+    # mix up messages between threads.
+    cases = [c for c in ALL_CASES if not (API[c.func].needs_cvode and not pendula.have_cvode())]
+    cases = cases[::5] + [c for c in cases if c.func == "cvode"]
+    serial = [_outcome(c) for c in cases]
+    work = list(range(len(cases))) * 3
+    random.Random(99).shuffle(work)
+    with cf.ThreadPoolExecutor(max_workers=4) as pool:
+        for i, got in zip(work, pool.map(lambda i: _outcome(cases[i]), work)):
+            assert got == serial[i], f"{cases[i].id}: threaded outcome {got!r} != serial {serial[i]!r}"
 
 
 # ---- GIL release ------------------------------------------------------------------------------------
