@@ -103,6 +103,14 @@ contains
     call ieee_set_halting_mode(ieee_usual, halting)
     call tc%check_true(st%code == PENDULA_ERR_SOLVER .or. st%code == PENDULA_ERR_MAXSTEPS, &
         'cvode w0 = 1e154 fails cleanly: ' // trim(st%message))
+    ! 4b. w0 = 1e300: w0**2 overflows, the right-hand side is not finite and
+    ! reports an unrecoverable failure (CV_RHSFUNC_FAIL) -- its cleanup path.
+    call ieee_set_halting_mode(ieee_usual, .false.)
+    call cvode_solve([0.0_wp, 1.0_wp], 0.1_wp, 0.0_wp, 1.0e300_wp, 0.0_wp, 1.0e-8_wp, 1.0e-10_wp, &
+        PENDULA_CVODE_BDF, 100000_i8, th(1:2), om(1:2), s, st)
+    call ieee_set_halting_mode(ieee_usual, halting)
+    call tc%check_true(st%code /= PENDULA_OK, 'cvode w0 = 1e300 fails cleanly: ' // trim(st%message))
+    call tc%check_true(all_finite(th(1:2)) .and. all_finite(om(1:2)), 'cvode w0 = 1e300: outputs finite')
     call tc%check_true(all_finite(th(1:2)) .and. all_finite(om(1:2)), 'cvode w0 = 1e154: outputs finite')
     ! 5. more events than room: truncated, not an error
     call cvode_solve_events([0.0_wp, 100.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, &
