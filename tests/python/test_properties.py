@@ -117,7 +117,7 @@ def test_linear_regime_matches_gamma_vs_2w0(w0, gamma):
 
 # ---- Fortran and Python paths agree -----------------------------------------------------------------------
 def _build_dir():
-    for cand in (os.environ.get("PENDULA_BUILD_DIR"), ROOT / "build" / "robust", ROOT / "build" / "test"):
+    for cand in (os.environ.get("PENDULA_BUILD_DIR"), ROOT / "build" / "test", ROOT / "build" / "dev"):
         if cand and (pathlib.Path(cand) / "src" / "libpendula_core.a").is_file():
             return pathlib.Path(cand)
     return None
