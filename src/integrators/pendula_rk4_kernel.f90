@@ -1,0 +1,268 @@
+!> The inner loop of the classic RK4 for the pendulum (text eq. 2.2) and the
+!> stage-sine evaluation it rests on.
+!>
+!> Why: with libm, one RK4 step chains two dependent `sin` calls on each of
+!> its two recurrences (theta -> sin -> k1 -> sin -> k3 -> theta' and
+!> Omega -> sin -> k2 -> sin -> k4 -> Omega'), and each call also spills every
+!> live register; the step then costs ~36 ns.  All four stage arguments of a
+!> step lie within h |Omega| + O(h**2) of theta, so they are reduced ONCE per
+!> step against the node 2 pi k / 256 nearest the step's midpoint (Cody-Waite,
+!> three-part constant) and each stage sine is then
+!>     sin(x_k + r) = sin x_k + cos x_k r - (sin x_k (1 - cos r) - cos x_k (sin r - r))
+!> with a table of sin x_k and short near-minimax polynomials for |r| <= 1/8
+!> (angle addition; Muller, "Elementary Functions", 3rd ed., ch. 11; Tang,
+!> ACM TOMS 15 (1989) 144 for the table-driven form).  Steps whose offsets
+!> leave that range, or with |theta| > 2**20, take the plain libm step.
+!>
+!> Accuracy of a stage sine: absolute error <= 2 eps against sin of the
+!> exact argument (measured max ~0.9 eps, tests/fortran/test_rk4.f90); the
+!> RK4 results differ from the plain libm formulation by rounding only.
+!> Constants: gen_stage_sine_table.py in this folder.
+module pendula_rk4_kernel
+  use pendula_kinds, only: wp, i8
+  implicit none
+  private
+  public :: rk4_advance, node_reduce, sin_node, sin_shift
+  public :: stage_rmax, stage_xmax
+
+  !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
+  !> that the fast step reduces (k*node_p1, k*node_p2 stay exact).
+  real(wp), parameter :: stage_rmax = 0.125_wp
+  real(wp), parameter :: stage_xmax = 1048576.0_wp
+  integer, parameter :: nnodes = 256
+
+  real(wp), parameter :: node_p1 = 0.02454369328916073_wp, node_p2 = -6.829904419802801e-10_wp, &
+      node_p3 = -2.6798820303795045e-17_wp, nodes_per_radian = 40.74366543152521_wp
+  ! residual of the split: 1.32e-33
+  ! ps: max error of the fit times |r|**3: 2.28e-20
+  real(wp), parameter :: ps0 = -0.16666666666666666_wp, ps1 = 0.008333333333309446_wp, &
+      ps2 = -0.0001984126907687799_wp, ps3 = 2.754949151820351e-06_wp
+  ! qc: max error of the fit times |r|**2: 2.0e-18
+  real(wp), parameter :: qc0 = 0.4999999999999999_wp, qc1 = -0.04166666666640392_wp, &
+      qc2 = 0.0013888888048085412_wp, qc3 = -2.4792977040825343e-05_wp
+  real(wp), parameter :: node_sin(0:255) = [ &
+      0.0_wp, 0.024541228522912288_wp, 0.049067674327418015_wp, &
+      0.07356456359966743_wp, 0.0980171403295606_wp, 0.1224106751992162_wp, &
+      0.14673047445536175_wp, 0.17096188876030122_wp, 0.19509032201612828_wp, &
+      0.2191012401568698_wp, 0.2429801799032639_wp, 0.26671275747489837_wp, &
+      0.2902846772544624_wp, 0.31368174039889146_wp, 0.33688985339222005_wp, &
+      0.35989503653498817_wp, 0.3826834323650898_wp, 0.40524131400498986_wp, &
+      0.4275550934302821_wp, 0.4496113296546066_wp, 0.47139673682599764_wp, &
+      0.49289819222978404_wp, 0.5141027441932218_wp, 0.5349976198870973_wp, &
+      0.5555702330196022_wp, 0.5758081914178453_wp, 0.5956993044924334_wp, &
+      0.6152315905806268_wp, 0.6343932841636455_wp, 0.6531728429537768_wp, &
+      0.6715589548470184_wp, 0.6895405447370669_wp, 0.7071067811865476_wp, &
+      0.7242470829514669_wp, 0.7409511253549591_wp, 0.7572088465064846_wp, &
+      0.773010453362737_wp, 0.7883464276266062_wp, 0.8032075314806449_wp, &
+      0.8175848131515837_wp, 0.8314696123025452_wp, 0.8448535652497071_wp, &
+      0.8577286100002721_wp, 0.8700869911087115_wp, 0.881921264348355_wp, &
+      0.8932243011955153_wp, 0.9039892931234433_wp, 0.9142097557035307_wp, &
+      0.9238795325112867_wp, 0.9329927988347388_wp, 0.9415440651830208_wp, &
+      0.9495281805930367_wp, 0.9569403357322088_wp, 0.9637760657954398_wp, &
+      0.970031253194544_wp, 0.9757021300385286_wp, 0.9807852804032304_wp, &
+      0.9852776423889412_wp, 0.989176509964781_wp, 0.99247953459871_wp, &
+      0.9951847266721969_wp, 0.9972904566786902_wp, 0.9987954562051724_wp, &
+      0.9996988186962042_wp, 1.0_wp, 0.9996988186962042_wp, &
+      0.9987954562051724_wp, 0.9972904566786902_wp, 0.9951847266721969_wp, &
+      0.99247953459871_wp, 0.989176509964781_wp, 0.9852776423889412_wp, &
+      0.9807852804032304_wp, 0.9757021300385286_wp, 0.970031253194544_wp, &
+      0.9637760657954398_wp, 0.9569403357322088_wp, 0.9495281805930367_wp, &
+      0.9415440651830208_wp, 0.9329927988347388_wp, 0.9238795325112867_wp, &
+      0.9142097557035307_wp, 0.9039892931234433_wp, 0.8932243011955153_wp, &
+      0.881921264348355_wp, 0.8700869911087115_wp, 0.8577286100002721_wp, &
+      0.8448535652497071_wp, 0.8314696123025452_wp, 0.8175848131515837_wp, &
+      0.8032075314806449_wp, 0.7883464276266062_wp, 0.773010453362737_wp, &
+      0.7572088465064846_wp, 0.7409511253549591_wp, 0.7242470829514669_wp, &
+      0.7071067811865476_wp, 0.6895405447370669_wp, 0.6715589548470184_wp, &
+      0.6531728429537768_wp, 0.6343932841636455_wp, 0.6152315905806268_wp, &
+      0.5956993044924334_wp, 0.5758081914178453_wp, 0.5555702330196022_wp, &
+      0.5349976198870973_wp, 0.5141027441932218_wp, 0.49289819222978404_wp, &
+      0.47139673682599764_wp, 0.4496113296546066_wp, 0.4275550934302821_wp, &
+      0.40524131400498986_wp, 0.3826834323650898_wp, 0.35989503653498817_wp, &
+      0.33688985339222005_wp, 0.31368174039889146_wp, 0.2902846772544624_wp, &
+      0.26671275747489837_wp, 0.2429801799032639_wp, 0.2191012401568698_wp, &
+      0.19509032201612828_wp, 0.17096188876030122_wp, 0.14673047445536175_wp, &
+      0.1224106751992162_wp, 0.0980171403295606_wp, 0.07356456359966743_wp, &
+      0.049067674327418015_wp, 0.024541228522912288_wp, 1.1419936994248699e-61_wp, &
+      -0.024541228522912288_wp, -0.049067674327418015_wp, -0.07356456359966743_wp, &
+      -0.0980171403295606_wp, -0.1224106751992162_wp, -0.14673047445536175_wp, &
+      -0.17096188876030122_wp, -0.19509032201612828_wp, -0.2191012401568698_wp, &
+      -0.2429801799032639_wp, -0.26671275747489837_wp, -0.2902846772544624_wp, &
+      -0.31368174039889146_wp, -0.33688985339222005_wp, -0.35989503653498817_wp, &
+      -0.3826834323650898_wp, -0.40524131400498986_wp, -0.4275550934302821_wp, &
+      -0.4496113296546066_wp, -0.47139673682599764_wp, -0.49289819222978404_wp, &
+      -0.5141027441932218_wp, -0.5349976198870973_wp, -0.5555702330196022_wp, &
+      -0.5758081914178453_wp, -0.5956993044924334_wp, -0.6152315905806268_wp, &
+      -0.6343932841636455_wp, -0.6531728429537768_wp, -0.6715589548470184_wp, &
+      -0.6895405447370669_wp, -0.7071067811865476_wp, -0.7242470829514669_wp, &
+      -0.7409511253549591_wp, -0.7572088465064846_wp, -0.773010453362737_wp, &
+      -0.7883464276266062_wp, -0.8032075314806449_wp, -0.8175848131515837_wp, &
+      -0.8314696123025452_wp, -0.8448535652497071_wp, -0.8577286100002721_wp, &
+      -0.8700869911087115_wp, -0.881921264348355_wp, -0.8932243011955153_wp, &
+      -0.9039892931234433_wp, -0.9142097557035307_wp, -0.9238795325112867_wp, &
+      -0.9329927988347388_wp, -0.9415440651830208_wp, -0.9495281805930367_wp, &
+      -0.9569403357322088_wp, -0.9637760657954398_wp, -0.970031253194544_wp, &
+      -0.9757021300385286_wp, -0.9807852804032304_wp, -0.9852776423889412_wp, &
+      -0.989176509964781_wp, -0.99247953459871_wp, -0.9951847266721969_wp, &
+      -0.9972904566786902_wp, -0.9987954562051724_wp, -0.9996988186962042_wp, &
+      -1.0_wp, -0.9996988186962042_wp, -0.9987954562051724_wp, &
+      -0.9972904566786902_wp, -0.9951847266721969_wp, -0.99247953459871_wp, &
+      -0.989176509964781_wp, -0.9852776423889412_wp, -0.9807852804032304_wp, &
+      -0.9757021300385286_wp, -0.970031253194544_wp, -0.9637760657954398_wp, &
+      -0.9569403357322088_wp, -0.9495281805930367_wp, -0.9415440651830208_wp, &
+      -0.9329927988347388_wp, -0.9238795325112867_wp, -0.9142097557035307_wp, &
+      -0.9039892931234433_wp, -0.8932243011955153_wp, -0.881921264348355_wp, &
+      -0.8700869911087115_wp, -0.8577286100002721_wp, -0.8448535652497071_wp, &
+      -0.8314696123025452_wp, -0.8175848131515837_wp, -0.8032075314806449_wp, &
+      -0.7883464276266062_wp, -0.773010453362737_wp, -0.7572088465064846_wp, &
+      -0.7409511253549591_wp, -0.7242470829514669_wp, -0.7071067811865476_wp, &
+      -0.6895405447370669_wp, -0.6715589548470184_wp, -0.6531728429537768_wp, &
+      -0.6343932841636455_wp, -0.6152315905806268_wp, -0.5956993044924334_wp, &
+      -0.5758081914178453_wp, -0.5555702330196022_wp, -0.5349976198870973_wp, &
+      -0.5141027441932218_wp, -0.49289819222978404_wp, -0.47139673682599764_wp, &
+      -0.4496113296546066_wp, -0.4275550934302821_wp, -0.40524131400498986_wp, &
+      -0.3826834323650898_wp, -0.35989503653498817_wp, -0.33688985339222005_wp, &
+      -0.31368174039889146_wp, -0.2902846772544624_wp, -0.26671275747489837_wp, &
+      -0.2429801799032639_wp, -0.2191012401568698_wp, -0.19509032201612828_wp, &
+      -0.17096188876030122_wp, -0.14673047445536175_wp, -0.1224106751992162_wp, &
+      -0.0980171403295606_wp, -0.07356456359966743_wp, -0.049067674327418015_wp, &
+      -0.024541228522912288_wp ]
+
+contains
+
+  !> Nearest node k (x_k = 2 pi k / 256) to x and rho = x - x_k, accurate to
+  !> ~1e-18 absolute (|rho| <= pi/256 + 1e-16).  For |x| > stage_xmax, or x
+  !> not finite, k = 0 and rho = x (callers then see |rho| > stage_rmax).
+  elemental subroutine node_reduce(x, k, rho)
+    real(wp), intent(in) :: x
+    integer, intent(out) :: k
+    real(wp), intent(out) :: rho
+    real(wp) :: kf
+    if (abs(x) <= stage_xmax) then
+      kf = anint(x * nodes_per_radian)
+      k = int(kf)
+      rho = ((x - kf * node_p1) - kf * node_p2) - kf * node_p3
+    else
+      k = 0
+      rho = x
+    end if
+  end subroutine node_reduce
+
+  !> sin(2 pi k / 256 + r) for |r| <= stage_rmax; absolute error <= 2 eps.
+  elemental real(wp) function sin_node(k, r) result(s)
+    integer, intent(in) :: k
+    real(wp), intent(in) :: r
+    s = sin_kr(node_sin(iand(k, nnodes - 1)), node_sin(iand(k + nnodes / 4, nnodes - 1)), r)
+  end function sin_node
+
+  !> sin(x + d) of the exact sum x + d (no rounding of the argument) by
+  !> node_reduce and sin_node; libm sin(x + d) (rounded sum) when |x| >
+  !> stage_xmax or the offset leaves the polynomials' range.  For tests.
+  elemental real(wp) function sin_shift(x, d) result(s)
+    real(wp), intent(in) :: x, d
+    integer :: k
+    real(wp) :: rho, r
+    call node_reduce(x, k, rho)
+    r = rho + d
+    if (abs(rho) <= stage_rmax .and. abs(d) <= stage_rmax .and. abs(r) <= stage_rmax) then
+      s = sin_node(k, r)
+    else
+      s = sin(x + d)
+    end if
+  end function sin_shift
+
+  !> sin(x_k + r) from sk = sin x_k, ck = cos x_k, |r| <= stage_rmax.  The
+  !> polynomials are in Estrin order and the products with z are formed
+  !> beside them, to keep the dependency chain short (it is RK4's).
+  pure real(wp) function sin_kr(sk, ck, r) result(s)
+    real(wp), intent(in) :: sk, ck, r
+    real(wp) :: z, z2, p, q, ckr
+    z = r * r
+    z2 = z * z
+    ckr = ck * r
+    p = (ps0 + z * ps1) + z2 * (ps2 + z * ps3)
+    q = (qc0 + z * qc1) + z2 * (qc2 + z * qc3)
+    s = (sk + ckr) + ((ckr * z) * p - (sk * z) * q)
+  end function sin_kr
+
+  !> n classic RK4 steps of size hs [s] for theta'' = -gamma theta' - w0sq sin(theta)
+  !> from (theta [rad], omega [rad/s]); (k, rho) must be node_reduce(theta) on
+  !> entry and are returned as node_reduce of the final theta (to ~1e-18), so
+  !> consecutive calls chain without a new reduction.  fast counts the steps
+  !> taken by the table path (the others use libm).
+  pure subroutine rk4_advance(theta, omega, k, rho, w0sq, gamma, hs, n, fast)
+    real(wp), intent(inout) :: theta, omega, rho
+    integer, intent(inout) :: k
+    real(wp), intent(in) :: w0sq, gamma, hs
+    integer(i8), intent(in) :: n
+    integer(i8), intent(inout) :: fast
+    real(wp) :: y, u, rh, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bound
+    real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn
+    integer :: kk, kn
+    integer(i8) :: i, nf
+    logical :: ok
+    ! locals, not the dummies, so that nothing of the recurrence goes through memory
+    y = theta
+    u = omega
+    rh = rho
+    kk = k
+    nf = fast
+    half = hs / 2
+    sixth = hs / 6
+    h2q = half * half
+    hh = hs * half
+    c6 = hs * sixth
+    do i = 1, n
+      p2 = half * u
+      p4 = hs * u
+      ! A priori bound on the stage offsets, so that the polynomials never see
+      ! a huge argument (no overflow on extreme inputs); a posteriori check below.
+      bound = abs(p4) + hh * (2 * gamma * abs(u) + gamma * hh * (gamma * abs(u) + w0sq) + 2 * w0sq)
+      ok = abs(rh) <= stage_rmax .and. bound <= 1
+      if (ok) then
+        sk = node_sin(iand(kk, nnodes - 1))
+        ck = node_sin(iand(kk + nnodes / 4, nnodes - 1))
+        ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
+        ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
+        ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
+        a4 = y + p4
+        kfn = anint((a4 + p2) * nodes_per_radian)
+        kp23 = kfn * node_p2 + kfn * node_p3
+        r2 = rh + p2
+        k1 = -gamma * u - w0sq * sin_kr(sk, ck, rh)
+        k2 = -gamma * (u + half * k1) - w0sq * sin_kr(sk, ck, r2)
+        r3 = r2 + h2q * k1
+        k3 = -gamma * (u + half * k2) - w0sq * sin_kr(sk, ck, r3)
+        r4 = (rh + p4) + hh * k2
+        k4 = -gamma * (u + hs * k3) - w0sq * sin_kr(sk, ck, r4)
+        yn = a4 + c6 * ((k1 + k2) + k3)
+        un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+        rn = (yn - kfn * node_p1) - kp23
+        ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+      end if
+      if (ok) then
+        kn = int(kfn)
+        nf = nf + 1
+      else
+        ! plain step (libm sines of the rounded stage arguments)
+        k1 = -gamma * u - w0sq * sin(y)
+        k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
+        k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
+        k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
+        yn = y + hs * u + c6 * ((k1 + k2) + k3)
+        un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+        call node_reduce(yn, kn, rn)
+      end if
+      y = yn
+      u = un
+      rh = rn
+      kk = kn
+    end do
+    theta = y
+    omega = u
+    rho = rh
+    k = kk
+    fast = nf
+  end subroutine rk4_advance
+
+end module pendula_rk4_kernel
