@@ -493,3 +493,50 @@ def test_fortran_and_python_paths_agree_elliptic_and_undamped(fortran_exact):
     c = 64 * EPS * (1 + w0 * np.abs(t))
     assert np.all(np.abs(f[:, 4] - th) <= c * (1 + np.abs(th))), np.max(np.abs(f[:, 4] - th) / c)
     assert np.all(np.abs(f[:, 5] - om) <= c * (w0 + np.abs(om))), np.max(np.abs(f[:, 5] - om) / c)
+
+
+FORTRAN_RK4 = r"""
+program fortran_rk4
+  use pendula
+  implicit none
+  real(wp) :: theta0, omega0, w0, gamma, h, t(5), th(5), om(5)
+  type(ode_stats_t) :: stats
+  type(status_t) :: st
+  integer :: ios, i
+  do
+    read (*, *, iostat=ios) theta0, omega0, w0, gamma, h, t
+    if (ios /= 0) exit
+    call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, stats, st)
+    if (st%code /= PENDULA_OK) then
+      write (*, '(a)') 'error'
+      cycle
+    end if
+    write (*, '(10(es25.17e3,1x))') (th(i), i = 1, 5), (om(i), i = 1, 5)
+  end do
+end program fortran_rk4
+"""
+
+
+@pytest.fixture(scope="module")
+def fortran_rk4(tmp_path_factory):
+    return _fortran_program(tmp_path_factory, "fortran_rk4", FORTRAN_RK4)
+
+
+def test_fortran_and_python_paths_agree_rk4(fortran_rk4):
+    # Same steps in the same order on both paths: the results must be identical.
+    rng = np.random.default_rng(5)
+    rows, pys = [], []
+    for _ in range(40):
+        theta0, omega0 = rng.uniform(-3, 3), rng.uniform(-3, 3)
+        w0, gamma = rng.uniform(0.3, 3), rng.uniform(0, 2)
+        h = 0.3 / max(w0, gamma) * rng.uniform(0.1, 1)
+        t = np.sort(rng.uniform(0, 20, 5))
+        t[0] = 0.0
+        rows.append([theta0, omega0, w0, gamma, h, *t])
+        r = pendula.rk4(t, theta0, omega0, w0, gamma, h)
+        pys.append(np.concatenate([r.theta, r.omega]))
+    lines = "\n".join(" ".join(repr(float(v)) for v in row) for row in rows)
+    out = subprocess.run([str(fortran_rk4)], input=lines + "\n", capture_output=True, text=True,
+                         check=True).stdout.split("\n")
+    f = np.array([[float(x) for x in line.split()] for line in out if line.strip()])
+    np.testing.assert_array_equal(f, np.array(pys))
