@@ -136,6 +136,8 @@ class Scene:
                 raise ValueError(f"t must be a scalar or a 1-D array of output times, got shape {arr.shape}")
             self._scalar_t = arr.ndim == 0
             tt = np.ascontiguousarray(arr.reshape(-1))
+            if tt.size == 0 and self.want != "period":
+                raise ValueError("t has 0 elements: it needs at least 1 output time (>= 0, increasing)")
         tt.setflags(write=False)
         self.t = tt
         code, msg = _scene.scene_check_f2py(self._t_arg(), self.theta0, self.omega0, self.w0, self.gamma,
@@ -398,6 +400,26 @@ def _timed(fn, repeat):
     return out, best
 
 
+def _count(x, name):
+    if isinstance(x, bool) or not isinstance(x, (numbers.Integral, np.integer)):
+        raise TypeError(f"{name} must be a positive integer, got {type(x).__name__}")
+    if x < 1:
+        raise ValueError(f"{name} = {x} is out of range: it must be a positive integer")
+    return int(x)
+
+
+def _positive_list(xs, name):
+    if xs is None:
+        return None
+    arr = as_real(xs, name)
+    if arr.ndim != 1 or arr.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D list of settings, got shape {arr.shape}")
+    bad = [float(v) for v in arr if not (np.isfinite(v) and v > 0)]
+    if bad:
+        raise ValueError(f"{name} contains {bad[0]}: every setting must be finite and > 0")
+    return [float(v) for v in arr]
+
+
 def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv=None, plot=None,
              max_steps=2_000_000):
     """Measure the speed/accuracy trade of every applicable model on ``scene``.
@@ -420,6 +442,12 @@ def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
     if scene.t.size < 1:
         raise ValueError("tradeoff needs output times: the scene has no t")
+    repeat = _count(repeat, "repeat")
+    max_steps = _count(max_steps, "max_steps")
+    if isinstance(models, str):
+        raise ValueError(f"models = {models!r} must be a list of model names, e.g. [{models!r}]")
+    rk4_steps = _positive_list(rk4_steps, "rk4_steps")
+    cvode_rtols = _positive_list(cvode_rtols, "cvode_rtols")
     st = Scene(theta0=scene.theta0, omega0=scene.omega0, t=scene.t, g=scene.g, length=scene.length,
                gamma=scene.gamma, tol=scene.tol, want="state")
     damped = st.gamma > 0

@@ -400,6 +400,11 @@ contains
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call check_positive('setting', setting, status)
       if (status%code /= PENDULA_OK) return
+      if (model == SCENE_MODEL_RK4 .and. tend / setting > RK4_STEP_CAP) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // num(setting) // ' is too small: ' // &
+            'the RK4 step h would need more than ' // num(RK4_STEP_CAP) // ' steps over t = 0 .. ' // num(tend))
+        return
+      end if
       call alloc_outputs(scene, result)
       call integrate(scene, model, setting, result%t, result%theta, result%omega, stats, status)
       if (status%code /= PENDULA_OK) return
@@ -1347,7 +1352,11 @@ contains
       s = trim(s)
       return
     end if
-    write (buf, '(es10.3)') x
+    if (x == 0 .or. (abs(x) > 1.0e-99_wp .and. abs(x) < 1.0e99_wp)) then
+      write (buf, '(es10.3)') x
+    else
+      write (buf, '(es12.3e3)') x      ! three exponent digits: es10.3 would drop the 'E'
+    end if
     s = trim(adjustl(buf))
   end function num
 
