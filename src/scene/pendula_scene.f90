@@ -1228,15 +1228,23 @@ contains
     end if
   end subroutine solve_cvode
 
-  ! Sample grid for events found from an integrated trajectory: 64 points
-  ! per small-angle period (the nonlinear period is longer) and at least 64.
+  ! Sample grid for events found from an integrated trajectory: spacing d
+  ! with (w0 d)^4/384 * A <= tol/10, so that the cubic Hermite interpolant
+  ! used to place the events (error d^4/384 max|theta''''|, and
+  ! |theta''''| ~ w0^4 A for the swinging pendulum) is ten times more
+  ! accurate than tol; at least 64 samples per small-angle period, and the
+  ! fast time scale 1/gamma resolved when over-damped (capped at 4e6 samples).
   pure subroutine event_grid(scene, tend, tg)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
     real(wp), allocatable, intent(out) :: tg(:)
     integer :: n, i
-    n = max(64, ceiling(64 * scene%w0 * tend / (2 * pi)) + 1)
-    if (scene%gamma > scene%w0) n = max(n, min(2000000, ceiling(8 * scene%gamma * tend) + 1))
+    real(wp) :: a, d, per
+    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    d = (384 * scene%tol / (10 * a))**0.25_wp / scene%w0
+    per = max(64.0_wp, 2 * pi / (scene%w0 * d))
+    n = int(min(4.0e6_wp, max(64.0_wp, per * scene%w0 * tend / (2 * pi) + 1)))
+    if (scene%gamma > scene%w0) n = max(n, min(4000000, ceiling(8 * scene%gamma * tend) + 1))
     allocate (tg(n + 1))
     do i = 0, n
       tg(i+1) = tend * (real(i, wp) / n)
@@ -1246,7 +1254,7 @@ contains
   ! Events from samples of an integrated trajectory: a sign change of theta
   ! or Omega between samples is refined on the cubic Hermite interpolant,
   ! built from (theta, Omega) and (Omega, Omega') at both ends, whose error
-  ! (h^4/384 max|theta''''|) is below the integration error on this grid.
+  ! (h^4/384 max|theta''''|) is below tol/10 on the grid of event_grid.
   pure subroutine grid_events(scene, tg, th, om, result)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tg(:), th(:), om(:)
