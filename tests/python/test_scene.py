@@ -275,3 +275,14 @@ def test_tradeoff_table_csv_and_plot(tmp_path):
     table.plot(tmp_path / "t.png")
     assert (tmp_path / "t.png").stat().st_size > 1000
     assert "converged integration" in table.reference
+
+
+@pytest.mark.skipif(not pendula.have_cvode(), reason="reference events come from CVODE root finding")
+@pytest.mark.parametrize("model", ["rk4", "cvode"])
+def test_integrated_event_times_within_their_estimate(model):
+    s = pendula.Scene(theta0=0.0, omega0=2.0, t=[30.0], mass=0.1, b=0.05, want="events", tol=1e-8)
+    r = pendula.solve(s, model=model)
+    c = pendula.cvode([0.0, 30.0], 0.0, 2.0, W0, 0.5, rtol=1e-13, atol=1e-15, events=True)
+    assert len(r.events.t) == len(c.events.t) == 26
+    np.testing.assert_array_equal(r.events.kind, c.events.kind)
+    assert np.max(np.abs(r.events.t - c.events.t)) <= r.event_time_error <= 1e-6
