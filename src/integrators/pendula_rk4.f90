@@ -16,7 +16,7 @@ module pendula_rk4
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, PENDULA_OK, &
       PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER
   use pendula_ode, only: ode_stats_t, check_problem, check_output_size, linear_eigenvalues
-  use pendula_rk4_kernel, only: rk4_advance, node_reduce
+  use pendula_rk4_kernel, only: rk4_grid, substeps
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -104,28 +104,6 @@ contains
       inside = real(r)**2 + aimag(r)**2 <= 1 + 4 * epsilon(1.0_wp)
     end function inside
   end function ray_limit
-
-  !> Number of equal substeps of at most h that cover dt: ceiling(dt/h), except
-  !> that dt/h within 1e-9 of an integer counts as that integer (output grids
-  !> like 0.05*k are multiples of h only up to rounding).
-  pure integer(i8) function substeps(dt, h) result(n)
-    real(wp), intent(in) :: dt, h
-    real(wp) :: r, nr
-    if (dt <= h) then
-      ! the common case of output spacing <= h, without the division
-      n = 1
-      return
-    end if
-    r = dt / h
-    nr = anint(r)
-    if (r <= 1) then
-      n = 1
-    else if (abs(r - nr) <= 1.0e-9_wp * nr) then
-      n = int(nr, i8)
-    else
-      n = int(ceiling(r), i8)
-    end if
-  end function substeps
 
   !> Validate h against the window t(1)..t(n): positive, not so small that the
   !> run needs more than 1e15 steps, and stable (see rk4_max_stable_step).
@@ -216,9 +194,8 @@ contains
     real(wp), intent(out) :: theta(:), omega(:)
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
-    real(wp) :: y, u, w0sq, dt, rho
-    integer(i8) :: n, fast
-    integer :: i, k
+    integer(i8) :: steps, fast
+    integer :: bad
     theta = 0
     omega = 0
     call check_problem(t, theta0, omega0, w0, gamma, status)
@@ -226,28 +203,16 @@ contains
     call check_output_size('omega', size(omega), size(t), status)
     call check_step(t, w0, gamma, h, status)
     if (status%code /= PENDULA_OK) return
-    w0sq = w0 * w0
-    y = theta0
-    u = omega0
-    theta(1) = y
-    omega(1) = u
-    fast = 0
-    call node_reduce(y, k, rho)
-    do i = 1, size(t) - 1
-      dt = t(i+1) - t(i)
-      n = substeps(dt, h)
-      call rk4_advance(y, u, k, rho, w0sq, gamma, dt / real(n, wp), n, fast)
-      stats%steps = stats%steps + n
-      if (.not. (ieee_is_finite(y) .and. ieee_is_finite(u))) then
-        call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // num(t(i+1)))
-        theta = 0
-        omega = 0
-        exit
-      end if
-      theta(i+1) = y
-      omega(i+1) = u
-    end do
-    stats%rhs_evals = 4 * stats%steps
+    theta(1) = theta0
+    omega(1) = omega0
+    call rk4_grid(t, w0 * w0, gamma, h, theta, omega, steps, fast, bad)
+    stats%steps = steps
+    stats%rhs_evals = 4 * steps
+    if (bad /= 0) then
+      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // num(t(bad)))
+      theta = 0
+      omega = 0
+    end if
   end subroutine rk4_solve
 
   !> Final state only: integrate from (t0, theta0, omega0) to t_end >= t0 [s]

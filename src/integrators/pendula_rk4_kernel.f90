@@ -22,7 +22,7 @@ module pendula_rk4_kernel
   use pendula_kinds, only: wp, i8
   implicit none
   private
-  public :: rk4_advance, node_reduce, sin_node, sin_shift
+  public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
   public :: stage_rmax, stage_xmax
 
   !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
@@ -185,84 +185,124 @@ contains
     s = (sk + ckr) + ((ckr * z) * p - (sk * z) * q)
   end function sin_kr
 
-  !> n classic RK4 steps of size hs [s] for theta'' = -gamma theta' - w0sq sin(theta)
-  !> from (theta [rad], omega [rad/s]); (k, rho) must be node_reduce(theta) on
-  !> entry and are returned as node_reduce of the final theta (to ~1e-18), so
-  !> consecutive calls chain without a new reduction.  fast counts the steps
-  !> taken by the table path (the others use libm).
-  pure subroutine rk4_advance(theta, omega, k, rho, w0sq, gamma, hs, n, fast)
-    real(wp), intent(inout) :: theta, omega, rho
-    integer, intent(inout) :: k
-    real(wp), intent(in) :: w0sq, gamma, hs
-    integer(i8), intent(in) :: n
-    integer(i8), intent(inout) :: fast
-    real(wp) :: y, u, rh, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bound
+  !> Number of equal substeps of at most h that cover dt: ceiling(dt/h), except
+  !> that dt/h within 1e-9 of an integer counts as that integer (output grids
+  !> like 0.05*k are multiples of h only up to rounding).
+  pure integer(i8) function substeps(dt, h) result(n)
+    real(wp), intent(in) :: dt, h
+    real(wp) :: r, nr
+    ! The common case first and without a division: dt <= h or dt exceeding h
+    ! by rounding only (dt/h <= 1 + 1e-9: one step).  One test for both keeps
+    ! the branch predictable on grids like 0.05*k, where dt <= h or not is
+    ! decided by rounding (a mispredicted branch per output cost ~3 ns).
+    if (dt <= h * (1 + 0.999e-9_wp)) then
+      n = 1
+      return
+    end if
+    r = dt / h
+    nr = anint(r)
+    if (r <= 1) then
+      n = 1
+    else if (abs(r - nr) <= 1.0e-9_wp * nr) then
+      n = int(nr, i8)
+    else
+      n = int(ceiling(r), i8)
+    end if
+  end function substeps
+
+  !> Classic RK4 for theta'' = -gamma theta' - w0sq sin(theta) over the output
+  !> grid t (strictly increasing; not checked here): theta(1) [rad], omega(1)
+  !> [rad/s] hold the state at t(1) on entry; between t(i) and t(i+1) the
+  !> fewest equal substeps of at most h [s] (substeps) are taken and the state
+  !> is stored in theta(i+1), omega(i+1).  steps: substeps taken; fast: those
+  !> on the table path (the others use libm sines).  bad = 0, or the first
+  !> index whose state is not finite (the run stops there).  One loop over all
+  !> outputs, so the recurrence never leaves registers between outputs.
+  pure subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad)
+    real(wp), intent(in) :: t(:), w0sq, gamma, h
+    real(wp), intent(inout) :: theta(:), omega(:)
+    integer(i8), intent(out) :: steps, fast
+    integer, intent(out) :: bad
+    real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bound
     real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn
-    integer :: kk, kn
-    integer(i8) :: i, nf
+    integer :: kk, kn, j
+    integer(i8) :: i, n, nf, ns
     logical :: ok
-    ! locals, not the dummies, so that nothing of the recurrence goes through memory
-    y = theta
-    u = omega
-    rh = rho
-    kk = k
-    nf = fast
-    half = hs / 2
-    sixth = hs / 6
-    h2q = half * half
-    hh = hs * half
-    c6 = hs * sixth
-    do i = 1, n
-      p2 = half * u
-      p4 = hs * u
-      ! A priori bound on the stage offsets, so that the polynomials never see
-      ! a huge argument (no overflow on extreme inputs); a posteriori check below.
-      bound = abs(p4) + hh * (2 * gamma * abs(u) + gamma * hh * (gamma * abs(u) + w0sq) + 2 * w0sq)
-      ok = abs(rh) <= stage_rmax .and. bound <= 1
-      if (ok) then
-        sk = node_sin(iand(kk, nnodes - 1))
-        ck = node_sin(iand(kk + nnodes / 4, nnodes - 1))
-        ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
-        ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
-        ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
-        a4 = y + p4
-        kfn = anint((a4 + p2) * nodes_per_radian)
-        kp23 = kfn * node_p2 + kfn * node_p3
-        r2 = rh + p2
-        k1 = -gamma * u - w0sq * sin_kr(sk, ck, rh)
-        k2 = -gamma * (u + half * k1) - w0sq * sin_kr(sk, ck, r2)
-        r3 = r2 + h2q * k1
-        k3 = -gamma * (u + half * k2) - w0sq * sin_kr(sk, ck, r3)
-        r4 = (rh + p4) + hh * k2
-        k4 = -gamma * (u + hs * k3) - w0sq * sin_kr(sk, ck, r4)
-        yn = a4 + c6 * ((k1 + k2) + k3)
-        un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-        rn = (yn - kfn * node_p1) - kp23
-        ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
-      end if
-      if (ok) then
-        kn = int(kfn)
-        nf = nf + 1
+    y = theta(1)
+    u = omega(1)
+    call node_reduce(y, kk, rh)
+    nf = 0
+    ns = 0
+    bad = 0
+    do j = 1, size(t) - 1
+      n = substeps(t(j+1) - t(j), h)
+      if (n == 1) then
+        hs = t(j+1) - t(j)
       else
-        ! plain step (libm sines of the rounded stage arguments)
-        k1 = -gamma * u - w0sq * sin(y)
-        k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-        k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-        k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-        yn = y + hs * u + c6 * ((k1 + k2) + k3)
-        un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-        call node_reduce(yn, kn, rn)
+        hs = (t(j+1) - t(j)) / real(n, wp)
       end if
-      y = yn
-      u = un
-      rh = rn
-      kk = kn
+      half = hs / 2
+      sixth = hs / 6
+      h2q = half * half
+      hh = hs * half
+      c6 = hs * sixth
+      do i = 1, n
+        p2 = half * u
+        p4 = hs * u
+        ! A priori bound on the stage offsets, so that the polynomials never
+        ! see a huge argument (no overflow on extreme inputs); a posteriori
+        ! check below.
+        bound = abs(p4) + hh * (2 * gamma * abs(u) + gamma * hh * (gamma * abs(u) + w0sq) + 2 * w0sq)
+        ok = abs(rh) <= stage_rmax .and. bound <= 1
+        if (ok) then
+          sk = node_sin(iand(kk, nnodes - 1))
+          ck = node_sin(iand(kk + nnodes / 4, nnodes - 1))
+          ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
+          ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
+          ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
+          a4 = y + p4
+          kfn = anint((a4 + p2) * nodes_per_radian)
+          kp23 = kfn * node_p2 + kfn * node_p3
+          r2 = rh + p2
+          k1 = -gamma * u - w0sq * sin_kr(sk, ck, rh)
+          k2 = -gamma * (u + half * k1) - w0sq * sin_kr(sk, ck, r2)
+          r3 = r2 + h2q * k1
+          k3 = -gamma * (u + half * k2) - w0sq * sin_kr(sk, ck, r3)
+          r4 = (rh + p4) + hh * k2
+          k4 = -gamma * (u + hs * k3) - w0sq * sin_kr(sk, ck, r4)
+          yn = a4 + c6 * ((k1 + k2) + k3)
+          un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+          rn = (yn - kfn * node_p1) - kp23
+          ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+        end if
+        if (ok) then
+          kn = int(kfn)
+          nf = nf + 1
+        else
+          ! plain step (libm sines of the rounded stage arguments)
+          k1 = -gamma * u - w0sq * sin(y)
+          k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
+          k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
+          k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
+          yn = y + hs * u + c6 * ((k1 + k2) + k3)
+          un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+          call node_reduce(yn, kn, rn)
+        end if
+        y = yn
+        u = un
+        rh = rn
+        kk = kn
+      end do
+      ns = ns + n
+      theta(j+1) = y
+      omega(j+1) = u
+      if (.not. (abs(y) <= huge(y) .and. abs(u) <= huge(u))) then
+        bad = j + 1
+        exit
+      end if
     end do
-    theta = y
-    omega = u
-    rho = rh
-    k = kk
+    steps = ns
     fast = nf
-  end subroutine rk4_advance
+  end subroutine rk4_grid
 
 end module pendula_rk4_kernel

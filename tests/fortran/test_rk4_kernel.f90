@@ -5,7 +5,7 @@
 !> step (the previous implementation, kept here as the reference).
 program test_rk4_kernel
   use pendula_kinds, only: wp, i8
-  use pendula_rk4_kernel, only: rk4_advance, node_reduce, sin_node, sin_shift, stage_rmax, stage_xmax
+  use pendula_rk4_kernel, only: rk4_grid, node_reduce, sin_node, sin_shift, stage_rmax, stage_xmax
   use pendula_testing, only: checker_t
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
@@ -183,30 +183,33 @@ contains
   !> the same RK4 scheme), and the table path must carry the text scenario.
   subroutine test_vs_plain_rk4()
     real(wp), parameter :: w0sq = 2, hv(2) = [0.05_wp, 0.001_wp], gv(2) = [0.1_wp, 0.5_wp]
-    real(wp) :: y1, u1, y2, u2, rho, dmax, hs, scale
-    integer :: ih, ig, i, k, icase
+    real(wp) :: y1, u1, dmax, hs, scale, t(601), th(601), om(601)
+    integer :: ih, ig, i, icase, bad
     integer(i8) :: nsub, fast, total
     real(wp) :: th0(3), om0(3)
     character(len=80) :: label
     th0 = [0.0_wp, 0.0_wp, 1000.5_wp]
     om0 = [2.0_wp, 3.0_wp, 2.0_wp]
+    t = [(0.05_wp * i, i = 0, 600)]
     do icase = 1, 3
       do ig = 1, 2
         do ih = 1, 2
           hs = hv(ih)
           nsub = nint(0.05_wp / hs, i8)
-          y1 = th0(icase); u1 = om0(icase); y2 = y1; u2 = u1
-          call node_reduce(y2, k, rho)
-          fast = 0
+          th(1) = th0(icase)
+          om(1) = om0(icase)
+          call rk4_grid(t, w0sq, gv(ig), hs, th, om, total, fast, bad)
+          call tc%check_true(bad == 0 .and. total == 600 * nsub, 'rk4_grid: steps and no failure')
+          y1 = th0(icase)
+          u1 = om0(icase)
           dmax = 0
           scale = 1
           do i = 1, 600
-            call plain(y1, u1, w0sq, gv(ig), hs, nsub)
-            call rk4_advance(y2, u2, k, rho, w0sq, gv(ig), hs, nsub, fast)
-            dmax = max(dmax, abs(y1 - y2), abs(u1 - u2))
+            ! the plain loop with the substep rk4_grid uses (t(i+1) - t(i)) / n
+            call plain(y1, u1, w0sq, gv(ig), (t(i+1) - t(i)) / real(nsub, wp), nsub)
+            dmax = max(dmax, abs(y1 - th(i+1)), abs(u1 - om(i+1)))
             scale = max(scale, abs(y1))
           end do
-          total = 600 * nsub
           write (label, '(a, i0, a, f4.2, a, f5.3, a)') 'case ', icase, ' gamma ', gv(ig), ' h ', hs, ': '
           print '(a, a, es9.2, a, f9.2, a, i0, a, i0)', trim(label), ' max |fast - plain| = ', dmax, &
               ' = ', dmax / (eps * scale), ' eps*max(1,|theta|); table steps ', fast, ' / ', total
