@@ -16,7 +16,8 @@ while p can be as small as the smallest subnormal double.
 
 Beyond SciPy: m < 0 and m > 1 are supported (SciPy returns NaN); for m > 1 the
 amplitude is ph = atan2(sn, cn), which stays in [-pi/2, pi/2] since cn > 0.
-NaN input gives NaN output; out-of-domain input raises ValueError.
+NaN input gives NaN output; out-of-domain input raises ValueError (also u or m
+infinite in ellipj, where sn, cn, dn have no limit).  Empty arrays give empty arrays.
 """
 import numpy as np
 
@@ -36,6 +37,11 @@ def _prepare(**named):
            and v.ndim >= 1 and v.shape == vals[0].shape for v in vals):
         return vals[0].shape, False, {k: v.reshape(-1) for k, v in named.items()}
     return broadcast_real(**named)
+
+
+def _empty(shape, n_out):
+    out = tuple(np.empty(shape) for _ in range(n_out))
+    return out if n_out > 1 else out[0]
 
 
 def _first_bad(bad, **arrays):
@@ -61,6 +67,8 @@ def ellipk(m):
     K(1) = inf.  ValueError for m > 1.  Accuracy: a few ulps (AGM).
     """
     shape, scalar, f = _prepare(m=m)
+    if f["m"].size == 0:
+        return _empty(shape, 1)
     k = _elliptic.ellipk_f2py(f["m"])
     _check_nan_domain(k, "ellipk: m must be <= 1", m=f["m"])
     return restore(k, shape, scalar)
@@ -72,6 +80,8 @@ def ellipkm1(p):
     Same name and meaning as scipy.special.ellipkm1.  ValueError for p < 0.
     """
     shape, scalar, f = _prepare(p=p)
+    if f["p"].size == 0:
+        return _empty(shape, 1)
     k = _elliptic.ellipkc_f2py(f["p"])
     _check_nan_domain(k, "ellipkm1: p = 1 - m must be >= 0", p=f["p"])
     return restore(k, shape, scalar)
@@ -83,6 +93,8 @@ def ellipe(m):
     ValueError for m > 1.  Accuracy: a few ulps.
     """
     shape, scalar, f = _prepare(m=m)
+    if f["m"].size == 0:
+        return _empty(shape, 1)
     e = _elliptic.ellipe_f2py(f["m"])
     _check_nan_domain(e, "ellipe: m must be <= 1", m=f["m"])
     return restore(e, shape, scalar)
@@ -91,6 +103,8 @@ def ellipe(m):
 def ellipem1(p):
     """E(1 - p) for p >= 0, accurate for tiny p.  ValueError for p < 0."""
     shape, scalar, f = _prepare(p=p)
+    if f["p"].size == 0:
+        return _empty(shape, 1)
     e = _elliptic.ellipec_f2py(f["p"])
     _check_nan_domain(e, "ellipem1: p = 1 - m must be >= 0", p=f["p"])
     return restore(e, shape, scalar)
@@ -105,6 +119,8 @@ def ellipf(phi, m):
     Same as scipy.special.ellipkinc (alias ``ellipkinc``) where SciPy is defined.
     """
     shape, scalar, f = _prepare(phi=phi, m=m)
+    if f["phi"].size == 0:
+        return _empty(shape, 1)
     out = _elliptic.ellipf_f2py(f["phi"], f["m"])
     _check_nan_domain(out, "ellipf: need m*sin(phi)**2 <= 1", phi=f["phi"], m=f["m"])
     return restore(out, shape, scalar)
@@ -119,6 +135,8 @@ def ellipfm1(phi, p):
     ValueError where (1 - p) sin^2(phi) > 1.
     """
     shape, scalar, f = _prepare(phi=phi, p=p)
+    if f["phi"].size == 0:
+        return _empty(shape, 1)
     out = _elliptic.ellipfc_f2py(f["phi"], f["p"])
     _check_nan_domain(out, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=f["phi"], p=f["p"])
     return restore(out, shape, scalar)
@@ -146,15 +164,31 @@ def _use_plan(m, u, name):
     return np.size(u) >= 512 * _core_k(mval, name)
 
 
+def _check_finite_jacobi(sn, u, m, name):
+    """sn, cn, dn have no limit as u -> +-Inf (nor as m -> +-Inf): ValueError there."""
+    if not np.isnan(np.sum(sn)):
+        return
+    bad = np.isnan(sn) & ~np.isnan(u) & ~np.isnan(m)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        arg, val = ("u", u[i]) if np.isinf(u[i]) else (name, m[i])
+        raise ValueError(f"ellipj: {arg} = {float(val)!r} is out of range: it must be finite "
+                         f"(sn, cn, dn have no limit there)")
+
+
 def _jacobi(u, m, name, vec, plan):
     if _use_plan(m, u, name):
         # one parameter, many u: the m-dependent work (and a table) is done once
         mval = real_scalar(m, name)
         shape, _, f = _prepare(u=u)
         res = plan(f["u"], mval)
+        _check_finite_jacobi(res[0], f["u"], np.broadcast_to(mval, f["u"].shape), name)
         return tuple(r.reshape(shape) for r in res)
     shape, scalar, f = _prepare(u=u, **{name: m})
+    if f["u"].size == 0:
+        return _empty(shape, 4)
     res = vec(f["u"], f[name])
+    _check_finite_jacobi(res[0], f["u"], f[name], name)
     return tuple(restore(r, shape, scalar) for r in res)
 
 
