@@ -10,20 +10,31 @@
 !> K, E need m <= 1 (mc >= 0); F needs m sin^2(phi) <= 1; NaN in gives NaN out.
 !>
 !> Algorithms (own implementations from the papers):
-!>  * K, E: arithmetic-geometric mean with the sum of c_n^2 kept in the stable
-!>    product form c_{n+1} = c_n^2/(4 a_{n+1}) (DLMF 19.8.1-19.8.6); for m > 1/2
-!>    E comes from Legendre's relation (DLMF 19.7.1) so that E(m) near m = 1 is a sum
-!>    of positive terms.  m < 0 by the imaginary-modulus transformation (DLMF 19.7.5).
+!>  * K, E: degree-12 polynomials (Chebyshev interpolants at 40 digits) on 17 intervals
+!>    of m in [0, 0.85) and, for mc <= 0.15, the logarithmic form K = P(mc) - ln(mc) Q(mc),
+!>    E = Pe(mc) - ln(mc) mc Qe1(mc) (structure of DLMF 19.12.1), exact as mc -> 0 down
+!>    to the smallest subnormal.  m < 0 by the imaginary-modulus transformation
+!>    (DLMF 19.7.5).  Measured <= 2.4 ulps.  K in double-double (for the period
+!>    reductions) by the AGM in double-double arithmetic (DLMF 19.8.5).
 !>  * F: Carlson's R_F by duplication (DLMF 19.36.1, Carlson 1995), any real phi by
 !>    F(phi + n pi) = F(phi) + 2 n K with n*pi subtracted in double-double.
 !>  * sn, cn, dn: Maclaurin series at u/2^N followed by N duplications, first on the
 !>    complements 1 - cn, 1 - dn and then on cn, dn written without cancellation
 !>    (cn(2u) = (cn^2 dn^2 - mc sn^2)/D, dn(2u) = (mc + m cn^4)/D,
 !>    D = cn^2 + sn^2 dn^2), after the idea of Fukushima's conditional duplication
-!>    (Numer. Math. 2012).  u is reduced modulo 2K with K in double-double (AGM in
-!>    double-double arithmetic) and [K/2, K] is mapped to [0, K/2] by u -> K - u
-!>    (DLMF 22.4.3), which keeps cn and dn relatively accurate when mc is tiny.
-!>    m < 0 by DLMF 22.6.12 (imaginary modulus), m > 1 by DLMF 22.6.11 (reciprocal).
+!>    (Numer. Math. 2012); the complement steps run on fractions without division.
+!>    u is reduced modulo 2K with K and 1 - m in double-double and [K/2, K] is mapped
+!>    to [0, K/2] by u -> K - u (DLMF 22.4.3), which keeps cn and dn relatively
+!>    accurate when mc is tiny.  m < 0 by DLMF 22.6.12 (imaginary modulus), m > 1 by
+!>    DLMF 22.6.11 (reciprocal modulus).  am = 2 atan(sn/(1 + cn)) by a polynomial.
+!>  * Plans (one m, many u): Taylor polynomials of degree 8 of sn, cn, dn, am about a
+!>    1/32 grid of [0, K] from the ODEs (DLMF 22.13): a table look-up and four short
+!>    polynomials per point, no division.
+!>
+!> Measured against mpmath at the exact double inputs (tests/python/test_elliptic.py):
+!> sn, cn, dn, am within 3.1 eps times the condition number in every region
+!> (m < 0 to -1e10, 1 - m down to 5e-324, m > 1, |u| to 1e6); K, E within 2.4 ulps,
+!> F within 3.4 ulps.
 module pendula_elliptic
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, &
       ieee_is_nan, ieee_is_finite
@@ -464,7 +475,7 @@ contains
 
   ! ------------------------------------------------------- complete integrals
   !> Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
-  !> K(1) = +Inf; NaN for m > 1 or NaN.  Accuracy: a few ulps (AGM, DLMF 19.8.5).
+  !> K(1) = +Inf, K(-Inf) = 0; NaN for m > 1 or NaN.  Accuracy: <= 2.4 ulps measured.
   elemental real(wp) function ellipk(m) result(k)
     real(wp), intent(in) :: m
     if (ieee_is_nan(m)) then     ! before any ordered comparison (quiet under -ffpe-trap)
