@@ -615,7 +615,7 @@ contains
     type(linear_damped_t) :: lin, gl
     type(status_t) :: st
     real(wp) :: tt(0:n), th(0:n), om(0:n), bmax, ig, igp, eg, ep, wd, a0, a, amp, phi, scale, &
-        round, t0, gt, gpt, tstar, gmax, gpmax, jmin
+        round, t0, gt, gpt, gmax, jmin
     integer :: i
     call linear_damped_init(lin, theta0, omega0, w0, gamma, st)
     if (st%code /= PENDULA_OK) then
@@ -665,10 +665,8 @@ contains
       ig = max(0.0_wp, (1 - gpt - gamma * gt) / w0**2)
       call linear_damped_state(gl, tt, th, om)
       gmax = maxval(th) * (1 + 1.0e-2_wp)
-      gpmax = 2 * gmax
-      igp = gpmax
+      igp = 2 * gmax
       ep = ieee_value(1.0_wp, ieee_positive_inf)
-      tstar = 0
     end if
     ! (b) Green's function bound, any regime
     eg = w0**2 * bmax**3 / 6 * max(ig, igp / w0)
@@ -1057,7 +1055,6 @@ contains
     type(status_t), intent(inout) :: status
     real(wp) :: h, hmax, est, d, round
     real(wp), allocatable :: th2(:), om2(:), tgrid(:)
-    type(ode_stats_t) :: stats
     type(status_t) :: st
     integer :: it
     logical :: ev
