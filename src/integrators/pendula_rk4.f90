@@ -172,8 +172,12 @@ contains
       else if (len(s) >= 2) then
         if (s(1:2) == '-.') s = '-0' // s(2:)
       end if
-    else
+    else if (abs(x) < 1.0e100_wp .and. abs(x) >= 1.0e-99_wp) then
       write (buf, '(es12.5)') x
+      s = trim(adjustl(buf))
+    else
+      ! a three-digit exponent needs its own field, or the E is dropped
+      write (buf, '(es13.5e3)') x
       s = trim(adjustl(buf))
     end if
   end function num
