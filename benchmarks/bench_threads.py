@@ -10,7 +10,9 @@ calls run truly in parallel and the speed-up approaches the number of cores
 
 Prints a table (ns/point serial and threaded, speed-up, and the process CPU
 time per wall time of the threaded run -- about 2 when both threads compute at
-once, at most 1 if the GIL were held) and, with --out,
+once, at most 1 if the GIL were held; and how fast a pure-Python thread keeps
+counting while the Fortran calls run, relative to its free rate -- near 0 if
+the GIL were held, whatever the machine's load) and, with --out,
 writes bench_threads.md and bench_threads.csv there.
 """
 from __future__ import annotations
@@ -103,6 +105,41 @@ def _best(fn, repeats):
     return best, par
 
 
+def _python_progress(call):
+    """Fraction of its free-running rate that a pure-Python counter thread keeps
+    while `call` runs on another thread: ~1 when the GIL is released (given a
+    free core), ~0 when it is held.  Independent of how fast the call is."""
+    import sys
+    import threading
+    stop = threading.Event()
+    count = [0]
+
+    def counter():
+        while not stop.is_set():
+            count[0] += 1
+
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(0.001)
+    th = threading.Thread(target=counter)
+    th.start()
+    try:
+        time.sleep(0.02)
+        c0, t0 = count[0], time.perf_counter()
+        time.sleep(0.1)
+        free = (count[0] - c0) / (time.perf_counter() - t0)
+        c0, t0 = count[0], time.perf_counter()
+        call()
+        while time.perf_counter() - t0 < 0.1:   # at least 0.1 s of calls
+            call()
+        dt = time.perf_counter() - t0
+        ran = (count[0] - c0) / dt
+    finally:
+        stop.set()
+        th.join()
+        sys.setswitchinterval(old)
+    return ran / free if free > 0 else float("nan")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (a few seconds)")
@@ -124,6 +161,7 @@ def main(argv=None):
             except Exception as exc:  # noqa: BLE001 - report, do not hide
                 rows.append(dict(entry=name, points=points * k, serial_ns=float("nan"),
                                  threaded_ns=float("nan"), speedup=float("nan"), cpu_per_wall=float("nan"),
+                                 python_progress=float("nan"),
                                  note=f"failed: {exc}"))
                 continue
 
@@ -136,9 +174,11 @@ def main(argv=None):
 
             ts, _ = _best(serial, repeats)
             tt, par = _best(threaded, repeats)
+            prog = _python_progress(serial)
             total = points * k
             rows.append(dict(entry=name, points=total, serial_ns=ts / total * 1e9,
-                             threaded_ns=tt / total * 1e9, speedup=ts / tt, cpu_per_wall=par, note=""))
+                             threaded_ns=tt / total * 1e9, speedup=ts / tt, cpu_per_wall=par,
+                             python_progress=prog, note=""))
 
     cores = os.cpu_count()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
@@ -147,10 +187,10 @@ def main(argv=None):
             f"load average {load0:.1f} -> {load:.1f} (speed-ups need idle cores)")
     print(head)
     print(f"{'entry point':<22}{'points':>10}{'serial ns/pt':>14}{'threaded ns/pt':>16}{'speed-up':>10}"
-          f"{'cpu/wall':>10}")
+          f"{'cpu/wall':>10}{'py-thread':>11}")
     for r in rows:
         print(f"{r['entry']:<22}{r['points']:>10}{r['serial_ns']:>14.1f}{r['threaded_ns']:>16.1f}"
-              f"{r['speedup']:>10.2f}{r['cpu_per_wall']:>10.2f}  {r['note']}")
+              f"{r['speedup']:>10.2f}{r['cpu_per_wall']:>10.2f}{r['python_progress']:>10.0%}  {r['note']}")
     if args.out:
         args.out.mkdir(parents=True, exist_ok=True)
         with open(args.out / "bench_threads.csv", "w", newline="") as f:
@@ -159,11 +199,11 @@ def main(argv=None):
             w.writerows(rows)
         with open(args.out / "bench_threads.md", "w") as f:
             f.write(f"{head}\n\n| entry point | points | serial ns/point | threaded ns/point | speed-up "
-                    "| CPU/wall (threaded) |\n")
-            f.write("|---|---:|---:|---:|---:|---:|\n")
+                    "| CPU/wall (threaded) | Python thread progress during the call |\n")
+            f.write("|---|---:|---:|---:|---:|---:|---:|\n")
             for r in rows:
                 f.write(f"| {r['entry']} | {r['points']} | {r['serial_ns']:.1f} | {r['threaded_ns']:.1f} | "
-                        f"{r['speedup']:.2f} | {r['cpu_per_wall']:.2f} |\n")
+                        f"{r['speedup']:.2f} | {r['cpu_per_wall']:.2f} | {r['python_progress']:.0%} |\n")
     return 0
 
 
