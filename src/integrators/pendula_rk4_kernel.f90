@@ -224,7 +224,7 @@ contains
     integer(i8), intent(out) :: steps, fast
     integer, intent(out) :: bad
     real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bound
-    real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb
+    real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy
     integer :: kk, kn, j
     integer(i8) :: i, n, nf, ns
     logical :: ok
@@ -284,10 +284,16 @@ contains
           k2 = -gamma * m2 - w0sq * s2
           s3 = sin_kr(sk, ck, r3)
           m3 = u + half * k2
-          yn = (a4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
+          ! theta and Omega are each rounded once (as in the plain step): the
+          ! increments are summed first, so rotations (|theta| >> 1) keep the
+          ! rounding noise of the plain loop.  rho' is formed from the same
+          ! increment beside theta' (it then carries theta + dy - x_k', which
+          ! is theta' to within half an ulp of theta').
+          dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
+          yn = y + dy
           s4 = sin_kr(sk, ck, r4)
-          un = ((u + sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4
-          rn = (yn - kfn * node_p1) - kp23
+          un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
+          rn = ((y - kfn * node_p1) - kp23) + dy
           ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
         end if
         if (ok) then

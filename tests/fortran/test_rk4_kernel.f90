@@ -179,8 +179,9 @@ contains
   !> Text scenario (w0 = sqrt 2, gamma = 0.1 and 0.5, theta0 = 0, Omega0 = 2,
   !> outputs every 0.05 s to 30 s) with h = 0.05 and 0.001, plus a rotating
   !> start (Omega0 = 3) and a large angle: max |difference| to the plain loop
-  !> over the outputs must stay within 4 eps per step (rounding only; both are
-  !> the same RK4 scheme), and the table path must carry the text scenario.
+  !> over the outputs must stay within 32 eps max(1, |theta|) (rounding only:
+  !> both are the same RK4 scheme, each rounding theta and Omega once per step;
+  !> measured <= 6.5), and the table path must carry the text scenario.
   subroutine test_vs_plain_rk4()
     real(wp), parameter :: w0sq = 2, hv(2) = [0.05_wp, 0.001_wp], gv(2) = [0.1_wp, 0.5_wp]
     real(wp) :: y1, u1, dmax, hs, scale, t(601), th(601), om(601)
@@ -213,7 +214,7 @@ contains
           write (label, '(a, i0, a, f4.2, a, f5.3, a)') 'case ', icase, ' gamma ', gv(ig), ' h ', hs, ': '
           print '(a, a, es9.2, a, f9.2, a, i0, a, i0)', trim(label), ' max |fast - plain| = ', dmax, &
               ' = ', dmax / (eps * scale), ' eps*max(1,|theta|); table steps ', fast, ' / ', total
-          call tc%check_true(dmax <= 4 * eps * scale * total, trim(label) // ' within 4 eps per step of plain')
+          call tc%check_true(dmax <= 32 * eps * scale, trim(label) // ' within 32 eps of plain (rounding only)')
           if (icase == 1) call tc%check_true(fast == total, trim(label) // ' all steps on the table path')
         end do
       end do
