@@ -181,6 +181,14 @@ def test_extreme_arguments_stay_bounded():
         for res in (pendula.ellipj(u, m), pendula.ellipj(np.tile(u, 100), m)):
             sn, cn, dn, ph = res
             assert (np.abs(sn) <= 1).all() and (np.abs(cn) <= 1 + 4 * EPS).all()
+    # the plan (table) path and the elementwise path at astronomically large u
+    big = np.array([1e15, 1e17, 3e19, 1e25, 7e27, 1e30, 1e100, 1.7e308, -1e25])
+    for m in [0.0, 0.5, 1 - 1e-12, -1e10, 2.0]:
+        for res in (_elliptic.ellipj_plan_f2py(big, m), _elliptic.ellipj_f2py(big, np.full_like(big, m))):
+            assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
+    for p in [5e-324, 1e-5]:
+        res = _elliptic.ellipjc_plan_f2py(big, p)
+        assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
     # no limit at infinity: ValueError naming the argument (the Fortran core gives NaN)
     with pytest.raises(ValueError, match="u = inf"):
         pendula.ellipj(np.inf, 0.5)
