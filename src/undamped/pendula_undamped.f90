@@ -176,11 +176,20 @@ contains
 
   !> Reduce an angle x [rad] about the nearest stable equilibrium 2 pi n:
   !> x = 2 pi n + (r_hi + r_lo) with |r_hi| <= pi, 2 pi carried in two doubles
-  !> (error ~2^-100 |2 pi n| for |n| < 2^40).  Returns n as a real.
+  !> (error ~2^-100 |2 pi n|) for |x| <= 2^40; beyond, r_hi = atan2(sin x, cos x)
+  !> (libm's exact reduction, ~1 ulp of pi) and r_lo = 0.  Returns n as a real.
   elemental subroutine reduce_angle_2pi(x, n, r_hi, r_lo)
     real(wp), intent(in) :: x
     real(wp), intent(out) :: n, r_hi, r_lo
     real(wp) :: p, e, d, t
+    if (abs(x) > 2.0_wp**40) then
+      ! beyond |n| ~ 2^37 the two-double 2 pi is not enough: let libm's exact
+      ! (Payne-Hanek) reduction inside sin and cos do it; |r| to ~1 ulp of pi
+      r_hi = atan2(sin(x), cos(x))
+      r_lo = 0
+      n = anint((x - r_hi) / TWOPI_HI)
+      return
+    end if
     n = anint(x / TWOPI_HI)
     if (n == 0) then
       r_hi = x
@@ -241,8 +250,12 @@ contains
     motion%w0 = w0
 
     call reduce_angle_2pi(theta0, n, r_hi, r_lo)
-    call two_prod(n, TWOPI_HI, p, e)
-    motion%center = p + (e + n * TWOPI_LO)   ! the double nearest 2 pi n
+    if (abs(theta0) > 2.0_wp**40) then
+      motion%center = theta0 - r_hi           ! 2 pi n to the rounding of theta0
+    else
+      call two_prod(n, TWOPI_HI, p, e)
+      motion%center = p + (e + n * TWOPI_LO)   ! the double nearest 2 pi n
+    end if
     motion%theta_r = r_hi
     h = 0.5_wp * r_hi
     hlo = 0.5_wp * r_lo

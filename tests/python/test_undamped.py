@@ -491,3 +491,17 @@ def test_empty_arrays_give_empty_results():
     assert pendula.energy(e, 0.0).shape == (0,)
     theta, lam, kind = pendula.equilibria(np.array([], dtype=int))
     assert theta.shape == (0,) and lam.shape == (0, 2) and kind.shape == (0,)
+
+
+def test_huge_theta0_reduced_exactly():
+    """|theta0| up to 1e300: reduced about 2 pi N exactly (libm's reduction beyond 2^40)."""
+    for th0 in (1e13, -3e15, 1e20, 1e300, -1e300, 2.0 ** 40 + 0.5):
+        with mp.workdps(400):
+            x = mp.mpf(th0)
+            red = x - 2 * mp.pi * mp.nint(x / (2 * mp.pi))
+            m_ref = float(mp.sin(red / 2) ** 2 + (mp.mpf(0.3) / mp.mpf(2.4)) ** 2)
+        m, mc = pendula.elliptic_parameter(th0, 0.3, 1.2)
+        assert abs(m - m_ref) <= 4 * EPS
+        th, om = pendula.undamped(np.array([0.0, 1.0, -5.0]), th0, 0.3, 1.2)
+        assert np.all(np.isfinite(th)) and np.all(np.isfinite(om))
+        assert th[0] == th0 and abs(om[0] - 0.3) <= 4 * EPS
