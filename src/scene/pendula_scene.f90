@@ -490,7 +490,7 @@ contains
     real(wp), intent(out) :: est
     character(len=:), allocatable, intent(out) :: why
     type(status_t), intent(inout) :: status
-    real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps, rk4_round
+    real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps, rk4_round, big, msep
     type(status_t) :: st
     if (scene%gamma == 0) then
       call scene_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
@@ -529,7 +529,14 @@ contains
     nsteps = tend / min(0.9_wp * hmax, rk4_apriori_step(scene, tend))
     ! RK4's rounding floor grows like sqrt(steps) times max|theta| (unwrapped
     ! rotations): when it would eat tol, CVODE's fewer, longer steps do better
-    rk4_round = integrator_rounding(scene, [abs(scene%theta0) + abs(scene%omega0) * tend], nsteps)
+    ! (the angle grows without bound only while the pendulum goes over the top:
+    ! at most max|Omega| = sqrt(Omega0^2 + 4 w0^2) times the window, or the
+    ! time damping needs to bring the energy E0 = m E_sep below the separatrix)
+    big = abs(scene%theta0) + 2 * pi
+    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
+    if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * &
+        min(tend, 2 * (1 + log(msep)) / scene%gamma)
+    rk4_round = integrator_rounding(scene, [big], nsteps)
     if (cvode_available() .and. (nsteps > RK4_STEP_LIMIT .or. rk4_round > scene%tol / 4 .or. &
         (is_stiff(scene) .and. nsteps > 1.0e4_wp))) then
       model = SCENE_MODEL_CVODE
@@ -1030,8 +1037,9 @@ contains
   end function state_diff
 
   ! Rounding floor of an integration that the comparison of two runs cannot
-  ! see: each of n steps rounds theta (up to max|theta|, large for unwrapped
-  ! rotations) by ~eps, a random walk ~ sqrt(n); and a start near the unstable
+  ! see: each of n steps rounds theta by ~eps |theta|, a random walk ~ sqrt(n)
+  ! while it swings, a biased sum ~ n for the unwrapped angle of a rotation
+  ! (max|theta| beyond 2 pi); and a start near the unstable
   ! equilibrium (pi, 0) amplifies any perturbation by ~1/d0 while the
   ! pendulum hangs there (growth e^(w0 t) until it leaves, t ~ ln(1/d0)/w0),
   ! d0 the distance of the initial state from the top in (theta, Omega/w0).
@@ -1043,7 +1051,10 @@ contains
     if (size(theta) > 0) big = max(big, maxval(abs(theta)))
     xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)          ! |theta0| reduced to [0, pi]
     d0 = hypot(pi - xr, scene%omega0 / scene%w0)
-    r = 4 * eps * big * sqrt(max(nsteps, 1.0_wp)) + 4 * eps * pi / max(d0, eps)
+    ! a rotation's unwrapped angle grows steadily: adding nearly equal increments
+    ! to it rounds with a bias, so that part of the rounding grows like n
+    r = 4 * eps * (2 * pi + abs(scene%omega0) / scene%w0) * sqrt(max(nsteps, 1.0_wp)) &
+        + eps * max(0.0_wp, big - 2 * pi) * max(nsteps, 1.0_wp) / 2 + 4 * eps * pi / max(d0, eps)
   end function integrator_rounding
 
   ! RK4 with h from tol and the window, verified by a run at 2h; refined
