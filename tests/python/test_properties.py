@@ -27,13 +27,17 @@ import subprocess
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
 
 import pendula
 
 EPS = np.finfo(float).eps
-SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow],
+                    report_multiple_bugs=False)
+# For tests whose failures are cheap to read as drawn: no shrinking (keeps a
+# failing run within the file's time budget).
+NO_SHRINK = settings(SETTINGS, phases=[Phase.explicit, Phase.reuse, Phase.generate])
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
@@ -432,6 +436,19 @@ def test_integrators_agree_with_exact_undamped(theta0, omega0, w0):
         c = pendula.cvode(t, theta0, omega0, w0, 0.0, rtol=1e-11, atol=1e-13)
         np.testing.assert_allclose(c.theta, th, rtol=0, atol=10 * tol)
         np.testing.assert_allclose(c.omega, om, rtol=0, atol=10 * tol * w0)
+
+
+@NO_SHRINK
+@given(theta0=st.one_of(fin(-10.0, 10.0), fin(-1e300, 1e300)), omega0=fin(-10.0, 10.0), w0=fin(0.2, 5.0))
+def test_elliptic_parameter_and_its_complement_add_to_one(theta0, omega0, w0):
+    # m = sin^2(theta0/2) + (omega0/(2 w0))^2 depends on theta0 only modulo
+    # 2 pi, which is exact for every double; (m, 1 - m) must stay consistent
+    # (a complement that is not 1 - m is a garbage number, whatever theta0).
+    m, mc = pendula.elliptic_parameter(theta0, omega0, w0)
+    q = (omega0 / (2 * w0)) ** 2
+    ref = math.sin(theta0 / 2) ** 2 + q
+    assert abs(m - ref) <= 8 * EPS * max(1.0, ref), (m, ref)
+    assert abs(m + mc - 1) <= 8 * EPS * max(1.0, m), (m, mc)
 
 
 def test_small_angle_limit_of_undamped():
