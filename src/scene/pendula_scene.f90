@@ -1046,15 +1046,16 @@ contains
   pure real(wp) function integrator_rounding(scene, theta, nsteps) result(r)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: theta(:), nsteps
-    real(wp) :: big, d0, xr
-    big = abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi
+    real(wp) :: big, d0, xr, swing
+    swing = abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi   ! size of a swing
+    big = swing
     if (size(theta) > 0) big = max(big, maxval(abs(theta)))
     xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)          ! |theta0| reduced to [0, pi]
     d0 = hypot(pi - xr, scene%omega0 / scene%w0)
-    ! a rotation's unwrapped angle grows steadily: adding nearly equal increments
-    ! to it rounds with a bias, so that part of the rounding grows like n
-    r = 4 * eps * (2 * pi + abs(scene%omega0) / scene%w0) * sqrt(max(nsteps, 1.0_wp)) &
-        + eps * max(0.0_wp, big - 2 * pi) * max(nsteps, 1.0_wp) / 2 + 4 * eps * pi / max(d0, eps)
+    ! a rotation's unwrapped angle (beyond a swing) grows steadily: adding nearly
+    ! equal increments to it rounds with a bias, so that part grows like n
+    r = 4 * eps * swing * sqrt(max(nsteps, 1.0_wp)) &
+        + eps * (big - swing) * max(nsteps, 1.0_wp) / 2 + 4 * eps * pi / max(d0, eps)
   end function integrator_rounding
 
   ! RK4 with h from tol and the window, verified by a run at 2h; refined
