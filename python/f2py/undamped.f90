@@ -29,13 +29,13 @@ subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
         .and. w0(i) == w0(i - 1)
     if (.not. built) then
       ! how many of the next elements share this state: a Jacobi plan pays
-      ! for itself from ~8 times on
+      ! for itself from ~30 times on
       run = 1
-      do while (i + run <= n .and. run < 8)
+      do while (i + run <= n .and. run < 32)
         if (theta0(i + run) /= theta0(i) .or. omega0(i + run) /= omega0(i) .or. w0(i + run) /= w0(i)) exit
         run = run + 1
       end do
-      call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=run >= 8)
+      call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=run >= 32)
       if (st%code /= PENDULA_OK) exit
       built = .true.
     end if

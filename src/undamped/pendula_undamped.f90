@@ -228,9 +228,9 @@ contains
     type(undamped_motion_t), intent(out) :: motion
     real(wp), intent(in) :: theta0, omega0, w0
     type(status_t), intent(out) :: status
-    !> Build a Jacobi plan (default .true.): ~8 us once, then ~40 ns per time;
-    !> .false. gives a light motion (~1.4 us) that costs ~1 us per time (ellipjc),
-    !> for states evaluated at fewer than ~8 times or only queried (period...).
+    !> Build a Jacobi plan (default .true.): ~13 us once, then ~40 ns per time;
+    !> .false. gives a light motion (~1 us) that costs ~0.3-0.7 us per time
+    !> (ellipjc), for states evaluated at fewer than ~30 times or only queried.
     !> Measured on this project's 2-core machine; both give the same accuracy.
     logical, intent(in), optional :: plan
     logical :: want_plan
@@ -376,9 +376,9 @@ contains
     else if (exponent(t) > 40 - exponent(motion%rate)) then
       ! |rate t| >~ 5e11: take whole periods out first (modulo is exact; the
       ! period's rounding moves t by ~eps |t|, inside the condition number).
-      ! WORKAROUND, not silent: pendula_elliptic's ellipj_eval mis-reduces
-      ! |u| >~ 2^53 K (|sn| > 1 from u ~ 1e17, a crash near u ~ 1e25-1e30), and
-      ! rate t would overflow near 1e308 anyway.  Reported to the integrator.
+      ! This also kept clear of an ellipj_eval bug of 03:12 UTC (|sn| > 1 from
+      ! u ~ 1e17, a crash near 1e25-1e30), fixed in pendula_elliptic 495978f;
+      ! it stays because it is exact and keeps rate t finite up to 1e308.
       tt = modulo(t, motion%period)
       turns = anint((t - tt) / motion%period)
     end if
@@ -542,8 +542,8 @@ contains
     type(undamped_motion_t) :: motion
     theta = 0
     omega = 0
-    ! a Jacobi plan (~8 us) pays for itself from ~8 times on (light: ~1 us per time)
-    call undamped_init(motion, theta0, omega0, w0, status, plan=size(t) >= 8)
+    ! a Jacobi plan (~13 us) pays for itself from ~30 times on (light: ~0.5 us per time)
+    call undamped_init(motion, theta0, omega0, w0, status, plan=size(t) >= 32)
     if (status%code /= PENDULA_OK) return
     call check_all_finite('t', t, status)
     if (status%code /= PENDULA_OK) return

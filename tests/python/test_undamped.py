@@ -54,8 +54,8 @@ def test_reference_table_cond_scaled(table):
 
 
 def test_reference_table_one_state_path(table):
-    """The same rows through the one-state/many-times path (Jacobi plan from 8 times on,
-    blocked, vectorised atan): each state's times are tiled to >= 8 points."""
+    """The same rows through the one-state/many-times path (Jacobi plan from 32 times on,
+    blocked, vectorised atan): each state's times are tiled to >= 32 points."""
     d = table
     keys = np.stack([d["theta0"], d["omega0"], d["w0"]], axis=1)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
@@ -63,7 +63,7 @@ def test_reference_table_one_state_path(table):
     om = np.empty_like(d["t"])
     for g, i in enumerate(first):
         rows = np.nonzero(inverse.reshape(-1) == g)[0]
-        tt = np.tile(d["t"][rows], 8 // len(rows) + 1)
+        tt = np.tile(d["t"][rows], 32 // len(rows) + 1)
         a, b = pendula.undamped(tt, d["theta0"][i], d["omega0"][i], d["w0"][i])
         th[rows], om[rows] = a[:len(rows)], b[:len(rows)]
         assert np.array_equal(a[len(rows):2 * len(rows)], a[:len(rows)])
