@@ -444,16 +444,22 @@ contains
   !> Same as `undamped_eval` for an array of times (results agree to a few
   !> ulps), organised for speed: blocks of times go through the Jacobi
   !> functions, the addition theorem and a vectorisable atan/atan2 loop
-  !> (libmvec), which halves the cost per point.  Sizes of theta and omega must
-  !> be >= size(t) (not checked: use `undamped_solve` for a checked call).
-  pure subroutine undamped_eval_many(motion, t, theta, omega)
+  !> (libmvec), which halves the cost per point.  theta and omega must have the
+  !> size of t (status PENDULA_ERR_SIZE otherwise, outputs untouched); times are
+  !> not checked for finiteness here (`undamped_solve` does that).
+  pure subroutine undamped_eval_many(motion, t, theta, omega, status)
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: t(:)
-    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(inout) :: theta(:), omega(:)
+    type(status_t), intent(out) :: status
     integer, parameter :: nb = 256
     real(wp), parameter :: half_pi = 0.5_wp * pi
     real(wp) :: a(nb), sa(nb), ca(nb), da(nb), ama(nb), y(nb), x(nb), r(nb), sb
     integer :: i0, i1, nc, i, j
+    if (size(theta) /= size(t) .or. size(omega) /= size(t)) then
+      call size_error(status)
+      return
+    end if
     if (motion%free .or. (motion%regime /= REGIME_LIBRATION .and. motion%regime /= REGIME_ROTATION)) then
       call undamped_eval(motion, t, theta(1:size(t)), omega(1:size(t)))
       return
@@ -547,11 +553,7 @@ contains
     if (status%code /= PENDULA_OK) return
     call check_all_finite('t', t, status)
     if (status%code /= PENDULA_OK) return
-    if (size(theta) /= size(t) .or. size(omega) /= size(t)) then
-      call size_error(status)
-      return
-    end if
-    call undamped_eval_many(motion, t, theta, omega)
+    call undamped_eval_many(motion, t, theta, omega, status)
   end subroutine undamped_solve
 
   pure subroutine size_error(status)

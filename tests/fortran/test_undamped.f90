@@ -4,6 +4,7 @@
 !> cond = sum |x d(.)/dx| over theta0, Omega0, w0, t; required |error| <=
 !> 16 eps (cond + |ref|) and <= 1e-11 absolute.
 program test_undamped
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
   use pendula
   use pendula_testing, only: checker_t
   implicit none
@@ -144,9 +145,12 @@ contains
         tm = [(undamped_period(mo) * (0.37_wp * i - 90), i = 1, 600)]
         tm(300) = 1.0e15_wp
         call undamped_eval(mo, tm, a1, b1)
-        call undamped_eval_many(mo, tm, a2, b2)
+        call undamped_eval_many(mo, tm, a2, b2, st)
+        call tc%check_true(status_ok(st), 'eval_many status ok')
         call tc%check_true(all(abs(a2 - a1) <= 16 * eps * max(1.0_wp, abs(a1))), 'eval_many theta == eval')
         call tc%check_true(all(abs(b2 - b1) <= 16 * eps * max(states(3, j), abs(b1))), 'eval_many omega == eval')
+        call undamped_eval_many(mo, tm, a2(1:599), b2, st)
+        call tc%check_true(st%code == PENDULA_ERR_SIZE, 'eval_many rejects a short theta')
       end block
     end do
     ! array convenience
@@ -249,10 +253,9 @@ contains
     type(undamped_motion_t) :: mo
     type(status_t) :: st
     real(wp) :: nan, inf, th(2), om(2)
-    nan = 0
-    nan = nan / nan
-    inf = huge(1.0_wp)
-    inf = inf * 2
+    ! ieee_value, not 0/0 or huge*2: the checked build traps invalid and overflow
+    nan = ieee_value(nan, ieee_quiet_nan)
+    inf = ieee_value(inf, ieee_positive_inf)
     call undamped_init(mo, nan, 0.0_wp, 1.0_wp, st)
     call tc%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 'theta0 =') == 1, &
         'NaN theta0: ' // trim(st%message))

@@ -597,7 +597,6 @@ FORTRAN_NO_STATUS = {
     "ellipjc_array": "elliptic rule", "ellipj_eval_array": "elliptic rule",
     "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
     # documented unchecked kernels with a checked entry point (reported to their concerns)
-    "undamped_eval_many": "unchecked fast path of undamped_solve (sizes not checked!)",
     "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
 }
 
