@@ -1318,35 +1318,28 @@ contains
     logical, intent(in) :: want_am
     real(wp), intent(out) :: sn, cn, dn, am
     logical, intent(out) :: done
-    real(wp) :: mc, k, v, n, r, t, c1, c2, s, c, d, cs(0:6), cc(0:6), cd(0:6)
+    real(wp) :: mc, k, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
     mc = 1 - m
     k = kpair(m, mc)
     v = abs(u)
-    n = 0
-    r = v
-    if (v > k) then
-      n = anint(v / (2 * k))
-      if (n > 4) then
-        done = .false.
-        sn = 0; cn = 0; dn = 0; am = 0
-        return
-      end if
-      call two_prod_split(2 * k, c1, c2)
-      r = (v - n * c1) - n * c2
+    ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
+    n = anint(v / (2 * k))
+    if (n > 4) then
+      done = .false.
+      sn = 0; cn = 0; dn = 0; am = 0
+      return
     end if
+    call two_prod_split(2 * k, c1, c2)
+    r = (v - n * c1) - n * c2
     t = abs(r)
     call series_coeffs(m, cs, cc, cd)
     call core_at2(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
+    ! signs by merge (blends, not branches): the parity of n and the sign of u are random
+    ps = merge(-1.0_wp, 1.0_wp, iand(int(n), 1) /= 0)
+    su = merge(-1.0_wp, 1.0_wp, u < 0)
     am = 0
-    if (want_am) am = sign(am_of(s, c), r) + n * pi
-    s = sign(s, r)
-    if (iand(int(n), 1) /= 0) then
-      s = -s; c = -c
-    end if
-    if (u < 0) then
-      s = -s; am = -am
-    end if
-    sn = s; cn = c; dn = d
+    if (want_am) am = (sign(am_of(s, c), r) + n * pi) * su
+    sn = sign(s, r) * (ps * su); cn = c * ps; dn = d
     done = .true.
   end subroutine jac01
 
