@@ -69,57 +69,10 @@ subroutine ellipfc_f2py(n, phi, mc, f)
   f = ellipfc(phi, mc)
 end subroutine ellipfc_f2py
 
-subroutine ellipj_f2py(n, u, m, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_array
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), m(n)
-  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
-  call ellipj_array(u, m, sn, cn, dn, ph)
-end subroutine ellipj_f2py
-
-subroutine ellipjc_f2py(n, u, mc, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipjc_array
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), mc(n)
-  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
-  call ellipjc_array(u, mc, sn, cn, dn, ph)
-end subroutine ellipjc_f2py
-
-! One parameter, many u: the m-dependent work is done once (ellipj_plan).
-subroutine ellipj_plan_f2py(n, u, m, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_eval_array
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), m
-  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
-  type(ellipj_plan_t) :: plan
-  plan = ellipj_plan(m)
-  call ellipj_eval_array(plan, u, sn, cn, dn, ph)
-end subroutine ellipj_plan_f2py
-
-subroutine ellipjc_plan_f2py(n, u, mc, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_planc, ellipj_eval_array
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), mc
-  real(c_double), intent(out) :: sn(n), cn(n), dn(n), ph(n)
-  type(ellipj_plan_t) :: plan
-  plan = ellipj_planc(mc)
-  call ellipj_eval_array(plan, u, sn, cn, dn, ph)
-end subroutine ellipjc_plan_f2py
-
-! ellipj_f2py writing into arrays the caller allocated (numpy.empty): f2py fills the
-! arrays it allocates for intent(out) with zeros first, a wasted pass over 4 n doubles.
+! Jacobi functions written into arrays the caller allocated (numpy.empty): f2py fills
+! the arrays it allocates for intent(out) with zeros first, a wasted pass over 4 n
+! doubles.  The *_plan_* forms take one parameter for many u: the m-dependent work is
+! done once (ellipj_plan).
 subroutine ellipj_into_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipj_array
