@@ -347,9 +347,11 @@ contains
   end subroutine collect_stats
 
   ! ---- callbacks (C calling convention; parameters arrive in user_data) ----
+  ! name='': no global C symbol, so no clash with a same-named C function of
+  ! another library in the process (they were plain `rhs`, `jacobian`, ...).
 
   !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
-  integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C)
+  integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C, name='')
     real(c_double), value :: tt
     type(N_Vector) :: sunvec_y, sunvec_f
     type(c_ptr), value :: user_data
@@ -368,7 +370,7 @@ contains
 
   !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
   integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
-      result(ierr) bind(C)
+      result(ierr) bind(C, name='')
     real(c_double), value :: tt
     type(N_Vector) :: sunvec_y, sunvec_f, tmp1, tmp2, tmp3
     type(SUNMatrix) :: sunmat_j
@@ -388,7 +390,7 @@ contains
   end function jacobian
 
   !> Event functions: g1 = Omega (turning point), g2 = theta (zero crossing).
-  integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C)
+  integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C, name='')
     real(c_double), value :: tt
     type(N_Vector) :: sunvec_y
     real(c_double) :: gout(2)
@@ -402,7 +404,7 @@ contains
 
   !> CVODE error handler: keep the message of errors (flag < 0) in user data
   !> instead of printing it; warnings are dropped.
-  subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C)
+  subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C, name='')
     integer(c_int), value :: error_code
     type(c_ptr), value :: module_name, function_name, msg, eh_data
     type(cv_data_t), pointer :: p

@@ -89,6 +89,12 @@ contains
 
   ! Every kernel loads its inputs before it stores: SUNDIALS passes the same
   ! vector as input and output (z == x, z == y) all the time.
+  !
+  ! bind(C, name=''): C calling convention without a global C name.  With the
+  ! default name (the procedure's), a library loaded before ours that
+  ! exports the same name takes the reference: in Python, c_funloc(div)
+  ! returned libc's div(), so N_VDiv (CVODE's initial-step bound) did not
+  ! run our kernel at all.
 
   !> The two numbers of the serial length-2 vector x, as p%v(1:2): for the
   !> right-hand side, where FN_VGetArrayPointer would go through the SUNDIALS
@@ -125,7 +131,7 @@ contains
   !> of zero as the plain formula, since (+-1) x is exact and x - y is
   !> x + (-y)); then a == b and a == -b, which factor out a; else the plain
   !> formula.
-  subroutine linear_sum(a, x, b, y, z) bind(C)
+  subroutine linear_sum(a, x, b, y, z) bind(C, name='')
     real(c_double), value :: a, b
     type(N_Vector), intent(in) :: x, y, z
     real(c_double) :: x1, x2, y1, y2
@@ -150,7 +156,7 @@ contains
   end subroutine linear_sum
 
   !> z = c
-  subroutine const(c, z) bind(C)
+  subroutine const(c, z) bind(C, name='')
     real(c_double), value :: c
     type(N_Vector), intent(in) :: z
     type(pair_t), pointer :: pz
@@ -159,7 +165,7 @@ contains
   end subroutine const
 
   !> z = x y (componentwise)
-  subroutine prod(x, y, z) bind(C)
+  subroutine prod(x, y, z) bind(C, name='')
     type(N_Vector), intent(in) :: x, y, z
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
@@ -171,7 +177,7 @@ contains
   end subroutine prod
 
   !> z = x / y (componentwise)
-  subroutine div(x, y, z) bind(C)
+  subroutine div(x, y, z) bind(C, name='')
     type(N_Vector), intent(in) :: x, y, z
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
@@ -183,7 +189,7 @@ contains
   end subroutine div
 
   !> z = c x  (the serial special cases c = +-1 round the same)
-  subroutine scale(c, x, z) bind(C)
+  subroutine scale(c, x, z) bind(C, name='')
     real(c_double), value :: c
     type(N_Vector), intent(in) :: x, z
     real(c_double) :: r(2)
@@ -196,7 +202,7 @@ contains
   end subroutine scale
 
   !> z = |x|
-  subroutine abs_(x, z) bind(C)
+  subroutine abs_(x, z) bind(C, name='')
     type(N_Vector), intent(in) :: x, z
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
@@ -208,7 +214,7 @@ contains
   end subroutine abs_
 
   !> z = 1 / x
-  subroutine inv(x, z) bind(C)
+  subroutine inv(x, z) bind(C, name='')
     type(N_Vector), intent(in) :: x, z
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
@@ -220,7 +226,7 @@ contains
   end subroutine inv
 
   !> z = x + b
-  subroutine add_const(x, b, z) bind(C)
+  subroutine add_const(x, b, z) bind(C, name='')
     type(N_Vector), intent(in) :: x, z
     real(c_double), value :: b
     real(c_double) :: r(2)
@@ -233,7 +239,7 @@ contains
   end subroutine add_const
 
   !> sum of x y, summed from 0 in index order as the serial kernel does
-  real(c_double) function dot_prod(x, y) result(s) bind(C)
+  real(c_double) function dot_prod(x, y) result(s) bind(C, name='')
     type(N_Vector), intent(in) :: x, y
     associate (px => pair(x), py => pair(y))
       s = (0 + px%v(1) * py%v(1)) + px%v(2) * py%v(2)
@@ -242,7 +248,7 @@ contains
 
   !> max |x|, starting from 0 with a strict > (a NaN is skipped, as in the
   !> serial kernel)
-  real(c_double) function max_norm(x) result(m) bind(C)
+  real(c_double) function max_norm(x) result(m) bind(C, name='')
     type(N_Vector), intent(in) :: x
     integer :: i
     associate (px => pair(x))
@@ -254,7 +260,7 @@ contains
   end function max_norm
 
   !> sum of (x w)**2, the local part of the weighted norms
-  real(c_double) function wsqr_sum(x, w) result(s) bind(C)
+  real(c_double) function wsqr_sum(x, w) result(s) bind(C, name='')
     type(N_Vector), intent(in) :: x, w
     real(c_double) :: p1, p2
     associate (px => pair(x), pw => pair(w))
@@ -265,7 +271,7 @@ contains
   end function wsqr_sum
 
   !> sqrt(sum of (x w)**2 / 2): CVODE's error norm (SUNRsqrt: 0 for a sum <= 0)
-  real(c_double) function wrms_norm(x, w) result(s) bind(C)
+  real(c_double) function wrms_norm(x, w) result(s) bind(C, name='')
     type(N_Vector), intent(in) :: x, w
     s = wsqr_sum(x, w) / 2
     if (s <= 0) then
@@ -276,7 +282,7 @@ contains
   end function wrms_norm
 
   !> min x (first component, then a strict <)
-  real(c_double) function min_(x) result(m) bind(C)
+  real(c_double) function min_(x) result(m) bind(C, name='')
     type(N_Vector), intent(in) :: x
     associate (px => pair(x))
       m = px%v(1)
@@ -287,7 +293,7 @@ contains
   !> z = sum_i c(i) x_i, as SUNDIALS' fallback computes it (z = c(1) x_1, then
   !> z = z + c(i) x_i in order); z may be x_1.  Used by CVodeGetDky for every
   !> output.
-  integer(c_int) function linear_combination(nvec, c, x, z) result(ierr) bind(C)
+  integer(c_int) function linear_combination(nvec, c, x, z) result(ierr) bind(C, name='')
     integer(c_int), value :: nvec
     real(c_double), intent(in) :: c(*)
     type(c_ptr), intent(in) :: x(*)
@@ -313,7 +319,7 @@ contains
 
   !> z_i = a(i) x + y_i for i = 1..nvec (SUNDIALS' fallback: N_VLinearSum with
   !> b = 1, which rounds as a x + y); z_i may be y_i.
-  integer(c_int) function scale_add_multi(nvec, a, x, y, z) result(ierr) bind(C)
+  integer(c_int) function scale_add_multi(nvec, a, x, y, z) result(ierr) bind(C, name='')
     integer(c_int), value :: nvec
     real(c_double), intent(in) :: a(*)
     type(N_Vector), intent(in) :: x
@@ -337,7 +343,7 @@ contains
   end function scale_add_multi
 
   !> z_i = c(i) x_i for i = 1..nvec (cvRescale after a step-size change)
-  integer(c_int) function scale_vector_array(nvec, c, x, z) result(ierr) bind(C)
+  integer(c_int) function scale_vector_array(nvec, c, x, z) result(ierr) bind(C, name='')
     integer(c_int), value :: nvec
     real(c_double), intent(in) :: c(*)
     type(c_ptr), intent(in) :: x(*), z(*)
@@ -356,7 +362,7 @@ contains
   end function scale_vector_array
 
   !> z_i = a x_i + b y_i for i = 1..nvec, each as linear_sum
-  integer(c_int) function linear_sum_vector_array(nvec, a, x, b, y, z) result(ierr) bind(C)
+  integer(c_int) function linear_sum_vector_array(nvec, a, x, b, y, z) result(ierr) bind(C, name='')
     integer(c_int), value :: nvec
     real(c_double), value :: a, b
     type(c_ptr), intent(in) :: x(*), y(*), z(*)
