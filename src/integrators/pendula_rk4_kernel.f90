@@ -7,12 +7,17 @@
 !> live register; the step then costs ~36 ns.  All four stage arguments of a
 !> step lie within h |Omega| + O(h**2) of theta, so they are reduced ONCE per
 !> step against the node 2 pi k / 256 nearest the step's midpoint (Cody-Waite,
-!> three-part constant) and each stage sine is then
+!> three-part constant) and each stage sine is then, for |r| <= 0.1, the
+!> degree-9 Taylor polynomial of sin(x_k + r) in r, whose coefficients
+!> (+-sin x_k / j!, +-cos x_k / j!) are tabulated per node at compile time
+!> and evaluated in Estrin order (sin_taylor: fewest flops and a short chain;
+!> the step is bound by floating-point throughput and latency together).
+!> Steps with an offset in (0.1, 1/8] are redone with
 !>     sin(x_k + r) = sin x_k + cos x_k r - (sin x_k (1 - cos r) - cos x_k (sin r - r))
-!> with a table of sin x_k and short near-minimax polynomials for |r| <= 1/8
-!> (angle addition; Muller, "Elementary Functions", 3rd ed., ch. 11; Tang,
-!> ACM TOMS 15 (1989) 144 for the table-driven form).  Steps whose offsets
-!> leave that range, or with |theta| > 2**20, take the plain libm step.
+!> and short near-minimax polynomials (sin_kr; angle addition: Muller,
+!> "Elementary Functions", 3rd ed., ch. 11; Tang, ACM TOMS 15 (1989) 144 for
+!> the table-driven form).  Steps whose offsets leave that range too, or with
+!> |theta| > 2**20, take the plain libm step.
 !>
 !> Accuracy of a stage sine: absolute error <= 2 eps against sin of the
 !> exact argument (measured max ~0.9 eps, tests/fortran/test_rk4.f90); the
@@ -23,7 +28,7 @@ module pendula_rk4_kernel
   implicit none
   private
   public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
-  public :: stage_rmax, stage_xmax
+  public :: stage_rmax, stage_xmax, short_rmax, sin_node_taylor
 
   !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
   !> that the fast step reduces (k*node_p1, k*node_p2 stay exact).
@@ -127,6 +132,18 @@ module pendula_rk4_kernel
       -0.17096188876030122_wp, -0.14673047445536175_wp, -0.1224106751992162_wp, &
       -0.0980171403295606_wp, -0.07356456359966743_wp, -0.049067674327418015_wp, &
       -0.024541228522912288_wp ]
+  !> Largest |r| for the Taylor form of the stage sines (sin_taylor): its
+  !> first omitted term is <= short_rmax**10/10! = 2.8e-17.
+  real(wp), parameter :: short_rmax = 0.1_wp
+  ! Taylor coefficients of sin(x_k + r) in r for every node, tabulated at
+  ! compile time so that a step loads them instead of forming eight products
+  ! (the step is bound by floating-point throughput): row j holds
+  ! d^j/dr^j sin(x_k + r) / j! at r = 0, i.e. +-sin x_k / j! or +-cos x_k / j!.
+  real(wp), parameter :: node_cos(0:nnodes-1) = cshift(node_sin, nnodes / 4)
+  real(wp), parameter :: taylor(2:9, 0:nnodes-1) = transpose(reshape([ &
+      -0.5_wp * node_sin, node_cos * (-1.0_wp / 6), node_sin * (1.0_wp / 24), node_cos * (1.0_wp / 120), &
+      node_sin * (-1.0_wp / 720), node_cos * (-1.0_wp / 5040), node_sin * (1.0_wp / 40320), &
+      node_cos * (1.0_wp / 362880)], [nnodes, 8]))
 
 contains
 
@@ -170,6 +187,28 @@ contains
       s = sin(x + d)
     end if
   end function sin_shift
+
+  !> sin(x_k + r) for |r| <= short_rmax from sk = sin x_k, ck = cos x_k and
+  !> c2..c9 = taylor(:, k), to degree 9 in r.  Estrin order: three levels
+  !> from r to the result.  Absolute error <= 2 eps (test_rk4_kernel).
+  pure real(wp) function sin_taylor(sk, ck, c2, c3, c4, c5, c6, c7, c8, c9, r) result(s)
+    real(wp), intent(in) :: sk, ck, c2, c3, c4, c5, c6, c7, c8, c9, r
+    real(wp) :: z, z2
+    z = r * r
+    z2 = z * z
+    s = ((sk + ck * r) + z * (c2 + c3 * r)) + z2 * (((c4 + c5 * r) + z * (c6 + c7 * r)) + z2 * (c8 + c9 * r))
+  end function sin_taylor
+
+  !> sin(2 pi k / 256 + r) for |r| <= short_rmax by the Taylor form the RK4
+  !> step uses first; absolute error <= 2 eps.  For tests.
+  elemental real(wp) function sin_node_taylor(k, r) result(s)
+    integer, intent(in) :: k
+    real(wp), intent(in) :: r
+    integer :: i
+    i = iand(k, nnodes - 1)
+    s = sin_taylor(node_sin(i), node_cos(i), taylor(2, i), taylor(3, i), taylor(4, i), taylor(5, i), &
+        taylor(6, i), taylor(7, i), taylor(8, i), taylor(9, i), r)
+  end function sin_node_taylor
 
   !> sin(x_k + r) from sk = sin x_k, ck = cos x_k, |r| <= stage_rmax.  The
   !> polynomials are in Estrin order and the products with z are formed
@@ -223,9 +262,10 @@ contains
     real(wp), intent(inout) :: theta(:), omega(:)
     integer(i8), intent(out) :: steps, fast
     integer, intent(out) :: bad
-    real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bound
+    real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bu0, bu1
+    real(wp) :: c2, c3, c4, c5, c6t, c7, c8, c9
     real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy
-    integer :: kk, kn, j
+    integer :: kk, kn, j, ik
     integer(i8) :: i, n, nf, ns
     logical :: ok
     y = theta(1)
@@ -252,17 +292,29 @@ contains
       g2 = (2 - gamma * hs) * gamma
       wa = sixth * (2 - gamma * hs) * w0sq
       wb = sixth * w0sq
+      bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
+      bu0 = hh * w0sq * (gamma * hh + 2)
       do i = 1, n
         p2 = half * u
         p4 = hs * u
         ! A priori bound on the stage offsets, so that the polynomials never
         ! see a huge argument (no overflow on extreme inputs); a posteriori
-        ! check below.
-        bound = abs(p4) + hh * (2 * gamma * abs(u) + gamma * hh * (gamma * abs(u) + w0sq) + 2 * w0sq)
-        ok = abs(rh) <= stage_rmax .and. bound <= 1
+        ! check below.  It is |p4| + hh (2 gamma |u| + gamma hh (gamma |u| +
+        ! w0sq) + 2 w0sq), regrouped as |u| bu1 + bu0 with the parts that do
+        ! not change along the interval formed once (two flops per step).
+        ok = abs(rh) <= stage_rmax .and. abs(u) * bu1 + bu0 <= 1
         if (ok) then
-          sk = node_sin(iand(kk, nnodes - 1))
-          ck = node_sin(iand(kk + nnodes / 4, nnodes - 1))
+          ik = iand(kk, nnodes - 1)
+          sk = node_sin(ik)
+          ck = node_cos(ik)
+          c2 = taylor(2, ik)
+          c3 = taylor(3, ik)
+          c4 = taylor(4, ik)
+          c5 = taylor(5, ik)
+          c6t = taylor(6, ik)
+          c7 = taylor(7, ik)
+          c8 = taylor(8, ik)
+          c9 = taylor(9, ik)
           ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
           ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
           ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
@@ -275,14 +327,14 @@ contains
           ! r3 = r2 + h2q k1, r4 = rho + h m3, theta' = theta + h u +
           ! (h**2/6)(k1 + k2 + k3), Omega' = Omega + (h/6)(k1 + 2 k2 + 2 k3 + k4).
           r2 = rh + p2
-          s1 = sin_kr(sk, ck, rh)
-          s2 = sin_kr(sk, ck, r2)
+          s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rh)
+          s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
           k1 = -gamma * u - w0sq * s1
           r3 = (r2 - h2q * gamma * u) - w1 * s1
           m2 = u + half * k1
           r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
           k2 = -gamma * m2 - w0sq * s2
-          s3 = sin_kr(sk, ck, r3)
+          s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
           m3 = u + half * k2
           ! theta and Omega are each rounded once (as in the plain step): the
           ! increments are summed first, so rotations (|theta| >> 1) keep the
@@ -291,10 +343,30 @@ contains
           ! is theta' to within half an ulp of theta').
           dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
           yn = y + dy
-          s4 = sin_kr(sk, ck, r4)
+          s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
           un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
           rn = ((y - kfn * node_p1) - kp23) + dy
-          ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+          ok = max(abs(r2), abs(r3), abs(r4)) <= short_rmax .and. abs(a4) <= stage_xmax
+          if (.not. ok .and. abs(a4) <= stage_xmax) then
+            ! Offsets beyond the Taylor form's range: the same step with the
+            ! minimax form of sin_kr (|r| <= 1/8).
+            r2 = rh + p2
+            s1 = sin_kr(sk, ck, rh)
+            s2 = sin_kr(sk, ck, r2)
+            k1 = -gamma * u - w0sq * s1
+            r3 = (r2 - h2q * gamma * u) - w1 * s1
+            m2 = u + half * k1
+            r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
+            k2 = -gamma * m2 - w0sq * s2
+            s3 = sin_kr(sk, ck, r3)
+            m3 = u + half * k2
+            dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
+            yn = y + dy
+            s4 = sin_kr(sk, ck, r4)
+            un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
+            rn = ((y - kfn * node_p1) - kp23) + dy
+            ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax
+          end if
         end if
         if (ok) then
           kn = int(kfn)

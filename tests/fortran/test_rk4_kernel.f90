@@ -5,7 +5,8 @@
 !> step (the previous implementation, kept here as the reference).
 program test_rk4_kernel
   use pendula_kinds, only: wp, i8
-  use pendula_rk4_kernel, only: rk4_grid, node_reduce, sin_node, sin_shift, stage_rmax, stage_xmax
+  use pendula_rk4_kernel, only: rk4_grid, node_reduce, sin_node, sin_shift, stage_rmax, stage_xmax, &
+      sin_node_taylor, short_rmax
   use pendula_testing, only: checker_t
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
@@ -24,6 +25,7 @@ program test_rk4_kernel
   end if
 
   call test_sin_node()
+  call test_sin_node_taylor()
   call test_sin_shift_sweep()
   call test_sin_shift_random()
   call test_against_libm()
@@ -56,6 +58,25 @@ contains
     print '(a, f6.3, a)', 'sin_node: max |error| over 601 nodes x 801 offsets = ', worst, ' eps'
     call tc%check_true(worst <= 2, 'sin_node within 2 eps of sin(x_k + r)')
   end subroutine test_sin_node
+
+  !> The Taylor form the step tries first, over its whole range |r| <= short_rmax,
+  !> at every node: |sin_node_taylor(k, r) - sin(2 pi k / 256 + r)| <= 2 eps.
+  subroutine test_sin_node_taylor()
+    integer :: k, j
+    real(wp) :: r, worst, e
+    real(qp) :: xk
+    worst = 0
+    do k = -300, 300, stride
+      xk = 2 * pi_q * k / 256
+      do j = -400, 400
+        r = short_rmax * j / 400
+        e = real(abs(real(sin_node_taylor(k, r), qp) - sin(xk + real(r, qp))), wp) / eps
+        worst = max(worst, e)
+      end do
+    end do
+    print '(a, f6.3, a)', 'sin_node_taylor: max |error| over 601 nodes x 801 offsets = ', worst, ' eps'
+    call tc%check_true(worst <= 2, 'sin_node_taylor within 2 eps of sin(x_k + r)')
+  end subroutine test_sin_node_taylor
 
   !> Dense theta in [-10, 10] (20001 points) x 41 offsets d across the fast
   !> range |d| <= stage_rmax - pi/256: sin_shift(theta, d) vs sin(theta + d)
@@ -188,21 +209,23 @@ contains
 
   !> Text scenario (w0 = sqrt 2, gamma = 0.1 and 0.5, theta0 = 0, Omega0 = 2,
   !> outputs every 0.05 s to 30 s) with h = 0.05 and 0.001, plus a rotating
-  !> start (Omega0 = 3) and a large angle: max |difference| to the plain loop
+  !> start (Omega0 = 3), a large angle and a fast rotation (Omega0 = 4.2): max |difference| to the plain loop
   !> over the outputs must stay within 32 eps max(1, |theta|) (rounding only:
   !> both are the same RK4 scheme, each rounding theta and Omega once per step;
   !> measured <= 6.5), and the table path must carry the text scenario.
   subroutine test_vs_plain_rk4()
     real(wp), parameter :: w0sq = 2, hv(2) = [0.05_wp, 0.001_wp], gv(2) = [0.1_wp, 0.5_wp]
     real(wp) :: y1, u1, dmax, hs, scale, t(601), th(601), om(601)
-    integer :: ih, ig, i, icase, bad
+    integer :: ih, ig, i, icase, bad, tol
     integer(i8) :: nsub, fast, total
-    real(wp) :: th0(3), om0(3)
+    real(wp) :: th0(4), om0(4)
     character(len=80) :: label
-    th0 = [0.0_wp, 0.0_wp, 1000.5_wp]
-    om0 = [2.0_wp, 3.0_wp, 2.0_wp]
+    ! case 4 rotates fast enough (h Omega up to ~0.25) that steps fall beyond
+    ! the Taylor form's range onto the sin_kr form and the libm step
+    th0 = [0.0_wp, 0.0_wp, 1000.5_wp, 0.0_wp]
+    om0 = [2.0_wp, 3.0_wp, 2.0_wp, 4.2_wp]
     t = [(0.05_wp * i, i = 0, 600)]
-    do icase = 1, 3
+    do icase = 1, 4
       do ig = 1, 2
         do ih = 1, 2
           hs = hv(ih)
@@ -224,7 +247,11 @@ contains
           write (label, '(a, i0, a, f4.2, a, f5.3, a)') 'case ', icase, ' gamma ', gv(ig), ' h ', hs, ': '
           print '(a, a, es9.2, a, f9.2, a, i0, a, i0)', trim(label), ' max |fast - plain| = ', dmax, &
               ' = ', dmax / (eps * scale), ' eps*max(1,|theta|); table steps ', fast, ' / ', total
-          call tc%check_true(dmax <= 32 * eps * scale, trim(label) // ' within 32 eps of plain (rounding only)')
+          ! A fast rotation is neutrally stable: the two rounding sequences
+          ! drift apart as a random walk (~28 eps after 30000 steps, the same
+          ! with the sin_kr-only kernel), hence its wider bound.
+          tol = merge(64, 32, icase == 4)
+          call tc%check_true(dmax <= tol * eps * scale, trim(label) // ' within 32 (rotation: 64) eps of plain')
           if (icase == 1) call tc%check_true(fast == total, trim(label) // ' all steps on the table path')
         end do
       end do
