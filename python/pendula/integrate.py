@@ -92,8 +92,7 @@ def _stats(raw):
 def _rk4_stats(raw):
     # RK4 fills only steps and rhs_evals (the others are zero by definition);
     # reading two values keeps this off the cost of short runs.
-    head = raw[:2].tolist()
-    return {"steps": int(head[0]), "rhs_evals": int(head[1]), "jac_evals": 0, "err_test_fails": 0,
+    return {"steps": int(raw.item(0)), "rhs_evals": int(raw.item(1)), "jac_evals": 0, "err_test_fails": 0,
             "nonlin_iters": 0, "nonlin_fails": 0, "root_evals": 0}
 
 
