@@ -11,8 +11,12 @@
 #                    (and valgrind for `test`), via apt-get (root, or sudo);
 #   Python           a virtual environment .venv with requirements-dev.txt, and the
 #                    pendula package built from this tree with pip (meson-python).
-# Set PENDULA_SUNDIALS=disabled to build without SUNDIALS (CVODE then reports that it
-# was not built and its tests skip).
+#   SUNDIALS         built once from Debian's source package, optimised, into
+#                    .deps/sundials (tools/build_sundials.sh, ~10 s): Debian's packaged
+#                    6.4.1 is compiled without optimisation and makes CVODE ~2.7x slower.
+#                    If that build fails, the packaged libraries are used (with a warning).
+# PENDULA_SUNDIALS=system uses the packaged libraries; PENDULA_SUNDIALS=disabled builds
+# without SUNDIALS (CVODE then reports that it was not built and its tests skip).
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -23,6 +27,10 @@ case "$mode" in
   *) echo "usage: $0 run|test   (run: main job into out/; test: all tests)" >&2; exit 2 ;;
 esac
 sundials=${PENDULA_SUNDIALS:-enabled}
+case "$sundials" in
+  enabled|system|disabled) ;;
+  *) echo "PENDULA_SUNDIALS must be enabled, system or disabled (got '$sundials')" >&2; exit 2 ;;
+esac
 venv="$here/.venv"
 py="$venv/bin/python"
 
@@ -31,6 +39,8 @@ say() { printf '==> %s\n' "$*"; }
 # ---- 1. Debian packages ---------------------------------------------------------
 need_pkgs=(gfortran pkg-config)
 [ "$sundials" != disabled ] && need_pkgs+=(libsundials-dev libsundials-fortran-dev)
+[ "$sundials" = enabled ] && ! command -v cmake >/dev/null && need_pkgs+=(cmake)
+[ "$sundials" = enabled ] && ! command -v make >/dev/null && need_pkgs+=(make)
 [ "$mode" = test ] && need_pkgs+=(valgrind)
 missing=()
 for p in "${need_pkgs[@]}"; do
@@ -57,28 +67,60 @@ if [ "$(cat "$venv/.req-hash" 2>/dev/null)" != "$req_hash" ]; then
   echo "$req_hash" >"$venv/.req-hash"
 fi
 
-# ---- 3. Build and install pendula into .venv (only when the sources changed) ----
-src_hash=$( { echo "sundials=$sundials";
+# ---- 3. SUNDIALS: the optimised build (once) ---------------------------------------
+sundials_prefix=""
+if [ "$sundials" = enabled ]; then
+  if tools/build_sundials.sh "$here/.deps/sundials"; then
+    sundials_prefix="$here/.deps/sundials"
+  else
+    echo "WARNING: the optimised SUNDIALS build failed; using Debian's packaged libraries" \
+         "(CVODE about 2.7x slower)" >&2
+  fi
+fi
+meson_sundials=("-Dsundials=$([ "$sundials" = disabled ] && echo disabled || echo enabled)"
+                "-Dsundials_prefix=$sundials_prefix")
+# Configure a meson build directory, or configure an existing one afresh when
+# its options differ from these (recorded beside it; --wipe, because meson
+# refuses -D for an option that meson_options.txt gained since the setup).
+meson_dir() {
+  local dir=$1; shift
+  local args="$* ${meson_sundials[*]}"
+  if [ ! -f "$dir/build.ninja" ]; then
+    meson setup "$dir" "$@" "${meson_sundials[@]}" >/dev/null
+  elif [ "$(cat "$dir.pendula-args" 2>/dev/null)" != "$args" ]; then
+    meson setup --wipe "$dir" "$@" "${meson_sundials[@]}" >/dev/null
+  fi
+  echo "$args" >"$dir.pendula-args"
+}
+
+# ---- 4. Build and install pendula into .venv (only when the sources changed) ----
+src_hash=$( { echo "sundials=$sundials prefix=$sundials_prefix";
+              echo "$sundials_prefix"/.pendula-sundials-recipe-*;
               find meson.build meson_options.txt pyproject.toml src python -type f \
                    -not -path '*/__pycache__/*' -print0 | sort -z | xargs -0 sha256sum; } \
             | sha256sum | cut -c1-16)
 if [ "$(cat "$venv/.pendula-hash" 2>/dev/null)" != "$src_hash" ]; then
   say "building and installing pendula into .venv (meson-python)"
+  # meson-python reconfigures an existing build directory; start it afresh
+  # when the SUNDIALS options changed (see meson_dir).
+  if [ "$(cat build/pip.pendula-args 2>/dev/null)" != "${meson_sundials[*]}" ]; then
+    rm -rf build/pip
+  fi
+  mkdir -p build
+  echo "${meson_sundials[*]}" >build/pip.pendula-args
   "$py" -m pip install -q --no-build-isolation --no-deps \
-    -Cbuild-dir="$here/build/pip" -Csetup-args="-Dsundials=$sundials" . \
+    -Cbuild-dir="$here/build/pip" -Csetup-args="${meson_sundials[0]}" -Csetup-args="${meson_sundials[1]}" . \
     || { echo "pip install failed; see the output above" >&2; exit 1; }
   echo "$src_hash" >"$venv/.pendula-hash"
 fi
 
-# ---- 4. The job ---------------------------------------------------------------------
+# ---- 5. The job ---------------------------------------------------------------------
 if [ "$mode" = run ]; then
   out=${PENDULA_OUT:-$here/out}
   say "main job: writing figures, tables and the speed/accuracy report to $out"
   mkdir -p "$out"
   # Fortran example drivers: build and run them, keeping their output.
-  if [ ! -f build/main/build.ninja ]; then
-    meson setup build/main -Dpython=disabled -Dinstall_fortran=false -Dsundials="$sundials" >/dev/null
-  fi
+  meson_dir build/main -Dpython=disabled -Dinstall_fortran=false
   ninja -C build/main >/dev/null
   "$py" tools/run_fortran_examples.py build/main "$out/fortran"
   (cd /tmp && MPLBACKEND=Agg "$py" "$here/examples/python/run_all.py" --out "$out")
@@ -87,9 +129,7 @@ fi
 
 # mode = test
 say "Fortran tests (meson test)"
-if [ ! -f build/test/build.ninja ]; then
-  meson setup build/test -Dpython=disabled -Dsundials="$sundials" >/dev/null
-fi
+meson_dir build/test -Dpython=disabled
 ninja -C build/test >/dev/null
 meson test -C build/test --print-errorlogs --num-processes 2
 say "pytest on the installed package"
