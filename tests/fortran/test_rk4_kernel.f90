@@ -25,7 +25,6 @@ program test_rk4_kernel
   end if
 
   call test_sin_node()
-  call test_sin_node_taylor()
   call test_sin_shift_sweep()
   call test_sin_shift_random()
   call test_against_libm()
@@ -41,42 +40,37 @@ contains
   end function err_eps
 
   !> Every node k (and its aliases k + 256 m) with 801 offsets r across
-  !> [-stage_rmax, stage_rmax]: |sin_node(k, r) - sin(2 pi k / 256 + r)| <= 2 eps.
+  !> [-stage_rmax, stage_rmax]: |sin_node(k, r) - sin(2 pi k / 256 + r)| <= 2 eps;
+  !> and the Taylor form the step tries first over its range |r| <= short_rmax.
   subroutine test_sin_node()
-    integer :: k, j
-    real(wp) :: r, worst, e
-    real(qp) :: xk
-    worst = 0
-    do k = -300, 300, stride
-      xk = 2 * pi_q * k / 256
-      do j = -400, 400
-        r = stage_rmax * j / 400
-        e = real(abs(real(sin_node(k, r), qp) - sin(xk + real(r, qp))), wp) / eps
-        worst = max(worst, e)
-      end do
-    end do
-    print '(a, f6.3, a)', 'sin_node: max |error| over 601 nodes x 801 offsets = ', worst, ' eps'
-    call tc%check_true(worst <= 2, 'sin_node within 2 eps of sin(x_k + r)')
+    call node_sweep('sin_node', stage_rmax, .false.)
+    call node_sweep('sin_node_taylor', short_rmax, .true.)
   end subroutine test_sin_node
 
-  !> The Taylor form the step tries first, over its whole range |r| <= short_rmax,
-  !> at every node: |sin_node_taylor(k, r) - sin(2 pi k / 256 + r)| <= 2 eps.
-  subroutine test_sin_node_taylor()
+  subroutine node_sweep(name, rmax, taylor)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: rmax
+    logical, intent(in) :: taylor
     integer :: k, j
-    real(wp) :: r, worst, e
+    real(wp) :: r, worst, e, s
     real(qp) :: xk
     worst = 0
     do k = -300, 300, stride
       xk = 2 * pi_q * k / 256
       do j = -400, 400
-        r = short_rmax * j / 400
-        e = real(abs(real(sin_node_taylor(k, r), qp) - sin(xk + real(r, qp))), wp) / eps
+        r = rmax * j / 400
+        if (taylor) then
+          s = sin_node_taylor(k, r)
+        else
+          s = sin_node(k, r)
+        end if
+        e = real(abs(real(s, qp) - sin(xk + real(r, qp))), wp) / eps
         worst = max(worst, e)
       end do
     end do
-    print '(a, f6.3, a)', 'sin_node_taylor: max |error| over 601 nodes x 801 offsets = ', worst, ' eps'
-    call tc%check_true(worst <= 2, 'sin_node_taylor within 2 eps of sin(x_k + r)')
-  end subroutine test_sin_node_taylor
+    print '(a, a, f6.3, a)', name, ': max |error| over 601 nodes x 801 offsets = ', worst, ' eps'
+    call tc%check_true(worst <= 2, name // ' within 2 eps of sin(x_k + r)')
+  end subroutine node_sweep
 
   !> Dense theta in [-10, 10] (20001 points) x 41 offsets d across the fast
   !> range |d| <= stage_rmax - pi/256: sin_shift(theta, d) vs sin(theta + d)
