@@ -39,8 +39,9 @@ say() { printf '==> %s\n' "$*"; }
 # ---- 1. Debian packages ---------------------------------------------------------
 need_pkgs=(gfortran pkg-config)
 [ "$sundials" != disabled ] && need_pkgs+=(libsundials-dev libsundials-fortran-dev)
-[ "$sundials" = enabled ] && ! command -v cmake >/dev/null && need_pkgs+=(cmake)
-[ "$sundials" = enabled ] && ! command -v make >/dev/null && need_pkgs+=(make)
+[ "$sundials" = enabled ] && ! cmake --version >/dev/null 2>&1 && need_pkgs+=(cmake)
+[ "$sundials" = enabled ] && ! make --version >/dev/null 2>&1 && need_pkgs+=(make)
+[ "$sundials" = enabled ] && ! xz --version >/dev/null 2>&1 && need_pkgs+=(xz-utils)
 [ "$mode" = test ] && need_pkgs+=(valgrind)
 missing=()
 for p in "${need_pkgs[@]}"; do

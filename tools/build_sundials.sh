@@ -27,6 +27,12 @@ recipe=1
 stamp="$prefix/.pendula-sundials-recipe-$recipe"
 [ -f "$stamp" ] && exit 0
 
+# A cmake on PATH that does not run (e.g. a pyenv shim without the package)
+# is passed over for Debian's.
+cmake_bin=cmake
+"$cmake_bin" --version >/dev/null 2>&1 || cmake_bin=/usr/bin/cmake
+"$cmake_bin" --version >/dev/null 2>&1 || { echo "build_sundials: no working cmake" >&2; exit 1; }
+
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/apt/lists/partial" "$work/apt/cache/archives/partial" "$work/apt/sources"
@@ -50,7 +56,7 @@ src=$(ls -d "$work"/sundials-6.4.* | head -n 1)
 
 echo "build_sundials: building $(basename "$src") (Release, static, PIC) into $prefix"
 # -fcommon as Debian uses it (the 6.4 sources define some globals in headers).
-cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS=-fcommon \
+"$cmake_bin" -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS=-fcommon \
   -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_INSTALL_LIBDIR=lib \
   -DBUILD_SHARED_LIBS=OFF -DBUILD_STATIC_LIBS=ON -DCMAKE_POSITION_INDEPENDENT_CODE=ON \
   -DBUILD_FORTRAN_MODULE_INTERFACE=ON -DCMAKE_Fortran_COMPILER=gfortran \
@@ -58,9 +64,9 @@ cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS=-fco
   -DEXAMPLES_ENABLE_C=OFF -DEXAMPLES_ENABLE_F2003=OFF -DEXAMPLES_INSTALL=OFF \
   -DSUNDIALS_INDEX_SIZE=64 >"$work/configure.log" 2>&1 \
   || { tail -40 "$work/configure.log" >&2; echo "build_sundials: cmake configure FAILED" >&2; exit 1; }
-cmake --build "$work/build" -j "$(nproc)" >"$work/build.log" 2>&1 \
+"$cmake_bin" --build "$work/build" -j "$(nproc)" >"$work/build.log" 2>&1 \
   || { grep -E -A5 'error|Error' "$work/build.log" | head -40 >&2; echo "build_sundials: build FAILED" >&2; exit 1; }
 rm -rf "$prefix"
-cmake --install "$work/build" >/dev/null 2>&1
+"$cmake_bin" --install "$work/build" >/dev/null 2>&1
 touch "$stamp"
 echo "build_sundials: done"
