@@ -10,41 +10,32 @@
 !> three-part constant) and each stage sine is then, for |r| <= 0.1, the
 !> degree-9 Taylor polynomial of sin(x_k + r) in r, whose coefficients
 !> (+-sin x_k / j!, +-cos x_k / j!) are tabulated per node at compile time
-!> and evaluated in Estrin order (sin_taylor: fewest flops and a short chain;
-!> the step is bound by floating-point throughput and latency together).
-!> Steps with an offset in (0.1, 1/8] are redone with
-!>     sin(x_k + r) = sin x_k + cos x_k r - (sin x_k (1 - cos r) - cos x_k (sin r - r))
-!> and short near-minimax polynomials (sin_kr; angle addition: Muller,
-!> "Elementary Functions", 3rd ed., ch. 11; Tang, ACM TOMS 15 (1989) 144 for
-!> the table-driven form).  Steps whose offsets leave that range too, or with
-!> |theta| > 2**20, take the plain libm step.
+!> and evaluated in Estrin order (sin_taylor: angle addition folded into one
+!> polynomial; Muller, "Elementary Functions", 3rd ed., ch. 11; Tang, ACM
+!> TOMS 15 (1989) 144 for the table-driven form).  The step is bound by
+!> floating-point throughput and latency together.  Steps whose offsets leave
+!> that range, or with |theta| > 2**20, take the plain libm step.
 !>
 !> Accuracy of a stage sine: absolute error <= 2 eps against sin of the
-!> exact argument (measured max ~0.9 eps, tests/fortran/test_rk4.f90); the
+!> exact argument (measured max 1.02 eps, tests/fortran/test_rk4_kernel.f90); the
 !> RK4 results differ from the plain libm formulation by rounding only.
-!> Constants: gen_stage_sine_table.py in this folder.
+!> Constants: gen_stage_sine_table.py in this folder (node table and split).
 module pendula_rk4_kernel
   use pendula_kinds, only: wp, i8
   implicit none
   private
   public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
-  public :: stage_rmax, stage_xmax, short_rmax, sin_node_taylor
+  public :: stage_rmax, stage_xmax
 
   !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
   !> that the fast step reduces (k*node_p1, k*node_p2 stay exact).
-  real(wp), parameter :: stage_rmax = 0.125_wp
+  real(wp), parameter :: stage_rmax = 0.1_wp
   real(wp), parameter :: stage_xmax = 1048576.0_wp
   integer, parameter :: nnodes = 256
 
   real(wp), parameter :: node_p1 = 0.02454369328916073_wp, node_p2 = -6.829904419802801e-10_wp, &
       node_p3 = -2.6798820303795045e-17_wp, nodes_per_radian = 40.74366543152521_wp
   ! residual of the split: 1.32e-33
-  ! ps: max error of the fit times |r|**3: 2.28e-20
-  real(wp), parameter :: ps0 = -0.16666666666666666_wp, ps1 = 0.008333333333309446_wp, &
-      ps2 = -0.0001984126907687799_wp, ps3 = 2.754949151820351e-06_wp
-  ! qc: max error of the fit times |r|**2: 2.0e-18
-  real(wp), parameter :: qc0 = 0.4999999999999999_wp, qc1 = -0.04166666666640392_wp, &
-      qc2 = 0.0013888888048085412_wp, qc3 = -2.4792977040825343e-05_wp
   real(wp), parameter :: node_sin(0:255) = [ &
       0.0_wp, 0.024541228522912288_wp, 0.049067674327418015_wp, &
       0.07356456359966743_wp, 0.0980171403295606_wp, 0.1224106751992162_wp, &
@@ -132,9 +123,6 @@ module pendula_rk4_kernel
       -0.17096188876030122_wp, -0.14673047445536175_wp, -0.1224106751992162_wp, &
       -0.0980171403295606_wp, -0.07356456359966743_wp, -0.049067674327418015_wp, &
       -0.024541228522912288_wp ]
-  !> Largest |r| for the Taylor form of the stage sines (sin_taylor): its
-  !> first omitted term is <= short_rmax**10/10! = 2.8e-17.
-  real(wp), parameter :: short_rmax = 0.1_wp
   ! Taylor coefficients of sin(x_k + r) in r for every node, tabulated at
   ! compile time so that a step loads them instead of forming eight products
   ! (the step is bound by floating-point throughput): row j holds
@@ -169,7 +157,10 @@ contains
   elemental real(wp) function sin_node(k, r) result(s)
     integer, intent(in) :: k
     real(wp), intent(in) :: r
-    s = sin_kr(node_sin(iand(k, nnodes - 1)), node_sin(iand(k + nnodes / 4, nnodes - 1)), r)
+    integer :: i
+    i = iand(k, nnodes - 1)
+    s = sin_taylor(node_sin(i), node_cos(i), taylor(2, i), taylor(3, i), taylor(4, i), taylor(5, i), &
+        taylor(6, i), taylor(7, i), taylor(8, i), taylor(9, i), r)
   end function sin_node
 
   !> sin(x + d) of the exact sum x + d (no rounding of the argument) by
@@ -188,9 +179,10 @@ contains
     end if
   end function sin_shift
 
-  !> sin(x_k + r) for |r| <= short_rmax from sk = sin x_k, ck = cos x_k and
-  !> c2..c9 = taylor(:, k), to degree 9 in r.  Estrin order: three levels
-  !> from r to the result.  Absolute error <= 2 eps (test_rk4_kernel).
+  !> sin(x_k + r) for |r| <= stage_rmax from sk = sin x_k, ck = cos x_k and
+  !> c2..c9 = taylor(:, k): the Taylor polynomial to degree 9 in r (first
+  !> omitted term <= stage_rmax**10/10! = 2.8e-17), in Estrin order (three
+  !> levels from r to the result: RK4 chains two stage sines per step).
   pure real(wp) function sin_taylor(sk, ck, c2, c3, c4, c5, c6, c7, c8, c9, r) result(s)
     real(wp), intent(in) :: sk, ck, c2, c3, c4, c5, c6, c7, c8, c9, r
     real(wp) :: z, z2
@@ -198,31 +190,6 @@ contains
     z2 = z * z
     s = ((sk + ck * r) + z * (c2 + c3 * r)) + z2 * (((c4 + c5 * r) + z * (c6 + c7 * r)) + z2 * (c8 + c9 * r))
   end function sin_taylor
-
-  !> sin(2 pi k / 256 + r) for |r| <= short_rmax by the Taylor form the RK4
-  !> step uses first; absolute error <= 2 eps.  For tests.
-  elemental real(wp) function sin_node_taylor(k, r) result(s)
-    integer, intent(in) :: k
-    real(wp), intent(in) :: r
-    integer :: i
-    i = iand(k, nnodes - 1)
-    s = sin_taylor(node_sin(i), node_cos(i), taylor(2, i), taylor(3, i), taylor(4, i), taylor(5, i), &
-        taylor(6, i), taylor(7, i), taylor(8, i), taylor(9, i), r)
-  end function sin_node_taylor
-
-  !> sin(x_k + r) from sk = sin x_k, ck = cos x_k, |r| <= stage_rmax.  The
-  !> polynomials are in Estrin order and the products with z are formed
-  !> beside them, to keep the dependency chain short (it is RK4's).
-  pure real(wp) function sin_kr(sk, ck, r) result(s)
-    real(wp), intent(in) :: sk, ck, r
-    real(wp) :: z, z2, p, q, ckr
-    z = r * r
-    z2 = z * z
-    ckr = ck * r
-    p = (ps0 + z * ps1) + z2 * (ps2 + z * ps3)
-    q = (qc0 + z * qc1) + z2 * (qc2 + z * qc3)
-    s = (sk + ckr) + ((ckr * z) * p - (sk * z) * q)
-  end function sin_kr
 
   !> Number of equal substeps of at most h that cover dt: ceiling(dt/h), except
   !> that dt/h within 1e-9 of an integer counts as that integer (output grids
@@ -349,27 +316,7 @@ contains
           s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
           un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
           rn = ((y - kfn * node_p1) - kp23) + dy
-          ok = max(abs(r2), abs(r3), abs(r4)) <= short_rmax .and. abs(a4) <= stage_xmax
-          if (.not. ok .and. abs(a4) <= stage_xmax) then
-            ! Offsets beyond the Taylor form's range: the same step with the
-            ! minimax form of sin_kr (|r| <= 1/8).
-            r2 = rh + p2
-            s1 = sin_kr(sk, ck, rh)
-            s2 = sin_kr(sk, ck, r2)
-            k1 = -gamma * u - w0sq * s1
-            r3 = (r2 - h2q * gamma * u) - w1 * s1
-            m2 = u + half * k1
-            r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
-            k2 = -gamma * m2 - w0sq * s2
-            s3 = sin_kr(sk, ck, r3)
-            m3 = u + half * k2
-            dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
-            yn = y + dy
-            s4 = sin_kr(sk, ck, r4)
-            un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
-            rn = ((y - kfn * node_p1) - kp23) + dy
-            ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax
-          end if
+          ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
         end if
         if (ok) then
           kn = int(kfn)
