@@ -14,6 +14,7 @@ ERR_UNSTABLE = 5
 ERR_SOLVER = 6
 ERR_UNAVAILABLE = 7
 ERR_MAXSTEPS = 8
+ERR_CANCELLED = 9
 
 
 class PendulaSolverError(RuntimeError):
@@ -29,6 +30,7 @@ _EXCEPTIONS = {
     ERR_SOLVER: PendulaSolverError,
     ERR_UNAVAILABLE: NotImplementedError,
     ERR_MAXSTEPS: PendulaSolverError,
+    ERR_CANCELLED: KeyboardInterrupt,
 }
 
 

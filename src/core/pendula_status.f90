@@ -15,7 +15,7 @@ module pendula_status
             check_all_finite, check_increasing, check_size
   public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
             PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
-            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_MSG_LEN
+            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
 
   integer, parameter :: PENDULA_OK = 0
   !> An argument is NaN or infinite where a finite value is required.
@@ -34,6 +34,8 @@ module pendula_status
   integer, parameter :: PENDULA_ERR_UNAVAILABLE = 7
   !> The step budget was exhausted before the end of the window.
   integer, parameter :: PENDULA_ERR_MAXSTEPS = 8
+  !> The caller cancelled the call (pendula_control); finished work is kept.
+  integer, parameter :: PENDULA_ERR_CANCELLED = 9
 
   integer, parameter :: PENDULA_MSG_LEN = 256
 
@@ -76,6 +78,7 @@ contains
     case (PENDULA_ERR_SOLVER);      name = 'solver failure'
     case (PENDULA_ERR_UNAVAILABLE); name = 'not available in this build'
     case (PENDULA_ERR_MAXSTEPS);    name = 'step budget exhausted'
+    case (PENDULA_ERR_CANCELLED);   name = 'cancelled'
     case default;                   name = 'unknown status'
     end select
   end function code_name
