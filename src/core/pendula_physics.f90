@@ -13,9 +13,9 @@ module pendula_physics
 contains
 
   !> Natural angular frequency w0 = sqrt(g/l) [1/s] (eq. 1.7).
-  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.  Any
-  !> positive finite pair gives a finite, nonzero w0 (g/l itself may leave the
-  !> double range, its square root never does): within 1 ulp.
+  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.  Within
+  !> 1 ulp, nonzero, and finite whenever sqrt(g/l) is (g/l itself may leave
+  !> the double range: it is never formed then); +Inf only beyond DBL_MAX.
   pure subroutine natural_frequency(g, l, w0, status)
     real(wp), intent(in) :: g, l
     real(wp), intent(out) :: w0

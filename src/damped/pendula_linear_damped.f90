@@ -267,9 +267,10 @@ contains
 
   ! Power of 2 (>= 0) to divide the state by so that no intermediate of the
   ! set-up or the evaluation overflows: those are at most the angle scale
-  ! max(|theta0|, |Omega0|/w0) times the largest rate (when > 1) times the
-  ! largest rate over sqrt|D| (when > 1), times a margin of 2^16 (w0 t <= 1500
-  ! in the series form).  0 for every ordinary state.
+  ! max(|theta0|, |Omega0|/w0) times the square of the largest rate (a Omega0,
+  ! w0^2 theta0; when > 1) times the largest rate over sqrt|D| (when > 1),
+  ! times a margin of 2^16 (w0 t <= 1500 in the series form).  0 for every
+  ! ordinary state.
   pure integer function state_scaling(info, theta0, omega0) result(ns)
     type(damping_regime_t), intent(in) :: info
     real(wp), intent(in) :: theta0, omega0
@@ -280,7 +281,7 @@ contains
     k = max(info%omega_d, info%beta)
     e_ratio = 0
     if (k > 0) e_ratio = max(0, e_rate - exponent(k))
-    ns = min(NS_MAX, max(0, e_state + max(0, e_rate) + e_ratio + 16 - maxexponent(1.0_wp)))
+    ns = min(NS_MAX, max(0, e_state + 2 * max(0, e_rate) + e_ratio + 16 - maxexponent(1.0_wp)))
   end function state_scaling
 
   ! x 2^n, +-inf when beyond the double range (without raising overflow:
@@ -416,10 +417,10 @@ contains
       else
         call split_exp(x, m1, n1)
         call split_exp(xe, m2, n2)
-        n1 = n1 + sol%ns
-        n2 = n2 + sol%ns
-        theta = scale_sat(sol%ca * m1, n1) + scale_sat(sol%cb * m2, n2)
-        omega = scale_sat(sol%l1ca * m1, n1) + scale_sat(sol%l2cb * m2, n2)
+        ! sum at the larger power of 2 (n2 >= n1: lambda1 t <= lambda2 t), scale once:
+        ! two overflowing terms of opposite sign must not give inf - inf
+        theta = scale_sat(scale(sol%ca * m1, n1 - n2) + sol%cb * m2, n2 + sol%ns)
+        omega = scale_sat(scale(sol%l1ca * m1, n1 - n2) + sol%l2cb * m2, n2 + sol%ns)
       end if
     end if
   end subroutine linear_damped_state
