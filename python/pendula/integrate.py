@@ -13,12 +13,11 @@ Long runs keep memory proportional to the outputs only: ask for
 ``t=[0, t_end]`` to get the final state of a run of any length.
 """
 from dataclasses import dataclass, field
-import numbers
 
 import numpy as np
 
 from . import _integrate
-from ._arrays import as_real, real_scalar
+from ._arrays import as_real, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 
@@ -183,20 +182,13 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
              (rtol, "rtol"), (atol, "atol"))]
     if not isinstance(method, str) or method.lower() not in _METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
-    if isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral):
-        raise TypeError(f"max_steps must be an integer, got {type(max_steps).__name__}")
-    if max_steps < 1:
-        raise ValueError(f"max_steps = {max_steps} is out of range: it must be >= 1")
+    max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
     m = 0
     if events:
-        if isinstance(max_events, bool) or not isinstance(max_events, numbers.Integral):
-            raise TypeError(f"max_events must be an integer, got {type(max_events).__name__}")
-        if max_events < 1 or max_events > 10**7:
-            # the event arrays are allocated up front: 28 bytes per event
-            raise ValueError(f"max_events = {max_events} is out of range: it must be in [1, 10**7]")
-        m = int(max_events)
+        # the event arrays are allocated up front: 28 bytes per event
+        m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _integrate.cvode_f2py(
         tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m)
     raise_for_status(code, msg)

@@ -13,16 +13,32 @@ module pendula_physics
 contains
 
   !> Natural angular frequency w0 = sqrt(g/l) [1/s] (eq. 1.7).
-  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.
+  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.  Within
+  !> 1 ulp, nonzero, and finite whenever sqrt(g/l) is (g/l itself may leave
+  !> the double range: it is never formed then); +Inf only beyond DBL_MAX.
   pure subroutine natural_frequency(g, l, w0, status)
     real(wp), intent(in) :: g, l
     real(wp), intent(out) :: w0
     type(status_t), intent(out) :: status
+    real(wp) :: fq
+    integer :: e
     w0 = 0
     call check_positive('g', g, status)
     call check_positive('l', l, status)
     if (status%code /= PENDULA_OK) return
-    w0 = sqrt(g / l)
+    e = exponent(g) - exponent(l)
+    if (abs(e) < 1000 .and. exponent(g) > -1000 .and. exponent(l) > -1000) then
+      w0 = sqrt(g / l)
+    else
+      ! g/l would overflow or lose bits below the normal range: divide the
+      ! significands, take the root and put half the (even) exponent back.
+      fq = fraction(g) / fraction(l)
+      if (modulo(e, 2) /= 0) then
+        fq = 2 * fq
+        e = e - 1
+      end if
+      w0 = scale(sqrt(fq), e / 2)
+    end if
   end subroutine natural_frequency
 
   !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite;
