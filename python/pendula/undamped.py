@@ -19,7 +19,7 @@ and pendula_equilibria; this module only converts.
 import numpy as np
 
 from . import _undamped
-from ._arrays import as_real, broadcast_real, restore
+from ._arrays import as_array, as_real, broadcast_real, check_size, restore
 from ._errors import raise_for_status
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
@@ -157,7 +157,7 @@ def equilibria(n, w0=1.0):
     """
     if isinstance(n, (bool, np.bool_)) or isinstance(n, (float, complex, str, bytes)) or n is None:
         raise TypeError(f"n must be an integer or an array of integers, got {type(n).__name__}")
-    narr = np.asarray(n)
+    narr = as_array(n, "n")
     if narr.dtype.kind not in "iu":
         raise TypeError(f"n must be an integer or an array of integers, got dtype {narr.dtype}")
     big = np.abs(narr.astype(np.int64)) > 2 ** 31 - 1 if narr.size else np.zeros(narr.shape, bool)
@@ -168,6 +168,7 @@ def equilibria(n, w0=1.0):
         shape = np.broadcast_shapes(narr.shape, w0a.shape)
     except ValueError:
         raise ValueError(f"arguments cannot be broadcast together: n{narr.shape}, w0{w0a.shape}") from None
+    check_size(int(np.prod(shape, dtype=np.int64)), f"the broadcast of n{narr.shape}, w0{w0a.shape}")
     scalar = narr.ndim == 0 and w0a.ndim == 0
     nf = np.ascontiguousarray(np.broadcast_to(narr, shape), dtype=np.int32).reshape(-1)
     wf = np.ascontiguousarray(np.broadcast_to(w0a, shape), dtype=np.float64).reshape(-1)

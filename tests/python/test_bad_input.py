@@ -592,6 +592,8 @@ FORTRAN_NO_STATUS = {
     "scene_model_code": "total function of a name", "scene_model_name": "total function of a code",
     "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
     "cvode_available": "no arguments",
+    # cancel flag / progress counter of long calls: total on any control array
+    "cancel_requested": "reads a flag, cannot fail", "add_progress": "adds to a counter, cannot fail",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
     "ellipk_array": "elliptic rule", "ellipe_array": "elliptic rule", "ellipj_array": "elliptic rule",
     "ellipjc_array": "elliptic rule", "ellipj_eval_array": "elliptic rule",
