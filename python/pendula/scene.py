@@ -43,6 +43,7 @@ from ._arrays import as_real, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 from .integrate import Events
+from .physics import raise_for_length_status
 
 MODELS = ("small_angle", "exact", "linear", "rk4", "cvode")
 """Model names accepted by ``solve(scene, model=...)`` (plus "auto")."""
@@ -122,7 +123,7 @@ class Scene:
             1.0 if self.mass is None else self.mass,
             0.0 if self.b is None else self.b,
             int(self.gamma_given is not None), int(self.mass is not None), int(self.b is not None))
-        raise_for_status(code, msg)
+        raise_for_length_status(code, msg)
         self.w0 = float(w0)
         self.gamma = float(gam)
         if t is None:

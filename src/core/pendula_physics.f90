@@ -3,7 +3,8 @@
 !> derived rates w0 = sqrt(g/l) [1/s] and gamma = b/m [1/s].
 module pendula_physics
   use pendula_kinds, only: wp
-  use pendula_status, only: status_t, check_positive, check_nonnegative, PENDULA_OK
+  use pendula_status, only: status_t, check_positive, check_nonnegative, set_error, PENDULA_OK, &
+      PENDULA_ERR_DOMAIN
   implicit none
   private
   public :: natural_frequency, damping_rate, small_angle_period, pi
@@ -12,8 +13,11 @@ module pendula_physics
 
 contains
 
-  !> Natural angular frequency w0 = sqrt(g/l) [1/s] (eq. 1.7).
-  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.
+  !> Natural angular frequency w0 = sqrt(g/l) [1/s] (eq. 1.7), within 1 ulp.
+  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.  Where g/l
+  !> leaves the normal range (g = 5e-324, l = 5e-324) w0 is sqrt(g)/sqrt(l),
+  !> which is representable for every such pair except those with w0 above the
+  !> largest double (g/l > about 3e616): status is set there.
   pure subroutine natural_frequency(g, l, w0, status)
     real(wp), intent(in) :: g, l
     real(wp), intent(out) :: w0
@@ -22,7 +26,18 @@ contains
     call check_positive('g', g, status)
     call check_positive('l', l, status)
     if (status%code /= PENDULA_OK) return
-    w0 = sqrt(g / l)
+    w0 = g / l
+    if (w0 >= tiny(w0) .and. w0 <= huge(w0)) then
+      w0 = sqrt(w0)
+    else
+      ! g/l underflowed or overflowed: the square roots of each stay in range
+      w0 = sqrt(g) / sqrt(l)
+      if (w0 > huge(w0)) then
+        w0 = 0
+        call set_error(status, PENDULA_ERR_DOMAIN, 'g and l are out of range together: w0 = sqrt(g/l) ' // &
+            'would exceed the largest double; need sqrt(g)/sqrt(l) <= 1.8e308')
+      end if
+    end if
   end subroutine natural_frequency
 
   !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite;
