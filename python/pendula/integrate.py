@@ -156,9 +156,10 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
-    of (theta0 [rad], omega0 [rad/s]); any window from one ulp (also at
-    |t[0]| = 1e300) or 5e-324 s up to a width of the largest double (the
-    ODE is autonomous: CVODE works in t - t[0]).  w0 > 0, gamma >= 0 [1/s].
+    of (theta0 [rad], omega0 [rad/s]); windows as short as 5e-324 s, or one
+    ulp at any t[0] (the ODE is autonomous: CVODE works in t - t[0]; one ulp
+    at t[0] = 1e300 is 1.4e284 s, beyond any step budget); t[-1] - t[0] must
+    not overflow.  w0 > 0, gamma >= 0 [1/s].
     rtol > 0, atol >= 0: CVODE keeps each local error below rtol |y| + atol
     (global errors are typically 1-100x that).  atol = 0 is pure relative
     control, normwise: the local error in theta stays below rtol S and in
