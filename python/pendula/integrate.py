@@ -18,7 +18,7 @@ import numbers
 import numpy as np
 
 from . import _integrate
-from ._arrays import as_real, real_scalar
+from ._arrays import as_real, check_size, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 
@@ -128,6 +128,7 @@ def rk4(t, theta0, omega0, w0, gamma, h):
     the largest stable h; see ``rk4_max_stable_step``).
     """
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
+        check_size(t.size, "t")
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
     else:
         tt = _grid(t)

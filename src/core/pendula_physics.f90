@@ -40,8 +40,8 @@ contains
     end if
   end subroutine natural_frequency
 
-  !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite;
-  !> otherwise status is set and gamma = 0.
+  !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite, with
+  !> b/m finite; otherwise status is set and gamma = 0.
   pure subroutine damping_rate(b, mass, gamma, status)
     real(wp), intent(in) :: b, mass
     real(wp), intent(out) :: gamma
@@ -51,6 +51,11 @@ contains
     call check_positive('mass', mass, status)
     if (status%code /= PENDULA_OK) return
     gamma = b / mass
+    if (gamma > huge(gamma)) then
+      gamma = 0
+      call set_error(status, PENDULA_ERR_DOMAIN, 'b and mass are out of range together: gamma = b/mass ' // &
+          'exceeds the largest double')
+    end if
   end subroutine damping_rate
 
   !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 > 0 finite; otherwise
