@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _integrate
-from ._arrays import as_real, integer_arg, real_scalar
+from ._arrays import as_real, check_size, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 
@@ -127,6 +127,7 @@ def rk4(t, theta0, omega0, w0, gamma, h):
     the largest stable h; see ``rk4_max_stable_step``).
     """
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
+        check_size(t.size, "t")
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
     else:
         tt = _grid(t)
@@ -155,9 +156,17 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
-    of (theta0 [rad], omega0 [rad/s]).  w0 > 0, gamma >= 0 [1/s].
+    of (theta0 [rad], omega0 [rad/s]); windows as short as 5e-324 s, or one
+    ulp at any t[0] (the ODE is autonomous: CVODE works in t - t[0]; one ulp
+    at t[0] = 1e300 is 1.4e284 s, beyond any step budget); t[-1] - t[0] must
+    not overflow.  w0 > 0, gamma >= 0 [1/s].
     rtol > 0, atol >= 0: CVODE keeps each local error below rtol |y| + atol
-    (global errors are typically 1-100x that).  method: "adams" (non-stiff,
+    (global errors are typically 1-100x that).  atol = 0 is pure relative
+    control, normwise: the local error in theta stays below rtol S and in
+    Omega below rtol w0 S, S = max(|theta|, |Omega|/w0) the size of the
+    state (componentwise rtol |y| has no scale where theta or Omega crosses
+    zero); it keeps its relative accuracy as damped motion decays, where a
+    fixed atol stops resolving the state.  method: "adams" (non-stiff,
     the default) or "bdf" (stiff problems, e.g. gamma >> w0); both use Newton
     iteration with a dense solver and the analytic Jacobian.  max_steps: total
     step budget for the whole run.  events=True also locates turning points

@@ -19,7 +19,7 @@ and pendula_equilibria; this module only converts.
 import numpy as np
 
 from . import _undamped
-from ._arrays import as_real, broadcast_real, integer_arg, restore
+from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg, restore
 from ._errors import raise_for_status
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
@@ -165,6 +165,7 @@ def equilibria(n, w0=1.0):
         shape = np.broadcast_shapes(narr.shape, w0a.shape)
     except ValueError:
         raise ValueError(f"arguments cannot be broadcast together: n{narr.shape}, w0{w0a.shape}") from None
+    check_size(int(np.prod(shape, dtype=np.int64)), f"the broadcast of n{narr.shape}, w0{w0a.shape}")
     scalar = narr.ndim == 0 and w0a.ndim == 0
     nf = np.ascontiguousarray(np.broadcast_to(narr, shape), dtype=np.int32).reshape(-1)
     wf = np.ascontiguousarray(np.broadcast_to(w0a, shape), dtype=np.float64).reshape(-1)
