@@ -625,7 +625,7 @@ def _fortran_public_procedures():
     union of the public lists of the modules the umbrella uses (facades such as
     pendula_integrators re-export their modules' names)."""
     from test_threads import _logical_lines
-    files = sorted((ROOT / "src").rglob("*.f90"))
+    files = sorted(p for p in (ROOT / "src").rglob("*") if p.suffix in (".f90", ".F90"))
     parsed = {f: _logical_lines(f.read_text()) for f in files}
     module_file, public_of = {}, {}
     for f, lines in parsed.items():

@@ -5,9 +5,12 @@
 !> Jacobian, scalar relative/absolute tolerances, output at requested times and
 !> root finding for turning points (Omega = 0) and zero crossings (theta = 0).
 !>
-!> Built only when meson found the SUNDIALS Fortran 2003 modules; otherwise
-!> pendula_cvode_unavailable.f90 provides this module with the same API, whose
-!> procedures return PENDULA_ERR_UNAVAILABLE.
+!> Built only when the build found the SUNDIALS Fortran 2003 modules (meson and
+!> CMake define PENDULA_WITH_SUNDIALS then; fpm users pass it in their flags);
+!> otherwise pendula_cvode_unavailable.inc provides this module with the same
+!> API, whose procedures return PENDULA_ERR_UNAVAILABLE.  One file defines the
+!> module on both paths (the stand-in comes in by #include) because fpm finds
+!> modules by scanning source text and rejects two files naming one module.
 !>
 !> The state vector is a SUNDIALS serial vector whose arithmetic operations
 !> are replaced by length-2 kernels (pendula_cvode_vector; same results bit
@@ -17,6 +20,7 @@
 !> (a pointer to a local variable); there is no module state.  Every SUNDIALS
 !> object is created and freed inside one call, on every path.  CVODE's own
 !> error messages are captured (never printed) and returned in the status.
+#ifdef PENDULA_WITH_SUNDIALS
 module pendula_cvode
   use, intrinsic :: iso_c_binding
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -545,3 +549,6 @@ contains
   end function rtoa
 
 end module pendula_cvode
+#else
+#include "pendula_cvode_unavailable.inc"
+#endif
