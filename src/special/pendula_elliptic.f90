@@ -39,6 +39,7 @@ module pendula_elliptic
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, &
       ieee_is_nan, ieee_is_finite
   use pendula_kinds, only: wp
+  use pendula_status, only: status_t, set_error, PENDULA_ERR_SIZE
   implicit none
   private
 
@@ -570,10 +571,17 @@ contains
 
   !> ellipk over a rank-1 array (k of the size of m): the same numbers as the
   !> elemental function, with the polynomial evaluation inlined in one loop.
-  pure subroutine ellipk_array(m, k)
+  !> A size mismatch sets status (PENDULA_ERR_SIZE) and k = NaN; nothing else is written.
+  pure subroutine ellipk_array(m, k, status)
     real(wp), intent(in) :: m(:)
     real(wp), intent(out) :: k(:)
+    type(status_t), intent(out) :: status
     integer :: i
+    if (size(k) /= size(m)) then
+      k = qnan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipk_array: k must have the size of m')
+      return
+    end if
     do i = 1, size(m)
       if (ieee_is_nan(m(i))) then
         k(i) = m(i)
@@ -585,11 +593,18 @@ contains
     end do
   end subroutine ellipk_array
 
-  !> ellipe over a rank-1 array (same numbers as the elemental function).
-  pure subroutine ellipe_array(m, e)
+  !> ellipe over a rank-1 array (same numbers as the elemental function); e must have
+  !> the size of m (status PENDULA_ERR_SIZE and e = NaN otherwise).
+  pure subroutine ellipe_array(m, e, status)
     real(wp), intent(in) :: m(:)
     real(wp), intent(out) :: e(:)
+    type(status_t), intent(out) :: status
     integer :: i
+    if (size(e) /= size(m)) then
+      e = qnan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipe_array: e must have the size of m')
+      return
+    end if
     do i = 1, size(m)
       if (ieee_is_nan(m(i))) then
         e(i) = m(i)
@@ -681,13 +696,12 @@ contains
   pure subroutine sub_npi(xh, xl, n, rh, rl)
     real(wp), intent(in) :: xh, xl, n
     real(wp), intent(out) :: rh, rl
-    real(wp) :: p, e, q, f, a, t1, t2
+    real(wp) :: p, e, q, f, a, b, t1, t2
     call two_prod(n, pi, p, e)
     call two_prod(n, pi_lo, q, f)
     call two_sum(xh, -p, a, t1)         ! exact (Sterbenz) when n pi is within 2x of x
-    call two_sum(a, -q, rh, t2)
-    rl = (((t1 + t2) - e) - f) + (xl - n * pi_lo2)
-    call two_sum(rh, rl, rh, rl)
+    call two_sum(a, -q, b, t2)
+    call two_sum(b, (((t1 + t2) - e) - f) + (xl - n * pi_lo2), rh, rl)
   end subroutine sub_npi
 
   !> Reduce phi to r = rh + rl in [-pi/2, pi/2] with phi = (n1 + n2) pi + r exactly up
@@ -699,7 +713,7 @@ contains
   pure elemental subroutine reduce_pi(phi, n1, n2, rh, rl)
     real(wp), intent(in) :: phi
     real(wp), intent(out) :: n1, n2, rh, rl
-    real(wp) :: q
+    real(wp) :: q, xh, xl
     integer :: i
     n1 = anint(phi / pi)
     if (abs(phi) > 2.0_wp**1022) n1 = anint(0.5_wp * (phi / pi))   ! n1*pi must not overflow
@@ -714,7 +728,8 @@ contains
       if (half_pi_minus(rh, rl) >= 0) exit
       q = anint(rh / pi)
       if (q == 0) q = sign(1.0_wp, rh)
-      call sub_npi(rh, rl, q, rh, rl)
+      xh = rh; xl = rl
+      call sub_npi(xh, xl, q, rh, rl)
       n2 = n2 + q
     end do
   end subroutine reduce_pi
@@ -743,7 +758,7 @@ contains
   pure elemental real(wp) function ffun(phi, m, mc, usemc) result(f)
     real(wp), intent(in) :: phi, m, mc
     logical, intent(in) :: usemc
-    real(wp) :: n1, n2, rh, rl, s, c, w, d2, kh, kl, p, e, p2, e2, t
+    real(wp) :: n1, n2, rh, rl, s, c, w, d2, kh, kl, p, e, p2, e2, t, ps
     type(jpar_t) :: par
     if (ieee_is_nan(phi) .or. ieee_is_nan(m) .or. ieee_is_nan(mc)) then
       f = qnan(); return
@@ -797,7 +812,8 @@ contains
         if (n2 /= 0) then
           call two_prod(2 * n2, kh, p2, e2)
           if (abs(p + p2) <= huge(p)) then
-            call two_sum(p, p2, p, t)
+            call two_sum(p, p2, ps, t)
+            p = ps
             e = e + (t + (e2 + 2 * n2 * kl))
           else
             p = p + p2; e = 0       ! |F| > huge (|phi| near huge): +-Inf, the rounded value
@@ -1042,13 +1058,18 @@ contains
 
   !> ellipj_eval over rank-1 arrays (sn, cn, dn and the optional am of the size of u):
   !> the same numbers as the elemental form, with the table look-up inlined in one loop.
-  pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, am)
+  !> A size mismatch sets status (PENDULA_ERR_SIZE) and the outputs to NaN.
+  pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, status, am)
     type(ellipj_plan_t), intent(in) :: plan
     real(wp), intent(in) :: u(:)
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: bad
+    call outputs_mismatch('ellipj_eval_array', size(u), sn, cn, dn, status, bad, am)
+    if (bad) return
     if (allocated(plan%tab)) then
       if (present(am)) then
         call tab_loop(plan%par, plan%tab, plan%ntab, size(u), u, .true., sn, cn, dn, am)
@@ -1392,6 +1413,23 @@ contains
     end if
   end function tab_index
 
+  !> True (with status set and every output NaN) when sn, cn, dn or am (if present) does
+  !> not have n elements: the array routines check before writing anything.
+  pure subroutine outputs_mismatch(name, n, sn, cn, dn, status, bad, am)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: n
+    real(wp), intent(inout) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(inout) :: status
+    logical, intent(out) :: bad
+    real(wp), intent(inout), optional :: am(:)
+    bad = size(sn) /= n .or. size(cn) /= n .or. size(dn) /= n
+    if (present(am)) bad = bad .or. size(am) /= n
+    if (.not. bad) return
+    sn = qnan(); cn = sn; dn = sn
+    if (present(am)) am = sn
+    call set_error(status, PENDULA_ERR_SIZE, name // ': sn, cn, dn and am must have the size of u')
+  end subroutine outputs_mismatch
+
   pure real(wp) function horner(p, x) result(y)
     real(wp), intent(in) :: p(0:ntay), x
     real(wp) :: x2, x4
@@ -1417,14 +1455,25 @@ contains
   end subroutine ellipj
 
   !> ellipj over rank-1 arrays u, m (and outputs) of one size: the same numbers as the
-  !> elemental form, in one loop inside this module.
-  pure subroutine ellipj_array(u, m, sn, cn, dn, am)
+  !> elemental form, in one loop inside this module.  A size mismatch sets status
+  !> (PENDULA_ERR_SIZE) and the outputs to NaN.
+  pure subroutine ellipj_array(u, m, sn, cn, dn, status, am)
     real(wp), intent(in) :: u(:), m(:)
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: bad
     logical :: done
+    call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am)
+    if (bad) return
+    if (size(m) /= size(u)) then
+      sn = qnan(); cn = sn; dn = sn
+      if (present(am)) am = sn
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipj_array: m must have the size of u')
+      return
+    end if
     do i = 1, size(u)
       done = .false.
       if (.not. (ieee_is_nan(m(i)) .or. ieee_is_nan(u(i)))) then
@@ -1468,13 +1517,23 @@ contains
     done = .true.
   end subroutine jac01
 
-  !> ellipjc over rank-1 arrays (same numbers as the elemental form).
-  pure subroutine ellipjc_array(u, mc, sn, cn, dn, am)
+  !> ellipjc over rank-1 arrays (same numbers as the elemental form); sizes as ellipj_array.
+  pure subroutine ellipjc_array(u, mc, sn, cn, dn, status, am)
     real(wp), intent(in) :: u(:), mc(:)
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: bad
+    call outputs_mismatch('ellipjc_array', size(u), sn, cn, dn, status, bad, am)
+    if (bad) return
+    if (size(mc) /= size(u)) then
+      sn = qnan(); cn = sn; dn = sn
+      if (present(am)) am = sn
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipjc_array: mc must have the size of u')
+      return
+    end if
     do i = 1, size(u)
       call eval_plan(make_par(1 - mc(i), mc(i), .true., .false.), u(i), .false., present(am), &
           sn(i), cn(i), dn(i), a)
