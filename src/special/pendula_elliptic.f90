@@ -807,17 +807,19 @@ contains
           ! Re K(m) = K(core)/k for m > 1 (DLMF 19.7.3); K(m) = K(mu)/sqrt(1-m) for m < 0
           call dd_div(par%khi, par%klo, par%uscale, par%uscale_lo, kh, kl)
         end if
+        if (abs(n1 + n2) >= 0.5_wp * (huge(kh) / kh)) then
+          ! |F| = 2 |n| K + O(K) > huge (|phi| near huge): +-Inf, the rounded value, formed
+          ! without an overflowing operation (the checked build traps overflow)
+          f = sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
+          return
+        end if
         call two_prod(2 * n1, kh, p, e)
         e = e + 2 * n1 * kl
         if (n2 /= 0) then
           call two_prod(2 * n2, kh, p2, e2)
-          if (abs(p + p2) <= huge(p)) then
-            call two_sum(p, p2, ps, t)
-            p = ps
-            e = e + (t + (e2 + 2 * n2 * kl))
-          else
-            p = p + p2; e = 0       ! |F| > huge (|phi| near huge): +-Inf, the rounded value
-          end if
+          call two_sum(p, p2, ps, t)
+          p = ps
+          e = e + (t + (e2 + 2 * n2 * kl))
         end if
         f = p + (f + e)
       end if
@@ -1425,8 +1427,8 @@ contains
     bad = size(sn) /= n .or. size(cn) /= n .or. size(dn) /= n
     if (present(am)) bad = bad .or. size(am) /= n
     if (.not. bad) return
-    sn = qnan(); cn = sn; dn = sn
-    if (present(am)) am = sn
+    sn = qnan(); cn = qnan(); dn = qnan()
+    if (present(am)) am = qnan()
     call set_error(status, PENDULA_ERR_SIZE, name // ': sn, cn, dn and am must have the size of u')
   end subroutine outputs_mismatch
 
@@ -1469,8 +1471,8 @@ contains
     call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am)
     if (bad) return
     if (size(m) /= size(u)) then
-      sn = qnan(); cn = sn; dn = sn
-      if (present(am)) am = sn
+      sn = qnan(); cn = qnan(); dn = qnan()
+      if (present(am)) am = qnan()
       call set_error(status, PENDULA_ERR_SIZE, 'ellipj_array: m must have the size of u')
       return
     end if
@@ -1529,8 +1531,8 @@ contains
     call outputs_mismatch('ellipjc_array', size(u), sn, cn, dn, status, bad, am)
     if (bad) return
     if (size(mc) /= size(u)) then
-      sn = qnan(); cn = sn; dn = sn
-      if (present(am)) am = sn
+      sn = qnan(); cn = qnan(); dn = qnan()
+      if (present(am)) am = qnan()
       call set_error(status, PENDULA_ERR_SIZE, 'ellipjc_array: mc must have the size of u')
       return
     end if
