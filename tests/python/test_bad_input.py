@@ -593,8 +593,6 @@ FORTRAN_NO_STATUS = {
     "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
     "cvode_available": "no arguments",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
-    "ellipk_array": "elliptic rule", "ellipe_array": "elliptic rule", "ellipj_array": "elliptic rule",
-    "ellipjc_array": "elliptic rule", "ellipj_eval_array": "elliptic rule",
     "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
     # documented unchecked kernels with a checked entry point (reported to their concerns)
     "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
