@@ -612,8 +612,6 @@ FORTRAN_NO_STATUS = {
     # cancel flag / progress counter of long calls: total on any control array
     "cancel_requested": "reads a flag, cannot fail", "add_progress": "adds to a counter, cannot fail",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
-    "ellipk_array": "elliptic rule", "ellipe_array": "elliptic rule", "ellipj_array": "elliptic rule",
-    "ellipjc_array": "elliptic rule", "ellipj_eval_array": "elliptic rule",
     "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
     # documented unchecked kernels with a checked entry point (reported to their concerns)
     "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
