@@ -5,6 +5,7 @@
 module pendula_cvode
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, set_error, PENDULA_ERR_UNAVAILABLE
+  use pendula_control, only: CONTROL_SIZE
   use pendula_ode, only: ode_stats_t, &
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   implicit none
@@ -26,13 +27,14 @@ contains
   !> Not built: outputs zero, status PENDULA_ERR_UNAVAILABLE.  See the
   !> SUNDIALS build of this module for the arguments.
   subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, stats, status)
+      theta, omega, stats, status, control)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
     real(wp), intent(out) :: theta(:), omega(:)
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     theta = 0
     omega = 0
     stats = ode_stats_t()
@@ -41,7 +43,7 @@ contains
 
   !> Not built: outputs zero, no events, status PENDULA_ERR_UNAVAILABLE.
   subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -52,6 +54,7 @@ contains
     logical, intent(out) :: truncated
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     call cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, stats, status)
     event_t = 0
     event_kind = 0
