@@ -143,9 +143,9 @@ contains
       total = total + dt * hinv   ! a bound only: no need for the division
       if (total > max_total_steps) then
         call set_error(status, PENDULA_ERR_DOMAIN, 'h = ' // num(h) // ' is too small for the window t = ' // &
-            num(t(1)) // ' .. ' // num(t(size(t))) // ': RK4 would need more than max_steps = ' // &
-            num(max_total_steps) // ' steps (the default 2e9 is about a minute of CPU); use a larger h,' // &
-            ' a shorter window, or raise max_steps')
+            num(t(1)) // ' .. ' // num(t(size(t))) // ': RK4 needs more than max_steps = ' // &
+            num(max_total_steps) // ' steps (2e9 ~ 1 min of CPU); use a larger h, a shorter window,' // &
+            ' or raise max_steps')
         return
       end if
       n = substeps(dt, h)
