@@ -59,7 +59,7 @@ contains
     ! h beyond the stability limit (2.06 s here) over a long spacing: refused.
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 50.0_wp, th, om, s, st)
     call expect_failure(st, PENDULA_ERR_UNSTABLE, 'rk4 unstable h', first)
-    ! h so small the window needs > 1e15 steps: refused up front.
+    ! h so small the window needs > 2e9 steps (the default budget): refused up front.
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-300_wp, th, om, s, st)
     call tc%check_true(st%code /= PENDULA_OK, 'rk4 tiny h refused: ' // trim(st%message))
     call tc%check_true(all_finite(th) .and. all_finite(om), 'rk4 refused: outputs finite')
@@ -69,7 +69,49 @@ contains
     ! output arrays of the wrong size
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th(1:2), om, s, st)
     call expect_failure(st, PENDULA_ERR_SIZE, 'rk4 output size', first)
+    ! an explicit budget below the window's 2000 steps: refused; 2000 is enough
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st, max_steps=1999_i8)
+    call expect_failure(st, PENDULA_ERR_DOMAIN, 'rk4 max_steps below the window', first)
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st, max_steps=2000_i8)
+    call tc%check_true(st%code == PENDULA_OK .and. s%steps == 2000, 'rk4 max_steps = steps: runs')
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st, max_steps=0_i8)
+    call expect_failure(st, PENDULA_ERR_DOMAIN, 'rk4 max_steps = 0', first)
+    call cancelled_runs(first)
   end subroutine rk4_refusals
+
+  !> The cancel flag of pendula_control, set before the call (as another
+  !> thread would): each integrator stops at its first poll with
+  !> PENDULA_ERR_CANCELLED, zero or kept outputs, and its progress counted;
+  !> a clear flag changes nothing (bit-identical to the call without control).
+  subroutine cancelled_runs(first)
+    logical, intent(in) :: first
+    real(wp) :: th(2), om(2), th0(2), om0(2), t(2), e, f
+    integer(i8) :: control(CONTROL_SIZE)
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    t = [0.0_wp, 100.0_wp]
+    control = 0
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th, om, s, st, control)
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th0, om0, s, st)
+    call tc%check_true(st%code == PENDULA_OK .and. all(th == th0) .and. all(om == om0), &
+        'rk4 with a clear control: same results bit for bit')
+    call tc%check_true(control(CONTROL_PROGRESS) == 100000, 'rk4 progress counts every step')
+    control = [1_i8, 0_i8]
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th, om, s, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4 cancelled', first)
+    call tc%check_true(all(th == 0) .and. all(om == 0) .and. control(CONTROL_PROGRESS) == 4096, &
+        'rk4 cancelled: outputs zero, stopped at the first poll (4096 steps)')
+    control = [1_i8, 0_i8]
+    call rk4_final_state(0.0_wp, 100.0_wp, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, e, f, s, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4_final_state cancelled', first)
+    if (.not. cvode_available()) return
+    control = [1_i8, 0_i8]
+    call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-10_wp, 1.0e-12_wp, PENDULA_CVODE_BDF, &
+        1000000_i8, th, om, s, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'cvode cancelled', first)
+    call tc%check_true(all_finite(th) .and. all_finite(om) .and. control(CONTROL_PROGRESS) == 256, &
+        'cvode cancelled: outputs finite, stopped at the first poll (256 evaluations)')
+  end subroutine cancelled_runs
 
   subroutine cvode_failures(first)
     logical, intent(in) :: first
