@@ -81,10 +81,12 @@ def run(call, control, long, progress=None, total=None, unit="step"):
                 th.join(_POLL_SECONDS if update is not None else _JOIN_SECONDS)
                 if update is not None:
                     update(int(control[1]))
-        except KeyboardInterrupt:
+        except BaseException:
+            # Ctrl-C (or an exception from the progress callback): stop the
+            # Fortran side (within ~1 ms) and wait for it, so that no worker
+            # runs on behind the caller's back; a second Ctrl-C meanwhile is
+            # absorbed, the first is re-raised.
             control[0] = 1
-            # The Fortran side stops within ~1 ms; a second Ctrl-C while we
-            # wait must not leave the worker writing into freed arrays.
             while th.is_alive():
                 try:
                     th.join()

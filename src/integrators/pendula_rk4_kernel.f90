@@ -279,95 +279,95 @@ contains
       bu0 = hh * w0sq * (gamma * hh + 2)
       left = n
       do while (left > 0)
-      ! blocks end at the next poll; without control one block is the interval
-      nb = left
-      if (polling) nb = min(left, poll_in)
-      do i = 1, nb
-        p2 = half * u
-        p4 = hs * u
-        ! A priori bound on the stage offsets, so that the polynomials never
-        ! see a huge argument (no overflow on extreme inputs); a posteriori
-        ! check below.  It is |p4| + hh (2 gamma |u| + gamma hh (gamma |u| +
-        ! w0sq) + 2 w0sq), regrouped as |u| bu1 + bu0 with the parts that do
-        ! not change along the interval formed once (two flops per step).
-        ok = abs(rh) <= stage_rmax .and. abs(u) * bu1 + bu0 <= 1
-        if (ok) then
-          ik = iand(kk, nnodes - 1)
-          sk = node_sin(ik)
-          ck = node_cos(ik)
-          c2 = taylor(2, ik)
-          c3 = taylor(3, ik)
-          c4 = taylor(4, ik)
-          c5 = taylor(5, ik)
-          c6t = taylor(6, ik)
-          c7 = taylor(7, ik)
-          c8 = taylor(8, ik)
-          c9 = taylor(9, ik)
-          ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
-          ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
-          ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
-          a4 = y + p4
-          kfn = anint((a4 + p2) * nodes_per_radian)
-          kp23 = kfn * node_p2 + kfn * node_p3
-          ! The RK4 combinations are regrouped so that each stage sine enters
-          ! its consumer through one multiply and one subtract (the parts
-          ! without it are formed beside the sines): the same sums as
-          ! r3 = r2 + h2q k1, r4 = rho + h m3, theta' = theta + h u +
-          ! (h**2/6)(k1 + k2 + k3), Omega' = Omega + (h/6)(k1 + 2 k2 + 2 k3 + k4).
-          r2 = rh + p2
-          s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rh)
-          s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
-          k1 = -gamma * u - w0sq * s1
-          r3 = (r2 - h2q * gamma * u) - w1 * s1
-          m2 = u + half * k1
-          r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
-          k2 = -gamma * m2 - w0sq * s2
-          s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
-          m3 = u + half * k2
-          ! theta and Omega are each rounded once (as in the plain step): the
-          ! increments are summed first, so rotations (|theta| >> 1) keep the
-          ! rounding noise of the plain loop.  rho' is formed from the same
-          ! increment beside theta' (it then carries theta + dy - x_k', which
-          ! is theta' to within half an ulp of theta').
-          dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
-          yn = y + dy
-          s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
-          un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
-          rn = ((y - kfn * node_p1) - kp23) + dy
-          ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
-        end if
-        if (ok) then
-          kn = int(kfn)
-          nf = nf + 1
-        else
-          ! plain step (libm sines of the rounded stage arguments)
-          k1 = -gamma * u - w0sq * sin(y)
-          k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-          k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-          k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-          yn = y + hs * u + c6 * ((k1 + k2) + k3)
-          un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-          call node_reduce(yn, kn, rn)
-        end if
-        y = yn
-        u = un
-        rh = rn
-        kk = kn
-      end do
-      left = left - nb
-      if (polling) then
-        poll_in = poll_in - nb
-        if (poll_in == 0) then
-          poll_in = RK4_POLL_STEPS
-          call add_progress(control, RK4_POLL_STEPS)
-          if (cancel_requested(control)) then
-            bad = -j
-            steps = ns + (n - left)
-            fast = nf
-            return
+        ! blocks end at the next poll; without control one block is the interval
+        nb = left
+        if (polling) nb = min(left, poll_in)
+        do i = 1, nb
+          p2 = half * u
+          p4 = hs * u
+          ! A priori bound on the stage offsets, so that the polynomials never
+          ! see a huge argument (no overflow on extreme inputs); a posteriori
+          ! check below.  It is |p4| + hh (2 gamma |u| + gamma hh (gamma |u| +
+          ! w0sq) + 2 w0sq), regrouped as |u| bu1 + bu0 with the parts that do
+          ! not change along the interval formed once (two flops per step).
+          ok = abs(rh) <= stage_rmax .and. abs(u) * bu1 + bu0 <= 1
+          if (ok) then
+            ik = iand(kk, nnodes - 1)
+            sk = node_sin(ik)
+            ck = node_cos(ik)
+            c2 = taylor(2, ik)
+            c3 = taylor(3, ik)
+            c4 = taylor(4, ik)
+            c5 = taylor(5, ik)
+            c6t = taylor(6, ik)
+            c7 = taylor(7, ik)
+            c8 = taylor(8, ik)
+            c9 = taylor(9, ik)
+            ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
+            ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
+            ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
+            a4 = y + p4
+            kfn = anint((a4 + p2) * nodes_per_radian)
+            kp23 = kfn * node_p2 + kfn * node_p3
+            ! The RK4 combinations are regrouped so that each stage sine enters
+            ! its consumer through one multiply and one subtract (the parts
+            ! without it are formed beside the sines): the same sums as
+            ! r3 = r2 + h2q k1, r4 = rho + h m3, theta' = theta + h u +
+            ! (h**2/6)(k1 + k2 + k3), Omega' = Omega + (h/6)(k1 + 2 k2 + 2 k3 + k4).
+            r2 = rh + p2
+            s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rh)
+            s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
+            k1 = -gamma * u - w0sq * s1
+            r3 = (r2 - h2q * gamma * u) - w1 * s1
+            m2 = u + half * k1
+            r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
+            k2 = -gamma * m2 - w0sq * s2
+            s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
+            m3 = u + half * k2
+            ! theta and Omega are each rounded once (as in the plain step): the
+            ! increments are summed first, so rotations (|theta| >> 1) keep the
+            ! rounding noise of the plain loop.  rho' is formed from the same
+            ! increment beside theta' (it then carries theta + dy - x_k', which
+            ! is theta' to within half an ulp of theta').
+            dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
+            yn = y + dy
+            s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
+            un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
+            rn = ((y - kfn * node_p1) - kp23) + dy
+            ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+          end if
+          if (ok) then
+            kn = int(kfn)
+            nf = nf + 1
+          else
+            ! plain step (libm sines of the rounded stage arguments)
+            k1 = -gamma * u - w0sq * sin(y)
+            k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
+            k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
+            k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
+            yn = y + hs * u + c6 * ((k1 + k2) + k3)
+            un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+            call node_reduce(yn, kn, rn)
+          end if
+          y = yn
+          u = un
+          rh = rn
+          kk = kn
+        end do
+        left = left - nb
+        if (polling) then
+          poll_in = poll_in - nb
+          if (poll_in == 0) then
+            poll_in = RK4_POLL_STEPS
+            call add_progress(control, RK4_POLL_STEPS)
+            if (cancel_requested(control)) then
+              bad = -j
+              steps = ns + (n - left)
+              fast = nf
+              return
+            end if
           end if
         end if
-      end if
       end do
       ns = ns + n
       theta(j+1) = y

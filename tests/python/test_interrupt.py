@@ -173,3 +173,15 @@ def test_budgets_refuse_up_front():
     with pytest.raises(ValueError, match="raise max_steps"):
         pendula.run_model(pendula.Scene(1.0, t=[0.0, 100.0], gamma=0.1), "rk4", 0.01, max_steps=1000)
     assert time.perf_counter() - start < 5     # refused, not attempted
+
+
+def test_an_exception_in_the_progress_callback_stops_the_run():
+    # 1e9 steps (~30 s) if the worker ran on; the callback's error must stop it.
+    def boom(done, total):
+        if done > 0:
+            raise ZeroDivisionError("stop here")
+    start = time.perf_counter()
+    with pytest.raises(ZeroDivisionError, match="stop here"):
+        pendula.rk4([0.0, 1e6], 0.0, 2.0, 1.4, 0.1, 1e-3, progress=boom)
+    assert time.perf_counter() - start < 5
+    assert pendula.rk4([0.0, 1.0], 0.0, 2.0, 1.4, 0.1, 0.01).stats["steps"] == 100
