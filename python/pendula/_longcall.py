@@ -24,9 +24,23 @@ _POLL_SECONDS = 0.02
 _JOIN_SECONDS = 0.05
 
 
+_local = threading.local()
+
+
 def new_control():
     """A fresh control array: [cancel flag, progress]."""
     return np.zeros(2, dtype=np.int64)
+
+
+def scratch_control():
+    """This thread's control array for calls run inline (never cancelled:
+    only ``run`` sets a cancel flag, on its own fresh array); saves the
+    allocation on short calls."""
+    try:
+        return _local.control
+    except AttributeError:
+        _local.control = new_control()
+        return _local.control
 
 
 def _progress_sink(progress, total, unit):

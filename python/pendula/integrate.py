@@ -139,15 +139,18 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None)
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
     else:
         tt = _grid(t)
+    hh = _real(h, "h")
+    budget = max_steps if type(max_steps) is int and 1 <= max_steps <= 2**62 else _step_budget(max_steps)
     args = (tt, _real(theta0, "theta0"), _real(omega0, "omega0"), _real(w0, "w0"), _real(gamma, "gamma"),
-            _real(h, "h"), float(_step_budget(max_steps)))
-    control = _longcall.new_control()
-    with np.errstate(all="ignore"):   # h <= 0 or NaN: no prediction (Fortran refuses it)
-        steps = (tt[-1] - tt[0]) / args[5] + tt.size
-    long = bool(steps > _longcall.RK4_LONG_STEPS) and steps <= max_steps
+            hh, float(budget))
+    # Predicted steps in plain float arithmetic (inf/NaN propagate without
+    # warnings; h <= 0 or NaN gives no prediction: Fortran refuses it).
+    steps = (tt.item(-1) - tt.item(0)) / hh + tt.size if hh > 0 else 0.0
+    long = _longcall.RK4_LONG_STEPS < steps <= budget
     if not long and progress is None:
-        theta, omega, stats, code, msg = _integrate.rk4_f2py(*args, control)
+        theta, omega, stats, code, msg = _integrate.rk4_f2py(*args, _longcall.scratch_control())
     else:
+        control = _longcall.new_control()
         theta, omega, stats, code, msg = _longcall.run(lambda: _integrate.rk4_f2py(*args, control), control,
                                                       long, progress, total=int(min(steps, 2**62)))
     if code:
@@ -229,9 +232,8 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     call_args = (tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m, control)
     # CVODE's step count is not known up front: any run that may take more
     # than ~50 ms (a long window in periods, or many outputs) runs watched.
-    with np.errstate(all="ignore"):
-        periods = abs(tt[-1] - tt[0]) * args[2] / (2 * np.pi)
-    long = bool(periods * 50 + tt.size > _longcall.CVODE_LONG_STEPS) or not np.isfinite(periods)
+    periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
+    long = not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS    # NaN/inf: long
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
         lambda: _integrate.cvode_f2py(*call_args), control, long, progress, unit="rhs")
     raise_for_status(code, msg)
