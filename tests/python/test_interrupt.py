@@ -35,9 +35,17 @@ _CHILD = textwrap.dedent("""
         elif kind == "cvode":
             t = [0.0, 1e8] if long else [0.0, 50.0]
             r = pendula.cvode(t, 0.0, 2.0, 1.4, 0.0, rtol=1e-12, atol=1e-14)
-        else:
+        elif kind == "solve":
             t = [0.0, 1e6] if long else [0.0, 100.0]
             r = pendula.solve(pendula.Scene(1.0, t=t, gamma=0.1, tol=1e-10))
+        elif kind == "run_model":
+            t = [0.0, 1e5] if long else [0.0, 10.0]
+            r = pendula.run_model(pendula.Scene(1.0, t=t, gamma=0.1), "rk4", 1e-4)
+        else:   # tradeoff: 1e8 RK4 steps per repeat when long
+            t = np.linspace(0.0, 1000.0 if long else 10.0, 11)
+            table = pendula.tradeoff(pendula.Scene(1.0, t=t), models=["rk4"], rk4_steps=[1e-5 if long else 1e-3],
+                                     repeat=1)
+            return [row["sup_error"] for row in table.rows]
         return [float(np.ravel(r.theta)[-1]), float(np.ravel(r.omega)[-1])]
 
     if sys.argv[2] == "short":
@@ -60,7 +68,7 @@ def _child(kind, mode):
                             stderr=subprocess.PIPE, text=True, env=_ENV)
 
 
-@pytest.mark.parametrize("kind", ["rk4", "cvode", "solve"])
+@pytest.mark.parametrize("kind", ["rk4", "cvode", "solve", "run_model", "tradeoff"])
 def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
     if kind == "cvode" and not pendula.have_cvode():
         pytest.skip("this build has no CVODE")
