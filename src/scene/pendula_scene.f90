@@ -33,7 +33,7 @@ module pendula_scene
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
       check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, &
-      PENDULA_ERR_SIZE, PENDULA_MSG_LEN, PENDULA_ERR_MAXSTEPS
+      PENDULA_ERR_SIZE, PENDULA_MSG_LEN, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_physics, only: natural_frequency, damping_rate, pi
   use pendula_elliptic, only: ellipkc
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
@@ -44,7 +44,7 @@ module pendula_scene
   use pendula_integrators, only: ode_stats_t, rk4_solve, rk4_final_state, rk4_max_stable_step, &
       cvode_solve, cvode_solve_events, cvode_available, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, &
       PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
-  use pendula_control, only: CONTROL_SIZE
+  use pendula_control, only: CONTROL_SIZE, cancel_requested
   implicit none
   private
 
@@ -1207,6 +1207,14 @@ contains
     v = scene%omega0
     t0 = 0
     do i = 1, n
+      ! each short run polls only every 4096 steps of its own: look between runs too
+      if (present(control)) then
+        if (cancel_requested(control)) then
+          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // num(t0) // &
+              ' (interrupted by the caller)')
+          return
+        end if
+      end if
       if (tg(i) > t0) then
         dt = tg(i) - t0
         call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substeps(dt), x1, v1, &

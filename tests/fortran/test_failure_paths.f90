@@ -104,6 +104,7 @@ contains
     control = [1_i8, 0_i8]
     call rk4_final_state(0.0_wp, 100.0_wp, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, e, f, s, st, control)
     call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4_final_state cancelled', first)
+    call scene_cancelled(first)
     if (.not. cvode_available()) return
     control = [1_i8, 0_i8]
     call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-10_wp, 1.0e-12_wp, PENDULA_CVODE_BDF, &
@@ -112,6 +113,31 @@ contains
     call tc%check_true(all_finite(th) .and. all_finite(om) .and. control(CONTROL_PROGRESS) == 256, &
         'cvode cancelled: outputs finite, stopped at the first poll (256 evaluations)')
   end subroutine cancelled_runs
+
+  !> The scene solver (RK4 over an uneven grid: one short run per interval)
+  !> answers a set cancel flag, a clear one changes nothing, and a budget
+  !> below the predicted work is refused up front.
+  subroutine scene_cancelled(first)
+    logical, intent(in) :: first
+    integer(i8) :: control(CONTROL_SIZE)
+    type(scene_t) :: sc
+    type(scene_result_t) :: res, res0
+    type(status_t) :: st
+    call scene_init(sc, 1.0_wp, 0.0_wp, [0.0_wp, 1.0_wp, 3.0_wp, 40.0_wp], 1.4_wp, 0.1_wp, 1.0e-10_wp, &
+        SCENE_WANT_STATE, st)
+    call tc%check_true(st%code == PENDULA_OK, 'scene for the cancel test: ' // trim(st%message))
+    control = [1_i8, 0_i8]
+    call scene_solve(sc, res, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'scene_solve cancelled', first)
+    control = 0
+    call scene_solve(sc, res, st, control)
+    call scene_solve(sc, res0, st)
+    call tc%check_true(st%code == PENDULA_OK .and. res%model == SCENE_MODEL_RK4, 'scene_solve with control: rk4 runs')
+    call tc%check_true(all(res%theta == res0%theta) .and. all(res%omega == res0%omega) .and. &
+        control(CONTROL_PROGRESS) == res%cost%steps, 'scene_solve: same results, progress = steps')
+    call scene_solve(sc, res, st, max_steps=1000_i8)
+    call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'scene_solve over its budget', first)
+  end subroutine scene_cancelled
 
   subroutine cvode_failures(first)
     logical, intent(in) :: first
