@@ -2,22 +2,28 @@
 ! Plain subroutines, c_double/c_int arguments, explicit-shape arrays, a status
 ! code + message.  Counters (int64 in Fortran) travel as doubles: exact up to
 ! 2**53, and f2py handles them without kind trouble.  No numerics here.
+! control: the caller's int64 [cancel flag, progress] array (pendula_control),
+! passed in place so that another Python thread can set the flag.
 
-subroutine rk4_f2py(n, t, theta0, omega0, w0, gamma, h, theta, omega, stats, code, msg)
+subroutine rk4_f2py(n, t, theta0, omega0, w0, gamma, h, max_steps, control, theta, omega, stats, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_kinds, only: i8
   use pendula_status, only: status_t
   use pendula_ode, only: ode_stats_t
   use pendula_rk4, only: rk4_solve
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, h
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, h, max_steps
+  integer(8), intent(inout) :: control(2)   ! int64 (f2py mistypes c_int64_t as an undeclared long_long)
   real(c_double), intent(out) :: theta(n), omega(n), stats(7)
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg
   type(status_t) :: st
   type(ode_stats_t) :: s
-  call rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, s, st)
+  ! max_steps arrives as a double (Python int of any size); clamp to int64.
+  call rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, s, st, control, &
+      int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8))
   stats = [real(s%steps, c_double), real(s%rhs_evals, c_double), real(s%jac_evals, c_double), &
       real(s%err_test_fails, c_double), real(s%nonlin_iters, c_double), real(s%nonlin_fails, c_double), &
       real(s%root_evals, c_double)]
@@ -41,7 +47,7 @@ subroutine rk4_max_stable_step_f2py(w0, gamma, h_max, code, msg)
   msg = st%message
 end subroutine rk4_max_stable_step_f2py
 
-subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, m, &
+subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, m, control, &
     theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
@@ -52,6 +58,7 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   !f2py threadsafe
   integer(c_int), intent(in) :: n, method, m
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, rtol, atol, max_steps
+  integer(8), intent(inout) :: control(2)   ! int64 (f2py mistypes c_int64_t as an undeclared long_long)
   real(c_double), intent(out) :: theta(n), omega(n), stats(7)
   real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
   integer(c_int), intent(out) :: ev_kind(m), n_events, truncated
@@ -68,9 +75,9 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
   if (m > 0) then
     call cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, &
-        theta, omega, ev_t, ev_kind, ev_theta, ev_omega, nev, trunc, s, st)
+        theta, omega, ev_t, ev_kind, ev_theta, ev_omega, nev, trunc, s, st, control)
   else
-    call cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, s, st)
+    call cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, s, st, control)
     nev = 0
     trunc = .false.
     ev_kind = 0

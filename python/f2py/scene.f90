@@ -67,15 +67,17 @@ end subroutine scene_check_f2py
 ! info = [error_estimate, setting, period, wall_time, closed_form_evals,
 !         rhs_evals, steps, runs, tol_met, event_time_error]
 subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, fixed, setting, m, &
-    nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
+    max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
     info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_kinds, only: i8
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_scene, only: scene_t, scene_result_t, scene_init, scene_solve, scene_run_model
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n, want, model, fixed, m
-  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, setting
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, setting, max_steps
+  integer(8), intent(inout) :: control(2)   ! int64 [cancel flag, progress] (pendula_control), in place
   integer(c_int), intent(out) :: nout, n_events, model_out
   real(c_double), intent(out) :: tout(n), theta(n), omega(n), energy(n)
   real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
@@ -88,6 +90,9 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
   type(scene_t) :: scene
   type(scene_result_t) :: res
   integer :: k
+  integer(i8) :: budget
+  ! max_steps arrives as a double (Python int of any size); clamp to int64.
+  budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
   nout = 0
   n_events = 0
   model_out = 0
@@ -105,9 +110,9 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
       merge(0, int(model), fixed /= 0))
   if (st%code == PENDULA_OK) then
     if (fixed /= 0) then
-      call scene_run_model(scene, int(model), setting, res, st)
+      call scene_run_model(scene, int(model), setting, res, st, control, budget)
     else
-      call scene_solve(scene, res, st)
+      call scene_solve(scene, res, st, control, budget)
     end if
   end if
   code = st%code

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _integrate
+from . import _integrate, _longcall
 from ._arrays import as_real, check_size, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
@@ -110,7 +110,7 @@ def _result(t, theta, omega, stats, method):
     return r
 
 
-def rk4(t, theta0, omega0, w0, gamma, h):
+def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
@@ -121,22 +121,46 @@ def rk4(t, theta0, omega0, w0, gamma, h):
     gamma = 0.1, theta0 = 0, Omega0 = 2, t <= 30 s) h = 0.05 s gives about
     3e-6 rad.
 
+    max_steps: step budget (default 2e9, about a minute of CPU); a window
+    that needs more steps is refused before any work -- raise it to allow
+    longer runs.  Long runs (over ~50 ms) can be stopped with Ctrl-C
+    (KeyboardInterrupt, raised within a millisecond or so; nothing is left
+    half-done).  progress: True for a tqdm bar (needs tqdm), or a
+    callable(done, total) called about every 20 ms with the steps taken.
+
     Returns an ``IntegrationResult`` (stats: steps, rhs_evals = 4 steps).
-    Raises ValueError for bad arguments and for a step outside RK4's
-    stability region for the linearisation about theta = 0 (the message gives
-    the largest stable h; see ``rk4_max_stable_step``).
+    Raises ValueError for bad arguments, for more than max_steps steps and
+    for a step outside RK4's stability region for the linearisation about
+    theta = 0 (the message gives the largest stable h; see
+    ``rk4_max_stable_step``).
     """
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
         check_size(t.size, "t")
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
     else:
         tt = _grid(t)
-    theta, omega, stats, code, msg = _integrate.rk4_f2py(
-        tt, _real(theta0, "theta0"), _real(omega0, "omega0"), _real(w0, "w0"), _real(gamma, "gamma"),
-        _real(h, "h"))
+    hh = _real(h, "h")
+    budget = max_steps if type(max_steps) is int and 1 <= max_steps <= 2**62 else _step_budget(max_steps)
+    args = (tt, _real(theta0, "theta0"), _real(omega0, "omega0"), _real(w0, "w0"), _real(gamma, "gamma"),
+            hh, float(budget))
+    # Predicted steps in plain float arithmetic (inf/NaN propagate without
+    # warnings; h <= 0 or NaN gives no prediction: Fortran refuses it).
+    steps = (tt.item(-1) - tt.item(0)) / hh + tt.size if hh > 0 else 0.0
+    long = _longcall.RK4_LONG_STEPS < steps <= budget
+    if not long and progress is None:
+        theta, omega, stats, code, msg = _integrate.rk4_f2py(*args, _longcall.scratch_control())
+    else:
+        control = _longcall.new_control()
+        theta, omega, stats, code, msg = _longcall.run(lambda: _integrate.rk4_f2py(*args, control), control,
+                                                      long, progress, total=int(min(steps, 2**62)))
     if code:
         raise_for_status(code, msg)
     return _result(tt, theta, omega, _rk4_stats(stats), "rk4")
+
+
+def _step_budget(max_steps):
+    """max_steps checked exactly (no wrap), capped at 2**62 for the Fortran double."""
+    return min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62)
 
 
 def rk4_max_stable_step(w0, gamma):
@@ -152,7 +176,7 @@ def rk4_max_stable_step(w0, gamma):
 
 
 def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", max_steps=10_000_000,
-          events=False, max_events=100_000):
+          events=False, max_events=100_000, progress=None):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
@@ -173,6 +197,10 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     (Omega = 0) and zero crossings (theta = 0) after t[0], keeping at most
     max_events (<= 10**7) of them (``result.events.truncated`` tells if more occurred);
     use them to measure the period and the decrement of the motion.
+    Long runs can be stopped with Ctrl-C (KeyboardInterrupt within a
+    millisecond or so; the solver memory is freed).  progress: True for a
+    tqdm bar (needs tqdm), or a callable(done, total) called about every
+    20 ms with the right-hand-side evaluations so far (total None: unknown).
 
     Returns an ``IntegrationResult``.  Raises ValueError for bad arguments,
     ``PendulaSolverError`` (a RuntimeError) when CVODE fails or runs out of
@@ -183,7 +211,7 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
         # The Fortran stub says the same; checking here first keeps the
         # message independent of the other arguments.
         _, _, _, _, _, _, _, _, _, code, msg = _integrate.cvode_f2py(
-            np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, 1, 1.0, 0)
+            np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, 1, 1.0, 0, _longcall.new_control())
         raise_for_status(code, msg)
     tt = _grid(t)
     args = [real_scalar(x, name) for x, name in
@@ -198,8 +226,14 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     if events:
         # the event arrays are allocated up front: 28 bytes per event
         m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
-    (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _integrate.cvode_f2py(
-        tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m)
+    control = _longcall.new_control()
+    call_args = (tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m, control)
+    # CVODE's step count is not known up front: any run that may take more
+    # than ~50 ms (a long window in periods, or many outputs) runs watched.
+    periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
+    long = not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS    # NaN/inf: long
+    (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
+        lambda: _integrate.cvode_f2py(*call_args), control, long, progress, unit="rhs")
     raise_for_status(code, msg)
     ev = None
     if events:

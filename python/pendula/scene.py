@@ -37,11 +37,11 @@ import time
 
 import numpy as np
 
-from . import _scene
+from . import _longcall, _scene
 from ._arrays import as_real, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
-from .integrate import Events
+from .integrate import Events, _step_budget
 
 MODELS = ("small_angle", "exact", "linear", "rk4", "cvode")
 """Model names accepted by ``solve(scene, model=...)`` (plus "auto")."""
@@ -196,7 +196,25 @@ class SceneResult:
     event_time_error: object = None
 
 
-def _run(scene, model_code, fixed, setting):
+def _long_scene(scene, tt, model_code, setting):
+    # Predicted > ~50 ms: an integrated window of more than a few dozen
+    # periods, a fixed RK4 run of more than ~2e6 steps, or many outputs.
+    # Closed forms (gamma = 0, or the linear model) are fast per point.
+    span = float(tt[-1]) if tt.size else 0.0
+    if tt.size > 100_000:
+        return True
+    if model_code == _MODEL_CODE["rk4"] and setting > 0:
+        return span / setting > _longcall.RK4_LONG_STEPS
+    if scene.gamma == 0 and model_code in (0, 1, 2):
+        return False
+    return scene.w0 * span / (2 * np.pi) > 50
+
+
+def _budget(max_steps):
+    return float(min(_step_budget(max_steps), 2**62))
+
+
+def _run(scene, model_code, fixed, setting, max_steps=2_000_000_000, progress=None):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
     if model_code == _MODEL_CODE["cvode"] and not HAVE_CVODE:
@@ -206,10 +224,14 @@ def _run(scene, model_code, fixed, setting):
     m = 16
     if scene.want == "events":
         m = int(min(2**30, 8 * scene.w0 * tt[-1] / (2 * np.pi) + 64))
+    budget = _budget(max_steps)
+    long = _long_scene(scene, tt, model_code, float(setting))
     start = time.perf_counter()
     while True:
-        out = _scene.scene_solve_f2py(tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol,
-                                      _WANT_CODE[scene.want], model_code, int(fixed), float(setting), m)
+        control = _longcall.new_control()
+        args = (tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol, _WANT_CODE[scene.want],
+                model_code, int(fixed), float(setting), m, budget, control)
+        out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress, unit="step")
         (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
          reason, code, msg) = out
         raise_for_status(code, msg)
@@ -263,7 +285,7 @@ def _result(scene, raw):
                        setting=setting if model in ("rk4", "cvode") else None, cost=cost, **kw)
 
 
-def solve(scene, model=None):
+def solve(scene, model=None, max_steps=2_000_000_000, progress=None):
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
     model: None or "auto" to let the library choose, or one of ``MODELS`` to
@@ -272,6 +294,15 @@ def solve(scene, model=None):
     wanted quantities).  When no model can meet tol (e.g. tol below the
     rounding floor of the exact solution over a long window), the most accurate
     one is used and ``tol_met`` is False with the reason saying so.
+
+    max_steps: work budget in RK4 steps (a CVODE step counts as 20; the
+    default 2e9 is about a minute of CPU): a solve predicted to need more is
+    refused before it starts, with a message naming what to change (window,
+    tol, or a larger max_steps).  Long solves stop on Ctrl-C
+    (KeyboardInterrupt within a millisecond or so).  progress: True for a
+    tqdm bar (needs tqdm) or a callable(done, total) called about every 20 ms
+    with the integrator's work so far (RK4 steps / CVODE right-hand-side
+    evaluations; total None).
 
     Raises ValueError for an unknown model name or a model that does not apply
     (small_angle/exact with gamma > 0), NotImplementedError for "cvode" in a
@@ -283,7 +314,7 @@ def solve(scene, model=None):
                          "use 'linear', 'rk4' or 'cvode'")
     if code != 0 and isinstance(scene, Scene):
         _scene_check_model(scene, code)
-    return _result(scene, _run(scene, code, False, 0.0))
+    return _result(scene, _run(scene, code, False, 0.0, max_steps, progress))
 
 
 def _scene_check_model(scene, code):
@@ -292,11 +323,13 @@ def _scene_check_model(scene, code):
     raise_for_status(c, msg)
 
 
-def run_model(scene, model, setting=None):
+def run_model(scene, model, setting=None, max_steps=2_000_000_000, progress=None):
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
     setting: RK4 step h [s] or CVODE rtol (atol = rtol * state scale / 100);
     ignored for the closed forms.  For work-precision studies (``tradeoff``).
+    max_steps, progress, Ctrl-C: as for ``solve`` (an RK4 run of more than
+    max_steps steps is refused up front).
     """
     code = _model_code(model)
     if code == 0:
@@ -307,7 +340,7 @@ def run_model(scene, model, setting=None):
         setting = real_scalar(setting, "setting")
     else:
         setting = 0.0
-    return _result(scene, _run(scene, code, True, setting))
+    return _result(scene, _run(scene, code, True, setting, max_steps, progress))
 
 
 class TradeoffTable:

@@ -24,13 +24,13 @@ contains
 
   !> True when another thread has asked the call holding `control` to stop.
   logical function cancel_requested(control)
-    integer(int64), intent(inout), volatile :: control(CONTROL_SIZE)  ! VOLATILE excludes intent(in)
+    integer(int64), intent(inout), volatile :: control(:)  ! size CONTROL_SIZE; VOLATILE excludes intent(in)
     cancel_requested = control(CONTROL_CANCEL) /= 0
   end function cancel_requested
 
   !> Add `n` work units to the progress counter (atomic under OpenMP).
   subroutine add_progress(control, n)
-    integer(int64), intent(inout), volatile :: control(CONTROL_SIZE)
+    integer(int64), intent(inout), volatile :: control(:)  ! size CONTROL_SIZE
     integer(int64), intent(in) :: n
     !$omp atomic update
     control(CONTROL_PROGRESS) = control(CONTROL_PROGRESS) + n

@@ -26,7 +26,8 @@ module pendula_cvode
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, PENDULA_OK, &
-      PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE
+      PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, check_problem, check_output_size, &
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
@@ -45,7 +46,8 @@ module pendula_cvode
 
   !> What the callbacks see through user_data: the parameters, the time
   !> scale, the tolerances of the pure relative mode (atol = 0), and room for
-  !> the last error message CVODE reports.
+  !> the last error message CVODE reports, and the caller's control array
+  !> (c_null_ptr: none) with the right-hand-side evaluations counted so far.
   !>
   !> CVODE integrates in tau = (t - t(1)) / T, T = 2**tscale: the problem is
   !> autonomous, so moving the origin to t(1) costs nothing and lets a window
@@ -61,7 +63,14 @@ module pendula_cvode
     real(c_double) :: w0 = 1
     real(c_double) :: rtol = 0
     character(len=200) :: errmsg = ''
+    type(c_ptr) :: control = c_null_ptr
+    integer(i8) :: evals = 0
+    logical :: cancelled = .false.
   end type cv_data_t
+
+  !> Right-hand-side evaluations between two looks at the cancel flag (a few
+  !> tens of microseconds of CVODE work); progress is counted in evaluations.
+  integer(i8), parameter :: CV_POLL_EVALS = 256
 
 contains
 
@@ -83,19 +92,24 @@ contains
   !> ode_stats_t.  Errors: bad arguments (outputs zero); CVODE failures
   !> (PENDULA_ERR_SOLVER) and exhausted budget (PENDULA_ERR_MAXSTEPS) with
   !> CVODE's reason, outputs before the failure time kept, later ones zero.
+  !> control (optional, see pendula_control): its cancel flag is polled every
+  !> 256 right-hand-side evaluations (tens of microseconds); a cancelled run
+  !> returns PENDULA_ERR_CANCELLED like a failure (outputs reached kept, the
+  !> solver memory freed).  Progress counts right-hand-side evaluations.
   subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, stats, status)
+      theta, omega, stats, status, control)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
     real(wp), intent(out) :: theta(:), omega(:)
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     real(wp) :: et(0), eth(0), eom(0)
     integer :: ek(0), n_events
     logical :: truncated
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .false., &
-        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status)
+        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
   end subroutine cvode_solve
 
   !> As cvode_solve, and also locate the events: turning points (Omega = 0,
@@ -105,8 +119,9 @@ contains
   !> not reported.  The event arrays (all of one size, the maximum number of
   !> events kept, may be 0) receive the first n_events; truncated is true when
   !> more occurred.  Event times are accurate to about the integration error.
+  !> control: as for cvode_solve.
   subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -117,12 +132,13 @@ contains
     logical, intent(out) :: truncated
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .true., &
-        theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+        theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
   end subroutine cvode_solve_events
 
   subroutine solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, with_events, &
-      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status)
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -134,6 +150,7 @@ contains
     logical, intent(out) :: truncated
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
 
     type(cv_data_t), target :: data
     type(c_ptr) :: ctx, cvode_mem
@@ -190,6 +207,7 @@ contains
     data%tscale = 0
     if (span < 2.0_wp**(-64)) data%tscale = exponent(span)
     tau_end = tau(t(nt))
+    if (present(control)) data%control = c_loc(control)
     ctx = c_null_ptr
     cvode_mem = c_null_ptr
     nullify (y, amat, ls)
@@ -276,6 +294,11 @@ contains
         ierr = FCVodeSetMaxNumSteps(cvode_mem, int(max_steps - int(nst(1), i8), c_long))
         if (fail(ierr, 'CVodeSetMaxNumSteps')) exit setup
         ierr = FCVode(cvode_mem, merge(tau_end, tau(t(i)), i == nt), y, tret, CV_NORMAL)
+        if (ierr < 0 .and. data%cancelled) then
+          call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // rtoa(t(i)) // &
+              ' (interrupted by the caller)')
+          exit setup
+        end if
         if (ierr == CV_ROOT_RETURN) then
           ierr = FCVodeGetRootInfo(cvode_mem, roots)
           if (fail(ierr, 'CVodeGetRootInfo')) exit setup
@@ -307,6 +330,8 @@ contains
         i = i + 1
       end do
     end block setup
+    ! progress: the evaluations since the last poll
+    if (c_associated(data%control)) call poll(data%control, mod(data%evals, CV_POLL_EVALS), ok)
 
     if (c_associated(cvode_mem)) call collect_stats(cvode_mem, with_events, stats, status)
     if (status%code /= PENDULA_OK) then
@@ -408,7 +433,28 @@ contains
     ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
     ierr = 0
     if (.not. (ieee_is_finite(ff%v(1)) .and. ieee_is_finite(ff%v(2)))) ierr = -1
+    ! A cancel request is answered the same way: CVODE stops at once and
+    ! solve() turns the failure into PENDULA_ERR_CANCELLED.
+    if (c_associated(p%control)) then
+      p%evals = p%evals + 1
+      if (mod(p%evals, CV_POLL_EVALS) == 0) then
+        call poll(p%control, CV_POLL_EVALS, p%cancelled)
+        if (p%cancelled) ierr = -1
+      end if
+    end if
   end function rhs
+
+  !> Add n to the progress of the control array at address `control`;
+  !> cancelled: whether its cancel flag is set.
+  subroutine poll(control, n, cancelled)
+    type(c_ptr), intent(in) :: control
+    integer(i8), intent(in) :: n
+    logical, intent(out) :: cancelled
+    integer(i8), pointer, volatile :: ctl(:)
+    call c_f_pointer(control, ctl, [CONTROL_SIZE])
+    call add_progress(ctl, n)
+    cancelled = cancel_requested(ctl)
+  end subroutine poll
 
   !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
   integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &

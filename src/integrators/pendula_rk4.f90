@@ -14,16 +14,19 @@
 module pendula_rk4
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, PENDULA_OK, &
-      PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER
+      PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE
   use pendula_ode, only: ode_stats_t, check_problem, check_output_size, linear_eigenvalues
   use pendula_rk4_kernel, only: rk4_grid, substeps
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
+  public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function, RK4_DEFAULT_MAX_STEPS
 
-  !> Refuse windows that need more steps than this (about 30 days of CPU).
-  real(wp), parameter :: max_total_steps = 1.0e15_wp
+  !> Default step budget of one call: about a minute of CPU at ~25 ns a step.
+  !> A window that needs more is refused up front (the caller may raise it
+  !> with max_steps); the same budget as the scene solver's RK4.
+  integer(i8), parameter :: RK4_DEFAULT_MAX_STEPS = 2000000000_i8
 
 contains
 
@@ -106,9 +109,9 @@ contains
   end function ray_limit
 
   !> Validate h against the window t(1)..t(n): positive, not so small that the
-  !> run needs more than 1e15 steps, and stable (see rk4_max_stable_step).
-  pure subroutine check_step(t, w0, gamma, h, status)
-    real(wp), intent(in) :: t(:), w0, gamma, h
+  !> run needs more than max_total_steps steps, and stable (see rk4_max_stable_step).
+  pure subroutine check_step(t, w0, gamma, h, max_total_steps, status)
+    real(wp), intent(in) :: t(:), w0, gamma, h, max_total_steps
     type(status_t), intent(inout) :: status
     real(wp) :: total, h_used, h_max, dt, hinv
     complex(wp) :: lam1, lam2
@@ -140,7 +143,9 @@ contains
       total = total + dt * hinv   ! a bound only: no need for the division
       if (total > max_total_steps) then
         call set_error(status, PENDULA_ERR_DOMAIN, 'h = ' // num(h) // ' is too small for the window t = ' // &
-            num(t(1)) // ' .. ' // num(t(size(t))) // ': RK4 would need more than 1e15 steps')
+            num(t(1)) // ' .. ' // num(t(size(t))) // ': RK4 needs more than max_steps = ' // &
+            num(max_total_steps) // ' steps (2e9 ~ 1 min of CPU); use a larger h, a shorter window,' // &
+            ' or raise max_steps')
         return
       end if
       n = substeps(dt, h)
@@ -201,19 +206,33 @@ contains
   !> theta and omega must have size(t) elements.  stats: steps and rhs_evals
   !> (4 per step).  Errors (status /= OK, outputs zero): bad arguments; a step
   !> outside RK4's stability region (PENDULA_ERR_UNSTABLE, the message gives
-  !> the largest stable h); more than 1e15 steps.  Global error O(h**4): about
-  !> 2.5e-6 rad for the text's scenario (b = 0.01, t <= 30 s, h = 0.05 s).
-  pure subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status)
+  !> the largest stable h); more than max_steps steps (optional, >= 1; default
+  !> RK4_DEFAULT_MAX_STEPS = 2e9), refused before any work.  control
+  !> (optional, see pendula_control): another thread may set its cancel flag;
+  !> it is polled every 4096 steps (~0.1 ms) and the call then returns
+  !> PENDULA_ERR_CANCELLED with the outputs zero; progress counts steps.
+  !> Global error O(h**4): about 2.5e-6 rad for the text's scenario (b = 0.01,
+  !> t <= 30 s, h = 0.05 s).
+  subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status, control, max_steps)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h
     real(wp), intent(out) :: theta(:), omega(:)
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer(i8), intent(in), optional :: max_steps
     integer(i8) :: steps, fast
     integer :: bad
+    real(wp) :: budget
+    budget = real(RK4_DEFAULT_MAX_STEPS, wp)
+    if (present(max_steps)) then
+      budget = real(max_steps, wp)
+      if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // num(budget) // &
+          ' is out of range: it must be >= 1')
+    end if
     call check_problem(t, theta0, omega0, w0, gamma, status)
     call check_output_size('theta', size(theta), size(t), status)
     call check_output_size('omega', size(omega), size(t), status)
-    call check_step(t, w0, gamma, h, status)
+    call check_step(t, w0, gamma, h, budget, status)
     if (status%code /= PENDULA_OK) then
       ! zeroed only here: on success the kernel writes every element
       theta = 0
@@ -222,10 +241,15 @@ contains
     end if
     theta(1) = theta0
     omega(1) = omega0
-    call rk4_grid(t, w0 * w0, gamma, h, theta, omega, steps, fast, bad)
+    call rk4_grid(t, w0 * w0, gamma, h, theta, omega, steps, fast, bad, control)
     stats%steps = steps
     stats%rhs_evals = 4 * steps
-    if (bad /= 0) then
+    if (bad < 0) then
+      call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // num(t(-bad)) // &
+          ' (interrupted by the caller)')
+      theta = 0
+      omega = 0
+    else if (bad > 0) then
       call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // num(t(bad)))
       theta = 0
       omega = 0
@@ -235,13 +259,16 @@ contains
   !> Final state only: integrate from (t0, theta0, omega0) to t_end >= t0 [s]
   !> with the fewest equal RK4 steps of at most h and return theta_end [rad],
   !> omega_end [rad/s].  No history is kept: memory is O(1) however long the
-  !> run (e.g. 1e5 periods).  Same checks, errors and accuracy as rk4_solve.
-  pure subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
-      stats, status)
+  !> run (e.g. 1e5 periods).  Same checks, errors, accuracy, control and
+  !> max_steps as rk4_solve.
+  subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
+      stats, status, control, max_steps)
     real(wp), intent(in) :: t0, t_end, theta0, omega0, w0, gamma, h
     real(wp), intent(out) :: theta_end, omega_end
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer(i8), intent(in), optional :: max_steps
     real(wp) :: th(2), om(2)
     theta_end = 0
     omega_end = 0
@@ -260,7 +287,7 @@ contains
       call set_error(status, PENDULA_ERR_ORDER, 't_end = ' // num(t_end) // ' must not precede t0 = ' // num(t0))
       return
     end if
-    call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status)
+    call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status, control, max_steps)
     if (status%code /= PENDULA_OK) return
     theta_end = th(2)
     omega_end = om(2)

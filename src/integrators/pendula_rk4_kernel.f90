@@ -22,10 +22,16 @@
 !> Constants: gen_stage_sine_table.py in this folder (node table and split).
 module pendula_rk4_kernel
   use pendula_kinds, only: wp, i8
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   implicit none
   private
   public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
-  public :: stage_rmax, stage_xmax
+  public :: stage_rmax, stage_xmax, RK4_POLL_STEPS
+
+  !> Steps between two looks at the cancel flag of `control` (about 0.1 ms of
+  !> work at ~25 ns a step: Ctrl-C latency stays far below a millisecond,
+  !> and one volatile load per 4096 steps costs nothing measurable).
+  integer(i8), parameter :: RK4_POLL_STEPS = 4096
 
   !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
   !> that the fast step reduces (k*node_p1, k*node_p2 stay exact).
@@ -222,23 +228,30 @@ contains
   !> fewest equal substeps of at most h [s] (substeps) are taken and the state
   !> is stored in theta(i+1), omega(i+1).  steps: substeps taken; fast: those
   !> on the table path (the others use libm sines).  bad = 0, or the first
-  !> index whose state is not finite (the run stops there), or -1 when theta or
-  !> omega does not have size(t) >= 1 elements (nothing is then read or written).  One loop over all
-  !> outputs, so the recurrence never leaves registers between outputs.
-  pure subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad)
+  !> index whose state is not finite (the run stops there), or -j when the
+  !> cancel flag of `control` stopped the run inside interval j (outputs up to
+  !> t(j) are written), or huge(bad) when theta or omega does not have
+  !> size(t) >= 1 elements (nothing is then read or written).  control (optional, see pendula_control): polled every
+  !> RK4_POLL_STEPS steps, progress counted in steps.  One loop over all
+  !> outputs, so the recurrence never leaves registers between outputs; the
+  !> poll splits an interval's steps into blocks without touching the state.
+  subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad, control)
     real(wp), intent(in) :: t(:), w0sq, gamma, h
     real(wp), intent(inout) :: theta(:), omega(:)
     integer(i8), intent(out) :: steps, fast
     integer, intent(out) :: bad
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bu0, bu1
     real(wp) :: c2, c3, c4, c5, c6t, c7, c8, c9
     real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy
     integer :: kk, kn, j, ik
-    integer(i8) :: i, n, nf, ns, n_nx
+    integer(i8) :: i, n, nf, ns, n_nx, left, nb, poll_in
     real(wp) :: hs_nx
-    logical :: ok
+    logical :: ok, polling
+    polling = present(control)
+    poll_in = RK4_POLL_STEPS
     if (size(t) < 1 .or. size(theta) /= size(t) .or. size(omega) /= size(t)) then
-      steps = 0; fast = 0; bad = -1
+      steps = 0; fast = 0; bad = huge(bad)
       return
     end if
     y = theta(1)
@@ -269,77 +282,97 @@ contains
       wb = sixth * w0sq
       bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
       bu0 = hh * w0sq * (gamma * hh + 2)
-      do i = 1, n
-        p2 = half * u
-        p4 = hs * u
-        ! A priori bound on the stage offsets, so that the polynomials never
-        ! see a huge argument (no overflow on extreme inputs); a posteriori
-        ! check below.  It is |p4| + hh (2 gamma |u| + gamma hh (gamma |u| +
-        ! w0sq) + 2 w0sq), regrouped as |u| bu1 + bu0 with the parts that do
-        ! not change along the interval formed once (two flops per step).
-        ok = abs(rh) <= stage_rmax .and. abs(u) * bu1 + bu0 <= 1
-        if (ok) then
-          ik = iand(kk, nnodes - 1)
-          sk = node_sin(ik)
-          ck = node_cos(ik)
-          c2 = taylor(2, ik)
-          c3 = taylor(3, ik)
-          c4 = taylor(4, ik)
-          c5 = taylor(5, ik)
-          c6t = taylor(6, ik)
-          c7 = taylor(7, ik)
-          c8 = taylor(8, ik)
-          c9 = taylor(9, ik)
-          ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
-          ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
-          ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
-          a4 = y + p4
-          kfn = anint((a4 + p2) * nodes_per_radian)
-          kp23 = kfn * node_p2 + kfn * node_p3
-          ! The RK4 combinations are regrouped so that each stage sine enters
-          ! its consumer through one multiply and one subtract (the parts
-          ! without it are formed beside the sines): the same sums as
-          ! r3 = r2 + h2q k1, r4 = rho + h m3, theta' = theta + h u +
-          ! (h**2/6)(k1 + k2 + k3), Omega' = Omega + (h/6)(k1 + 2 k2 + 2 k3 + k4).
-          r2 = rh + p2
-          s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rh)
-          s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
-          k1 = -gamma * u - w0sq * s1
-          r3 = (r2 - h2q * gamma * u) - w1 * s1
-          m2 = u + half * k1
-          r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
-          k2 = -gamma * m2 - w0sq * s2
-          s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
-          m3 = u + half * k2
-          ! theta and Omega are each rounded once (as in the plain step): the
-          ! increments are summed first, so rotations (|theta| >> 1) keep the
-          ! rounding noise of the plain loop.  rho' is formed from the same
-          ! increment beside theta' (it then carries theta + dy - x_k', which
-          ! is theta' to within half an ulp of theta').
-          dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
-          yn = y + dy
-          s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
-          un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
-          rn = ((y - kfn * node_p1) - kp23) + dy
-          ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+      left = n
+      do while (left > 0)
+        ! blocks end at the next poll; without control one block is the interval
+        nb = left
+        if (polling) nb = min(left, poll_in)
+        do i = 1, nb
+          p2 = half * u
+          p4 = hs * u
+          ! A priori bound on the stage offsets, so that the polynomials never
+          ! see a huge argument (no overflow on extreme inputs); a posteriori
+          ! check below.  It is |p4| + hh (2 gamma |u| + gamma hh (gamma |u| +
+          ! w0sq) + 2 w0sq), regrouped as |u| bu1 + bu0 with the parts that do
+          ! not change along the interval formed once (two flops per step).
+          ok = abs(rh) <= stage_rmax .and. abs(u) * bu1 + bu0 <= 1
+          if (ok) then
+            ik = iand(kk, nnodes - 1)
+            sk = node_sin(ik)
+            ck = node_cos(ik)
+            c2 = taylor(2, ik)
+            c3 = taylor(3, ik)
+            c4 = taylor(4, ik)
+            c5 = taylor(5, ik)
+            c6t = taylor(6, ik)
+            c7 = taylor(7, ik)
+            c8 = taylor(8, ik)
+            c9 = taylor(9, ik)
+            ! Next step's node: the one nearest its midpoint theta' + h Omega'/2,
+            ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
+            ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
+            a4 = y + p4
+            kfn = anint((a4 + p2) * nodes_per_radian)
+            kp23 = kfn * node_p2 + kfn * node_p3
+            ! The RK4 combinations are regrouped so that each stage sine enters
+            ! its consumer through one multiply and one subtract (the parts
+            ! without it are formed beside the sines): the same sums as
+            ! r3 = r2 + h2q k1, r4 = rho + h m3, theta' = theta + h u +
+            ! (h**2/6)(k1 + k2 + k3), Omega' = Omega + (h/6)(k1 + 2 k2 + 2 k3 + k4).
+            r2 = rh + p2
+            s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rh)
+            s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
+            k1 = -gamma * u - w0sq * s1
+            r3 = (r2 - h2q * gamma * u) - w1 * s1
+            m2 = u + half * k1
+            r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
+            k2 = -gamma * m2 - w0sq * s2
+            s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
+            m3 = u + half * k2
+            ! theta and Omega are each rounded once (as in the plain step): the
+            ! increments are summed first, so rotations (|theta| >> 1) keep the
+            ! rounding noise of the plain loop.  rho' is formed from the same
+            ! increment beside theta' (it then carries theta + dy - x_k', which
+            ! is theta' to within half an ulp of theta').
+            dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
+            yn = y + dy
+            s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
+            un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
+            rn = ((y - kfn * node_p1) - kp23) + dy
+            ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+          end if
+          if (ok) then
+            kn = int(kfn)
+            nf = nf + 1
+          else
+            ! plain step (libm sines of the rounded stage arguments)
+            k1 = -gamma * u - w0sq * sin(y)
+            k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
+            k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
+            k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
+            yn = y + hs * u + c6 * ((k1 + k2) + k3)
+            un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+            call node_reduce(yn, kn, rn)
+          end if
+          y = yn
+          u = un
+          rh = rn
+          kk = kn
+        end do
+        left = left - nb
+        if (polling) then
+          poll_in = poll_in - nb
+          if (poll_in == 0) then
+            poll_in = RK4_POLL_STEPS
+            call add_progress(control, RK4_POLL_STEPS)
+            if (cancel_requested(control)) then
+              bad = -j
+              steps = ns + (n - left)
+              fast = nf
+              return
+            end if
+          end if
         end if
-        if (ok) then
-          kn = int(kfn)
-          nf = nf + 1
-        else
-          ! plain step (libm sines of the rounded stage arguments)
-          k1 = -gamma * u - w0sq * sin(y)
-          k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-          k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-          k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-          yn = y + hs * u + c6 * ((k1 + k2) + k3)
-          un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-          call node_reduce(yn, kn, rn)
-        end if
-        y = yn
-        u = un
-        rh = rn
-        kk = kn
       end do
       ns = ns + n
       theta(j+1) = y
@@ -351,6 +384,7 @@ contains
     end do
     steps = ns
     fast = nf
+    if (polling) call add_progress(control, RK4_POLL_STEPS - poll_in)
 
   contains
 

@@ -33,7 +33,7 @@ module pendula_scene
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
       check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, &
-      PENDULA_ERR_SIZE, PENDULA_MSG_LEN, PENDULA_ERR_MAXSTEPS
+      PENDULA_ERR_SIZE, PENDULA_MSG_LEN, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_physics, only: natural_frequency, damping_rate, pi
   use pendula_elliptic, only: ellipkc
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
@@ -44,6 +44,7 @@ module pendula_scene
   use pendula_integrators, only: ode_stats_t, rk4_solve, rk4_final_state, rk4_max_stable_step, &
       cvode_solve, cvode_solve_events, cvode_available, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, &
       PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_control, only: CONTROL_SIZE, cancel_requested
   implicit none
   private
 
@@ -80,8 +81,15 @@ module pendula_scene
   !> runs (gamma > 20 w0) switch at 1e4 RK4 steps, since BDF needs only a few
   !> hundred steps whatever gamma.
   real(wp), parameter :: RK4_STEP_LIMIT = 2.0e8_wp
-  !> Hard cap on one RK4 run (about a minute of CPU).
+  !> Default work budget of one solve, in RK4 steps (about a minute of CPU);
+  !> a CVODE step counts as CVODE_STEP_COST of them.  Work predicted beyond
+  !> it is refused before it starts (the caller may raise it: max_steps).
   real(wp), parameter :: RK4_STEP_CAP = 2.0e9_wp
+  real(wp), parameter :: CVODE_STEP_COST = 20
+  !> Fewest CVODE (Adams) steps per small-angle period of an underdamped
+  !> scene, decayed or not (measured ~7 at tol 1e-10 over 1e5 s): the lower
+  !> bound of the up-front CVODE cost prediction.
+  real(wp), parameter :: CVODE_MIN_STEPS_PER_PERIOD = 4
   !> A posteriori refinements before giving up on meeting tol.
   integer, parameter :: MAX_REFINE = 4
 
@@ -317,16 +325,24 @@ contains
   !> the exact solution) the most accurate one is used, tol_met is false and
   !> the reason says so.  Errors: an invalid scene (use scene_init), CVODE
   !> forced but not built (PENDULA_ERR_UNAVAILABLE), integrator failures.
-  subroutine scene_solve(scene, result, status)
+  !> max_steps (optional, default 2e9): the work budget in RK4 steps (a CVODE
+  !> step counts as 20); a solve predicted to need more is refused up front
+  !> (PENDULA_ERR_MAXSTEPS, naming the window, tol and max_steps).  control
+  !> (optional, see pendula_control): cancel flag polled throughout the
+  !> integrations (PENDULA_ERR_CANCELLED), progress in steps / evaluations.
+  subroutine scene_solve(scene, result, status, control, max_steps)
     type(scene_t), intent(in) :: scene
     type(scene_result_t), intent(out) :: result
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer(i8), intent(in), optional :: max_steps
     integer(i8) :: c0, c1, rate
     integer :: model
-    real(wp) :: est, tend
+    real(wp) :: est, tend, budget
     character(len=:), allocatable :: why
     call system_clock(c0, rate)
     call check_scene(scene, status)
+    call get_budget(budget, status, max_steps)
     if (status%code /= PENDULA_OK) return
     tend = window_end(scene)
     model = scene%model
@@ -343,9 +359,9 @@ contains
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)
       call solve_closed(scene, model, est, result, status)
     case (SCENE_MODEL_RK4)
-      call solve_rk4(scene, tend, result, status)
+      call solve_rk4(scene, tend, budget, result, status, control)
     case (SCENE_MODEL_CVODE)
-      call solve_cvode(scene, tend, result, status)
+      call solve_cvode(scene, tend, budget, result, status, control)
     end select
     if (status%code /= PENDULA_OK) return
     result%model = model
@@ -364,17 +380,22 @@ contains
   !> state scale; Adams, BDF when stiff); ignored for closed forms.  Meant for
   !> work-precision studies (pendula.tradeoff).  result%error_estimate is the a
   !> priori estimate for closed forms and 0 (unknown) for the integrators.
-  subroutine scene_run_model(scene, model, setting, result, status)
+  !> control and max_steps: as for scene_solve (an RK4 run needing more than
+  !> max_steps steps is refused up front; CVODE stops after max_steps/20).
+  subroutine scene_run_model(scene, model, setting, result, status, control, max_steps)
     type(scene_t), intent(in) :: scene
     integer, intent(in) :: model
     real(wp), intent(in) :: setting
     type(scene_result_t), intent(out) :: result
     type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer(i8), intent(in), optional :: max_steps
     integer(i8) :: c0, c1, rate
-    real(wp) :: est, tend
+    real(wp) :: est, tend, budget
     type(ode_stats_t) :: stats
     call system_clock(c0, rate)
     call check_scene(scene, status)
+    call get_budget(budget, status, max_steps)
     if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_CVODE) call set_error(status, &
         PENDULA_ERR_DOMAIN, 'model = ' // inum(model) // ' is unknown: it must be small_angle (1), ' // &
         'exact (2), linear (3), rk4 (4) or cvode (5)')
@@ -393,13 +414,15 @@ contains
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call check_positive('setting', setting, status)
       if (status%code /= PENDULA_OK) return
-      if (model == SCENE_MODEL_RK4 .and. tend / setting > RK4_STEP_CAP) then
+      if (model == SCENE_MODEL_RK4 .and. tend / setting > budget) then
         call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // num(setting) // ' is too small: ' // &
-            'the RK4 step h would need more than ' // num(RK4_STEP_CAP) // ' steps over t = 0 .. ' // num(tend))
+            'the RK4 step h would need more than max_steps = ' // num(budget) // ' steps over t = 0 .. ' // &
+            num(tend) // ' (raise max_steps to allow it)')
         return
       end if
       call alloc_outputs(scene, result)
-      call integrate(scene, model, setting, result%t, result%theta, result%omega, stats, status)
+      call integrate(scene, model, setting, budget, result%t, result%theta, result%omega, stats, status, &
+          control)
       if (status%code /= PENDULA_OK) return
       call add_stats(result%cost, stats)
       result%setting = setting
@@ -456,6 +479,18 @@ contains
   end subroutine scene_estimate
 
   ! ------------------------------------------------------------- internals
+
+  ! The work budget [RK4 steps] from the optional max_steps (>= 1).
+  pure subroutine get_budget(budget, status, max_steps)
+    real(wp), intent(out) :: budget
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(in), optional :: max_steps
+    budget = RK4_STEP_CAP
+    if (.not. present(max_steps)) return
+    budget = real(max_steps, wp)
+    if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // num(budget) // &
+        ' is out of range: it must be >= 1')
+  end subroutine get_budget
 
   pure subroutine check_scene(scene, status)
     type(scene_t), intent(in) :: scene
@@ -989,20 +1024,22 @@ contains
   ! the result, which may be only t(n)).  The integrators start at tout(1),
   ! so 0 is prepended when the first output time is later.  setting: h (RK4)
   ! or rtol (CVODE; atol = rtol * scale / 100 with scale the state's size).
-  subroutine integrate(scene, model, setting, tout, theta, omega, stats, status)
+  ! budget: RK4 steps allowed (CVODE: budget / CVODE_STEP_COST steps).
+  subroutine integrate(scene, model, setting, budget, tout, theta, omega, stats, status, control)
     type(scene_t), intent(in) :: scene
     integer, intent(in) :: model
-    real(wp), intent(in) :: setting, tout(:)
+    real(wp), intent(in) :: setting, budget, tout(:)
     real(wp), intent(out) :: theta(:), omega(:)
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     real(wp), allocatable :: tt(:), th(:), om(:)
     integer :: off, n, method
     real(wp) :: scale
     n = size(tout)
     if (scene%want == SCENE_WANT_FINAL .and. model == SCENE_MODEL_RK4) then
       call rk4_final_state(0.0_wp, tout(n), scene%theta0, scene%omega0, scene%w0, scene%gamma, &
-          setting, theta(n), omega(n), stats, status)
+          setting, theta(n), omega(n), stats, status, control, int(min(budget, 9.0e18_wp), i8))
       return
     end if
     off = 0
@@ -1011,12 +1048,14 @@ contains
     tt(1) = 0
     tt(1+off:) = tout
     if (model == SCENE_MODEL_RK4) then
-      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, th, om, stats, status)
+      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, th, om, stats, status, &
+          control, int(min(budget, 9.0e18_wp), i8))
     else
       method = merge(PENDULA_CVODE_BDF, PENDULA_CVODE_ADAMS, is_stiff(scene))
       scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
       call cvode_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, &
-          setting * scale / 100, method, 100000000_i8, th, om, stats, status)
+          setting * scale / 100, method, max(int(budget / CVODE_STEP_COST, i8), 1_i8), th, om, stats, status, &
+          control)
     end if
     theta = th(1+off:)
     omega = om(1+off:)
@@ -1053,11 +1092,12 @@ contains
 
   ! RK4 with h from tol and the window, verified by a run at 2h; refined
   ! from the observed error (which scales like h^4) until it meets tol.
-  subroutine solve_rk4(scene, tend, result, status)
+  subroutine solve_rk4(scene, tend, budget, result, status, control)
     type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend
+    real(wp), intent(in) :: tend, budget
     type(scene_result_t), intent(inout) :: result
     type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     real(wp) :: h, hmax, est, d, round
     real(wp), allocatable :: th2(:), om2(:), tgrid(:)
     type(status_t) :: st
@@ -1082,14 +1122,17 @@ contains
     end if
     est = ieee_value(1.0_wp, ieee_positive_inf)
     do it = 1, MAX_REFINE
-      if (tend / h > RK4_STEP_CAP) then
-        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 would need more than ' // num(RK4_STEP_CAP) // &
-            ' steps to meet tol = ' // num(scene%tol) // ' over this window; use cvode or a larger tol')
+      ! the run at h and its check at 2h: 1.5 tend/h steps
+      if (1.5_wp * tend / h > budget) then
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 needs ~' // num(1.5_wp * tend / h) // &
+            ' steps for tol = ' // num(scene%tol) // ' over t = 0 .. ' // num(tend) // &
+            ', over max_steps = ' // num(budget) // ' (2e9 ~ 1 min): use cvode, a larger tol,' // &
+            ' a shorter window, or raise max_steps')
         return
       end if
-      call rk4_run(scene, tgrid, h, 1, result%theta, result%omega, result%cost, status)
+      call rk4_run(scene, tgrid, h, 1, result%theta, result%omega, result%cost, status, control)
       if (status%code /= PENDULA_OK) return
-      call rk4_run(scene, tgrid, h, 2, th2, om2, result%cost, status)
+      call rk4_run(scene, tgrid, h, 2, th2, om2, result%cost, status, control)
       if (status%code /= PENDULA_OK) return
       d = state_diff(result%theta, result%omega, th2, om2, scene%w0)
       round = integrator_rounding(scene, result%theta, tend / h)
@@ -1119,13 +1162,14 @@ contains
   ! denser than h.  A uniform grid goes to rk4_solve in one call (the step
   ! dt/n makes it take exactly n substeps); otherwise one rk4_final_state
   ! call per interval.  Final-state scenes integrate one interval.
-  subroutine rk4_run(scene, tg, h, factor, th, om, cost, status)
+  subroutine rk4_run(scene, tg, h, factor, th, om, cost, status, control)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tg(:), h
     integer, intent(in) :: factor
     real(wp), intent(out) :: th(:), om(:)
     type(scene_cost_t), intent(inout) :: cost
     type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     real(wp), allocatable :: tt(:), th1(:), om1(:)
     real(wp) :: dt, x, v, t0, x1, v1
     real(wp) :: nsub
@@ -1146,7 +1190,7 @@ contains
       nsub = substeps(dt)
       allocate (th1(size(tt)), om1(size(tt)))
       call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt / nsub, th1, om1, &
-          stats, status)
+          stats, status, control, huge(1_i8))
       call add_stats(cost, stats)
       th = th1(1+off:)
       om = om1(1+off:)
@@ -1156,10 +1200,18 @@ contains
     v = scene%omega0
     t0 = 0
     do i = 1, n
+      ! each short run polls only every 4096 steps of its own: look between runs too
+      if (present(control)) then
+        if (cancel_requested(control)) then
+          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // num(t0) // &
+              ' (interrupted by the caller)')
+          return
+        end if
+      end if
       if (tg(i) > t0) then
         dt = tg(i) - t0
         call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substeps(dt), x1, v1, &
-            stats, status)
+            stats, status, control, huge(1_i8))
         x = x1
         v = v1
         call add_stats(cost, stats)
@@ -1183,12 +1235,13 @@ contains
   ! by a run 10x tighter; the tighter run is returned, and the difference of
   ! the two (an estimate of the looser run's error, which bounds the tighter
   ! one's) is its error estimate.
-  subroutine solve_cvode(scene, tend, result, status)
+  subroutine solve_cvode(scene, tend, budget, result, status, control)
     type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend
+    real(wp), intent(in) :: tend, budget
     type(scene_result_t), intent(inout) :: result
     type(status_t), intent(inout) :: status
-    real(wp) :: rtol, est, periods, scale
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp) :: rtol, est, periods, scale, predicted
     real(wp), allocatable :: th1(:), om1(:), tgrid(:)
     type(ode_stats_t) :: stats
     integer :: it
@@ -1203,14 +1256,28 @@ contains
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
     allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)))
     periods = 1 + scene%w0 * tend / (2 * pi)
+    ! Up front: an underdamped, non-stiff scene costs CVODE (Adams) at least a
+    ! few steps per period however loose tol (or decayed the swing), in each of
+    ! the two runs.
+    if (.not. is_stiff(scene) .and. scene%gamma < 2 * scene%w0) then
+      predicted = 2 * CVODE_MIN_STEPS_PER_PERIOD * periods * CVODE_STEP_COST
+      if (predicted > budget) then
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // num(tend) // ' spans ~' // &
+            num(periods) // ' periods: CVODE needs > ~' // num(predicted / CVODE_STEP_COST) // &
+            ' steps, over the budget max_steps = ' // num(budget) // ' (RK4 steps, a CVODE step counts' // &
+            ' 20; 2e9 ~ 1 min): shorten the window or raise max_steps')
+        return
+      end if
+    end if
     scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
     rtol = max(0.1_wp * scene%tol / (periods * scale), 1.0e-14_wp)
     est = ieee_value(1.0_wp, ieee_positive_inf)
     do it = 1, MAX_REFINE
-      call integrate(scene, SCENE_MODEL_CVODE, rtol, tgrid, th1, om1, stats, status)
+      call integrate(scene, SCENE_MODEL_CVODE, rtol, budget, tgrid, th1, om1, stats, status, control)
       call add_stats(result%cost, stats)
       if (status%code /= PENDULA_OK) return
-      call integrate(scene, SCENE_MODEL_CVODE, rtol / 10, tgrid, result%theta, result%omega, stats, status)
+      call integrate(scene, SCENE_MODEL_CVODE, rtol / 10, budget, tgrid, result%theta, result%omega, stats, &
+          status, control)
       call add_stats(result%cost, stats)
       if (status%code /= PENDULA_OK) return
       est = state_diff(th1, om1, result%theta, result%omega, scene%w0) &

@@ -104,7 +104,7 @@ contains
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, short, s, st)
     call expect_failure(st, PENDULA_ERR_SIZE, 'rk4_solve short omega', first)
     call rk4_grid(t, 4.0_wp, 0.1_wp, 0.05_wp, th, short, steps, fast, bad)
-    if (first .or. bad /= -1) call tc%check_true(bad == -1 .and. steps == 0, 'rk4_grid short omega: bad = -1')
+    if (first .or. bad /= huge(bad)) call tc%check_true(bad == huge(bad) .and. steps == 0, 'rk4_grid short omega: bad = huge')
     call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, &
         1000_i8, short, om, s, st)
     call tc%check_true(st%code == PENDULA_ERR_SIZE .or. st%code == PENDULA_ERR_UNAVAILABLE, &
@@ -161,7 +161,7 @@ contains
     ! h beyond the stability limit (2.06 s here) over a long spacing: refused.
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 50.0_wp, th, om, s, st)
     call expect_failure(st, PENDULA_ERR_UNSTABLE, 'rk4 unstable h', first)
-    ! h so small the window needs > 1e15 steps: refused up front.
+    ! h so small the window needs > 2e9 steps (the default budget): refused up front.
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-300_wp, th, om, s, st)
     call tc%check_true(st%code /= PENDULA_OK, 'rk4 tiny h refused: ' // trim(st%message))
     call tc%check_true(all_finite(th) .and. all_finite(om), 'rk4 refused: outputs finite')
@@ -171,7 +171,75 @@ contains
     ! output arrays of the wrong size
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th(1:2), om, s, st)
     call expect_failure(st, PENDULA_ERR_SIZE, 'rk4 output size', first)
+    ! an explicit budget below the window's 2000 steps: refused; 2000 is enough
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st, max_steps=1999_i8)
+    call expect_failure(st, PENDULA_ERR_DOMAIN, 'rk4 max_steps below the window', first)
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st, max_steps=2000_i8)
+    call tc%check_true(st%code == PENDULA_OK .and. s%steps == 2000, 'rk4 max_steps = steps: runs')
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st, max_steps=0_i8)
+    call expect_failure(st, PENDULA_ERR_DOMAIN, 'rk4 max_steps = 0', first)
+    call cancelled_runs(first)
   end subroutine rk4_refusals
+
+  !> The cancel flag of pendula_control, set before the call (as another
+  !> thread would): each integrator stops at its first poll with
+  !> PENDULA_ERR_CANCELLED, zero or kept outputs, and its progress counted;
+  !> a clear flag changes nothing (bit-identical to the call without control).
+  subroutine cancelled_runs(first)
+    logical, intent(in) :: first
+    real(wp) :: th(2), om(2), th0(2), om0(2), t(2), e, f
+    integer(i8) :: control(CONTROL_SIZE)
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    t = [0.0_wp, 100.0_wp]
+    control = 0
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th, om, s, st, control)
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th0, om0, s, st)
+    call tc%check_true(st%code == PENDULA_OK .and. all(th == th0) .and. all(om == om0), &
+        'rk4 with a clear control: same results bit for bit')
+    call tc%check_true(control(CONTROL_PROGRESS) == 100000, 'rk4 progress counts every step')
+    control = [1_i8, 0_i8]
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th, om, s, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4 cancelled', first)
+    call tc%check_true(all(th == 0) .and. all(om == 0) .and. control(CONTROL_PROGRESS) == 4096, &
+        'rk4 cancelled: outputs zero, stopped at the first poll (4096 steps)')
+    control = [1_i8, 0_i8]
+    call rk4_final_state(0.0_wp, 100.0_wp, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, e, f, s, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4_final_state cancelled', first)
+    call scene_cancelled(first)
+    if (.not. cvode_available()) return
+    control = [1_i8, 0_i8]
+    call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-10_wp, 1.0e-12_wp, PENDULA_CVODE_BDF, &
+        1000000_i8, th, om, s, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'cvode cancelled', first)
+    call tc%check_true(all_finite(th) .and. all_finite(om) .and. control(CONTROL_PROGRESS) == 256, &
+        'cvode cancelled: outputs finite, stopped at the first poll (256 evaluations)')
+  end subroutine cancelled_runs
+
+  !> The scene solver (RK4 over an uneven grid: one short run per interval)
+  !> answers a set cancel flag, a clear one changes nothing, and a budget
+  !> below the predicted work is refused up front.
+  subroutine scene_cancelled(first)
+    logical, intent(in) :: first
+    integer(i8) :: control(CONTROL_SIZE)
+    type(scene_t) :: sc
+    type(scene_result_t) :: res, res0
+    type(status_t) :: st
+    call scene_init(sc, 1.0_wp, 0.0_wp, [0.0_wp, 1.0_wp, 3.0_wp, 40.0_wp], 1.4_wp, 0.1_wp, 1.0e-10_wp, &
+        SCENE_WANT_STATE, st)
+    call tc%check_true(st%code == PENDULA_OK, 'scene for the cancel test: ' // trim(st%message))
+    control = [1_i8, 0_i8]
+    call scene_solve(sc, res, st, control)
+    call expect_failure(st, PENDULA_ERR_CANCELLED, 'scene_solve cancelled', first)
+    control = 0
+    call scene_solve(sc, res, st, control)
+    call scene_solve(sc, res0, st)
+    call tc%check_true(st%code == PENDULA_OK .and. res%model == SCENE_MODEL_RK4, 'scene_solve with control: rk4 runs')
+    call tc%check_true(all(res%theta == res0%theta) .and. all(res%omega == res0%omega) .and. &
+        control(CONTROL_PROGRESS) == res%cost%steps, 'scene_solve: same results, progress = steps')
+    call scene_solve(sc, res, st, max_steps=1000_i8)
+    call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'scene_solve over its budget', first)
+  end subroutine scene_cancelled
 
   subroutine cvode_failures(first)
     logical, intent(in) :: first

@@ -137,7 +137,10 @@ API: dict[str, Entry] = {
                   w0=Arg(POS), gamma=Arg(NONNEG),
                   # a step outside RK4's stability region is refused, not integrated into garbage
                   h=Arg(POS, extremes=(1e300, 1e154, 1e-300, 5e-324),
-                        extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)))),
+                        extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)),
+                  # a budget below the window's steps is refused up front
+                  max_steps=Arg(COUNT, extra=((3, ValueError),)),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "rk4_max_stable_step": Entry(
         valid=dict(w0=1.4, gamma=0.1),
         args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),
@@ -153,7 +156,8 @@ API: dict[str, Entry] = {
                   max_events=Arg(OTHER, extra=(
                       (0, ValueError, dict(events=True)), (-1, ValueError, dict(events=True)),
                       (2.5, TypeError, dict(events=True)), ("7", TypeError, dict(events=True)),
-                      (2**40, ValueError, dict(events=True)))))),
+                      (2**40, ValueError, dict(events=True)))),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     # undamped (src/undamped, undamped.py): any real t, any real state, w0 > 0
     "undamped": Entry(valid=dict(t=1.3, theta0=1.0, omega0=0.2, w0=1.4), args=dict(
         t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
@@ -185,12 +189,16 @@ API: dict[str, Entry] = {
     "solve": Entry(
         valid=dict(scene="SCENE", model=None),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError), (1.0, TypeError))),
-                  model=Arg(CHOICE, extra=(("exact", ValueError, dict(scene="DAMPED")),)))),
+                  model=Arg(CHOICE, extra=(("exact", ValueError, dict(scene="DAMPED")),)),
+                  max_steps=Arg(COUNT),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "run_model": Entry(
         valid=dict(scene="SCENE", model="rk4", setting=0.01),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
                   model=Arg(CHOICE, extra=(("auto", ValueError),)),
-                  setting=Arg(POS, aliases=("h",), extremes=(1e300, 1e154, 1e-300, 5e-324)))),
+                  setting=Arg(POS, aliases=("h",), extremes=(1e300, 1e154, 1e-300, 5e-324)),
+                  max_steps=Arg(COUNT, extra=((3, ValueError),)),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "tradeoff": Entry(
         valid=dict(scene="SCENE", models=["small_angle", "rk4"], rk4_steps=[0.1, 0.05], cvode_rtols=[1e-6],
                    repeat=1),
@@ -602,6 +610,8 @@ def test_case_count_report():
 # documented limit), which the concern tests check.  Exemptions, with reasons:
 FORTRAN_NO_STATUS = {
     # total functions of integer codes / no arguments
+    "cancel_requested": "total: reads the cancel flag of a control array",
+    "add_progress": "total: adds to the progress counter of a control array",
     "code_name": "total function of a status code",
     "regime_name": "total function of a regime code",
     "equilibrium_type_name": "total function of a type code",
