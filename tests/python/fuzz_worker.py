@@ -57,6 +57,10 @@ def _same(a, b):
                 and np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"))
     if isinstance(a, (list, tuple)):
         return type(a) is type(b) and len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    if isinstance(a, dict):
+        return isinstance(b, dict) and a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if hasattr(a, "__dict__") and not isinstance(a, type):      # e.g. a Scene: compare its state
+        return type(a) is type(b) and _same(vars(a), vars(b))
     try:
         return bool(a == b) or (a != a and b != b)
     except Exception:                       # noqa: BLE001
