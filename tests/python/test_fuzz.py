@@ -793,3 +793,53 @@ def test_fuzz_tradeoff(worker):
     rec = Recorder("tradeoff")
     _run_tradeoff(worker, rec)
     rec.verdict()
+
+
+# ----------------------------------------------------------------- CLI and coverage
+
+CLI_CASES = [
+    ["solve", "--theta0", "1e308", "--t-end", "1", "--n", "3"],
+    ["solve", "--theta0", "nan", "--t-end", "1"],
+    ["solve", "--theta0", "1", "--t-end", "1", "--g", "5e-324", "--n", "3"],
+    ["solve", "--theta0", "1", "--omega0", "-1.7976931348623157e308", "--t-end", "1", "--n", "3"],
+    ["solve", "--theta0", "0.5", "--t-end", "5e-324", "--n", "2", "--want", "final"],
+    ["period", "--theta0", "3.141592653589793", "1e308", "-1e308", "5e-324"],
+    ["tradeoff", "--theta0", "0.5", "--t-end", "2", "--n", "3", "--models", "rk4", "--repeat", "2"],
+    ["solve", "--theta0", "0.5", "--t-end", "1", "--csv", "{tmp}/no/such/dir/x.csv"],
+]
+
+
+@pytest.mark.parametrize("argv", CLI_CASES, ids=lambda a: " ".join(a)[:60])
+def test_fuzz_cli(argv, tmp_path):
+    """`python -m pendula` exits 0 (answer), 1 (solver failure) or 2 (bad value, with a
+    message) -- never a traceback or a signal -- and creates no folder it was not asked for."""
+    argv = [a.format(tmp=tmp_path) for a in argv]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(pathlib.Path(importlib.util.find_spec("pendula").origin).parents[1]), os.environ.get("PYTHONPATH", "")]))
+    line = "python -m pendula " + " ".join(argv)
+    try:
+        proc = subprocess.run([sys.executable, "-m", "pendula", *argv], capture_output=True, text=True,
+                              timeout=60, env=env, cwd=tmp_path)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"HANG (60 s): {line}", pytrace=False)
+    assert proc.returncode in (0, 1, 2), f"exit {proc.returncode}: {line}\n{proc.stderr[-400:]}"
+    assert "Traceback" not in proc.stderr, f"traceback: {line}\n{proc.stderr[-600:]}"
+    if proc.returncode:
+        assert proc.stderr.strip(), f"exit {proc.returncode} without a message: {line}"
+    assert not (tmp_path / "no").exists(), f"created a folder the user did not ask for: {line}"
+
+
+# Names in pendula.__all__ that are not called: constants, an exception class and
+# result containers (their contents are checked through the calls that return them).
+NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "PendulaSolverError", "IntegrationResult", "Events",
+              "SceneResult", "DampingRegime", "TradeoffTable"}
+FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
+                                            "tradeoff", "build_info", "have_cvode", "cvode_available"})
+
+
+def test_fuzz_covers_every_public_name():
+    """A new public name must get a fuzz spec (or be listed as not callable)."""
+    missing = sorted(set(pendula.__all__) - FUZZED - NOT_CALLED)
+    assert not missing, f"public names with no fuzz spec: {missing}"
+    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING"}:
+        assert isinstance(getattr(pendula, name), type), name
