@@ -1,0 +1,196 @@
+!> Extreme inputs through the public Fortran API, for the checked build
+!> (-fcheck=all, FPE traps) and the valgrind leg: m, p = +-1e308, NaN, Inf,
+!> subnormals, phi at the doubles nearest odd multiples of pi/2, w0 = 5e-324,
+!> theta0/omega0 = DBL_MAX, arrays of the wrong size.  Every call must either
+!> report a non-OK status or give a finite result where the true one is
+!> finite; status-less elemental functions must not crash and must be finite
+!> inside their domain.  No value is compared here (the accuracy tests do that):
+!> this program is about never crashing, trapping or going non-finite.
+program test_extremes
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan, &
+    ieee_positive_inf, ieee_negative_inf
+  use pendula
+  use pendula_testing, only: checker_t
+  implicit none
+  type(checker_t) :: tc
+  integer, parameter :: nx = 16
+  real(wp) :: x(nx), nan, pinf, ninf
+  real(wp), parameter :: half_pi = 1.5707963267948966_wp, dmax = huge(1.0_wp)
+
+  nan = ieee_value(1.0_wp, ieee_quiet_nan)
+  pinf = ieee_value(1.0_wp, ieee_positive_inf)
+  ninf = ieee_value(1.0_wp, ieee_negative_inf)
+  x = [0.0_wp, -0.0_wp, 0.5_wp, 1.0_wp, -1.0_wp, 1.0e308_wp, -1.0e308_wp, dmax, -dmax, 1.34e300_wp, &
+       5.0e-324_wp, tiny(1.0_wp), 1.0e-300_wp, nan, pinf, ninf]
+
+  call elliptic_scalars()
+  call elliptic_arrays()
+  call physics()
+  call undamped_and_small_angle()
+  call linear_damped()
+  call integrators()
+  call tc%report('test_extremes')
+
+contains
+
+  logical function fin(v)
+    real(wp), intent(in) :: v
+    fin = ieee_is_finite(v)
+  end function fin
+
+  logical function all_fin(v)
+    real(wp), intent(in) :: v(:)
+    all_fin = all(ieee_is_finite(v))
+  end function all_fin
+
+  !> K, E, F, sn/cn/dn at every pair of extremes: finite inside the domain.
+  subroutine elliptic_scalars()
+    integer :: i, j
+    real(wp) :: sn, cn, dn, am, f
+    character(len=80) :: label
+    do i = 1, nx
+      if (fin(x(i)) .and. x(i) < 1) call tc%check_true(fin(ellipk(x(i))), 'ellipk finite for m < 1')
+      if (fin(x(i)) .and. x(i) > 0) call tc%check_true(fin(ellipkc(x(i))), 'ellipkc finite for p > 0')
+      if (fin(x(i)) .and. x(i) <= 1) call tc%check_true(fin(ellipe(x(i))), 'ellipe finite for m <= 1')
+      if (fin(x(i)) .and. x(i) >= 0) call tc%check_true(fin(ellipec(x(i))), 'ellipec finite for p >= 0')
+      do j = 1, nx
+        write (label, '(a, 2es11.3)') 'ellipj (u, m) =', x(j), x(i)
+        call ellipj(x(j), x(i), sn, cn, dn, am)
+        if (fin(x(i)) .and. fin(x(j))) call tc%check_true(fin(sn) .and. fin(cn) .and. fin(dn), trim(label))
+        write (label, '(a, 2es11.3)') 'ellipjc (u, p) =', x(j), x(i)
+        call ellipjc(x(j), x(i), sn, cn, dn, am)
+        if (fin(x(i)) .and. fin(x(j))) call tc%check_true(fin(sn) .and. fin(cn) .and. fin(dn), trim(label))
+        f = ellipf(x(j), x(i))
+        if (fin(x(j)) .and. abs(x(j)) <= 1.0e300_wp .and. x(i) <= 0) then
+          write (label, '(a, 2es11.3)') 'ellipf finite (phi, m) =', x(j), x(i)
+          call tc%check_true(fin(f), trim(label))
+        end if
+        f = ellipfc(x(j), x(i))
+      end do
+    end do
+    ! phi at the doubles nearest odd multiples of pi/2, m at or next to 1: F is finite there
+    call tc%check_true(fin(ellipf(half_pi, 1.0_wp)), 'ellipf(fl(pi/2), 1) finite (38.03)')
+    call tc%check_true(fin(ellipfc(half_pi, 0.0_wp)), 'ellipfc(fl(pi/2), 0) finite (38.03)')
+    call tc%check_true(abs(ellipfc(half_pi, 1.0e-300_wp) - 38.025003373828868_wp) < 1.0e-9_wp, &
+                       'ellipfc(fl(pi/2), 1e-300) = 38.025003373828868')
+    call tc%check_true(abs(ellipfc(3 * half_pi, 1.0e-300_wp) - 730.47450770561424_wp) < 1.0e-8_wp, &
+                       'ellipfc(fl(3 pi/2), 1e-300) = 730.47450770561424')
+    call ellipj(0.7_wp, 1.0e308_wp, sn, cn, dn, am)
+    call tc%check_true(fin(sn) .and. fin(cn) .and. fin(dn) .and. fin(am), 'ellipj(0.7, 1e308) finite')
+  end subroutine elliptic_scalars
+
+  !> Array routines with extreme elements, then with outputs of the wrong size
+  !> (these must be refused, not written out of bounds).
+  subroutine elliptic_arrays()
+    real(wp) :: k(nx), e(nx), sn(nx), cn(nx), dn(nx), am(nx), u(nx)
+    real(wp) :: short(3)
+    u = 0.7_wp
+    call ellipk_array(x, k)
+    call ellipe_array(x, e)
+    call ellipj_array(u, x, sn, cn, dn, am)
+    call tc%check_true(all_fin(sn(1:13)) .and. all_fin(cn(1:13)) .and. all_fin(dn(1:13)), &
+                       'ellipj_array finite for finite m')
+    call ellipjc_array(u, x, sn, cn, dn, am)
+    call tc%check_true(all_fin(sn(1:13)) .and. all_fin(cn(1:13)) .and. all_fin(dn(1:13)), &
+                       'ellipjc_array finite for finite p')
+    ! Wrong sizes: a routine that trusts the caller writes past `short`.
+    short = -1
+    call ellipk_array(x, short)
+    call ellipe_array(x, short)
+    call ellipj_array(u, x, short, cn, dn, am)
+    call ellipjc_array(u, x, sn, short, dn, am)
+    call tc%check_true(.true., 'wrong-size array calls returned')
+  end subroutine elliptic_arrays
+
+  subroutine physics()
+    integer :: i, j
+    real(wp) :: r
+    type(status_t) :: st
+    do i = 1, nx
+      do j = 1, nx
+        call natural_frequency(x(i), x(j), r, st)
+        call tc%check_true(.not. status_ok(st) .or. fin(r), 'natural_frequency: error or finite')
+        call damping_rate(x(i), x(j), r, st)
+        call tc%check_true(.not. status_ok(st) .or. fin(r), 'damping_rate: error or finite')
+      end do
+      call small_angle_period(x(i), r, st)
+      call tc%check_true(.not. status_ok(st) .or. fin(r), 'small_angle_period: error or finite')
+    end do
+  end subroutine physics
+
+  subroutine undamped_and_small_angle()
+    integer :: i, j, l
+    real(wp) :: th, om, w0s(4)
+    type(status_t) :: st
+    type(undamped_motion_t) :: mo
+    character(len=80) :: label
+    w0s = [1.0_wp, 5.0e-324_wp, 1.0e308_wp, nan]
+    do l = 1, size(w0s)
+      do i = 1, nx
+        do j = 1, nx
+          call undamped_init(mo, x(i), x(j), w0s(l), st)
+          if (status_ok(st)) then
+            call undamped_eval(mo, 1.5_wp, th, om)
+            write (label, '(a, 3es11.3)') 'undamped (theta0, omega0, w0) =', x(i), x(j), w0s(l)
+            if (abs(x(i)) < 1.0e300_wp .and. abs(x(j)) < 1.0e300_wp .and. w0s(l) < 1.0e300_wp) &
+              call tc%check_true(fin(th) .and. fin(om), trim(label))
+          end if
+          call small_angle(1.5_wp, x(i), x(j), w0s(l), th, om)
+          write (label, '(a, 3es11.3)') 'small_angle (theta0, omega0, w0) =', x(i), x(j), w0s(l)
+          if (abs(x(i)) < 1.0e300_wp .and. abs(x(j)) < 1.0e300_wp .and. fin(w0s(l)) .and. w0s(l) < 1.0e300_wp) &
+            call tc%check_true(fin(th) .and. fin(om), trim(label))
+        end do
+      end do
+    end do
+  end subroutine undamped_and_small_angle
+
+  subroutine linear_damped()
+    integer :: i, j
+    real(wp) :: th, om
+    type(status_t) :: st
+    type(linear_damped_t) :: sol
+    type(damping_regime_t) :: info
+    character(len=80) :: label
+    do i = 1, nx
+      do j = 1, nx
+        call linear_damped_init(sol, x(i), 0.5_wp, 1.4_wp, abs(x(j)), st)
+        if (status_ok(st)) then
+          call linear_damped_state(sol, 1.5_wp, th, om)
+          write (label, '(a, 2es11.3)') 'linear_damped (theta0, gamma) =', x(i), abs(x(j))
+          ! |theta(t)| <= hypot(theta0, omega0/w0) (the energy never grows)
+          if (abs(x(i)) < 1.0e300_wp) call tc%check_true(fin(th) .and. fin(om), trim(label))
+        end if
+        call damping_regime(x(i), x(j), info, st)
+      end do
+    end do
+    ! the issue's case: theta0 = DBL_MAX, Omega(1.5) = -1.7570279627426679e308 is representable
+    call linear_damped_init(sol, dmax, 0.5_wp, 1.4_wp, 0.3_wp, st)
+    if (status_ok(st)) then
+      call linear_damped_state(sol, 1.5_wp, th, om)
+      call tc%check_true(fin(th) .and. fin(om), 'linear_damped theta0 = DBL_MAX: finite state')
+    end if
+  end subroutine linear_damped
+
+  subroutine integrators()
+    integer :: i
+    real(wp) :: t(3), th(3), om(3), th_short(2), om_short(2)
+    type(ode_stats_t) :: stats
+    type(status_t) :: st
+    t = [0.0_wp, 0.5_wp, 1.0_wp]
+    do i = 1, nx
+      call rk4_solve(t, x(i), 0.3_wp, 1.0_wp, 0.1_wp, 0.01_wp, th, om, stats, st)
+      call tc%check_true(.not. status_ok(st) .or. (all_fin(th) .and. all_fin(om)), 'rk4 theta0 extreme')
+      call rk4_solve(t, 0.3_wp, x(i), 1.0_wp, 0.1_wp, 0.01_wp, th, om, stats, st)
+      call tc%check_true(.not. status_ok(st) .or. (all_fin(th) .and. all_fin(om)), 'rk4 omega0 extreme')
+      call rk4_solve(t, 0.3_wp, 0.3_wp, x(i), 0.1_wp, 0.01_wp, th, om, stats, st)
+      call tc%check_true(.not. status_ok(st) .or. (all_fin(th) .and. all_fin(om)), 'rk4 w0 extreme')
+      call rk4_solve(t, 0.3_wp, 0.3_wp, 1.0_wp, x(i), 0.01_wp, th, om, stats, st)
+      call tc%check_true(.not. status_ok(st) .or. (all_fin(th) .and. all_fin(om)), 'rk4 gamma extreme')
+      call rk4_solve(t, 0.3_wp, 0.3_wp, 1.0_wp, 0.1_wp, x(i), th, om, stats, st)
+      call tc%check_true(.not. status_ok(st) .or. (all_fin(th) .and. all_fin(om)), 'rk4 h extreme')
+    end do
+    call rk4_solve(t, 0.3_wp, 0.3_wp, 1.0_wp, 0.1_wp, 0.01_wp, th_short, om_short, stats, st)
+    call tc%check_true(.not. status_ok(st), 'rk4 outputs shorter than t: refused')
+  end subroutine integrators
+
+end program test_extremes
