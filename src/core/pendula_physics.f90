@@ -3,7 +3,7 @@
 !> derived rates w0 = sqrt(g/l) [1/s] and gamma = b/m [1/s].
 module pendula_physics
   use pendula_kinds, only: wp
-  use pendula_status, only: status_t, check_positive, check_nonnegative, set_error, PENDULA_OK, &
+  use pendula_status, only: status_t, check_positive, check_nonnegative, check_range, set_error, PENDULA_OK, &
       PENDULA_ERR_DOMAIN
   implicit none
   private
@@ -66,14 +66,16 @@ contains
     end if
   end subroutine damping_rate
 
-  !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 > 0 finite; otherwise
-  !> status is set and T0 = 0.  Correctly rounded up to the division: 1 ulp.
+  !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 finite and at least
+  !> 2 pi / DBL_MAX (3.5e-308), below which T0 overflows; otherwise status is
+  !> set and T0 = 0.  Correctly rounded up to the division: 1 ulp.
   pure subroutine small_angle_period(w0, t0, status)
     real(wp), intent(in) :: w0
     real(wp), intent(out) :: t0
     type(status_t), intent(out) :: status
     t0 = 0
-    call check_positive('w0', w0, status)
+    call check_range('w0', w0, 2 * pi / huge(w0), huge(w0), &
+        '[3.5e-308, 1.8e308] (T0 = 2 pi/w0 exceeds the largest double below)', status)
     if (status%code /= PENDULA_OK) return
     t0 = 2 * pi / w0
   end subroutine small_angle_period

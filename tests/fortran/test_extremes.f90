@@ -61,7 +61,7 @@ contains
         call ellipjc(x(j), x(i), sn, cn, dn, am)
         if (fin(x(i)) .and. fin(x(j))) call tc%check_true(fin(sn) .and. fin(cn) .and. fin(dn), trim(label))
         f = ellipf(x(j), x(i))
-        if (fin(x(j)) .and. abs(x(j)) <= 1.0e300_wp .and. x(i) <= 0) then
+        if (fin(x(j)) .and. abs(x(j)) <= 1.0e300_wp .and. fin(x(i)) .and. x(i) <= 0) then
           write (label, '(a, 2es11.3)') 'ellipf finite (phi, m) =', x(j), x(i)
           call tc%check_true(fin(f), trim(label))
         end if
@@ -84,22 +84,26 @@ contains
   subroutine elliptic_arrays()
     real(wp) :: k(nx), e(nx), sn(nx), cn(nx), dn(nx), am(nx), u(nx)
     real(wp) :: short(3)
+    type(status_t) :: st
     u = 0.7_wp
-    call ellipk_array(x, k)
-    call ellipe_array(x, e)
-    call ellipj_array(u, x, sn, cn, dn, am)
+    call ellipk_array(x, k, st)
+    call ellipe_array(x, e, st)
+    call ellipj_array(u, x, sn, cn, dn, st, am)
     call tc%check_true(all_fin(sn(1:13)) .and. all_fin(cn(1:13)) .and. all_fin(dn(1:13)), &
                        'ellipj_array finite for finite m')
-    call ellipjc_array(u, x, sn, cn, dn, am)
+    call ellipjc_array(u, x, sn, cn, dn, st, am)
     call tc%check_true(all_fin(sn(1:13)) .and. all_fin(cn(1:13)) .and. all_fin(dn(1:13)), &
                        'ellipjc_array finite for finite p')
-    ! Wrong sizes: a routine that trusts the caller writes past `short`.
+    ! Wrong sizes: refused with a size error, nothing written out of bounds.
     short = -1
-    call ellipk_array(x, short)
-    call ellipe_array(x, short)
-    call ellipj_array(u, x, short, cn, dn, am)
-    call ellipjc_array(u, x, sn, short, dn, am)
-    call tc%check_true(.true., 'wrong-size array calls returned')
+    call ellipk_array(x, short, st)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'ellipk_array short output: size error')
+    call ellipe_array(x, short, st)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'ellipe_array short output: size error')
+    call ellipj_array(u, x, short, cn, dn, st, am)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'ellipj_array short sn: size error')
+    call ellipjc_array(u, x, sn, short, dn, st, am)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'ellipjc_array short cn: size error')
   end subroutine elliptic_arrays
 
   subroutine physics()
