@@ -18,23 +18,84 @@ from __future__ import annotations
 
 import importlib
 import os
+import re
 import signal
 import sys
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import pendula
 
-pytestmark = pytest.mark.skipif(not hasattr(os, "fork") or sys.platform == "darwin",
-                                reason="os.fork() with threads needs a POSIX fork (Linux)")
+ROOT = Path(__file__).resolve().parents[2]
+
+# An I/O statement (internal or external) or a STOP, which writes to stderr:
+# each takes a libgfortran lock.
+IO_STATEMENT = re.compile(
+    r"\b(write|read|open|close|inquire|flush|backspace|rewind|endfile|wait)\s*\("
+    r"|\bprint\s*(\*|\d|'|\")|\b(error\s+)?stop\b", re.IGNORECASE)
 
 N_FORKS = 400
 N_THREADS = 3
 CHILD_TIMEOUT = 3.0     # s; a child normally finishes in a few ms
 T = np.linspace(0.0, 10.0, 5)
+
+
+def _code_without_comments_and_strings(line):
+    """The Fortran statement text of a line: string literals emptied, the
+    comment after '!' dropped."""
+    out, quote = [], None
+    for ch in line:
+        if quote:
+            if ch == quote:
+                quote = None
+                out.append(ch)
+        elif ch in "'\"":
+            quote = ch
+            out.append(ch)
+        elif ch == "!":
+            break
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def io_statements(root):
+    """(file, line number, line) of every I/O or STOP statement in the library
+    sources (src/) and the f2py glue (python/f2py/)."""
+    found = []
+    for f in sorted([*(root / "src").rglob("*.f90"), *(root / "python" / "f2py").glob("*.f90")]):
+        for k, line in enumerate(f.read_text().splitlines(), 1):
+            if IO_STATEMENT.search(_code_without_comments_and_strings(line)):
+                found.append((str(f.relative_to(root)), k, line.strip()))
+    return found
+
+
+def test_no_io_statement_in_library_code():
+    """Library code formats numbers with pendula_format, never with an internal
+    WRITE (nor any other I/O): a WRITE in an error path reopens the fork hang."""
+    assert len(list((ROOT / "src").rglob("*.f90"))) > 10 and (ROOT / "python" / "f2py").is_dir()
+    assert io_statements(ROOT) == []
+
+
+def test_the_io_scan_finds_io_statements(tmp_path):
+    """The scan is not blind: it finds the statement forms it must, and ignores
+    comments and message text."""
+    (tmp_path / "src").mkdir()
+    (tmp_path / "python" / "f2py").mkdir(parents=True)
+    (tmp_path / "src" / "a.f90").write_text(
+        "    write (buf, '(i0)') n\n"
+        "    if (x > 0) read(buf(3:), *) e\n"
+        "    PRINT *, x\n"
+        "    error stop 1\n"
+        "    ! write (buf, '(i0)') n is what we avoid\n"
+        "    s = 'cannot read (or write (x)) this'  ! print *, 'no'\n")
+    (tmp_path / "python" / "f2py" / "b.f90").write_text("  call x(); write(*,*) 1\n")
+    assert [(f[:3], k) for f, k, _ in io_statements(tmp_path)] == \
+        [("pyt", 1), ("src", 1), ("src", 2), ("src", 3), ("src", 4)]
 
 
 def _glue_error_calls():
@@ -98,6 +159,8 @@ def test_every_error_path_reports_an_error():
         assert out[-2] != 0 and out[-1].strip(), out[-2:]
 
 
+@pytest.mark.skipif(not hasattr(os, "fork") or sys.platform == "darwin",
+                    reason="os.fork() with threads needs a POSIX fork (Linux)")
 def test_fork_while_threads_format_error_messages():
     calls = _glue_error_calls()
     child_calls = _public_error_calls()
