@@ -195,6 +195,8 @@ contains
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: CVodeCreate could not allocate the solver memory')
         exit setup
       end if
+      ! From here on every CVODE message goes to capture_error, never to stderr
+      ! (SUNDIALS would fprintf it): no stdio from threads, and the text is kept.
       ierr = FCVodeSetErrHandlerFn(cvode_mem, c_funloc(capture_error), c_loc(data))
       if (fail(ierr, 'CVodeSetErrHandlerFn')) exit setup
       ierr = FCVodeInit(cvode_mem, c_funloc(rhs), t(1), y)

@@ -17,9 +17,12 @@ The test fails if any child hangs or exits with a non-zero status.
 from __future__ import annotations
 
 import importlib
+import importlib.machinery
 import os
 import re
+import shutil
 import signal
+import subprocess
 import sys
 import threading
 import time
@@ -204,3 +207,26 @@ def test_fork_while_threads_format_error_messages():
             th.join()
     assert (hung, failed) == (0, 0), \
         f"{hung} of {N_FORKS} forked children hung and {failed} failed"
+
+
+def test_extensions_call_no_libgfortran_io():
+    """The built extensions (library + glue, linked statically) import none of
+    libgfortran's I/O-statement or STOP entry points: the source scan above
+    cannot miss an I/O statement that the compiler sees.  (Before
+    pendula_format, five of the six extensions imported seven of them.)"""
+    nm = shutil.which("nm")
+    if nm is None:
+        pytest.skip("no nm on PATH to list the extensions' undefined symbols")
+    folder = Path(pendula.__file__).parent
+    found = [p for s in importlib.machinery.EXTENSION_SUFFIXES for p in folder.glob("_*" + s)]
+    assert found, f"no extension modules in {folder}"
+    io = re.compile(r"^_gfortran_(st_|transfer_|stop|error_stop)")
+    bad = {}
+    for path in found:
+        out = subprocess.run([nm, "-D", "--undefined-only", str(path)], capture_output=True,
+                             text=True, check=True).stdout
+        names = [line.split()[-1] for line in out.splitlines() if line.strip()]
+        hits = [n for n in names if io.match(n)]
+        if hits:
+            bad[path.name] = hits
+    assert bad == {}
