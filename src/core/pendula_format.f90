@@ -28,6 +28,7 @@ module pendula_format
   integer, parameter :: LIMB_DIGITS = 9
   integer(i8), parameter :: LIMB = 1000000000_i8   ! base 10**9 limbs of the big integer
   integer, parameter :: NLIMB = MAX_DEC / LIMB_DIGITS
+  integer, parameter :: STYLE_SCI = 1, STYLE_FIXED = 2, STYLE_GENERAL = 3
 
   !> Decimal text of an integer (any default or 64-bit integer, like i0).
   interface format_int
@@ -43,16 +44,7 @@ contains
     real(wp), intent(in) :: x
     integer, intent(in) :: sig
     character(len=:), allocatable :: s
-    integer :: d(MAX_DEC), n, e10, k
-    if (.not. ieee_is_finite(x)) then
-      s = special_text(x)
-      return
-    end if
-    k = max(1, min(sig, FORMAT_MAX_DIGITS))
-    call rounded_digits(x, k, d, n, e10)
-    s = sign_text(x) // digit_text(d(1:1))
-    if (k > 1) s = s // '.' // digit_text(d(2:k))
-    s = s // 'E' // exponent_text(e10, 2)
+    s = text_of(x, STYLE_SCI, sig)
   end function format_sci
 
   !> Fixed form with `decimals` digits after the point, like Fortran's F0.d
@@ -62,23 +54,7 @@ contains
     real(wp), intent(in) :: x
     integer, intent(in) :: decimals
     character(len=:), allocatable :: s
-    integer :: d(MAX_DEC), n, e10, k, nd, p
-    if (.not. ieee_is_finite(x)) then
-      s = special_text(x)
-      return
-    end if
-    nd = max(0, min(decimals, FORMAT_MAX_DIGITS))
-    call exact_digits(x, d, n, e10)
-    ! keep the digits down to the place 10**(-nd): e10 + 1 + nd of them
-    k = e10 + 1 + nd
-    call round_to(d, n, e10, k)
-    s = sign_text(x)
-    if (e10 < 0) then
-      s = s // '0'
-    else
-      s = s // digit_text([(digit(d, n, e10, p), p = e10, 0, -1)])
-    end if
-    if (nd > 0) s = s // '.' // digit_text([(digit(d, n, e10, p), p = -1, -nd, -1)])
+    s = text_of(x, STYLE_FIXED, decimals)
   end function format_fixed
 
   !> Shortest natural form with at most `sig` significant digits, like C's
@@ -88,31 +64,7 @@ contains
     real(wp), intent(in) :: x
     integer, intent(in) :: sig
     character(len=:), allocatable :: s
-    integer :: d(MAX_DEC), n, e10, k, last
-    if (.not. ieee_is_finite(x)) then
-      s = special_text(x)
-      return
-    end if
-    k = max(1, min(sig, FORMAT_MAX_DIGITS))
-    call rounded_digits(x, k, d, n, e10)
-    last = k
-    do while (last > 1 .and. d(last) == 0)
-      last = last - 1
-    end do
-    s = sign_text(x)
-    if (e10 >= -4 .and. e10 < k) then
-      if (e10 < 0) then
-        s = s // '0.' // repeat('0', -e10 - 1) // digit_text(d(1:last))
-      else if (last <= e10 + 1) then
-        s = s // digit_text(d(1:last)) // repeat('0', e10 + 1 - last)
-      else
-        s = s // digit_text(d(1:e10+1)) // '.' // digit_text(d(e10+2:last))
-      end if
-    else
-      s = s // digit_text(d(1:1))
-      if (last > 1) s = s // '.' // digit_text(d(2:last))
-      s = s // 'e' // exponent_text(e10, 1)
-    end if
+    s = text_of(x, STYLE_GENERAL, sig)
   end function format_general
 
   !> Short text for step sizes and rates: '0' for zero; six decimals without
@@ -136,6 +88,86 @@ contains
       s = format_sci(x, 6)
     end if
   end function format_short
+
+  ! ---------------------------------------------------------------- helpers
+
+  ! x in one of the styles; NaN and infinities have fixed texts in all.
+  pure function text_of(x, style, ndig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: style, ndig
+    character(len=:), allocatable :: s
+    if (.not. ieee_is_finite(x)) then
+      s = special_text(x)
+      return
+    end if
+    select case (style)
+    case (STYLE_SCI)
+      s = sign_text(x) // sci_text(x, ndig)
+    case (STYLE_FIXED)
+      s = sign_text(x) // fixed_text(x, ndig)
+    case default
+      s = sign_text(x) // general_text(x, ndig)
+    end select
+  end function text_of
+
+  ! |x| (finite) in scientific form with sig significant digits.
+  pure function sci_text(x, sig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    integer :: d(MAX_DEC), n, e10, k
+    k = max(1, min(sig, FORMAT_MAX_DIGITS))
+    call rounded_digits(x, k, d, n, e10)
+    s = digit_text(d(1:1))
+    if (k > 1) s = s // '.' // digit_text(d(2:k))
+    s = s // 'E' // exponent_text(e10, 2)
+  end function sci_text
+
+  ! |x| (finite) in fixed form with `decimals` digits after the point.
+  pure function fixed_text(x, decimals) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: decimals
+    character(len=:), allocatable :: s
+    integer :: d(MAX_DEC), n, e10, nd, p
+    nd = max(0, min(decimals, FORMAT_MAX_DIGITS))
+    call exact_digits(x, d, n, e10)
+    ! keep the digits down to the place 10**(-nd): e10 + 1 + nd of them
+    call round_to(d, n, e10, e10 + 1 + nd)
+    if (e10 < 0) then
+      s = '0'
+    else
+      s = digit_text([(digit(d, n, e10, p), p = e10, 0, -1)])
+    end if
+    if (nd > 0) s = s // '.' // digit_text([(digit(d, n, e10, p), p = -1, -nd, -1)])
+  end function fixed_text
+
+  ! |x| (finite) like "%.<sig>g" without trailing zeros.
+  pure function general_text(x, sig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    integer :: d(MAX_DEC), n, e10, k, last
+    k = max(1, min(sig, FORMAT_MAX_DIGITS))
+    call rounded_digits(x, k, d, n, e10)
+    last = k
+    do while (last > 1 .and. d(last) == 0)
+      last = last - 1
+    end do
+    if (e10 >= -4 .and. e10 < k) then
+      if (e10 < 0) then
+        s = '0.' // repeat('0', -e10 - 1) // digit_text(d(1:last))
+      else if (last <= e10 + 1) then
+        s = digit_text(d(1:last)) // repeat('0', e10 + 1 - last)
+      else
+        s = digit_text(d(1:e10+1)) // '.' // digit_text(d(e10+2:last))
+      end if
+    else
+      s = digit_text(d(1:1))
+      if (last > 1) s = s // '.' // digit_text(d(2:last))
+      s = s // 'e' // exponent_text(e10, 1)
+    end if
+  end function general_text
+
 
   pure function format_int_default(n) result(s)
     integer, intent(in) :: n
@@ -162,8 +194,6 @@ contains
     s = buf(p:)
     if (n < 0) s = '-' // s
   end function format_int_i8
-
-  ! ---------------------------------------------------------------- helpers
 
   ! The fixed texts of NaN and the infinities (x not finite).
   pure function special_text(x) result(s)

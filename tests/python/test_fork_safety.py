@@ -47,23 +47,13 @@ CHILD_TIMEOUT = 3.0     # s; a child normally finishes in a few ms
 T = np.linspace(0.0, 10.0, 5)
 
 
+STRING_LITERAL = re.compile(r"'[^']*'|\"[^\"]*\"")
+
+
 def _code_without_comments_and_strings(line):
     """The Fortran statement text of a line: string literals emptied, the
     comment after '!' dropped."""
-    out, quote = [], None
-    for ch in line:
-        if quote:
-            if ch == quote:
-                quote = None
-                out.append(ch)
-        elif ch in "'\"":
-            quote = ch
-            out.append(ch)
-        elif ch == "!":
-            break
-        else:
-            out.append(ch)
-    return "".join(out)
+    return STRING_LITERAL.sub("''", line).split("!", 1)[0]
 
 
 def io_statements(root):
