@@ -9,7 +9,7 @@
 !> values.
 program test_format
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, &
-      ieee_negative_inf, ieee_is_finite
+      ieee_negative_inf
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_fixed, format_general, format_short, format_int
   use pendula_testing, only: checker_t
@@ -66,7 +66,9 @@ program test_format
     call random_number(u)
     bits = int((u - 0.5_wp) * 2.0_wp**63, i8)
     x = transfer(bits, x)
-    if (ieee_is_finite(x)) call compare(x)
+    ! finite patterns only, by the exponent field: testing a signalling NaN
+    ! would trap in the checked build
+    if (ibits(bits, 52, 11) /= 2047) call compare(x)
     call random_number(u)
     x = 10.0_wp**(630 * u - 322)      ! log-uniform over the finite range
     call random_number(u)
