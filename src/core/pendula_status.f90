@@ -5,8 +5,9 @@
 !> single table of failure kinds; the Python layer maps them to exceptions
 !> (argument errors -> ValueError, solver failures -> RuntimeError).
 module pendula_status
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
+  use pendula_format, only: format_general, format_int
   implicit none
   private
 
@@ -83,63 +84,12 @@ contains
     end select
   end function code_name
 
-  !> Format a real for messages like C's "%.15g": 0.1 prints as 0.1,
-  !> -1 as -1, 1e300 as 1e+300.
+  ! A real as it appears in messages, like C's "%.15g": 0.1 -> 0.1, 1e300 -> 1e+300.
   pure function fmt(x) result(s)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s
-    character(len=40) :: buf
-    character(len=:), allocatable :: mant
-    integer :: epos, expo, last
-    if (ieee_is_nan(x)) then
-      s = 'NaN'
-      return
-    else if (.not. ieee_is_finite(x)) then
-      s = merge('+Inf', '-Inf', x > 0)
-      return
-    end if
-    write (buf, '(es23.14e3)') x
-    buf = adjustl(buf)
-    epos = index(buf, 'E')
-    mant = buf(1:epos-1)
-    read (buf(epos+1:), *) expo
-    last = len(mant)
-    do while (mant(last:last) == '0')
-      last = last - 1
-    end do
-    if (mant(last:last) == '.') last = last - 1
-    mant = mant(1:last)
-    if (expo >= -4 .and. expo < 15) then
-      s = shift_point(mant, expo)
-    else
-      write (buf, '(i0)') abs(expo)
-      s = mant // 'e' // merge('+', '-', expo >= 0) // trim(buf)
-    end if
+    s = format_general(x, 15)
   end function fmt
-
-  !> Move the decimal point of a mantissa "d.ddd" (optionally signed) by expo.
-  pure function shift_point(mant, expo) result(s)
-    character(len=*), intent(in) :: mant
-    integer, intent(in) :: expo
-    character(len=:), allocatable :: s, sign, digits
-    integer :: p
-    sign = ''
-    digits = mant
-    if (mant(1:1) == '-') then
-      sign = '-'
-      digits = mant(2:)
-    end if
-    p = index(digits, '.')
-    if (p > 0) digits = digits(1:p-1) // digits(p+1:)
-    ! digits now holds d1 d2 ... with the point after d1, i.e. at position 1 + expo
-    if (expo < 0) then
-      s = sign // '0.' // repeat('0', -expo - 1) // digits
-    else if (expo + 1 >= len(digits)) then
-      s = sign // digits // repeat('0', expo + 1 - len(digits))
-    else
-      s = sign // digits(1:expo+1) // '.' // digits(expo+2:)
-    end if
-  end function shift_point
 
   !> Require `x` finite.
   pure subroutine check_finite(name, x, status)
@@ -203,12 +153,10 @@ contains
     real(wp), intent(in) :: x(:)
     type(status_t), intent(inout) :: status
     integer :: i
-    character(len=16) :: ibuf
     if (status%code /= PENDULA_OK) return
     do i = 1, size(x)
       if (.not. ieee_is_finite(x(i))) then
-        write (ibuf, '(i0)') i - 1
-        call set_error(status, PENDULA_ERR_NONFINITE, name // '[' // trim(ibuf) // '] = ' // &
+        call set_error(status, PENDULA_ERR_NONFINITE, name // '[' // format_int(i - 1) // '] = ' // &
             fmt(x(i)) // ' is invalid: every element must be a finite real number')
         return
       end if
@@ -222,14 +170,12 @@ contains
     real(wp), intent(in) :: x(:)
     type(status_t), intent(inout) :: status
     integer :: i
-    character(len=16) :: ibuf
     call check_all_finite(name, x, status)
     if (status%code /= PENDULA_OK) return
     do i = 2, size(x)
       if (.not. x(i) > x(i-1)) then
-        write (ibuf, '(i0)') i - 1
         call set_error(status, PENDULA_ERR_ORDER, name // ' must be strictly increasing, but ' // &
-            name // '[' // trim(ibuf) // '] = ' // fmt(x(i)) // ' does not exceed the previous value ' // &
+            name // '[' // format_int(i - 1) // '] = ' // fmt(x(i)) // ' does not exceed the previous value ' // &
             fmt(x(i-1)))
         return
       end if
@@ -241,13 +187,10 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in) :: n, min_size
     type(status_t), intent(inout) :: status
-    character(len=16) :: b1, b2
     if (status%code /= PENDULA_OK) return
     if (n < min_size) then
-      write (b1, '(i0)') n
-      write (b2, '(i0)') min_size
-      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // trim(b1) // &
-          ' element(s): it needs at least ' // trim(b2))
+      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
+          ' element(s): it needs at least ' // format_int(min_size))
     end if
   end subroutine check_size
 

@@ -24,6 +24,7 @@
 module pendula_linear_damped
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
+  use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_physics, only: pi
@@ -485,7 +486,6 @@ contains
     type(linear_damped_t) :: sol
     integer :: i, n
     logical :: fresh
-    character(len=16) :: ibuf
     theta = 0
     omega = 0
     n = size(t)
@@ -503,8 +503,7 @@ contains
         call linear_damped_init(sol, theta0(i), omega0(i), w0(i), gamma(i), status)
         if (status%code /= PENDULA_OK) then
           if (n > 1) then
-            write (ibuf, '(i0)') i - 1
-            status%message = trim(status%message) // ' (element ' // trim(ibuf) // ')'
+            status%message = trim(status%message) // ' (element ' // format_int(i - 1) // ')'
           end if
           theta = 0
           omega = 0
@@ -527,17 +526,14 @@ contains
     real(wp), intent(in) :: t(:)
     type(status_t), intent(inout) :: status
     integer :: i
-    character(len=16) :: ibuf
     if (status%code /= PENDULA_OK) return
     do i = 1, size(t)
       ! ieee_is_finite first: an ordered comparison with NaN may trap.
       if (.not. ieee_is_finite(t(i))) then
-        write (ibuf, '(i0)') i - 1
-        call check_finite('t[' // trim(ibuf) // ']', t(i), status)
+        call check_finite('t[' // format_int(i - 1) // ']', t(i), status)
         return
       else if (t(i) < 0) then
-        write (ibuf, '(i0)') i - 1
-        call check_nonnegative('t[' // trim(ibuf) // ']', t(i), status)
+        call check_nonnegative('t[' // format_int(i - 1) // ']', t(i), status)
         return
       end if
     end do

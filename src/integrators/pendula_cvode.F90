@@ -25,6 +25,7 @@ module pendula_cvode
   use, intrinsic :: iso_c_binding
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, PENDULA_OK, &
       PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
@@ -178,10 +179,10 @@ contains
     call check_positive('rtol', rtol, status)
     call check_nonnegative('atol', atol, status)
     if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // itoa(int(method, i8)) // &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // format_int(method) // &
             ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
     if (status%code == PENDULA_OK .and. max_steps < 1) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // itoa(max_steps) // &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_int(max_steps) // &
             ' is out of range: it must be >= 1')
     call check_output_size('theta', size(theta), nt, status)
     call check_output_size('omega', size(omega), nt, status)
@@ -241,6 +242,8 @@ contains
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: CVodeCreate could not allocate the solver memory')
         exit setup
       end if
+      ! From here on every CVODE message goes to capture_error, never to stderr
+      ! (SUNDIALS would fprintf it): no stdio from threads, and the text is kept.
       ierr = FCVodeSetErrHandlerFn(cvode_mem, c_funloc(capture_error), c_loc(data))
       if (fail(ierr, 'CVodeSetErrHandlerFn')) exit setup
       ierr = FCVodeInit(cvode_mem, c_funloc(rhs), 0.0_c_double, y)
@@ -287,7 +290,7 @@ contains
         if (fail(ierr, 'CVodeGetNumSteps')) exit setup
         if (int(nst(1), i8) >= max_steps) then
           call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
-              itoa(max_steps) // ' before t = ' // rtoa(t(i)) // ': raise max_steps, loosen rtol/atol,' // &
+              format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
               ' or use method BDF if the problem is stiff')
           exit setup
         end if
@@ -295,7 +298,7 @@ contains
         if (fail(ierr, 'CVodeSetMaxNumSteps')) exit setup
         ierr = FCVode(cvode_mem, merge(tau_end, tau(t(i)), i == nt), y, tret, CV_NORMAL)
         if (ierr < 0 .and. data%cancelled) then
-          call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // rtoa(t(i)) // &
+          call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // format_sci(t(i), 8) // &
               ' (interrupted by the caller)')
           exit setup
         end if
@@ -318,7 +321,7 @@ contains
         end if
         if (ierr == CV_TOO_MUCH_WORK) then
           call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
-              itoa(max_steps) // ' before t = ' // rtoa(t(i)) // ': raise max_steps, loosen rtol/atol,' // &
+              format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
               ' or use method BDF if the problem is stiff')
           exit setup
         end if
@@ -345,14 +348,14 @@ contains
     if (associated(ls)) then
       ierr = FSUNLinSolFree(ls)
       if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag ' // &
-          itoa(int(ierr, i8)))
+          format_int(ierr))
     end if
     if (associated(amat)) call FSUNMatDestroy(amat)
     if (associated(y)) call FN_VDestroy(y)
     if (c_associated(ctx)) then
       ierr = FSUNContext_Free(ctx)
       if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag ' // &
-          itoa(int(ierr, i8)))
+          format_int(ierr))
     end if
 
   contains
@@ -368,7 +371,7 @@ contains
       if (len(why) == 0) why = flag_meaning(flag)
       if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
       call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
-          itoa(int(flag, i8)) // ' (' // flag_name(flag) // '): ' // why)
+          format_int(flag) // ' (' // flag_name(flag) // '): ' // why)
     end function fail
 
     !> An output time in CVODE's time tau (exact for t within a factor 2 of t(1)).
@@ -405,7 +408,7 @@ contains
       dest = 0
       if (flag < 0) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
-            itoa(int(flag, i8)) // ' (' // flag_name(flag) // ')')
+            format_int(flag) // ' (' // flag_name(flag) // ')')
       else
         dest = int(v(1), i8)
       end if
@@ -561,7 +564,7 @@ contains
     case (CV_NO_MALLOC);          s = 'CV_NO_MALLOC'
     case (CV_BAD_T);              s = 'CV_BAD_T'
     case (CV_TOO_CLOSE);          s = 'CV_TOO_CLOSE'
-    case default;                 s = 'flag ' // itoa(int(flag, i8))
+    case default;                 s = 'flag ' // format_int(flag)
     end select
   end function flag_name
 
@@ -577,22 +580,6 @@ contains
     case default;             s = 'see the SUNDIALS CVODE documentation'
     end select
   end function flag_meaning
-
-  pure function itoa(n) result(s)
-    integer(i8), intent(in) :: n
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write (buf, '(i0)') n
-    s = trim(buf)
-  end function itoa
-
-  pure function rtoa(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    write (buf, '(es14.7)') x
-    s = trim(adjustl(buf))
-  end function rtoa
 
 end module pendula_cvode
 #else

@@ -5,6 +5,7 @@
 !> checks common to RK4 and CVODE.
 module pendula_ode
   use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_SIZE
   implicit none
@@ -94,13 +95,10 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in) :: m, n
     type(status_t), intent(inout) :: status
-    character(len=16) :: b1, b2
     if (status%code /= PENDULA_OK) return
     if (m /= n) then
-      write (b1, '(i0)') m
-      write (b2, '(i0)') n
-      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // trim(b1) // &
-          ' element(s): it must have one per output time, size(t) = ' // trim(b2))
+      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(m) // &
+          ' element(s): it must have one per output time, size(t) = ' // format_int(n))
     end if
   end subroutine check_output_size
 

@@ -13,6 +13,7 @@
 !> step in the message, instead of returning an exploding solution.
 module pendula_rk4
   use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_short
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, PENDULA_OK, &
       PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
@@ -142,9 +143,9 @@ contains
       end if
       total = total + dt * hinv   ! a bound only: no need for the division
       if (total > max_total_steps) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 'h = ' // num(h) // ' is too small for the window t = ' // &
-            num(t(1)) // ' .. ' // num(t(size(t))) // ': RK4 needs more than max_steps = ' // &
-            num(max_total_steps) // ' steps (2e9 ~ 1 min of CPU); use a larger h, a shorter window,' // &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'h = ' // format_short(h) // ' is too small for the window t = ' // &
+            format_short(t(1)) // ' .. ' // format_short(t(size(t))) // ': RK4 needs more than max_steps = ' // &
+            format_short(max_total_steps) // ' steps (2e9 ~ 1 min of CPU); use a larger h, a shorter window,' // &
             ' or raise max_steps')
         return
       end if
@@ -159,43 +160,12 @@ contains
     if (h_used * max(abs(lam1), abs(lam2)) <= 2.6_wp) return
     call rk4_max_stable_step(w0, gamma, h_max, st2)
     if (h_used > h_max) then
-      call set_error(status, PENDULA_ERR_UNSTABLE, 'h = ' // num(h) // ' is unstable for RK4 with w0 = ' // &
-          num(w0) // ', gamma = ' // num(gamma) // ' (substep ' // num(h_used) // &
+      call set_error(status, PENDULA_ERR_UNSTABLE, 'h = ' // format_short(h) // ' is unstable for RK4 with w0 = ' // &
+          format_short(w0) // ', gamma = ' // format_short(gamma) // ' (substep ' // format_short(h_used) // &
           '): h*lambda leaves the stability region for the eigenvalues lambda of the linearisation' // &
-          ' about theta = 0; the largest stable h is ' // num(h_max) // ' (or use CVODE BDF)')
+          ' about theta = 0; the largest stable h is ' // format_short(h_max) // ' (or use CVODE BDF)')
     end if
   end subroutine check_step
-
-  !> Short text of a real for messages (6 significant digits).
-  pure function num(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    if (x == 0) then
-      s = '0'
-      return
-    end if
-    if (abs(x) >= 1.0e-3_wp .and. abs(x) < 1.0e6_wp) then
-      write (buf, '(f0.6)') x
-      s = trim(buf)
-      do while (s(len(s):len(s)) == '0')
-        s = s(1:len(s)-1)
-      end do
-      if (s(len(s):len(s)) == '.') s = s(1:len(s)-1)
-      if (s(1:1) == '.') then
-        s = '0' // s
-      else if (len(s) >= 2) then
-        if (s(1:2) == '-.') s = '-0' // s(2:)
-      end if
-    else if (abs(x) < 1.0e100_wp .and. abs(x) >= 1.0e-99_wp) then
-      write (buf, '(es12.5)') x
-      s = trim(adjustl(buf))
-    else
-      ! a three-digit exponent needs its own field, or the E is dropped
-      write (buf, '(es13.5e3)') x
-      s = trim(adjustl(buf))
-    end if
-  end function num
 
   !> Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with classic RK4
   !> and return theta(i) [rad], omega(i) [rad/s] at the output times t(i) [s].
@@ -226,7 +196,7 @@ contains
     budget = real(RK4_DEFAULT_MAX_STEPS, wp)
     if (present(max_steps)) then
       budget = real(max_steps, wp)
-      if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // num(budget) // &
+      if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_short(budget) // &
           ' is out of range: it must be >= 1')
     end if
     call check_problem(t, theta0, omega0, w0, gamma, status)
@@ -245,12 +215,12 @@ contains
     stats%steps = steps
     stats%rhs_evals = 4 * steps
     if (bad < 0) then
-      call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // num(t(-bad)) // &
+      call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // format_short(t(-bad)) // &
           ' (interrupted by the caller)')
       theta = 0
       omega = 0
     else if (bad > 0) then
-      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // num(t(bad)))
+      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // format_short(t(bad)))
       theta = 0
       omega = 0
     end if
@@ -284,7 +254,7 @@ contains
       return
     end if
     if (t_end < t0) then
-      call set_error(status, PENDULA_ERR_ORDER, 't_end = ' // num(t_end) // ' must not precede t0 = ' // num(t0))
+      call set_error(status, PENDULA_ERR_ORDER, 't_end = ' // format_short(t_end) // ' must not precede t0 = ' // format_short(t0))
       return
     end if
     call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status, control, max_steps)

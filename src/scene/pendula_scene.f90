@@ -31,6 +31,7 @@
 module pendula_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
       check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, &
       PENDULA_ERR_SIZE, PENDULA_MSG_LEN, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
@@ -247,8 +248,8 @@ contains
       end if
       if (present(gamma_in)) then
         if (abs(gb - gamma_in) > 1.0e-12_wp * max(gb, gamma_in)) then
-          call set_error(status, PENDULA_ERR_DOMAIN, 'gamma = ' // num(gamma_in) // &
-              ' and b/mass = ' // num(gb) // ' disagree: give gamma, or mass and b, not both')
+          call set_error(status, PENDULA_ERR_DOMAIN, 'gamma = ' // format_sci(gamma_in, 4) // &
+              ' and b/mass = ' // format_sci(gb, 4) // ' disagree: give gamma, or mass and b, not both')
           return
         end if
       end if
@@ -277,12 +278,12 @@ contains
     call check_positive('tol', tol, status)
     if (status%code /= PENDULA_OK) return
     if (want < SCENE_WANT_STATE .or. want > SCENE_WANT_EVENTS) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'want = ' // inum(want) // ' is unknown: it must be ' // &
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = ' // format_int(want) // ' is unknown: it must be ' // &
           'one of state (1), theta (2), final (3), energy (4), period (5), events (6)')
       return
     end if
     if (mdl < SCENE_MODEL_AUTO .or. mdl > SCENE_MODEL_CVODE) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // inum(mdl) // ' is unknown: it must be ' // &
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // format_int(mdl) // ' is unknown: it must be ' // &
           'one of auto (0), small_angle (1), exact (2), linear (3), rk4 (4), cvode (5)')
       return
     end if
@@ -291,19 +292,19 @@ contains
     if (status%code /= PENDULA_OK) return
     if (size(t) > 0) then
       if (t(1) < 0) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 't[0] = ' // num(t(1)) // &
+        call set_error(status, PENDULA_ERR_DOMAIN, 't[0] = ' // format_sci(t(1), 4) // &
             ' is out of range: output times must be >= 0 (the initial state holds at t = 0)')
         return
       end if
     end if
     if (want == SCENE_WANT_PERIOD .and. gamma > 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'want = period needs gamma = 0 (gamma = ' // num(gamma) // &
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = period needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // &
           ': the damped motion is not periodic); use want = events for its turning points')
       return
     end if
     if (gamma > 0 .and. (mdl == SCENE_MODEL_SMALL_ANGLE .or. mdl == SCENE_MODEL_EXACT)) then
       call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // scene_model_name(mdl) // &
-          ' needs gamma = 0 (gamma = ' // num(gamma) // '): use linear, rk4 or cvode')
+          ' needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // '): use linear, rk4 or cvode')
       return
     end if
     scene%theta0 = theta0
@@ -368,7 +369,7 @@ contains
     result%want = scene%want
     result%tol_met = result%error_estimate <= scene%tol
     if (.not. result%tol_met) then
-      why = why // '; tol NOT met: error estimate ' // num(result%error_estimate) // ' > tol'
+      why = why // '; tol NOT met: error estimate ' // format_sci(result%error_estimate, 4) // ' > tol'
     end if
     result%reason = why
     call system_clock(c1)
@@ -397,7 +398,7 @@ contains
     call check_scene(scene, status)
     call get_budget(budget, status, max_steps)
     if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_CVODE) call set_error(status, &
-        PENDULA_ERR_DOMAIN, 'model = ' // inum(model) // ' is unknown: it must be small_angle (1), ' // &
+        PENDULA_ERR_DOMAIN, 'model = ' // format_int(model) // ' is unknown: it must be small_angle (1), ' // &
         'exact (2), linear (3), rk4 (4) or cvode (5)')
     if (status%code /= PENDULA_OK) return
     if (scene%gamma > 0 .and. (model == SCENE_MODEL_SMALL_ANGLE .or. model == SCENE_MODEL_EXACT)) then
@@ -415,9 +416,9 @@ contains
       call check_positive('setting', setting, status)
       if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_RK4 .and. tend / setting > budget) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // num(setting) // ' is too small: ' // &
-            'the RK4 step h would need more than max_steps = ' // num(budget) // ' steps over t = 0 .. ' // &
-            num(tend) // ' (raise max_steps to allow it)')
+        call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // format_sci(setting, 4) // ' is too small: ' // &
+            'the RK4 step h would need more than max_steps = ' // format_sci(budget, 4) // ' steps over t = 0 .. ' // &
+            format_sci(tend, 4) // ' (raise max_steps to allow it)')
         return
       end if
       call alloc_outputs(scene, result)
@@ -474,7 +475,7 @@ contains
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       estimate = scene%tol
     case default
-      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // inum(model) // ' is unknown')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // format_int(model) // ' is unknown')
     end select
   end subroutine scene_estimate
 
@@ -488,7 +489,7 @@ contains
     budget = RK4_STEP_CAP
     if (.not. present(max_steps)) return
     budget = real(max_steps, wp)
-    if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // num(budget) // &
+    if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_sci(budget, 4) // &
         ' is out of range: it must be >= 1')
   end subroutine get_budget
 
@@ -533,12 +534,12 @@ contains
       else if (e_sa <= scene%tol) then
         model = SCENE_MODEL_SMALL_ANGLE
         est = e_sa
-        why = 'gamma = 0 and the small-angle bound over the window, ' // num(e_sa) // &
+        why = 'gamma = 0 and the small-angle bound over the window, ' // format_sci(e_sa, 4) // &
             ' rad, is <= tol'
       else
         model = SCENE_MODEL_EXACT
         est = e_ex
-        why = 'gamma = 0 and the small-angle bound ' // num(e_sa) // ' rad exceeds tol: exact ' // &
+        why = 'gamma = 0 and the small-angle bound ' // format_sci(e_sa, 4) // ' rad exceeds tol: exact ' // &
             'elliptic solution'
       end if
       return
@@ -548,7 +549,7 @@ contains
       model = SCENE_MODEL_LINEAR
       est = e_lin
       why = 'gamma > 0 and the nonlinearity estimate of the linear closed form over the window, ' // &
-          num(e_lin) // ' rad, is <= tol'
+          format_sci(e_lin, 4) // ' rad, is <= tol'
       return
     end if
     est = scene%tol
@@ -568,12 +569,12 @@ contains
     if (cvode_available() .and. (nsteps > RK4_STEP_LIMIT .or. rk4_round > scene%tol / 4 .or. &
         (is_stiff(scene) .and. nsteps > 1.0e4_wp))) then
       model = SCENE_MODEL_CVODE
-      why = 'gamma > 0, the linear model is off by ~' // num(e_lin) // ' rad; RK4 would need ~' // &
-          num(nsteps) // ' steps (rounding ~' // num(rk4_round) // ' rad), so CVODE (' // &
+      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
+          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad), so CVODE (' // &
           trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
           ') with tolerances from tol and the window, verified by a run 10x tighter'
     else
-      why = 'gamma > 0, the linear model is off by ~' // num(e_lin) // ' rad: RK4 with h from ' // &
+      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad: RK4 with h from ' // &
           'tol and the window (C h^4 T), verified by a run at 2h'
     end if
   end subroutine choose_model
@@ -1124,9 +1125,9 @@ contains
     do it = 1, MAX_REFINE
       ! the run at h and its check at 2h: 1.5 tend/h steps
       if (1.5_wp * tend / h > budget) then
-        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 needs ~' // num(1.5_wp * tend / h) // &
-            ' steps for tol = ' // num(scene%tol) // ' over t = 0 .. ' // num(tend) // &
-            ', over max_steps = ' // num(budget) // ' (2e9 ~ 1 min): use cvode, a larger tol,' // &
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 needs ~' // format_sci(1.5_wp * tend / h, 4) // &
+            ' steps for tol = ' // format_sci(scene%tol, 4) // ' over t = 0 .. ' // format_sci(tend, 4) // &
+            ', over max_steps = ' // format_sci(budget, 4) // ' (2e9 ~ 1 min): use cvode, a larger tol,' // &
             ' a shorter window, or raise max_steps')
         return
       end if
@@ -1203,7 +1204,7 @@ contains
       ! each short run polls only every 4096 steps of its own: look between runs too
       if (present(control)) then
         if (cancel_requested(control)) then
-          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // num(t0) // &
+          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // format_sci(t0, 4) // &
               ' (interrupted by the caller)')
           return
         end if
@@ -1262,9 +1263,9 @@ contains
     if (.not. is_stiff(scene) .and. scene%gamma < 2 * scene%w0) then
       predicted = 2 * CVODE_MIN_STEPS_PER_PERIOD * periods * CVODE_STEP_COST
       if (predicted > budget) then
-        call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // num(tend) // ' spans ~' // &
-            num(periods) // ' periods: CVODE needs > ~' // num(predicted / CVODE_STEP_COST) // &
-            ' steps, over the budget max_steps = ' // num(budget) // ' (RK4 steps, a CVODE step counts' // &
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // format_sci(tend, 4) // ' spans ~' // &
+            format_sci(periods, 4) // ' periods: CVODE needs > ~' // format_sci(predicted / CVODE_STEP_COST, 4) // &
+            ' steps, over the budget max_steps = ' // format_sci(budget, 4) // ' (RK4 steps, a CVODE step counts' // &
             ' 20; 2e9 ~ 1 min): shorten the window or raise max_steps')
         return
       end if
@@ -1417,32 +1418,5 @@ contains
       r = exp(x) - 1
     end if
   end function expm1
-
-  ! ------------------------------------------------------------ formatting
-
-  pure function num(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    if (.not. ieee_is_finite(x)) then
-      s = merge('+inf', 'nan ', x > 0)
-      s = trim(s)
-      return
-    end if
-    if (x == 0 .or. (abs(x) > 1.0e-99_wp .and. abs(x) < 1.0e99_wp)) then
-      write (buf, '(es10.3)') x
-    else
-      write (buf, '(es12.3e3)') x      ! three exponent digits: es10.3 would drop the 'E'
-    end if
-    s = trim(adjustl(buf))
-  end function num
-
-  pure function inum(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function inum
 
 end module pendula_scene
