@@ -21,6 +21,7 @@ module pendula_rk4
   implicit none
   private
   public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
+  public :: check_step   ! the batch driver (pendula_rk4_batch) validates each state's h with it
 
   !> Refuse windows that need more steps than this (about 30 days of CPU).
   real(wp), parameter :: max_total_steps = 1.0e15_wp

@@ -26,6 +26,9 @@ module pendula_rk4_kernel
   private
   public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
   public :: stage_rmax, stage_xmax
+  ! the node tables and reduction constants, for the batch kernel's own copy
+  ! of the step (pendula_rk4_batch: the same operations, across states)
+  public :: nnodes, node_sin, node_cos, taylor, node_p1, node_p2, node_p3, nodes_per_radian
 
   !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
   !> that the fast step reduces (k*node_p1, k*node_p2 stay exact).
