@@ -109,8 +109,7 @@ contains
       call check_step(t, w0(at(w0, i)), gamma(at(gamma, i)), h(at(h, i)), st)
       codes(i) = st%code
       steps(i) = 0
-      theta(:, i) = 0
-      omega(:, i) = 0
+      ! outputs are written by the blocks, and zeroed below for failed states
       if (st%code == PENDULA_OK) then
         nlive = nlive + 1
         live(nlive) = i
@@ -288,20 +287,27 @@ contains
       do i = 1, nmax
         call fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1, &
             yn, un, rn, kn, okv)
-        do l = 1, nl
-          if (.not. okv(l) .and. i <= nsub(l)) then
-            call plain_step(y(l), u(l), wsq(l), gam(l), hs(l), half(l), sixth(l), c6(l), yn(l), un(l))
-            call node_reduce(yn(l), kn(l), rn(l))
-          end if
-        end do
-        do l = 1, nl
-          if (i <= nsub(l)) then
-            y(l) = yn(l)
-            u(l) = un(l)
-            rh(l) = rn(l)
-            kk(l) = kn(l)
-          end if
-        end do
+        if (.not. all(okv)) then
+          do l = 1, nl
+            if (.not. okv(l) .and. i <= nsub(l)) then
+              call plain_step(y(l), u(l), wsq(l), gam(l), hs(l), half(l), sixth(l), c6(l), yn(l), un(l))
+              call node_reduce(yn(l), kn(l), rn(l))
+            end if
+          end do
+        end if
+        if (uniform) then
+          y = yn
+          u = un
+          rh = rn
+          kk = kn
+        else
+          where (i <= nsub)
+            y = yn
+            u = un
+            rh = rn
+            kk = kn
+          end where
+        end if
       end do
       ns = ns + nsub
       do l = 1, nb
@@ -341,6 +347,9 @@ contains
   !> operations).  okv(l) is false where that lane must take the plain step
   !> instead; such lanes are computed on a neutral state (0, 0) so that no
   !> operation sees a huge argument, and their results are discarded.
+  !> Two loops: the table rows are gathered lane by lane first (SSE2 has no
+  !> gather), then the arithmetic runs as one branch-free loop over lanes,
+  !> which gcc vectorises.
   pure subroutine fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
       bu0, bu1, yn, un, rn, kn, okv)
     real(wp), dimension(nl), intent(in) :: y, u, rh, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
@@ -349,39 +358,47 @@ contains
     real(wp), dimension(nl), intent(out) :: yn, un, rn
     integer, dimension(nl), intent(out) :: kn
     logical, dimension(nl), intent(out) :: okv
-    real(wp) :: yv, uv, rv, p2, p4, a4, kfn, kp23, sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9
+    real(wp), dimension(nl) :: sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, ys, us, rs, q2, q3, q4, qa
+    real(wp) :: yv, uv, rv, p2, p4, a4, kfn, kp23
     real(wp) :: r2, r3, r4, k1, k2, m2, m3, s1, s2, s3, s4, dy, z, zz
     integer :: l, ik
-    logical :: ok0
+    logical :: ok0(nl)
     do l = 1, nl
-      ok0 = abs(rh(l)) <= stage_rmax .and. abs(u(l)) * bu1(l) + bu0(l) <= 1
-      yv = merge(y(l), 0.0_wp, ok0)
-      uv = merge(u(l), 0.0_wp, ok0)
-      rv = merge(rh(l), 0.0_wp, ok0)
+      ok0(l) = abs(rh(l)) <= stage_rmax .and. abs(u(l)) * bu1(l) + bu0(l) <= 1
+      ys(l) = merge(y(l), 0.0_wp, ok0(l))
+      us(l) = merge(u(l), 0.0_wp, ok0(l))
+      rs(l) = merge(rh(l), 0.0_wp, ok0(l))
+      ik = iand(kk(l), nnodes - 1)
+      sk(l) = node_sin(ik)
+      ck(l) = node_cos(ik)
+      c2(l) = taylor(2, ik)
+      c3(l) = taylor(3, ik)
+      c4(l) = taylor(4, ik)
+      c5(l) = taylor(5, ik)
+      c6t(l) = taylor(6, ik)
+      c7(l) = taylor(7, ik)
+      c8(l) = taylor(8, ik)
+      c9(l) = taylor(9, ik)
+    end do
+    do l = 1, nl
+      yv = ys(l)
+      uv = us(l)
+      rv = rs(l)
       p2 = half(l) * uv
       p4 = hs(l) * uv
-      ik = iand(kk(l), nnodes - 1)
-      sk = node_sin(ik)
-      ck = node_cos(ik)
-      c2 = taylor(2, ik)
-      c3 = taylor(3, ik)
-      c4 = taylor(4, ik)
-      c5 = taylor(5, ik)
-      c6t = taylor(6, ik)
-      c7 = taylor(7, ik)
-      c8 = taylor(8, ik)
-      c9 = taylor(9, ik)
       a4 = yv + p4
-      kfn = anint((a4 + p2) * nodes_per_radian)
+      kfn = round_away((a4 + p2) * nodes_per_radian)
       kp23 = kfn * node_p2 + kfn * node_p3
       r2 = rv + p2
       ! the stage sines: pendula_rk4_kernel's sin_taylor, written out
       z = rv * rv
       zz = z * z
-      s1 = ((sk + ck * rv) + z * (c2 + c3 * rv)) + zz * (((c4 + c5 * rv) + z * (c6t + c7 * rv)) + zz * (c8 + c9 * rv))
+      s1 = ((sk(l) + ck(l) * rv) + z * (c2(l) + c3(l) * rv)) + zz * (((c4(l) + c5(l) * rv) + z * (c6t(l) &
+          + c7(l) * rv)) + zz * (c8(l) + c9(l) * rv))
       z = r2 * r2
       zz = z * z
-      s2 = ((sk + ck * r2) + z * (c2 + c3 * r2)) + zz * (((c4 + c5 * r2) + z * (c6t + c7 * r2)) + zz * (c8 + c9 * r2))
+      s2 = ((sk(l) + ck(l) * r2) + z * (c2(l) + c3(l) * r2)) + zz * (((c4(l) + c5(l) * r2) + z * (c6t(l) &
+          + c7(l) * r2)) + zz * (c8(l) + c9(l) * r2))
       k1 = -gam(l) * uv - wsq(l) * s1
       r3 = (r2 - h2q(l) * gam(l) * uv) - w1(l) * s1
       m2 = uv + half(l) * k1
@@ -389,19 +406,44 @@ contains
       k2 = -gam(l) * m2 - wsq(l) * s2
       z = r3 * r3
       zz = z * z
-      s3 = ((sk + ck * r3) + z * (c2 + c3 * r3)) + zz * (((c4 + c5 * r3) + z * (c6t + c7 * r3)) + zz * (c8 + c9 * r3))
+      s3 = ((sk(l) + ck(l) * r3) + z * (c2(l) + c3(l) * r3)) + zz * (((c4(l) + c5(l) * r3) + z * (c6t(l) &
+          + c7(l) * r3)) + zz * (c8(l) + c9(l) * r3))
       m3 = uv + half(l) * k2
       dy = (p4 + c6(l) * ((k1 + k2) - gam(l) * m3)) - cy(l) * s3
       yn(l) = yv + dy
       z = r4 * r4
       zz = z * z
-      s4 = ((sk + ck * r4) + z * (c2 + c3 * r4)) + zz * (((c4 + c5 * r4) + z * (c6t + c7 * r4)) + zz * (c8 + c9 * r4))
+      s4 = ((sk(l) + ck(l) * r4) + z * (c2(l) + c3(l) * r4)) + zz * (((c4(l) + c5(l) * r4) + z * (c6t(l) &
+          + c7(l) * r4)) + zz * (c8(l) + c9(l) * r4))
       un(l) = uv + (((sixth(l) * ((k1 + 2 * k2) - gam(l) * uv - g2(l) * m3)) - wa(l) * s3) - wb(l) * s4)
       rn(l) = ((yv - kfn * node_p1) - kp23) + dy
       kn(l) = int(kfn)
-      okv(l) = ok0 .and. max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
+      q2(l) = r2
+      q3(l) = r3
+      q4(l) = r4
+      qa(l) = a4
+    end do
+    ! (a NaN offset fails here but passes rk4_grid's max(); either way the
+    ! state is non-finite from this step on and reported the same)
+    do l = 1, nl
+      okv(l) = ok0(l) .and. abs(q2(l)) <= stage_rmax .and. abs(q3(l)) <= stage_rmax .and. &
+          abs(q4(l)) <= stage_rmax .and. abs(qa(l)) <= stage_xmax
     end do
   end subroutine fast_step
+
+  !> anint(x) (nearest integer, halves away from zero) for |x| < 2**51
+  !> without a call to libm's round (baseline x86-64 has no rounding
+  !> instruction, and a call stops vectorisation): adding and subtracting
+  !> 2**52 rounds |x| to nearest-even exactly; a half rounded down is put up.
+  elemental real(wp) function round_away(x) result(r)
+    real(wp), intent(in) :: x
+    real(wp), parameter :: two52 = 4503599627370496.0_wp
+    real(wp) :: ax
+    ax = abs(x)
+    r = (ax + two52) - two52
+    r = merge(r + 1, r, r - ax == -0.5_wp)
+    r = sign(r, x)
+  end function round_away
 
   !> rk4_grid's plain step (libm sines of the rounded stage arguments), for
   !> one lane whose stage offsets leave the table's range.
