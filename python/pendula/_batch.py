@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _ensemble
-from ._arrays import as_real
+from ._arrays import as_real, broadcast_real
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
 
 
@@ -50,11 +50,6 @@ def _threads(threads):
     return int(threads)
 
 
-def _flat(a, shape):
-    # A parameter shared by every state goes to Fortran as one element.
-    return a.reshape(1) if a.size == 1 else np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1)
-
-
 def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     """RK4 (as ``pendula.rk4``) for a batch of states over one output grid.
 
@@ -76,22 +71,15 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
         raise ValueError(f"t must be a 1-D array of output times, got an array of shape {tt.shape}")
     if tt.size < 1:
         raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
-    named = {"theta0": theta0, "omega0": omega0, "w0": w0, "gamma": gamma, "h": h}
-    arrays = {k: as_real(v, k) for k, v in named.items()}
-    try:
-        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
-    except ValueError:
-        shapes = ", ".join(f"{k}{a.shape}" for k, a in arrays.items())
-        raise ValueError(f"arguments cannot be broadcast together: {shapes}") from None
+    shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)
     nthreads = _threads(threads)
     if control is None:
         control = np.zeros(2, dtype=np.int64)
     elif not (isinstance(control, np.ndarray) and control.dtype == np.int64 and control.shape == (2,)
               and control.flags.c_contiguous and control.flags.writeable):
         raise TypeError("control must be a writeable contiguous int64 numpy array of shape (2,)")
-    th0 = np.ascontiguousarray(np.broadcast_to(arrays["theta0"], shape)).reshape(-1)
-    rest = [_flat(arrays[k], shape) for k in ("omega0", "w0", "gamma", "h")]
-    theta, omega, codes, steps, first, code, msg = _ensemble.rk4_batch_f2py(tt, th0, *rest, nthreads, control)
+    theta, omega, codes, steps, first, code, msg = _ensemble.rk4_batch_f2py(
+        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), nthreads, control)
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)   # the call itself was refused
