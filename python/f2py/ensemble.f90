@@ -37,6 +37,7 @@ subroutine rk4_batch_openmp_f2py(flag)
   use, intrinsic :: iso_c_binding, only: c_int
   use pendula_rk4_batch, only: rk4_batch_openmp
   implicit none
+  !f2py threadsafe
   integer(c_int), intent(out) :: flag
   flag = merge(1, 0, rk4_batch_openmp())
 end subroutine rk4_batch_openmp_f2py
