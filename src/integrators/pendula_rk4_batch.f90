@@ -358,16 +358,15 @@ contains
     real(wp), dimension(nl), intent(out) :: yn, un, rn
     integer, dimension(nl), intent(out) :: kn
     logical, dimension(nl), intent(out) :: okv
-    real(wp), dimension(nl) :: sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, ys, us, rs, q2, q3, q4, qa
+    real(wp), dimension(nl) :: sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9
     real(wp) :: yv, uv, rv, p2, p4, a4, kfn, kp23
     real(wp) :: r2, r3, r4, k1, k2, m2, m3, s1, s2, s3, s4, dy, z, zz
     integer :: l, ik
-    logical :: ok0(nl)
+    ! The path tests are 0/1 reals built by merges of locals: gfortran turns
+    ! .and. (and merges of array elements) into branches, which stop
+    ! vectorisation, while these become vector selects.
+    real(wp) :: ok0, oki(nl), bnd
     do l = 1, nl
-      ok0(l) = abs(rh(l)) <= stage_rmax .and. abs(u(l)) * bu1(l) + bu0(l) <= 1
-      ys(l) = merge(y(l), 0.0_wp, ok0(l))
-      us(l) = merge(u(l), 0.0_wp, ok0(l))
-      rs(l) = merge(rh(l), 0.0_wp, ok0(l))
       ik = iand(kk(l), nnodes - 1)
       sk(l) = node_sin(ik)
       ck(l) = node_cos(ik)
@@ -381,9 +380,15 @@ contains
       c9(l) = taylor(9, ik)
     end do
     do l = 1, nl
-      yv = ys(l)
-      uv = us(l)
-      rv = rs(l)
+      yv = y(l)
+      uv = u(l)
+      rv = rh(l)
+      bnd = abs(uv) * bu1(l) + bu0(l)
+      ok0 = merge(1.0_wp, 0.0_wp, bnd <= 1)
+      ok0 = merge(ok0, 0.0_wp, abs(rv) <= stage_rmax)
+      yv = merge(yv, 0.0_wp, ok0 == 1)
+      uv = merge(uv, 0.0_wp, ok0 == 1)
+      rv = merge(rv, 0.0_wp, ok0 == 1)
       p2 = half(l) * uv
       p4 = hs(l) * uv
       a4 = yv + p4
@@ -418,17 +423,14 @@ contains
       un(l) = uv + (((sixth(l) * ((k1 + 2 * k2) - gam(l) * uv - g2(l) * m3)) - wa(l) * s3) - wb(l) * s4)
       rn(l) = ((yv - kfn * node_p1) - kp23) + dy
       kn(l) = int(kfn)
-      q2(l) = r2
-      q3(l) = r3
-      q4(l) = r4
-      qa(l) = a4
+      ! (a NaN offset fails here but passes rk4_grid's max(); either way the
+      ! state is non-finite from this step on and reported the same)
+      oki(l) = merge(ok0, 0.0_wp, abs(a4) <= stage_xmax)
+      oki(l) = merge(oki(l), 0.0_wp, abs(r4) <= stage_rmax)
+      oki(l) = merge(oki(l), 0.0_wp, abs(r3) <= stage_rmax)
+      oki(l) = merge(oki(l), 0.0_wp, abs(r2) <= stage_rmax)
     end do
-    ! (a NaN offset fails here but passes rk4_grid's max(); either way the
-    ! state is non-finite from this step on and reported the same)
-    do l = 1, nl
-      okv(l) = ok0(l) .and. abs(q2(l)) <= stage_rmax .and. abs(q3(l)) <= stage_rmax .and. &
-          abs(q4(l)) <= stage_rmax .and. abs(qa(l)) <= stage_xmax
-    end do
+    okv = oki == 1
   end subroutine fast_step
 
   !> anint(x) (nearest integer, halves away from zero) for |x| < 2**51
