@@ -231,6 +231,7 @@ contains
     integer, dimension(nl) :: kk, kn
     integer(i8), dimension(nl) :: nsub, ns
     logical, dimension(nl) :: okv, dead
+    real(wp) :: fin(nl)
     integer :: nb, l, j, s
     integer(i8) :: i, nmax, m, work
     real(wp) :: dt, hm
@@ -312,21 +313,28 @@ contains
       ns = ns + nsub
       do l = 1, nb
         if (dead(l)) cycle
-        s = idx(l)
-        theta(j+1, s) = y(l)
-        omega(j+1, s) = u(l)
-        if (.not. (abs(y(l)) <= huge(y) .and. abs(u(l)) <= huge(u))) then
-          ! rk4_grid stops here and rk4_solve reports it; this lane stops too
-          dead(l) = .true.
-          codes(s) = PENDULA_ERR_SOLVER
-        end if
+        theta(j+1, idx(l)) = y(l)
+        omega(j+1, idx(l)) = u(l)
       end do
-      where (dead)
-        y = 0
-        u = 0
-        rh = 0
-        kk = 0
-      end where
+      ! rk4_grid stops at the first output that is not finite and rk4_solve
+      ! reports it; such a lane stops too.  One branch-free test per block.
+      do l = 1, nl
+        fin(l) = merge(merge(1.0_wp, 0.0_wp, abs(u(l)) <= huge(u)), 0.0_wp, abs(y(l)) <= huge(y))
+      end do
+      if (minval(fin) < 1) then
+        do l = 1, nl
+          if (fin(l) < 1 .and. .not. dead(l)) then
+            dead(l) = .true.
+            if (l <= nb) codes(idx(l)) = PENDULA_ERR_SOLVER
+          end if
+        end do
+        where (dead)
+          y = 0
+          u = 0
+          rh = 0
+          kk = 0
+        end where
+      end if
       if (present(control)) then
         work = work + max(nmax, 1_i8)
         if (work >= poll_every) then
