@@ -15,7 +15,7 @@
 !> offsets leave the table's range takes rk4_grid's plain libm step, alone.
 !>
 !> Blocks are spread over OpenMP threads (when built with -Dopenmp); a cancel
-!> flag (pendula_control) is polled about every 0.1 ms of work.
+!> flag (pendula_control) is polled about every 0.25 ms of work.
 module pendula_rk4_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
@@ -36,7 +36,7 @@ module pendula_rk4_batch
   !> two AVX quads of independent work in flight per instruction stream.
   integer, parameter :: RK4_BATCH_LANES = 8
   integer, parameter :: nl = RK4_BATCH_LANES
-  !> Lane-steps between two polls of the cancel flag (~0.1 ms).
+  !> Block steps (of nl lanes each) between two polls of the cancel flag (~0.25 ms).
   integer(i8), parameter :: poll_every = 2048
 
 contains
@@ -67,7 +67,7 @@ contains
   !> threads: OpenMP threads (0 = the OpenMP default, which honours
   !> OMP_NUM_THREADS; ignored in a build without OpenMP).  control (optional,
   !> pendula_control): control(CONTROL_CANCEL) /= 0 stops the call within
-  !> about 0.1 ms per thread; finished states keep their results and the
+  !> about 0.25 ms per thread; finished states keep their results and the
   !> unfinished ones get PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS)
   !> counts finished states.
   subroutine rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, steps, status, &
