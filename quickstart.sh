@@ -2,13 +2,15 @@
 # pendula quick start.  Installs what is missing, then:
 #   ./quickstart.sh run    the main job: example drivers, the text's figures and the
 #                          speed/accuracy report, all written to out/ (or $PENDULA_OUT)
-#   ./quickstart.sh test   every test: Fortran tests (meson test), the pkg-config
-#                          consumer test, then pytest on the installed package
+#   ./quickstart.sh test   every test: Fortran tests (meson test), the consumer
+#                          tests of every install route (pkg-config, CMake, meson
+#                          subproject, fpm), then pytest on the installed package
+#                          (the wheel route included)
 # Both are idempotent: a second run installs nothing and rebuilds only what changed.
 #
 # What "install what is missing" means:
 #   Debian packages  gfortran, pkg-config, libsundials-dev, libsundials-fortran-dev
-#                    (and valgrind for `test`), via apt-get (root, or sudo);
+#                    (and valgrind and cmake for `test`), via apt-get (root, or sudo);
 #   Python           a virtual environment .venv with requirements-dev.txt, and the
 #                    pendula package built from this tree with pip (meson-python).
 #   SUNDIALS         built once from Debian's source package, optimised, into
@@ -39,7 +41,7 @@ say() { printf '==> %s\n' "$*"; }
 # ---- 1. Debian packages ---------------------------------------------------------
 need_pkgs=(gfortran pkg-config)
 [ "$sundials" != disabled ] && need_pkgs+=(libsundials-dev libsundials-fortran-dev)
-[ "$sundials" = enabled ] && ! cmake --version >/dev/null 2>&1 && need_pkgs+=(cmake)
+{ [ "$sundials" = enabled ] || [ "$mode" = test ]; } && ! cmake --version >/dev/null 2>&1 && need_pkgs+=(cmake)
 [ "$sundials" = enabled ] && ! make --version >/dev/null 2>&1 && need_pkgs+=(make)
 [ "$sundials" = enabled ] && ! xz --version >/dev/null 2>&1 && need_pkgs+=(xz-utils)
 [ "$mode" = test ] && need_pkgs+=(valgrind)
@@ -60,6 +62,8 @@ if [ ! -x "$py" ]; then
   say "creating virtual environment .venv"
   python3 -m venv "$venv"
 fi
+# meson, ninja and fpm (the fpm consumer test) come from the environment
+export PATH="$venv/bin:$PATH"
 req_hash=$(sha256sum requirements-dev.txt | cut -c1-16)
 if [ "$(cat "$venv/.req-hash" 2>/dev/null)" != "$req_hash" ]; then
   say "installing Python requirements (requirements-dev.txt)"
@@ -129,10 +133,11 @@ if [ "$mode" = run ]; then
 fi
 
 # mode = test
-say "Fortran tests (meson test)"
+say "Fortran tests (meson test) and the consumer tests of the install routes"
 meson_dir build/test -Dpython=disabled
 ninja -C build/test >/dev/null
-meson test -C build/test --print-errorlogs --num-processes 2
+meson test -C build/test --print-errorlogs --num-processes 2 --no-suite consumer
+meson test -C build/test --print-errorlogs --suite consumer
 say "pytest on the installed package"
 cd /tmp
 PENDULA_BUILD_DIR="$here/build/test" MPLBACKEND=Agg "$py" -m pytest -c "$here/pytest.ini" \

@@ -2,7 +2,7 @@
 module pendula
   use pendula_kinds
   use pendula_status
-  use pendula_control
+  use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_physics
   ! <concern modules: one `use` line each, kept in architecture order>
   use pendula_elliptic

@@ -2,18 +2,18 @@
 ! c_double/c_int arguments, explicit-shape arrays, and a status code + message
 ! that the Python side turns into an exception.  No numerics here.
 
-subroutine natural_frequency_f2py(g, l, w0, code, msg)
+subroutine natural_frequency_f2py(g, length, w0, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t
   use pendula_physics, only: natural_frequency
   implicit none
   !f2py threadsafe
-  real(c_double), intent(in) :: g, l
+  real(c_double), intent(in) :: g, length
   real(c_double), intent(out) :: w0
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg
   type(status_t) :: st
-  call natural_frequency(g, l, w0, st)
+  call natural_frequency(g, length, w0, st)
   code = st%code
   msg = st%message
 end subroutine natural_frequency_f2py

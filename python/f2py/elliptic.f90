@@ -1,17 +1,20 @@
 ! f2py-facing layer for the elliptic concern (pendula_elliptic).  Plain
 ! subroutines over explicit-shape arrays; domain errors come back as NaN
 ! (documented in pendula_elliptic) and the Python side turns them into
-! ValueError.  No numerics here.
+! ValueError.  No numerics here.  The array routines' size check (status) cannot
+! fail here: every array is declared with the same n, so their status is not read.
 
 subroutine ellipk_f2py(n, m, k)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipk_array
+  use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: m(n)
   real(c_double), intent(out) :: k(n)
-  call ellipk_array(m, k)
+  type(status_t) :: status
+  call ellipk_array(m, k, status)
 end subroutine ellipk_f2py
 
 subroutine ellipkc_f2py(n, mc, k)
@@ -28,12 +31,14 @@ end subroutine ellipkc_f2py
 subroutine ellipe_f2py(n, m, e)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipe_array
+  use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: m(n)
   real(c_double), intent(out) :: e(n)
-  call ellipe_array(m, e)
+  type(status_t) :: status
+  call ellipe_array(m, e, status)
 end subroutine ellipe_f2py
 
 subroutine ellipec_f2py(n, mc, e)
@@ -76,30 +81,35 @@ end subroutine ellipfc_f2py
 subroutine ellipj_into_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipj_array
+  use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: u(n), m(n)
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
-  call ellipj_array(u, m, sn, cn, dn, ph)
+  type(status_t) :: status
+  call ellipj_array(u, m, sn, cn, dn, status, ph)
 end subroutine ellipj_into_f2py
 
 subroutine ellipjc_into_f2py(n, u, mc, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipjc_array
+  use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: u(n), mc(n)
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
-  call ellipjc_array(u, mc, sn, cn, dn, ph)
+  type(status_t) :: status
+  call ellipjc_array(u, mc, sn, cn, dn, status, ph)
 end subroutine ellipjc_into_f2py
 
 subroutine ellipj_plan_into_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_eval_array
+  use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
@@ -107,13 +117,15 @@ subroutine ellipj_plan_into_f2py(n, u, m, sn, cn, dn, ph)
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
   type(ellipj_plan_t) :: plan
+  type(status_t) :: status
   plan = ellipj_plan(m)
-  call ellipj_eval_array(plan, u, sn, cn, dn, ph)
+  call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
 end subroutine ellipj_plan_into_f2py
 
 subroutine ellipjc_plan_into_f2py(n, u, mc, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipj_plan_t, ellipj_planc, ellipj_eval_array
+  use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
@@ -121,6 +133,7 @@ subroutine ellipjc_plan_into_f2py(n, u, mc, sn, cn, dn, ph)
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
   type(ellipj_plan_t) :: plan
+  type(status_t) :: status
   plan = ellipj_planc(mc)
-  call ellipj_eval_array(plan, u, sn, cn, dn, ph)
+  call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
 end subroutine ellipjc_plan_into_f2py

@@ -1,25 +1,85 @@
 """Array plumbing between the Pythonic API and the f2py layer (no numerics).
 
+Every public function turns its real arguments into float64 through the one
+validation path here, so that a bad argument gets the same answer everywhere:
+TypeError naming the argument for something that is not real numbers (str,
+bytes, None, complex, bool, datetime64/timedelta64, objects), ValueError naming
+it for a ragged nested list or more elements than the Fortran core can index.
+
 ``as_real`` and ``broadcast_real`` turn user input into contiguous float64
 copies (so the Fortran core never sees, or modifies, a user's array), and
 ``restore`` gives back scalars for scalar input and arrays of the broadcast
 shape otherwise.
+
+Booleans are refused, scalar or array: NumPy would read True as 1.0, but a
+bool where a time, an angle or a parameter is wanted is a mistake (a flag
+passed in the wrong position), and accepting it in one place and not another
+made the answer depend on the path taken.
 """
 import numbers
 
 import numpy as np
 
+MAX_ELEMENTS = 2**31 - 1
+"""Most elements one call can take: f2py passes array sizes to Fortran as
+default (4-byte) integers, so a larger array would reach the core with a
+wrapped, negative size."""
+
+_KIND_WORDS = {"b": "a bool", "c": "complex", "m": "a timedelta64", "M": "a datetime64",
+               "U": "a str", "S": "bytes", "V": "a structured value", "O": "a Python object"}
+
+
+def _not_real(name, what):
+    return TypeError(f"{name} must be a real number or an array of real numbers, got {what}")
+
+
+def check_size(n, name):
+    """Refuse ``n`` elements for ``name`` when the Fortran core cannot index them."""
+    if n > MAX_ELEMENTS:
+        raise ValueError(f"{name} has {n} elements: at most 2**31 - 1 = {MAX_ELEMENTS} per call "
+                         f"(the Fortran core indexes with 4-byte integers); split the input")
+
+
+def as_array(x, name):
+    """``np.asarray(x)`` whose failures name the argument: ragged nested lists
+    (ValueError) and non-numeric input (TypeError).  Any numeric dtype passes;
+    callers check the kind they need.  Never copies a NumPy array."""
+    if isinstance(x, (str, bytes)) or x is None:
+        raise _not_real(name, type(x).__name__)
+    if isinstance(x, numbers.Integral) and not isinstance(x, (bool, np.bool_, np.integer)):
+        if not -2**63 <= x < 2**63:    # NumPy would make an object array of a huge int
+            try:
+                return np.asarray(float(x))
+            except OverflowError:
+                raise ValueError(f"{name} = {x} is out of range: it exceeds the largest double") from None
+    try:
+        arr = np.asarray(x)
+    except ValueError as exc:
+        if "inhomogeneous" in str(exc) or "sequence" in str(exc):
+            raise ValueError(f"{name} is a ragged nested sequence (rows of different lengths): it must be "
+                             f"a real number or a rectangular array of real numbers") from None
+        raise ValueError(f"{name} cannot be read as an array of real numbers: {exc}") from None
+    except TypeError as exc:
+        raise _not_real(name, f"{type(x).__name__} ({exc})") from None
+    check_size(arr.size, name)
+    return arr
+
+
+def _real_array(x, name):
+    """as_array, restricted to integer and floating dtypes."""
+    arr = as_array(x, name)
+    kind = arr.dtype.kind
+    if kind not in "iuf":
+        what = _KIND_WORDS.get(kind, f"dtype {arr.dtype}")
+        if kind in "cmMbO":
+            what = f"{what} ({'array of ' if arr.ndim else ''}dtype {arr.dtype})"
+        raise _not_real(name, what)
+    return arr
+
 
 def as_real(x, name):
-    """Return ``x`` as a float64 ndarray, rejecting non-real input by name."""
-    if isinstance(x, (str, bytes)) or x is None:
-        raise TypeError(f"{name} must be a real number or an array of real numbers, got {type(x).__name__}")
-    arr = np.asarray(x)
-    if arr.dtype == object or arr.dtype.kind not in "biuf":
-        if arr.dtype.kind == "c":
-            raise TypeError(f"{name} must be real, got a complex array")
-        raise TypeError(f"{name} must be a real number or an array of real numbers, got dtype {arr.dtype}")
-    return np.array(arr, dtype=np.float64, copy=True)
+    """Return ``x`` as a float64 ndarray (a copy), rejecting non-real input by name."""
+    return np.array(_real_array(x, name), dtype=np.float64, copy=True)
 
 
 def broadcast_real(**named):
@@ -27,16 +87,23 @@ def broadcast_real(**named):
 
     Returns ``(shape, scalar, flats)``: the broadcast shape, whether every input
     was a scalar, and a dict of contiguous 1-D float64 copies of the same length.
-    Raises ValueError naming the arguments when shapes are incompatible.
+    Raises ValueError naming the arguments when shapes are incompatible or the
+    broadcast result is too large for the core.
     """
-    arrays = {k: as_real(v, k) for k, v in named.items()}
+    arrays = {k: _real_array(v, k) for k, v in named.items()}
     try:
         shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
     except ValueError:
         shapes = ", ".join(f"{k}{a.shape}" for k, a in arrays.items())
         raise ValueError(f"arguments cannot be broadcast together: {shapes}") from None
+    n = int(np.prod(shape, dtype=np.int64)) if shape else 1
+    if n > MAX_ELEMENTS:
+        shapes = ", ".join(f"{k}{a.shape}" for k, a in arrays.items())
+        check_size(n, f"the broadcast of {shapes}")
     scalar = all(a.ndim == 0 for a in arrays.values())
-    flats = {k: np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1) for k, a in arrays.items()}
+    # one contiguous float64 copy each: the core never holds a user's array
+    flats = {k: np.array(np.broadcast_to(a, shape), dtype=np.float64, order="C", copy=True).reshape(-1)
+             for k, a in arrays.items()}
     return shape, scalar, flats
 
 
@@ -50,9 +117,61 @@ def restore(values, shape, scalar):
 
 def real_scalar(x, name):
     """Return ``x`` as a Python float, rejecting arrays and non-reals by name."""
-    if isinstance(x, bool) or not isinstance(x, (numbers.Real, np.floating, np.integer)):
-        arr = np.asarray(x) if not isinstance(x, (str, bytes)) and x is not None else None
-        if arr is not None and arr.ndim == 0 and arr.dtype.kind in "iuf":
-            return float(arr)
-        raise TypeError(f"{name} must be a real scalar, got {type(x).__name__}")
-    return float(x)
+    if type(x) is float or type(x) is int:
+        try:
+            return float(x)
+        except OverflowError:
+            raise ValueError(f"{name} = {x} is out of range: it exceeds the largest double") from None
+    if isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_, np.generic)):
+        try:
+            return float(x)    # fractions.Fraction, decimal-like numbers.Real
+        except OverflowError:
+            raise ValueError(f"{name} = {x} is out of range: it exceeds the largest double") from None
+    arr = _real_array(x, name)
+    if arr.ndim != 0:
+        raise TypeError(f"{name} must be a real scalar, got an array of shape {arr.shape}")
+    return float(arr)
+
+
+def integer_arg(x, name, lo, hi, scalar=False):
+    """Check an integer argument (scalar or array) against [lo, hi] before any conversion.
+
+    Accepts Python ints and NumPy integer scalars/arrays of any width and
+    signedness; rejects bool (True is not a count or an index), floats and
+    anything else with TypeError naming the argument.  The range test is done
+    on exact Python ints (or, for arrays, with a comparison that cannot wrap:
+    uint64 values above 2**63 - 1 are never cast to int64), so 2**63 or
+    2**64 - 1 is refused with ValueError instead of wrapping to 0 or -1.
+    Returns a Python int for scalars and an int64 ndarray for arrays
+    (``scalar=True`` refuses arrays with TypeError).  lo and hi must lie in
+    the int64 range.
+    """
+    if isinstance(x, (bool, np.bool_)):
+        raise TypeError(f"{name} must be an integer, got bool")
+    if isinstance(x, (numbers.Integral, np.integer)):
+        v = int(x)                      # exact: Python ints do not wrap
+        if not lo <= v <= hi:
+            raise ValueError(f"{name} = {v} is out of range: it must be an integer in [{lo}, {hi}]")
+        return v
+    if scalar or isinstance(x, (str, bytes)) or x is None:
+        what = "an integer" if scalar else "an integer or an array of integers"
+        raise TypeError(f"{name} must be {what}, got {type(x).__name__}")
+    try:
+        arr = np.asarray(x)
+    except (ValueError, TypeError) as err:
+        raise TypeError(f"{name} must be an integer or an array of integers ({err})") from None
+    if arr.dtype == object:
+        # a list of Python ints too large for int64 arrives as object: check each exactly
+        flat = arr.reshape(-1)
+        for v in flat:
+            integer_arg(v, name, lo, hi, scalar=True)
+        return np.array([int(v) for v in flat], dtype=np.int64).reshape(arr.shape)
+    if arr.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be an integer or an array of integers, got dtype {arr.dtype}")
+    if arr.size:
+        # min/max in the array's own dtype, converted exactly to Python ints
+        amin, amax = int(arr.min()), int(arr.max())
+        if amin < lo or amax > hi:
+            bad = amin if amin < lo else amax
+            raise ValueError(f"{name} = {bad} is out of range: it must be an integer in [{lo}, {hi}]")
+    return arr.astype(np.int64)

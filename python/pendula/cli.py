@@ -116,11 +116,13 @@ def build_parser():
                                    "text's listings were wrong) and the figures it lacks (underdamped "
                                    "case, phase portrait, period vs energy, work-precision), as PNG "
                                    "files into --out. Needs matplotlib; needs no display.")
-    f.add_argument("--out", metavar="DIR", help="output folder (created if missing); required unless --list")
+    f.add_argument("--out", metavar="DIR", help="output folder (created if missing, but its parent must "
+                   "exist unless --mkdir); required unless --list")
     f.add_argument("--quick", action="store_true", help="fewer points per curve (fast, for tests)")
     f.add_argument("--only", default=None, metavar="KEYS",
                    help="comma-separated figure keys to draw, e.g. fig03,fig14 (default: all)")
     f.add_argument("--list", action="store_true", help="list the figure keys and exit")
+    f.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
 
     q = sub.add_parser("period", help="exact period or revolution time vs small-angle and series",
                        description="Exact period T = 4K(m)/w0 of the libration (eq. 1.53, any Omega0) or "
@@ -133,6 +135,7 @@ def build_parser():
     q.add_argument("--omega0", type=_finite, default=0.0, metavar="RAD/S",
                    help="initial angular velocity in rad/s (default 0)")
     q.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    q.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv")
     _add_physics(q, damping=False)
 
     s = sub.add_parser("solve", help="solve a scene with the cheapest model that meets --tol",
@@ -151,6 +154,7 @@ def build_parser():
                         "undamped only), events (turning points and zero crossings [s])")
     s.add_argument("--csv", default=None, metavar="FILE",
                    help="write t [s], theta [rad], omega [rad/s] as CSV (default: print a summary table)")
+    s.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv")
 
     t = sub.add_parser("tradeoff", help="speed/accuracy table of every applicable model on a scene",
                        description="Run every applicable model over a range of settings (RK4 steps, "
@@ -160,6 +164,7 @@ def build_parser():
     _add_scene(t)
     t.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     t.add_argument("--png", default=None, metavar="FILE", help="also draw the work-precision diagram (PNG)")
+    t.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv and --png")
     t.add_argument("--models", default=None, metavar="NAMES",
                    help="comma-separated subset of " + ", ".join(MODELS) + " (default: every applicable one)")
     t.add_argument("--repeat", type=_count, default=3, metavar="N",
@@ -203,10 +208,28 @@ def _fmt_table(header, rows):
     return "\n".join(lines)
 
 
+def _check_output(path, option, args, folder=False):
+    """Refuse an output path whose directory does not exist, before any work,
+    unless --mkdir asks to create it; a folder option (--out) may itself be
+    missing, it is created, but not its parents.  Never creates anything."""
+    path = Path(path)
+    if folder and path.exists() and not path.is_dir():
+        raise CliError(f"{option} {path}: exists and is not a directory")
+    if not folder and path.is_dir():
+        raise CliError(f"{option} {path}: is a directory, give a file name")
+    parent = path.parent
+    if not parent.is_dir() and not getattr(args, "mkdir", False):
+        raise CliError(f"{option} {path}: directory {parent} does not exist "
+                       f"(create it, or give --mkdir to let {PROG} create it)")
+
+
+def _make_parent(path, args):
+    if getattr(args, "mkdir", False):
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+
+
 def _write_csv(path, header, rows):
     path = Path(path)
-    if path.parent and not path.parent.exists():
-        path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(header)
@@ -240,10 +263,12 @@ def cmd_figures(args, out):
         bad = [k for k in only if k not in keys]
         if bad:
             raise CliError(f"--only: unknown figure key(s) {', '.join(bad)}; known: {', '.join(keys)}")
+    _check_output(args.out, "--out", args, folder=True)
     try:
         import matplotlib  # noqa: F401
     except ImportError:
         raise CliError("the figures need matplotlib: pip install matplotlib") from None
+    _make_parent(Path(args.out) / "x", args)
     written, missing = figures.make_figures(args.out, quick=args.quick, only=only)
     out.write(f"wrote {len(written)} figure(s) to {Path(args.out).resolve()}\n")
     for p in written:
@@ -259,6 +284,8 @@ def cmd_figures(args, out):
 
 def cmd_period(args, out):
     import pendula
+    if args.csv:
+        _check_output(args.csv, "--csv", args)
     w0 = pendula.natural_frequency(args.g, args.length)
     t0 = float(pendula.small_angle_period(w0))
     theta0 = np.asarray(args.theta0, dtype=float)
@@ -276,12 +303,15 @@ def cmd_period(args, out):
     out.write(f"g = {args.g} m/s^2, l = {args.length} m, w0 = {w0:.12g} 1/s\n")
     out.write(_fmt_table(header, rows) + "\n")
     if args.csv:
+        _make_parent(args.csv, args)
         out.write(f"wrote {_write_csv(args.csv, header, rows)}\n")
     return 0
 
 
 def cmd_solve(args, out):
     import pendula
+    if args.csv:
+        _check_output(args.csv, "--csv", args)
     scene = _scene(args, want=args.want)
     kw = {"model": args.model} if args.model else {}
     res = pendula.solve(scene, **kw)
@@ -314,6 +344,7 @@ def cmd_solve(args, out):
         header = ["t_s"] + [n for n, _ in cols]
         rows = [[f"{x:.17g}" for x in vals] for vals in zip(t, *(v for _, v in cols))]
     if args.csv:
+        _make_parent(args.csv, args)
         out.write(f"wrote {len(rows)} rows to {_write_csv(args.csv, header, rows)}\n")
     elif len(rows) > 1 or args.want in ("events",):
         show = rows if len(rows) <= 12 else rows[:6] + [["..."] * len(header)] + rows[-5:]
@@ -326,6 +357,9 @@ def cmd_tradeoff(args, out):
     fn = getattr(pendula, "tradeoff", None)
     if fn is None:
         raise NotImplementedError("pendula.tradeoff (the scenes module) is not available in this build")
+    for opt, path in (("--csv", args.csv), ("--png", args.png)):
+        if path:
+            _check_output(path, opt, args)
     scene = _scene(args)
     kw = {"repeat": args.repeat}
     if args.models:
@@ -338,8 +372,10 @@ def cmd_tradeoff(args, out):
     header = ["model", "setting", "sup_error_rad", "wall_time_s", "rhs_evaluations"]
     out.write(_fmt_table(header, [[r[0], r[1], f"{r[2]:.3g}", f"{r[3]:.3g}", r[4]] for r in rows]) + "\n")
     if args.csv:
+        _make_parent(args.csv, args)
         out.write(f"wrote {_write_csv(args.csv, header, rows)}\n")
     if args.png:
+        _make_parent(args.png, args)
         from .figures import work_precision_plot
         note = str(getattr(table, "reference", "") or "")
         out.write(f"wrote {work_precision_plot(rows, args.png, title='Work-precision', tol=args.tol, note=note or None)}\n")

@@ -22,7 +22,7 @@ infinite in ellipj, where sn, cn, dn have no limit).  Empty arrays give empty ar
 import numpy as np
 
 from . import _elliptic
-from ._arrays import broadcast_real, real_scalar, restore
+from ._arrays import as_array, broadcast_real, check_size, real_scalar, restore
 
 __all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc",
            "ellipfm1", "ellipj", "ellipjm1"]
@@ -35,6 +35,7 @@ def _prepare(**named):
     vals = list(named.values())
     if all(isinstance(v, np.ndarray) and v.dtype == np.float64 and v.flags.c_contiguous
            and v.ndim >= 1 and v.shape == vals[0].shape for v in vals):
+        check_size(vals[0].size, next(iter(named)))
         return vals[0].shape, False, {k: v.reshape(-1) for k, v in named.items()}
     return broadcast_real(**named)
 
@@ -158,7 +159,7 @@ def _use_plan(m, u, name):
     # a plan pays off when each of its ~32 K table entries (~1 us each) serves >= 16 points
     if np.ndim(m) != 0 or np.ndim(u) == 0 or np.size(u) < 32:
         return False
-    mval = float(np.asarray(m))
+    mval = real_scalar(m, name)   # the same checks as the elementwise path
     if np.isnan(mval):
         return True
     return np.size(u) >= 512 * _core_k(mval, name)
@@ -187,6 +188,9 @@ def _outputs(n):
 
 
 def _jacobi(u, m, name, vec, plan):
+    # ragged or non-numeric input fails here, by name, before its shape is asked
+    u = u if isinstance(u, np.ndarray) else as_array(u, "u")
+    m = m if isinstance(m, np.ndarray) else as_array(m, name)
     if _use_plan(m, u, name):
         # one parameter, many u: the m-dependent work (and a table) is done once
         mval = real_scalar(m, name)

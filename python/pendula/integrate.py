@@ -13,12 +13,11 @@ Long runs keep memory proportional to the outputs only: ask for
 ``t=[0, t_end]`` to get the final state of a run of any length.
 """
 from dataclasses import dataclass, field
-import numbers
 
 import numpy as np
 
 from . import _integrate
-from ._arrays import as_real, real_scalar
+from ._arrays import as_real, check_size, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 
@@ -128,6 +127,7 @@ def rk4(t, theta0, omega0, w0, gamma, h):
     the largest stable h; see ``rk4_max_stable_step``).
     """
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
+        check_size(t.size, "t")
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
     else:
         tt = _grid(t)
@@ -156,9 +156,17 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
-    of (theta0 [rad], omega0 [rad/s]).  w0 > 0, gamma >= 0 [1/s].
+    of (theta0 [rad], omega0 [rad/s]); windows as short as 5e-324 s, or one
+    ulp at any t[0] (the ODE is autonomous: CVODE works in t - t[0]; one ulp
+    at t[0] = 1e300 is 1.4e284 s, beyond any step budget); t[-1] - t[0] must
+    not overflow.  w0 > 0, gamma >= 0 [1/s].
     rtol > 0, atol >= 0: CVODE keeps each local error below rtol |y| + atol
-    (global errors are typically 1-100x that).  method: "adams" (non-stiff,
+    (global errors are typically 1-100x that).  atol = 0 is pure relative
+    control, normwise: the local error in theta stays below rtol S and in
+    Omega below rtol w0 S, S = max(|theta|, |Omega|/w0) the size of the
+    state (componentwise rtol |y| has no scale where theta or Omega crosses
+    zero); it keeps its relative accuracy as damped motion decays, where a
+    fixed atol stops resolving the state.  method: "adams" (non-stiff,
     the default) or "bdf" (stiff problems, e.g. gamma >> w0); both use Newton
     iteration with a dense solver and the analytic Jacobian.  max_steps: total
     step budget for the whole run.  events=True also locates turning points
@@ -183,20 +191,13 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
              (rtol, "rtol"), (atol, "atol"))]
     if not isinstance(method, str) or method.lower() not in _METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
-    if isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral):
-        raise TypeError(f"max_steps must be an integer, got {type(max_steps).__name__}")
-    if max_steps < 1:
-        raise ValueError(f"max_steps = {max_steps} is out of range: it must be >= 1")
+    max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
     m = 0
     if events:
-        if isinstance(max_events, bool) or not isinstance(max_events, numbers.Integral):
-            raise TypeError(f"max_events must be an integer, got {type(max_events).__name__}")
-        if max_events < 1 or max_events > 10**7:
-            # the event arrays are allocated up front: 28 bytes per event
-            raise ValueError(f"max_events = {max_events} is out of range: it must be in [1, 10**7]")
-        m = int(max_events)
+        # the event arrays are allocated up front: 28 bytes per event
+        m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _integrate.cvode_f2py(
         tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m)
     raise_for_status(code, msg)

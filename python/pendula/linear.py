@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 
 from . import _linear
-from ._arrays import as_real, broadcast_real, real_scalar, restore
+from ._arrays import as_array, as_real, broadcast_real, real_scalar, restore
 from ._errors import raise_for_status
 
 _REGIMES = {1: "underdamped", 2: "critical", 3: "overdamped"}
@@ -43,7 +43,7 @@ def linear_damped(t, theta0, omega0, w0, gamma):
     Raises ValueError naming the argument for bad input.
     """
     params = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    if all(np.ndim(v) == 0 for v in params.values()) and not isinstance(t, (str, bytes)):
+    if all(as_array(v, k).ndim == 0 for k, v in params.items()) and not isinstance(t, (str, bytes)):
         # One trajectory: set up once in Fortran, no broadcast copies of the parameters.
         tt = as_real(t, "t")
         shape, scalar = tt.shape, tt.ndim == 0

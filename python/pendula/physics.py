@@ -10,7 +10,10 @@ def natural_frequency(g=9.8, length=4.9):
     """Natural angular frequency w0 = sqrt(g/l) in 1/s (text eq. 1.7).
 
     g in m/s^2 and length in m, both finite and > 0 (ValueError otherwise).
-    The text's values g = 9.8, l = 4.9 give w0 = sqrt(2).
+    The text's values g = 9.8, l = 4.9 give w0 = sqrt(2).  Within 1 ulp for
+    every such pair, also where g/length under- or overflows (then
+    sqrt(g)/sqrt(length)); ValueError naming g and length when w0 itself would
+    exceed the largest double.
     """
     w0, code, msg = _core.natural_frequency_f2py(real_scalar(g, "g"), real_scalar(length, "length"))
     raise_for_status(code, msg)

@@ -33,13 +33,12 @@ gamma and w0 1/s, energies per unit m l^2 in 1/s^2.
 """
 from dataclasses import dataclass, field
 import csv as _csv
-import numbers
 import time
 
 import numpy as np
 
 from . import _scene
-from ._arrays import as_real, real_scalar
+from ._arrays import as_real, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 from .integrate import Events
@@ -401,11 +400,7 @@ def _timed(fn, repeat):
 
 
 def _count(x, name):
-    if isinstance(x, bool) or not isinstance(x, (numbers.Integral, np.integer)):
-        raise TypeError(f"{name} must be a positive integer, got {type(x).__name__}")
-    if x < 1:
-        raise ValueError(f"{name} = {x} is out of range: it must be a positive integer")
-    return int(x)
+    return integer_arg(x, name, 1, 2**63 - 1, scalar=True)
 
 
 def _positive_list(xs, name):

@@ -19,11 +19,13 @@ and pendula_equilibria; this module only converts.
 import numpy as np
 
 from . import _undamped
-from ._arrays import as_real, broadcast_real, restore
+from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg, restore
 from ._errors import raise_for_status
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
+#: Largest |n| accepted by ``equilibria`` (the Fortran index is a default integer).
+N_MAX = 2**31 - 1
 
 
 def undamped(t, theta0, omega0=0.0, w0=1.0):
@@ -149,25 +151,21 @@ def energy(theta, omega, w0=1.0):
 def equilibria(n, w0=1.0):
     """Equilibria (n pi, 0) and their linearisation (text §1.1, eqs 1.9-1.24).
 
-    ``n``: integer or integer array (the equilibrium index).  Returns
+    ``n``: integer or integer array (the equilibrium index), |n| <= 2**31 - 1
+    (ValueError otherwise, checked exactly for any integer type, uint64
+    included; bool and floats raise TypeError).  Returns
     ``(theta, eigenvalues, kind)``: theta = n pi in rad; eigenvalues of the
     Jacobian [[0, 1], [-w0^2 cos(n pi), 0]] in 1/s, a complex array of shape
     ``shape + (2,)`` (+-i w0 for even n, +-w0 for odd n); kind 'centre' (even n,
     hanging, stable) or 'saddle' (odd n, upright, unstable).
     """
-    if isinstance(n, (bool, np.bool_)) or isinstance(n, (float, complex, str, bytes)) or n is None:
-        raise TypeError(f"n must be an integer or an array of integers, got {type(n).__name__}")
-    narr = np.asarray(n)
-    if narr.dtype.kind not in "iu":
-        raise TypeError(f"n must be an integer or an array of integers, got dtype {narr.dtype}")
-    big = np.abs(narr.astype(np.int64)) > 2 ** 31 - 1 if narr.size else np.zeros(narr.shape, bool)
-    if np.any(big):
-        raise ValueError(f"n = {narr[big].flat[0]} is out of range: |n| must be < 2**31")
+    narr = np.asarray(integer_arg(n, "n", -N_MAX, N_MAX))   # checked before any narrowing cast
     w0a = as_real(w0, "w0")
     try:
         shape = np.broadcast_shapes(narr.shape, w0a.shape)
     except ValueError:
         raise ValueError(f"arguments cannot be broadcast together: n{narr.shape}, w0{w0a.shape}") from None
+    check_size(int(np.prod(shape, dtype=np.int64)), f"the broadcast of n{narr.shape}, w0{w0a.shape}")
     scalar = narr.ndim == 0 and w0a.ndim == 0
     nf = np.ascontiguousarray(np.broadcast_to(narr, shape), dtype=np.int32).reshape(-1)
     wf = np.ascontiguousarray(np.broadcast_to(w0a, shape), dtype=np.float64).reshape(-1)

@@ -3,7 +3,8 @@
 !> derived rates w0 = sqrt(g/l) [1/s] and gamma = b/m [1/s].
 module pendula_physics
   use pendula_kinds, only: wp
-  use pendula_status, only: status_t, check_positive, check_nonnegative, PENDULA_OK
+  use pendula_status, only: status_t, check_positive, check_nonnegative, set_error, PENDULA_OK, &
+      PENDULA_ERR_DOMAIN
   implicit none
   private
   public :: natural_frequency, damping_rate, small_angle_period, pi
@@ -12,21 +13,43 @@ module pendula_physics
 
 contains
 
-  !> Natural angular frequency w0 = sqrt(g/l) [1/s] (eq. 1.7).
-  !> g > 0 and l > 0, finite; otherwise status is set and w0 = 0.
-  pure subroutine natural_frequency(g, l, w0, status)
-    real(wp), intent(in) :: g, l
+  !> Natural angular frequency w0 = sqrt(g/length) [1/s] (eq. 1.7; the text's l).
+  !> g > 0 and length > 0, finite; otherwise status is set and w0 = 0.  Within
+  !> 1 ulp, nonzero, and finite whenever sqrt(g/l) is (g/l itself may leave
+  !> the double range: it is never formed then); status is set where
+  !> w0 would exceed the largest double (g/l > about 3e616).
+  pure subroutine natural_frequency(g, length, w0, status)
+    real(wp), intent(in) :: g, length
     real(wp), intent(out) :: w0
     type(status_t), intent(out) :: status
+    real(wp) :: fq
+    integer :: e
     w0 = 0
     call check_positive('g', g, status)
-    call check_positive('l', l, status)
+    call check_positive('length', length, status)
     if (status%code /= PENDULA_OK) return
-    w0 = sqrt(g / l)
+    e = exponent(g) - exponent(length)
+    if (abs(e) < 1000 .and. exponent(g) > -1000 .and. exponent(length) > -1000) then
+      w0 = sqrt(g / length)
+    else
+      ! g/l would overflow or lose bits below the normal range: divide the
+      ! significands, take the root and put half the (even) exponent back.
+      fq = fraction(g) / fraction(length)
+      if (modulo(e, 2) /= 0) then
+        fq = 2 * fq
+        e = e - 1
+      end if
+      w0 = scale(sqrt(fq), e / 2)
+      if (w0 > huge(w0)) then
+        w0 = 0
+        call set_error(status, PENDULA_ERR_DOMAIN, 'g and length are out of range together: w0 = sqrt(g/length) ' // &
+            'would exceed the largest double; need sqrt(g)/sqrt(length) <= 1.8e308')
+      end if
+    end if
   end subroutine natural_frequency
 
-  !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite;
-  !> otherwise status is set and gamma = 0.
+  !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite, with
+  !> b/m finite; otherwise status is set and gamma = 0.
   pure subroutine damping_rate(b, mass, gamma, status)
     real(wp), intent(in) :: b, mass
     real(wp), intent(out) :: gamma
@@ -36,6 +59,11 @@ contains
     call check_positive('mass', mass, status)
     if (status%code /= PENDULA_OK) return
     gamma = b / mass
+    if (gamma > huge(gamma)) then
+      gamma = 0
+      call set_error(status, PENDULA_ERR_DOMAIN, 'b and mass are out of range together: gamma = b/mass ' // &
+          'exceeds the largest double')
+    end if
   end subroutine damping_rate
 
   !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 > 0 finite; otherwise

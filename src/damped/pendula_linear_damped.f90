@@ -27,6 +27,7 @@ module pendula_linear_damped
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_physics, only: pi
+  use pendula_small_angle, only: harmonic_state
   implicit none
   private
 
@@ -47,6 +48,10 @@ module pendula_linear_damped
   !> exp(x) is normal for x >= X_NORMAL; c exp(x) underflows to 0 for every
   !> double c when x < X_ZERO.
   real(wp), parameter :: X_NORMAL = -708.0_wp, X_ZERO = -1500.0_wp
+  !> split_exp's floor: below it c exp(x) 2^ns is 0 for every double c and
+  !> every state scaling ns <= NS_MAX.
+  real(wp), parameter :: X_SPLIT = -4000.0_wp
+  integer, parameter :: NS_MAX = 3000
   !> ln 2 = LN2_HI + LN2_LO, LN2_HI with trailing zero bits so n LN2_HI is exact
   !> for |n| < 2^20 (Cody and Waite's argument reduction).
   real(wp), parameter :: LN2_HI = 6.93147180369123816490e-01_wp, &
@@ -101,6 +106,12 @@ module pendula_linear_damped
     real(wp), private :: kappa = 0       ! sqrt(|D|): beta or omega_d
     real(wp), private :: zsign = 0       ! sign of D
     logical, private :: undamped = .false.
+    ! The set-up below holds the state scaled by 2^-ns (ns > 0 only when an
+    ! intermediate would overflow: the solution is linear in the state, so
+    ! results are scaled back by 2^ns at the very end).
+    integer, private :: ns = 0
+    real(wp), private :: th0 = 0, om0 = 0          ! theta0 2^-ns, Omega0 2^-ns
+    real(wp), private :: amp = 0                   ! amplitude 2^-ns
     real(wp), private :: b = 0, w0th = 0, aom = 0   ! Omega0 + a theta0, w0 theta0, a Omega0
     ! under-damped: theta = e^{-at}(theta0 cos + bs sin), Omega = e^{-at}(Omega0 cos - ds sin)
     real(wp), private :: bs = 0, ds = 0
@@ -144,8 +155,11 @@ contains
     ! (a - w0 is exact near the critical point) and without overflow.
     if (gamma == 0) then
       kappa = w0
-    else
+    else if (max(a, w0) < 0.25_wp * huge(1.0_wp)) then
       kappa = sqrt(abs(a - w0)) * sqrt(a + w0)
+    else
+      ! a + w0 could overflow: halve both (exact at this size)
+      kappa = 2 * (sqrt(abs(0.5_wp * a - 0.5_wp * w0)) * sqrt(0.5_wp * a + 0.5_wp * w0))
     end if
     if (a < w0) then
       info%regime = DAMPING_UNDERDAMPED
@@ -192,18 +206,23 @@ contains
   !> Set up the trajectory with theta(0) = theta0 [rad], Omega(0) = omega0
   !> [rad/s] (finite), w0 > 0 and gamma >= 0 [1/s] (finite).  On bad input
   !> status names the argument and sol is left at its defaults.
-  pure subroutine linear_damped_init(sol, theta0, omega0, w0, gamma, status)
+  pure subroutine linear_damped_init(sol, theta0_in, omega0_in, w0, gamma, status)
     type(linear_damped_t), intent(out) :: sol
-    real(wp), intent(in) :: theta0, omega0, w0, gamma
+    real(wp), intent(in) :: theta0_in, omega0_in, w0, gamma
     type(status_t), intent(out) :: status
-    real(wp) :: a, k, inv2k
-    call check_finite('theta0', theta0, status)
-    call check_finite('omega0', omega0, status)
+    real(wp) :: a, k, inv2k, theta0, omega0
+    call check_finite('theta0', theta0_in, status)
+    call check_finite('omega0', omega0_in, status)
     if (status%code /= PENDULA_OK) return
     call damping_regime(w0, gamma, sol%info, status)
     if (status%code /= PENDULA_OK) return
-    sol%theta0 = theta0
-    sol%omega0 = omega0
+    sol%theta0 = theta0_in
+    sol%omega0 = omega0_in
+    sol%ns = state_scaling(sol%info, theta0_in, omega0_in)
+    theta0 = scale(theta0_in, -sol%ns)
+    omega0 = scale(omega0_in, -sol%ns)
+    sol%th0 = theta0
+    sol%om0 = omega0
     sol%w0 = w0
     sol%gamma = gamma
     a = gamma / 2
@@ -224,7 +243,8 @@ contains
         sol%ds = w0 * theta0
       end if
       ! theta = R e^{-at} cos(omega_d t - phi) with R = |(theta0, b/omega_d)|.
-      sol%amplitude = hypot(theta0, sol%bs)
+      sol%amp = hypot(theta0, sol%bs)
+      sol%amplitude = scale_sat(sol%amp, sol%ns)
     case (DAMPING_OVERDAMPED)
       k = sol%info%beta
       sol%kappa = k
@@ -245,6 +265,37 @@ contains
     end select
   end subroutine linear_damped_init
 
+  ! Power of 2 (>= 0) to divide the state by so that no intermediate of the
+  ! set-up or the evaluation overflows: those are at most the angle scale
+  ! max(|theta0|, |Omega0|/w0) times the square of the largest rate (a Omega0,
+  ! w0^2 theta0; when > 1) times the largest rate over sqrt|D| (when > 1),
+  ! times a margin of 2^16 (w0 t <= 1500 in the series form).  0 for every
+  ! ordinary state.
+  pure integer function state_scaling(info, theta0, omega0) result(ns)
+    type(damping_regime_t), intent(in) :: info
+    real(wp), intent(in) :: theta0, omega0
+    integer :: e_state, e_rate, e_ratio
+    real(wp) :: k
+    e_state = max(exponent(theta0), exponent(omega0) - exponent(info%w0))
+    e_rate = max(exponent(info%w0), exponent(info%gamma))
+    k = max(info%omega_d, info%beta)
+    e_ratio = 0
+    if (k > 0) e_ratio = max(0, e_rate - exponent(k))
+    ns = min(NS_MAX, max(0, e_state + 2 * max(0, e_rate) + e_ratio + 16 - maxexponent(1.0_wp)))
+  end function state_scaling
+
+  ! x 2^n, +-inf when beyond the double range (without raising overflow:
+  ! the checked build traps it); gradual underflow as scale().
+  elemental real(wp) function scale_sat(x, n) result(y)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: n
+    if (x /= 0 .and. exponent(x) + n > maxexponent(1.0_wp)) then
+      y = sign(ieee_value(1.0_wp, ieee_positive_inf), x)
+    else
+      y = scale(x, n)
+    end if
+  end function scale_sat
+
   elemental real(wp) function c_series(z) result(c)
     real(wp), intent(in) :: z
     integer :: k
@@ -263,7 +314,7 @@ contains
     end do
   end function s_series
 
-  ! exp(x) = m 2^n with m in (1/2, 1], for X_ZERO <= x <= 0 (m = 0 below), so
+  ! exp(x) = m 2^n with m in (1/2, 1], for X_SPLIT <= x <= 0 (m = 0 below), so
   ! that c exp(x) = scale(c m, n) never underflows before the last step.
   elemental subroutine split_exp(x, m, n)
     real(wp), intent(in) :: x
@@ -272,7 +323,7 @@ contains
     real(wp) :: r
     m = 0
     n = 0
-    if (x < X_ZERO) return
+    if (x < X_SPLIT) return
     n = ceiling(x / LN2_HI)
     r = (x - n * LN2_HI) - n * LN2_LO
     m = exp(r)
@@ -304,12 +355,8 @@ contains
     theta = 0
     omega = 0
     if (sol%undamped) then
-      ! The small-angle solution itself (gamma = 0).
-      x = mul_sat(sol%w0, t)
-      c = cos(x)
-      s = sin(x)
-      theta = sol%theta0 * c + sol%bs * s
-      omega = sol%omega0 * c - sol%ds * s
+      ! The small-angle solution itself (gamma = 0), unscaled.
+      call harmonic_state(0.0_wp, sol%theta0, sol%omega0, sol%w0, t, theta, omega)
       return
     end if
     x = mul_sat(sol%kappa, t)
@@ -317,7 +364,7 @@ contains
       ! theta = e^{-at} p, Omega = e^{-at} q, with the series (near critical,
       ! small t) or cos/sin (under-damped) in the brackets p and q.
       xe = -mul_sat(sol%a, t)
-      if (xe < X_ZERO) return
+      if (xe < X_ZERO - LN2_HI * sol%ns) return
       if (x <= X_SERIES) then
         if (sol%zsign == 0) then     ! critical: C = 1, S = t exactly (eq. 2.45)
           c = 1
@@ -332,21 +379,21 @@ contains
           if (abs(sol%b) > huge(1.0_wp) / t) then
             e = exp(xe)
             et = e * t
-            theta = sol%theta0 * (e * c) + sol%b * (et * s)
-            omega = sol%omega0 * (e * c) - (sol%w0th * (sol%w0 * et) + sol%aom * et) * s
+            theta = scale_sat(sol%th0 * (e * c) + sol%b * (et * s), sol%ns)
+            omega = scale_sat(sol%om0 * (e * c) - (sol%w0th * (sol%w0 * et) + sol%aom * et) * s, sol%ns)
             return
           end if
         end if
-        p = sol%theta0 * c + (sol%b * t) * s
-        q = sol%omega0 * c - (sol%w0th * (sol%w0 * t) + sol%aom * t) * s
+        p = sol%th0 * c + (sol%b * t) * s
+        q = sol%om0 * c - (sol%w0th * (sol%w0 * t) + sol%aom * t) * s
       else
         ! Under-damped (§2.1.3).
         c = cos(x)
         s = sin(x)
-        p = sol%theta0 * c + sol%bs * s
-        q = sol%omega0 * c - sol%ds * s
+        p = sol%th0 * c + sol%bs * s
+        q = sol%om0 * c - sol%ds * s
       end if
-      if (xe >= X_NORMAL) then
+      if (xe >= X_NORMAL .and. sol%ns == 0) then
         e = exp(xe)
         theta = e * p
         omega = e * q
@@ -354,15 +401,15 @@ contains
         ! e^{-at} itself would be subnormal: multiply by its significand and
         ! scale by its power of 2 last, so a representable answer keeps its digits.
         call split_exp(xe, m1, n1)
-        theta = scale(m1 * p, n1)
-        omega = scale(m1 * q, n1)
+        theta = scale_sat(m1 * p, n1 + sol%ns)
+        omega = scale_sat(m1 * q, n1 + sol%ns)
       end if
     else
       ! Over-damped (eq. 2.27): e^{lambda t} never overflows for t >= 0.
       xe = -mul_sat(-sol%l2, t)      ! lambda2 t, the slow mode
-      if (xe < X_ZERO) return
+      if (xe < X_ZERO - LN2_HI * sol%ns) return
       x = -mul_sat(-sol%l1, t)       ! lambda1 t <= lambda2 t
-      if (xe >= X_NORMAL .and. x >= X_NORMAL) then
+      if (xe >= X_NORMAL .and. x >= X_NORMAL .and. sol%ns == 0) then
         m1 = exp(x)
         m2 = exp(xe)
         theta = sol%ca * m1 + sol%cb * m2
@@ -370,8 +417,10 @@ contains
       else
         call split_exp(x, m1, n1)
         call split_exp(xe, m2, n2)
-        theta = scale(sol%ca * m1, n1) + scale(sol%cb * m2, n2)
-        omega = scale(sol%l1ca * m1, n1) + scale(sol%l2cb * m2, n2)
+        ! sum at the larger power of 2 (n2 >= n1: lambda1 t <= lambda2 t), scale once:
+        ! two overflowing terms of opposite sign must not give inf - inf
+        theta = scale_sat(scale(sol%ca * m1, n1 - n2) + sol%cb * m2, n2 + sol%ns)
+        omega = scale_sat(scale(sol%l1ca * m1, n1 - n2) + sol%l2cb * m2, n2 + sol%ns)
       end if
     end if
   end subroutine linear_damped_state
@@ -397,9 +446,16 @@ contains
   elemental real(wp) function linear_damped_envelope(sol, t) result(env)
     class(linear_damped_t), intent(in) :: sol
     real(wp), intent(in) :: t
+    real(wp) :: m
+    integer :: n
     env = 0
-    if (sol%info%regime == DAMPING_UNDERDAMPED .and. sol%amplitude > 0) &
-        env = sol%amplitude * exp(-mul_sat(sol%a, t))
+    if (sol%info%regime /= DAMPING_UNDERDAMPED .or. .not. sol%amp > 0) return
+    if (sol%ns == 0) then
+      env = sol%amp * exp(-mul_sat(sol%a, t))
+    else
+      call split_exp(-mul_sat(sol%a, t), m, n)
+      env = scale_sat(sol%amp * m, n + sol%ns)
+    end if
   end function linear_damped_envelope
 
   !> Evaluate a set-up trajectory at times t(:) >= 0 [s] (any order) into

@@ -225,7 +225,8 @@ contains
   !> fewest equal substeps of at most h [s] (substeps) are taken and the state
   !> is stored in theta(i+1), omega(i+1).  steps: substeps taken; fast: those
   !> on the table path (the others use libm sines).  bad = 0, or the first
-  !> index whose state is not finite (the run stops there).  One loop over all
+  !> index whose state is not finite (the run stops there), or -1 when theta or
+  !> omega does not have size(t) >= 1 elements (nothing is then read or written).  One loop over all
   !> outputs, so the recurrence never leaves registers between outputs.
   pure subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad)
     real(wp), intent(in) :: t(:), w0sq, gamma, h
@@ -239,6 +240,10 @@ contains
     integer(i8) :: i, n, nf, ns, n_nx
     real(wp) :: hs_nx
     logical :: ok
+    if (size(t) < 1 .or. size(theta) /= size(t) .or. size(omega) /= size(t)) then
+      steps = 0; fast = 0; bad = -1
+      return
+    end if
     y = theta(1)
     u = omega(1)
     call node_reduce(y, kk, rh)

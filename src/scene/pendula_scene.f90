@@ -212,17 +212,10 @@ contains
     real(wp), intent(in), optional :: gamma_in, mass, b
     real(wp) :: gb
     type(status_t) :: st
-    character(len=PENDULA_MSG_LEN) :: msg
     w0 = 0
     gamma = 0
-    call natural_frequency(g, length, w0, st)
-    if (st%code /= PENDULA_OK) then
-      status = st
-      msg = st%message
-      ! the text's l is `length` in the scene's API
-      if (index(msg, 'l = ') == 1) status%message = 'length' // msg(2:PENDULA_MSG_LEN - 5)
-      return
-    end if
+    call natural_frequency(g, length, w0, status)
+    if (status%code /= PENDULA_OK) return
     if (present(gamma_in)) then
       call check_nonnegative('gamma', gamma_in, status)
       if (status%code /= PENDULA_OK) return

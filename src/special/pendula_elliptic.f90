@@ -39,6 +39,7 @@ module pendula_elliptic
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, &
       ieee_is_nan, ieee_is_finite
   use pendula_kinds, only: wp
+  use pendula_status, only: status_t, set_error, PENDULA_ERR_SIZE
   implicit none
   private
 
@@ -48,6 +49,7 @@ module pendula_elliptic
 
   real(wp), parameter :: pi = 3.141592653589793115997963468544185_wp
   real(wp), parameter :: pi_lo = 1.2246467991473532e-16_wp      ! pi - pi(double)
+  real(wp), parameter :: pi_lo2 = -2.9947698097183397e-33_wp   ! pi - pi(double) - pi_lo
   real(wp), parameter :: half_pi = 0.5_wp * pi, half_pi_lo = 0.5_wp * pi_lo
   real(wp), parameter :: eps = epsilon(1.0_wp)
   !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
@@ -59,6 +61,8 @@ module pendula_elliptic
   !> truncation is below ~ (1/64 / (pi/2))**9 ~ 1e-18 relative.
   integer, parameter :: ntay = 8
   real(wp), parameter :: tab_step = 0.03125_wp, tab_inv_step = 32.0_wp
+  !> Largest core K a plan tabulates (the core K is at most 374, at mc = 5e-324).
+  real(wp), parameter :: khi_tab_max = 400.0_wp
 
   ! Maclaurin coefficients, js(j,k): coefficient of m^j w^(2k+1) in sn;
   ! jc(j,k): of m^j w^(2k+2) in 1 - cn; jd(j,k): of m^(j+1) w^(2k+2) in 1 - dn.
@@ -333,19 +337,43 @@ contains
     qnan = ieee_value(1.0_wp, ieee_quiet_nan)
   end function qnan
 
-  !> Exact product a*b = p + e (Dekker/Veltkamp, no fma needed).
+  !> Exact product a*b = p + e (Dekker/Veltkamp, no fma needed) whenever p is finite and
+  !> the error term does not underflow.  The Veltkamp split overflows above 2**996 (split*a,
+  !> and the 26-bit head of a double near huge() rounds up to 2**1024): there the big factor
+  !> is scaled by 2**-28 first, which scales p and e exactly.  Without this the split gave
+  !> Inf - Inf = NaN for |m| >= 1.3e300, the cause of the old crash in the plan set-up.
   pure elemental subroutine two_prod(a, b, p, e)
     real(wp), intent(in) :: a, b
     real(wp), intent(out) :: p, e
-    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
-    real(wp) :: t, ah, al, bh, bl
+    real(wp), parameter :: big = 2.0_wp**996
+    real(wp) :: ps
     p = a * b
-    t = split * a; ah = t - (t - a); al = a - ah
-    t = split * b; bh = t - (t - b); bl = b - bh
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    if (abs(a) <= big .and. abs(b) <= big) then
+      e = prod_err(a, b, p)
+    else if (abs(p) <= huge(p)) then      ! one factor big (both big would overflow p)
+      if (abs(a) > big) then
+        ps = scale(a, -28) * b
+        e = scale(prod_err(scale(a, -28), b, ps), 28)
+      else
+        ps = a * scale(b, -28)
+        e = scale(prod_err(a, scale(b, -28), ps), 28)
+      end if
+    else
+      e = 0                               ! p = +-Inf or NaN: no error term
+    end if
   end subroutine two_prod
 
-  !> Veltkamp split a = hi + lo, each with at most 26 significant bits.
+  !> Error a*b - p of the rounded product p = fl(a*b), |a|, |b| <= 2**996 (Dekker).
+  pure elemental real(wp) function prod_err(a, b, p) result(e)
+    real(wp), intent(in) :: a, b, p
+    real(wp) :: ah, al, bh, bl
+    call two_prod_split(a, ah, al)
+    call two_prod_split(b, bh, bl)
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+  end function prod_err
+
+  !> Veltkamp split a = hi + lo, each with at most 26 significant bits (|a| <= 2**996, where
+  !> split*a cannot overflow).
   pure elemental subroutine two_prod_split(a, hi, lo)
     real(wp), intent(in) :: a
     real(wp), intent(out) :: hi, lo
@@ -400,15 +428,21 @@ contains
   pure subroutine dd_sqrt(ah, al, ch, cl)
     real(wp), intent(in) :: ah, al
     real(wp), intent(out) :: ch, cl
-    real(wp) :: s, p, e, r
+    real(wp) :: s, p, e, r, xh, xl
+    integer :: sh
     if (ah <= 0) then
       ch = 0; cl = 0
       return
     end if
-    s = sqrt(ah)
+    ! above 2**1000, s*s may round to +Inf: work on a / 2**100 and scale the root back
+    sh = 0
+    if (ah > 2.0_wp**1000) sh = 50
+    xh = scale(ah, -2 * sh); xl = scale(al, -2 * sh)
+    s = sqrt(xh)
     call two_prod(s, s, p, e)
-    r = ((ah - p) - e + al) / (2 * s)
+    r = ((xh - p) - e + xl) / (2 * s)
     call two_sum(s, r, ch, cl)
+    ch = scale(ch, sh); cl = scale(cl, sh)
   end subroutine dd_sqrt
 
   !> K(m) in double-double from mc = 1 - m = mch + mcl > 0 given in double-double (any
@@ -449,6 +483,22 @@ contains
         + (((p(8) + p(9) * y) + (p(10) + p(11) * y) * y2) + p(12) * y4) * (y4 * y4)
   end function hor12
 
+  !> Index i in 0..16 of the interval [i/20, (i+1)/20) holding m, for ANY m (NaN gives 0:
+  !> the polynomial then returns NaN); the test comes before int() so that no
+  !> out-of-range or NaN value is ever converted.
+  pure elemental integer function interval20(m) result(i)
+    real(wp), intent(in) :: m
+    real(wp) :: t
+    t = m * 20
+    if (t >= 0 .and. t < 16) then
+      i = int(t)
+    else if (t >= 16) then
+      i = 16
+    else
+      i = 0
+    end if
+  end function interval20
+
   !> K(m) for 0 <= m < 1 given m and mc = 1 - m (mc accurate when m > 0.85).
   pure elemental real(wp) function kpair(m, mc) result(k)
     real(wp), intent(in) :: m, mc
@@ -456,7 +506,7 @@ contains
     if (mc <= 0.15_wp) then
       k = hor12(kepoly1(:, 0), mc) - log(mc) * hor12(kepoly1(:, 1), mc)
     else
-      i = min(int(m * 20), 16)
+      i = interval20(m)
       k = hor12(kpoly(:, i), m - (0.025_wp + 0.05_wp * i))
     end if
   end function kpair
@@ -468,7 +518,7 @@ contains
     if (mc <= 0.15_wp) then
       e = hor12(kepoly1(:, 2), mc) - log(mc) * mc * hor12(kepoly1(:, 3), mc)
     else
-      i = min(int(m * 20), 16)
+      i = interval20(m)
       e = hor12(epoly(:, i), m - (0.025_wp + 0.05_wp * i))
     end if
   end function epair
@@ -521,10 +571,17 @@ contains
 
   !> ellipk over a rank-1 array (k of the size of m): the same numbers as the
   !> elemental function, with the polynomial evaluation inlined in one loop.
-  pure subroutine ellipk_array(m, k)
+  !> A size mismatch sets status (PENDULA_ERR_SIZE) and k = NaN; nothing else is written.
+  pure subroutine ellipk_array(m, k, status)
     real(wp), intent(in) :: m(:)
     real(wp), intent(out) :: k(:)
+    type(status_t), intent(out) :: status
     integer :: i
+    if (size(k) /= size(m)) then
+      k = qnan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipk_array: k must have the size of m')
+      return
+    end if
     do i = 1, size(m)
       if (ieee_is_nan(m(i))) then
         k(i) = m(i)
@@ -536,11 +593,18 @@ contains
     end do
   end subroutine ellipk_array
 
-  !> ellipe over a rank-1 array (same numbers as the elemental function).
-  pure subroutine ellipe_array(m, e)
+  !> ellipe over a rank-1 array (same numbers as the elemental function); e must have
+  !> the size of m (status PENDULA_ERR_SIZE and e = NaN otherwise).
+  pure subroutine ellipe_array(m, e, status)
     real(wp), intent(in) :: m(:)
     real(wp), intent(out) :: e(:)
+    type(status_t), intent(out) :: status
     integer :: i
+    if (size(e) /= size(m)) then
+      e = qnan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipe_array: e must have the size of m')
+      return
+    end if
     do i = 1, size(m)
       if (ieee_is_nan(m(i))) then
         e(i) = m(i)
@@ -627,19 +691,54 @@ contains
          + 3 * e3 * e3 / 104 + e2 * e2 * e3 / 16) / sqrt(a)
   end function carlson_rf
 
-  !> Reduce phi to r in [-pi/2, pi/2] with phi = n pi + r, n*pi in double-double.
-  pure elemental subroutine reduce_pi(phi, n, r)
-    real(wp), intent(in) :: phi
-    real(wp), intent(out) :: n, r
-    real(wp) :: p, e
-    n = anint(phi / pi)
-    if (n == 0) then
-      r = phi
-      return
-    end if
+  !> (rh, rl) = (xh + xl) - n pi as a double-double, pi in three parts (pi, pi_lo, pi_lo2);
+  !> n*pi and n*pi_lo are exact products, so the residue is right to ~1e-32 |r| + n 1e-49.
+  pure subroutine sub_npi(xh, xl, n, rh, rl)
+    real(wp), intent(in) :: xh, xl, n
+    real(wp), intent(out) :: rh, rl
+    real(wp) :: p, e, q, f, a, b, t1, t2
     call two_prod(n, pi, p, e)
-    r = ((phi - p) - e) - n * pi_lo
+    call two_prod(n, pi_lo, q, f)
+    call two_sum(xh, -p, a, t1)         ! exact (Sterbenz) when n pi is within 2x of x
+    call two_sum(a, -q, b, t2)
+    call two_sum(b, (((t1 + t2) - e) - f) + (xl - n * pi_lo2), rh, rl)
+  end subroutine sub_npi
+
+  !> Reduce phi to r = rh + rl in [-pi/2, pi/2] with phi = (n1 + n2) pi + r exactly up
+  !> to double-double rounding.  The rounded quotient anint(phi/pi) misses by one when
+  !> phi is the double nearest an odd multiple of pi/2 (fl(pi/2)/fl(pi) = 0.5 exactly
+  !> rounds up) and by many when |phi| > 2**53 pi (n not representable); further
+  !> multiples, decided on the double-double residue, correct both (one step, or up to
+  !> ~20 for |phi| near huge(), where each step removes ~52 bits).
+  pure elemental subroutine reduce_pi(phi, n1, n2, rh, rl)
+    real(wp), intent(in) :: phi
+    real(wp), intent(out) :: n1, n2, rh, rl
+    real(wp) :: q, xh, xl
+    integer :: i
+    n1 = anint(phi / pi)
+    if (abs(phi) > 2.0_wp**1022) n1 = anint(0.5_wp * (phi / pi))   ! n1*pi must not overflow
+    n2 = 0
+    if (n1 == 0) then
+      rh = phi; rl = 0
+    else
+      call sub_npi(phi, 0.0_wp, n1, rh, rl)
+    end if
+    do i = 1, 40
+      if (abs(rh) < 1.5_wp) exit                   ! cheap screen: pi/2 = 1.5708
+      if (half_pi_minus(rh, rl) >= 0) exit
+      q = anint(rh / pi)
+      if (q == 0) q = sign(1.0_wp, rh)
+      xh = rh; xl = rl
+      call sub_npi(xh, xl, q, rh, rl)
+      n2 = n2 + q
+    end do
   end subroutine reduce_pi
+
+  !> pi/2 - |rh + rl| for a double-double; exact first difference for |rh| >= pi/4.
+  pure elemental real(wp) function half_pi_minus(rh, rl) result(w)
+    real(wp), intent(in) :: rh, rl
+    w = (half_pi - abs(rh)) + (half_pi_lo - sign(1.0_wp, rh) * rl)
+  end function half_pi_minus
 
   !> Incomplete elliptic integral of the first kind F(phi|m) for any real phi (rad)
   !> and any real m with m sin^2(phi) <= 1 (including m > 1; there, like K, the
@@ -659,7 +758,7 @@ contains
   pure elemental real(wp) function ffun(phi, m, mc, usemc) result(f)
     real(wp), intent(in) :: phi, m, mc
     logical, intent(in) :: usemc
-    real(wp) :: n, r, s, c, d2, kh, kl, p, e
+    real(wp) :: n1, n2, rh, rl, s, c, w, d2, kh, kl, p, e, p2, e2, t, ps
     type(jpar_t) :: par
     if (ieee_is_nan(phi) .or. ieee_is_nan(m) .or. ieee_is_nan(mc)) then
       f = qnan(); return
@@ -672,28 +771,34 @@ contains
       end if
       return
     end if
-    call reduce_pi(phi, n, r)
-    s = sin(r); c = cos(r)
-    if (usemc) then
-      d2 = c * c + mc * (s * s)
+    call reduce_pi(phi, n1, n2, rh, rl)
+    ! sin and cos of the double-double residue; near +-pi/2 cos r = sin(pi/2 - |r|) from
+    ! the exact difference, so cos keeps its relative accuracy down to the 6e-17 of fl(pi/2)
+    if (abs(rh) <= 0.79_wp) then
+      s = sin(rh); c = cos(rh)
+      s = s + c * rl
     else
-      d2 = 1 - m * (s * s)
+      w = half_pi_minus(rh, rl)
+      s = sign(cos(w), rh); c = sin(w)
     end if
+    ! 1 - m sin^2 = cos^2 + mc sin^2: no cancellation near m = 1 (mc = 1 - m is exact for
+    ! m in [0.5, 2], and for other m the sum does not cancel or cancels as 1 - m sin^2 does)
+    d2 = c * c + mc * (s * s)
     if (d2 < 0 .or. ieee_is_nan(d2)) then
       f = qnan(); return
     end if
     if (d2 == 0 .and. c == 0) then
-      f = sign(ieee_value(1.0_wp, ieee_positive_inf), r)
+      f = sign(ieee_value(1.0_wp, ieee_positive_inf), s)
     else if (s == 0) then
-      f = r
+      f = rh
     else
       f = s * carlson_rf(c * c, d2, 1.0_wp)
     end if
-    if (n /= 0) then
+    if (n1 /= 0 .or. n2 /= 0) then
       ! F + 2 n K with K in double-double: the sum may cancel (phi in (-pi, -pi/2) etc.)
       par = make_par(m, mc, usemc, .true.)
       if (par%kind == 1) then
-        f = f + n * ieee_value(1.0_wp, ieee_positive_inf)
+        if (n1 + n2 /= 0) f = f + sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
       else if (par%kind < 0) then
         f = qnan()
       else
@@ -702,8 +807,21 @@ contains
           ! Re K(m) = K(core)/k for m > 1 (DLMF 19.7.3); K(m) = K(mu)/sqrt(1-m) for m < 0
           call dd_div(par%khi, par%klo, par%uscale, par%uscale_lo, kh, kl)
         end if
-        call two_prod(2 * n, kh, p, e)
-        f = p + (f + (e + 2 * n * kl))
+        if (abs(n1 + n2) >= 0.5_wp * (huge(kh) / kh)) then
+          ! |F| = 2 |n| K + O(K) > huge (|phi| near huge): +-Inf, the rounded value, formed
+          ! without an overflowing operation (the checked build traps overflow)
+          f = sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
+          return
+        end if
+        call two_prod(2 * n1, kh, p, e)
+        e = e + 2 * n1 * kl
+        if (n2 /= 0) then
+          call two_prod(2 * n2, kh, p2, e2)
+          call two_sum(p, p2, ps, t)
+          p = ps
+          e = e + (t + (e2 + 2 * n2 * kl))
+        end if
+        f = p + (f + e)
       end if
     end if
   end function ffun
@@ -910,7 +1028,11 @@ contains
     type(ellipj_plan_t) :: plan
     integer :: j
     plan%par = make_par(m, mc, usemc, .true.)
-    if (plan%par%kind == 0 .or. plan%par%kind >= 2) then
+    ! K of a core parameter in [0, 1) lies in [pi/2, 374] (374 at the smallest subnormal
+    ! mc); anything else (never seen, but NaN would size the table from garbage) gets
+    ! no table and the direct evaluation
+    if ((plan%par%kind == 0 .or. plan%par%kind >= 2) .and. &
+        plan%par%khi >= 1 .and. plan%par%khi <= khi_tab_max) then
       plan%ntab = ceiling(plan%par%khi * tab_inv_step) + 1
       allocate(plan%tab(0:ntay, 4, 0:plan%ntab))
       do j = 0, plan%ntab
@@ -938,13 +1060,18 @@ contains
 
   !> ellipj_eval over rank-1 arrays (sn, cn, dn and the optional am of the size of u):
   !> the same numbers as the elemental form, with the table look-up inlined in one loop.
-  pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, am)
+  !> A size mismatch sets status (PENDULA_ERR_SIZE) and the outputs to NaN.
+  pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, status, am)
     type(ellipj_plan_t), intent(in) :: plan
     real(wp), intent(in) :: u(:)
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: bad
+    call outputs_mismatch('ellipj_eval_array', size(u), sn, cn, dn, status, bad, am)
+    if (bad) return
     if (allocated(plan%tab)) then
       if (present(am)) then
         call tab_loop(plan%par, plan%tab, plan%ntab, size(u), u, .true., sn, cn, dn, am)
@@ -992,7 +1119,7 @@ contains
       q = anint(v * inv2k)
       r = (((v - q * c1) - q * c2) + vl) - q * c3
       t = abs(r)
-      j = min(int(t * tab_inv_step + 0.5_wp), ntab)
+      j = tab_index(t, ntab)
       del = t - j * tab_step
       fs = sign(horner(tab(:, 1, j), del), r)
       fc = horner(tab(:, 2, j), del)
@@ -1204,7 +1331,12 @@ contains
     n = 0
     parity = 0
     r = v
-    if (v > khi) then
+    if (.not. v <= huge(v)) then
+      ! |u| sqrt(|m|) or |u| sqrt(1 - m) overflows (|m| > ~1e300, |u| > ~1e150): the
+      ! phase u mod 2K is far below the resolution of u (the condition number is ~ |u|
+      ! sqrt|m| there), so any point of the period is within eps*cond; take r = 0
+      r = 0
+    else if (v > khi) then
       ! u * scale and n * 2K both in extra precision: large u keeps its digits
       vl = 0
       if (plan%kind /= 0) then
@@ -1239,7 +1371,7 @@ contains
     end if
     t = abs(r)
     if (present(tab)) then
-      j = min(nint(t * tab_inv_step), ntab)
+      j = tab_index(t, ntab)
       del = t - j * tab_step
       fs = horner(tab(:, 1, j), del)
       fc = horner(tab(:, 2, j), del)
@@ -1267,6 +1399,39 @@ contains
     sn = fs; cn = fc; dn = fd; am = fa
   end subroutine eval_plan
 
+  !> Table row 0..ntab nearest to the core argument t >= 0; t beyond the table or NaN
+  !> gives ntab (the compare comes before int(), so no NaN or huge value is converted).
+  pure elemental integer function tab_index(t, ntab) result(j)
+    real(wp), intent(in) :: t
+    integer, intent(in) :: ntab
+    real(wp) :: x
+    x = t * tab_inv_step + 0.5_wp
+    if (x >= 0 .and. x < ntab) then
+      j = int(x)
+    else if (x >= 0) then
+      j = ntab
+    else
+      j = 0
+    end if
+  end function tab_index
+
+  !> True (with status set and every output NaN) when sn, cn, dn or am (if present) does
+  !> not have n elements: the array routines check before writing anything.
+  pure subroutine outputs_mismatch(name, n, sn, cn, dn, status, bad, am)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: n
+    real(wp), intent(inout) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(inout) :: status
+    logical, intent(out) :: bad
+    real(wp), intent(inout), optional :: am(:)
+    bad = size(sn) /= n .or. size(cn) /= n .or. size(dn) /= n
+    if (present(am)) bad = bad .or. size(am) /= n
+    if (.not. bad) return
+    sn = qnan(); cn = qnan(); dn = qnan()
+    if (present(am)) am = qnan()
+    call set_error(status, PENDULA_ERR_SIZE, name // ': sn, cn, dn and am must have the size of u')
+  end subroutine outputs_mismatch
+
   pure real(wp) function horner(p, x) result(y)
     real(wp), intent(in) :: p(0:ntay), x
     real(wp) :: x2, x4
@@ -1292,14 +1457,25 @@ contains
   end subroutine ellipj
 
   !> ellipj over rank-1 arrays u, m (and outputs) of one size: the same numbers as the
-  !> elemental form, in one loop inside this module.
-  pure subroutine ellipj_array(u, m, sn, cn, dn, am)
+  !> elemental form, in one loop inside this module.  A size mismatch sets status
+  !> (PENDULA_ERR_SIZE) and the outputs to NaN.
+  pure subroutine ellipj_array(u, m, sn, cn, dn, status, am)
     real(wp), intent(in) :: u(:), m(:)
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: bad
     logical :: done
+    call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am)
+    if (bad) return
+    if (size(m) /= size(u)) then
+      sn = qnan(); cn = qnan(); dn = qnan()
+      if (present(am)) am = qnan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipj_array: m must have the size of u')
+      return
+    end if
     do i = 1, size(u)
       done = .false.
       if (.not. (ieee_is_nan(m(i)) .or. ieee_is_nan(u(i)))) then
@@ -1324,7 +1500,7 @@ contains
     v = abs(u)
     ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
     n = anint(v / (2 * k))
-    if (n > 4) then
+    if (.not. n <= 4) then
       done = .false.
       sn = 0; cn = 0; dn = 0; am = 0
       return
@@ -1343,13 +1519,23 @@ contains
     done = .true.
   end subroutine jac01
 
-  !> ellipjc over rank-1 arrays (same numbers as the elemental form).
-  pure subroutine ellipjc_array(u, mc, sn, cn, dn, am)
+  !> ellipjc over rank-1 arrays (same numbers as the elemental form); sizes as ellipj_array.
+  pure subroutine ellipjc_array(u, mc, sn, cn, dn, status, am)
     real(wp), intent(in) :: u(:), mc(:)
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
     real(wp) :: a
     integer :: i
+    logical :: bad
+    call outputs_mismatch('ellipjc_array', size(u), sn, cn, dn, status, bad, am)
+    if (bad) return
+    if (size(mc) /= size(u)) then
+      sn = qnan(); cn = qnan(); dn = qnan()
+      if (present(am)) am = qnan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipjc_array: mc must have the size of u')
+      return
+    end if
     do i = 1, size(u)
       call eval_plan(make_par(1 - mc(i), mc(i), .true., .false.), u(i), .false., present(am), &
           sn(i), cn(i), dn(i), a)

@@ -32,7 +32,7 @@ module pendula_small_angle
   use pendula_undamped, only: undamped_motion_t, REGIME_LIBRATION, reduce_angle_2pi
   implicit none
   private
-  public :: small_angle, small_angle_solve, small_angle_eval, small_angle_bound, small_angle_phase_drift
+  public :: small_angle, harmonic_state, small_angle_solve, small_angle_eval, small_angle_bound, small_angle_phase_drift
 
 contains
 
@@ -43,15 +43,40 @@ contains
   elemental subroutine small_angle(t, theta0, omega0, w0, theta, omega)
     real(wp), intent(in) :: t, theta0, omega0, w0
     real(wp), intent(out) :: theta, omega
-    real(wp) :: n, r_hi, r_lo, c, s, center, x
+    real(wp) :: n, r_hi, r_lo, center
     call reduce_angle_2pi(theta0, n, r_hi, r_lo)
     center = theta0 - r_hi   ! 2 pi n to the rounding of theta0 (exact when n = 0)
+    call harmonic_state(center, r_hi, omega0, w0, t, theta, omega)
+  end subroutine small_angle
+
+  !> The harmonic motion center + r cos(w0 t) + (Omega0/w0) sin(w0 t) [rad]
+  !> and its rate -r w0 sin(w0 t) + Omega0 cos(w0 t) [rad/s] at t [s], for
+  !> w0 > 0 [1/s] (elemental, unchecked).  Finite whenever the true values are
+  !> representable: Omega0/w0 and r w0 may overflow and w0 t may underflow, so
+  !> those inputs take sin(w0 t)/w0 -> t and r (w0 sin) instead; the usual
+  !> inputs take the plain formula (a few ulps).
+  elemental subroutine harmonic_state(center, r, omega0, w0, t, theta, omega)
+    real(wp), intent(in) :: center, r, omega0, w0, t
+    real(wp), intent(out) :: theta, omega
+    real(wp) :: c, s, x, sw
     x = phase(w0, t)
     c = cos(x)
     s = sin(x)
-    theta = center + (r_hi * c + (omega0 / w0) * s)
-    omega = -(r_hi * w0) * s + omega0 * c
-  end subroutine small_angle
+    if (abs(x) >= tiny(1.0_wp) .and. exponent(omega0) - exponent(w0) < 1000 &
+        .and. exponent(r) + exponent(w0) < 1000) then
+      theta = center + (r * c + (omega0 / w0) * s)
+      omega = -(r * w0) * s + omega0 * c
+    else
+      ! sin(w0 t)/w0 = t (1 - (w0 t)^2/6 + ...): exactly t in double below 2^-26
+      if (abs(x) < 2.0_wp**(-26)) then
+        sw = t
+      else
+        sw = s / w0
+      end if
+      theta = center + (r * c + omega0 * sw)
+      omega = -r * (w0 * s) + omega0 * c
+    end if
+  end subroutine harmonic_state
 
   !> Checked array form of `small_angle`: theta(i), omega(i) at t(i) for one
   !> initial state; theta0, Omega0 and every t finite, w0 finite and > 0,
@@ -80,12 +105,7 @@ contains
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: t
     real(wp), intent(out) :: theta, omega
-    real(wp) :: c, s, x
-    x = phase(motion%w0, t)
-    c = cos(x)
-    s = sin(x)
-    theta = motion%center + (motion%theta_r * c + (motion%omega0 / motion%w0) * s)
-    omega = -(motion%theta_r * motion%w0) * s + motion%omega0 * c
+    call harmonic_state(motion%center, motion%theta_r, motion%omega0, motion%w0, t, theta, omega)
   end subroutine small_angle_eval
 
   !> w0 t, with whole periods 2 pi/w0 taken out first (exactly, by modulo) when

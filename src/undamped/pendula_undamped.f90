@@ -476,7 +476,7 @@ contains
       a(1:nc) = motion%rate * t(i0:i1)
       if (motion%regime == REGIME_LIBRATION) then
         if (motion%planned) then
-          call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc))
+          call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), status)
         else
           call ellipjc(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc))
         end if
@@ -496,7 +496,7 @@ contains
         end do
       else
         if (motion%planned) then
-          call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
+          call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), status, ama(1:nc))
         else
           call ellipjc(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
         end if

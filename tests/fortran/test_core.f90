@@ -29,8 +29,8 @@ program test_core
   call t%check_true(index(st%message, 'g =') == 1 .and. index(st%message, '> 0') > 0, &
       'message names g and its range: ' // trim(st%message))
   call natural_frequency(9.8_wp, nan, w0, st)
-  call t%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 'l =') == 1, &
-      'NaN l -> non-finite error: ' // trim(st%message))
+  call t%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 'length =') == 1, &
+      'NaN length -> non-finite error: ' // trim(st%message))
   call damping_rate(-1.0_wp, 0.1_wp, gamma, st)
   call t%check_true(st%code == PENDULA_ERR_DOMAIN .and. index(st%message, 'b =') == 1, 'b < 0 rejected')
   call damping_rate(0.1_wp, 0.0_wp, gamma, st)

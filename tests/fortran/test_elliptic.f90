@@ -5,6 +5,7 @@ program test_elliptic
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite, ieee_value, ieee_quiet_nan
   use pendula_kinds, only: wp
   use pendula_elliptic
+  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_testing, only: checker_t, ulps_between
   implicit none
   type(checker_t) :: t
@@ -12,6 +13,7 @@ program test_elliptic
   real(wp) :: sn, cn, dn, am, nan, x
   real(wp) :: u(2001), s(2001), c(2001), d(2001), a(2001), s2(2001), c2(2001), d2(2001), a2(2001)
   real(wp) :: ms(10), pcs(5)
+  type(status_t) :: st
   type(ellipj_plan_t) :: plan
   integer :: i, j
 
@@ -84,14 +86,14 @@ program test_elliptic
   do j = 1, size(ms)
     plan = ellipj_plan(ms(j))
     call ellipj_eval(plan, u, s, c, d, a)
-    call ellipj_eval_array(plan, u, s2, c2, d2, a2)
+    call ellipj_eval_array(plan, u, s2, c2, d2, st, a2)
     x = max(maxval(abs(s2 - s)), maxval(abs(c2 - c)), maxval(abs(d2 - d) / max(1.0_wp, abs(d))), &
         maxval(abs(a2 - a) / max(1.0_wp, abs(a))))
     call t%check_true(x <= 4 * eps, 'ellipj_eval_array = ellipj_eval')
   end do
   s = -2.0_wp + 0.0015_wp * [(i, i = 0, 2000)]
-  call ellipk_array(s, c)
-  call ellipe_array(s, d)
+  call ellipk_array(s, c, st)
+  call ellipe_array(s, d, st)
   call t%check_true(all(c == ellipk(s) .or. (c /= c .and. ellipk(s) /= ellipk(s))), 'ellipk_array = ellipk')
   call t%check_true(all(d == ellipe(s) .or. (d /= d .and. ellipe(s) /= ellipe(s))), 'ellipe_array = ellipe')
 
@@ -113,6 +115,59 @@ program test_elliptic
       'ellipj NaN u')
   call ellipj(0.5_wp, nan, sn, cn, dn)
   call t%check_true(ieee_is_nan(sn) .and. ieee_is_nan(cn) .and. ieee_is_nan(dn), 'ellipj NaN m')
+
+  ! ---- F at the double nearest an odd multiple of pi/2 (mpmath, 400 digits, exact double
+  ! inputs): the multiple of pi is decided on the exact residue, not on anint(phi/pi)
+  call t%check_ulps(ellipfc(1.5707963267948966_wp, 1.0e-300_wp), 38.025003373828868_wp, 4.0_wp, &
+      'F(fl(pi/2)|mc=1e-300)')
+  call t%check_ulps(ellipfc(1.5707963267948966_wp, 1.0e-40_wp), 38.025003367161134_wp, 4.0_wp, &
+      'F(fl(pi/2)|mc=1e-40)')
+  call t%check_ulps(ellipf(1.5707963267948966_wp, 1.0_wp), 38.025003373828868_wp, 4.0_wp, 'F(fl(pi/2)|1)')
+  call t%check_ulps(ellipf(-1.5707963267948966_wp, 1.0_wp), -38.025003373828868_wp, 4.0_wp, 'F(-fl(pi/2)|1)')
+  call t%check_ulps(ellipfc(4.71238898038469_wp, 1.0e-300_wp), 730.47450770561424_wp, 4.0_wp, &
+      'F(fl(3 pi/2)|mc=1e-300)')
+  call t%check_ulps(ellipfc(-4.71238898038469_wp, 1.0e-300_wp), -730.47450770561424_wp, 4.0_wp, &
+      'F(-fl(3 pi/2)|mc=1e-300)')
+  ! |phi| near huge(): phi = n pi + r with n beyond 2**53 (the quotient is reduced in steps)
+  x = ellipf(1.0e300_wp, 0.5_wp) / (1.0e300_wp * ellipk(0.5_wp) / (2 * atan(1.0_wp)))
+  call t%check_true(abs(x - 1) <= 4 * eps, 'F(1e300|0.5) = phi 2K/pi to 4 eps')
+  call t%check_true(ellipf(huge(1.0_wp), 0.5_wp) > huge(1.0_wp), 'F(huge|0.5) overflows to +Inf')
+
+  ! ---- |m| up to huge(): the modulus transformations in double-double without overflow
+  ! (mpmath, 400 digits, through DLMF 22.6.11/12 at the exact doubles; cond ~ 1 here)
+  call jac(1.0e-160_wp, 1.0e308_wp, .false., [9.9999999999983332e-161_wp, 1.0_wp, 0.9999999999995_wp, &
+      9.9999999999983332e-161_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 'm = 1e308')
+  call jac(1.0e-155_wp, huge(1.0_wp), .false., [9.9700653670665692e-156_wp, 1.0_wp, 0.99102499167857732_wp, &
+      9.9700653670665692e-156_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 'm = huge')
+  call jac(1.0e-155_wp, -1.0e308_wp, .false., [1.0016675001984403e-155_wp, 1.0_wp, 1.0050041680558036_wp, &
+      1.0016675001984403e-155_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 'm = -1e308')
+  call jac(1.0e-155_wp, -huge(1.0_wp), .false., [1.0029988494615973e-155_wp, 1.0_wp, 1.0090019391649959_wp, &
+      1.0029988494615973e-155_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 'm = -huge')
+  call jac(1.0e-155_wp, -1.0e308_wp, .true., [9.9833416646828154e-156_wp, 1.0_wp, 0.99500416527802577_wp, &
+      9.9833416646828154e-156_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 'p = -1e308 (m = 1e308)')
+  ! u sqrt|m| ~ 1e154: the phase is below the resolution of u; the values must still be
+  ! finite and consistent (sn^2 + cn^2 = 1 for m > 1 scaled, dn^2 = 1 - m sn^2)
+  pcs(1:4) = [1.0e308_wp, -1.0e308_wp, huge(1.0_wp), -huge(1.0_wp)]
+  do j = 1, 4
+    x = pcs(j)
+    call ellipj(0.7_wp, x, sn, cn, dn, am)
+    call t%check_true(ieee_is_finite(sn) .and. ieee_is_finite(cn) .and. ieee_is_finite(dn) .and. &
+        ieee_is_finite(am), 'ellipj(0.7, +-1e308/huge) finite')
+    call t%check_true(abs(sn * sn + cn * cn - 1) <= 8 * eps, 'ellipj(0.7, +-1e308/huge): sn^2 + cn^2 = 1')
+    plan = ellipj_plan(x)
+    call ellipj_eval(plan, [(0.7_wp * i, i = 1, 5)], s(1:5), c(1:5), d(1:5))
+    call t%check_true(all(ieee_is_finite(s(1:5)) .and. ieee_is_finite(c(1:5)) .and. ieee_is_finite(d(1:5))), &
+        'plan at +-1e308/huge: finite')
+  end do
+  plan = ellipj_plan(nan)
+  call ellipj_eval(plan, 0.5_wp, sn, cn, dn)
+  call t%check_true(ieee_is_nan(sn) .and. ieee_is_nan(cn) .and. ieee_is_nan(dn), 'plan at NaN m: NaN')
+
+  ! ---- array forms: sizes checked before anything is written
+  call ellipk_array(s(1:10), c(1:3), st)
+  call t%check_true(st%code == PENDULA_ERR_SIZE .and. all(ieee_is_nan(c(1:3))), 'ellipk_array size check')
+  call ellipk_array(s(1:10), c(1:10), st)
+  call t%check_true(st%code == PENDULA_OK, 'ellipk_array equal sizes: ok')
 
   call t%report('test_elliptic')
 

@@ -1,7 +1,10 @@
-!> Failure paths of the integrators, repeated, for the checked and memcheck legs
+!> Failure paths, repeated, for the checked and memcheck legs
 !> (issue 9): every way CVODE can fail (step budget, illegal error weight,
 !> repeated error-test failures, events truncated or cut short by a failure)
-!> and the RK4 refusals.  Each path runs REPEAT times, so a leak on it shows up
+!> and the RK4 refusals; every public array routine called with wrong sizes (it must
+!> report PENDULA_ERR_SIZE, not write out of bounds: valgrind sees any overrun); the
+!> elliptic functions at the extreme inputs that once crashed (|m| near huge(),
+!> NaN parameters for plans).  Each path runs REPEAT times, so a leak on it shows up
 !> under valgrind as REPEAT lost blocks; every failure must come back as a
 !> status with a message and finite (zeroed) outputs, never a stop or a NaN.
 !> PENDULA_TEST_QUICK=1 (set by tools/memcheck.sh) lowers REPEAT.
@@ -9,6 +12,7 @@ program test_failure_paths
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: ieee_exceptions, only: ieee_usual, ieee_get_halting_mode, ieee_set_halting_mode
   use pendula
+  use pendula_rk4_kernel, only: rk4_grid
   use pendula_testing, only: checker_t
   implicit none
   type(checker_t) :: tc
@@ -23,6 +27,8 @@ program test_failure_paths
   end if
 
   do r = 1, repeat
+    call wrong_sizes(r == 1)
+    call elliptic_extremes(r == 1)
     call rk4_refusals(r == 1)
     if (cvode_available()) call cvode_failures(r == 1)
   end do
@@ -49,6 +55,102 @@ contains
       call tc%check_true(len_trim(st%message) > 10, label // ': a message says why')
     end if
   end subroutine expect_failure
+
+  !> Every public routine with array arguments, one array too short or too long.
+  subroutine wrong_sizes(first)
+    logical, intent(in) :: first
+    real(wp) :: m(10), k(3), u(10), sn(10), cn(10), dn(10), am(10), short(4), th(10), om(10), t(10)
+    real(wp) :: et(4), eth(4), eom(4)
+    integer :: ek(3), n_ev, i, bad
+    integer(i8) :: steps, fast
+    logical :: trunc
+    type(ellipj_plan_t) :: plan
+    type(undamped_motion_t) :: motion
+    type(linear_damped_t) :: sol
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    m = 0.5_wp; u = 0.25_wp; t = [(0.1_wp * i, i = 0, 9)]
+    call ellipk_array(m, k, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipk_array k(3) for m(10)', first)
+    call ellipe_array(m(1:2), k, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipe_array e(3) for m(2)', first)
+    call ellipj_array(u, m, short, cn, dn, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_array short sn', first)
+    call ellipj_array(u, m, sn, cn, dn, st, short)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_array short am', first)
+    call ellipj_array(u, m(1:4), sn, cn, dn, st, am)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_array short m', first)
+    call ellipjc_array(u, m, sn, short, dn, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipjc_array short cn', first)
+    call ellipjc_array(u(1:4), m, short, short, short, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipjc_array long mc', first)
+    plan = ellipj_plan(0.7_wp)
+    call ellipj_eval_array(plan, u, sn, cn, short, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_eval_array short dn', first)
+    call ellipj_eval_array(plan, u(1:4), short, short, short, st, am)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_eval_array long am', first)
+    call undamped_init(motion, 1.0_wp, 0.0_wp, 2.0_wp, st)
+    call undamped_eval_many(motion, t, th, short, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'undamped_eval_many short omega', first)
+    call undamped_solve(t, 1.0_wp, 0.0_wp, 2.0_wp, short, om, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'undamped_solve short theta', first)
+    call small_angle_solve(t, 1.0_wp, 0.0_wp, 2.0_wp, th, short, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'small_angle_solve short omega', first)
+    call linear_damped_init(sol, 1.0_wp, 0.0_wp, 2.0_wp, 0.1_wp, st)
+    call linear_damped_eval(sol, t, short, om, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'linear_damped_eval short theta', first)
+    call linear_damped_arrays(t, m, m, m(1:4), m, th, om, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'linear_damped_arrays short w0', first)
+    call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, short, s, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'rk4_solve short omega', first)
+    call rk4_grid(t, 4.0_wp, 0.1_wp, 0.05_wp, th, short, steps, fast, bad)
+    if (first .or. bad /= -1) call tc%check_true(bad == -1 .and. steps == 0, 'rk4_grid short omega: bad = -1')
+    call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, &
+        1000_i8, short, om, s, st)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE .or. st%code == PENDULA_ERR_UNAVAILABLE, &
+        'cvode_solve short theta: ' // trim(st%message))
+    call cvode_solve_events(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, &
+        1000_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE .or. st%code == PENDULA_ERR_UNAVAILABLE, &
+        'cvode_solve_events event_kind(3) for event_t(4): ' // trim(st%message))
+  end subroutine wrong_sizes
+
+  !> Elliptic functions at the inputs that once crashed: |m| near huge() (the plan's
+  !> double-double set-up overflowed, then a table index was formed from NaN).
+  subroutine elliptic_extremes(first)
+    logical, intent(in) :: first
+    real(wp) :: ms(6), u(40), sn(40), cn(40), dn(40), am(40), mm(40), x
+    type(ellipj_plan_t) :: plan
+    type(status_t) :: st
+    integer :: i, j
+    logical :: ok
+    ms = [1.0e308_wp, -1.0e308_wp, huge(1.0_wp), -huge(1.0_wp), 1.4e300_wp, -1.4e300_wp]
+    u = [(0.7_wp * 3.0_wp**(i - 20), i = 1, 40)]
+    ok = .true.
+    do j = 1, size(ms)
+      call ellipj(0.7_wp, ms(j), sn(1), cn(1), dn(1), am(1))
+      ok = ok .and. all(ieee_is_finite([sn(1), cn(1), dn(1), am(1)]))
+      call ellipjc(0.7_wp, ms(j), sn(1), cn(1), dn(1), am(1))
+      ok = ok .and. all(ieee_is_finite([sn(1), cn(1), dn(1), am(1)]))
+      plan = ellipj_plan(ms(j))
+      call ellipj_eval_array(plan, u, sn, cn, dn, st, am)
+      ok = ok .and. all_finite(sn) .and. all_finite(cn) .and. all_finite(dn) .and. all_finite(am)
+      plan = ellipj_planc(ms(j))
+      call ellipj_eval_array(plan, u, sn, cn, dn, st)
+      ok = ok .and. all_finite(sn) .and. all_finite(cn) .and. all_finite(dn)
+      mm = ms(j)
+      mm(7) = 0.5_wp                     ! one ordinary element among the extreme ones
+      call ellipj_array(u, mm, sn, cn, dn, st, am)
+      ok = ok .and. all_finite(sn) .and. all_finite(cn) .and. all_finite(dn) .and. all_finite(am)
+      x = ellipf(1.0e-160_wp, ms(j)) + ellipfc(1.0e-160_wp, ms(j))
+      ok = ok .and. ieee_is_finite(x)
+    end do
+    if (first .or. .not. ok) call tc%check_true(ok, 'elliptic functions at |m| up to huge(): finite')
+    ! phi near huge() and at the doubles nearest odd multiples of pi/2 with m -> 1
+    x = ellipf(huge(1.0_wp) / 3, 0.5_wp) + ellipfc(1.5707963267948966_wp, 1.0e-300_wp) &
+        + ellipf(-4.71238898038469_wp, 0.999_wp)
+    if (first .or. .not. ieee_is_finite(x)) call tc%check_true(ieee_is_finite(x), 'ellipf extreme phi: finite')
+  end subroutine elliptic_extremes
 
   subroutine rk4_refusals(first)
     logical, intent(in) :: first
@@ -88,10 +190,10 @@ contains
     call cvode_solve_events(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_BDF, &
         10_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
     call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'cvode events step budget', first)
-    ! 3. atol = 0 with a zero state component: CVODE rejects the error weight
-    call cvode_solve(t, 0.0_wp, 1.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 0.0_wp, PENDULA_CVODE_ADAMS, 100000_i8, &
+    ! 3. tolerances below double precision: CVODE refuses (CV_TOO_MUCH_ACC)
+    call cvode_solve(t, 0.0_wp, 1.0_wp, 1.4_wp, 0.1_wp, 1.0e-30_wp, 1.0e-30_wp, PENDULA_CVODE_ADAMS, 100000_i8, &
         th, om, s, st)
-    call expect_failure(st, PENDULA_ERR_SOLVER, 'cvode zero error weight', first)
+    call expect_failure(st, PENDULA_ERR_SOLVER, 'cvode too much accuracy', first)
     ! 4. a stiff fast oscillation CVODE cannot follow: repeated error-test
     ! failures.  SUNDIALS' own C code overflows on the way (reported to the
     ! integrators concern); halting is switched off around this one call so

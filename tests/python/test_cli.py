@@ -253,3 +253,47 @@ def test_tradeoff_models_subset_and_errors(capsys, tmp_path):
     assert code == 2 and "--models: unknown model(s) euler" in err
     code, _, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--gamma", "1", "--models", "exact"], capsys)
     assert code == 2 and "do not apply" in err   # the library's ValueError, reported
+
+
+# ---------------------------------------------------------------- output paths
+
+_SOLVE = ["solve", "--theta0", "0.5", "--t-end", "2", "--n", "5"]
+_TRADEOFF = ["tradeoff", "--theta0", "0.5", "--t-end", "2", "--n", "5", "--models", "exact", "--repeat", "2"]
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["period", "--theta0", "0.1", "--csv"], "--csv"),
+    (_SOLVE + ["--csv"], "--csv"),
+    (_TRADEOFF + ["--csv"], "--csv"),
+    (_TRADEOFF + ["--png"], "--png"),
+])
+def test_output_into_a_missing_directory_is_refused_and_nothing_created(capsys, tmp_path, argv, option):
+    # `solve --csv /nonexistent/dir/x.csv` created /nonexistent/dir: every option that
+    # writes a file refuses a missing directory, naming the option, and creates nothing
+    missing = tmp_path / "no" / "such"
+    code, out, err = run(argv + [str(missing / "x.out")], capsys)
+    assert code == 2
+    assert option in err and "does not exist" in err and "--mkdir" in err
+    assert not (tmp_path / "no").exists()
+    assert out == ""          # refused before any work is printed
+
+
+def test_mkdir_creates_the_directories_asked_for(capsys, tmp_path):
+    path = tmp_path / "a" / "b" / "s.csv"
+    code, out, err = run(_SOLVE + ["--csv", str(path), "--mkdir"], capsys)
+    assert code == 0, err
+    assert path.is_file()
+
+
+def test_output_path_that_is_a_directory_is_refused(capsys, tmp_path):
+    code, _, err = run(_SOLVE + ["--csv", str(tmp_path)], capsys)
+    assert code == 2 and "--csv" in err and "directory" in err
+
+
+def test_figures_out_creates_the_folder_but_not_its_parents(capsys, tmp_path):
+    code, _, err = run(["figures", "--out", str(tmp_path / "x" / "figs"), "--quick", "--only", "fig03"], capsys)
+    assert code == 2 and "--out" in err and "--mkdir" in err
+    assert not (tmp_path / "x").exists()
+    code, _, err = run(["figures", "--out", str(tmp_path / "figs"), "--quick", "--only", "fig03"], capsys)
+    assert code == 0, err
+    assert (tmp_path / "figs").is_dir()

@@ -249,3 +249,77 @@ def test_shapes_scalars_broadcasting_and_no_input_change():
     assert pendula.ellipf(np.zeros((4, 1)), np.zeros(5)).shape == (4, 5)
     with pytest.raises(ValueError):
         pendula.ellipj(np.zeros(3), np.zeros(4))
+
+
+# ---- extreme inputs: |m| up to huge(), phi at the doubles nearest odd multiples of pi/2,
+# F near m = 1 and phi = pi/2 (references: mpmath at the exact double inputs)
+
+def _mp_jacobi(u, m):
+    """sn, cn, dn at exact double u, m by the modulus transformations (DLMF 22.6.11/12),
+    which keep mpmath's own series in their easy range; 400 digits so that 1 - m is exact."""
+    import mpmath as mp
+    with mp.workdps(400):
+        u, m = mp.mpf(u), mp.mpf(m)
+        if m > 1:
+            k = mp.sqrt(m)
+            s, c, d = (mp.ellipfun(f, k * u, m=1 / m) for f in ("sn", "cn", "dn"))
+            return float(s / k), float(d), float(c)
+        k1 = mp.sqrt(1 - m)
+        s, c, d = (mp.ellipfun(f, u * k1, m=-m / (1 - m)) for f in ("sn", "cn", "dn"))
+        return float(s / d / k1), float(c / d), float(1 / d)
+
+
+@pytest.mark.parametrize("m", [1e308, -1e308, 1.7976931348623157e308, -1.7976931348623157e308,
+                               1.4e300, -1.4e300])
+def test_ellipj_huge_parameter(m):
+    # once a segfault (double-double overflow in the plan set-up, then a table index from NaN)
+    for u in (1e-160, 1e-155):
+        ref = _mp_jacobi(u, m)
+        for got in (pendula.ellipj(u, m)[:3], pendula.ellipjm1(u, -m if abs(m) > 1e300 else 1 - m)[:3]):
+            assert np.all(_rel(got, ref) <= TOL_COND), (u, m, got, ref)
+    # |u| sqrt|m| ~ 1e154: the phase is below the resolution of u (cond ~ |u| sqrt|m|);
+    # the values must be finite and consistent, on every path (scalar, array, plan)
+    u = np.linspace(-1e3, 1e3, 2001)
+    for sn, cn, dn, ph in (pendula.ellipj(0.7, m), pendula.ellipj(u, m), pendula.ellipj(u, np.full_like(u, m)),
+                           pendula.ellipjm1(u, m)):
+        assert np.all(np.isfinite(sn) & np.isfinite(cn) & np.isfinite(dn) & np.isfinite(ph))
+    sn, cn, dn, _ = pendula.ellipj(u, m)
+    assert np.all(np.abs(sn * sn + cn * cn - 1) <= 8 * EPS)
+
+
+@pytest.mark.parametrize("phi,p,ref", [
+    (np.pi / 2, 1e-300, 38.025003373828868), (np.pi / 2, 1e-40, 38.025003367161134),
+    (np.pi / 2, 0.0, 38.025003373828868), (3 * np.pi / 2, 1e-300, 730.47450770561424),
+    (-3 * np.pi / 2, 1e-300, -730.47450770561424), (-np.pi / 2, 1e-300, -38.025003373828868)])
+def test_ellipf_at_double_nearest_odd_multiple_of_half_pi(phi, p, ref):
+    # the multiple of pi was taken from the rounded quotient anint(phi/pi): fl(pi/2) was
+    # reduced to -pi/2 - 6e-17 and F came out as F + 2K (656.49 instead of 38.03)
+    got = pendula.ellipfm1(phi, p)
+    assert _rel(got, ref) <= TOL_ULPS, (phi, p, got, ref)
+    if p == 0.0:
+        assert _rel(pendula.ellipf(phi, 1.0), ref) <= TOL_ULPS
+
+
+def test_ellipf_near_one_and_half_pi_matches_mpmath():
+    # 1 - m in [1e-12, 1e-3], phi within 1e-2 of pi/2: F at the exact double inputs to
+    # <= 8 eps (once 3,460 eps: 1 - m sin^2 phi cancelled; now cos^2 + mc sin^2)
+    import mpmath as mp
+    rng = np.random.default_rng(8)
+    n = 300
+    m = 1 - 10.0 ** rng.uniform(-12, -3, n)
+    phi = np.pi / 2 + 10.0 ** rng.uniform(-10, -2, n) * rng.choice([-1.0, 1.0], n)
+    with mp.workdps(50):
+        ref = np.array([float(mp.ellipf(mp.mpf(a), mp.mpf(b))) for a, b in zip(phi, m)])
+    e = _rel(pendula.ellipf(phi, m), ref)
+    ec = _rel(pendula.ellipfm1(phi, 1 - m), ref)     # 1 - m is exact for these m
+    print(f"F near m = 1, phi = pi/2: worst {e.max():.2f} eps (m form), {ec.max():.2f} eps (p form)")
+    assert e.max() <= 8 and ec.max() <= 8
+
+
+def test_ellipf_huge_phi():
+    # n = phi/pi beyond 2**53: reduced in steps; F = phi 2K/pi to rounding, +-Inf beyond huge
+    k = pendula.ellipk(0.5)
+    for phi in (1e17, 1e100, 1e300, 8.98e307):
+        assert abs(pendula.ellipf(phi, 0.5) / (phi * k / (np.pi / 2)) - 1) <= 4 * EPS
+    assert pendula.ellipf(1.7976931348623157e308, 0.5) == np.inf
+    assert pendula.ellipf(-1.7976931348623157e308, 0.5) == -np.inf

@@ -284,7 +284,9 @@ def saved_state(path):
 
 
 def _fortran_sources():
-    return sorted(list((ROOT / "src").rglob("*.f90")) + list((ROOT / "python" / "f2py").glob("*.f90")))
+    # .F90 and .inc: pendula_cvode.F90 and the stand-in it includes
+    src = [p for p in (ROOT / "src").rglob("*") if p.suffix in (".f90", ".F90", ".inc")]
+    return sorted(src + list((ROOT / "python" / "f2py").glob("*.f90")))
 
 
 @pytest.mark.skipif(not (ROOT / "src").is_dir(), reason="needs the source tree")

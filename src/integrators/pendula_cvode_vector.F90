@@ -27,6 +27,10 @@
 !> does not contract a*x + b*y into an FMA, nor does the Debian SUNDIALS build,
 !> so the roundings agree.  tests/fortran/test_cvode_vector.f90 checks this
 !> against the serial library.
+!>
+!> Compiled only with SUNDIALS (PENDULA_WITH_SUNDIALS); empty otherwise, so that
+!> fpm, which compiles every file under src/, builds without SUNDIALS too.
+#ifdef PENDULA_WITH_SUNDIALS
 module pendula_cvode_vector
   use, intrinsic :: iso_c_binding
   use fsundials_nvector_mod, only: N_Vector, N_Vector_Ops, FN_VGetVectorID, SUNDIALS_NVEC_SERIAL
@@ -380,3 +384,4 @@ contains
   end function linear_sum_vector_array
 
 end module pendula_cvode_vector
+#endif

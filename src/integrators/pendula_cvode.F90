@@ -5,9 +5,12 @@
 !> Jacobian, scalar relative/absolute tolerances, output at requested times and
 !> root finding for turning points (Omega = 0) and zero crossings (theta = 0).
 !>
-!> Built only when meson found the SUNDIALS Fortran 2003 modules; otherwise
-!> pendula_cvode_unavailable.f90 provides this module with the same API, whose
-!> procedures return PENDULA_ERR_UNAVAILABLE.
+!> Built only when the build found the SUNDIALS Fortran 2003 modules (meson and
+!> CMake define PENDULA_WITH_SUNDIALS then; fpm users pass it in their flags);
+!> otherwise pendula_cvode_unavailable.inc provides this module with the same
+!> API, whose procedures return PENDULA_ERR_UNAVAILABLE.  One file defines the
+!> module on both paths (the stand-in comes in by #include) because fpm finds
+!> modules by scanning source text and rejects two files naming one module.
 !>
 !> The state vector is a SUNDIALS serial vector whose arithmetic operations
 !> are replaced by length-2 kernels (pendula_cvode_vector; same results bit
@@ -17,6 +20,7 @@
 !> (a pointer to a local variable); there is no module state.  Every SUNDIALS
 !> object is created and freed inside one call, on every path.  CVODE's own
 !> error messages are captured (never printed) and returned in the status.
+#ifdef PENDULA_WITH_SUNDIALS
 module pendula_cvode
   use, intrinsic :: iso_c_binding
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -39,11 +43,23 @@ module pendula_cvode
   public :: cvode_solve, cvode_solve_events, cvode_available
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
-  !> What the callbacks see through user_data: the parameters, and room for
+  !> What the callbacks see through user_data: the parameters, the time
+  !> scale, the tolerances of the pure relative mode (atol = 0), and room for
   !> the last error message CVODE reports.
+  !>
+  !> CVODE integrates in tau = (t - t(1)) / T, T = 2**tscale: the problem is
+  !> autonomous, so moving the origin to t(1) costs nothing and lets a window
+  !> of a few ulps at t(1) = 1e300 be resolved; T = 1 except for windows
+  !> shorter than 2**-64 s, where CVODE's products of two times (e.g.
+  !> (tstop - t) h) would underflow (t = [0, 1e-300] was refused).  The
+  !> state stays (theta, Omega) in rad, rad/s; d/dtau = T d/dt, and T is a
+  !> power of 2, so the scaling itself is exact.
   type :: cv_data_t
     real(c_double) :: w0sq = 0
     real(c_double) :: gamma = 0
+    integer :: tscale = 0
+    real(c_double) :: w0 = 1
+    real(c_double) :: rtol = 0
     character(len=200) :: errmsg = ''
   end type cv_data_t
 
@@ -58,9 +74,10 @@ contains
   !> return theta(i) [rad], omega(i) [rad/s] at the output times t(i) [s].
   !>
   !> t: strictly increasing, finite, size >= 1; t(1) is the initial time of
-  !> (theta0, omega0).  w0 > 0, gamma >= 0 [1/s].  rtol > 0, atol >= 0: CVODE
-  !> keeps each step's local error below rtol |y| + atol (the global error is
-  !> typically 1-100x that).  method: PENDULA_CVODE_ADAMS (non-stiff) or
+  !> (theta0, omega0); t(n) - t(1) must not overflow.  w0 > 0, gamma >= 0 [1/s].
+  !> rtol > 0, atol >= 0: CVODE keeps each step's local error below
+  !> rtol |y| + atol (the global error is typically 1-100x that); atol = 0 is
+  !> pure relative control, normwise (see relative_weights).  method: PENDULA_CVODE_ADAMS (non-stiff) or
   !> PENDULA_CVODE_BDF (stiff, e.g. gamma >> w0).  max_steps >= 1: total step
   !> budget for the whole run.  theta, omega: size(t).  stats: all counters of
   !> ode_stats_t.  Errors: bad arguments (outputs zero); CVODE failures
@@ -129,6 +146,7 @@ contains
     integer(c_long) :: nst(1)
     integer :: i, k, nt
     logical :: ok
+    real(c_double) :: span, tau_end
 
     theta = 0
     omega = 0
@@ -155,12 +173,23 @@ contains
         call set_error(status, PENDULA_ERR_SIZE, 'event_t, event_kind, event_theta and event_omega ' // &
             'must all have the same size (the maximum number of events kept)')
     if (status%code /= PENDULA_OK) return
+    span = t(nt) - t(1)
+    if (.not. ieee_is_finite(span)) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) ' // &
+          'overflows): no integration can cover that window')
+      return
+    end if
     theta(1) = theta0
     omega(1) = omega0
     if (nt == 1) return
 
     data%w0sq = w0 * w0
     data%gamma = gamma
+    data%w0 = w0
+    data%rtol = rtol
+    data%tscale = 0
+    if (span < 2.0_wp**(-64)) data%tscale = exponent(span)
+    tau_end = tau(t(nt))
     ctx = c_null_ptr
     cvode_mem = c_null_ptr
     nullify (y, amat, ls)
@@ -196,12 +225,18 @@ contains
       end if
       ierr = FCVodeSetErrHandlerFn(cvode_mem, c_funloc(capture_error), c_loc(data))
       if (fail(ierr, 'CVodeSetErrHandlerFn')) exit setup
-      ierr = FCVodeInit(cvode_mem, c_funloc(rhs), t(1), y)
+      ierr = FCVodeInit(cvode_mem, c_funloc(rhs), 0.0_c_double, y)
       if (fail(ierr, 'CVodeInit')) exit setup
       ierr = FCVodeSetUserData(cvode_mem, c_loc(data))
       if (fail(ierr, 'CVodeSetUserData')) exit setup
-      ierr = FCVodeSStolerances(cvode_mem, rtol, atol)
-      if (fail(ierr, 'CVodeSStolerances')) exit setup
+      if (atol > 0) then
+        ierr = FCVodeSStolerances(cvode_mem, rtol, atol)
+        if (fail(ierr, 'CVodeSStolerances')) exit setup
+      else
+        ! pure relative control, normwise (see relative_weights)
+        ierr = FCVodeWFtolerances(cvode_mem, c_funloc(relative_weights))
+        if (fail(ierr, 'CVodeWFtolerances')) exit setup
+      end if
       amat => FSUNDenseMatrix(2_c_int64_t, 2_c_int64_t, ctx)
       if (.not. associated(amat)) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNDenseMatrix could not allocate the Jacobian')
@@ -217,7 +252,7 @@ contains
       ierr = FCVodeSetJacFn(cvode_mem, c_funloc(jacobian))
       if (fail(ierr, 'CVodeSetJacFn')) exit setup
       ! Stop exactly at the last output instead of stepping past it.
-      ierr = FCVodeSetStopTime(cvode_mem, t(nt))
+      ierr = FCVodeSetStopTime(cvode_mem, tau_end)
       if (fail(ierr, 'CVodeSetStopTime')) exit setup
       if (with_events) then
         ierr = FCVodeRootInit(cvode_mem, 2_c_int, c_funloc(root_functions))
@@ -240,7 +275,7 @@ contains
         end if
         ierr = FCVodeSetMaxNumSteps(cvode_mem, int(max_steps - int(nst(1), i8), c_long))
         if (fail(ierr, 'CVodeSetMaxNumSteps')) exit setup
-        ierr = FCVode(cvode_mem, t(i), y, tret, CV_NORMAL)
+        ierr = FCVode(cvode_mem, merge(tau_end, tau(t(i)), i == nt), y, tret, CV_NORMAL)
         if (ierr == CV_ROOT_RETURN) then
           ierr = FCVodeGetRootInfo(cvode_mem, roots)
           if (fail(ierr, 'CVodeGetRootInfo')) exit setup
@@ -248,7 +283,7 @@ contains
             if (roots(k) == 0) cycle
             if (n_events < size(event_t)) then
               n_events = n_events + 1
-              event_t(n_events) = tret(1)
+              event_t(n_events) = min(t(1) + scale(tret(1), data%tscale), t(nt))
               event_kind(n_events) = merge(PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, k == 1)
               event_theta(n_events) = yv(1)
               event_omega(n_events) = yv(2)
@@ -311,6 +346,12 @@ contains
           itoa(int(flag, i8)) // ' (' // flag_name(flag) // '): ' // why)
     end function fail
 
+    !> An output time in CVODE's time tau (exact for t within a factor 2 of t(1)).
+    pure real(c_double) function tau(tt)
+      real(wp), intent(in) :: tt
+      tau = scale(tt - t(1), -data%tscale)
+    end function tau
+
   end subroutine solve
 
   !> Copy CVODE's counters into stats; a failing getter is itself an error.
@@ -363,6 +404,7 @@ contains
     ff => pair_of(sunvec_f)
     ff%v(1) = yy%v(2)
     ff%v(2) = -p%gamma * yy%v(2) - p%w0sq * sin(yy%v(1))
+    if (p%tscale /= 0) ff%v = scale(ff%v, p%tscale)   ! d/dtau = T d/dt
     ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
     ierr = 0
     if (.not. (ieee_is_finite(ff%v(1)) .and. ieee_is_finite(ff%v(2)))) ierr = -1
@@ -386,8 +428,33 @@ contains
     jd(2) = -p%w0sq * cos(yy(1))
     jd(3) = 1
     jd(4) = -p%gamma
+    if (p%tscale /= 0) jd = scale(jd, p%tscale)
     ierr = 0
   end function jacobian
+
+  !> Error weights for atol = 0 (pure relative control).  CVODE's own weights
+  !> 1/(rtol |y_i|) are infinite where a component is zero, and theta and
+  !> Omega both pass through zero every half period (theta0 = 0 is the text's
+  !> own start: CVODE refused it).  The tolerance is relative to the size of
+  !> the whole state instead, S = max(|theta|, |Omega|/w0) (Omega measured in
+  !> theta's units, as in the scenes): each step's local error in theta is
+  !> kept below rtol S and in Omega below rtol w0 S.  S is zero only at rest
+  !> at theta = 0, where the solution is exactly zero; the weights are kept
+  !> finite and positive there.
+  integer(c_int) function relative_weights(sunvec_y, sunvec_w, user_data) result(ierr) bind(C, name='')
+    type(N_Vector) :: sunvec_y, sunvec_w
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    type(pair_t), pointer :: yy, ww
+    real(c_double) :: tol(2)
+    call c_f_pointer(user_data, p)
+    yy => pair_of(sunvec_y)
+    ww => pair_of(sunvec_w)
+    tol(1) = p%rtol * max(abs(yy%v(1)), abs(yy%v(2)) / p%w0)
+    tol(2) = p%rtol * max(p%w0 * abs(yy%v(1)), abs(yy%v(2)))
+    ww%v = 1 / min(max(tol, tiny(tol)), huge(tol))
+    ierr = 0
+  end function relative_weights
 
   !> Event functions: g1 = Omega (turning point), g2 = theta (zero crossing).
   integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C, name='')
@@ -482,3 +549,6 @@ contains
   end function rtoa
 
 end module pendula_cvode
+#else
+#include "pendula_cvode_unavailable.inc"
+#endif
