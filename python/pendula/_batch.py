@@ -24,8 +24,10 @@ class BatchResult:
     shape batch_shape + (n_t,) (zero for a failed state).  codes: status
     code per state (``pendula._errors``: 0 = ok), shape batch_shape.
     steps: RK4 steps per state.  code, message: the summary (0 and '' when
-    every state succeeded; else the first failed state's code and message).
-    first_failed: flat index of that state, or -1.
+    every state succeeded; ERR_CANCELLED when the call was cancelled; else
+    the first failed state's code and pendula.rk4's message for it, which
+    numbers states from 1).  first_failed: flat index of the first failed
+    state, or -1.
     """
     t: np.ndarray
     theta: np.ndarray

@@ -59,8 +59,9 @@ contains
   !> codes(i) is state i's status code (PENDULA_OK, or what rk4_solve would
   !> return: bad argument, unstable h, non-finite state); a failed state's
   !> outputs are zero and the others are unaffected.  status: OK when every
-  !> state succeeded; otherwise the first failed state's code, with its index
-  !> and rk4_solve's message for it (first_failed = that index).  When the
+  !> state succeeded; PENDULA_ERR_CANCELLED when the call was cancelled (see
+  !> control); otherwise the first failed state's code, with its index and
+  !> rk4_solve's message for it.  first_failed: the first failed state.  When the
   !> call itself is refused (bad t, array sizes, threads < 0), first_failed = 0
   !> and every codes(i) holds status%code.
   !>
@@ -81,7 +82,7 @@ contains
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer, intent(out), optional :: first_failed
     integer, allocatable :: live(:)
-    integer :: n, i, nlive, nblocks, b, nthreads, first, nfail
+    integer :: n, i, nlive, nblocks, b, nthreads, first, nfail, ncancel
     type(status_t) :: st
     n = size(theta0)
     if (present(first_failed)) first_failed = 0
@@ -130,19 +131,22 @@ contains
     ! Summary: the first failed state, with rk4_solve's own message for it.
     first = 0
     nfail = 0
+    ncancel = 0
     do i = n, 1, -1
       if (codes(i) /= PENDULA_OK) then
         first = i
         nfail = nfail + 1
+        if (codes(i) == PENDULA_ERR_CANCELLED) ncancel = ncancel + 1
         theta(:, i) = 0
         omega(:, i) = 0
-        if (codes(i) /= PENDULA_ERR_CANCELLED) steps(i) = 0
+        steps(i) = 0
       end if
     end do
     if (first == 0) return
     if (present(first_failed)) first_failed = first
-    if (codes(first) == PENDULA_ERR_CANCELLED) then
-      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // int_text(nfail) // ' of ' // &
+    if (ncancel > 0) then
+      ! a cancelled call says so first, whatever else failed
+      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // int_text(ncancel) // ' of ' // &
           int_text(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
       return
     end if

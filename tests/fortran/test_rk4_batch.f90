@@ -175,6 +175,13 @@ contains
     call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. first == 1, 'cancel: summary cancelled')
     call tc%check_true(all(codes == PENDULA_ERR_CANCELLED) .and. all(th == 0), 'cancel: every state cancelled')
     call tc%check_true(control(CONTROL_PROGRESS) == 0, 'cancel: no progress')
+    ! a cancelled call reports the cancel first, even when a state failed before it
+    th0(2) = ieee_value(1.0_wp, ieee_quiet_nan)
+    call rk4_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
+        threads=1, control=control, first_failed=first)
+    call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. first == 1 .and. codes(2) == PENDULA_ERR_NONFINITE &
+        .and. count(codes == PENDULA_ERR_CANCELLED) == n - 1, 'cancel: reported before a failed state')
+    th0(2) = 0.3_wp
     control = 0
     call rk4_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
         threads=1, control=control)
