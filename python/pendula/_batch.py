@@ -7,6 +7,7 @@ the same arguments.  A state that fails (unstable h, bad value, non-finite
 result) gets its own status code and zero outputs; the others are unaffected.
 """
 import numbers
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,12 +45,25 @@ class BatchResult:
         return self.codes == OK
 
 
+# GNU OpenMP is not fork-safe: a child forked after its parent ran a
+# multi-threaded region hangs in its own first one (the thread pool it
+# inherits has no threads).  The pid that started the pool is remembered; a
+# forked child runs its batches on one thread (same results, bit for bit).
+_pool_pid = None
+
+
 def _threads(threads):
+    global _pool_pid
     if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
         raise TypeError(f"threads must be an integer, got {type(threads).__name__}")
     if threads < 0 or threads > 4096:
         raise ValueError(f"threads = {threads} is out of range: it must be in [0, 4096] (0: the OpenMP default)")
-    return int(threads)
+    if threads == 1:
+        return 1
+    pid = os.getpid()
+    if _pool_pid is None:
+        _pool_pid = pid
+    return int(threads) if _pool_pid == pid else 1
 
 
 def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
@@ -59,7 +73,8 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     state.  theta0 [rad], omega0 [rad/s], w0 > 0, gamma >= 0 [1/s] and the
     step h > 0 [s] broadcast together like NumPy to the batch shape; each
     state uses its own h.  threads: OpenMP threads (0 = the OpenMP default,
-    which honours OMP_NUM_THREADS).  control: optional int64 array of 2
+    which honours OMP_NUM_THREADS; one thread in a process forked after its
+    parent used more, since GNU OpenMP is not fork-safe).  control: optional int64 array of 2
     (pendula_control): setting control[0] from another thread cancels the
     call (finished states keep their results; the unfinished get
     ERR_CANCELLED); control[1] counts finished states.

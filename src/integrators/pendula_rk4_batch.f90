@@ -66,7 +66,9 @@ contains
   !> and every codes(i) holds status%code.
   !>
   !> threads: OpenMP threads (0 = the OpenMP default, which honours
-  !> OMP_NUM_THREADS; ignored in a build without OpenMP).  control (optional,
+  !> OMP_NUM_THREADS; ignored in a build without OpenMP).  GNU OpenMP is not
+  !> fork-safe: a process forked after a call with more than one thread must
+  !> pass threads = 1 (more would hang in the stale thread pool).  control (optional,
   !> pendula_control): control(CONTROL_CANCEL) /= 0 stops the call within
   !> about 0.25 ms per thread; finished states keep their results and the
   !> unfinished ones get PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS)

@@ -9,6 +9,8 @@ stops the call with the finished states kept.  Accuracy itself is pendula.rk4's
 checked against SciPy's DOP853 at rtol 1e-12.
 """
 import math
+import os
+import signal
 import threading
 import time
 
@@ -183,3 +185,21 @@ def test_accuracy_against_dop853():
 
 def test_openmp_flag_is_boolean():
     assert _batch.openmp() in (True, False)
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
+def test_forked_child_after_threaded_parent_does_not_hang():
+    # GNU OpenMP's thread pool does not survive fork: the child must not try
+    # to use it (it would hang); it runs on one thread with the same results.
+    r = _batch.rk4_batch(T, np.linspace(-1, 1, 64), 2.0, W0, 0.1, 0.05, threads=2)
+    pid = os.fork()
+    if pid == 0:   # child: SIGALRM ends it if the call hangs
+        code = 1
+        try:
+            signal.alarm(20)
+            r2 = _batch.rk4_batch(T, np.linspace(-1, 1, 64), 2.0, W0, 0.1, 0.05, threads=2)
+            code = 0 if np.array_equal(r2.theta, r.theta) else 3
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
