@@ -23,6 +23,7 @@ module pendula_rk4
   implicit none
   private
   public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function, RK4_DEFAULT_MAX_STEPS
+  public :: check_step   ! the batch driver (pendula_rk4_batch) validates each state's h with it
 
   !> Default step budget of one call: about a minute of CPU at ~25 ns a step.
   !> A window that needs more is refused up front (the caller may raise it

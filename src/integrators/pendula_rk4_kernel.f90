@@ -27,6 +27,9 @@ module pendula_rk4_kernel
   private
   public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
   public :: stage_rmax, stage_xmax, RK4_POLL_STEPS
+  ! the node tables and reduction constants, for the batch kernel's own copy
+  ! of the step (pendula_rk4_batch: the same operations, across states)
+  public :: nnodes, node_sin, node_cos, taylor, node_p1, node_p2, node_p3, nodes_per_radian
 
   !> Steps between two looks at the cancel flag of `control` (about 0.1 ms of
   !> work at ~25 ns a step: Ctrl-C latency stays far below a millisecond,

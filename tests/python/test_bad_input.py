@@ -612,6 +612,7 @@ FORTRAN_NO_STATUS = {
     # total functions of integer codes / no arguments
     "cancel_requested": "total: reads the cancel flag of a control array",
     "add_progress": "total: adds to the progress counter of a control array",
+    "rk4_batch_openmp": "no arguments (build constant)",
     "code_name": "total function of a status code",
     "regime_name": "total function of a regime code",
     "equilibrium_type_name": "total function of a type code",
@@ -619,8 +620,6 @@ FORTRAN_NO_STATUS = {
     "scene_model_code": "total function of a name", "scene_model_name": "total function of a code",
     "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
     "cvode_available": "no arguments",
-    # cancel flag / progress counter of long calls: total on any control array
-    "cancel_requested": "reads a flag, cannot fail", "add_progress": "adds to a counter, cannot fail",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
     "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
     # documented unchecked kernels with a checked entry point (reported to their concerns)

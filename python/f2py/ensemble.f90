@@ -1,0 +1,43 @@
+! f2py-facing layer for the ensemble (batch) kernels (pendula_rk4_batch).
+! Plain subroutines, c_double/c_int explicit-shape arguments, a status code +
+! message.  Its own extension (pendula._ensemble) so that the batch glue does
+! not grow the single-state integrate extension.  threadsafe: f2py releases
+! the GIL for the call, so other Python threads (a watcher raising the cancel
+! flag in `control`, other batch calls) run meanwhile.  No numerics here.
+
+subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h, threads, control, &
+    theta, omega, codes, steps, first_failed, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t
+  use pendula_rk4_batch, only: rk4_batch_solve
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: nt, n, no, nw, ng, nh, threads
+  real(c_double), intent(in) :: t(nt), theta0(n), omega0(no), w0(nw), gamma(ng), h(nh)
+  ! int64: the cancel flag and progress counter (pendula_control), shared with
+  ! the caller's thread while the call runs
+  integer(8), intent(inout) :: control(2)
+  real(c_double), intent(out) :: theta(nt, n), omega(nt, n), steps(n)
+  integer(c_int), intent(out) :: codes(n), first_failed, code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  integer(i8), allocatable :: nsteps(:)   ! heap: n may be 1e7
+  integer :: first
+  allocate (nsteps(n))
+  call rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, nsteps, st, &
+      threads=int(threads), control=control, first_failed=first)
+  steps = real(nsteps, c_double)
+  first_failed = first
+  code = st%code
+  msg = st%message
+end subroutine rk4_batch_f2py
+
+subroutine rk4_batch_openmp_f2py(flag)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use pendula_rk4_batch, only: rk4_batch_openmp
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(out) :: flag
+  flag = merge(1, 0, rk4_batch_openmp())
+end subroutine rk4_batch_openmp_f2py

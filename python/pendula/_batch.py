@@ -1,0 +1,113 @@
+"""Many pendulums per call (private: the public broadcast API comes later).
+
+``rk4_batch`` integrates every state of a NumPy-broadcast batch with the
+Fortran batch kernel (pendula_rk4_batch): SIMD blocks of states on OpenMP
+threads, the GIL released, each state bit-identical to ``pendula.rk4`` for
+the same arguments.  A state that fails (unstable h, bad value, non-finite
+result) gets its own status code and zero outputs; the others are unaffected.
+"""
+import numbers
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _ensemble
+from ._arrays import as_real, broadcast_real
+from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Result of a batch integration.
+
+    t: the output times [s], shape (n_t,).  theta [rad], omega [rad/s]:
+    shape batch_shape + (n_t,) (zero for a failed state).  codes: status
+    code per state (``pendula._errors``: 0 = ok), shape batch_shape.
+    steps: RK4 steps per state.  code, message: the summary (0 and '' when
+    every state succeeded; ERR_CANCELLED when the call was cancelled; else
+    the first failed state's code and pendula.rk4's message for it, which
+    numbers states from 1).  first_failed: flat index of the first failed
+    state, or -1.
+    """
+    t: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    codes: np.ndarray
+    steps: np.ndarray
+    code: int
+    message: str
+    first_failed: int
+
+    @property
+    def ok(self):
+        """Boolean mask of the states that succeeded (shape batch_shape)."""
+        return self.codes == OK
+
+
+# GNU OpenMP is not fork-safe: a child forked after its parent ran a
+# multi-threaded region hangs in its own first one (the thread pool it
+# inherits has no threads).  The pid that started the pool is remembered; a
+# forked child runs its batches on one thread (same results, bit for bit).
+_pool_pid = None
+
+
+def _threads(threads):
+    global _pool_pid
+    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"threads must be an integer, got {type(threads).__name__}")
+    if threads < 0 or threads > 4096:
+        raise ValueError(f"threads = {threads} is out of range: it must be in [0, 4096] (0: the OpenMP default)")
+    if threads == 1:
+        return 1
+    pid = os.getpid()
+    if _pool_pid is None:
+        _pool_pid = pid
+    return int(threads) if _pool_pid == pid else 1
+
+
+def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
+    """RK4 (as ``pendula.rk4``) for a batch of states over one output grid.
+
+    t: strictly increasing, finite output times [s], 1-D, shared by every
+    state.  theta0 [rad], omega0 [rad/s], w0 > 0, gamma >= 0 [1/s] and the
+    step h > 0 [s] broadcast together like NumPy to the batch shape; each
+    state uses its own h.  threads: OpenMP threads (0 = the OpenMP default,
+    which honours OMP_NUM_THREADS; one thread in a process forked after its
+    parent used more, since GNU OpenMP is not fork-safe).  control: optional int64 array of 2
+    (pendula_control): setting control[0] from another thread cancels the
+    call (finished states keep their results; the unfinished get
+    ERR_CANCELLED); control[1] counts finished states.
+
+    Returns a ``BatchResult``.  Raises TypeError/ValueError for arguments
+    that refuse the whole call (t, shapes, threads, control); per-state
+    failures are reported in ``codes``, never raised.
+    """
+    tt = as_real(t, "t")
+    if tt.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of output times, got an array of shape {tt.shape}")
+    if tt.size < 1:
+        raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
+    shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)
+    nthreads = _threads(threads)
+    if control is None:
+        control = np.zeros(2, dtype=np.int64)
+    elif not (isinstance(control, np.ndarray) and control.dtype == np.int64 and control.shape == (2,)
+              and control.flags.c_contiguous and control.flags.writeable):
+        raise TypeError("control must be a writeable contiguous int64 numpy array of shape (2,)")
+    theta, omega, codes, steps, first, code, msg = _ensemble.rk4_batch_f2py(
+        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), nthreads, control)
+    code, first = int(code), int(first)
+    if code != OK and first == 0 and code != ERR_CANCELLED:
+        raise_for_status(code, msg)   # the call itself was refused
+    n_t = tt.size
+    # Fortran's (n_t, n) column-major block is the C-order (n, n_t) array:
+    # each state's series contiguous, no copy.
+    return BatchResult(t=tt, theta=theta.T.reshape(shape + (n_t,)), omega=omega.T.reshape(shape + (n_t,)),
+                       codes=codes.astype(np.int64).reshape(shape), steps=steps.astype(np.int64).reshape(shape),
+                       code=code, message=_text(msg) if code else "", first_failed=first - 1)
+
+
+def openmp():
+    """True when this build runs the batch kernels on OpenMP threads."""
+    return bool(_ensemble.rk4_batch_openmp_f2py())
