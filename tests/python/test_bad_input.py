@@ -622,7 +622,9 @@ FORTRAN_NO_STATUS = {
     # cancel flag / progress counter of long calls: total on any control array
     "cancel_requested": "reads a flag, cannot fail", "add_progress": "adds to a counter, cannot fail",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
-    "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
+    "ellipj_plan": "elliptic rule", "ellipj_planm1": "elliptic rule",
+    # whether a Jacobi plan pays off: a total decision on (m, n) for any m and n
+    "ellipj_plan_pays": "total decision", "ellipjm1_plan_pays": "total decision",
     # documented unchecked kernels with a checked entry point (reported to their concerns)
     "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
 }
