@@ -13,13 +13,13 @@ module pendula_jacobi
   use pendula_kinds, only: wp
   use pendula_constants, only: pi, quiet_nan
   use pendula_status, only: status_t, set_error, PENDULA_ERR_SIZE
-  use pendula_double_double, only: two_prod, veltkamp_split
+  use pendula_double_double, only: veltkamp_split
   use pendula_elliptic_tables, only: series_coeffs
   use pendula_elliptic_ke, only: ellipk, ellipkm1, k_unit
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_CORE, MODULUS_RECIPROCAL, &
       MODULUS_IMAGINARY
-  use pendula_jacobi_kernel, only: eval_at_param, core_sncndn, am_from_sn_cn, taylor_row_at, tab_index, &
-      estrin8, ntay, tab_step, tab_inv_step, khi_tab_max
+  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, core_sncndn, am_from_sn_cn, taylor_row_at, &
+      ntay, tab_step, tab_inv_step, khi_tab_max
   implicit none
   private
 
@@ -118,67 +118,6 @@ contains
       end do
     end if
   end subroutine ellipj_eval_array
-
-  !> The loop of ellipj_eval_array for tabulated plans.  Points the fast reduction
-  !> cannot take (NaN, Inf, n >= 2**26 half periods) go through eval_at_param.
-  pure subroutine eval_table_array(par, tab, ntab, n, u, want_am, sn, cn, dn, am)
-    type(jacobi_param_t), intent(in) :: par
-    integer, intent(in) :: ntab, n
-    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab), u(n)
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn(n), cn(n), dn(n)
-    real(wp), intent(inout) :: am(*)
-    real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
-    integer :: i, j, parity
-    logical :: big
-    call veltkamp_split(2 * par%khi, c1, c2)
-    c3 = 2 * par%klo
-    inv2k = 1 / (2 * par%khi)
-    vmax = 2.0_wp**25 * (2 * par%khi)
-    do i = 1, n
-      v = abs(u(i)) * par%uscale
-      big = ieee_is_nan(v)
-      if (.not. big) big = v >= vmax
-      if (big) then
-        call eval_at_param(par, u(i), .true., want_am, sn(i), cn(i), dn(i), a, tab, ntab)
-        if (want_am) am(i) = a
-        cycle
-      end if
-      vl = 0
-      if (par%kind /= MODULUS_CORE) then
-        call two_prod(abs(u(i)), par%uscale, v, vl)
-        vl = vl + abs(u(i)) * par%uscale_lo
-      end if
-      q = anint(v * inv2k)
-      r = (((v - q * c1) - q * c2) + vl) - q * c3
-      t = abs(r)
-      j = tab_index(t, ntab)
-      del = t - j * tab_step
-      fs = sign(estrin8(tab(:, 1, j), del), r)
-      fc = estrin8(tab(:, 2, j), del)
-      fd = estrin8(tab(:, 3, j), del)
-      parity = iand(int(q), 1)
-      if (par%kind == MODULUS_RECIPROCAL) then
-        if (parity /= 0) then
-          fs = -fs; fd = -fd
-        end if
-      else if (parity /= 0) then
-        fs = -fs; fc = -fc
-      end if
-      if (u(i) < 0) fs = -fs
-      sn(i) = fs; cn(i) = fc; dn(i) = fd
-      if (want_am) then
-        fa = sign(estrin8(tab(:, 4, j), del), r)
-        if (par%kind == MODULUS_RECIPROCAL) then
-          if (parity /= 0) fa = -fa
-        else
-          fa = fa + q * pi
-        end if
-        if (u(i) < 0) fa = -fa
-        am(i) = fa
-      end if
-    end do
-  end subroutine eval_table_array
 
   !> True (with status set and every output NaN) when sn, cn, dn or am (if present), or
   !> then the parameter array (if given), does not have n elements: the array routines

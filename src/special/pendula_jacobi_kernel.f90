@@ -20,7 +20,7 @@ module pendula_jacobi_kernel
   implicit none
   private
 
-  public :: eval_at_param, core_sncndn, am_from_sn_cn, taylor_row_at, tab_index, estrin8
+  public :: eval_at_param, eval_table_array, core_sncndn, am_from_sn_cn, taylor_row_at
   public :: ntay, tab_step, tab_inv_step, khi_tab_max
 
   !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
@@ -387,5 +387,67 @@ contains
     y = ((p(0) + p(1) * x) + (p(2) + p(3) * x) * x2) + ((p(4) + p(5) * x) + (p(6) + p(7) * x) * x2) * x4 &
         + p(8) * (x4 * x4)
   end function estrin8
+
+  !> The loop of ellipj_eval_array for tabulated plans (here, next to the polynomial and
+  !> index helpers, so that the compiler inlines them).  Points the fast reduction
+  !> cannot take (NaN, Inf, n >= 2**26 half periods) go through eval_at_param.
+  pure subroutine eval_table_array(par, tab, ntab, n, u, want_am, sn, cn, dn, am)
+    type(jacobi_param_t), intent(in) :: par
+    integer, intent(in) :: ntab, n
+    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab), u(n)
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn(n), cn(n), dn(n)
+    real(wp), intent(inout) :: am(*)
+    real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
+    integer :: i, j, parity
+    logical :: big
+    call veltkamp_split(2 * par%khi, c1, c2)
+    c3 = 2 * par%klo
+    inv2k = 1 / (2 * par%khi)
+    vmax = 2.0_wp**25 * (2 * par%khi)
+    do i = 1, n
+      v = abs(u(i)) * par%uscale
+      big = ieee_is_nan(v)
+      if (.not. big) big = v >= vmax
+      if (big) then
+        call eval_at_param(par, u(i), .true., want_am, sn(i), cn(i), dn(i), a, tab, ntab)
+        if (want_am) am(i) = a
+        cycle
+      end if
+      vl = 0
+      if (par%kind /= MODULUS_CORE) then
+        call two_prod(abs(u(i)), par%uscale, v, vl)
+        vl = vl + abs(u(i)) * par%uscale_lo
+      end if
+      q = anint(v * inv2k)
+      r = (((v - q * c1) - q * c2) + vl) - q * c3
+      t = abs(r)
+      j = tab_index(t, ntab)
+      del = t - j * tab_step
+      fs = sign(estrin8(tab(:, 1, j), del), r)
+      fc = estrin8(tab(:, 2, j), del)
+      fd = estrin8(tab(:, 3, j), del)
+      parity = iand(int(q), 1)
+      if (par%kind == MODULUS_RECIPROCAL) then
+        if (parity /= 0) then
+          fs = -fs; fd = -fd
+        end if
+      else if (parity /= 0) then
+        fs = -fs; fc = -fc
+      end if
+      if (u(i) < 0) fs = -fs
+      sn(i) = fs; cn(i) = fc; dn(i) = fd
+      if (want_am) then
+        fa = sign(estrin8(tab(:, 4, j), del), r)
+        if (par%kind == MODULUS_RECIPROCAL) then
+          if (parity /= 0) fa = -fa
+        else
+          fa = fa + q * pi
+        end if
+        if (u(i) < 0) fa = -fa
+        am(i) = fa
+      end if
+    end do
+  end subroutine eval_table_array
 
 end module pendula_jacobi_kernel

@@ -1,5 +1,5 @@
 !> Tests of pendula_elliptic: mpmath references (40+ digits, exact double inputs,
-!> values from tests/python/gen_elliptic_refs.py), identities over grids in every
+!> values from tools/gen/gen_elliptic_refs.py), identities over grids in every
 !> parameter region, plan = elementwise, NaN/domain behaviour.
 program test_elliptic
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite, ieee_value, ieee_quiet_nan

@@ -1,6 +1,6 @@
 """Tests of pendula's elliptic integrals and Jacobi functions.
 
-References: tests/data/elliptic_refs.npz, made by tests/python/gen_elliptic_refs.py
+References: tests/data/elliptic_refs.npz, made by tools/gen/gen_elliptic_refs.py
 with mpmath at >= 60 digits (340 for the complement forms, so that 1 - mc is
 exact) at the EXACT double inputs, with the condition number of each problem.
 Errors are reported as relative error / (eps * cond).
