@@ -17,16 +17,16 @@ subroutine ellipk_f2py(n, m, k)
   call ellipk_array(m, k, status)
 end subroutine ellipk_f2py
 
-subroutine ellipkc_f2py(n, mc, k)
+subroutine ellipkm1_f2py(n, mc, k)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipkc
+  use pendula_elliptic, only: ellipkm1
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: mc(n)
   real(c_double), intent(out) :: k(n)
-  k = ellipkc(mc)
-end subroutine ellipkc_f2py
+  k = ellipkm1(mc)
+end subroutine ellipkm1_f2py
 
 subroutine ellipe_f2py(n, m, e)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
@@ -41,16 +41,16 @@ subroutine ellipe_f2py(n, m, e)
   call ellipe_array(m, e, status)
 end subroutine ellipe_f2py
 
-subroutine ellipec_f2py(n, mc, e)
+subroutine ellipem1_f2py(n, mc, e)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipec
+  use pendula_elliptic, only: ellipem1
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: mc(n)
   real(c_double), intent(out) :: e(n)
-  e = ellipec(mc)
-end subroutine ellipec_f2py
+  e = ellipem1(mc)
+end subroutine ellipem1_f2py
 
 subroutine ellipf_f2py(n, phi, m, f)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
@@ -63,21 +63,21 @@ subroutine ellipf_f2py(n, phi, m, f)
   f = ellipf(phi, m)
 end subroutine ellipf_f2py
 
-subroutine ellipfc_f2py(n, phi, mc, f)
+subroutine ellipfm1_f2py(n, phi, mc, f)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipfc
+  use pendula_elliptic, only: ellipfm1
   implicit none
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: phi(n), mc(n)
   real(c_double), intent(out) :: f(n)
-  f = ellipfc(phi, mc)
-end subroutine ellipfc_f2py
+  f = ellipfm1(phi, mc)
+end subroutine ellipfm1_f2py
 
 ! Jacobi functions written into arrays the caller allocated (numpy.empty): f2py fills
 ! the arrays it allocates for intent(out) with zeros first, a wasted pass over 4 n
-! doubles.  The *_plan_* forms take one parameter for many u: the m-dependent work is
-! done once (ellipj_plan).
+! doubles.  The *_one_m_* forms take one parameter for many u and let the library
+! decide whether a plan pays off; the *_plan_* forms always use one (for the tests).
 subroutine ellipj_into_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipj_array
@@ -92,9 +92,9 @@ subroutine ellipj_into_f2py(n, u, m, sn, cn, dn, ph)
   call ellipj_array(u, m, sn, cn, dn, status, ph)
 end subroutine ellipj_into_f2py
 
-subroutine ellipjc_into_f2py(n, u, mc, sn, cn, dn, ph)
+subroutine ellipjm1_into_f2py(n, u, mc, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipjc_array
+  use pendula_elliptic, only: ellipjm1_array
   use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
@@ -103,8 +103,8 @@ subroutine ellipjc_into_f2py(n, u, mc, sn, cn, dn, ph)
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
   type(status_t) :: status
-  call ellipjc_array(u, mc, sn, cn, dn, status, ph)
-end subroutine ellipjc_into_f2py
+  call ellipjm1_array(u, mc, sn, cn, dn, status, ph)
+end subroutine ellipjm1_into_f2py
 
 subroutine ellipj_plan_into_f2py(n, u, m, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
@@ -122,9 +122,9 @@ subroutine ellipj_plan_into_f2py(n, u, m, sn, cn, dn, ph)
   call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
 end subroutine ellipj_plan_into_f2py
 
-subroutine ellipjc_plan_into_f2py(n, u, mc, sn, cn, dn, ph)
+subroutine ellipjm1_plan_into_f2py(n, u, mc, sn, cn, dn, ph)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_planc, ellipj_eval_array
+  use pendula_elliptic, only: ellipj_plan_t, ellipj_planm1, ellipj_eval_array
   use pendula_status, only: status_t
   implicit none
   !f2py threadsafe
@@ -134,6 +134,34 @@ subroutine ellipjc_plan_into_f2py(n, u, mc, sn, cn, dn, ph)
   !f2py intent(inplace) :: sn, cn, dn, ph
   type(ellipj_plan_t) :: plan
   type(status_t) :: status
-  plan = ellipj_planc(mc)
+  plan = ellipj_planm1(mc)
   call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
-end subroutine ellipjc_plan_into_f2py
+end subroutine ellipjm1_plan_into_f2py
+
+subroutine ellipj_one_m_into_f2py(n, u, m, sn, cn, dn, ph)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipj_one_m_array
+  use pendula_status, only: status_t
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: u(n), m
+  real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
+  !f2py intent(inplace) :: sn, cn, dn, ph
+  type(status_t) :: status
+  call ellipj_one_m_array(u, m, sn, cn, dn, status, ph)
+end subroutine ellipj_one_m_into_f2py
+
+subroutine ellipjm1_one_m_into_f2py(n, u, mc, sn, cn, dn, ph)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_elliptic, only: ellipjm1_one_m_array
+  use pendula_status, only: status_t
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: u(n), mc
+  real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
+  !f2py intent(inplace) :: sn, cn, dn, ph
+  type(status_t) :: status
+  call ellipjm1_one_m_array(u, mc, sn, cn, dn, status, ph)
+end subroutine ellipjm1_one_m_into_f2py

@@ -83,7 +83,7 @@ def ellipkm1(p):
     shape, scalar, f = _prepare(p=p)
     if f["p"].size == 0:
         return _empty(shape, 1)
-    k = _elliptic.ellipkc_f2py(f["p"])
+    k = _elliptic.ellipkm1_f2py(f["p"])
     _check_nan_domain(k, "ellipkm1: p = 1 - m must be >= 0", p=f["p"])
     return restore(k, shape, scalar)
 
@@ -106,7 +106,7 @@ def ellipem1(p):
     shape, scalar, f = _prepare(p=p)
     if f["p"].size == 0:
         return _empty(shape, 1)
-    e = _elliptic.ellipec_f2py(f["p"])
+    e = _elliptic.ellipem1_f2py(f["p"])
     _check_nan_domain(e, "ellipem1: p = 1 - m must be >= 0", p=f["p"])
     return restore(e, shape, scalar)
 
@@ -138,31 +138,9 @@ def ellipfm1(phi, p):
     shape, scalar, f = _prepare(phi=phi, p=p)
     if f["phi"].size == 0:
         return _empty(shape, 1)
-    out = _elliptic.ellipfc_f2py(f["phi"], f["p"])
+    out = _elliptic.ellipfm1_f2py(f["phi"], f["p"])
     _check_nan_domain(out, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=f["phi"], p=f["p"])
     return restore(out, shape, scalar)
-
-
-def _core_k(m, name):
-    """K of the parameter the Fortran core works with after the modulus
-    transformations (sizes the plan's table: 32 K entries)."""
-    if (name == "p" and m == 0) or (name == "m" and m == 1) or not np.isfinite(m):
-        return 0.0   # m = 1 (tanh, sech) or invalid: no table
-    if name == "p":
-        pc = m if 0 < m <= 1 else (1 / m if m > 1 else -m / (1 - m))
-        return float(_elliptic.ellipkc_f2py(np.array([pc]))[0])
-    mm = m if 0 <= m < 1 else (1 / m if m > 1 else -m / (1 - m))
-    return float(_elliptic.ellipk_f2py(np.array([mm]))[0])
-
-
-def _use_plan(m, u, name):
-    # a plan pays off when each of its ~32 K table entries (~1 us each) serves >= 16 points
-    if np.ndim(m) != 0 or np.ndim(u) == 0 or np.size(u) < 32:
-        return False
-    mval = real_scalar(m, name)   # the same checks as the elementwise path
-    if np.isnan(mval):
-        return True
-    return np.size(u) >= 512 * _core_k(mval, name)
 
 
 def _check_finite_jacobi(sn, u, m, name):
@@ -187,16 +165,18 @@ def _outputs(n):
     return out[0], out[1], out[2], out[3]
 
 
-def _jacobi(u, m, name, vec, plan):
+def _jacobi(u, m, name, vec, one_m):
     # ragged or non-numeric input fails here, by name, before its shape is asked
     u = u if isinstance(u, np.ndarray) else as_array(u, "u")
     m = m if isinstance(m, np.ndarray) else as_array(m, name)
-    if _use_plan(m, u, name):
-        # one parameter, many u: the m-dependent work (and a table) is done once
+    if np.ndim(m) == 0 and np.ndim(u) != 0:
+        # one parameter, many u: the library decides whether a plan pays off
         mval = real_scalar(m, name)
         shape, _, f = _prepare(u=u)
+        if f["u"].size == 0:
+            return _empty(shape, 4)
         res = _outputs(f["u"].size)
-        plan(f["u"], mval, *res)
+        one_m(f["u"], mval, *res)
         _check_finite_jacobi(res[0], f["u"], np.broadcast_to(mval, f["u"].shape), name)
         return tuple(r.reshape(shape) for r in res)
     shape, scalar, f = _prepare(u=u, **{name: m})
@@ -216,7 +196,7 @@ def ellipj(u, m):
     times the condition number, also for |u| large (u is reduced modulo the
     period with K in double-double) and for m within 1e-300 of 1 via ``ellipjm1``.
     """
-    return _jacobi(u, m, "m", _elliptic.ellipj_into_f2py, _elliptic.ellipj_plan_into_f2py)
+    return _jacobi(u, m, "m", _elliptic.ellipj_into_f2py, _elliptic.ellipj_one_m_into_f2py)
 
 
 def ellipjm1(u, p):
@@ -225,4 +205,4 @@ def ellipjm1(u, p):
     Use it near the separatrix (m -> 1), where 1 - m cannot be formed in floating
     point: p down to the smallest subnormal double keeps full accuracy.
     """
-    return _jacobi(u, p, "p", _elliptic.ellipjc_into_f2py, _elliptic.ellipjc_plan_into_f2py)
+    return _jacobi(u, p, "p", _elliptic.ellipjm1_into_f2py, _elliptic.ellipjm1_one_m_into_f2py)

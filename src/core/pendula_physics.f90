@@ -3,13 +3,12 @@
 !> derived rates w0 = sqrt(g/l) [1/s] and gamma = b/m [1/s].
 module pendula_physics
   use pendula_kinds, only: wp
+  use pendula_constants, only: pi   ! re-exported: user code has used pendula_physics' pi
   use pendula_status, only: status_t, check_positive, check_nonnegative, check_range, set_error, PENDULA_OK, &
       PENDULA_ERR_DOMAIN
   implicit none
   private
   public :: natural_frequency, damping_rate, small_angle_period, pi
-
-  real(wp), parameter :: pi = 3.141592653589793238462643383279502884_wp
 
 contains
 

@@ -27,7 +27,7 @@ module pendula_linear_damped
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, PENDULA_OK, PENDULA_ERR_SIZE
-  use pendula_physics, only: pi
+  use pendula_constants, only: pi
   use pendula_small_angle, only: harmonic_state
   implicit none
   private

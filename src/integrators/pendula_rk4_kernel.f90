@@ -19,7 +19,7 @@
 !> Accuracy of a stage sine: absolute error <= 2 eps against sin of the
 !> exact argument (measured max 1.02 eps, tests/fortran/test_rk4_kernel.f90); the
 !> RK4 results differ from the plain libm formulation by rounding only.
-!> Constants: gen_stage_sine_table.py in this folder (node table and split).
+!> Constants: tools/gen/gen_stage_sine_table.py (node table and split).
 module pendula_rk4_kernel
   use pendula_kinds, only: wp, i8
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress

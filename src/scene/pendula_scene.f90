@@ -36,7 +36,7 @@ module pendula_scene
       check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, &
       PENDULA_ERR_SIZE, PENDULA_MSG_LEN, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_physics, only: natural_frequency, damping_rate, pi
-  use pendula_elliptic, only: ellipkc
+  use pendula_elliptic, only: ellipkm1
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
       REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_small_angle, only: small_angle_eval, small_angle_bound
@@ -626,9 +626,9 @@ contains
     pure real(wp) function turn_time(c)
       real(wp), intent(in) :: c
       if (c > 0) then
-        turn_time = 4 * ellipkc(c)
+        turn_time = 4 * ellipkm1(c)
       else
-        turn_time = 2 * ellipkc(-c / (1 - c)) / sqrt(1 - c)
+        turn_time = 2 * ellipkm1(-c / (1 - c)) / sqrt(1 - c)
       end if
     end function turn_time
   end function exact_estimate

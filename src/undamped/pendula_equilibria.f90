@@ -6,7 +6,7 @@
 module pendula_equilibria
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_positive, PENDULA_OK
-  use pendula_physics, only: pi
+  use pendula_constants, only: pi, pi_lo
   implicit none
   private
   public :: equilibrium_angle, equilibrium_type, equilibrium_eigenvalues, equilibrium, &
@@ -18,8 +18,6 @@ module pendula_equilibria
   !> Odd n: upright, a saddle (eigenvalues +-w0).
   integer, parameter :: EQUILIBRIUM_SADDLE = 2
 
-  real(wp), parameter :: PI_LO = 1.2246467991473532e-16_wp   ! pi - pi(double)
-
 contains
 
   !> theta = n pi [rad] of the n-th equilibrium, the double nearest n pi
@@ -28,7 +26,7 @@ contains
     integer, intent(in) :: n
     real(wp) :: x
     x = real(n, wp)
-    theta = x * pi + x * PI_LO
+    theta = x * pi + x * pi_lo
   end function equilibrium_angle
 
   !> EQUILIBRIUM_CENTRE for even n, EQUILIBRIUM_SADDLE for odd n.

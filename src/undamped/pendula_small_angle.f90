@@ -27,8 +27,8 @@ module pendula_small_angle
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
       set_error, PENDULA_OK, PENDULA_ERR_SIZE
-  use pendula_physics, only: pi
-  use pendula_elliptic, only: ellipkc
+  use pendula_constants, only: pi
+  use pendula_elliptic, only: ellipkm1
   use pendula_undamped, only: undamped_motion_t, REGIME_LIBRATION, reduce_angle_2pi
   implicit none
   private
@@ -161,7 +161,7 @@ contains
       return
     end if
     w0 = motion%w0
-    kp = ellipkc(motion%m)                 ! K'(m) = K(1 - m)
+    kp = ellipkm1(motion%m)                 ! K'(m) = K(1 - m)
     q = exp(-pi * kp / motion%kk)
     drift = small_angle_phase_drift(motion)
     w = w0 * (1 - drift)

@@ -23,8 +23,9 @@ module pendula_undamped
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
       PENDULA_OK
-  use pendula_physics, only: pi
-  use pendula_elliptic, only: ellipkc, ellipfc, ellipj_plan_t, ellipj_planc, ellipj_eval, ellipj_eval_array, ellipjc
+  use pendula_constants, only: pi, half_pi, half_pi_lo, two_pi, two_pi_lo
+  use pendula_double_double, only: two_prod, dd_add_fast, dd_mul, dd_div_d
+  use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1, ellipj_eval, ellipj_eval_array, ellipjm1
   implicit none
   private
 
@@ -39,10 +40,6 @@ module pendula_undamped
   integer, parameter :: REGIME_SEPARATRIX = 2
   !> It goes over the top and keeps turning (m > 1).
   integer, parameter :: REGIME_ROTATION = 3
-
-  ! 2 pi split in two doubles: HI is the double nearest 2 pi, LO the rest.
-  real(wp), parameter :: TWOPI_HI = 6.283185307179586_wp
-  real(wp), parameter :: TWOPI_LO = 2.4492935982947064e-16_wp
 
   !> Everything about one initial state that does not depend on t; build it once
   !> with `undamped_init` and evaluate it at any number of times with
@@ -65,7 +62,7 @@ module pendula_undamped
     real(wp) :: q = 0             !< Omega0/(2 w0) = k cn(u0|m) = s k dn(v0|1/m)
     real(wp) :: dnb = 1           !< dn(v0|1/m) = |q|/k (rotation)
     logical :: free = .false.     !< |Omega0/(2 w0)| > 1e150: gravity below 1e-300 relative, free rotor
-    logical :: planned = .false.  !< plan holds a Jacobi plan (else ellipjc per point)
+    logical :: planned = .false.  !< plan holds a Jacobi plan (else ellipjm1 per point)
     real(wp) :: pmc = 1           !< complement of the Jacobi parameter in use: 1 - m, or 1 - 1/m
     real(wp) :: kk = 0            !< K of the elliptic parameter in use: K(m) or K(1/m)
     real(wp) :: period = 0        !< 4K(m)/w0, 2K(1/m)/(k w0) per turn, or +inf [s]
@@ -76,79 +73,18 @@ module pendula_undamped
 
 contains
 
-  !> Exact product: a*b = p + e with p = fl(a*b) (Dekker/Veltkamp; no FMA needed).
-  elemental subroutine two_prod(a, b, p, e)
-    real(wp), intent(in) :: a, b
-    real(wp), intent(out) :: p, e
-    real(wp), parameter :: split = 134217729.0_wp   ! 2^27 + 1
-    real(wp) :: ah, al, bh, bl, t
-    p = a * b
-    t = split * a
-    ah = t - (t - a)
-    al = a - ah
-    t = split * b
-    bh = t - (t - b)
-    bl = b - bh
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-  end subroutine two_prod
-
-  !> Error-free sum a + b = s + e (Knuth).
-  elemental subroutine two_sum(a, b, s, e)
-    real(wp), intent(in) :: a, b
-    real(wp), intent(out) :: s, e
-    real(wp) :: bb
-    s = a + b
-    bb = s - a
-    e = (a - (s - bb)) + (b - bb)
-  end subroutine two_sum
-
-  !> Double-double sum (ah + al) + (bh + bl) = ch + cl.
-  elemental subroutine dd_add(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
-    real(wp) :: s, e
-    call two_sum(ah, bh, s, e)
-    e = e + (al + bl)
-    ch = s + e
-    cl = e - (ch - s)
-  end subroutine dd_add
-
-  !> Double-double product (ah + al)(bh + bl) = ch + cl.
-  elemental subroutine dd_mul(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
-    real(wp) :: p, e
-    call two_prod(ah, bh, p, e)
-    e = e + (ah * bl + al * bh)
-    ch = p + e
-    cl = e - (ch - p)
-  end subroutine dd_mul
-
-  !> Double-double quotient (ah + al) / b for a double b /= 0.
-  elemental subroutine dd_div_d(ah, al, b, ch, cl)
-    real(wp), intent(in) :: ah, al, b
-    real(wp), intent(out) :: ch, cl
-    real(wp) :: q1, p, e, q2
-    q1 = ah / b
-    call two_prod(q1, b, p, e)
-    q2 = (((ah - p) - e) + al) / b
-    ch = q1 + q2
-    cl = q2 - (ch - q1)
-  end subroutine dd_div_d
-
   !> cos(x) in double-double for x = xh + xl, |x| <= pi/2 (+ rounding), to
   !> ~1e-31 relative: Taylor series of cos x (|x| <= pi/4) or of sin(pi/2 - |x|)
   !> in nested form with exact integer divisors, 16 terms (last < 1e-35).
   elemental subroutine cos_dd(xh, xl, ch, cl)
     real(wp), intent(in) :: xh, xl
     real(wp), intent(out) :: ch, cl
-    real(wp), parameter :: HALFPI_HI = 1.5707963267948966_wp, HALFPI_LO = 6.123233995736766e-17_wp
     real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, vh, vl
     integer :: j
     logical :: use_sin
     use_sin = abs(xh) > 0.25_wp * pi
     if (use_sin) then
-      call dd_add(HALFPI_HI, HALFPI_LO, -abs(xh), -sign(1.0_wp, xh) * xl, yh, yl)
+      call dd_add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh) * xl, yh, yl)
     else
       yh = xh
       yl = xl
@@ -164,7 +100,7 @@ contains
       else
         call dd_div_d(uh, ul, real((2 * j - 1) * (2 * j), wp), vh, vl)
       end if
-      call dd_add(1.0_wp, 0.0_wp, -vh, -vl, th, tl)
+      call dd_add_fast(1.0_wp, 0.0_wp, -vh, -vl, th, tl)
     end do
     if (use_sin) then
       call dd_mul(yh, yl, th, tl, ch, cl)
@@ -187,18 +123,18 @@ contains
       ! (Payne-Hanek) reduction inside sin and cos do it; |r| to ~1 ulp of pi
       r_hi = atan2(sin(x), cos(x))
       r_lo = 0
-      n = anint((x - r_hi) / TWOPI_HI)
+      n = anint((x - r_hi) / two_pi)
       return
     end if
-    n = anint(x / TWOPI_HI)
+    n = anint(x / two_pi)
     if (n == 0) then
       r_hi = x
       r_lo = 0
       return
     end if
-    call two_prod(n, TWOPI_HI, p, e)
+    call two_prod(n, two_pi, p, e)
     d = x - p                      ! exact (Sterbenz: x/p in [1/2, 2] for n /= 0)
-    t = -(e + n * TWOPI_LO)
+    t = -(e + n * two_pi_lo)
     r_hi = d + t
     r_lo = t - (r_hi - d)           ! fast two-sum (|d| >= |t|)
     ! anint may leave |r| marginally above pi; that is harmless (reduction is
@@ -213,9 +149,9 @@ contains
     real(wp), intent(in) :: x, n
     real(wp), intent(out) :: r_hi, r_lo
     real(wp) :: p, e, d, t
-    call two_prod(n, TWOPI_HI, p, e)
+    call two_prod(n, two_pi, p, e)
     d = x - p
-    t = -(e + n * TWOPI_LO)
+    t = -(e + n * two_pi_lo)
     r_hi = d + t
     r_lo = t - (r_hi - d)
   end subroutine reduce_angle_fixed
@@ -230,7 +166,7 @@ contains
     type(status_t), intent(out) :: status
     !> Build a Jacobi plan (default .true.): ~13 us once, then ~40 ns per time;
     !> .false. gives a light motion (~1 us) that costs ~0.3-0.7 us per time
-    !> (ellipjc), for states evaluated at fewer than ~30 times or only queried.
+    !> (ellipjm1), for states evaluated at fewer than ~30 times or only queried.
     !> Measured on this project's 2-core machine; both give the same accuracy.
     logical, intent(in), optional :: plan
     logical :: want_plan
@@ -253,8 +189,8 @@ contains
     if (abs(theta0) > 2.0_wp**40) then
       motion%center = theta0 - r_hi           ! 2 pi n to the rounding of theta0
     else
-      call two_prod(n, TWOPI_HI, p, e)
-      motion%center = p + (e + n * TWOPI_LO)   ! the double nearest 2 pi n
+      call two_prod(n, two_pi, p, e)
+      motion%center = p + (e + n * two_pi_lo)   ! the double nearest 2 pi n
     end if
     motion%theta_r = r_hi
     h = 0.5_wp * r_hi
@@ -295,7 +231,7 @@ contains
     motion%m = sh * sh + q * q
     motion%k = sqrt(motion%m)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double
-    call dd_add(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
+    call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
     a = ch + abs(q)
     motion%mc = (d + dlo) * a
     motion%energy = 2 * (w0 * motion%k)**2
@@ -304,10 +240,10 @@ contains
       motion%regime = REGIME_LIBRATION
       motion%rate = w0
       phi0 = atan2(sh, q)
-      motion%phase = ellipfc(phi0, motion%mc)
-      motion%kk = ellipkc(motion%mc)
+      motion%phase = ellipfm1(phi0, motion%mc)
+      motion%kk = ellipkm1(motion%mc)
       motion%pmc = motion%mc
-      if (want_plan) motion%plan = ellipj_planc(motion%mc)
+      if (want_plan) motion%plan = ellipj_planm1(motion%mc)
       motion%planned = want_plan
       motion%period = 4 * motion%kk / w0
       motion%amplitude = 2 * atan2(motion%k, sqrt(motion%mc))
@@ -317,11 +253,11 @@ contains
       motion%rate = motion%k * w0
       pc = -motion%mc / motion%m      ! complement of the parameter 1/m
       ! dF/dphi = 1/sqrt(1 - sin^2(phi)/m) = k/|q| carries the r_lo correction
-      motion%phase = ellipfc(motion%s * h, pc) + motion%s * hlo * motion%k / abs(q)
-      motion%kk = ellipkc(pc)
+      motion%phase = ellipfm1(motion%s * h, pc) + motion%s * hlo * motion%k / abs(q)
+      motion%kk = ellipkm1(pc)
       motion%dnb = abs(q) / motion%k
       motion%pmc = pc
-      if (want_plan) motion%plan = ellipj_planc(pc)
+      if (want_plan) motion%plan = ellipj_planm1(pc)
       motion%planned = want_plan
       motion%period = 2 * motion%kk / motion%rate
       motion%amplitude = ieee_value(1.0_wp, ieee_positive_inf)
@@ -362,7 +298,6 @@ contains
     real(wp), intent(in) :: t
     real(wp), intent(out) :: theta, omega
     real(wp) :: a, sa, ca, da, ama, y, x, z, den, sb, ss, cc, delta, ex, tt, turns
-    real(wp), parameter :: half_pi = 0.5_wp * pi
     tt = t
     turns = 0
     if (motion%free) then
@@ -388,7 +323,7 @@ contains
       if (motion%planned) then
         call ellipj_eval(motion%plan, a, sa, ca, da)
       else
-        call ellipjc(a, motion%pmc, sa, ca, da)
+        call ellipjm1(a, motion%pmc, sa, ca, da)
       end if
       ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
       ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
@@ -411,7 +346,7 @@ contains
       if (motion%planned) then
         call ellipj_eval(motion%plan, a, sa, ca, da, ama)
       else
-        call ellipjc(a, motion%pmc, sa, ca, da, ama)
+        call ellipjm1(a, motion%pmc, sa, ca, da, ama)
       end if
       ! sn(a+b), cn(a+b) times the denominator, at parameter 1/m, with
       ! sn b = s sh, cn b = ch, dn b = dnb; then am(a+b) = am(a) + delta where
@@ -453,7 +388,6 @@ contains
     real(wp), intent(inout) :: theta(:), omega(:)
     type(status_t), intent(out) :: status
     integer, parameter :: nb = 256
-    real(wp), parameter :: half_pi = 0.5_wp * pi
     real(wp) :: a(nb), sa(nb), ca(nb), da(nb), ama(nb), y(nb), x(nb), r(nb), sb
     integer :: i0, i1, nc, i, j
     if (size(theta) /= size(t) .or. size(omega) /= size(t)) then
@@ -478,7 +412,7 @@ contains
         if (motion%planned) then
           call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), status)
         else
-          call ellipjc(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc))
+          call ellipjm1(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc))
         end if
         do i = 1, nc
           j = i0 + i - 1
@@ -498,7 +432,7 @@ contains
         if (motion%planned) then
           call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), status, ama(1:nc))
         else
-          call ellipjc(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
+          call ellipjm1(a(1:nc), motion%pmc, sa(1:nc), ca(1:nc), da(1:nc), ama(1:nc))
         end if
         do i = 1, nc
           j = i0 + i - 1

@@ -80,10 +80,10 @@ contains
     call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_array short am', first)
     call ellipj_array(u, m(1:4), sn, cn, dn, st, am)
     call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_array short m', first)
-    call ellipjc_array(u, m, sn, short, dn, st)
-    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipjc_array short cn', first)
-    call ellipjc_array(u(1:4), m, short, short, short, st)
-    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipjc_array long mc', first)
+    call ellipjm1_array(u, m, sn, short, dn, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipjm1_array short cn', first)
+    call ellipjm1_array(u(1:4), m, short, short, short, st)
+    call expect_failure(st, PENDULA_ERR_SIZE, 'ellipjm1_array long mc', first)
     plan = ellipj_plan(0.7_wp)
     call ellipj_eval_array(plan, u, sn, cn, short, st)
     call expect_failure(st, PENDULA_ERR_SIZE, 'ellipj_eval_array short dn', first)
@@ -130,24 +130,24 @@ contains
     do j = 1, size(ms)
       call ellipj(0.7_wp, ms(j), sn(1), cn(1), dn(1), am(1))
       ok = ok .and. all(ieee_is_finite([sn(1), cn(1), dn(1), am(1)]))
-      call ellipjc(0.7_wp, ms(j), sn(1), cn(1), dn(1), am(1))
+      call ellipjm1(0.7_wp, ms(j), sn(1), cn(1), dn(1), am(1))
       ok = ok .and. all(ieee_is_finite([sn(1), cn(1), dn(1), am(1)]))
       plan = ellipj_plan(ms(j))
       call ellipj_eval_array(plan, u, sn, cn, dn, st, am)
       ok = ok .and. all_finite(sn) .and. all_finite(cn) .and. all_finite(dn) .and. all_finite(am)
-      plan = ellipj_planc(ms(j))
+      plan = ellipj_planm1(ms(j))
       call ellipj_eval_array(plan, u, sn, cn, dn, st)
       ok = ok .and. all_finite(sn) .and. all_finite(cn) .and. all_finite(dn)
       mm = ms(j)
       mm(7) = 0.5_wp                     ! one ordinary element among the extreme ones
       call ellipj_array(u, mm, sn, cn, dn, st, am)
       ok = ok .and. all_finite(sn) .and. all_finite(cn) .and. all_finite(dn) .and. all_finite(am)
-      x = ellipf(1.0e-160_wp, ms(j)) + ellipfc(1.0e-160_wp, ms(j))
+      x = ellipf(1.0e-160_wp, ms(j)) + ellipfm1(1.0e-160_wp, ms(j))
       ok = ok .and. ieee_is_finite(x)
     end do
     if (first .or. .not. ok) call tc%check_true(ok, 'elliptic functions at |m| up to huge(): finite')
     ! phi near huge() and at the doubles nearest odd multiples of pi/2 with m -> 1
-    x = ellipf(huge(1.0_wp) / 3, 0.5_wp) + ellipfc(1.5707963267948966_wp, 1.0e-300_wp) &
+    x = ellipf(huge(1.0_wp) / 3, 0.5_wp) + ellipfm1(1.5707963267948966_wp, 1.0e-300_wp) &
         + ellipf(-4.71238898038469_wp, 0.999_wp)
     if (first .or. .not. ieee_is_finite(x)) call tc%check_true(ieee_is_finite(x), 'ellipf extreme phi: finite')
   end subroutine elliptic_extremes

@@ -3,7 +3,7 @@
 !> small-angle solution bit for bit, continuity through gamma = 2 w0, no
 !> overflow for gamma t up to 1e300, regime numbers, bad input, and agreement
 !> with the values the Python package returned (table written by
-!> tests/python/gen_linear_table.py).  High-precision (mpmath) accuracy is in
+!> tools/gen/gen_linear_table.py).  High-precision (mpmath) accuracy is in
 !> tests/python/test_linear_damped.py.
 program test_linear_damped
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_positive_inf, ieee_quiet_nan
@@ -309,7 +309,7 @@ contains
   end subroutine bad_input
 
   ! The values pendula.linear_damped (Python, f2py) returned for the same
-  ! inputs when tests/python/gen_linear_table.py wrote the table: the native
+  ! inputs when tools/gen/gen_linear_table.py wrote the table: the native
   ! evaluation must agree within 1 ulp (0 expected).
   subroutine python_table()
     include 'linear_damped_table.inc'

@@ -621,7 +621,9 @@ FORTRAN_NO_STATUS = {
     "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
     "cvode_available": "no arguments",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
-    "ellipj_plan": "elliptic rule", "ellipj_planc": "elliptic rule",
+    "ellipj_plan": "elliptic rule", "ellipj_planm1": "elliptic rule",
+    # whether a Jacobi plan pays off: a total decision on (m, n) for any m and n
+    "ellipj_plan_pays": "total decision", "ellipjm1_plan_pays": "total decision",
     # documented unchecked kernels with a checked entry point (reported to their concerns)
     "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
 }

@@ -1,6 +1,6 @@
 """Tests of pendula's elliptic integrals and Jacobi functions.
 
-References: tests/data/elliptic_refs.npz, made by tests/python/gen_elliptic_refs.py
+References: tests/data/elliptic_refs.npz, made by tools/gen/gen_elliptic_refs.py
 with mpmath at >= 60 digits (340 for the complement forms, so that 1 - mc is
 exact) at the EXACT double inputs, with the condition number of each problem.
 Errors are reported as relative error / (eps * cond).
@@ -51,7 +51,7 @@ def test_jacobi_against_mpmath(region, path):
         if path == "elementwise":
             got = (pendula.ellipjm1 if comp[i] else pendula.ellipj)(u[i], p[i])
         else:  # the scalar-parameter (plan) routine, fed a one-element array
-            fn = _elliptic.ellipjc_plan_into_f2py if comp[i] else _elliptic.ellipj_plan_into_f2py
+            fn = _elliptic.ellipjm1_plan_into_f2py if comp[i] else _elliptic.ellipj_plan_into_f2py
             got = [g[0] for g in _into(fn, np.array([u[i]]), p[i])]
         e = _rel(got, ref[i]) / cond[i]
         worst = max(worst, float(e.max()))
@@ -195,7 +195,7 @@ def test_extreme_arguments_stay_bounded():
                     _into(_elliptic.ellipj_into_f2py, big, np.full_like(big, m))):
             assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
     for p in [5e-324, 1e-5]:
-        res = _into(_elliptic.ellipjc_plan_into_f2py, big, p)
+        res = _into(_elliptic.ellipjm1_plan_into_f2py, big, p)
         assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
     # no limit at infinity: ValueError naming the argument (the Fortran core gives NaN)
     with pytest.raises(ValueError, match="u = inf"):

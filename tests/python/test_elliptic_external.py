@@ -62,7 +62,7 @@ def _evaluate(name, x, path="elementwise"):
         return fn(x[:, 0], x[:, 1])[JACOBI[comp]]
     # plan path: the one-parameter routine (table of Taylor polynomials) that pendula
     # picks for many u at one m, called directly so that every row goes through it
-    plan = _elliptic.ellipjc_plan_into_f2py if base == "ellipjm1" else _elliptic.ellipj_plan_into_f2py
+    plan = _elliptic.ellipjm1_plan_into_f2py if base == "ellipjm1" else _elliptic.ellipj_plan_into_f2py
     out = np.empty(len(x))
     for p in np.unique(x[:, 1]):
         sel = np.flatnonzero(x[:, 1] == p)

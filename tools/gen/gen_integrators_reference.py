@@ -5,7 +5,7 @@ integrated by mpmath's Taylor-series ODE solver (mpmath.odefun) at 30 digits.
 The parameters are the exact doubles the tests pass (w0 = sqrt(9.8/4.9),
 gamma = b/m), so the table is the true solution of the problem the library is
 given, to ~1e-25.  Columns: b, gamma, t, theta, omega.  Takes ~1 min:
-    python3 tests/python/gen_integrators_reference.py
+    python3 tools/gen/gen_integrators_reference.py
 """
 import math
 import pathlib
@@ -13,7 +13,7 @@ import pathlib
 import mpmath as mp
 
 mp.mp.dps = 30
-OUT = pathlib.Path(__file__).resolve().parents[1] / "data" / "integrators_reference.csv"
+OUT = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "integrators_reference.csv"
 
 
 def main():
@@ -28,7 +28,7 @@ def main():
             y = f(mp.mpf(k))
             rows.append(f"{b!r},{gamma!r},{k},{mp.nstr(y[0], 22)},{mp.nstr(y[1], 22)}")
     OUT.write_text("# mpmath.odefun (30 digits) reference for the text's section 2.2 scenario;"
-                   " made by tests/python/gen_integrators_reference.py\n"
+                   " made by tools/gen/gen_integrators_reference.py\n"
                    "b,gamma,t,theta,omega\n" + "\n".join(rows) + "\n")
 
 

@@ -6,7 +6,7 @@ mp.dps = 50, together with the condition number of the problem,
 where p is the parameter the caller passes (m, or mc = 1 - m for the complement
 forms).  Tests report relative error / (eps * cond).
 
-Run (about a minute on 2 cores):  python3 tests/python/gen_elliptic_refs.py
+Run (about a minute on 2 cores):  python3 tools/gen/gen_elliptic_refs.py
 """
 import os
 import sys
@@ -17,7 +17,7 @@ import numpy as np
 
 DPS = 60
 HERE = os.path.dirname(os.path.abspath(__file__))
-OUT = os.path.join(HERE, "..", "data", "elliptic_refs.npz")
+OUT = os.path.join(HERE, "..", "..", "tests", "data", "elliptic_refs.npz")
 
 
 def _jac(u, m, mc):
