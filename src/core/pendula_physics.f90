@@ -38,11 +38,12 @@ contains
         fq = 2 * fq
         e = e - 1
       end if
-      w0 = scale(sqrt(fq), e / 2)
-      if (w0 > huge(w0)) then
-        w0 = 0
+      fq = sqrt(fq)
+      if (exponent(fq) + e / 2 > maxexponent(fq)) then   ! before scale(): no overflow flag
         call set_error(status, PENDULA_ERR_DOMAIN, 'g and length are out of range together: w0 = sqrt(g/length) ' // &
             'would exceed the largest double; need sqrt(g)/sqrt(length) <= 1.8e308')
+      else
+        w0 = scale(fq, e / 2)
       end if
     end if
   end subroutine natural_frequency
@@ -57,12 +58,16 @@ contains
     call check_nonnegative('b', b, status)
     call check_positive('mass', mass, status)
     if (status%code /= PENDULA_OK) return
-    gamma = b / mass
-    if (gamma > huge(gamma)) then
-      gamma = 0
-      call set_error(status, PENDULA_ERR_DOMAIN, 'b and mass are out of range together: gamma = b/mass ' // &
-          'exceeds the largest double')
+    ! b/mass > huge only when mass < 1; decided before dividing, since the
+    ! overflowing division would trap in the checked build
+    if (mass < 1) then
+      if (b > huge(b) * mass) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'b and mass are out of range together: gamma = b/mass ' // &
+            'exceeds the largest double')
+        return
+      end if
     end if
+    gamma = b / mass
   end subroutine damping_rate
 
   !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 finite and at least

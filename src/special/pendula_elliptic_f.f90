@@ -157,7 +157,7 @@ contains
           ! Re K(m) = K(core)/k for m > 1 (DLMF 19.7.3); K(m) = K(mu)/sqrt(1-m) for m < 0
           call dd_div(par%khi, par%klo, par%uscale, par%uscale_lo, kh, kl)
         end if
-        if (abs(n1 + n2) >= 0.5_wp * (huge(kh) / kh)) then
+        if (beyond_half_huge(abs(n1 + n2), kh)) then
           ! |F| = 2 |n| K + O(K) > huge (|phi| near huge): +-Inf, the rounded value, formed
           ! without an overflowing operation (the checked build traps overflow)
           f = sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
@@ -175,5 +175,18 @@ contains
       end if
     end if
   end function ellipf_general
+
+  !> a * b >= huge/2 for a, b >= 0, decided without an operation that can
+  !> overflow or divide by zero (huge/b overflows for b < 1).
+  pure elemental logical function beyond_half_huge(a, b) result(beyond)
+    real(wp), intent(in) :: a, b
+    if (a == 0 .or. b == 0) then
+      beyond = .false.
+    else if (exponent(a) + exponent(b) > maxexponent(b) + 1) then
+      beyond = .true.
+    else
+      beyond = scale(a, -8) * b >= scale(0.5_wp * huge(b), -8)
+    end if
+  end function beyond_half_huge
 
 end module pendula_elliptic_f

@@ -289,12 +289,19 @@ contains
       sn = quiet_nan(); cn = sn; dn = sn; am = sn
       return
     end if
-    v = abs(u) * plan%uscale
+    ! |u| * uscale may exceed huge(): test before multiplying (an overflowing
+    ! product would raise the overflow flag, which the checked build traps)
+    if (plan%uscale > 1) then
+      v = huge(v)
+      if (abs(u) <= huge(v) / plan%uscale) v = abs(u) * plan%uscale
+    else
+      v = abs(u) * plan%uscale
+    end if
     khi = plan%khi; klo = plan%klo
     n = 0
     parity = 0
     r = v
-    if (.not. v <= huge(v)) then
+    if (v == huge(v)) then
       ! |u| sqrt(|m|) or |u| sqrt(1 - m) overflows (|m| > ~1e300, |u| > ~1e150): the
       ! phase u mod 2K is far below the resolution of u (the condition number is ~ |u|
       ! sqrt|m| there), so any point of the period is within eps*cond; take r = 0
