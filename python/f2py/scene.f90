@@ -60,29 +60,47 @@ subroutine scene_check_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, c
   msg = st%message
 end subroutine scene_check_f2py
 
+! Most events the scene's motion can have in (0, t_end] (scene_event_bound):
+! the capacity of the event slots of scene_solve_f2py.
+subroutine scene_event_bound_f2py(w0, t_end, bound)
+  use, intrinsic :: iso_c_binding, only: c_double
+  use pendula_scene, only: scene_event_bound
+  implicit none
+  !f2py threadsafe
+  real(c_double), intent(in) :: w0, t_end
+  real(c_double), intent(out) :: bound
+  bound = real(scene_event_bound(w0, t_end), c_double)
+end subroutine scene_event_bound_f2py
+
 ! Solve a scene (fixed = 0: choose and verify; fixed = 1: run `model` at
-! `setting` with no verification).  Outputs: nout of the n slots of
-! tout/theta/omega/energy are used; events go into the m slots of ev_*, with
-! n_events the number found (more than m: call again with a larger m).
-! info = [error_estimate, setting, period, wall_time, closed_form_evals,
-!         rhs_evals, steps, runs, tol_met, event_time_error]
-subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, fixed, setting, m, &
+! `setting` with no verification).  The scene is checked once, by
+! scene_solve / scene_run_model.  Outputs: nout of the n slots of
+! tout/theta/omega/energy are used; events go into the m slots of ev_*
+! (m from scene_event_bound_f2py), n_events the number found.  info: the
+! numbers of the result, at the SCENE_INFO_* slots of pendula_scene_codes
+! (ninfo = SCENE_INFO_SIZE, which Python reads from pendula/_codes.py).
+subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, fixed, setting, m, ninfo, &
     max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
     info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t, PENDULA_OK
-  use pendula_scene, only: scene_t, scene_result_t, scene_init, scene_solve, scene_run_model
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_SIZE
+  use pendula_format, only: format_int
+  use pendula_scene, only: scene_t, scene_result_t, scene_solve, scene_run_model
+  use pendula_scene_codes, only: SCENE_INFO_SIZE, SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, &
+      SCENE_INFO_PERIOD, SCENE_INFO_WALL_TIME, SCENE_INFO_CLOSED_FORM_EVALS, SCENE_INFO_RHS_EVALS, &
+      SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
+      SCENE_INFO_RTOL
   implicit none
   !f2py threadsafe
-  integer(c_int), intent(in) :: n, want, model, fixed, m
+  integer(c_int), intent(in) :: n, want, model, fixed, m, ninfo
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, setting, max_steps
   integer(8), intent(inout) :: control(2)   ! int64 [cancel flag, progress] (pendula_control), in place
   integer(c_int), intent(out) :: nout, n_events, model_out
   real(c_double), intent(out) :: tout(n), theta(n), omega(n), energy(n)
   real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
   integer(c_int), intent(out) :: ev_kind(m)
-  real(c_double), intent(out) :: info(10)
+  real(c_double), intent(out) :: info(ninfo)
   character(len=256), intent(out) :: reason
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg
@@ -106,14 +124,17 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
   ev_kind = 0
   info = 0
   reason = ''
-  call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st, &
-      merge(0, int(model), fixed /= 0))
-  if (st%code == PENDULA_OK) then
-    if (fixed /= 0) then
-      call scene_run_model(scene, int(model), setting, res, st, control, budget)
-    else
-      call scene_solve(scene, res, st, control, budget)
-    end if
+  if (ninfo /= SCENE_INFO_SIZE) call set_error(st, PENDULA_ERR_SIZE, 'info has ' // format_int(ninfo) // &
+      ' slots, the result has ' // format_int(SCENE_INFO_SIZE) // ': pendula/_codes.py is stale, rebuild')
+  code = st%code
+  msg = st%message
+  if (st%code /= PENDULA_OK) return
+  scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, tol=tol, want=int(want), &
+      model=merge(0, int(model), fixed /= 0), t=t)
+  if (fixed /= 0) then
+    call scene_run_model(scene, int(model), setting, res, st, control, budget)
+  else
+    call scene_solve(scene, res, st, control, budget)
   end if
   code = st%code
   msg = st%message
@@ -133,30 +154,17 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
     ev_omega(1:k) = res%event_omega(1:k)
   end if
   model_out = res%model
-  info = [res%error_estimate, res%setting, res%period, res%cost%wall_time, &
-      real(res%cost%closed_form_evals, c_double), real(res%cost%rhs_evals, c_double), &
-      real(res%cost%steps, c_double), real(res%cost%runs, c_double), merge(1.0_c_double, 0.0_c_double, &
-      res%tol_met), res%event_time_error]
+  info(SCENE_INFO_ERROR_ESTIMATE) = res%error_estimate
+  info(SCENE_INFO_SETTING) = res%setting
+  info(SCENE_INFO_STEP) = res%step
+  info(SCENE_INFO_RTOL) = res%rtol
+  info(SCENE_INFO_PERIOD) = res%period
+  info(SCENE_INFO_WALL_TIME) = res%cost%wall_time
+  info(SCENE_INFO_CLOSED_FORM_EVALS) = real(res%cost%closed_form_evals, c_double)
+  info(SCENE_INFO_RHS_EVALS) = real(res%cost%rhs_evals, c_double)
+  info(SCENE_INFO_STEPS) = real(res%cost%steps, c_double)
+  info(SCENE_INFO_RUNS) = real(res%cost%runs, c_double)
+  info(SCENE_INFO_TOL_MET) = merge(1.0_c_double, 0.0_c_double, res%tol_met)
+  info(SCENE_INFO_EVENT_TIME_ERROR) = res%event_time_error
   reason = res%reason
 end subroutine scene_solve_f2py
-
-! A priori error estimate of one model for a scene (see scene_estimate).
-subroutine scene_estimate_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, estimate, code, msg)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
-  use pendula_scene, only: scene_t, scene_init, scene_estimate
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n, want, model
-  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol
-  real(c_double), intent(out) :: estimate
-  integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
-  type(status_t) :: st
-  type(scene_t) :: scene
-  estimate = 0
-  call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st)
-  if (st%code == PENDULA_OK) call scene_estimate(scene, int(model), estimate, st)
-  code = st%code
-  msg = st%message
-end subroutine scene_estimate_f2py

@@ -1,20 +1,12 @@
 """Status codes of the Fortran core and their Python exceptions.
 
-The table mirrors ``pendula_status`` (src/core/pendula_status.f90): argument
-problems become ``ValueError``, solver failures ``RuntimeError``, a feature
-missing from this build ``NotImplementedError``.
+The codes are those of ``pendula_status`` (src/core/pendula_status.f90), read
+from ``pendula._codes`` (generated from it at build time): argument problems
+become ``ValueError``, solver failures ``RuntimeError``, a feature missing
+from this build ``NotImplementedError``.
 """
-
-OK = 0
-ERR_NONFINITE = 1
-ERR_DOMAIN = 2
-ERR_SIZE = 3
-ERR_ORDER = 4
-ERR_UNSTABLE = 5
-ERR_SOLVER = 6
-ERR_UNAVAILABLE = 7
-ERR_MAXSTEPS = 8
-ERR_CANCELLED = 9
+from ._codes import (OK, ERR_NONFINITE, ERR_DOMAIN, ERR_SIZE, ERR_ORDER, ERR_UNSTABLE, ERR_SOLVER,  # noqa: F401
+                     ERR_UNAVAILABLE, ERR_MAXSTEPS, ERR_CANCELLED)
 
 
 class PendulaSolverError(RuntimeError):
@@ -35,6 +27,8 @@ _EXCEPTIONS = {
 
 
 def _text(msg):
+    """A Fortran character result from f2py (bytes or a numpy character
+    array) as a str without its blank or NUL padding."""
     if isinstance(msg, (bytes, bytearray)):
         msg = msg.decode("ascii", "replace")
     elif hasattr(msg, "tobytes"):  # numpy character array from f2py

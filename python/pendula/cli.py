@@ -19,9 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ._codes import EVENT_TURNING, EVENT_ZERO, MODEL_CODES, WANT_CODES
+
 PROG = "pendula"
-MODELS = ("small_angle", "exact", "linear", "rk4", "cvode")
-WANTS = ("state", "theta", "final", "energy", "period", "events")
+MODELS = tuple(name for name in MODEL_CODES if name != "auto")
+WANTS = tuple(WANT_CODES)
 
 
 class CliError(Exception):
@@ -77,7 +79,8 @@ def _add_physics(p, damping=True):
                    help="pendulum length l in m (default 4.9); w0 = sqrt(g/l) in 1/s")
     if damping:
         g.add_argument("--gamma", type=_nonnegative, default=None, metavar="1/S",
-                       help="damping rate gamma in 1/s (eq. 2.3); or give --mass and --b")
+                       help="damping rate gamma in 1/s (eq. 2.3); or give --mass and --b "
+                            "(all three only when gamma = b/m)")
         g.add_argument("--mass", "-m", type=_positive, default=None, metavar="KG",
                        help="bob mass m in kg (with --b: gamma = b/m, eq. 2.2)")
         g.add_argument("--b", type=_nonnegative, default=None, metavar="KG/S",
@@ -174,29 +177,16 @@ def build_parser():
 
 # ---------------------------------------------------------------- helpers
 
-def _damping(args):
-    """gamma in 1/s from --gamma or --mass/--b (None when undamped and nothing given)."""
-    if args.gamma is not None and (args.mass is not None or args.b is not None):
-        raise CliError("give either --gamma or --mass with --b, not both")
-    if (args.mass is None) != (args.b is None):
-        raise CliError("--mass and --b go together (gamma = b/m); or give --gamma in 1/s")
-    if args.gamma is not None:
-        return args.gamma
-    if args.mass is not None:
-        import pendula
-        return pendula.damping_rate(args.b, args.mass)
-    return 0.0
-
-
 def _scene(args, want="state"):
+    """The scene of the flags; --gamma, --mass and --b go through to the library,
+    which checks them (mass and b together; gamma too only when it equals b/mass)."""
     import pendula
-    gamma = _damping(args)
     scene_cls = getattr(pendula, "Scene", None)
     if scene_cls is None:
         raise NotImplementedError("pendula.Scene (the scenes module) is not available in this build")
     t = np.linspace(0.0, args.t_end, args.n)
     return scene_cls(theta0=args.theta0, omega0=args.omega0, t=t, g=args.g, length=args.length,
-                     gamma=gamma, tol=args.tol, want=want)
+                     gamma=args.gamma, mass=args.mass, b=args.b, tol=args.tol, want=want)
 
 
 def _fmt_table(header, rows):
@@ -331,8 +321,7 @@ def cmd_solve(args, out):
         rows = [[f"{args.t_end:.17g}", f"{float(res.theta):.17g}", f"{float(res.omega):.17g}"]]
     elif args.want == "events":
         ev = res.events
-        kinds = {getattr(pendula, "TURNING_POINT", 1): "turning point (Omega = 0)",
-                 getattr(pendula, "ZERO_CROSSING", 2): "zero crossing (theta = 0)"}
+        kinds = {EVENT_TURNING: "turning point (Omega = 0)", EVENT_ZERO: "zero crossing (theta = 0)"}
         header = ["t_s", "kind", "theta_rad", "omega_rad_per_s"]
         rows = [[f"{a:.17g}", kinds.get(int(k), str(k)), f"{b:.17g}", f"{c:.17g}"]
                 for a, k, b, c in zip(ev.t, ev.kind, ev.theta, ev.omega)]

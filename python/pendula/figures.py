@@ -602,14 +602,18 @@ def tradeoff_rows(table):
     return rows
 
 
-def work_precision_plot(rows, path, title="Work-precision", tol=None, note=None):
+def work_precision_plot(rows, path, title="Work-precision", tol=None, note=None, ax=None):
     """Log-log sup error (rad) against wall time (s), one line per model; returns the path.
 
     ``rows`` as from :func:`tradeoff_rows`; ``tol`` draws the tolerance line,
-    ``note`` (e.g. how the reference was made) goes under the title.
+    ``note`` (e.g. how the reference was made) goes under the title.  ``ax``:
+    draw into these matplotlib axes instead of a new figure (then ``path``
+    may be None: nothing is saved, the caller owns the figure).
     """
-    fig, axs = _figure(size=(8.0, 5.4))
-    ax = axs[0, 0]
+    fig = None
+    if ax is None:
+        fig, axs = _figure(size=(8.0, 5.4))
+        ax = axs[0, 0]
     models = []
     for r in rows:
         if r[0] not in models:
@@ -632,9 +636,11 @@ def work_precision_plot(rows, path, title="Work-precision", tol=None, note=None)
            ylabel="sup over the grid of max(|Δθ|, |ΔΩ|/w0)  (rad)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
+    if path is None:
+        return None
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI)
+    (fig if fig is not None else ax.figure).savefig(path, dpi=DPI)
     return path
 
 

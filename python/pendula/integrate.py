@@ -18,25 +18,26 @@ import numpy as np
 
 from . import _integrate, _longcall
 from ._arrays import as_real, check_size, integer_arg, real_scalar
+from ._codes import CVODE_ADAMS, CVODE_BDF, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 
-TURNING_POINT = 1
+TURNING_POINT = EVENT_TURNING
 """Event kind: Omega = 0 (theta at an extremum; the amplitude is |theta| there)."""
-ZERO_CROSSING = 2
+ZERO_CROSSING = EVENT_ZERO
 """Event kind: theta = 0 (the pendulum passes the vertical)."""
 
 _STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters", "nonlin_fails",
                "root_evals")
-_METHODS = {"adams": 1, "bdf": 2}
+_METHODS = {"adams": CVODE_ADAMS, "bdf": CVODE_BDF}
 
 
 @dataclass(frozen=True)
 class Events:
     """Events located by ``cvode(..., events=True)``, in time order.
 
-    t: event times [s]; kind: TURNING_POINT (1, Omega = 0) or ZERO_CROSSING
-    (2, theta = 0); theta, omega: the state at each event; truncated: True
+    t: event times [s]; kind: TURNING_POINT (Omega = 0) or ZERO_CROSSING
+    (theta = 0); theta, omega: the state at each event; truncated: True
     when more events occurred than ``max_events`` (only the first are kept).
     """
     t: np.ndarray
@@ -211,7 +212,7 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
         # The Fortran stub says the same; checking here first keeps the
         # message independent of the other arguments.
         _, _, _, _, _, _, _, _, _, code, msg = _integrate.cvode_f2py(
-            np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, 1, 1.0, 0, _longcall.new_control())
+            np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, CVODE_ADAMS, 1.0, 0, _longcall.new_control())
         raise_for_status(code, msg)
     tt = _grid(t)
     args = [real_scalar(x, name) for x, name in

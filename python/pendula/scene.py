@@ -25,8 +25,13 @@ Models, cheapest first (the choice and the solve are in Fortran,
   estimate meets tol;
 - ``"cvode"``: rtol from tol and the number of periods (a local tolerance is not
   a global error), verified by a run ten times tighter; used instead of RK4
-  when RK4 would need more than 2e6 steps (long or stiff runs) and SUNDIALS
-  was built.
+  when RK4 would need more than ``pendula._codes.RK4_STEP_LIMIT`` steps (long
+  runs), when its rounding would eat tol, or on stiff runs, and SUNDIALS was
+  built.
+
+The model and want names, the codes and the limits come from the Fortran
+core (``pendula._codes``, generated at build time); so do all the rules on a
+scene: this module passes its arguments through.
 
 Units: angles rad, Omega rad/s, t s, g m/s^2, length m, mass kg, b kg/s,
 gamma and w0 1/s, energies per unit m l^2 in 1/s^2.
@@ -39,18 +44,17 @@ import numpy as np
 
 from . import _longcall, _scene
 from ._arrays import as_real, integer_arg, real_scalar
+from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, STEP_CAP, WANT_CODES
 from ._config import HAVE_CVODE
-from ._errors import raise_for_status
+from ._errors import PendulaSolverError, _text, raise_for_status
 from .integrate import Events, _step_budget
 
-MODELS = ("small_angle", "exact", "linear", "rk4", "cvode")
+MODELS = tuple(name for name in MODEL_CODES if name != "auto")
 """Model names accepted by ``solve(scene, model=...)`` (plus "auto")."""
-WANTS = ("state", "theta", "final", "energy", "period", "events")
+WANTS = tuple(WANT_CODES)
 """What a scene can ask for (see ``Scene``)."""
 
-_MODEL_CODE = {"auto": 0, "small_angle": 1, "exact": 2, "linear": 3, "rk4": 4, "cvode": 5}
-_MODEL_NAME = {v: k for k, v in _MODEL_CODE.items()}
-_WANT_CODE = {w: i + 1 for i, w in enumerate(WANTS)}
+_MODEL_NAME = {v: k for k, v in MODEL_CODES.items()}
 
 
 def _model_code(model, name="model"):
@@ -60,11 +64,10 @@ def _model_code(model, name="model"):
         raise TypeError(f"{name} must be a string, one of {', '.join(('auto',) + MODELS)}; "
                         f"got {type(model).__name__}")
     key = model.strip().lower()
-    if key == "linear_damped":
-        key = "linear"
-    if key not in _MODEL_CODE:
+    key = MODEL_ALIASES.get(key, key)
+    if key not in MODEL_CODES:
         raise ValueError(f"{name} = {model!r} is unknown: it must be one of {', '.join(('auto',) + MODELS)}")
-    return _MODEL_CODE[key]
+    return MODEL_CODES[key]
 
 
 class Scene:
@@ -112,7 +115,7 @@ class Scene:
         self.tol = real_scalar(tol, "tol")
         if not isinstance(want, str):
             raise TypeError(f"want must be a string, one of {', '.join(WANTS)}; got {type(want).__name__}")
-        if want.strip().lower() not in _WANT_CODE:
+        if want.strip().lower() not in WANT_CODES:
             raise ValueError(f"want = {want!r} is unknown: it must be one of {', '.join(WANTS)}")
         self.want = want.strip().lower()
         w0, gam, code, msg = _scene.scene_physics_f2py(
@@ -140,7 +143,7 @@ class Scene:
         tt.setflags(write=False)
         self.t = tt
         code, msg = _scene.scene_check_f2py(self._t_arg(), self.theta0, self.omega0, self.w0, self.gamma,
-                                            self.tol, _WANT_CODE[self.want], 0)
+                                            self.tol, WANT_CODES[self.want], MODEL_CODES["auto"])
         raise_for_status(code, msg)
 
     def _t_arg(self):
@@ -172,7 +175,9 @@ class SceneResult:
     reason: why it was chosen; error_estimate: estimated sup over the window of
     max(|d theta| [rad], |d Omega|/w0); tol_met: error_estimate <= tol;
     setting: RK4 step h [s] or CVODE rtol of the returned run (None for closed
-    forms); cost: dict with closed_form_evals, rhs_evals, steps, runs
+    forms; kept for compatibility, ``step`` and ``rtol`` say which); step: the
+    RK4 step h [s] (model "rk4", else None); rtol: the CVODE rtol (model
+    "cvode", else None); cost: dict with closed_form_evals, rhs_evals, steps, runs
     (integrator runs, verification included), wall_time (s, inside Fortran)
     and python_wall_time (s, the whole call).
 
@@ -187,6 +192,8 @@ class SceneResult:
     tol_met: bool
     setting: object
     cost: dict
+    step: object = None
+    rtol: object = None
     t: object = None
     theta: object = None
     omega: object = None
@@ -198,14 +205,15 @@ class SceneResult:
 
 def _long_scene(scene, tt, model_code, setting):
     # Predicted > ~50 ms: an integrated window of more than a few dozen
-    # periods, a fixed RK4 run of more than ~2e6 steps, or many outputs.
+    # periods, a fixed RK4 run of more than _longcall.RK4_LONG_STEPS steps, or many outputs.
     # Closed forms (gamma = 0, or the linear model) are fast per point.
     span = float(tt[-1]) if tt.size else 0.0
     if tt.size > 100_000:
         return True
-    if model_code == _MODEL_CODE["rk4"] and setting > 0:
+    if model_code == MODEL_CODES["rk4"] and setting > 0:
         return span / setting > _longcall.RK4_LONG_STEPS
-    if scene.gamma == 0 and model_code in (0, 1, 2):
+    closed_undamped = (MODEL_CODES[name] for name in ("auto", "small_angle", "exact"))
+    if scene.gamma == 0 and model_code in closed_undamped:
         return False
     return scene.w0 * span / (2 * np.pi) > 50
 
@@ -214,50 +222,47 @@ def _budget(max_steps):
     return float(min(_step_budget(max_steps), 2**62))
 
 
-def _run(scene, model_code, fixed, setting, max_steps=2_000_000_000, progress=None):
+_MAX_EVENT_SLOTS = 2**30
+
+
+def _event_slots(scene, tt):
+    # Fortran's rigorous bound on the events of the window (scene_event_bound),
+    # so that one solve always has room for them all.
+    if scene.want != "events":
+        return 1
+    return int(min(_MAX_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]))))
+
+
+def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
-    if model_code == _MODEL_CODE["cvode"] and not HAVE_CVODE:
-        raise NotImplementedError("model = 'cvode' is not available: this build has no SUNDIALS CVODE "
-                                  "(see pendula.have_cvode())")
     tt = scene._t_arg()
-    m = 16
-    if scene.want == "events":
-        m = int(min(2**30, 8 * scene.w0 * tt[-1] / (2 * np.pi) + 64))
+    m = _event_slots(scene, tt)
     budget = _budget(max_steps)
     long = _long_scene(scene, tt, model_code, float(setting))
     start = time.perf_counter()
-    while True:
-        control = _longcall.new_control()
-        args = (tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol, _WANT_CODE[scene.want],
-                model_code, int(fixed), float(setting), m, budget, control)
-        out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress, unit="step")
-        (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
-         reason, code, msg) = out
-        raise_for_status(code, msg)
-        if int(n_ev) <= m:
-            break
-        m = int(n_ev) + 16
+    control = _longcall.new_control()
+    args = (tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol, WANT_CODES[scene.want],
+            model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
+    out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress, unit="step")
+    (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
+     reason, code, msg) = out
+    raise_for_status(code, msg)
+    if int(n_ev) > m:
+        raise PendulaSolverError(f"the window holds {int(n_ev)} events, more than the {m} this "
+                                 "Python layer keeps: shorten the window")
     wall = time.perf_counter() - start
     return (int(nout), tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, int(n_ev),
             int(model_out), info, reason, wall)
 
 
-def _text(s):
-    if hasattr(s, "tobytes"):
-        s = s.tobytes()
-    if isinstance(s, (bytes, bytearray)):
-        s = s.decode("ascii", "replace")
-    return str(s).strip().strip("\x00").strip()
-
-
 def _result(scene, raw):
     (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info, reason,
      wall) = raw
-    est, setting, period, fwall, ncf, nrhs, nsteps, nruns, met, ev_err = (float(x) for x in info)
+    num = {name: float(info[i]) for name, i in INFO.items()}
     model = _MODEL_NAME.get(model_out, "unknown")
-    cost = {"closed_form_evals": int(ncf), "rhs_evals": int(nrhs), "steps": int(nsteps), "runs": int(nruns),
-            "wall_time": fwall, "python_wall_time": wall}
+    cost = {name: int(num[name]) for name in ("closed_form_evals", "rhs_evals", "steps", "runs")}
+    cost.update(wall_time=num["wall_time"], python_wall_time=wall)
     kw = {}
     want = scene.want
     if want in ("state", "theta", "energy"):
@@ -275,17 +280,20 @@ def _result(scene, raw):
     elif want == "final":
         kw.update(t=float(tout[0]), theta=float(theta[0]), omega=float(omega[0]))
     elif want == "period":
-        kw.update(period=period)
+        kw.update(period=num["period"])
     elif want == "events":
         n = n_ev
         kw.update(events=Events(t=ev_t[:n].copy(), kind=ev_kind[:n].astype(np.int64),
                                 theta=ev_theta[:n].copy(), omega=ev_omega[:n].copy(), truncated=False),
-                  event_time_error=ev_err)
-    return SceneResult(model=model, reason=_text(reason), error_estimate=est, tol_met=bool(met),
-                       setting=setting if model in ("rk4", "cvode") else None, cost=cost, **kw)
+                  event_time_error=num["event_time_error"])
+    integrated = model in ("rk4", "cvode")
+    return SceneResult(model=model, reason=_text(reason), error_estimate=num["error_estimate"],
+                       tol_met=bool(num["tol_met"]), setting=num["setting"] if integrated else None,
+                       step=num["step"] if model == "rk4" else None,
+                       rtol=num["rtol"] if model == "cvode" else None, cost=cost, **kw)
 
 
-def solve(scene, model=None, max_steps=2_000_000_000, progress=None):
+def solve(scene, model=None, max_steps=STEP_CAP, progress=None):
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
     model: None or "auto" to let the library choose, or one of ``MODELS`` to
@@ -295,8 +303,9 @@ def solve(scene, model=None, max_steps=2_000_000_000, progress=None):
     rounding floor of the exact solution over a long window), the most accurate
     one is used and ``tol_met`` is False with the reason saying so.
 
-    max_steps: work budget in RK4 steps (a CVODE step counts as 20; the
-    default 2e9 is about a minute of CPU): a solve predicted to need more is
+    max_steps: work budget in RK4 steps (a CVODE step counts as
+    ``pendula._codes.CVODE_STEP_COST``; the default ``STEP_CAP`` is about a
+    minute of CPU): a solve predicted to need more is
     refused before it starts, with a message naming what to change (window,
     tol, or a larger max_steps).  Long solves stop on Ctrl-C
     (KeyboardInterrupt within a millisecond or so).  progress: True for a
@@ -309,21 +318,10 @@ def solve(scene, model=None, max_steps=2_000_000_000, progress=None):
     build without SUNDIALS, ``PendulaSolverError`` when an integrator fails.
     """
     code = _model_code(model)
-    if code in (1, 2) and isinstance(scene, Scene) and scene.gamma > 0:
-        raise ValueError(f"model = {model!r} needs gamma = 0 (gamma = {scene.gamma:g}): "
-                         "use 'linear', 'rk4' or 'cvode'")
-    if code != 0 and isinstance(scene, Scene):
-        _scene_check_model(scene, code)
     return _result(scene, _run(scene, code, False, 0.0, max_steps, progress))
 
 
-def _scene_check_model(scene, code):
-    c, msg = _scene.scene_check_f2py(scene._t_arg(), scene.theta0, scene.omega0, scene.w0, scene.gamma,
-                                     scene.tol, _WANT_CODE[scene.want], code)
-    raise_for_status(c, msg)
-
-
-def run_model(scene, model, setting=None, max_steps=2_000_000_000, progress=None):
+def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None):
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
     setting: RK4 step h [s] or CVODE rtol (atol = rtol * state scale / 100);
@@ -332,9 +330,9 @@ def run_model(scene, model, setting=None, max_steps=2_000_000_000, progress=None
     max_steps steps is refused up front).
     """
     code = _model_code(model)
-    if code == 0:
+    if code == MODEL_CODES["auto"]:
         raise ValueError("model = 'auto' is not a model: use solve(scene) to let the library choose")
-    if code in (4, 5):
+    if code in (MODEL_CODES["rk4"], MODEL_CODES["cvode"]):
         if setting is None:
             raise ValueError(f"setting is missing: model {model!r} needs a step h (rk4) or an rtol (cvode)")
         setting = real_scalar(setting, "setting")
@@ -386,36 +384,12 @@ class TradeoffTable:
         return path
 
     def plot(self, path, title=None, ax=None):
-        """Work-precision plot: sup error against wall time, log-log, one line per model."""
-        import matplotlib
-        if ax is None:
-            matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        own = ax is None
-        if own:
-            fig, ax = plt.subplots(figsize=(7.5, 5.0))
-        names = []
-        for r in self.rows:
-            if r["model"] not in names:
-                names.append(r["model"])
-        markers = "osD^v<>ph*x+"
-        floor = 1e-17
-        for i, name in enumerate(names):
-            rs = [r for r in self.rows if r["model"] == name]
-            x = [r["wall_time"] for r in rs]
-            y = [max(r["sup_error"], floor) for r in rs]
-            ax.loglog(x, y, marker=markers[i % len(markers)], linestyle="-" if len(rs) > 1 else "none",
-                      label=name)
-        ax.axhline(self.scene.tol, color="grey", linestyle=":", label=f"tol = {self.scene.tol:g} rad")
-        ax.set(xlabel="wall time per solve [s]", ylabel="sup error over the grid [rad]")
-        ax.set_title(title or "Work-precision", fontsize=10)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-        if own:
-            fig.tight_layout()
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
-        return path
+        """Work-precision plot: sup error against wall time, log-log, one line per model
+        (``pendula.figures.work_precision_plot``).  ax: draw into these axes (path
+        may then be None); returns the path written, or None."""
+        from .figures import tradeoff_rows, work_precision_plot
+        return work_precision_plot(tradeoff_rows(self), path, title=title or "Work-precision",
+                                   tol=self.scene.tol, ax=ax)
 
 
 def _sup_error(theta, omega, ref_theta, ref_omega, w0):

@@ -100,15 +100,29 @@ def test_bad_flags_exit_2_with_message(capsys, argv, expect):
     assert expect in err
 
 
+# The damping rule is the library's (scene_physics): mass and b together, and
+# gamma with them only when it equals b/mass; the CLI passes the flags through.
 @pytest.mark.parametrize("extra, expect", [
-    (["--gamma", "1", "--mass", "0.1", "--b", "0.01"], "either --gamma or --mass with --b"),
-    (["--b", "0.01"], "--mass and --b go together"),
-    (["--mass", "0.1"], "--mass and --b go together"),
+    (["--gamma", "1", "--mass", "0.1", "--b", "0.01"], "disagree: give gamma, or mass and b, not both"),
+    (["--b", "0.01"], "b is given without mass"),
+    (["--mass", "0.1"], "mass is given without b"),
 ])
 def test_inconsistent_damping_flags(capsys, extra, expect):
     code, _, err = run(["solve", "--theta0", "1", "--t-end", "5"] + extra, capsys)
     assert code == 2
     assert expect in err and err.startswith("pendula solve: error:")
+
+
+def test_consistent_damping_flags_pass_through(capsys):
+    """gamma with mass and b that agree is what the library allows: same answer as mass and b
+    alone (the library then uses b/mass)."""
+    base = ["solve", "--theta0", "0.1", "--t-end", "5", "--want", "final"]
+    code, both, _ = run(base + ["--gamma", "0.1", "--mass", "0.1", "--b", "0.01"], capsys)
+    assert code == 0
+    code, alone, _ = run(base + ["--mass", "0.1", "--b", "0.01"], capsys)
+    assert code == 0
+    pick = [ln for ln in both.splitlines() if ln.startswith("final state")]
+    assert pick and pick == [ln for ln in alone.splitlines() if ln.startswith("final state")]
 
 
 def test_figures_errors(capsys, tmp_path):
