@@ -142,12 +142,21 @@ def test_call_level_errors():
 
 
 def test_cancel_from_another_thread_keeps_finished_states():
-    # about 1 s of work on one thread; the flag is raised after 0.1 s
+    # about 1 s of work on one thread; the flag is raised as soon as the
+    # progress counter shows finished states (a fixed delay is flaky on a
+    # loaded machine)
     n = 4000
     t = np.linspace(0.0, 30.0, 601)
     th0 = np.linspace(-1.0, 1.0, n)
     control = np.zeros(2, dtype=np.int64)
-    timer = threading.Timer(0.1, lambda: control.__setitem__(0, 1))
+
+    def cancel_after_first_states():
+        deadline = time.perf_counter() + 30.0
+        while control[1] == 0 and time.perf_counter() < deadline:
+            time.sleep(0.001)
+        control[0] = 1
+
+    timer = threading.Thread(target=cancel_after_first_states)
     timer.start()
     t0 = time.perf_counter()
     r = _batch.rk4_batch(t, th0, 2.0, W0, 0.1, 0.002, threads=1, control=control)
