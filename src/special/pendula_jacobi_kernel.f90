@@ -393,26 +393,37 @@ contains
         want_am, sn, cn, dn, am)
   end subroutine ellipj_point
 
-  !> ellipj for 0 <= m < 1 and |u| < 9 K (the common case) with all work inline; the same
-  !> steps as jacobi_param + eval_at_param.  done = .false. leaves the point to the general path.
+  !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) with all work inline; the
+  !> same steps as jacobi_param + eval_at_param.  Beyond |u| ~ 9 K the reduction takes K
+  !> in double-double (k_double_double, a compensated AGM), as eval_at_param does.
+  !> done = .false. leaves the point to the general path.
   pure subroutine ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
     real(wp), intent(in) :: u, m
     logical, intent(in) :: want_am
     real(wp), intent(out) :: sn, cn, dn, am
     logical, intent(out) :: done
-    real(wp) :: mc, k, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
+    real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
+    real(wp) :: mc, mcl, k, khi, klo, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
     mc = 1 - m
     k = k_unit(m, mc)
     v = abs(u)
     ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
     n = anint(v / (2 * k))
-    if (.not. n <= 4) then
-      done = .false.
+    if (n <= 4) then
+      call veltkamp_split(2 * k, c1, c2)
+      r = (v - n * c1) - n * c2
+    else if (n < nmax) then
+      ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
+      mcl = (1 - mc) - m
+      call k_double_double(mc, mcl, khi, klo)
+      n = anint(v / (2 * khi))
+      call veltkamp_split(2 * khi, c1, c2)
+      r = ((v - n * c1) - n * c2) - n * (2 * klo)
+    else
+      done = .false.   ! beyond 2**26 half periods, or u = +-Inf
       sn = 0; cn = 0; dn = 0; am = 0
       return
     end if
-    call veltkamp_split(2 * k, c1, c2)
-    r = (v - n * c1) - n * c2
     t = abs(r)
     call series_coeffs(m, cs, cc, cd)
     call core_sncndn(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
