@@ -13,7 +13,7 @@ module pendula_jacobi_kernel
   use pendula_kinds, only: wp
   use pendula_constants, only: pi, quiet_nan
   use pendula_double_double, only: two_prod, veltkamp_split
-  use pendula_elliptic_tables, only: atan_poly, series_coeffs
+  use pendula_elliptic_tables, only: atan_poly
   use pendula_elliptic_ke, only: k_unit, k_double_double
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
       MODULUS_RECIPROCAL, MODULUS_IMAGINARY
@@ -36,6 +36,8 @@ module pendula_jacobi_kernel
   real(wp), parameter :: khi_tab_max = 400.0_wp
 
   real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp
+  !> 2**-n, n = 0..4 (exact scalings for sncndn_duplication)
+  real(wp), parameter :: halvings(0:4) = [1.0_wp, 0.5_wp, 0.25_wp, 0.125_wp, 0.0625_wp]
 
 contains
 
@@ -45,8 +47,11 @@ contains
     real(wp), intent(out) :: s, c, d
     real(wp) :: w, w2, w4, x, y, s2, den, r, c2, d2, q
     integer :: n, i
-    n = 0
-    w = v
+    ! the number of halvings to w <= wmax, counted without a data-dependent loop exit
+    ! for v <= 16 wmax (random v made that exit mispredict); exact: w = v / 2**n
+    n = merge(1, 0, v > wmax) + merge(1, 0, v > 2 * wmax) + merge(1, 0, v > 4 * wmax) &
+        + merge(1, 0, v > 8 * wmax)
+    w = v * halvings(n)
     do while (w > wmax)
       w = 0.5_wp * w
       n = n + 1
@@ -523,5 +528,9 @@ contains
       end if
     end do
   end subroutine eval_table_array
+
+  ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py); included here so that the
+  ! compiler inlines it into the short path (no inlining across modules without LTO)
+  include 'pendula_jacobi_series.inc'
 
 end module pendula_jacobi_kernel
