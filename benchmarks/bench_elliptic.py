@@ -5,6 +5,8 @@ other processes on a shared machine disturb the figures less) and throughput rat
 pendula time, > 1 means pendula is faster) on N points (default 1e6):
 
   ellipj   random (u, m): u ~ U(-10, 10), m ~ U(0, 1)
+  ellipj   random (u, m): |u| ~ U(20, 1000) of random sign, m ~ U(0, 1)  (many periods;
+           its cost is also printed relative to the |u| <= 10 row)
   ellipj   scalar m = 0.7, u ~ U(-10, 10)         (pendulum time series)
   ellipk   m ~ U(0, 1)
   ellipe   m ~ U(0, 1)
@@ -23,6 +25,9 @@ import scipy.special as sc
 import pendula
 
 
+LARGE_U = "ellipj random (u, m), 20 <= abs(u) <= 1000"
+
+
 def best_time(fn, repeat):
     best = np.inf
     for _ in range(repeat):
@@ -35,9 +40,11 @@ def best_time(fn, repeat):
 def cases(n, rng):
     u = rng.uniform(-10, 10, n)
     m = rng.uniform(0, 1, n)
+    ubig = rng.uniform(20, 1000, n) * rng.choice([-1.0, 1.0], n)
     phi = rng.uniform(-np.pi / 2, np.pi / 2, n)
     return [
         ("ellipj random (u, m)", lambda: pendula.ellipj(u, m), lambda: sc.ellipj(u, m)),
+        (LARGE_U, lambda: pendula.ellipj(ubig, m), lambda: sc.ellipj(ubig, m)),
         ("ellipj scalar m, array u", lambda: pendula.ellipj(u, 0.7), lambda: sc.ellipj(u, 0.7)),
         ("ellipk", lambda: pendula.ellipk(m), lambda: sc.ellipk(m)),
         ("ellipe", lambda: pendula.ellipe(m), lambda: sc.ellipe(m)),
@@ -70,6 +77,9 @@ def main(argv=None):
     lines = [head, "", "| function | pendula ns/pt | scipy ns/pt | speed-up |", "|---|---:|---:|---:|"]
     for name, tp, ts, r in rows:
         lines.append(f"| {name} | {tp:.1f} | {ts:.1f} | {r:.2f}x |")
+    tp = {name: t for name, t, _, _ in rows}
+    lines += ["", f"ellipj cost at |u| in [20, 1000] / at |u| <= 10: "
+              f"{tp[LARGE_U] / tp['ellipj random (u, m)']:.2f}"]
     text = "\n".join(lines)
     print(text)
     if args.out:

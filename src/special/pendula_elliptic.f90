@@ -18,7 +18,8 @@
 !>  * pendula_jacobi (kernel pendula_jacobi_kernel, transformations
 !>    pendula_elliptic_modulus): sn, cn, dn, am by series and duplication, within
 !>    3.1 eps times the condition number; plans for one m and many u;
-!>  * pendula_elliptic_tables: generated coefficients (tools/gen/gen_elliptic_tables.py).
+!>  * pendula_elliptic_tables: generated coefficients (tools/gen/gen_elliptic_tables.py; it
+!>    also writes pendula_jacobi_series.inc, the series coefficients the kernel includes).
 module pendula_elliptic
   use pendula_elliptic_ke, only: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array
   use pendula_elliptic_f, only: ellipf, ellipfm1

@@ -6,7 +6,6 @@ module pendula_elliptic_modulus
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_double_double, only: two_sum, dd_div, dd_sqrt
-  use pendula_elliptic_tables, only: series_coeffs
   use pendula_elliptic_ke, only: k_unit, k_from_mc, k_double_double
   implicit none
   private
@@ -98,5 +97,8 @@ contains
     end if
     call series_coeffs(mm, plan%cs, plan%cc, plan%cd)
   end function jacobi_param
+
+  ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py; also included in the kernel)
+  include 'pendula_jacobi_series.inc'
 
 end module pendula_elliptic_modulus

@@ -9,16 +9,14 @@
 !> within 3.1 eps times the condition number in every region (m < 0 to -1e10, 1 - m
 !> down to 5e-324, m > 1, |u| to 1e6).
 module pendula_jacobi
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
-  use pendula_constants, only: pi, quiet_nan
+  use pendula_constants, only: quiet_nan
   use pendula_status, only: status_t, set_error, PENDULA_ERR_SIZE
-  use pendula_double_double, only: veltkamp_split
-  use pendula_elliptic_tables, only: series_coeffs
-  use pendula_elliptic_ke, only: ellipk, ellipkm1, k_unit
+  use pendula_elliptic_ke, only: ellipk, ellipkm1
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_CORE, MODULUS_RECIPROCAL, &
       MODULUS_IMAGINARY
-  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, core_sncndn, am_from_sn_cn, taylor_row_at, &
+  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, taylor_row_at, &
       ntay, tab_step, tab_inv_step, khi_tab_max
   implicit none
   private
@@ -166,63 +164,15 @@ contains
     real(wp), intent(out) :: sn(:), cn(:), dn(:)
     type(status_t), intent(out) :: status
     real(wp), intent(out), optional :: am(:)
-    real(wp) :: a
-    integer :: i
     logical :: bad
     call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am, 'm', size(m))
     if (bad) return
-    do i = 1, size(u)
-      call ellipj_point(u(i), m(i), present(am), sn(i), cn(i), dn(i), a)
-      if (present(am)) am(i) = a
-    end do
+    if (present(am)) then
+      call ellipj_points(size(u), u, m, .true., sn, cn, dn, am)
+    else
+      call ellipj_points(size(u), u, m, .false., sn, cn, dn, sn)
+    end if
   end subroutine ellipj_array
-
-  !> One point of ellipj_array: the inline path for 0 <= m < 1 and |u| < 9 K, else the
-  !> general one (the same numbers as the elemental ellipj).
-  pure subroutine ellipj_point(u, m, want_am, sn, cn, dn, am)
-    real(wp), intent(in) :: u, m
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn, cn, dn, am
-    logical :: done
-    done = .false.
-    if (.not. (ieee_is_nan(m) .or. ieee_is_nan(u))) then
-      if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
-    end if
-    if (.not. done) call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., &
-        want_am, sn, cn, dn, am)
-  end subroutine ellipj_point
-
-  !> ellipj for 0 <= m < 1 and |u| < 9 K (the common case) with all work inline; the same
-  !> steps as jacobi_param + eval_at_param.  done = .false. leaves the point to the general path.
-  pure subroutine ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
-    real(wp), intent(in) :: u, m
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn, cn, dn, am
-    logical, intent(out) :: done
-    real(wp) :: mc, k, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
-    mc = 1 - m
-    k = k_unit(m, mc)
-    v = abs(u)
-    ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
-    n = anint(v / (2 * k))
-    if (.not. n <= 4) then
-      done = .false.
-      sn = 0; cn = 0; dn = 0; am = 0
-      return
-    end if
-    call veltkamp_split(2 * k, c1, c2)
-    r = (v - n * c1) - n * c2
-    t = abs(r)
-    call series_coeffs(m, cs, cc, cd)
-    call core_sncndn(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
-    ! signs by merge (blends, not branches): the parity of n and the sign of u are random
-    ps = merge(-1.0_wp, 1.0_wp, iand(int(n), 1) /= 0)
-    su = merge(-1.0_wp, 1.0_wp, u < 0)
-    am = 0
-    if (want_am) am = (sign(am_from_sn_cn(s, c), r) + n * pi) * su
-    sn = sign(s, r) * (ps * su); cn = c * ps; dn = d
-    done = .true.
-  end subroutine ellipj_unit_short
 
   !> ellipjm1 over rank-1 arrays (same numbers as the elemental form); sizes as ellipj_array.
   pure subroutine ellipjm1_array(u, mc, sn, cn, dn, status, am)

@@ -14,13 +14,13 @@ module pendula_jacobi_kernel
   use pendula_constants, only: pi, quiet_nan
   use pendula_double_double, only: two_prod, veltkamp_split
   use pendula_elliptic_tables, only: atan_poly
-  use pendula_elliptic_ke, only: k_double_double
-  use pendula_elliptic_modulus, only: jacobi_param_t, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
+  use pendula_elliptic_ke, only: k_unit, k_double_double
+  use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
       MODULUS_RECIPROCAL, MODULUS_IMAGINARY
   implicit none
   private
 
-  public :: eval_at_param, eval_table_array, core_sncndn, am_from_sn_cn, taylor_row_at
+  public :: eval_at_param, eval_table_array, ellipj_points, taylor_row_at
   public :: ntay, tab_step, tab_inv_step, khi_tab_max
 
   !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
@@ -36,6 +36,8 @@ module pendula_jacobi_kernel
   real(wp), parameter :: khi_tab_max = 400.0_wp
 
   real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp
+  !> 2**-n, n = 0..4 (exact scalings for sncndn_duplication)
+  real(wp), parameter :: halvings(0:4) = [1.0_wp, 0.5_wp, 0.25_wp, 0.125_wp, 0.0625_wp]
 
 contains
 
@@ -45,8 +47,11 @@ contains
     real(wp), intent(out) :: s, c, d
     real(wp) :: w, w2, w4, x, y, s2, den, r, c2, d2, q
     integer :: n, i
-    n = 0
-    w = v
+    ! the number of halvings to w <= wmax, counted without a data-dependent loop exit
+    ! for v <= 16 wmax (random v made that exit mispredict); exact: w = v / 2**n
+    n = merge(1, 0, v > wmax) + merge(1, 0, v > 2 * wmax) + merge(1, 0, v > 4 * wmax) &
+        + merge(1, 0, v > 8 * wmax)
+    w = v * halvings(n)
     do while (w > wmax)
       w = 0.5_wp * w
       n = n + 1
@@ -369,6 +374,80 @@ contains
     sn = fs; cn = fc; dn = fd; am = fa
   end subroutine eval_at_param
 
+  !> The loop of ellipj_array (here, next to the kernel, so that the compiler inlines the
+  !> short path): sn, cn, dn and, if want_am, am at the points (u(i), m(i)).
+  pure subroutine ellipj_points(n, u, m, want_am, sn, cn, dn, am)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: u(n), m(n)
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn(n), cn(n), dn(n)
+    real(wp), intent(inout) :: am(*)
+    real(wp) :: a
+    integer :: i
+    do i = 1, n
+      call ellipj_point(u(i), m(i), want_am, sn(i), cn(i), dn(i), a)
+      if (want_am) am(i) = a
+    end do
+  end subroutine ellipj_points
+
+  !> One point of ellipj_points: the inline path for 0 <= m < 1 and |u| < 9 K, else the
+  !> general one (the same numbers as the elemental ellipj).
+  pure subroutine ellipj_point(u, m, want_am, sn, cn, dn, am)
+    real(wp), intent(in) :: u, m
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    logical :: done
+    done = .false.
+    if (.not. (ieee_is_nan(m) .or. ieee_is_nan(u))) then
+      if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
+    end if
+    if (.not. done) call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., &
+        want_am, sn, cn, dn, am)
+  end subroutine ellipj_point
+
+  !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) with all work inline; the
+  !> same steps as jacobi_param + eval_at_param.  Beyond |u| ~ 9 K the reduction takes K
+  !> in double-double (k_double_double, a compensated AGM), as eval_at_param does.
+  !> done = .false. leaves the point to the general path.
+  pure subroutine ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
+    real(wp), intent(in) :: u, m
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    logical, intent(out) :: done
+    real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
+    real(wp) :: mc, mcl, k, khi, klo, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
+    mc = 1 - m
+    k = k_unit(m, mc)
+    v = abs(u)
+    ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
+    n = anint(v / (2 * k))
+    if (n <= 4) then
+      call veltkamp_split(2 * k, c1, c2)
+      r = (v - n * c1) - n * c2
+    else if (n < nmax) then
+      ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
+      mcl = (1 - mc) - m
+      call k_double_double(mc, mcl, khi, klo)
+      n = anint(v / (2 * khi))
+      call veltkamp_split(2 * khi, c1, c2)
+      r = ((v - n * c1) - n * c2) - n * (2 * klo)
+    else
+      done = .false.   ! beyond 2**26 half periods, or u = +-Inf
+      sn = 0; cn = 0; dn = 0; am = 0
+      return
+    end if
+    t = abs(r)
+    call series_coeffs(m, cs, cc, cd)
+    call core_sncndn(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
+    ! signs by merge (blends, not branches): the parity of n and the sign of u are random
+    ps = merge(-1.0_wp, 1.0_wp, iand(int(n), 1) /= 0)
+    su = merge(-1.0_wp, 1.0_wp, u < 0)
+    am = 0
+    if (want_am) am = (sign(am_from_sn_cn(s, c), r) + n * pi) * su
+    sn = sign(s, r) * (ps * su); cn = c * ps; dn = d
+    done = .true.
+  end subroutine ellipj_unit_short
+
   !> Table row 0..ntab nearest to the core argument t >= 0; t beyond the table or NaN
   !> gives ntab (the compare comes before int(), so no NaN or huge value is converted).
   pure elemental integer function tab_index(t, ntab) result(j)
@@ -456,5 +535,9 @@ contains
       end if
     end do
   end subroutine eval_table_array
+
+  ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py); included here so that the
+  ! compiler inlines it into the short path (no inlining across modules without LTO)
+  include 'pendula_jacobi_series.inc'
 
 end module pendula_jacobi_kernel

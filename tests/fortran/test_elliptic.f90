@@ -5,6 +5,7 @@ program test_elliptic
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite, ieee_value, ieee_quiet_nan
   use pendula_kinds, only: wp
   use pendula_elliptic
+  use pendula_elliptic_ke, only: k_double_double
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_testing, only: checker_t, ulps_between
   implicit none
@@ -169,9 +170,27 @@ program test_elliptic
   call ellipk_array(s(1:10), c(1:10), st)
   call t%check_true(st%code == PENDULA_OK, 'ellipk_array equal sizes: ok')
 
+  ! ---- K in double-double (compensated AGM) against mpmath at 800 digits: hi + lo to
+  ! 1e-30 relative (the period reductions need well below eps; measured <= 1.1e-31)
+  call kdd(0.5_wp, 0.0_wp, 1.8540746773013719_wp, 4.2208106329620787e-17_wp, 'K dd (mc = 0.5)')
+  call kdd(0.9_wp, -2.7755575615628914e-17_wp, 1.6124413487202194_wp, 2.003107034822165e-17_wp, &
+      'K dd (m = 0.1: mc with its low part)')
+  call kdd(0.999_wp, 0.0_wp, 1.5711892469233444_wp, 3.3916792374222226e-17_wp, 'K dd (mc = 0.999)')
+  call kdd(1.0e-3_wp, 0.0_wp, 4.841132560550297_wp, 1.8272748097769278e-16_wp, 'K dd (mc = 1e-3)')
+  call kdd(1.0e-300_wp, 0.0_wp, 346.77405831022674_wp, 8.106670740906309e-15_wp, 'K dd (mc = 1e-300)')
+  call kdd(5.0e-324_wp, 0.0_wp, 373.6063303218105_wp, 1.8383844357144884e-14_wp, 'K dd (mc = 5e-324)')
+
   call t%report('test_elliptic')
 
 contains
+
+  subroutine kdd(mch, mcl, refh, refl, label)
+    real(wp), intent(in) :: mch, mcl, refh, refl
+    character(len=*), intent(in) :: label
+    real(wp) :: kh, kl
+    call k_double_double(mch, mcl, kh, kl)
+    call t%check_true(abs((kh - refh) + (kl - refl)) <= 1.0e-30_wp * refh, label)
+  end subroutine kdd
 
   subroutine jac(uu, p, comp, ref, cond, label)
     real(wp), intent(in) :: uu, p, ref(4), cond(4)
