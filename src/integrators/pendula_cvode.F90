@@ -378,7 +378,7 @@ contains
     type(status_t), intent(inout) :: status
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
 
-    type(cv_data_t), pointer :: data
+    type(cv_data_t), pointer :: cb   ! what the callbacks see
     real(c_double), pointer :: yv(:)
     real(c_double) :: tret(1)
     integer(c_int) :: ierr, roots(2)
@@ -391,17 +391,17 @@ contains
     span = t(nt) - t(1)
     ! Everything the callbacks see is set afresh: nothing of the previous
     ! problem on this work survives (its message, counters, cancel state).
-    data => work%data
-    data = cv_data_t()
-    data%w0sq = w0 * w0
-    data%gamma = gamma
-    data%w0 = w0
-    data%rtol = rtol
-    data%tscale = 0
-    if (span < 2.0_wp**(-64)) data%tscale = exponent(span)
-    data%eval_progress = eval_progress
+    cb => work%data
+    cb = cv_data_t()
+    cb%w0sq = w0 * w0
+    cb%gamma = gamma
+    cb%w0 = w0
+    cb%rtol = rtol
+    cb%tscale = 0
+    if (span < 2.0_wp**(-64)) cb%tscale = exponent(span)
+    cb%eval_progress = eval_progress
     tau_end = tau(t(nt))
-    if (present(control)) data%control = c_loc(control)
+    if (present(control)) cb%control = c_loc(control)
     yv => FN_VGetArrayPointer(work%y)
     yv(1) = theta0
     yv(2) = omega0
@@ -450,7 +450,7 @@ contains
         ierr = FCVodeSetMaxNumSteps(work%mem, int(max_steps - int(nst(1), i8), c_long))
         if (fail(ierr, 'CVodeSetMaxNumSteps')) exit steps
         ierr = FCVode(work%mem, merge(tau_end, tau(t(i)), i == nt), work%y, tret, CV_NORMAL)
-        if (ierr < 0 .and. data%cancelled) then
+        if (ierr < 0 .and. cb%cancelled) then
           call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // format_sci(t(i), 8) // &
               ' (interrupted by the caller)')
           exit steps
@@ -462,7 +462,7 @@ contains
             if (roots(k) == 0) cycle
             if (n_events < size(event_t)) then
               n_events = n_events + 1
-              event_t(n_events) = min(t(1) + scale(tret(1), data%tscale), t(nt))
+              event_t(n_events) = min(t(1) + scale(tret(1), cb%tscale), t(nt))
               event_kind(n_events) = merge(PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, k == 1)
               event_theta(n_events) = yv(1)
               event_omega(n_events) = yv(2)
@@ -487,8 +487,8 @@ contains
       end do
     end block steps
     ! progress: the evaluations since the last poll
-    if (c_associated(data%control)) &
-        call poll(data%control, merge(mod(data%evals, CV_POLL_EVALS), 0_i8, eval_progress), ok)
+    if (c_associated(cb%control)) &
+        call poll(cb%control, merge(mod(cb%evals, CV_POLL_EVALS), 0_i8, eval_progress), ok)
 
     call collect_stats(work%mem, with_events, stats, status)
     if (status%code /= PENDULA_OK) then
@@ -502,13 +502,13 @@ contains
     logical function fail(flag, what)
       integer(c_int), intent(in) :: flag
       character(len=*), intent(in) :: what
-      fail = failed(flag, what, data%errmsg, status)
+      fail = failed(flag, what, cb%errmsg, status)
     end function fail
 
     !> An output time in CVODE's time tau (exact for t within a factor 2 of t(1)).
     pure real(c_double) function tau(tt)
       real(wp), intent(in) :: tt
-      tau = scale(tt - t(1), -data%tscale)
+      tau = scale(tt - t(1), -cb%tscale)
     end function tau
 
   end subroutine run
