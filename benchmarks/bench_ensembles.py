@@ -11,6 +11,9 @@ steps per state except solve_ivp:
   numba njit / prange         a plain RK4 over states (libm sin), optional
   numpy vectorised            the RK4 stages as array operations across states
   solve_ivp stacked           one DOP853 system of 2N equations (rtol 1e-10)
+  batch CVODE 1 thread / all  pendula._batch.cvode_batch (Adams, rtol 1e-8,
+                              atol 1e-10: one solver per thread, CVodeReInit)
+  pendula.cvode loop          one pendula.cvode call per state, same settings
 
 Columns: states/s (wall), states/s per core (states per CPU-second of the
 process: the honest per-core rate when the machine is shared), ns per RK4
@@ -72,6 +75,21 @@ def run_batch(th0, om0, threads):
     r = _batch.rk4_batch(T, th0, om0, np.sqrt(W0SQ), GAMMA, H, threads=threads)
     assert r.code == 0, r.message
     return r.theta
+
+
+RTOL, ATOL = 1e-8, 1e-10       # CVODE rows: pendula.cvode's defaults, every state within 1e-6 rad
+
+
+def run_cvode_batch(th0, om0, threads):
+    r = _batch.cvode_batch(T, th0, om0, np.sqrt(W0SQ), GAMMA, rtol=RTOL, atol=ATOL, threads=threads)
+    assert r.code == 0, r.message
+    return r.theta
+
+
+def run_cvode_loop(th0, om0):
+    w0 = float(np.sqrt(W0SQ))
+    return np.array([pendula.cvode(T, float(a), float(b), w0, GAMMA, rtol=RTOL, atol=ATOL).theta
+                     for a, b in zip(th0, om0)])
 
 
 def run_loop(th0, om0):
@@ -197,6 +215,11 @@ def main(argv=None):
         add(f"numba prange, {nthr} threads", nbp, n, threads=nthr)
     add("numpy vectorised", run_numpy, sub["numpy"], rep=1 if args.quick else repeat)
     add("solve_ivp stacked DOP853", run_solve_ivp, sub["solve_ivp"], steps=0, rep=1)
+    if pendula.have_cvode():
+        add("batch CVODE, 1 thread", lambda a, b: run_cvode_batch(a, b, 1), n, steps=0)
+        add(f"batch CVODE, {ncores} threads", lambda a, b: run_cvode_batch(a, b, ncores), n, steps=0,
+            threads=ncores)
+        add("pendula.cvode loop", run_cvode_loop, sub["loop"], steps=0)
 
     by = {r["name"]: r for r in rows}
     b1 = by["batch, 1 thread"]
@@ -211,6 +234,10 @@ def main(argv=None):
     if nb is not None:
         ratios.append(f"batch 1 thread / numba 1 thread, per core: "
                       f"{b1['sps_core'] / by['numba njit, 1 thread']['sps_core']:.2f}x (target >= 7x)")
+    if "pendula.cvode loop" in by:
+        ratios.append(f"batch CVODE 1 thread / pendula.cvode loop, per core: "
+                      f"{by['batch CVODE, 1 thread']['sps_core'] / by['pendula.cvode loop']['sps_core']:.2f}x "
+                      "(target >= 3x)")
     bn = by[f"batch, {ncores} threads"]
     ratios.append(f"batch {ncores} threads / 1 thread, wall: {b1['wall'] / bn['wall']:.2f}x (target >= 1.8x; "
                   f"only meaningful on an idle machine: load average {os.getloadavg()[0]:.1f})")

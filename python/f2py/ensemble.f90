@@ -1,4 +1,5 @@
-! f2py-facing layer for the ensemble (batch) kernels (pendula_rk4_batch).
+! f2py-facing layer for the ensemble (batch) kernels (pendula_rk4_batch,
+! pendula_cvode_batch).
 ! Plain subroutines, c_double/c_int explicit-shape arguments, a status code +
 ! message.  Its own extension (pendula._ensemble) so that the batch glue does
 ! not grow the single-state integrate extension.  threadsafe: f2py releases
@@ -41,3 +42,37 @@ subroutine rk4_batch_openmp_f2py(flag)
   integer(c_int), intent(out) :: flag
   flag = merge(1, 0, rk4_batch_openmp())
 end subroutine rk4_batch_openmp_f2py
+
+subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, gamma, rtol, atol, method, &
+    max_steps, threads, control, theta, omega, codes, stats, first_failed, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t
+  use pendula_ode, only: ode_stats_t
+  use pendula_cvode_batch, only: cvode_batch_solve
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: nt, n, no, nw, ng, nr, na, method, threads
+  real(c_double), intent(in) :: t(nt), theta0(n), omega0(no), w0(nw), gamma(ng), rtol(nr), atol(na), max_steps
+  integer(8), intent(inout) :: control(2)   ! cancel flag and progress (pendula_control)
+  real(c_double), intent(out) :: theta(nt, n), omega(nt, n), stats(7, n)
+  integer(c_int), intent(out) :: codes(n), first_failed, code
+  character(len=256), intent(out) :: msg
+  type(status_t) :: st
+  type(ode_stats_t), allocatable :: s(:)   ! heap: n may be 1e7
+  integer(i8) :: budget
+  integer :: first, i
+  allocate (s(n))
+  ! max_steps arrives as a double (Python int of any size); clamp to int64.
+  budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
+  call cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, codes, &
+      s, st, threads=int(threads), control=control, first_failed=first)
+  do i = 1, n
+    stats(:, i) = [real(s(i)%steps, c_double), real(s(i)%rhs_evals, c_double), real(s(i)%jac_evals, c_double), &
+        real(s(i)%err_test_fails, c_double), real(s(i)%nonlin_iters, c_double), &
+        real(s(i)%nonlin_fails, c_double), real(s(i)%root_evals, c_double)]
+  end do
+  first_failed = first
+  code = st%code
+  msg = st%message
+end subroutine cvode_batch_f2py

@@ -1,5 +1,7 @@
 """Many pendulums per call (private: the public broadcast API comes later).
 
+``cvode_batch`` does the same with CVODE: one solver per thread, restarted
+for each state (CVodeReInit), each state bit-identical to ``pendula.cvode``.
 ``rk4_batch`` integrates every state of a NumPy-broadcast batch with the
 Fortran batch kernel (pendula_rk4_batch): SIMD blocks of states on OpenMP
 threads, the GIL released, each state bit-identical to ``pendula.rk4`` for
@@ -13,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _ensemble
-from ._arrays import as_real, broadcast_real
+from ._arrays import as_real, broadcast_real, integer_arg
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
 
 
@@ -66,6 +68,40 @@ def _threads(threads):
     return int(threads) if _pool_pid == pid else 1
 
 
+@dataclass(frozen=True)
+class CvodeBatchResult(BatchResult):
+    """Result of a CVODE batch: ``BatchResult`` (steps = CVODE steps per
+    state), plus stats, CVODE's counters per state as a dict of int64 arrays
+    of shape batch_shape (the keys of ``pendula.cvode``'s stats), and the
+    method.  A failed state keeps the outputs before its failure time (zero
+    after), as the Fortran cvode_solve returns them; a cancelled one is zero.
+    """
+    stats: dict = None
+    method: str = "adams"
+
+
+_STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters", "nonlin_fails", "root_evals")
+_METHODS = {"adams": 1, "bdf": 2}
+
+
+def _grid(t):
+    tt = as_real(t, "t")
+    if tt.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of output times, got an array of shape {tt.shape}")
+    if tt.size < 1:
+        raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
+    return tt
+
+
+def _control(control):
+    if control is None:
+        return np.zeros(2, dtype=np.int64)
+    if not (isinstance(control, np.ndarray) and control.dtype == np.int64 and control.shape == (2,)
+            and control.flags.c_contiguous and control.flags.writeable):
+        raise TypeError("control must be a writeable contiguous int64 numpy array of shape (2,)")
+    return control
+
+
 def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     """RK4 (as ``pendula.rk4``) for a batch of states over one output grid.
 
@@ -83,18 +119,10 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     that refuse the whole call (t, shapes, threads, control); per-state
     failures are reported in ``codes``, never raised.
     """
-    tt = as_real(t, "t")
-    if tt.ndim != 1:
-        raise ValueError(f"t must be a 1-D array of output times, got an array of shape {tt.shape}")
-    if tt.size < 1:
-        raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
+    tt = _grid(t)
     shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)
     nthreads = _threads(threads)
-    if control is None:
-        control = np.zeros(2, dtype=np.int64)
-    elif not (isinstance(control, np.ndarray) and control.dtype == np.int64 and control.shape == (2,)
-              and control.flags.c_contiguous and control.flags.writeable):
-        raise TypeError("control must be a writeable contiguous int64 numpy array of shape (2,)")
+    control = _control(control)
     theta, omega, codes, steps, first, code, msg = _ensemble.rk4_batch_f2py(
         tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), nthreads, control)
     code, first = int(code), int(first)
@@ -106,6 +134,52 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     return BatchResult(t=tt, theta=theta.T.reshape(shape + (n_t,)), omega=omega.T.reshape(shape + (n_t,)),
                        codes=codes.astype(np.int64).reshape(shape), steps=steps.astype(np.int64).reshape(shape),
                        code=code, message=_text(msg) if code else "", first_failed=first - 1)
+
+
+def cvode_batch(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", max_steps=10_000_000,
+                threads=0, control=None, events=False):
+    """CVODE (as ``pendula.cvode``) for a batch of states over one output grid.
+
+    t: strictly increasing, finite output times [s], 1-D, shared by every
+    state.  theta0 [rad], omega0 [rad/s], w0 > 0, gamma >= 0 [1/s] and the
+    tolerances rtol > 0, atol >= 0 broadcast together like NumPy to the batch
+    shape; method ("adams" or "bdf") and the per-state step budget max_steps
+    are shared.  Each state's theta, omega, stats and code are bit-identical
+    to ``pendula.cvode`` for the same arguments (whose exception becomes the
+    state's code).  threads, control: as ``rk4_batch`` (control[1] counts
+    finished states).  events: not supported in batch mode (ValueError for
+    True: call ``pendula.cvode(..., events=True)`` per state).
+
+    Returns a ``CvodeBatchResult``.  Raises TypeError/ValueError for arguments
+    that refuse the whole call (t, shapes, method, max_steps, threads,
+    control, events), NotImplementedError when this build has no CVODE;
+    per-state failures are reported in ``codes``, never raised.
+    """
+    if not isinstance(events, bool):
+        raise TypeError(f"events must be True or False, got {type(events).__name__}")
+    if events:
+        raise ValueError("events=True is not supported by cvode_batch: call pendula.cvode(..., events=True) "
+                         "for each state that needs its events")
+    tt = _grid(t)
+    shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol)
+    if not isinstance(method, str) or method.lower() not in _METHODS:
+        raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
+    max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
+    nthreads = _threads(threads)
+    control = _control(control)
+    theta, omega, codes, stats, first, code, msg = _ensemble.cvode_batch_f2py(
+        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
+        _METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control)
+    code, first = int(code), int(first)
+    if code != OK and first == 0 and code != ERR_CANCELLED:
+        raise_for_status(code, msg)   # the call itself was refused
+    n_t = tt.size
+    # stats has shape (7, n): row i is counter i of every state
+    counts = {name: stats[i].astype(np.int64).reshape(shape) for i, name in enumerate(_STAT_NAMES)}
+    return CvodeBatchResult(t=tt, theta=theta.T.reshape(shape + (n_t,)), omega=omega.T.reshape(shape + (n_t,)),
+                            codes=codes.astype(np.int64).reshape(shape), steps=counts["steps"], code=code,
+                            message=_text(msg) if code else "", first_failed=first - 1, stats=counts,
+                            method=method.lower())
 
 
 def openmp():

@@ -17,8 +17,10 @@
 !> for bit, about half the time per step).
 !>
 !> Thread safety: the parameters reach the callbacks through CVODE's user_data
-!> (a pointer to a local variable); there is no module state.  Every SUNDIALS
-!> object is created and freed inside one call, on every path.  CVODE's own
+!> (a pointer to the solver's own data); there is no module state.  cvode_solve
+!> creates and frees its SUNDIALS objects inside one call, on every path; a
+!> batch keeps one solver per thread (cvode_work_t) and restarts it for each
+!> problem with CVodeReInit, through the same code as cvode_solve.  CVODE's own
 !> error messages are captured (never printed) and returned in the status.
 #ifdef PENDULA_WITH_SUNDIALS
 module pendula_cvode
@@ -27,9 +29,9 @@ module pendula_cvode
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, PENDULA_OK, &
-      PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
+      PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: ode_stats_t, check_problem, check_output_size, &
+  use pendula_ode, only: ode_stats_t, check_problem, check_output_size, check_cvode_options, check_span, &
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
   use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer, FN_VDestroy
@@ -43,6 +45,8 @@ module pendula_cvode
   implicit none
   private
   public :: cvode_solve, cvode_solve_events, cvode_available
+  ! one solver reused for many problems (pendula_cvode_batch)
+  public :: cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
   !> What the callbacks see through user_data: the parameters, the time
@@ -67,7 +71,24 @@ module pendula_cvode
     type(c_ptr) :: control = c_null_ptr
     integer(i8) :: evals = 0
     logical :: cancelled = .false.
+    logical :: eval_progress = .true.
   end type cv_data_t
+
+  !> A CVODE solver that outlives one problem (see cvode_work_open): the
+  !> SUNDIALS context, state vector, solver memory, dense matrix and linear
+  !> solver, and the callbacks' data (allocated, so that the address CVODE
+  !> holds as user_data stays valid wherever the work is copied).
+  type :: cvode_work_t
+    private
+    type(c_ptr) :: ctx = c_null_ptr
+    type(c_ptr) :: mem = c_null_ptr
+    type(N_Vector), pointer :: y => null()
+    type(SUNMatrix), pointer :: amat => null()
+    type(SUNLinearSolver), pointer :: ls => null()
+    type(cv_data_t), pointer :: data => null()
+    integer :: method = 0
+    logical :: roots = .false.
+  end type cvode_work_t
 
   !> Right-hand-side evaluations between two looks at the cancel flag (a few
   !> tens of microseconds of CVODE work); progress is counted in evaluations.
@@ -152,19 +173,7 @@ contains
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
-
-    type(cv_data_t), target :: data
-    type(c_ptr) :: ctx, cvode_mem
-    type(N_Vector), pointer :: y
-    type(SUNMatrix), pointer :: amat
-    type(SUNLinearSolver), pointer :: ls
-    real(c_double), pointer :: yv(:)
-    real(c_double) :: tret(1)
-    integer(c_int) :: ierr, lmm, roots(2)
-    integer(c_long) :: nst(1)
-    integer :: i, k, nt
-    logical :: ok
-    real(c_double) :: span, tau_end
+    type(cvode_work_t) :: work
 
     theta = 0
     omega = 0
@@ -174,142 +183,286 @@ contains
     event_omega = 0
     n_events = 0
     truncated = .false.
-    nt = size(t)
     call check_problem(t, theta0, omega0, w0, gamma, status)
     call check_positive('rtol', rtol, status)
     call check_nonnegative('atol', atol, status)
-    if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // format_int(method) // &
-            ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
-    if (status%code == PENDULA_OK .and. max_steps < 1) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_int(max_steps) // &
-            ' is out of range: it must be >= 1')
-    call check_output_size('theta', size(theta), nt, status)
-    call check_output_size('omega', size(omega), nt, status)
+    call check_cvode_options(method, max_steps, status)
+    call check_output_size('theta', size(theta), size(t), status)
+    call check_output_size('omega', size(omega), size(t), status)
     if (status%code == PENDULA_OK .and. (size(event_kind) /= size(event_t) .or. &
         size(event_theta) /= size(event_t) .or. size(event_omega) /= size(event_t))) &
         call set_error(status, PENDULA_ERR_SIZE, 'event_t, event_kind, event_theta and event_omega ' // &
             'must all have the same size (the maximum number of events kept)')
+    call check_span(t, status)
     if (status%code /= PENDULA_OK) return
-    span = t(nt) - t(1)
-    if (.not. ieee_is_finite(span)) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) ' // &
-          'overflows): no integration can cover that window')
-      return
-    end if
     theta(1) = theta0
     omega(1) = omega0
-    if (nt == 1) return
+    if (size(t) == 1) return
+    ! A solver of its own for this one call, freed on every path.
+    call cvode_work_open(work, method, status)
+    if (status%code == PENDULA_OK) call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
+        with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
+        stats, status, control)
+    call cvode_work_close(work, status)
+  end subroutine solve
 
-    data%w0sq = w0 * w0
-    data%gamma = gamma
-    data%w0 = w0
-    data%rtol = rtol
-    data%tscale = 0
-    if (span < 2.0_wp**(-64)) data%tscale = exponent(span)
-    tau_end = tau(t(nt))
-    if (present(control)) data%control = c_loc(control)
-    ctx = c_null_ptr
-    cvode_mem = c_null_ptr
-    nullify (y, amat, ls)
-    i = 2
-
+  !> Create a CVODE solver for `method` (PENDULA_CVODE_ADAMS or
+  !> PENDULA_CVODE_BDF) in `work`, to be used for any number of problems by
+  !> cvode_work_solve and released by cvode_work_close (also after a failed
+  !> open).  Its set-up (SUNDIALS context, state vector, solver memory, dense
+  !> linear solver, about 29 us) is paid here once.  A work belongs to one
+  !> thread at a time; works share nothing.  Errors: method out of range
+  !> (PENDULA_ERR_DOMAIN), `work` already open or a SUNDIALS allocation
+  !> failure (PENDULA_ERR_SOLVER).
+  subroutine cvode_work_open(work, method, status)
+    type(cvode_work_t), intent(inout) :: work
+    integer, intent(in) :: method
+    type(status_t), intent(out) :: status
+    real(c_double), pointer :: yv(:)
+    integer(c_int) :: ierr, lmm
+    logical :: ok
+    call check_cvode_options(method, 1_i8, status)
+    if (status%code /= PENDULA_OK) return
+    if (associated(work%data)) then
+      call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: this work is already open (close it first)')
+      return
+    end if
+    allocate (work%data)
+    work%method = method
     ! One pass through the set-up; the first failure skips the rest (the
-    ! `block` exits) and the clean-up after it runs on every path.
+    ! `block` exits) and cvode_work_close frees whatever was made.
     setup: block
-      ierr = FSUNContext_Create(c_null_ptr, ctx)
+      ierr = FSUNContext_Create(c_null_ptr, work%ctx)
       if (fail(ierr, 'SUNContext_Create')) exit setup
-      y => FN_VNew_Serial(2_c_int64_t, ctx)
-      if (.not. associated(y)) then
+      work%y => FN_VNew_Serial(2_c_int64_t, work%ctx)
+      if (.not. associated(work%y)) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: N_VNew_Serial could not allocate the state vector')
         exit setup
       end if
       ! Length-2 arithmetic kernels instead of the generic serial ones (the
       ! vector operations are most of CVODE's work for N = 2); CVODE's work
       ! vectors, cloned from y in CVodeInit, inherit them.
-      call specialise_pair_ops(y, ok)
+      call specialise_pair_ops(work%y, ok)
       if (.not. ok) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: the state vector is not a serial vector of length 2')
         exit setup
       end if
-      yv => FN_VGetArrayPointer(y)
-      yv(1) = theta0
-      yv(2) = omega0
+      yv => FN_VGetArrayPointer(work%y)
+      yv = 0   ! each problem sets its own initial state (run: CVodeReInit)
       lmm = CV_ADAMS
       if (method == PENDULA_CVODE_BDF) lmm = CV_BDF
-      cvode_mem = FCVodeCreate(lmm, ctx)
-      if (.not. c_associated(cvode_mem)) then
+      work%mem = FCVodeCreate(lmm, work%ctx)
+      if (.not. c_associated(work%mem)) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: CVodeCreate could not allocate the solver memory')
         exit setup
       end if
       ! From here on every CVODE message goes to capture_error, never to stderr
       ! (SUNDIALS would fprintf it): no stdio from threads, and the text is kept.
-      ierr = FCVodeSetErrHandlerFn(cvode_mem, c_funloc(capture_error), c_loc(data))
+      ierr = FCVodeSetErrHandlerFn(work%mem, c_funloc(capture_error), c_loc(work%data))
       if (fail(ierr, 'CVodeSetErrHandlerFn')) exit setup
-      ierr = FCVodeInit(cvode_mem, c_funloc(rhs), 0.0_c_double, y)
+      ierr = FCVodeInit(work%mem, c_funloc(rhs), 0.0_c_double, work%y)
       if (fail(ierr, 'CVodeInit')) exit setup
-      ierr = FCVodeSetUserData(cvode_mem, c_loc(data))
+      ierr = FCVodeSetUserData(work%mem, c_loc(work%data))
       if (fail(ierr, 'CVodeSetUserData')) exit setup
-      if (atol > 0) then
-        ierr = FCVodeSStolerances(cvode_mem, rtol, atol)
-        if (fail(ierr, 'CVodeSStolerances')) exit setup
-      else
-        ! pure relative control, normwise (see relative_weights)
-        ierr = FCVodeWFtolerances(cvode_mem, c_funloc(relative_weights))
-        if (fail(ierr, 'CVodeWFtolerances')) exit setup
-      end if
-      amat => FSUNDenseMatrix(2_c_int64_t, 2_c_int64_t, ctx)
-      if (.not. associated(amat)) then
+      work%amat => FSUNDenseMatrix(2_c_int64_t, 2_c_int64_t, work%ctx)
+      if (.not. associated(work%amat)) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNDenseMatrix could not allocate the Jacobian')
         exit setup
       end if
-      ls => FSUNLinSol_Dense(y, amat, ctx)
-      if (.not. associated(ls)) then
+      work%ls => FSUNLinSol_Dense(work%y, work%amat, work%ctx)
+      if (.not. associated(work%ls)) then
         call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSol_Dense could not create the linear solver')
         exit setup
       end if
-      ierr = FCVodeSetLinearSolver(cvode_mem, ls, amat)
+      ierr = FCVodeSetLinearSolver(work%mem, work%ls, work%amat)
       if (fail(ierr, 'CVodeSetLinearSolver')) exit setup
-      ierr = FCVodeSetJacFn(cvode_mem, c_funloc(jacobian))
+      ierr = FCVodeSetJacFn(work%mem, c_funloc(jacobian))
       if (fail(ierr, 'CVodeSetJacFn')) exit setup
+    end block setup
+    if (status%code /= PENDULA_OK) call cvode_work_close(work, status)
+  contains
+    logical function fail(flag, what)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      fail = failed(flag, what, work%data%errmsg, status)
+    end function fail
+  end subroutine cvode_work_open
+
+  !> Free everything cvode_work_open made (safe on a work never opened or
+  !> already closed); a SUNDIALS failure to free is recorded in status unless
+  !> it already holds an error.
+  subroutine cvode_work_close(work, status)
+    type(cvode_work_t), intent(inout) :: work
+    type(status_t), intent(inout) :: status
+    integer(c_int) :: ierr
+    if (c_associated(work%mem)) call FCVodeFree(work%mem)
+    work%mem = c_null_ptr
+    if (associated(work%ls)) then
+      ierr = FSUNLinSolFree(work%ls)
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag ' // &
+          format_int(ierr))
+    end if
+    if (associated(work%amat)) call FSUNMatDestroy(work%amat)
+    if (associated(work%y)) call FN_VDestroy(work%y)
+    nullify (work%ls, work%amat, work%y)
+    if (c_associated(work%ctx)) then
+      ierr = FSUNContext_Free(work%ctx)
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag ' // &
+          format_int(ierr))
+    end if
+    work%ctx = c_null_ptr
+    if (associated(work%data)) deallocate (work%data)
+    work%method = 0
+    work%roots = .false.
+  end subroutine cvode_work_close
+
+  !> cvode_solve for one problem on an open work (the work's method; no
+  !> events): the same checks, results, stats and status as cvode_solve, bit
+  !> for bit, without the solver set-up (CVodeReInit restarts the solver
+  !> memory from scratch).  control: its cancel flag is polled as in
+  !> cvode_solve, but progress is not counted (a batch counts states).
+  !> Errors: as cvode_solve; a work that is not open: PENDULA_ERR_SOLVER
+  !> (after the argument checks, which need no solver).
+  subroutine cvode_work_solve(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
+      theta, omega, stats, status, control)
+    type(cvode_work_t), intent(inout) :: work
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    real(wp) :: et(0), eth(0), eom(0)
+    integer :: ek(0), n_events
+    logical :: truncated
+    theta = 0
+    omega = 0
+    call check_problem(t, theta0, omega0, w0, gamma, status)
+    call check_positive('rtol', rtol, status)
+    call check_nonnegative('atol', atol, status)
+    call check_cvode_options(PENDULA_CVODE_ADAMS, max_steps, status)
+    call check_output_size('theta', size(theta), size(t), status)
+    call check_output_size('omega', size(omega), size(t), status)
+    call check_span(t, status)
+    if (status%code /= PENDULA_OK) return
+    theta(1) = theta0
+    omega(1) = omega0
+    if (size(t) == 1) return
+    if (.not. associated(work%data)) then
+      call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: the work is not open (call cvode_work_open first)')
+      theta(1) = 0
+      omega(1) = 0
+      return
+    end if
+    call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, .false., .false., &
+        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+  end subroutine cvode_work_solve
+
+  !> One problem on an open work, arguments already checked and size(t) >= 2:
+  !> CVodeReInit at (theta0, omega0), this problem's tolerances, stop time and
+  !> event functions, then the output loop.  eval_progress: count
+  !> right-hand-side evaluations as progress in control (else only poll its
+  !> cancel flag).
+  subroutine run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, with_events, eval_progress, &
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+    type(cvode_work_t), intent(inout) :: work
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer(i8), intent(in) :: max_steps
+    logical, intent(in) :: with_events, eval_progress
+    real(wp), intent(inout) :: theta(:), omega(:)
+    real(wp), intent(inout) :: event_t(:), event_theta(:), event_omega(:)
+    integer, intent(inout) :: event_kind(:)
+    integer, intent(inout) :: n_events
+    logical, intent(inout) :: truncated
+    type(ode_stats_t), intent(inout) :: stats
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+
+    type(cv_data_t), pointer :: cb   ! what the callbacks see
+    real(c_double), pointer :: yv(:)
+    real(c_double) :: tret(1)
+    integer(c_int) :: ierr, roots(2)
+    integer(c_long) :: nst(1)
+    integer :: i, k, nt
+    logical :: ok
+    real(c_double) :: span, tau_end
+
+    nt = size(t)
+    span = t(nt) - t(1)
+    ! Everything the callbacks see is set afresh: nothing of the previous
+    ! problem on this work survives (its message, counters, cancel state).
+    cb => work%data
+    cb = cv_data_t()
+    cb%w0sq = w0 * w0
+    cb%gamma = gamma
+    cb%w0 = w0
+    cb%rtol = rtol
+    cb%tscale = 0
+    if (span < 2.0_wp**(-64)) cb%tscale = exponent(span)
+    cb%eval_progress = eval_progress
+    tau_end = tau(t(nt))
+    if (present(control)) cb%control = c_loc(control)
+    yv => FN_VGetArrayPointer(work%y)
+    yv(1) = theta0
+    yv(2) = omega0
+    i = 2
+
+    steps: block
+      ! CVodeReInit resets the history, step size, order and counters; the
+      ! per-problem settings follow (tstop is cleared when CVODE reaches it).
+      ierr = FCVodeReInit(work%mem, 0.0_c_double, work%y)
+      if (fail(ierr, 'CVodeReInit')) exit steps
+      if (atol > 0) then
+        ierr = FCVodeSStolerances(work%mem, rtol, atol)
+        if (fail(ierr, 'CVodeSStolerances')) exit steps
+      else
+        ! pure relative control, normwise (see relative_weights)
+        ierr = FCVodeWFtolerances(work%mem, c_funloc(relative_weights))
+        if (fail(ierr, 'CVodeWFtolerances')) exit steps
+      end if
       ! Stop exactly at the last output instead of stepping past it.
-      ierr = FCVodeSetStopTime(cvode_mem, tau_end)
-      if (fail(ierr, 'CVodeSetStopTime')) exit setup
+      ierr = FCVodeSetStopTime(work%mem, tau_end)
+      if (fail(ierr, 'CVodeSetStopTime')) exit steps
       if (with_events) then
-        ierr = FCVodeRootInit(cvode_mem, 2_c_int, c_funloc(root_functions))
-        if (fail(ierr, 'CVodeRootInit')) exit setup
+        ierr = FCVodeRootInit(work%mem, 2_c_int, c_funloc(root_functions))
+        if (fail(ierr, 'CVodeRootInit')) exit steps
+        work%roots = .true.
         ! theta0 = 0 or omega0 = 0 makes a root function vanish at t(1);
         ! CVODE then deactivates it until it moves away: not a warning here.
-        ierr = FCVodeSetNoInactiveRootWarn(cvode_mem)
-        if (fail(ierr, 'CVodeSetNoInactiveRootWarn')) exit setup
+        ierr = FCVodeSetNoInactiveRootWarn(work%mem)
+        if (fail(ierr, 'CVodeSetNoInactiveRootWarn')) exit steps
+      else if (work%roots) then
+        ierr = FCVodeRootInit(work%mem, 0_c_int, c_null_funptr)
+        if (fail(ierr, 'CVodeRootInit')) exit steps
+        work%roots = .false.
       end if
 
       do while (i <= nt)
         ! The budget is for the whole run; CVODE's mxstep counts per call.
-        ierr = FCVodeGetNumSteps(cvode_mem, nst)
-        if (fail(ierr, 'CVodeGetNumSteps')) exit setup
+        ierr = FCVodeGetNumSteps(work%mem, nst)
+        if (fail(ierr, 'CVodeGetNumSteps')) exit steps
         if (int(nst(1), i8) >= max_steps) then
           call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
               format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
               ' or use method BDF if the problem is stiff')
-          exit setup
+          exit steps
         end if
-        ierr = FCVodeSetMaxNumSteps(cvode_mem, int(max_steps - int(nst(1), i8), c_long))
-        if (fail(ierr, 'CVodeSetMaxNumSteps')) exit setup
-        ierr = FCVode(cvode_mem, merge(tau_end, tau(t(i)), i == nt), y, tret, CV_NORMAL)
-        if (ierr < 0 .and. data%cancelled) then
+        ierr = FCVodeSetMaxNumSteps(work%mem, int(max_steps - int(nst(1), i8), c_long))
+        if (fail(ierr, 'CVodeSetMaxNumSteps')) exit steps
+        ierr = FCVode(work%mem, merge(tau_end, tau(t(i)), i == nt), work%y, tret, CV_NORMAL)
+        if (ierr < 0 .and. cb%cancelled) then
           call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // format_sci(t(i), 8) // &
               ' (interrupted by the caller)')
-          exit setup
+          exit steps
         end if
         if (ierr == CV_ROOT_RETURN) then
-          ierr = FCVodeGetRootInfo(cvode_mem, roots)
-          if (fail(ierr, 'CVodeGetRootInfo')) exit setup
+          ierr = FCVodeGetRootInfo(work%mem, roots)
+          if (fail(ierr, 'CVodeGetRootInfo')) exit steps
           do k = 1, 2
             if (roots(k) == 0) cycle
             if (n_events < size(event_t)) then
               n_events = n_events + 1
-              event_t(n_events) = min(t(1) + scale(tret(1), data%tscale), t(nt))
+              event_t(n_events) = min(t(1) + scale(tret(1), cb%tscale), t(nt))
               event_kind(n_events) = merge(PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, k == 1)
               event_theta(n_events) = yv(1)
               event_omega(n_events) = yv(2)
@@ -323,64 +476,58 @@ contains
           call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
               format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
               ' or use method BDF if the problem is stiff')
-          exit setup
+          exit steps
         end if
         if (ierr /= CV_SUCCESS .and. ierr /= CV_TSTOP_RETURN) then
-          if (fail(ierr, 'CVode')) exit setup
+          if (fail(ierr, 'CVode')) exit steps
         end if
         theta(i) = yv(1)
         omega(i) = yv(2)
         i = i + 1
       end do
-    end block setup
+    end block steps
     ! progress: the evaluations since the last poll
-    if (c_associated(data%control)) call poll(data%control, mod(data%evals, CV_POLL_EVALS), ok)
+    if (c_associated(cb%control)) &
+        call poll(cb%control, merge(mod(cb%evals, CV_POLL_EVALS), 0_i8, eval_progress), ok)
 
-    if (c_associated(cvode_mem)) call collect_stats(cvode_mem, with_events, stats, status)
+    call collect_stats(work%mem, with_events, stats, status)
     if (status%code /= PENDULA_OK) then
       ! Keep the outputs reached before the failure; zero the rest.
       theta(i:) = 0
       omega(i:) = 0
     end if
 
-    ! Clean-up, whatever happened above (each object is freed once, if made).
-    if (c_associated(cvode_mem)) call FCVodeFree(cvode_mem)
-    if (associated(ls)) then
-      ierr = FSUNLinSolFree(ls)
-      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag ' // &
-          format_int(ierr))
-    end if
-    if (associated(amat)) call FSUNMatDestroy(amat)
-    if (associated(y)) call FN_VDestroy(y)
-    if (c_associated(ctx)) then
-      ierr = FSUNContext_Free(ctx)
-      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag ' // &
-          format_int(ierr))
-    end if
-
   contains
 
-    !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation.
     logical function fail(flag, what)
       integer(c_int), intent(in) :: flag
       character(len=*), intent(in) :: what
-      character(len=:), allocatable :: why
-      fail = flag < 0
-      if (.not. fail) return
-      why = trim(data%errmsg)
-      if (len(why) == 0) why = flag_meaning(flag)
-      if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
-      call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
-          format_int(flag) // ' (' // flag_name(flag) // '): ' // why)
+      fail = failed(flag, what, cb%errmsg, status)
     end function fail
 
     !> An output time in CVODE's time tau (exact for t within a factor 2 of t(1)).
     pure real(c_double) function tau(tt)
       real(wp), intent(in) :: tt
-      tau = scale(tt - t(1), -data%tscale)
+      tau = scale(tt - t(1), -cb%tscale)
     end function tau
 
-  end subroutine solve
+  end subroutine run
+
+  !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation
+  !> (errmsg: the last error CVODE reported, if any).
+  logical function failed(flag, what, errmsg, status)
+    integer(c_int), intent(in) :: flag
+    character(len=*), intent(in) :: what, errmsg
+    type(status_t), intent(inout) :: status
+    character(len=:), allocatable :: why
+    failed = flag < 0
+    if (.not. failed) return
+    why = trim(errmsg)
+    if (len(why) == 0) why = flag_meaning(flag)
+    if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
+    call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+        format_int(flag) // ' (' // flag_name(flag) // '): ' // why)
+  end function failed
 
   !> Copy CVODE's counters into stats; a failing getter is itself an error.
   subroutine collect_stats(mem, with_events, stats, status)
@@ -441,7 +588,7 @@ contains
     if (c_associated(p%control)) then
       p%evals = p%evals + 1
       if (mod(p%evals, CV_POLL_EVALS) == 0) then
-        call poll(p%control, CV_POLL_EVALS, p%cancelled)
+        call poll(p%control, merge(CV_POLL_EVALS, 0_i8, p%eval_progress), p%cancelled)
         if (p%cancelled) ierr = -1
       end if
     end if

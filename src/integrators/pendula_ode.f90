@@ -5,13 +5,14 @@
 !> checks common to RK4 and CVODE.
 module pendula_ode
   use pendula_kinds, only: wp, i8
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_SIZE
+      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   implicit none
   private
   public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, check_output_size, &
-            linear_eigenvalues
+            linear_eigenvalues, check_cvode_options, check_span
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
   !> CVODE linear multistep families: Adams-Moulton (non-stiff, orders 1-12)
@@ -101,5 +102,29 @@ contains
           ' element(s): it must have one per output time, size(t) = ' // format_int(n))
     end if
   end subroutine check_output_size
+
+  !> CVODE's settings that a batch shares: method PENDULA_CVODE_ADAMS or
+  !> PENDULA_CVODE_BDF, step budget max_steps >= 1.
+  pure subroutine check_cvode_options(method, max_steps, status)
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    type(status_t), intent(inout) :: status
+    if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // format_int(method) // &
+            ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
+    if (status%code == PENDULA_OK .and. max_steps < 1) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_int(max_steps) // &
+            ' is out of range: it must be >= 1')
+  end subroutine check_cvode_options
+
+  !> Require t(n) - t(1) to be finite (t already checked by check_problem).
+  pure subroutine check_span(t, status)
+    real(wp), intent(in) :: t(:)
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(t(size(t)) - t(1))) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) ' // &
+            'overflows): no integration can cover that window')
+  end subroutine check_span
 
 end module pendula_ode
