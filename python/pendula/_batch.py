@@ -17,6 +17,7 @@ import numpy as np
 from . import _ensemble
 from ._arrays import as_real, broadcast_real, integer_arg
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
+from .integrate import _METHODS, _STAT_NAMES
 
 
 @dataclass(frozen=True)
@@ -80,8 +81,6 @@ class CvodeBatchResult(BatchResult):
     method: str = "adams"
 
 
-_STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters", "nonlin_fails", "root_evals")
-_METHODS = {"adams": 1, "bdf": 2}
 
 
 def _grid(t):
