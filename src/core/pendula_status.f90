@@ -38,7 +38,7 @@ module pendula_status
   !> The caller cancelled the call (pendula_control); finished work is kept.
   integer, parameter :: PENDULA_ERR_CANCELLED = 9
 
-  integer, parameter :: PENDULA_MSG_LEN = 256
+  include 'pendula_msg_len.inc'
 
   !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
   !> the table above and a message naming the argument and its valid range.
