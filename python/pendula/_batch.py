@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _ensemble
+from . import _fortran
 from ._arrays import as_real, broadcast_real
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
 
@@ -95,7 +95,7 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     elif not (isinstance(control, np.ndarray) and control.dtype == np.int64 and control.shape == (2,)
               and control.flags.c_contiguous and control.flags.writeable):
         raise TypeError("control must be a writeable contiguous int64 numpy array of shape (2,)")
-    theta, omega, codes, steps, first, code, msg = _ensemble.rk4_batch_f2py(
+    theta, omega, codes, steps, first, code, msg = _fortran.rk4_batch_f2py(
         tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), nthreads, control)
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
@@ -110,4 +110,4 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
 
 def openmp():
     """True when this build runs the batch kernels on OpenMP threads."""
-    return bool(_ensemble.rk4_batch_openmp_f2py())
+    return bool(_fortran.rk4_batch_openmp_f2py())

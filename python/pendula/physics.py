@@ -1,7 +1,7 @@
 """Physical parameters as the text writes them: g, l, mass, b -> w0, gamma."""
 import numpy as np
 
-from . import _core
+from . import _fortran
 from ._arrays import broadcast_real, real_scalar, restore
 from ._errors import raise_for_status
 
@@ -15,14 +15,14 @@ def natural_frequency(g=9.8, length=4.9):
     sqrt(g)/sqrt(length)); ValueError naming g and length when w0 itself would
     exceed the largest double.
     """
-    w0, code, msg = _core.natural_frequency_f2py(real_scalar(g, "g"), real_scalar(length, "length"))
+    w0, code, msg = _fortran.natural_frequency_f2py(real_scalar(g, "g"), real_scalar(length, "length"))
     raise_for_status(code, msg)
     return float(w0)
 
 
 def damping_rate(b, mass):
     """Damping rate gamma = b/m in 1/s (text eq. 2.1); b >= 0 kg/s, mass > 0 kg."""
-    gamma, code, msg = _core.damping_rate_f2py(real_scalar(b, "b"), real_scalar(mass, "mass"))
+    gamma, code, msg = _fortran.damping_rate_f2py(real_scalar(b, "b"), real_scalar(mass, "mass"))
     raise_for_status(code, msg)
     return float(gamma)
 
@@ -30,7 +30,7 @@ def damping_rate(b, mass):
 def small_angle_period(w0):
     """Small-angle period T0 = 2 pi / w0 in s (text eq. 1.8); w0 > 0 in 1/s, array or scalar."""
     shape, scalar, f = broadcast_real(w0=w0)
-    t0, code, msg = _core.small_angle_period_f2py(f["w0"])
+    t0, code, msg = _fortran.small_angle_period_f2py(f["w0"])
     raise_for_status(code, msg)
     return restore(t0, shape, scalar)
 

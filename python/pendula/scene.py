@@ -37,7 +37,7 @@ import time
 
 import numpy as np
 
-from . import _longcall, _scene
+from . import _fortran as _scene, _longcall
 from ._arrays import as_real, integer_arg, real_scalar
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status

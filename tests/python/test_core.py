@@ -79,10 +79,8 @@ def test_message_length_has_one_home():
     assert "include 'pendula_msg_len.inc'" in status
     assert not re.search(r"PENDULA_MSG_LEN\s*=", status)
     seen = 0
-    for name in ["_core", "_elliptic", "_undamped", "_linear", "_integrate", "_scene", "_ensemble"]:
-        ext = importlib.import_module("pendula." + name)
-        for routine in vars(ext).values():
-            for n in re.findall(r"\bmsg : string\(len=(\d+)\)", getattr(routine, "__doc__", "") or ""):
-                assert int(n) == length, f"pendula.{name}: message buffer of {n} characters, not {length}"
-                seen += 1
+    for name, routine in vars(importlib.import_module("pendula._fortran")).items():
+        for n in re.findall(r"\bmsg : string\(len=(\d+)\)", getattr(routine, "__doc__", "") or ""):
+            assert int(n) == length, f"pendula._fortran.{name}: message buffer of {n} characters, not {length}"
+            seen += 1
     assert seen >= 20

@@ -13,8 +13,8 @@ import pytest
 import scipy.special as sc
 
 import pendula
-# the f2py extension (pendula/__init__ binds the name _elliptic to the Python module)
-_elliptic = importlib.import_module("pendula._elliptic")
+# the f2py extension (all the glue is one module, pendula._fortran)
+_elliptic = importlib.import_module("pendula._fortran")
 
 EPS = np.finfo(float).eps
 DATA = np.load(os.path.join(os.path.dirname(__file__), "..", "data", "elliptic_refs.npz"))

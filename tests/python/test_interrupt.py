@@ -96,7 +96,7 @@ def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
 
 
 def _rk4_raw(t, h, control, max_steps=2e9):
-    return pendula.integrate._integrate.rk4_f2py(np.asarray(t, float), 0.0, 2.0, 1.4, 0.1, h, max_steps, control)
+    return pendula._fortran.rk4_f2py(np.asarray(t, float), 0.0, 2.0, 1.4, 0.1, h, max_steps, control)
 
 
 def test_rk4_progress_counts_every_step_and_results_are_unchanged():
@@ -121,7 +121,7 @@ def test_a_preset_cancel_flag_stops_cvode():
     if not pendula.have_cvode():
         pytest.skip("this build has no CVODE")
     control = np.array([1, 0], np.int64)
-    out = pendula.integrate._integrate.cvode_f2py(np.array([0.0, 1e4]), 0.0, 2.0, 1.4, 0.0, 1e-10, 1e-12,
+    out = pendula._fortran.cvode_f2py(np.array([0.0, 1e4]), 0.0, 2.0, 1.4, 0.0, 1e-10, 1e-12,
                                                    1, 1e7, 0, control)
     code, msg = out[-2], out[-1]
     assert code == ERR_CANCELLED and b"cancelled" in bytes(msg)
