@@ -5,12 +5,11 @@
 !> checks common to RK4 and CVODE.
 module pendula_ode
   use pendula_kinds, only: wp, i8
-  use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_SIZE
+  use pendula_status, only: status_t, check_finite, check_positive, &
+      check_nonnegative, check_size, check_increasing
   implicit none
   private
-  public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, check_output_size, &
+  public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, &
             linear_eigenvalues
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
@@ -89,17 +88,5 @@ contains
     call check_positive('w0', w0, status)
     call check_nonnegative('gamma', gamma, status)
   end subroutine check_problem
-
-  !> Require an output array to have exactly n elements (one per output time).
-  pure subroutine check_output_size(name, m, n, status)
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: m, n
-    type(status_t), intent(inout) :: status
-    if (status%code /= PENDULA_OK) return
-    if (m /= n) then
-      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(m) // &
-          ' element(s): it must have one per output time, size(t) = ' // format_int(n))
-    end if
-  end subroutine check_output_size
 
 end module pendula_ode
