@@ -36,6 +36,32 @@ subroutine damping_rate_f2py(b, mass, gamma, code, msg)
   msg = st%message
 end subroutine damping_rate_f2py
 
+subroutine period_series_f2py(n, m, w0, t, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_physics, only: period_series
+  implicit none
+  include 'pendula_msg_len.inc'
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: m(n), w0(n)
+  real(c_double), intent(out) :: t(n)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  do i = 1, n
+    call period_series(m(i), w0(i), t(i), st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+  end do
+end subroutine period_series_f2py
+
 subroutine small_angle_period_f2py(n, w0, t0, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, PENDULA_OK

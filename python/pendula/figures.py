@@ -161,7 +161,7 @@ def fig04_period_vs_amplitude(out_dir, quick=False):
     ax = axs[0, 0]
     ax.plot(k, t_exact, lw=2, label="exact T = 4K(k²)/w0, pendula.period (eq. 1.53)")
     ax.plot(k, np.full_like(k, t0), lw=2, label="small-angle T0 = 2π/w0 (eq. 1.8)")
-    ax.plot(k, t0 * (1 + k**2 / 4 + 9 * k**4 / 64), "--",
+    ax.plot(k, _pd.period_series(k**2, w0), "--",
             label="series T0 (1 + k²/4 + 9k⁴/64)")
     ax.set(title=f"Fig 4 – Period of the simple pendulum (g = {G} m/s², l = {LENGTH} m)",
            xlabel="sin(θ0/2)  (dimensionless)", ylabel="period  (s)", xlim=(0, 1),

@@ -35,4 +35,22 @@ def small_angle_period(w0):
     return restore(t0, shape, scalar)
 
 
-__all__ = ["natural_frequency", "damping_rate", "small_angle_period"]
+def period_series(m, w0):
+    """The textbook's amplitude correction to the period, T0 (1 + m/4 + 9 m²/64) in s.
+
+    T0 = 2 pi / w0 (text eq. 1.8) and m = k² the parameter of a libration
+    (m = sin²(theta0/2) released from rest), in [0, 1]; w0 > 0 in 1/s; arrays
+    broadcast.  The first three terms of the exact T = T0 2K(m)/pi (DLMF
+    19.5.1), so a model, not the period: relative error 25 m³/256 + O(m⁴)
+    (``pendula.period`` gives the exact one).  ValueError naming m or w0
+    outside their ranges.
+    """
+    shape, scalar, f = broadcast_real(m=m, w0=w0)
+    if f["m"].size == 0:
+        return np.empty(shape)
+    t, code, msg = _fortran.period_series_f2py(f["m"], f["w0"])
+    raise_for_status(code, msg)
+    return restore(t, shape, scalar)
+
+
+__all__ = ["natural_frequency", "damping_rate", "small_angle_period", "period_series"]

@@ -99,6 +99,11 @@ API: dict[str, Entry] = {
     "small_angle_period": Entry(
         valid=dict(w0=1.5),
         args=dict(w0=Arg(POS, array=True))),
+    "period_series": Entry(
+        valid=dict(m=0.3, w0=1.5),
+        args=dict(m=Arg(NONNEG, array=True, out_of_domain=(1 + 2**-52, 1.5, 1e10, 1e300),
+                        extremes=(0.0, 5e-324, 1e-300, 1 - 2**-53, 1.0)),
+                  w0=Arg(POS, array=True))),
     # linear damped (src/damped, linear.py)
     "linear_damped": Entry(
         valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),

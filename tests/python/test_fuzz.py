@@ -377,6 +377,7 @@ ELEMENTWISE = {
     "ellipj": (["u", "m"], lambda u, m: [True, True, True, _abs(u) * np.sqrt(np.maximum(1, 1 - m)) < BIG]),
     "ellipjm1": (["u", "p"], lambda u, p: [True, True, True, _abs(u) * np.sqrt(np.maximum(1, p)) < BIG]),
     "small_angle_period": (["w0"], lambda w0: [w0 > 1e-300]),
+    "period_series": (["m", "w0"], lambda m, w0: [w0 > 1e-300]),
     "undamped": (["t", "theta0", "omega0", "w0"], _undamped_bounds),
     "small_angle": (["t", "theta0", "omega0", "w0"], _small_angle_bounds),
     "small_angle_error": (["tmax", "theta0", "omega0", "w0"], _small_angle_error_bounds),

@@ -130,6 +130,7 @@ _T = np.linspace(0.0, 200.0, 2_000_000)  # ~60 ms a call: long enough to see the
 _U = np.linspace(-50.0, 50.0, 400_000)
 LONG = {
     "small_angle_period": _long_small_angle_period,
+    "period_series": _long(pendula.period_series, m=np.linspace(0.0, 1.0, 1_500_000), w0=1.4),
     "undamped": _long(pendula.undamped, t=_T, theta0=2.0, omega0=0.3, w0=1.4),
     "linear_damped": _long(pendula.linear_damped, t=_T, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
     "ellipj": _long(pendula.ellipj, u=_U, m=np.full(_U.size, 0.7)),
