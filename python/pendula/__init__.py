@@ -55,5 +55,9 @@ def build_info():
 
 
 def have_cvode():
-    """True when this build includes the SUNDIALS CVODE integrator."""
-    return bool(_HAVE_CVODE)
+    """True when this build includes the SUNDIALS CVODE integrator.
+
+    A thin alias of ``build_info()["cvode"]``, kept for existing code:
+    ``build_info()`` is the one way to ask what this build contains.
+    """
+    return build_info()["cvode"]

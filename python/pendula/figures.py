@@ -67,7 +67,7 @@ def _linear(t, theta0, omega0, w0, gamma):
 
 def _reference(t, theta0, omega0, w0, gamma):
     """A converged solution of the nonlinear damped equation (eq. 2.3) and its label."""
-    if getattr(_pd, "cvode", None) is not None and _pd.have_cvode():
+    if getattr(_pd, "cvode", None) is not None and _pd.build_info()["cvode"]:
         res = _pd.cvode(t, theta0, omega0, w0, gamma, rtol=1e-11, atol=1e-13, method="bdf")
         return _pair(res) + ("pendula.cvode (BDF, rtol 1e-11)",)
     res = _need("rk4")(t, theta0, omega0, w0, gamma, 1e-3)

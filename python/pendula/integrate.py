@@ -205,7 +205,7 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     Returns an ``IntegrationResult``.  Raises ValueError for bad arguments,
     ``PendulaSolverError`` (a RuntimeError) when CVODE fails or runs out of
     steps (message with CVODE's reason), NotImplementedError when this build
-    has no CVODE (see ``pendula.have_cvode()``).
+    has no CVODE (see ``pendula.build_info()['cvode']``).
     """
     if not HAVE_CVODE:
         # The Fortran stub says the same; checking here first keeps the
@@ -244,10 +244,5 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
                              events=ev)
 
 
-def cvode_available():
-    """True when this build includes SUNDIALS CVODE (same as ``pendula.have_cvode()``)."""
-    return bool(_fortran.cvode_available_f2py())
-
-
-__all__ = ["rk4", "rk4_max_stable_step", "cvode", "cvode_available", "IntegrationResult", "Events",
+__all__ = ["rk4", "rk4_max_stable_step", "cvode", "IntegrationResult", "Events",
            "TURNING_POINT", "ZERO_CROSSING"]

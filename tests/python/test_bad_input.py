@@ -32,6 +32,7 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import HAVE_CVODE
 
 NAN = float("nan")
 INF = float("inf")
@@ -82,7 +83,6 @@ class Entry:
 NOT_ENTRY_POINTS = {
     "PendulaSolverError": "exception class",
     "TradeoffTable": "result container built by tradeoff() from checked runs",
-    "cvode_available": "no arguments: build configuration",
     "build_info": "no arguments: build configuration",
     "have_cvode": "no arguments: build configuration",
 }
@@ -212,7 +212,7 @@ API: dict[str, Entry] = {
                   rk4_steps=Arg(OTHER, extra=(([NAN], ValueError), ([-0.1], ValueError), ([0.0], ValueError))),
                   cvode_rtols=Arg(OTHER, extra=(
                       (([NAN], ValueError, dict(models=["cvode"])), ([-1e-6], ValueError, dict(models=["cvode"])))
-                      if pendula.have_cvode() else ())),
+                      if HAVE_CVODE else ())),
                   repeat=Arg(COUNT),
                   # max_steps bounds the automatic RK4 sweep (rk4_steps=None)
                   max_steps=Arg(COUNT, others=dict(rk4_steps=None))),
@@ -221,8 +221,6 @@ API: dict[str, Entry] = {
 
 
 # ---- helpers --------------------------------------------------------------------
-def _have_cvode():
-    return bool(pendula.have_cvode())
 
 
 def _public_callables():
@@ -441,7 +439,7 @@ def _call(fname, kwargs):
 
 
 def _skip_if_unavailable(entry):
-    if entry.needs_cvode and not _have_cvode():
+    if entry.needs_cvode and not HAVE_CVODE:
         pytest.skip("CVODE not built")
 
 

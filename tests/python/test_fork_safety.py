@@ -32,6 +32,7 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import HAVE_CVODE
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -109,7 +110,7 @@ def _glue_error_calls():
         lambda: glue.scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0),
         lambda: glue.ellipk_f2py(np.array([2.0, 3.0])),
     ]
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         calls += [
             lambda: glue.cvode_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1e-10, 1, 1e7, 0, ctl),
             lambda: glue.cvode_f2py(t, 0.5, 0.0, 2.0, 0.1, 1e-8, 1e-10, 1, 2.0, 0, ctl),
@@ -128,7 +129,7 @@ def _public_error_calls():
         lambda: pendula.Scene(theta0=0.5, g=-1.0),
         lambda: pendula.ellipk(2.0),
     ]
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         calls += [
             lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, rtol=-1.0),
             lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, max_steps=2),      # solver gives up: message with t

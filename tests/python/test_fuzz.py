@@ -570,7 +570,7 @@ def test_fuzz_equilibria(worker):
 
 def test_fuzz_no_argument_functions(worker):
     rec = Recorder("no-argument functions")
-    for fn in ("build_info", "have_cvode", "cvode_available"):
+    for fn in ("build_info", "have_cvode"):
         rec.add(judge(worker.call(fn), []), fn, [])
     rec.verdict()
 
@@ -835,7 +835,7 @@ def test_fuzz_cli(argv, tmp_path):
 NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "PendulaSolverError", "IntegrationResult", "Events",
               "SceneResult", "DampingRegime", "TradeoffTable"}
 FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
-                                            "tradeoff", "build_info", "have_cvode", "cvode_available"})
+                                            "tradeoff", "build_info", "have_cvode"})
 
 
 def test_fuzz_covers_every_public_name():

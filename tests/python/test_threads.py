@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import HAVE_CVODE
 from test_bad_input import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
 
 N_ARRAY = 2_000
@@ -64,7 +65,7 @@ def _flatten(result):
 def _entries():
     out = []
     for name, entry in sorted(API.items()):
-        if entry.needs_cvode and not pendula.have_cvode():
+        if entry.needs_cvode and not HAVE_CVODE:
             continue
         out.append(name)
     return out
@@ -105,7 +106,7 @@ def test_concurrent_failures_equal_serial_failures():
     # Error paths too: a message or status kept anywhere but in the call's own
     # variables (e.g. a SUNDIALS error handler writing to shared storage) would
     # mix up messages between threads.
-    cases = [c for c in ALL_CASES if not (API[c.func].needs_cvode and not pendula.have_cvode())]
+    cases = [c for c in ALL_CASES if not (API[c.func].needs_cvode and not HAVE_CVODE)]
     cases = cases[::5] + [c for c in cases if c.func == "cvode"]
     serial = [_outcome(c) for c in cases]
     work = list(range(len(cases))) * 3
@@ -139,7 +140,7 @@ LONG = {
     "run_model": lambda: (lambda: pendula.run_model(
         pendula.Scene(theta0=1.0, t=np.linspace(0, 400.0, 100), gamma=0.1, tol=1e-9), "rk4", 2e-4)),
 }
-if pendula.have_cvode():
+if HAVE_CVODE:
     LONG["cvode"] = _long(pendula.cvode, t=np.array([0.0, 20000.0]), theta0=0.0, omega0=2.0, w0=1.4,
                           gamma=0.01, rtol=1e-11, atol=1e-13)
 
