@@ -7,16 +7,12 @@ each reference is computed (mpmath exact solution for gamma = 0, converged
 Richardson-extrapolated RK4 otherwise).
 """
 import collections
-import os
-import sys
 
 import numpy as np
 import pytest
 
 import pendula
-
-sys.path.insert(0, os.path.dirname(__file__))
-import scene_grid  # noqa: E402
+import scene_grid
 
 W0 = np.sqrt(2.0)
 T0 = 2 * np.pi / W0

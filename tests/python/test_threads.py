@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 import pendula
-from helpers import HAVE_CVODE
-from test_bad_input import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
+from helpers import HAVE_CVODE, ROOT, fortran_statements
+from api_table import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
 
 N_ARRAY = 2_000
 
@@ -186,46 +186,7 @@ def test_long_call_releases_the_gil(name):
 
 
 # ---- static audit: no saved state in the Fortran sources ------------------------------------------
-import pathlib  # noqa: E402
 import re  # noqa: E402
-
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-def _logical_lines(text):
-    """Fortran free-form source as (line number, statement) with comments
-    stripped and & continuations joined (good enough for declarations)."""
-    out, buf, start = [], "", None
-    for no, raw in enumerate(text.splitlines(), 1):
-        line, quote = [], None
-        for ch in raw:
-            if quote:
-                line.append(ch)
-                if ch == quote:
-                    quote = None
-            elif ch in "'\"":
-                quote = ch
-                line.append(ch)
-            elif ch == "!":
-                break
-            else:
-                line.append(ch)
-        s = "".join(line).strip()
-        if not s:
-            continue
-        if buf and s.startswith("&"):
-            s = s[1:]
-        if start is None:
-            start = no
-        if s.endswith("&"):
-            buf += s[:-1] + " "
-            continue
-        buf += s
-        for stmt in buf.split(";"):
-            if stmt.strip():
-                out.append((start, stmt.strip()))
-        buf, start = "", None
-    return out
 
 
 def saved_state(path):
@@ -233,7 +194,7 @@ def saved_state(path):
     initialised local variables (implicit SAVE)."""
     findings = []
     scope = []              # stack: 'module-spec', 'proc', 'type', 'interface'
-    for no, st in _logical_lines(path.read_text()):
+    for no, st in fortran_statements(path.read_text()):
         low = st.lower()
         head = re.sub(r"^(?:(?:pure|elemental|impure|recursive|module|non_recursive)\s+)+", "", low)
         if re.match(r"end\s*(module|submodule)\b", low) or low == "end":

@@ -7,17 +7,13 @@ text's own expressions (1.52) and (1.66) evaluated in mpmath, and invariants
 (energy, time reversal, turning points).
 """
 import math
-import os
-import sys
 
 import mpmath as mp
 import numpy as np
 import pytest
 
 import pendula
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import gen_undamped_reference as ref  # noqa: E402
+import gen_undamped_reference as ref
 
 EPS = np.finfo(float).eps
 REGIME_CODES = {1: "libration", 2: "separatrix", 3: "rotation"}
