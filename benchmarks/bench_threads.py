@@ -1,4 +1,4 @@
-"""Speed-up from releasing the GIL in the f2py layer (issue 9).
+"""Speed-up from releasing the GIL in the f2py layer.
 
 For each long-running entry point, the same total work (two equal chunks) is
 done twice: serially on one thread, then by a pool of 2 threads (one chunk

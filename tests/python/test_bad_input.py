@@ -1,4 +1,4 @@
-"""Bad input, everywhere (issue 9): every public function of ``pendula``.
+"""Bad input, everywhere: every public function of ``pendula``.
 
 The table ``API`` below has one entry per public callable in ``pendula.__all__``.
 Each entry gives a call that must succeed (finite results) and, per argument,

@@ -391,8 +391,8 @@ ELEMENTWISE = {
     "linear_damped_envelope": (["t", "theta0", "omega0", "w0", "gamma"], _envelope_bound),
 }
 
-# The issue's reproducers and the values they must give (or a clean refusal).
-ISSUE_EXAMPLES = {
+# Reported reproducers and the values they must give (or a clean refusal).
+REPORTED_EXAMPLES = {
     "ellipj": [{"u": "0.7", "m": "1e308"}, {"u": "np.linspace(0.0, 1.0, 64)", "m": "1e308"},
                {"u": "np.linspace(0.0, 1.0, 64)", "m": "'abc'"}, {"u": "np.arange(64.0)", "m": "True"}],
     "ellipjm1": [{"u": "0.7", "p": "-1e308"}, {"u": "0.7", "p": "1.34e300"}],
@@ -443,7 +443,7 @@ def _elementwise_test(fn):
     def run(worker, rec, srcs):
         check_elementwise(worker, rec, fn, srcs)
 
-    for ex in ISSUE_EXAMPLES.get(fn, []):
+    for ex in REPORTED_EXAMPLES.get(fn, []):
         run = example(srcs=ex)(run)
 
     def test(worker):

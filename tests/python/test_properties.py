@@ -1,4 +1,4 @@
-"""Property-based tests (issue 9, hypothesis).
+"""Property-based tests (hypothesis).
 
 Invariants that must hold for every input in the domain, not only at the
 points the concern tests pick:

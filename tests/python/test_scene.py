@@ -1,4 +1,4 @@
-"""Scenes (issue 7): model choice, honest error estimates, cheap answers, bad input, tradeoff.
+"""Scenes: model choice, honest error estimates, cheap answers, bad input, tradeoff.
 
 The honesty grid (>= 200 scenes) is made by tests/python/scene_grid.py; its
 docstring says how (fixed seed; regimes, gamma from 0 to beyond critical,

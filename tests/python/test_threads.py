@@ -1,4 +1,4 @@
-"""Thread safety (issue 9).
+"""Thread safety.
 
 1. Every public entry point (the table of test_bad_input.py, so a new function
    is covered as soon as it has its bad-input entry) called concurrently from a
