@@ -11,6 +11,7 @@
 !> then the period of a few states the text cannot handle (Omega0 /= 0, rotation).
 program example_period_table
   use pendula
+  use example_support, only: require
   implicit none
   real(wp), parameter :: degrees(14) = [1.0_wp, 5.0_wp, 10.0_wp, 20.0_wp, 30.0_wp, 45.0_wp, &
       60.0_wp, 90.0_wp, 120.0_wp, 150.0_wp, 170.0_wp, 179.0_wp, 179.9_wp, 179.999_wp]
@@ -63,13 +64,5 @@ contains
     write (*, '(f14.10, f14.8, f13.8, 3x, a12, es26.16)') th0, om0, mo%m, &
         undamped_regime_name(undamped_regime(mo)), undamped_period(mo)
   end subroutine show
-
-  subroutine require(status)
-    type(status_t), intent(in) :: status
-    if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_period_table

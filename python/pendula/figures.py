@@ -710,4 +710,24 @@ def make_figures(out_dir, quick=False, only=None):
     return written, missing
 
 
-__all__ = ["make_figures", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]
+def figures_main(argv, only, description, quick_help="fewer points per curve (fast)"):
+    """The command line of the figure scripts (examples/python/figures_*.py):
+    --out DIR and --quick, draw the figures whose keys are in ``only``, report
+    each file written and each figure not drawn; SystemExit if one failed."""
+    import argparse
+
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--out", default=".", help="folder for the PNG files (default: .)")
+    ap.add_argument("--quick", action="store_true", help=quick_help)
+    args = ap.parse_args(argv)
+    written, missing = make_figures(args.out, quick=args.quick, only=only)
+    for path in written:
+        print(f"wrote {path}")
+    for key, why in missing.items():
+        print(f"not drawn: {key}: {why}")
+    failed = [key for key, why in missing.items() if why.startswith("FAILED")]
+    if failed:
+        raise SystemExit(f"figure(s) failed: {', '.join(failed)}")
+
+
+__all__ = ["make_figures", "figures_main", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]
