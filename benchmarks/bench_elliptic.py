@@ -14,27 +14,17 @@ pendula time, > 1 means pendula is faster) on N points (default 1e6):
 
 Usage: python3 benchmarks/bench_elliptic.py [--quick] [--n N] [--out DIR]
 """
-import argparse
-import os
 import time
 
 import numpy as np
 import scipy
 import scipy.special as sc
 
+import harness
 import pendula
 
 
 LARGE_U = "ellipj random (u, m), 20 <= abs(u) <= 1000"
-
-
-def best_time(fn, repeat):
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
 
 
 def cases(n, rng):
@@ -53,11 +43,9 @@ def cases(n, rng):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1e5 points, 3 repeats (a few seconds)")
+    ap = harness.parser(__doc__, "1e5 points, 3 repeats (a few seconds)", "also write elliptic_bench.md and .csv there")
     ap.add_argument("--n", type=int, default=None, help="points per case (default 1e6)")
     ap.add_argument("--repeat", type=int, default=None)
-    ap.add_argument("--out", default=None, help="also write elliptic_bench.md and .csv there")
     args = ap.parse_args(argv)
     n = args.n or (100_000 if args.quick else 1_000_000)
     repeat = args.repeat or (3 if args.quick else 7)
@@ -66,31 +54,20 @@ def main(argv=None):
     for _, fp, fs in cases(1000, rng):  # warm up (imports, plan code paths)
         fp(), fs()
     for name, fp, fs in cases(n, rng):
-        # interleave the two so that load from other processes hits both alike
-        tp = ts = np.inf
-        for _ in range(repeat):
-            tp = min(tp, best_time(fp, 1))
-            ts = min(ts, best_time(fs, 1))
+        # CPU time: other processes' load does not count
+        tp, ts = harness.best_times_interleaved([fp, fs], repeat, clock=time.process_time, warm_up=False)
         tp, ts = tp / n * 1e9, ts / n * 1e9
         rows.append((name, tp, ts, ts / tp))
-    head = f"pendula vs scipy {scipy.__version__}"
-    lines = [head, "", "| function | pendula ns/pt | scipy ns/pt | speed-up |", "|---|---:|---:|---:|"]
-    for name, tp, ts, r in rows:
-        lines.append(f"| {name} | {tp:.1f} | {ts:.1f} | {r:.2f}x |")
-    tp = {name: t for name, t, _, _ in rows}
-    lines += ["", f"ellipj cost at |u| in [20, 1000] / at |u| <= 10: "
-              f"{tp[LARGE_U] / tp['ellipj random (u, m)']:.2f}"]
-    text = "\n".join(lines)
+    text = f"pendula vs scipy {scipy.__version__}\n\n" + harness.markdown_table(
+        ["function", "pendula ns/pt", "scipy ns/pt", "speed-up"],
+        [(name, f"{tp:.1f}", f"{ts:.1f}", f"{r:.2f}x") for name, tp, ts, r in rows])
+    tpp = {name: t for name, t, _, _ in rows}
+    text += (f"\n\nellipj cost at |u| in [20, 1000] / at |u| <= 10: "
+             f"{tpp[LARGE_U] / tpp['ellipj random (u, m)']:.2f}")
     print(text)
-    if args.out:
-        os.makedirs(args.out, exist_ok=True)
-        with open(os.path.join(args.out, "elliptic_bench.md"), "w") as fh:
-            fh.write(text + "\n")
-        with open(os.path.join(args.out, "elliptic_bench.csv"), "w") as fh:
-            fh.write("function,pendula_ns,scipy_ns,speedup\n")
-            for name, tp, ts, r in rows:
-                fh.write(f"{name},{tp:.2f},{ts:.2f},{r:.3f}\n")
-
+    harness.write_outputs(args.out, "elliptic_bench", text, [
+        (["function", "pendula_ns", "scipy_ns", "speedup"],
+         [(name, f"{tp:.2f}", f"{ts:.2f}", f"{r:.3f}") for name, tp, ts, r in rows])])
 
 if __name__ == "__main__":
     main()

@@ -129,7 +129,7 @@ def make_methods():
     f = lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])]   # noqa: E731
     methods = {}
     methods["pendula.rk4"] = ("h", HS, lambda h: pendula.rk4(T, 0.0, 2.0, W0, GAMMA, h).theta)
-    if pendula.have_cvode():
+    if pendula.build_info()["cvode"]:
         for m in ("adams", "bdf"):
             methods[f"pendula.cvode {m}"] = ("rtol", RTOLS, lambda r, m=m: pendula.cvode(
                 T, 0.0, 2.0, W0, GAMMA, rtol=r, atol=r / 100, method=m).theta)
@@ -175,7 +175,7 @@ def memory_run(periods):
     tracemalloc.stop()
     rows = [("pendula.rk4 final state only", periods, 2, r.stats["steps"], wall, peak_final),
             ("pendula.rk4 dense output", periods, n_dense, None, None, peak_dense)]
-    if pendula.have_cvode():
+    if pendula.build_info()["cvode"]:
         cper = periods // 10
         tracemalloc.start()
         t0 = time.perf_counter()

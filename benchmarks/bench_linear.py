@@ -1,4 +1,4 @@
-"""Speed and accuracy of pendula.linear_damped against numpy and SciPy (issue 5).
+"""Speed and accuracy of pendula.linear_damped against numpy and SciPy.
 
 The numpy baseline evaluates the text's own formulas, vectorised: eqs 2.27-2.29
 (over-damped), eqs 2.45-2.47 (critical) and, for the under-damped case the text

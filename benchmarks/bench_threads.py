@@ -1,4 +1,4 @@
-"""Speed-up from releasing the GIL in the f2py layer (issue 9).
+"""Speed-up from releasing the GIL in the f2py layer.
 
 For each long-running entry point, the same total work (two equal chunks) is
 done twice: serially on one thread, then by a pool of 2 threads (one chunk
@@ -82,7 +82,7 @@ def _workloads(n):
             t = np.linspace(0.0, 2000.0, max(n // 10, 10))
             return lambda: pendula.rk4(t, 0.0, 2.0 + 0.1 * i, 1.4, 0.1, 0.005)
         out["rk4"] = (max(n // 10, 10), mk)
-    if have("cvode") and pendula.have_cvode():
+    if have("cvode") and pendula.build_info()["cvode"]:
         def mk(i):
             t = np.linspace(0.0, 2000.0, max(n // 10, 10))
             return lambda: pendula.cvode(t, 0.0, 2.0 + 0.1 * i, 1.4, 0.1, rtol=1e-10, atol=1e-12)

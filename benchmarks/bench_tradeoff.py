@@ -127,7 +127,7 @@ def main():
         plt = None
     repeat = 1 if args.quick else 3
     md = ["# Work-precision of pendula's models (bench_tradeoff.py)", "",
-          f"Mode: {'quick' if args.quick else 'full'}; CVODE built: {pendula.have_cvode()}. "
+          f"Mode: {'quick' if args.quick else 'full'}; CVODE built: {pendula.build_info()['cvode']}. "
           "Error: sup over the output grid of max(|dθ|, |dΩ|/w0) in rad against the reference; "
           "time: best wall time of a whole Python call.", ""]
     autos = []

@@ -18,45 +18,17 @@ complement forms and uses cos(theta/2) = dn.  Rotation states are timed too
 
 Usage: python3 benchmarks/bench_undamped.py [--quick] [--n N] [--out DIR]
 """
-import argparse
 import math
-import os
-import sys
-import time
 
 import mpmath as mp
 import numpy as np
 import scipy
 import scipy.special as sc
 
+import harness
 import pendula
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "python"))
-import gen_undamped_reference as ref  # noqa: E402
-
-
-def best_time(fn, repeat):
-    fn()  # warm up
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
-def best_times_interleaved(fp, fs, repeat):
-    """Best-of-repeat for both, alternating them so machine load hits both alike."""
-    fp(), fs()  # warm up
-    bp = bs = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fp()
-        t1 = time.perf_counter()
-        fs()
-        t2 = time.perf_counter()
-        bp, bs = min(bp, t1 - t0), min(bs, t2 - t1)
-    return bp, bs
+ref = harness.load_test_module("gen_undamped_reference")
 
 
 def listing(t, theta0, w0):
@@ -73,12 +45,12 @@ def speed_rows(n, repeat, rng):
                           ("theta0 = 0.999 pi", 0.999 * math.pi)]:
         T = pendula.period(theta0, 0.0, w0)
         t = np.sort(rng.uniform(0, 100 * T, n))
-        tp, ts = best_times_interleaved(lambda: pendula.undamped(t, theta0, 0.0, w0), listing(t, theta0, w0), repeat)
+        tp, ts = harness.best_times_interleaved([lambda: pendula.undamped(t, theta0, 0.0, w0), listing(t, theta0, w0)], repeat)
         rows.append((f"libration, {label}", tp / n * 1e9, ts / n * 1e9))
     for label, omega0 in [("rotation, Omega0 = 3 w0", 3 * w0), ("rotation, 1 - m = -1e-12", 2 * w0 * (1 + 5e-13))]:
         T = pendula.period(0.0, omega0, w0)
         t = np.sort(rng.uniform(0, 100 * T, n))
-        tp = best_time(lambda: pendula.undamped(t, 0.0, omega0, w0), repeat) / n * 1e9
+        tp = harness.best_time(lambda: pendula.undamped(t, 0.0, omega0, w0), repeat) / n * 1e9
         rows.append((label, tp, float("nan")))
     return rows
 
@@ -104,11 +76,10 @@ def accuracy_rows(npts):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="1e5 points, 3 repeats, fewer reference points")
+    ap = harness.parser(__doc__, "1e5 points, 3 repeats, fewer reference points",
+                        "also write undamped_bench.md and .csv there")
     ap.add_argument("--n", type=int, default=None, help="times per state (default 1e6)")
     ap.add_argument("--repeat", type=int, default=None)
-    ap.add_argument("--out", default=None, help="also write undamped_bench.md and .csv there")
     args = ap.parse_args(argv)
     n = args.n or (100_000 if args.quick else 1_000_000)
     repeat = args.repeat or (3 if args.quick else 7)
@@ -116,32 +87,22 @@ def main(argv=None):
     speed = speed_rows(n, repeat, rng)
     acc = accuracy_rows(40 if args.quick else 200)
 
-    lines = [f"pendula.undamped vs the text's listing (scipy {scipy.__version__}), {n} times per state, w0 = sqrt(2)",
-             "", "| case | pendula ns/pt (theta and Omega) | listing ns/pt (theta only) | speed-up |",
-             "|---|---:|---:|---:|"]
-    for name, tp, ts in speed:
-        r = f"{ts / tp:.2f}x" if np.isfinite(ts) else "n/a (no answer)"
-        tss = f"{ts:.1f}" if np.isfinite(ts) else "-"
-        lines.append(f"| {name} | {tp:.1f} | {tss} | {r} |")
-    lines += ["", "Max |theta - mpmath| over two periods, Omega0 = 0, theta0 = pi - delta:", "",
-              "| delta | pendula | listing | listing NaN fraction |", "|---:|---:|---:|---:|"]
-    for delta, eo, el, nf in acc:
-        els = f"{el:.2e}" if np.isfinite(el) else "NaN"
-        lines.append(f"| {delta:.0e} | {eo:.2e} | {els} | {nf:.2f} |")
-    text = "\n".join(lines)
+    speed_cells = [(name, f"{tp:.1f}", f"{ts:.1f}" if np.isfinite(ts) else "-",
+                    f"{ts / tp:.2f}x" if np.isfinite(ts) else "n/a (no answer)") for name, tp, ts in speed]
+    acc_cells = [(f"{delta:.0e}", f"{eo:.2e}", f"{el:.2e}" if np.isfinite(el) else "NaN", f"{nf:.2f}")
+                 for delta, eo, el, nf in acc]
+    text = "\n".join([
+        f"pendula.undamped vs the text's listing (scipy {scipy.__version__}), {n} times per state, w0 = sqrt(2)", "",
+        harness.markdown_table(["case", "pendula ns/pt (theta and Omega)", "listing ns/pt (theta only)", "speed-up"],
+                               speed_cells),
+        "", "Max |theta - mpmath| over two periods, Omega0 = 0, theta0 = pi - delta:", "",
+        harness.markdown_table(["delta", "pendula", "listing", "listing NaN fraction"], acc_cells, align="rrrr")])
     print(text)
-    if args.out:
-        os.makedirs(args.out, exist_ok=True)
-        with open(os.path.join(args.out, "undamped_bench.md"), "w") as fh:
-            fh.write(text + "\n")
-        with open(os.path.join(args.out, "undamped_bench.csv"), "w") as fh:
-            fh.write("case,pendula_ns,listing_ns,speedup\n")
-            for name, tp, ts in speed:
-                fh.write(f"{name},{tp:.2f},{ts:.2f},{ts / tp:.3f}\n")
-            fh.write("\ndelta,pendula_max_err,listing_max_err,listing_nan_fraction\n")
-            for delta, eo, el, nf in acc:
-                fh.write(f"{delta:.0e},{eo:.3e},{el:.3e},{nf:.3f}\n")
-
+    harness.write_outputs(args.out, "undamped_bench", text, [
+        (["case", "pendula_ns", "listing_ns", "speedup"],
+         [(name, f"{tp:.2f}", f"{ts:.2f}", f"{ts / tp:.3f}") for name, tp, ts in speed]),
+        (["delta", "pendula_max_err", "listing_max_err", "listing_nan_fraction"],
+         [(f"{delta:.0e}", f"{eo:.3e}", f"{el:.3e}", f"{nf:.3f}") for delta, eo, el, nf in acc])])
 
 if __name__ == "__main__":
     main()

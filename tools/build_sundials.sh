@@ -9,8 +9,7 @@
 # replaces the -O2 of dpkg's default flags (objdump shows -O0 code: every
 # argument spilled to the stack).  For pendula's two equations CVODE's own
 # per-step work is the whole cost, and the packaged build makes pendula.cvode
-# about 2.7x slower (text scenario, 601 outputs, Adams rtol 3.16e-7: 345 vs
-# 128 us per call from Fortran).
+# several times slower (benchmarks/bench_integrators.py measures it).
 #
 # The source is Debian's own source package of the same release (apt-get
 # source with a private sources list and state directory: the system's apt

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checked build leg (issue 9): build the Fortran library and its Fortran tests
+# Checked build leg: build the Fortran library and its Fortran tests
 # with meson -Dchecked=true, which adds
 #   -fcheck=all -ffpe-trap=invalid,zero,overflow -g -fbacktrace
 # to every Fortran target, and run `meson test --suite fortran`.

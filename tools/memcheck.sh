@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Memcheck leg (issue 9): run every Fortran test program (meson suite
+# Memcheck leg: run every Fortran test program (meson suite
 # "fortran", CVODE tests and their failure paths included) under
 #   valgrind --tool=memcheck --leak-check=full
 # and print a summary: per program the exit status, the memcheck error count

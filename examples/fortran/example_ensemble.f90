@@ -9,6 +9,7 @@
 !> fails alone and the others keep their answers.
 program example_ensemble
   use pendula
+  use example_support, only: require
   implicit none
   integer, parameter :: n_th = 9, n_om = 25, n = n_th * n_om, nt = 601
   real(wp) :: t(nt), th0(n), om0(n), h(n), theta(nt, n), omega(nt, n)
@@ -48,15 +49,5 @@ program example_ensemble
       '); the others succeeded:'
   write (*, '(2x, a)') trim(st%message)
   if (first /= 7 .or. count(codes == PENDULA_OK) /= n - 1) error stop 'per-state status not as expected'
-
-contains
-
-  subroutine require(s)
-    type(status_t), intent(in) :: s
-    if (s%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(s%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_ensemble

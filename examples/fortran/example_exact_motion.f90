@@ -6,6 +6,7 @@
 !> theta = 2 asin(k sn(K - w0 t | k^2)), against the library for theta0 = 0.9 pi.
 program example_exact_motion
   use pendula
+  use example_support, only: require
   implicit none
   type(status_t) :: st
   real(wp) :: w0
@@ -71,13 +72,5 @@ contains
       error stop 1
     end if
   end subroutine text_formula_check
-
-  subroutine require(status)
-    type(status_t), intent(in) :: status
-    if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_exact_motion

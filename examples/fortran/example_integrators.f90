@@ -10,6 +10,7 @@
 !> 3. Small amplitude with damping: both against the linear closed form.
 program example_integrators
   use pendula
+  use example_support, only: require
   implicit none
   integer, parameter :: n = 31
   real(wp) :: t(n), w0, gamma, b(2) = [0.01_wp, 0.05_wp]
@@ -126,13 +127,5 @@ contains
       omega(j) = u
     end do
   end subroutine text_listing
-
-  subroutine require(status)
-    type(status_t), intent(in) :: status
-    if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_integrators

@@ -8,6 +8,7 @@
 !> the text's eq. 2.29 divides by lambda2 - lambda1 -> 0.
 program example_linear_damping
   use pendula
+  use example_support, only: require
   implicit none
   real(wp), parameter :: ratios(4) = [0.5_wp, 2.0_wp, 3.0_wp, 5.0_wp]
   real(wp), parameter :: omega0s(3) = [0.0_wp, 0.5_wp, -0.5_wp]
@@ -56,15 +57,5 @@ program example_linear_damping
     call require(st)
     write (*, '(3x, es12.3, 4x, a12, 4x, es22.15)') eps_rel, regime_name(sol%info%regime), sol%theta(2.0_wp)
   end do
-
-contains
-
-  subroutine require(status)
-    type(status_t), intent(in) :: status
-    if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_linear_damping

@@ -11,6 +11,7 @@
 !> then the period of a few states the text cannot handle (Omega0 /= 0, rotation).
 program example_period_table
   use pendula
+  use example_support, only: require
   implicit none
   real(wp), parameter :: degrees(14) = [1.0_wp, 5.0_wp, 10.0_wp, 20.0_wp, 30.0_wp, 45.0_wp, &
       60.0_wp, 90.0_wp, 120.0_wp, 150.0_wp, 170.0_wp, 179.0_wp, 179.9_wp, 179.999_wp]
@@ -34,7 +35,8 @@ program example_period_table
     t_exact = undamped_period(motion)
     k = sin(theta0 / 2)
     c = cos(theta0 / 2)
-    t_series = t0 * (1 + k**2 / 4 + 9 * k**4 / 64)
+    call period_series(k**2, w0, t_series, st)
+    call require(st)
     t_kf = t0 / sqrt(c)
     t_la = -t0 * log(c) / (1 - c)
     write (*, '(f11.3, f13.8, f15.9, f9.4, 4es12.3)') degrees(i), k, t_exact, t_exact / t0, &
@@ -62,13 +64,5 @@ contains
     write (*, '(f14.10, f14.8, f13.8, 3x, a12, es26.16)') th0, om0, mo%m, &
         undamped_regime_name(undamped_regime(mo)), undamped_period(mo)
   end subroutine show
-
-  subroutine require(status)
-    type(status_t), intent(in) :: status
-    if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_period_table

@@ -7,6 +7,7 @@
 !> For undamped scenes the true error against the exact solution is printed too.
 program example_scene
   use pendula
+  use example_support, only: require
   implicit none
   integer, parameter :: n = 201
   real(wp) :: w0, gamma, t0, t(n)
@@ -73,13 +74,5 @@ contains
         scene_model_name(res%model)
     write (*, '(4x, a)') 'why: ' // trim(res%reason)
   end subroutine period_only
-
-  subroutine require(status)
-    type(status_t), intent(in) :: status
-    if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
-      error stop 1
-    end if
-  end subroutine require
 
 end program example_scene

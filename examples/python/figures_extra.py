@@ -8,26 +8,13 @@ through the separatrix; figA4 work-precision diagram (error vs wall time) of eve
 model on the text's §2.2 scene, from pendula.tradeoff; figA5 how far the text's printed
 RK4 listing drifts, against pendula.rk4 at the same step.
 """
-import argparse
-
 from pendula import figures
 
 EXTRA_FIGURES = ["figA1", "figA2", "figA3", "figA4", "figA5"]
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=".", help="folder for the PNG files (default: .)")
-    ap.add_argument("--quick", action="store_true", help="fewer points per curve and settings (fast)")
-    args = ap.parse_args(argv)
-    written, missing = figures.make_figures(args.out, quick=args.quick, only=EXTRA_FIGURES)
-    for path in written:
-        print(f"wrote {path}")
-    for key, why in missing.items():
-        print(f"not drawn: {key}: {why}")
-    failed = [key for key, why in missing.items() if why.startswith("FAILED")]
-    if failed:
-        raise SystemExit(f"figure(s) failed: {', '.join(failed)}")
+    figures.figures_main(argv, EXTRA_FIGURES, __doc__.splitlines()[0], "fewer points per curve and settings (fast)")
 
 
 if __name__ == "__main__":

@@ -7,26 +7,13 @@ phase plane; fig13 critical damping; fig14-15 nonlinear damped, correct integrat
 with the text's printed (mistyped) RK4 listing overlaid.  The drawing code is in
 pendula/figures.py: each figure is one short function you can read and adapt.
 """
-import argparse
-
 from pendula import figures
 
 TEXT_FIGURES = [f"fig{n:02d}" for n in range(3, 16)]
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=".", help="folder for the PNG files (default: .)")
-    ap.add_argument("--quick", action="store_true", help="fewer points per curve (fast)")
-    args = ap.parse_args(argv)
-    written, missing = figures.make_figures(args.out, quick=args.quick, only=TEXT_FIGURES)
-    for path in written:
-        print(f"wrote {path}")
-    for key, why in missing.items():
-        print(f"not drawn: {key}: {why}")
-    failed = [key for key, why in missing.items() if why.startswith("FAILED")]
-    if failed:
-        raise SystemExit(f"figure(s) failed: {', '.join(failed)}")
+    figures.figures_main(argv, TEXT_FIGURES, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":

@@ -48,7 +48,7 @@ def text_listing(theta0, omega0, w0, gamma, h, t_out):
 
 
 def reference(t, theta0, omega0, w0, gamma):
-    if pendula.have_cvode():
+    if pendula.build_info()["cvode"]:
         return pendula.cvode(t, theta0, omega0, w0, gamma, rtol=1e-12, atol=1e-14, method="bdf").theta
     return pendula.rk4(t, theta0, omega0, w0, gamma, 1e-4).theta
 
@@ -67,7 +67,7 @@ def main(argv=None):
 
     w0 = pendula.natural_frequency(9.8, 4.9)
     t = np.arange(31.0)
-    cv = pendula.have_cvode()
+    cv = pendula.build_info()["cvode"]
     print(f"CVODE (SUNDIALS) built: {cv}")
     rows = []
 

@@ -34,7 +34,7 @@ def main(argv=None):
     c = np.cos(theta0 / 2)
     approx = {
         "small_angle": np.full_like(theta0, t0),
-        "series": t0 * (1 + k**2 / 4 + 9 * k**4 / 64),
+        "series": pendula.period_series(k**2, w0),
         "kidd_fogg": t0 / np.sqrt(c),
         "lima_arun": -t0 * np.log(c) / (1 - c),
     }

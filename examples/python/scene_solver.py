@@ -36,7 +36,7 @@ def true_theta(kw, t):
         gamma = pendula.damping_rate(kw["b"], kw["mass"])
     if not gamma:
         return pendula.undamped(t, kw["theta0"], kw["omega0"], W0)[0]
-    if pendula.have_cvode():
+    if pendula.build_info()["cvode"]:
         return pendula.cvode(t, kw["theta0"], kw["omega0"], W0, gamma, rtol=1e-12, atol=1e-14,
                              method="bdf").theta
     return pendula.rk4(t, kw["theta0"], kw["omega0"], W0, gamma, 1e-4).theta

@@ -27,7 +27,7 @@ T = np.arange(601) * 0.05
 
 
 def reference(gamma):
-    if pendula.have_cvode():
+    if pendula.build_info()["cvode"]:
         return pendula.cvode(T, 0.0, 2.0, W0, gamma, rtol=1e-12, atol=1e-14, method="adams"), "CVODE rtol 1e-12"
     return pendula.rk4(T, 0.0, 2.0, W0, gamma, 1e-4), "RK4 h = 1e-4 s"
 
@@ -56,7 +56,7 @@ def main():
               f"{row['rk4_sup']:12.2e}  {first:28.2f}")
     print(f"(reference: {rows[0]['reference']})")
 
-    if pendula.have_cvode():
+    if pendula.build_info()["cvode"]:
         gamma = pendula.damping_rate(0.01, 0.1)
         res = pendula.cvode([0.0, 30.0], 0.0, 2.0, W0, gamma, rtol=1e-11, atol=1e-13, events=True)
         tz, _ = res.events.zero_crossings

@@ -7,11 +7,12 @@ subroutine natural_frequency_f2py(g, length, w0, code, msg)
   use pendula_status, only: status_t
   use pendula_physics, only: natural_frequency
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   real(c_double), intent(in) :: g, length
   real(c_double), intent(out) :: w0
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call natural_frequency(g, length, w0, st)
   code = st%code
@@ -23,28 +24,56 @@ subroutine damping_rate_f2py(b, mass, gamma, code, msg)
   use pendula_status, only: status_t
   use pendula_physics, only: damping_rate
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   real(c_double), intent(in) :: b, mass
   real(c_double), intent(out) :: gamma
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call damping_rate(b, mass, gamma, st)
   code = st%code
   msg = st%message
 end subroutine damping_rate_f2py
 
+subroutine period_series_f2py(n, m, w0, t, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_physics, only: period_series
+  implicit none
+  include 'pendula_msg_len.inc'
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: m(n), w0(n)
+  real(c_double), intent(out) :: t(n)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
+  integer :: i
+  code = PENDULA_OK
+  msg = ''
+  do i = 1, n
+    call period_series(m(i), w0(i), t(i), st)
+    if (st%code /= PENDULA_OK) then
+      code = st%code
+      msg = st%message
+      return
+    end if
+  end do
+end subroutine period_series_f2py
+
 subroutine small_angle_period_f2py(n, w0, t0, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_physics, only: small_angle_period
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: w0(n)
   real(c_double), intent(out) :: t0(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
   code = PENDULA_OK

@@ -13,6 +13,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
   use pendula_status, only: status_t
   use pendula_rk4_batch, only: rk4_batch_solve
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: nt, n, no, nw, ng, nh, threads
   real(c_double), intent(in) :: t(nt), theta0(n), omega0(no), w0(nw), gamma(ng), h(nh)
@@ -21,7 +22,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
   integer(8), intent(inout) :: control(2)
   real(c_double), intent(out) :: theta(nt, n), omega(nt, n), steps(n)
   integer(c_int), intent(out) :: codes(n), first_failed, code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer(i8), allocatable :: nsteps(:)   ! heap: n may be 1e7
   integer :: first
@@ -51,13 +52,14 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
   use pendula_ode, only: ode_stats_t
   use pendula_cvode_batch, only: cvode_batch_solve
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: nt, n, no, nw, ng, nr, na, method, threads
   real(c_double), intent(in) :: t(nt), theta0(n), omega0(no), w0(nw), gamma(ng), rtol(nr), atol(na), max_steps
   integer(8), intent(inout) :: control(2)   ! cancel flag and progress (pendula_control)
   real(c_double), intent(out) :: theta(nt, n), omega(nt, n), stats(7, n)
   integer(c_int), intent(out) :: codes(n), first_failed, code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(ode_stats_t), allocatable :: s(:)   ! heap: n may be 1e7
   integer(i8) :: budget

@@ -12,13 +12,14 @@ subroutine rk4_f2py(n, t, theta0, omega0, w0, gamma, h, max_steps, control, thet
   use pendula_ode, only: ode_stats_t
   use pendula_rk4, only: rk4_solve
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, h, max_steps
   integer(8), intent(inout) :: control(2)   ! int64 (f2py mistypes c_int64_t as an undeclared long_long)
   real(c_double), intent(out) :: theta(n), omega(n), stats(7)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(ode_stats_t) :: s
   ! max_steps arrives as a double (Python int of any size); clamp to int64.
@@ -36,11 +37,12 @@ subroutine rk4_max_stable_step_f2py(w0, gamma, h_max, code, msg)
   use pendula_status, only: status_t
   use pendula_rk4, only: rk4_max_stable_step
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   real(c_double), intent(in) :: w0, gamma
   real(c_double), intent(out) :: h_max
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call rk4_max_stable_step(w0, gamma, h_max, st)
   code = st%code
@@ -55,6 +57,7 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   use pendula_ode, only: ode_stats_t
   use pendula_cvode, only: cvode_solve, cvode_solve_events
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, method, m
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, rtol, atol, max_steps
@@ -63,7 +66,7 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
   integer(c_int), intent(out) :: ev_kind(m), n_events, truncated
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(ode_stats_t) :: s
   integer :: nev

@@ -8,12 +8,13 @@ subroutine linear_damped_f2py(n, t, theta0, omega0, w0, gamma, theta, omega, cod
   use pendula_status, only: status_t
   use pendula_linear_damped, only: linear_damped_arrays
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n), gamma(n)
   real(c_double), intent(out) :: theta(n), omega(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call linear_damped_arrays(t, theta0, omega0, w0, gamma, theta, omega, st)
   code = st%code
@@ -25,12 +26,13 @@ subroutine linear_damped_envelope_f2py(n, t, theta0, omega0, w0, gamma, env, cod
   use pendula_status, only: status_t, check_nonnegative, PENDULA_OK
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_envelope
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n), gamma(n)
   real(c_double), intent(out) :: env(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(linear_damped_t) :: sol
   integer :: i
@@ -57,6 +59,7 @@ subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, bet
   use pendula_status, only: status_t
   use pendula_linear_damped, only: damping_regime_t, damping_regime
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   real(c_double), intent(in) :: w0, gamma
   integer(c_int), intent(out) :: regime
@@ -64,7 +67,7 @@ subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, bet
   real(c_double), intent(out) :: omega_d, beta, decay_slow, decay_fast, quality_factor, &
       log_decrement, damped_period, gamma_critical, damping_ratio
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(damping_regime_t) :: info
   call damping_regime(w0, gamma, info, st)
@@ -91,12 +94,13 @@ subroutine linear_damped_one_f2py(n, t, theta0, omega0, w0, gamma, theta, omega,
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_eval
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma
   real(c_double), intent(out) :: theta(n), omega(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(linear_damped_t) :: sol
   theta = 0

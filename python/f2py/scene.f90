@@ -11,12 +11,13 @@ subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass,
   use pendula_status, only: status_t
   use pendula_scene, only: scene_physics
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   real(c_double), intent(in) :: g, length, gamma_in, mass, b
   integer(c_int), intent(in) :: has_gamma, has_mass, has_b
   real(c_double), intent(out) :: w0, gamma
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   real(wp) :: w, gm
   ! every combination of present arguments, so that scene_physics sees them as Fortran optionals
@@ -48,11 +49,12 @@ subroutine scene_check_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, c
   use pendula_status, only: status_t
   use pendula_scene, only: scene_t, scene_init
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, want, model
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(scene_t) :: scene
   call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st, int(model))
@@ -92,6 +94,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
       SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
       SCENE_INFO_RTOL
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, want, model, fixed, m, ninfo
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, setting, max_steps
@@ -101,9 +104,9 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
   real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
   integer(c_int), intent(out) :: ev_kind(m)
   real(c_double), intent(out) :: info(ninfo)
-  character(len=256), intent(out) :: reason
+  character(len=PENDULA_MSG_LEN), intent(out) :: reason
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(scene_t) :: scene
   type(scene_result_t) :: res

@@ -16,7 +16,6 @@ from . import physics as _physics
 from .physics import *  # noqa: F401,F403
 
 # Each concern module defines __all__; the package's public API is their union.
-# <concern imports: one line each, `from . import X as _X` then `from .X import *`>
 from . import elliptic as _elliptic
 from .elliptic import *  # noqa: F401,F403
 from . import undamped as _undamped; from .undamped import *  # noqa: E702,F401,F403
@@ -25,7 +24,6 @@ from . import integrate as _integrate_api; from .integrate import *  # noqa: E70
 from . import scene as _scene_api; from .scene import *  # noqa: E702,F401,F403
 
 __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "have_cvode"]
-                     # <concern __all__: one `+ _X.__all__` line each>
                      + _elliptic.__all__
                      + _undamped.__all__
                      + _linear.__all__
@@ -55,5 +53,9 @@ def build_info():
 
 
 def have_cvode():
-    """True when this build includes the SUNDIALS CVODE integrator."""
-    return bool(_HAVE_CVODE)
+    """True when this build includes the SUNDIALS CVODE integrator.
+
+    A thin alias of ``build_info()["cvode"]``, kept for existing code:
+    ``build_info()`` is the one way to ask what this build contains.
+    """
+    return build_info()["cvode"]

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _ensemble
+from . import _fortran
 from ._arrays import as_real, broadcast_real, integer_arg
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
 from .integrate import _METHODS, _STAT_NAMES
@@ -122,7 +122,7 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)
     nthreads = _threads(threads)
     control = _control(control)
-    theta, omega, codes, steps, first, code, msg = _ensemble.rk4_batch_f2py(
+    theta, omega, codes, steps, first, code, msg = _fortran.rk4_batch_f2py(
         tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), nthreads, control)
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
@@ -166,7 +166,7 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="ada
     max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     nthreads = _threads(threads)
     control = _control(control)
-    theta, omega, codes, stats, first, code, msg = _ensemble.cvode_batch_f2py(
+    theta, omega, codes, stats, first, code, msg = _fortran.cvode_batch_f2py(
         tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
         _METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control)
     code, first = int(code), int(first)
@@ -183,4 +183,4 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="ada
 
 def openmp():
     """True when this build runs the batch kernels on OpenMP threads."""
-    return bool(_ensemble.rk4_batch_openmp_f2py())
+    return bool(_fortran.rk4_batch_openmp_f2py())

@@ -21,7 +21,7 @@ infinite in ellipj, where sn, cn, dn have no limit).  Empty arrays give empty ar
 """
 import numpy as np
 
-from . import _elliptic
+from . import _fortran as _elliptic
 from ._arrays import as_array, broadcast_real, check_size, real_scalar, restore
 
 __all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc",

@@ -67,7 +67,7 @@ def _linear(t, theta0, omega0, w0, gamma):
 
 def _reference(t, theta0, omega0, w0, gamma):
     """A converged solution of the nonlinear damped equation (eq. 2.3) and its label."""
-    if getattr(_pd, "cvode", None) is not None and _pd.have_cvode():
+    if getattr(_pd, "cvode", None) is not None and _pd.build_info()["cvode"]:
         res = _pd.cvode(t, theta0, omega0, w0, gamma, rtol=1e-11, atol=1e-13, method="bdf")
         return _pair(res) + ("pendula.cvode (BDF, rtol 1e-11)",)
     res = _need("rk4")(t, theta0, omega0, w0, gamma, 1e-3)
@@ -161,7 +161,7 @@ def fig04_period_vs_amplitude(out_dir, quick=False):
     ax = axs[0, 0]
     ax.plot(k, t_exact, lw=2, label="exact T = 4K(k²)/w0, pendula.period (eq. 1.53)")
     ax.plot(k, np.full_like(k, t0), lw=2, label="small-angle T0 = 2π/w0 (eq. 1.8)")
-    ax.plot(k, t0 * (1 + k**2 / 4 + 9 * k**4 / 64), "--",
+    ax.plot(k, _pd.period_series(k**2, w0), "--",
             label="series T0 (1 + k²/4 + 9k⁴/64)")
     ax.set(title=f"Fig 4 – Period of the simple pendulum (g = {G} m/s², l = {LENGTH} m)",
            xlabel="sin(θ0/2)  (dimensionless)", ylabel="period  (s)", xlim=(0, 1),
@@ -716,4 +716,24 @@ def make_figures(out_dir, quick=False, only=None):
     return written, missing
 
 
-__all__ = ["make_figures", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]
+def figures_main(argv, only, description, quick_help="fewer points per curve (fast)"):
+    """The command line of the figure scripts (examples/python/figures_*.py):
+    --out DIR and --quick, draw the figures whose keys are in ``only``, report
+    each file written and each figure not drawn; SystemExit if one failed."""
+    import argparse
+
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--out", default=".", help="folder for the PNG files (default: .)")
+    ap.add_argument("--quick", action="store_true", help=quick_help)
+    args = ap.parse_args(argv)
+    written, missing = make_figures(args.out, quick=args.quick, only=only)
+    for path in written:
+        print(f"wrote {path}")
+    for key, why in missing.items():
+        print(f"not drawn: {key}: {why}")
+    failed = [key for key, why in missing.items() if why.startswith("FAILED")]
+    if failed:
+        raise SystemExit(f"figure(s) failed: {', '.join(failed)}")
+
+
+__all__ = ["make_figures", "figures_main", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _integrate, _longcall
+from . import _fortran, _longcall
 from ._arrays import as_real, check_size, integer_arg, real_scalar
 from ._codes import CVODE_ADAMS, CVODE_BDF, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
@@ -104,8 +104,8 @@ def _real(x, name):
 
 def _result(t, theta, omega, stats, method):
     # Same object as IntegrationResult(t, theta, omega, stats, method), built
-    # without the frozen dataclass's per-field __setattr__ calls (0.5 us of a
-    # short rk4 call).
+    # without the frozen dataclass's per-field __setattr__ calls (a visible
+    # share of a short rk4 call).
     r = object.__new__(IntegrationResult)
     r.__dict__.update(t=t, theta=theta, omega=omega, stats=stats, method=method, events=None)
     return r
@@ -149,10 +149,10 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None)
     steps = (tt.item(-1) - tt.item(0)) / hh + tt.size if hh > 0 else 0.0
     long = _longcall.RK4_LONG_STEPS < steps <= budget
     if not long and progress is None:
-        theta, omega, stats, code, msg = _integrate.rk4_f2py(*args, _longcall.scratch_control())
+        theta, omega, stats, code, msg = _fortran.rk4_f2py(*args, _longcall.scratch_control())
     else:
         control = _longcall.new_control()
-        theta, omega, stats, code, msg = _longcall.run(lambda: _integrate.rk4_f2py(*args, control), control,
+        theta, omega, stats, code, msg = _longcall.run(lambda: _fortran.rk4_f2py(*args, control), control,
                                                       long, progress, total=int(min(steps, 2**62)))
     if code:
         raise_for_status(code, msg)
@@ -171,7 +171,7 @@ def rk4_max_stable_step(w0, gamma):
     2.7853/|lambda| on the real axis (overdamped) and 2 sqrt(2)/w0 for gamma = 0.
     w0 > 0, gamma >= 0 [1/s].
     """
-    h, code, msg = _integrate.rk4_max_stable_step_f2py(real_scalar(w0, "w0"), real_scalar(gamma, "gamma"))
+    h, code, msg = _fortran.rk4_max_stable_step_f2py(real_scalar(w0, "w0"), real_scalar(gamma, "gamma"))
     raise_for_status(code, msg)
     return float(h)
 
@@ -206,12 +206,12 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     Returns an ``IntegrationResult``.  Raises ValueError for bad arguments,
     ``PendulaSolverError`` (a RuntimeError) when CVODE fails or runs out of
     steps (message with CVODE's reason), NotImplementedError when this build
-    has no CVODE (see ``pendula.have_cvode()``).
+    has no CVODE (see ``pendula.build_info()['cvode']``).
     """
     if not HAVE_CVODE:
         # The Fortran stub says the same; checking here first keeps the
         # message independent of the other arguments.
-        _, _, _, _, _, _, _, _, _, code, msg = _integrate.cvode_f2py(
+        _, _, _, _, _, _, _, _, _, code, msg = _fortran.cvode_f2py(
             np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, CVODE_ADAMS, 1.0, 0, _longcall.new_control())
         raise_for_status(code, msg)
     tt = _grid(t)
@@ -234,7 +234,7 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
     long = not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS    # NaN/inf: long
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
-        lambda: _integrate.cvode_f2py(*call_args), control, long, progress, unit="rhs")
+        lambda: _fortran.cvode_f2py(*call_args), control, long, progress, unit="rhs")
     raise_for_status(code, msg)
     ev = None
     if events:
@@ -245,10 +245,5 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
                              events=ev)
 
 
-def cvode_available():
-    """True when this build includes SUNDIALS CVODE (same as ``pendula.have_cvode()``)."""
-    return bool(_integrate.cvode_available_f2py())
-
-
-__all__ = ["rk4", "rk4_max_stable_step", "cvode", "cvode_available", "IntegrationResult", "Events",
+__all__ = ["rk4", "rk4_max_stable_step", "cvode", "IntegrationResult", "Events",
            "TURNING_POINT", "ZERO_CROSSING"]

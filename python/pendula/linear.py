@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 
-from . import _linear
+from . import _fortran
 from ._arrays import as_array, as_real, broadcast_real, real_scalar, restore
 from ._errors import raise_for_status
 
@@ -50,13 +50,13 @@ def linear_damped(t, theta0, omega0, w0, gamma):
         p = {k: float(as_real(v, k)) for k, v in params.items()}
         if tt.size == 0:
             return np.empty(shape), np.empty(shape)
-        theta, omega, code, msg = _linear.linear_damped_one_f2py(
+        theta, omega, code, msg = _fortran.linear_damped_one_f2py(
             tt.reshape(-1), p["theta0"], p["omega0"], p["w0"], p["gamma"])
     else:
         shape, scalar, f = _call(t, theta0, omega0, w0, gamma)
         if f["t"].size == 0:
             return np.empty(shape), np.empty(shape)
-        theta, omega, code, msg = _linear.linear_damped_f2py(
+        theta, omega, code, msg = _fortran.linear_damped_f2py(
             f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
@@ -72,7 +72,7 @@ def linear_damped_envelope(t, theta0, omega0, w0, gamma):
     shape, scalar, f = _call(t, theta0, omega0, w0, gamma)
     if f["t"].size == 0:
         return np.empty(shape)
-    env, code, msg = _linear.linear_damped_envelope_f2py(
+    env, code, msg = _fortran.linear_damped_envelope_f2py(
         f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
     return restore(env, shape, scalar)
@@ -122,7 +122,7 @@ def damping_regime(w0, gamma):
     w0 = real_scalar(w0, "w0")
     gamma = real_scalar(gamma, "gamma")
     (regime, l1, l2, omega_d, beta, slow, fast, q, logdec, td, gcrit, zeta,
-     code, msg) = _linear.damping_regime_f2py(w0, gamma)
+     code, msg) = _fortran.damping_regime_f2py(w0, gamma)
     raise_for_status(code, msg)
     return DampingRegime(
         regime=_REGIMES[int(regime)], w0=w0, gamma=gamma,

@@ -42,7 +42,7 @@ import time
 
 import numpy as np
 
-from . import _longcall, _scene
+from . import _fortran as _scene, _longcall
 from ._arrays import as_real, integer_arg, real_scalar
 from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, STEP_CAP, WANT_CODES
 from ._config import HAVE_CVODE

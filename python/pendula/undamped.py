@@ -18,7 +18,7 @@ and pendula_equilibria; this module only converts.
 """
 import numpy as np
 
-from . import _undamped
+from . import _fortran as _undamped
 from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg, restore
 from ._errors import raise_for_status
 

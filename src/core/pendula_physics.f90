@@ -8,7 +8,7 @@ module pendula_physics
       PENDULA_ERR_DOMAIN
   implicit none
   private
-  public :: natural_frequency, damping_rate, small_angle_period, pi
+  public :: natural_frequency, damping_rate, small_angle_period, period_series, pi
 
 contains
 
@@ -83,5 +83,24 @@ contains
     if (status%code /= PENDULA_OK) return
     t0 = 2 * pi / w0
   end subroutine small_angle_period
+
+  !> The textbook's amplitude correction to the period, T0 (1 + m/4 + 9 m^2/64)
+  !> [s], T0 = 2 pi/w0 (eq. 1.8): the first three terms of T = T0 2K(m)/pi
+  !> (DLMF 19.5.1) for a libration of parameter m = k^2 (m = sin^2(theta0/2)
+  !> released from rest).  A model, not the period: its relative error is
+  !> 25 m^3/256 + O(m^4) (the exact period: undamped_period).  m in [0, 1] and w0
+  !> as for small_angle_period; otherwise status is set and t = 0.  The one
+  !> home of this series (examples, figures and the command line call it).
+  pure subroutine period_series(m, w0, t, status)
+    real(wp), intent(in) :: m, w0
+    real(wp), intent(out) :: t
+    type(status_t), intent(out) :: status
+    t = 0
+    call check_range('m', m, 0.0_wp, 1.0_wp, '[0, 1]', status)
+    if (status%code /= PENDULA_OK) return
+    call small_angle_period(w0, t, status)
+    if (status%code /= PENDULA_OK) return
+    t = t * (1 + m / 4 + 9 * m**2 / 64)
+  end subroutine period_series
 
 end module pendula_physics

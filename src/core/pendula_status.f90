@@ -13,7 +13,7 @@ module pendula_status
 
   public :: status_t, status_ok, set_error, code_name
   public :: check_finite, check_positive, check_nonnegative, check_range, &
-            check_all_finite, check_increasing, check_size
+            check_all_finite, check_increasing, check_size, check_same_size
   public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
             PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
             PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
@@ -38,7 +38,7 @@ module pendula_status
   !> The caller cancelled the call (pendula_control); finished work is kept.
   integer, parameter :: PENDULA_ERR_CANCELLED = 9
 
-  integer, parameter :: PENDULA_MSG_LEN = 256
+  include 'pendula_msg_len.inc'
 
   !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
   !> the table above and a message naming the argument and its valid range.
@@ -193,5 +193,20 @@ contains
           ' element(s): it needs at least ' // format_int(min_size))
     end if
   end subroutine check_size
+
+  !> Require size n of array `name` to equal n_like, the size of array `like`
+  !> (an output sized like an input, or inputs that go together).  The one
+  !> exact-size check of the library: every procedure uses it, so every size
+  !> message reads alike.
+  pure subroutine check_same_size(name, n, like, n_like, status)
+    character(len=*), intent(in) :: name, like
+    integer, intent(in) :: n, n_like
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (n /= n_like) then
+      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
+          ' element(s): it must have the same size as ' // like // ' (' // format_int(n_like) // ')')
+    end if
+  end subroutine check_same_size
 
 end module pendula_status

@@ -26,7 +26,7 @@ module pendula_linear_damped
   use pendula_kinds, only: wp
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, PENDULA_OK, PENDULA_ERR_SIZE
+      check_nonnegative, check_same_size, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_small_angle, only: harmonic_state
   implicit none
@@ -469,7 +469,8 @@ contains
     type(status_t), intent(out) :: status
     theta = 0
     omega = 0
-    call check_same_size(size(t), size(theta), size(omega), status)
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
     call check_times(t, status)
     if (status%code /= PENDULA_OK) return
     call linear_damped_state(sol, t, theta, omega)
@@ -489,10 +490,12 @@ contains
     theta = 0
     omega = 0
     n = size(t)
-    if (any([size(theta0), size(omega0), size(w0), size(gamma), size(theta), size(omega)] /= n)) then
-      call set_error(status, PENDULA_ERR_SIZE, 't, theta0, omega0, w0, gamma, theta and omega must have the same size')
-      return
-    end if
+    call check_same_size('theta0', size(theta0), 't', n, status)
+    call check_same_size('omega0', size(omega0), 't', n, status)
+    call check_same_size('w0', size(w0), 't', n, status)
+    call check_same_size('gamma', size(gamma), 't', n, status)
+    call check_same_size('theta', size(theta), 't', n, status)
+    call check_same_size('omega', size(omega), 't', n, status)
     call check_times(t, status)
     if (status%code /= PENDULA_OK) return
     fresh = .true.
@@ -513,13 +516,6 @@ contains
       call linear_damped_state(sol, t(i), theta(i), omega(i))
     end do
   end subroutine linear_damped_arrays
-
-  pure subroutine check_same_size(nt, nth, nom, status)
-    integer, intent(in) :: nt, nth, nom
-    type(status_t), intent(inout) :: status
-    if (nth /= nt .or. nom /= nt) call set_error(status, PENDULA_ERR_SIZE, &
-        'theta and omega must have the size of t')
-  end subroutine check_same_size
 
   ! Every t finite and >= 0; the message names the first bad (0-based) index.
   pure subroutine check_times(t, status)

@@ -28,10 +28,10 @@ module pendula_cvode
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
-  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, PENDULA_OK, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_same_size, PENDULA_OK, &
+      PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: ode_stats_t, check_problem, check_output_size, check_cvode_options, check_span, &
+  use pendula_ode, only: ode_stats_t, check_problem, check_cvode_options, check_span, &
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
   use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer, FN_VDestroy
@@ -187,12 +187,12 @@ contains
     call check_positive('rtol', rtol, status)
     call check_nonnegative('atol', atol, status)
     call check_cvode_options(method, max_steps, status)
-    call check_output_size('theta', size(theta), size(t), status)
-    call check_output_size('omega', size(omega), size(t), status)
-    if (status%code == PENDULA_OK .and. (size(event_kind) /= size(event_t) .or. &
-        size(event_theta) /= size(event_t) .or. size(event_omega) /= size(event_t))) &
-        call set_error(status, PENDULA_ERR_SIZE, 'event_t, event_kind, event_theta and event_omega ' // &
-            'must all have the same size (the maximum number of events kept)')
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
+    ! event_t's size is the maximum number of events kept
+    call check_same_size('event_kind', size(event_kind), 'event_t', size(event_t), status)
+    call check_same_size('event_theta', size(event_theta), 'event_t', size(event_t), status)
+    call check_same_size('event_omega', size(event_omega), 'event_t', size(event_t), status)
     call check_span(t, status)
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0
@@ -341,8 +341,8 @@ contains
     call check_positive('rtol', rtol, status)
     call check_nonnegative('atol', atol, status)
     call check_cvode_options(PENDULA_CVODE_ADAMS, max_steps, status)
-    call check_output_size('theta', size(theta), size(t), status)
-    call check_output_size('omega', size(omega), size(t), status)
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
     call check_span(t, status)
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0

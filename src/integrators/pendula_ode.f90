@@ -8,10 +8,10 @@ module pendula_ode
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
+      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN
   implicit none
   private
-  public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, check_output_size, &
+  public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, &
             linear_eigenvalues, check_cvode_options, check_span
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
@@ -90,18 +90,6 @@ contains
     call check_positive('w0', w0, status)
     call check_nonnegative('gamma', gamma, status)
   end subroutine check_problem
-
-  !> Require an output array to have exactly n elements (one per output time).
-  pure subroutine check_output_size(name, m, n, status)
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: m, n
-    type(status_t), intent(inout) :: status
-    if (status%code /= PENDULA_OK) return
-    if (m /= n) then
-      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(m) // &
-          ' element(s): it must have one per output time, size(t) = ' // format_int(n))
-    end if
-  end subroutine check_output_size
 
   !> CVODE's settings that a batch shares: method PENDULA_CVODE_ADAMS or
   !> PENDULA_CVODE_BDF, step budget max_steps >= 1.

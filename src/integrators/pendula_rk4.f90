@@ -14,10 +14,10 @@
 module pendula_rk4
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_short
-  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, PENDULA_OK, &
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, check_same_size, PENDULA_OK, &
       PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
-  use pendula_ode, only: ode_stats_t, check_problem, check_output_size, linear_eigenvalues
+  use pendula_ode, only: ode_stats_t, check_problem, linear_eigenvalues
   use pendula_rk4_kernel, only: rk4_grid, substeps
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -201,8 +201,8 @@ contains
           ' is out of range: it must be >= 1')
     end if
     call check_problem(t, theta0, omega0, w0, gamma, status)
-    call check_output_size('theta', size(theta), size(t), status)
-    call check_output_size('omega', size(omega), size(t), status)
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
     call check_step(t, w0, gamma, h, budget, status)
     if (status%code /= PENDULA_OK) then
       ! zeroed only here: on success the kernel writes every element

@@ -4,7 +4,7 @@
 !> state, so a batch answer never depends on which other states came with it.
 !>
 !> Why a separate kernel: rk4_grid's step is a dependent chain (two chained
-!> stage sines per recurrence) and so bound by latency (~22 ns).  Here the
+!> stage sines per recurrence) and so bound by latency.  Here the
 !> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes; one
 !> step of a block is a loop over lanes with no dependence between them, which
 !> gcc vectorises (SSE2 pairs by default, wider with -march) and whose

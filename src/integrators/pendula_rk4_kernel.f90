@@ -4,7 +4,7 @@
 !> Why: with libm, one RK4 step chains two dependent `sin` calls on each of
 !> its two recurrences (theta -> sin -> k1 -> sin -> k3 -> theta' and
 !> Omega -> sin -> k2 -> sin -> k4 -> Omega'), and each call also spills every
-!> live register; the step then costs ~36 ns.  All four stage arguments of a
+!> live register, and the step is far slower than its arithmetic.  All four stage arguments of a
 !> step lie within h |Omega| + O(h**2) of theta, so they are reduced ONCE per
 !> step against the node 2 pi k / 256 nearest the step's midpoint (Cody-Waite,
 !> three-part constant) and each stage sine is then, for |r| <= 0.1, the
@@ -209,7 +209,7 @@ contains
     ! The common case first and without a division: dt <= h or dt exceeding h
     ! by rounding only (dt/h <= 1 + 1e-9: one step).  One test for both keeps
     ! the branch predictable on grids like 0.05*k, where dt <= h or not is
-    ! decided by rounding (a mispredicted branch per output cost ~3 ns).
+    ! decided by rounding (a mispredicted branch per output was measurable).
     if (dt <= h * (1 + 0.999e-9_wp)) then
       n = 1
       return
@@ -266,7 +266,7 @@ contains
     ! The substep count and size of each interval are formed one interval
     ! ahead: they depend on t only, and their two divisions then run beside
     ! the previous interval's steps instead of stalling the first step of
-    ! their own (~15 ns per output when outputs are a few steps apart).
+    ! their own (which shows when outputs are a few steps apart).
     if (size(t) > 1) call interval(1, n_nx, hs_nx)
     do j = 1, size(t) - 1
       n = n_nx

@@ -26,7 +26,7 @@ module pendula_small_angle
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
-      set_error, PENDULA_OK, PENDULA_ERR_SIZE
+      check_same_size, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
   use pendula_undamped, only: undamped_motion_t, REGIME_LIBRATION, reduce_angle_2pi
@@ -91,11 +91,9 @@ contains
     call check_finite('omega0', omega0, status)
     call check_positive('w0', w0, status)
     call check_all_finite('t', t, status)
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
     if (status%code /= PENDULA_OK) return
-    if (size(theta) /= size(t) .or. size(omega) /= size(t)) then
-      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have the size of t')
-      return
-    end if
     call small_angle(t, theta0, omega0, w0, theta, omega)
   end subroutine small_angle_solve
 

@@ -22,7 +22,7 @@ module pendula_undamped
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
-      PENDULA_OK
+      check_same_size, PENDULA_OK
   use pendula_constants, only: pi, half_pi, half_pi_lo, two_pi, two_pi_lo
   use pendula_double_double, only: two_prod, dd_add_fast, dd_mul, dd_div_d
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1, ellipj_eval, ellipj_eval_array, ellipjm1
@@ -390,10 +390,9 @@ contains
     integer, parameter :: nb = 256
     real(wp) :: a(nb), sa(nb), ca(nb), da(nb), ama(nb), y(nb), x(nb), r(nb), sb
     integer :: i0, i1, nc, i, j
-    if (size(theta) /= size(t) .or. size(omega) /= size(t)) then
-      call size_error(status)
-      return
-    end if
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
+    if (status%code /= PENDULA_OK) return
     if (motion%free .or. (motion%regime /= REGIME_LIBRATION .and. motion%regime /= REGIME_ROTATION)) then
       call undamped_eval(motion, t, theta(1:size(t)), omega(1:size(t)))
       return
@@ -489,12 +488,6 @@ contains
     if (status%code /= PENDULA_OK) return
     call undamped_eval_many(motion, t, theta, omega, status)
   end subroutine undamped_solve
-
-  pure subroutine size_error(status)
-    use pendula_status, only: set_error, PENDULA_ERR_SIZE
-    type(status_t), intent(inout) :: status
-    call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have the size of t')
-  end subroutine size_error
 
   !> Period [s]: 4 K(m)/w0 for libration (eq. 1.53 generalised to any state),
   !> the time of one full turn 2 K(1/m)/(k w0) for rotation (the period of

@@ -197,7 +197,7 @@ contains
         call damping_regime(x(i), x(j), info, st)
       end do
     end do
-    ! the issue's case: theta0 = DBL_MAX, Omega(1.5) = -1.7570279627426679e308 is representable
+    ! the reported case: theta0 = DBL_MAX, Omega(1.5) = -1.7570279627426679e308 is representable
     call linear_damped_init(sol, dmax, 0.5_wp, 1.4_wp, 0.3_wp, st)
     if (status_ok(st)) then
       call linear_damped_state(sol, 1.5_wp, th, om)

@@ -1,5 +1,5 @@
 !> Failure paths, repeated, for the checked and memcheck legs
-!> (issue 9): every way CVODE can fail (step budget, illegal error weight,
+!>: every way CVODE can fail (step budget, illegal error weight,
 !> repeated error-test failures, events truncated or cut short by a failure)
 !> and the RK4 refusals; every public array routine called with wrong sizes (it must
 !> report PENDULA_ERR_SIZE, not write out of bounds: valgrind sees any overrun); the

@@ -1,4 +1,4 @@
-!> Linear damped pendulum (issue 5): the text's parameter sets against the
+!> Linear damped pendulum: the text's parameter sets against the
 !> text's own formulas (eqs 2.27-2.29, 2.45-2.47), gamma = 0 against the
 !> small-angle solution bit for bit, continuity through gamma = 2 w0, no
 !> overflow for gamma t up to 1e300, regime numbers, bad input, and agreement

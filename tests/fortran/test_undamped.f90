@@ -100,7 +100,7 @@ contains
     call undamped_init(mo, 0.0_wp, 2.000000000002_wp, 1.0_wp, st)
     call tc%check_close(undamped_period(mo), 29.710373760963109245_wp, 1.0e-13_wp, 0.0_wp, 'near-separatrix turn')
     call tc%check_close(mo%mc, -2.000177801e-12_wp, 1.0e-9_wp, 0.0_wp, '1 - m < 0 without cancellation')
-    ! the slow hug of the top: period to 1e-12 relative (issue), 1 - m = 2.5e-21
+    ! the slow hug of the top: period to 1e-12 relative (the target), 1 - m = 2.5e-21
     call undamped_init(mo, 3.141592653489793_wp, 0.0_wp, 1.0_wp, st)
     call tc%check_close(undamped_period(mo), 100.42116465693590901_wp, 1.0e-12_wp, 0.0_wp, 'hug of the top period')
     call tc%check_close(mo%mc, 2.500006537e-21_wp, 1.0e-9_wp, 0.0_wp, 'hug of the top 1 - m')

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""mpmath references for the undamped pendulum (issue 4), and the table generator.
+"""mpmath references for the undamped pendulum, and the table generator.
 
 Run ``python3 tests/python/gen_undamped_reference.py`` to (re)write
 ``tests/data/undamped_reference.csv.gz``; ``--check-ode`` first cross-checks

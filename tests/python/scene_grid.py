@@ -1,4 +1,4 @@
-"""The honesty grid of the scenes issue, shared by tests/python/test_scene.py
+"""The honesty grid of the scenes, shared by tests/python/test_scene.py
 and benchmarks/bench_tradeoff.py (no pytest here; importable as a module).
 
 How the grid is made (fixed seed, so every run tests the same scenes):

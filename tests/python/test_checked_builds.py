@@ -1,4 +1,4 @@
-"""Checked builds (issue 9), run by the normal test command.
+"""Checked builds, run by the normal test command.
 
 1. tools/checked-build.sh: the Fortran library and Fortran tests built with
    -fcheck=all -ffpe-trap=invalid,zero,overflow -g (meson -Dchecked=true), then

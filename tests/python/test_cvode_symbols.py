@@ -16,6 +16,7 @@ import pathlib
 import pytest
 
 import pendula
+from helpers import needs_cvode
 
 NAMES = ["div", "scale", "prod", "inv", "const", "abs_", "min_", "add_const", "dot_prod", "max_norm",
          "wrms_norm", "wsqr_sum", "linear_sum", "linear_combination", "scale_add_multi",
@@ -27,7 +28,7 @@ def _address(fn):
     return ctypes.cast(fn, ctypes.c_void_p).value
 
 
-@pytest.mark.skipif(not pendula.have_cvode(), reason="this pendula build has no SUNDIALS CVODE")
+@needs_cvode
 def test_extensions_define_no_callback_names():
     process = ctypes.CDLL(None)
     folder = pathlib.Path(pendula.__file__).parent

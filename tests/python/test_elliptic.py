@@ -13,13 +13,13 @@ import pytest
 import scipy.special as sc
 
 import pendula
-# the f2py extension (pendula/__init__ binds the name _elliptic to the Python module)
-_elliptic = importlib.import_module("pendula._elliptic")
+# the f2py extension (all the glue is one module, pendula._fortran)
+_elliptic = importlib.import_module("pendula._fortran")
 
 EPS = np.finfo(float).eps
 DATA = np.load(os.path.join(os.path.dirname(__file__), "..", "data", "elliptic_refs.npz"))
-TOL_COND = 8.0   # issue 3: rel. error <= 8 eps * cond for sn, cn, dn, am
-TOL_ULPS = 4.0   # issue 3: K, E, F within 4 ulps
+TOL_COND = 8.0   # the accuracy target: rel. error <= 8 eps * cond for sn, cn, dn, am
+TOL_ULPS = 4.0   # the accuracy target: K, E, F within 4 ulps
 
 
 def _rel(got, ref):

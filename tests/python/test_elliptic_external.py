@@ -21,7 +21,7 @@ import pytest
 
 import pendula
 
-_elliptic = importlib.import_module("pendula._elliptic")   # the f2py extension (plan routines)
+_elliptic = importlib.import_module("pendula._fortran")   # the f2py extension (plan routines)
 
 EPS = 2.0 ** -52
 TOL = 16.0

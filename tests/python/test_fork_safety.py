@@ -32,6 +32,7 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import HAVE_CVODE
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -99,21 +100,20 @@ def _glue_error_calls():
     fork far more often than through the Python layer's validation (through the
     public API about 4 forks in 1,000 hung on the old code, through the glue
     about 18 in 1,000)."""
-    glue = {name: importlib.import_module(f"pendula.{name}")
-            for name in ("_integrate", "_linear", "_scene", "_elliptic")}
+    glue = importlib.import_module("pendula._fortran")
     t, one = T, np.array([0.0, 1.0])
     ctl = np.zeros(2, dtype=np.int64)     # the cancel/progress array (pendula_control), never set
     calls = [
-        lambda: glue["_integrate"].rk4_f2py(t, 0.5, 0.0, 2.0, 0.1, 5.0, 2e9, ctl),
-        lambda: glue["_linear"].linear_damped_one_f2py(one, 0.5, 0.0, -2.0, 0.1),
-        lambda: glue["_scene"].scene_physics_f2py(9.8, 4.9, 0.1, 1.0, 0.5, 1, 1, 1),
-        lambda: glue["_scene"].scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0),
-        lambda: glue["_elliptic"].ellipk_f2py(np.array([2.0, 3.0])),
+        lambda: glue.rk4_f2py(t, 0.5, 0.0, 2.0, 0.1, 5.0, 2e9, ctl),
+        lambda: glue.linear_damped_one_f2py(one, 0.5, 0.0, -2.0, 0.1),
+        lambda: glue.scene_physics_f2py(9.8, 4.9, 0.1, 1.0, 0.5, 1, 1, 1),
+        lambda: glue.scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0),
+        lambda: glue.ellipk_f2py(np.array([2.0, 3.0])),
     ]
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         calls += [
-            lambda: glue["_integrate"].cvode_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1e-10, 1, 1e7, 0, ctl),
-            lambda: glue["_integrate"].cvode_f2py(t, 0.5, 0.0, 2.0, 0.1, 1e-8, 1e-10, 1, 2.0, 0, ctl),
+            lambda: glue.cvode_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1e-10, 1, 1e7, 0, ctl),
+            lambda: glue.cvode_f2py(t, 0.5, 0.0, 2.0, 0.1, 1e-8, 1e-10, 1, 2.0, 0, ctl),
         ]
     return calls
 
@@ -129,7 +129,7 @@ def _public_error_calls():
         lambda: pendula.Scene(theta0=0.5, g=-1.0),
         lambda: pendula.ellipk(2.0),
     ]
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         calls += [
             lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, rtol=-1.0),
             lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, max_steps=2),      # solver gives up: message with t

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import needs_cvode
 from pendula._arrays import integer_arg
 
 WRAPPING = [2**31, 2**63, 2**64 - 1, np.uint64(2**63), np.uint64(2**64 - 1), -(2**63) - 1,
@@ -36,7 +37,7 @@ def test_integer_arg_scalar_counts(x):
         integer_arg(np.array([5]), "max_steps", 1, 2**63 - 1, scalar=True)
 
 
-@pytest.mark.skipif(not pendula.have_cvode(), reason="this build has no CVODE")
+@needs_cvode
 @pytest.mark.parametrize("kw", [dict(max_steps=np.uint64(2**64 - 1)), dict(max_steps=2**63),
                                 dict(events=True, max_events=np.uint64(2**63)),
                                 dict(events=True, max_events=2**64)], ids=repr)

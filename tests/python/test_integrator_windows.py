@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import HAVE_CVODE, needs_cvode
 
 W0 = math.sqrt(2.0)
-needs_cvode = pytest.mark.skipif(not pendula.have_cvode(), reason="this pendula build has no SUNDIALS CVODE")
 
 
 def _normwise(theta, omega, ref_theta, ref_omega, w0):
@@ -65,7 +65,7 @@ def test_atol_zero_at_rest():
 
 def _integrators():
     out = [("rk4", lambda t, th0, om0, g: pendula.rk4(t, th0, om0, W0, g, 0.05))]
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         # pure relative control: a state of 1e-300 rad is resolved, not lost below atol
         out.append(("cvode", lambda t, th0, om0, g: pendula.cvode(t, th0, om0, W0, g, rtol=1e-10, atol=0.0)))
     return out

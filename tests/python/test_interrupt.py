@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import HAVE_CVODE
 from pendula._errors import ERR_CANCELLED
 
 _CHILD = textwrap.dedent("""
@@ -70,7 +71,7 @@ def _child(kind, mode):
 
 @pytest.mark.parametrize("kind", ["rk4", "cvode", "solve", "run_model", "tradeoff"])
 def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
-    if kind == "cvode" and not pendula.have_cvode():
+    if kind == "cvode" and not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
     p = _child(kind, "long")
     try:
@@ -96,7 +97,7 @@ def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
 
 
 def _rk4_raw(t, h, control, max_steps=2e9):
-    return pendula.integrate._integrate.rk4_f2py(np.asarray(t, float), 0.0, 2.0, 1.4, 0.1, h, max_steps, control)
+    return pendula._fortran.rk4_f2py(np.asarray(t, float), 0.0, 2.0, 1.4, 0.1, h, max_steps, control)
 
 
 def test_rk4_progress_counts_every_step_and_results_are_unchanged():
@@ -118,10 +119,10 @@ def test_a_preset_cancel_flag_stops_rk4_at_the_first_poll():
 
 
 def test_a_preset_cancel_flag_stops_cvode():
-    if not pendula.have_cvode():
+    if not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
     control = np.array([1, 0], np.int64)
-    out = pendula.integrate._integrate.cvode_f2py(np.array([0.0, 1e4]), 0.0, 2.0, 1.4, 0.0, 1e-10, 1e-12,
+    out = pendula._fortran.cvode_f2py(np.array([0.0, 1e4]), 0.0, 2.0, 1.4, 0.0, 1e-10, 1e-12,
                                                    1, 1e7, 0, control)
     code, msg = out[-2], out[-1]
     assert code == ERR_CANCELLED and b"cancelled" in bytes(msg)
@@ -139,7 +140,7 @@ def test_progress_callback_sees_a_monotone_count_up_to_the_steps():
 
 
 def test_progress_callback_for_cvode_and_solve():
-    if not pendula.have_cvode():
+    if not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
     seen = []
     r = pendula.cvode([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, progress=lambda d, n: seen.append((d, n)))
@@ -173,7 +174,7 @@ def test_budgets_refuse_up_front():
     with pytest.raises(ValueError, match="max_steps = 1000"):
         pendula.rk4([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, 0.05, max_steps=1000)
     assert pendula.rk4([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, 0.05, max_steps=2000).stats["steps"] == 2000
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         with pytest.raises(pendula.PendulaSolverError, match="shorten the window or raise max_steps"):
             pendula.solve(pendula.Scene(1.0, t=[0.0, 1e9], gamma=0.1, tol=1e-10))
     with pytest.raises(pendula.PendulaSolverError, match="raise max_steps"):

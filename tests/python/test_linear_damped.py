@@ -1,11 +1,11 @@
-"""Linear damped pendulum (issue 5): accuracy against mpmath at 50 digits.
+"""Linear damped pendulum: accuracy against mpmath at 50 digits.
 
 Reference: the exact solution of theta'' + gamma theta' + w0^2 theta = 0 at the
 exact double inputs, evaluated in mpmath (50 digits) through the complex
 square root of D = gamma^2/4 - w0^2 (no regime split), and itself checked
 against mpmath's matrix exponential expm([[0, 1], [-w0^2, -gamma]]).
 
-Error measure (the issue's): with size = |theta| + |Omega|/m, m = max(w0, gamma),
+Error measure (the specification's): with size = |theta| + |Omega|/m, m = max(w0, gamma),
 and the condition numbers cond_theta = sum_x |x d theta/dx|, x in {t, theta0,
 Omega0, w0, gamma} (derivatives at 50 digits: exact for t, theta0, Omega0,
 mpmath.diff for w0, gamma), require

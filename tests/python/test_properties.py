@@ -1,4 +1,4 @@
-"""Property-based tests (issue 9, hypothesis).
+"""Property-based tests (hypothesis).
 
 Invariants that must hold for every input in the domain, not only at the
 points the concern tests pick:
@@ -31,6 +31,7 @@ from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
 
 import pendula
+from helpers import HAVE_CVODE, needs_cvode
 
 EPS = np.finfo(float).eps
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow],
@@ -299,7 +300,7 @@ def test_rk4_energy_never_increases_with_damping(theta0, omega0, w0, gamma):
     assert np.all(np.diff(e) <= 1e-9 * e0 + 1e-300), f"energy rose by {np.max(np.diff(e)) / e0:.3g}"
 
 
-@pytest.mark.skipif(not pendula.have_cvode(), reason="CVODE not built")
+@needs_cvode
 @SETTINGS
 @given(theta0=fin(-3.0, 3.0), omega0=fin(-3.0, 3.0), w0=fin(0.3, 3.0), gamma=fin(0.01, 3.0))
 def test_cvode_energy_never_increases_with_damping(theta0, omega0, w0, gamma):
@@ -330,7 +331,7 @@ def test_integrators_agree_with_linear_closed_form_at_small_amplitude(a, b, w0, 
     # RK4 global error ~ (h max(w0, gamma))^4 * rate * T ~ 1e-10 here.
     np.testing.assert_allclose(r.theta, th, rtol=0, atol=1e-8 * s)
     np.testing.assert_allclose(r.omega, om, rtol=0, atol=1e-8 * s * max(w0, gamma))
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         c = pendula.cvode(t, theta0, omega0, w0, gamma, rtol=1e-11, atol=1e-13 * s, method="bdf")
         np.testing.assert_allclose(c.theta, th, rtol=0, atol=2e-7 * s)
         np.testing.assert_allclose(c.omega, om, rtol=0, atol=2e-7 * s * max(w0, gamma))
@@ -339,7 +340,7 @@ def test_integrators_agree_with_linear_closed_form_at_small_amplitude(a, b, w0, 
 @SETTINGS
 @given(theta0=fin(-2.5, 2.5), omega0=fin(-1.0, 1.0), w0=fin(0.3, 3.0), gamma=fin(0.0, 2.0))
 def test_rk4_and_cvode_agree(theta0, omega0, w0, gamma):
-    if not pendula.have_cvode():
+    if not HAVE_CVODE:
         pytest.skip("CVODE not built")
     t = np.linspace(0.0, 10.0 / w0, 21)
     r = pendula.rk4(t, theta0, omega0, w0, gamma, 0.002 / w0)
@@ -432,7 +433,7 @@ def test_integrators_agree_with_exact_undamped(theta0, omega0, w0):
     tol = 1e-7 * (1 + abs(theta0) + abs(omega0) / w0) / abs(m)
     np.testing.assert_allclose(r.theta, th, rtol=0, atol=tol)
     np.testing.assert_allclose(r.omega, om, rtol=0, atol=tol * w0)
-    if pendula.have_cvode():
+    if HAVE_CVODE:
         c = pendula.cvode(t, theta0, omega0, w0, 0.0, rtol=1e-11, atol=1e-13)
         np.testing.assert_allclose(c.theta, th, rtol=0, atol=10 * tol)
         np.testing.assert_allclose(c.omega, om, rtol=0, atol=10 * tol * w0)

@@ -1,4 +1,4 @@
-"""Scenes (issue 7): model choice, honest error estimates, cheap answers, bad input, tradeoff.
+"""Scenes: model choice, honest error estimates, cheap answers, bad input, tradeoff.
 
 The honesty grid (>= 200 scenes) is made by tests/python/scene_grid.py; its
 docstring says how (fixed seed; regimes, gamma from 0 to beyond critical,
@@ -7,16 +7,12 @@ each reference is computed (mpmath exact solution for gamma = 0, converged
 Richardson-extrapolated RK4 otherwise).
 """
 import collections
-import os
-import sys
 
 import numpy as np
 import pytest
 
 import pendula
-
-sys.path.insert(0, os.path.dirname(__file__))
-import scene_grid  # noqa: E402
+import scene_grid
 
 W0 = np.sqrt(2.0)
 T0 = 2 * np.pi / W0

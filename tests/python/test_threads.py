@@ -1,4 +1,4 @@
-"""Thread safety (issue 9).
+"""Thread safety.
 
 1. Every public entry point (the table of test_bad_input.py, so a new function
    is covered as soon as it has its bad-input entry) called concurrently from a
@@ -24,7 +24,8 @@ import numpy as np
 import pytest
 
 import pendula
-from test_bad_input import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
+from helpers import HAVE_CVODE, ROOT, fortran_statements
+from api_table import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
 
 N_ARRAY = 2_000
 
@@ -64,7 +65,7 @@ def _flatten(result):
 def _entries():
     out = []
     for name, entry in sorted(API.items()):
-        if entry.needs_cvode and not pendula.have_cvode():
+        if entry.needs_cvode and not HAVE_CVODE:
             continue
         out.append(name)
     return out
@@ -105,7 +106,7 @@ def test_concurrent_failures_equal_serial_failures():
     # Error paths too: a message or status kept anywhere but in the call's own
     # variables (e.g. a SUNDIALS error handler writing to shared storage) would
     # mix up messages between threads.
-    cases = [c for c in ALL_CASES if not (API[c.func].needs_cvode and not pendula.have_cvode())]
+    cases = [c for c in ALL_CASES if not (API[c.func].needs_cvode and not HAVE_CVODE)]
     cases = cases[::5] + [c for c in cases if c.func == "cvode"]
     serial = [_outcome(c) for c in cases]
     work = list(range(len(cases))) * 3
@@ -130,6 +131,7 @@ _T = np.linspace(0.0, 200.0, 2_000_000)  # ~60 ms a call: long enough to see the
 _U = np.linspace(-50.0, 50.0, 400_000)
 LONG = {
     "small_angle_period": _long_small_angle_period,
+    "period_series": _long(pendula.period_series, m=np.linspace(0.0, 1.0, 1_500_000), w0=1.4),
     "undamped": _long(pendula.undamped, t=_T, theta0=2.0, omega0=0.3, w0=1.4),
     "linear_damped": _long(pendula.linear_damped, t=_T, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
     "ellipj": _long(pendula.ellipj, u=_U, m=np.full(_U.size, 0.7)),
@@ -138,7 +140,7 @@ LONG = {
     "run_model": lambda: (lambda: pendula.run_model(
         pendula.Scene(theta0=1.0, t=np.linspace(0, 400.0, 100), gamma=0.1, tol=1e-9), "rk4", 2e-4)),
 }
-if pendula.have_cvode():
+if HAVE_CVODE:
     LONG["cvode"] = _long(pendula.cvode, t=np.array([0.0, 20000.0]), theta0=0.0, omega0=2.0, w0=1.4,
                           gamma=0.01, rtol=1e-11, atol=1e-13)
 
@@ -184,46 +186,7 @@ def test_long_call_releases_the_gil(name):
 
 
 # ---- static audit: no saved state in the Fortran sources ------------------------------------------
-import pathlib  # noqa: E402
 import re  # noqa: E402
-
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-def _logical_lines(text):
-    """Fortran free-form source as (line number, statement) with comments
-    stripped and & continuations joined (good enough for declarations)."""
-    out, buf, start = [], "", None
-    for no, raw in enumerate(text.splitlines(), 1):
-        line, quote = [], None
-        for ch in raw:
-            if quote:
-                line.append(ch)
-                if ch == quote:
-                    quote = None
-            elif ch in "'\"":
-                quote = ch
-                line.append(ch)
-            elif ch == "!":
-                break
-            else:
-                line.append(ch)
-        s = "".join(line).strip()
-        if not s:
-            continue
-        if buf and s.startswith("&"):
-            s = s[1:]
-        if start is None:
-            start = no
-        if s.endswith("&"):
-            buf += s[:-1] + " "
-            continue
-        buf += s
-        for stmt in buf.split(";"):
-            if stmt.strip():
-                out.append((start, stmt.strip()))
-        buf, start = "", None
-    return out
 
 
 def saved_state(path):
@@ -231,7 +194,7 @@ def saved_state(path):
     initialised local variables (implicit SAVE)."""
     findings = []
     scope = []              # stack: 'module-spec', 'proc', 'type', 'interface'
-    for no, st in _logical_lines(path.read_text()):
+    for no, st in fortran_statements(path.read_text()):
         low = st.lower()
         head = re.sub(r"^(?:(?:pure|elemental|impure|recursive|module|non_recursive)\s+)+", "", low)
         if re.match(r"end\s*(module|submodule)\b", low) or low == "end":

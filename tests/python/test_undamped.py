@@ -1,4 +1,4 @@
-"""The undamped pendulum in closed form (issue 4): accuracy, invariants, special cases, API.
+"""The undamped pendulum in closed form: accuracy, invariants, special cases, API.
 
 References are INDEPENDENT of the library: mpmath at 60 digits from the exact
 double inputs (tests/python/gen_undamped_reference.py, whose closed form is
@@ -7,17 +7,13 @@ text's own expressions (1.52) and (1.66) evaluated in mpmath, and invariants
 (energy, time reversal, turning points).
 """
 import math
-import os
-import sys
 
 import mpmath as mp
 import numpy as np
 import pytest
 
 import pendula
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import gen_undamped_reference as ref  # noqa: E402
+import gen_undamped_reference as ref
 
 EPS = np.finfo(float).eps
 REGIME_CODES = {1: "libration", 2: "separatrix", 3: "rotation"}
@@ -48,7 +44,7 @@ def test_reference_table_cond_scaled(table):
     print("\n".join(lines))
     assert set(np.unique(d["regime"])) == {1.0, 2.0, 3.0}
     gap = np.abs(d["one_minus_m"][d["regime"] != 2])
-    assert gap.min() < 2e-15 and gap.max() > 50   # the table covers the issue's range
+    assert gap.min() < 2e-15 and gap.max() > 50   # the table covers the specified range
     assert rt.max() <= 16, lines
     assert ro.max() <= 16, lines
 
@@ -73,7 +69,7 @@ def test_reference_table_one_state_path(table):
 
 
 def test_reference_table_plain_figures(table):
-    """Absolute error over 100 periods: the issue asks <= 1e-11 rad for |1 - m| >= 1e-6.
+    """Absolute error over 100 periods: the target is <= 1e-11 rad for |1 - m| >= 1e-6.
     Because 1 - m is computed from double-double cos(theta0/2) and Omega0/(2 w0), the
     same holds down to |1 - m| = 1e-15 (measured worst ~8e-13 rad)."""
     d = table

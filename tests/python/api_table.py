@@ -1,0 +1,383 @@
+"""The table of pendula's public API for the bad-input tests: per public
+callable, a call that must succeed and the kind of each argument, and the bad
+cases generated from the kinds (``ALL_CASES``).  Shared by test_bad_input.py
+(which checks each case raises a ValueError/TypeError naming the argument) and
+test_threads.py (which runs the same cases concurrently); a helper module, not
+a test module.
+"""
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import numbers
+
+import numpy as np
+
+import pendula
+from helpers import HAVE_CVODE
+
+NAN = float("nan")
+INF = float("inf")
+# ---- argument kinds ---------------------------------------------------------
+REAL = "real"          # any finite real (angles, velocities, a time)
+POS = "positive"       # finite and > 0 (g, l, m, w0, h, rtol, tol, ...)
+NONNEG = "nonneg"      # finite and >= 0 (gamma, b, atol, ...)
+TIMES = "times"        # 1-D, non-empty, finite, strictly increasing
+CHOICE = "choice"      # a string from a fixed set
+COUNT = "count"        # a positive integer
+OTHER = "other"        # checked by ``extra`` cases only
+
+
+@dataclasses.dataclass
+class Arg:
+    kind: str
+    # Names the message may use for this argument instead of the Python name
+    # (the Fortran core writes the text's symbols: l, m, ...).
+    aliases: tuple = ()
+    # Accepts arrays (broadcast elementwise); scalar-only arguments get a
+    # 1-element array as a wrong-shape case instead.
+    array: bool = False
+    # Extra bad values: (value, exception type) or (value, exception type,
+    # {other argument: value}) for a case that needs another argument changed.
+    extra: tuple = ()
+    # Values of a finite real that are out of domain (ValueError).
+    out_of_domain: tuple = ()
+    # Extreme valid values to try instead of the kind's default set (a step
+    # size of 1e-10 s is valid but would take hours of honest work).
+    extremes: tuple = None
+    # Other arguments to change for every case of this argument (e.g. drop
+    # mass and b when trying bad gamma values on a Scene).
+    others: dict = dataclasses.field(default_factory=dict)
+
+
+@dataclasses.dataclass
+class Entry:
+    valid: dict
+    args: dict
+    nan: str = "raise"          # "propagate": NaN in -> NaN out (elliptic rule)
+    needs_cvode: bool = False
+    # Arguments of the signature deliberately not checked, with the reason.
+    unchecked: dict = dataclasses.field(default_factory=dict)
+
+
+# Public names that are not numerical entry points.
+NOT_ENTRY_POINTS = {
+    "PendulaSolverError": "exception class",
+    "TradeoffTable": "result container built by tradeoff() from checked runs",
+    "build_info": "no arguments: build configuration",
+    "have_cvode": "no arguments: build configuration",
+}
+
+# ---- the table ----------------------------------------------------------------
+API: dict[str, Entry] = {
+    # physics (core)
+    "natural_frequency": Entry(
+        valid=dict(g=9.8, length=4.9),
+        args=dict(g=Arg(POS), length=Arg(POS, aliases=("l",)))),
+    "damping_rate": Entry(
+        valid=dict(b=0.05, mass=0.1),
+        args=dict(b=Arg(NONNEG), mass=Arg(POS, aliases=("m",)))),
+    "small_angle_period": Entry(
+        valid=dict(w0=1.5),
+        args=dict(w0=Arg(POS, array=True))),
+    "period_series": Entry(
+        valid=dict(m=0.3, w0=1.5),
+        args=dict(m=Arg(NONNEG, array=True, out_of_domain=(1 + 2**-52, 1.5, 1e10, 1e300),
+                        extremes=(0.0, 5e-324, 1e-300, 1 - 2**-53, 1.0)),
+                  w0=Arg(POS, array=True))),
+    # linear damped (src/damped, linear.py)
+    "linear_damped": Entry(
+        valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
+        args=dict(t=Arg(NONNEG, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True))),
+    "linear_damped_envelope": Entry(
+        valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
+        args=dict(t=Arg(NONNEG, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True))),
+    "damping_regime": Entry(
+        valid=dict(w0=1.4, gamma=0.3),
+        args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),
+    # elliptic (src/special, elliptic.py): NaN in -> NaN out, out of domain -> ValueError
+    "ellipk": Entry(valid=dict(m=0.7), nan="propagate",
+                    args=dict(m=Arg(REAL, array=True, out_of_domain=(1.5, 1 + 2**-52, INF)))),
+    "ellipe": Entry(valid=dict(m=0.7), nan="propagate",
+                    args=dict(m=Arg(REAL, array=True, out_of_domain=(1.5, 1 + 2**-52, INF)))),
+    "ellipkm1": Entry(valid=dict(p=0.3), nan="propagate",
+                      args=dict(p=Arg(REAL, array=True, out_of_domain=(-0.5, -5e-324, -INF)))),
+    "ellipem1": Entry(valid=dict(p=0.3), nan="propagate",
+                      args=dict(p=Arg(REAL, array=True, out_of_domain=(-0.5, -5e-324, -INF)))),
+    "ellipf": Entry(valid=dict(phi=1.0, m=0.7), nan="propagate",
+                    args=dict(phi=Arg(REAL, array=True), m=Arg(REAL, array=True, out_of_domain=(2.0, INF)))),
+    "ellipkinc": Entry(valid=dict(phi=1.0, m=0.7), nan="propagate",
+                       args=dict(phi=Arg(REAL, array=True), m=Arg(REAL, array=True, out_of_domain=(2.0, INF)))),
+    "ellipfm1": Entry(valid=dict(phi=1.0, p=0.3), nan="propagate",
+                      args=dict(phi=Arg(REAL, array=True), p=Arg(REAL, array=True, out_of_domain=(-1.0, -INF)))),
+    "ellipj": Entry(valid=dict(u=0.8, m=0.7), nan="propagate",
+                    args=dict(u=Arg(REAL, array=True), m=Arg(REAL, array=True))),
+    "ellipjm1": Entry(valid=dict(u=0.8, p=0.3), nan="propagate",
+                      args=dict(u=Arg(REAL, array=True), p=Arg(REAL, array=True))),
+    # integrators (src/integrators, integrate.py)
+    "rk4": Entry(
+        valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.05),
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL),
+                  w0=Arg(POS), gamma=Arg(NONNEG),
+                  # a step outside RK4's stability region is refused, not integrated into garbage
+                  h=Arg(POS, extremes=(1e300, 1e154, 1e-300, 5e-324),
+                        extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)),
+                  # a budget below the window's steps is refused up front
+                  max_steps=Arg(COUNT, extra=((3, ValueError),)),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
+    "rk4_max_stable_step": Entry(
+        valid=dict(w0=1.4, gamma=0.1),
+        args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),
+    "cvode": Entry(
+        valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, max_steps=200_000),
+        needs_cvode=True,
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG),
+                  rtol=Arg(POS), atol=Arg(NONNEG), method=Arg(CHOICE),
+                  max_steps=Arg(COUNT, extra=((3, pendula.PendulaSolverError,
+                                               dict(t=np.array([0.0, 100.0]))),)),
+                  events=Arg(OTHER, extra=(("yes", TypeError), (None, TypeError), (1.0, TypeError))),
+                  # max_events matters only with events=True
+                  max_events=Arg(OTHER, extra=(
+                      (0, ValueError, dict(events=True)), (-1, ValueError, dict(events=True)),
+                      (2.5, TypeError, dict(events=True)), ("7", TypeError, dict(events=True)),
+                      (2**40, ValueError, dict(events=True)))),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
+    # undamped (src/undamped, undamped.py): any real t, any real state, w0 > 0
+    "undamped": Entry(valid=dict(t=1.3, theta0=1.0, omega0=0.2, w0=1.4), args=dict(
+        t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+        w0=Arg(POS, array=True))),
+    "small_angle": Entry(valid=dict(t=1.3, theta0=0.1, omega0=0.2, w0=1.4), args=dict(
+        t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+        w0=Arg(POS, array=True))),
+    "small_angle_error": Entry(valid=dict(tmax=10.0, theta0=0.1, omega0=0.2, w0=1.4), args=dict(
+        tmax=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+        w0=Arg(POS, array=True))),
+    **{name: Entry(valid=dict(theta0=1.0, omega0=0.2, w0=1.4), args=dict(
+        theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), w0=Arg(POS, array=True)))
+       for name in ("period", "amplitude", "elliptic_parameter", "regime")},
+    "energy": Entry(valid=dict(theta=1.0, omega=0.2, w0=1.4), args=dict(
+        theta=Arg(REAL, array=True), omega=Arg(REAL, array=True), w0=Arg(POS, array=True))),
+    "equilibria": Entry(valid=dict(n=3, w0=1.4), args=dict(
+        n=Arg(OTHER, extra=((1.5, TypeError), ("1", TypeError), (None, TypeError), (True, TypeError),
+                            (np.array([1.0, 2.0]), TypeError), (1 + 1j, TypeError), (2**40, ValueError),
+                            (np.array([[1, 2]]), ValueError, dict(w0=np.array([1.0, 2.0, 3.0]))))),
+        w0=Arg(POS, array=True))),
+    # scenes (src/scene, scene.py)
+    "Scene": Entry(
+        valid=dict(theta0=0.3, omega0=0.1, t=[0.0, 1.0, 2.0], g=9.8, length=4.9, mass=0.1, b=0.01,
+                   tol=1e-6, want="state"),
+        args=dict(theta0=Arg(REAL), omega0=Arg(REAL), g=Arg(POS), length=Arg(POS, aliases=("l",)),
+                  mass=Arg(POS, aliases=("m",)), b=Arg(NONNEG), tol=Arg(POS), want=Arg(CHOICE),
+                  gamma=Arg(NONNEG, others=dict(mass=None, b=None)),
+                  t=Arg(TIMES, extra=((np.array([-1.0, 0.0, 1.0]), ValueError), (np.array([]), ValueError))))),
+    "solve": Entry(
+        valid=dict(scene="SCENE", model=None),
+        args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError), (1.0, TypeError))),
+                  model=Arg(CHOICE, extra=(("exact", ValueError, dict(scene="DAMPED")),)),
+                  max_steps=Arg(COUNT),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
+    "run_model": Entry(
+        valid=dict(scene="SCENE", model="rk4", setting=0.01),
+        args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
+                  model=Arg(CHOICE, extra=(("auto", ValueError),)),
+                  setting=Arg(POS, aliases=("h",), extremes=(1e300, 1e154, 1e-300, 5e-324)),
+                  max_steps=Arg(COUNT, extra=((3, ValueError),)),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
+    "tradeoff": Entry(
+        valid=dict(scene="SCENE", models=["small_angle", "rk4"], rk4_steps=[0.1, 0.05], cvode_rtols=[1e-6],
+                   repeat=1),
+        args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
+                  models=Arg(OTHER, extra=((["nope"], ValueError), (["linear"], ValueError), ("rk4", ValueError))),
+                  rk4_steps=Arg(OTHER, extra=(([NAN], ValueError), ([-0.1], ValueError), ([0.0], ValueError))),
+                  cvode_rtols=Arg(OTHER, extra=(
+                      (([NAN], ValueError, dict(models=["cvode"])), ([-1e-6], ValueError, dict(models=["cvode"])))
+                      if HAVE_CVODE else ())),
+                  repeat=Arg(COUNT),
+                  # max_steps bounds the automatic RK4 sweep (rk4_steps=None)
+                  max_steps=Arg(COUNT, others=dict(rk4_steps=None))),
+        unchecked=dict(csv="output path (file I/O)", plot="output path (file I/O)")),
+}
+
+
+# ---- helpers ----------------------------------------------------------------------
+
+
+def _walk_numbers(result):
+    """Every float/complex found in a result (arrays, tuples, dicts, objects)."""
+    if result is None or isinstance(result, (str, bytes, bool)):
+        return
+    if isinstance(result, numbers.Number):
+        yield result
+    elif isinstance(result, np.ndarray):
+        if result.dtype.kind in "fc":
+            yield from result.ravel().tolist()
+        elif result.dtype == object:
+            for x in result.ravel():
+                yield from _walk_numbers(x)
+    elif isinstance(result, dict):
+        for v in result.values():
+            yield from _walk_numbers(v)
+    elif isinstance(result, (list, tuple)):
+        for v in result:
+            yield from _walk_numbers(v)
+    elif dataclasses.is_dataclass(result):
+        for f in dataclasses.fields(result):
+            yield from _walk_numbers(getattr(result, f.name))
+    elif hasattr(result, "__dict__"):
+        for k, v in vars(result).items():
+            if not k.startswith("_"):
+                yield from _walk_numbers(v)
+
+def _as_array_arg(value):
+    if isinstance(value, np.ndarray):
+        return value
+    return np.array([value, value], dtype=float)
+
+
+# ---- case generation ----------------------------------------------------------------
+@dataclasses.dataclass
+class Case:
+    func: str
+    arg: str
+    label: str
+    value: object
+    expect: object          # exception type, or "nan" (NaN out), or "error-or-empty"
+    others: dict = dataclasses.field(default_factory=dict)   # overrides of other args
+
+    @property
+    def id(self):
+        return f"{self.func}-{self.arg}-{self.label}"
+
+
+class _Obj:
+    pass
+
+
+def _defaults(fname):
+    sig = inspect.signature(getattr(pendula, fname))
+    return {p.name: p.default for p in sig.parameters.values() if p.default is not p.empty}
+
+
+def _cases_for(fname, entry):
+    cases = []
+    defaults = _defaults(fname) if hasattr(pendula, fname) else {}
+    for aname, spec in entry.args.items():
+        v = entry.valid[aname] if aname in entry.valid else defaults.get(aname)
+        add = lambda label, value, expect, others=None: cases.append(  # noqa: E731
+            Case(fname, aname, label, value, expect, {**spec.others, **(others or {})}))
+        if v is None:
+            v = 1.0   # an optional real left at None in the valid call
+        if spec.kind in (REAL, POS, NONNEG, TIMES):
+            # non-finite values
+            if spec.kind == TIMES:
+                base = np.asarray(v, dtype=float)
+                for label, bad in (("nan", NAN), ("inf", INF), ("-inf", -INF)):
+                    t = base.copy()
+                    t[-1] = bad
+                    add(label, t, ValueError)
+            else:
+                nan_expect = "nan" if entry.nan == "propagate" else ValueError
+                add("nan", NAN, nan_expect)
+                # Elliptic rule: +-Inf is either out of domain (ValueError) or
+                # has a defined value; never NaN.
+                if INF not in spec.out_of_domain:
+                    add("inf", INF, ValueError if entry.nan == "raise" else "error-or-defined")
+                if -INF not in spec.out_of_domain:
+                    add("-inf", -INF, ValueError if entry.nan == "raise" else "error-or-defined")
+                if spec.array:
+                    add("array-with-nan", np.array([v, NAN]), "nan-element" if entry.nan == "propagate"
+                        else ValueError)
+                    add("array-with-inf", np.array([v, INF]), ValueError if entry.nan == "raise"
+                        else "error-or-defined")
+                    add("empty-array", np.array([], dtype=float), "error-or-empty")
+                    add("object-array", np.array([v, _Obj()], dtype=object), TypeError)
+                    add("string-array", np.array(["1.0", "2.0"]), TypeError)
+                    add("complex-array", np.array([v + 1j, v]), TypeError)
+                else:
+                    add("1-element-array", np.array([v]), (ValueError, TypeError))
+                    add("2-element-array", np.array([v, v]), (ValueError, TypeError))
+            # wrong signs
+            if spec.kind == POS:
+                add("zero", 0.0, ValueError)
+                add("negative", -abs(v) if v else -1.0, ValueError)
+                add("-0.0", -0.0, ValueError)
+            elif spec.kind == NONNEG:
+                add("negative", -1.0, ValueError)
+                add("tiny-negative", -5e-324, ValueError)
+            for i, bad in enumerate(spec.out_of_domain):
+                add(f"out-of-domain-{i}", bad, ValueError)
+            # wrong types
+            add("string", "1.0", TypeError)
+            if defaults.get(aname, "") is not None:   # None is valid for optional arguments
+                add("None", None, TypeError)
+            add("complex", complex(float(np.ravel(v)[0]), 1.0), TypeError)
+            add("object", _Obj(), TypeError)
+            add("list-of-strings", ["a", "b"], TypeError)
+            # one validation path: the same answer on every route (scalar, array, plan)
+            x = float(np.ravel(v)[0])
+            add("ragged", [[x], [x, x]], ValueError)
+            add("timedelta64", np.timedelta64(1, "s"), TypeError)
+            add("datetime64", np.datetime64("2020-01-01"), TypeError)
+            add("bool", True, TypeError)
+            add("numpy-bool", np.bool_(False), TypeError)
+            if spec.array or spec.kind == TIMES:
+                add("bool-array", np.array([True, False] * 40), TypeError)
+                add("timedelta-array", np.array([1, 2], dtype="m8[s]"), TypeError)
+                # f2py passes sizes as 4-byte integers: a clear refusal, not a wrapped size
+                # (a zero-stride view: no 2**31 elements are ever allocated)
+                add("2**31-elements", np.broadcast_to(np.float64(x), (2**31 + 8,)), ValueError)
+            if spec.kind == TIMES:
+                base = np.asarray(v, dtype=float)
+                add("empty", np.array([], dtype=float), ValueError)
+                rep = base.copy()
+                rep[-1] = rep[-2]
+                add("repeated", rep, ValueError)
+                add("decreasing", base[::-1].copy(), ValueError)
+                add("2-D", np.stack([base, base + 1]), ValueError)
+        elif spec.kind == CHOICE:
+            add("unknown", "no-such-choice", ValueError)
+            if defaults.get(aname, "") is not None:
+                add("None", None, (TypeError, ValueError))
+            add("number", 1.0, (TypeError, ValueError))
+        elif spec.kind == COUNT:
+            add("zero", 0, ValueError)
+            add("negative", -3, ValueError)
+            add("float", 2.5, (TypeError, ValueError))
+            add("string", "10", TypeError)
+            if defaults.get(aname, "") is not None:
+                add("None", None, TypeError)
+        for i, ex in enumerate(spec.extra):
+            add(f"extra-{i}", ex[0], ex[1], ex[2] if len(ex) > 2 else None)
+    # incompatible shapes between two array arguments
+    arr = [a for a, s in entry.args.items() if s.array and s.kind in (REAL, POS, NONNEG)]
+    if len(arr) >= 2:
+        a, b = arr[:2]
+        cases.append(Case(fname, a, f"shape-mismatch-with-{b}",
+                          np.full(2, entry.valid[a], dtype=float), ValueError,
+                          {b: np.full(3, entry.valid[b], dtype=float)}))
+    return cases
+
+
+ALL_CASES = [c for f, e in API.items() for c in _cases_for(f, e)]
+
+
+_PLACEHOLDERS = {
+    "SCENE": lambda: pendula.Scene(theta0=0.3, omega0=0.1, t=np.linspace(0.0, 2.0, 5), tol=1e-6),
+    "DAMPED": lambda: pendula.Scene(theta0=0.3, omega0=0.1, t=np.linspace(0.0, 2.0, 5), gamma=0.1, tol=1e-6),
+}
+
+
+def _materialise(v):
+    """Lists of numbers in the table become float arrays (to check they stay unmodified)."""
+    if isinstance(v, (list, tuple)) and all(isinstance(x, numbers.Real) for x in v):
+        return np.array(v, dtype=float)
+    return v
+
+
+def _call(fname, kwargs):
+    for k, v in list(kwargs.items()):
+        if isinstance(v, str) and v in _PLACEHOLDERS:
+            kwargs[k] = _PLACEHOLDERS[v]()
+    return getattr(pendula, fname)(**kwargs)
