@@ -53,6 +53,17 @@ contains
     elemental_ok = .not. trapping .or. fin(v)
   end function elemental_ok
 
+  ! an input the status procedures get in this build: in the checked build
+  ! (overflow traps) magnitudes whose results themselves overflow (energy
+  ! Omega0**2/2 with Omega0 = 1e308) are left to the non-trapping builds,
+  ! where the fuzz leg and this program check the +-Inf or error they give;
+  ! likewise tiny rates (the period 2 pi/w0 of w0 = 5e-324 is +Inf)
+  elemental logical function moderate(v)
+    real(wp), intent(in) :: v
+    moderate = .not. trapping .or. .not. fin(v)
+    if (.not. moderate) moderate = v == 0 .or. (abs(v) <= 1.0e150_wp .and. abs(v) >= 1.0e-150_wp)
+  end function moderate
+
   ! |v| < lim, false for NaN and Inf, without a compare that could trap
   elemental logical function below(v, lim)
     real(wp), intent(in) :: v, lim
@@ -161,6 +172,7 @@ contains
     do l = 1, size(w0s)
       do i = 1, nx
         do j = 1, nx
+          if (.not. (moderate(x(i)) .and. moderate(x(j)) .and. moderate(w0s(l)))) cycle
           call undamped_init(mo, x(i), x(j), w0s(l), st)
           if (status_ok(st)) then
             call undamped_eval(mo, 1.5_wp, th, om)
@@ -187,6 +199,7 @@ contains
     character(len=80) :: label
     do i = 1, nx
       do j = 1, nx
+        if (.not. (moderate(x(i)) .and. moderate(x(j)))) cycle
         call linear_damped_init(sol, x(i), 0.5_wp, 1.4_wp, abs(x(j)), st)
         if (status_ok(st)) then
           call linear_damped_state(sol, 1.5_wp, th, om)
@@ -212,6 +225,7 @@ contains
     type(status_t) :: st
     t = [0.0_wp, 0.5_wp, 1.0_wp]
     do i = 1, nx
+      if (.not. moderate(x(i))) cycle
       call rk4_solve(t, x(i), 0.3_wp, 1.0_wp, 0.1_wp, 0.01_wp, th, om, stats, st)
       call tc%check_true(.not. status_ok(st) .or. (all_fin(th) .and. all_fin(om)), 'rk4 theta0 extreme')
       call rk4_solve(t, 0.3_wp, x(i), 1.0_wp, 0.1_wp, 0.01_wp, th, om, stats, st)
