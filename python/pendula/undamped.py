@@ -16,6 +16,8 @@ raises ValueError naming the argument.
 The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
+from functools import partial
+
 import numpy as np
 
 from . import _undamped
@@ -91,14 +93,14 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
     return restore(dth, shape, scalar), restore(dom, shape, scalar)
 
 
-def _props(theta0, omega0, w0):
+def _state_property(kernel, nout, theta0, omega0, w0):
+    """Broadcast the states and run one of the Fortran property kernels (``nout`` results)."""
     shape, scalar, f = broadcast_real(theta0=theta0, omega0=omega0, w0=w0)
     if f["theta0"].size == 0:
-        e = np.empty(0)
-        return shape, scalar, (e, e, e, e, e, np.empty(0, dtype=np.int32))
-    out = _undamped.undamped_props_f2py(f["theta0"], f["omega0"], f["w0"])
-    raise_for_status(out[-2], out[-1])
-    return shape, scalar, out[:-2]
+        return shape, scalar, [np.empty(0)] * nout
+    *values, code, msg = kernel(f["theta0"], f["omega0"], f["w0"])
+    raise_for_status(code, msg)
+    return shape, scalar, values
 
 
 def period(theta0, omega0=0.0, w0=1.0):
@@ -109,29 +111,30 @@ def period(theta0, omega0=0.0, w0=1.0):
     separatrix: +inf.  theta0 = pi - 1e-10 gives the slow hug of the top
     (T ~ 4 ln(8/1e-10)/w0).  Accuracy a few eps times its condition number.
     """
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (per,) = _state_property(partial(_undamped.period_amplitude_f2py, 1), 1, theta0, omega0, w0)
     return restore(per, shape, scalar)
 
 
 def amplitude(theta0, omega0=0.0, w0=1.0):
     """Amplitude in rad: max |theta - 2 pi N| = 2 asin(k) for libration, pi on the separatrix, +inf for rotation."""
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (amp,) = _state_property(partial(_undamped.period_amplitude_f2py, 2), 1, theta0, omega0, w0)
     return restore(amp, shape, scalar)
 
 
 def elliptic_parameter(theta0, omega0=0.0, w0=1.0):
     """``(m, 1 - m)``: m = sin^2(theta0/2) + (omega0/(2 w0))^2 = E/E_separatrix and its
     complement, the latter computed without cancellation (accurate near the separatrix)."""
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (m, mc) = _state_property(_undamped.parameter_f2py, 2, theta0, omega0, w0)
     return restore(m, shape, scalar), restore(mc, shape, scalar)
 
 
 def regime(theta0, omega0=0.0, w0=1.0):
     """'libration' (m < 1), 'separatrix' (m = 1) or 'rotation' (m > 1); a str, or an array of str."""
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0)
     if scalar:
-        return REGIMES[int(reg[0])]
-    return np.array([REGIMES[int(r)] for r in reg], dtype=object).reshape(shape).astype(str)
+        return REGIMES[int(codes[0])]
+    names = np.array([REGIMES[k] for k in sorted(REGIMES)])
+    return names[np.asarray(codes, dtype=np.intp).reshape(shape) - 1]
 
 
 def energy(theta, omega, w0=1.0):
