@@ -4,15 +4,15 @@
 ! numerics and no decisions: each routine is one call into pendula_undamped
 ! (or a plain loop over elements).
 
-subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
-  ! Element i: the state (theta0, omega0, w0)(i) at t(i).
+subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg, nt, n0, n1, n2)
+  ! Element i: the state (theta0, omega0, w0)(i) at t(i); inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t
   use pendula_undamped, only: undamped_states
   implicit none
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n)
+  integer(c_int), intent(in) :: n, nt, n0, n1, n2
+  real(c_double), intent(in) :: t(nt), theta0(n0), omega0(n1), w0(n2)
   real(c_double), intent(out) :: theta(n), omega(n)
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg
@@ -79,15 +79,16 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
   msg = st%message
 end subroutine small_angle_bound_f2py
 
-subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg)
-  ! which = 1: the period [s] of each state, 2: its amplitude [rad].
+subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0, n1, n2)
+  ! which = 1: the period [s] of each of n states, 2: its amplitude [rad]; the
+  ! property routines take inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t
   use pendula_undamped, only: undamped_properties
   implicit none
   !f2py threadsafe
-  integer(c_int), intent(in) :: n, which
-  real(c_double), intent(in) :: theta0(n), omega0(n), w0(n)
+  integer(c_int), intent(in) :: n, which, n0, n1, n2
+  real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
   real(c_double), intent(out) :: x(n)
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg
@@ -101,14 +102,14 @@ subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg)
   msg = st%message
 end subroutine period_amplitude_f2py
 
-subroutine parameter_f2py(n, theta0, omega0, w0, m, mc, code, msg)
+subroutine parameter_f2py(n, theta0, omega0, w0, m, mc, code, msg, n0, n1, n2)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t
   use pendula_undamped, only: undamped_properties
   implicit none
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: theta0(n), omega0(n), w0(n)
+  integer(c_int), intent(in) :: n, n0, n1, n2
+  real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
   real(c_double), intent(out) :: m(n), mc(n)
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg
@@ -118,14 +119,14 @@ subroutine parameter_f2py(n, theta0, omega0, w0, m, mc, code, msg)
   msg = st%message
 end subroutine parameter_f2py
 
-subroutine regime_f2py(n, theta0, omega0, w0, regime, code, msg)
+subroutine regime_f2py(n, theta0, omega0, w0, regime, code, msg, n0, n1, n2)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t
   use pendula_undamped, only: undamped_properties
   implicit none
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: theta0(n), omega0(n), w0(n)
+  integer(c_int), intent(in) :: n, n0, n1, n2
+  real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
   integer(c_int), intent(out) :: regime(n)
   integer(c_int), intent(out) :: code
   character(len=256), intent(out) :: msg

@@ -16,6 +16,7 @@ raises ValueError naming the argument.
 The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
+import math
 from functools import partial
 
 import numpy as np
@@ -53,10 +54,11 @@ def undamped(t, theta0, omega0=0.0, w0=1.0):
         theta, omega, code, msg = _undamped.undamped_one_f2py(ta.reshape(-1), *(float(x) for x in state))
         raise_for_status(code, msg)
         return restore(theta, ta.shape, ta.ndim == 0), restore(omega, ta.shape, ta.ndim == 0)
-    shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0)
-    if f["t"].size == 0:
+    shape, scalar, f = broadcast_real(size1=True, t=t, theta0=theta0, omega0=omega0, w0=w0)
+    n = math.prod(shape)
+    if n == 0:
         return np.empty(shape), np.empty(shape)
-    theta, omega, code, msg = _undamped.undamped_f2py(f["t"], f["theta0"], f["omega0"], f["w0"])
+    theta, omega, code, msg = _undamped.undamped_f2py(n, f["t"], f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
@@ -95,12 +97,17 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
 
 def _state_property(kernel, nout, theta0, omega0, w0):
     """Broadcast the states and run one of the Fortran property kernels (``nout`` results)."""
-    shape, scalar, f = broadcast_real(theta0=theta0, omega0=omega0, w0=w0)
-    if f["theta0"].size == 0:
+    shape, scalar, f = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=w0)
+    n = math.prod(shape)
+    if n == 0:
         return shape, scalar, [np.empty(0)] * nout
-    *values, code, msg = kernel(f["theta0"], f["omega0"], f["w0"])
+    *values, code, msg = kernel(n, f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return shape, scalar, values
+
+
+def _period_amplitude(which, n, *states):
+    return _undamped.period_amplitude_f2py(n, which, *states)
 
 
 def period(theta0, omega0=0.0, w0=1.0):
@@ -111,13 +118,13 @@ def period(theta0, omega0=0.0, w0=1.0):
     separatrix: +inf.  theta0 = pi - 1e-10 gives the slow hug of the top
     (T ~ 4 ln(8/1e-10)/w0).  Accuracy a few eps times its condition number.
     """
-    shape, scalar, (per,) = _state_property(partial(_undamped.period_amplitude_f2py, 1), 1, theta0, omega0, w0)
+    shape, scalar, (per,) = _state_property(partial(_period_amplitude, 1), 1, theta0, omega0, w0)
     return restore(per, shape, scalar)
 
 
 def amplitude(theta0, omega0=0.0, w0=1.0):
     """Amplitude in rad: max |theta - 2 pi N| = 2 asin(k) for libration, pi on the separatrix, +inf for rotation."""
-    shape, scalar, (amp,) = _state_property(partial(_undamped.period_amplitude_f2py, 2), 1, theta0, omega0, w0)
+    shape, scalar, (amp,) = _state_property(partial(_period_amplitude, 2), 1, theta0, omega0, w0)
     return restore(amp, shape, scalar)
 
 
@@ -133,8 +140,10 @@ def regime(theta0, omega0=0.0, w0=1.0):
     shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0)
     if scalar:
         return REGIMES[int(codes[0])]
-    names = np.array([REGIMES[k] for k in sorted(REGIMES)])
-    return names[np.asarray(codes, dtype=np.intp).reshape(shape) - 1]
+    names = np.array([""] + [REGIMES[k] for k in sorted(REGIMES)])   # codes are 1, 2, 3
+    if len(codes) == 0:
+        return np.empty(shape, dtype=names.dtype)
+    return names.take(codes).reshape(shape)
 
 
 def energy(theta, omega, w0=1.0):

@@ -461,6 +461,11 @@ def test_state_properties_over_arrays_equal_scalar_calls():
     assert np.array_equal(reg == "libration", mc > 0) and np.array_equal(reg == "rotation", mc < 0)
     # the rotation's amplitude is +inf, the libration's below pi
     assert np.all(amp[reg == "rotation"] == np.inf) and np.all(amp[reg == "libration"] <= np.pi)
+    # scalars are passed to the kernel as one value for every state: the same numbers
+    assert np.array_equal(pendula.period(th, 0.25, 1.3), pendula.period(th, np.full_like(th, 0.25), np.full_like(th, 1.3)))
+    a = pendula.undamped(2.5, th, om, 1.3)
+    b = pendula.undamped(np.full_like(th, 2.5), th, om, np.full_like(th, 1.3))
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
     # broadcasting: a 2-D grid of theta0 x Omega0 equals the flat call
     g = pendula.period(th[:40, None], om[None, :30], 1.3)
     assert np.array_equal(g, pendula.period(np.repeat(th[:40], 30), np.tile(om[:30], 40), 1.3).reshape(40, 30))
