@@ -15,9 +15,16 @@
 !> theta0 is first reduced to theta_r in [-pi, pi] about the nearest stable
 !> equilibrium 2 pi N; results are continuous with theta0 (2 pi N is added back).
 !> 1 - m is never formed by subtraction: it is cos^2(theta_r/2) - (Omega0/2w0)^2
-!> factored as (c - q)(c + q) with c and q carried to ~2 doubles, and it feeds
-!> the complement forms of pendula_elliptic, so near-separatrix states keep
-!> their accuracy.  Energies are per unit m l^2 (units 1/s^2).
+!> factored as (c - q)(c + q) with q and, where c - |q| can cancel, c carried
+!> to ~2 doubles, and it feeds the complement forms of pendula_elliptic, so
+!> near-separatrix states keep their accuracy.  Energies are per unit m l^2
+!> (units 1/s^2).
+!>
+!> Many states at once: `undamped_properties` (period, amplitude, m, 1 - m,
+!> regime of each state) and `undamped_states` (each state at its own time)
+!> compute per state only what is asked -- no F, no K unless needed, a Jacobi
+!> plan only for a run of UNDAMPED_PLAN_MIN_TIMES equal states -- with the
+!> same numbers as undamped_init + undamped_period/undamped_eval.
 module pendula_undamped
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
