@@ -587,7 +587,9 @@ contains
 
   !> Checked array convenience: theta(i), omega(i) at times t(i) for one initial
   !> state.  Arrays must have equal sizes; every t finite (status otherwise).
-  !> A Jacobi plan is built from UNDAMPED_PLAN_MIN_TIMES times on.
+  !> From UNDAMPED_PLAN_MIN_TIMES times on, a Jacobi plan and the blocked
+  !> undamped_eval_many; below, a light motion (no F, no plan) and
+  !> undamped_eval, exactly as undamped_states evaluates the same state.
   pure subroutine undamped_solve(t, theta0, omega0, w0, theta, omega, status)
     real(wp), intent(in) :: t(:), theta0, omega0, w0
     real(wp), intent(out) :: theta(:), omega(:)
@@ -595,11 +597,16 @@ contains
     type(undamped_motion_t) :: motion
     theta = 0
     omega = 0
-    call undamped_init(motion, theta0, omega0, w0, status, plan=size(t) >= UNDAMPED_PLAN_MIN_TIMES)
+    call check_state(theta0, omega0, w0, status)
     if (status%code /= PENDULA_OK) return
     call check_all_finite('t', t, status)
     if (status%code /= PENDULA_OK) return
-    call undamped_eval_many(motion, t, theta, omega, status)
+    if (size(t) < UNDAMPED_PLAN_MIN_TIMES) then
+      call undamped_states(t, [theta0], [omega0], [w0], theta, omega, status)
+    else
+      call undamped_init(motion, theta0, omega0, w0, status, plan=.true.)
+      call undamped_eval_many(motion, t, theta, omega, status)
+    end if
   end subroutine undamped_solve
 
   !> Many initial states, each at its own time: theta(i), omega(i) of the state

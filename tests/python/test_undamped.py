@@ -445,9 +445,9 @@ def _mixed_states(n=3000, seed=11):
 
 
 def test_state_properties_over_arrays_equal_scalar_calls():
-    """period, amplitude, elliptic_parameter and regime over an array are, element by element
-    and bit for bit, the scalar calls (one kernel; no vectorised libm inside it), and they
-    agree with the motion: separatrix states have infinite period."""
+    """period, amplitude, elliptic_parameter, regime and undamped over arrays are, element by
+    element and bit for bit, the scalar calls (one kernel; no vectorised libm inside it); the
+    properties agree with each other: separatrix states have infinite period."""
     th, om, w0 = _mixed_states()
     per, amp = pendula.period(th, om, w0), pendula.amplitude(th, om, w0)
     m, mc = pendula.elliptic_parameter(th, om, w0)
@@ -466,6 +466,15 @@ def test_state_properties_over_arrays_equal_scalar_calls():
     a = pendula.undamped(2.5, th, om, 1.3)
     b = pendula.undamped(np.full_like(th, 2.5), th, om, np.full_like(th, 1.3))
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    # undamped: a scalar call, or one state at a few times (< 32: no plan), is the same
+    # evaluation as the element of the many-state call, bit for bit
+    t = np.random.default_rng(5).uniform(-300, 300, len(th))
+    a = pendula.undamped(t, th, om, w0)
+    for i in range(0, len(th), 7):
+        assert pendula.undamped(float(t[i]), float(th[i]), float(om[i]), float(w0[i])) == (a[0][i], a[1][i])
+    few = pendula.undamped(t[:20], float(th[3]), float(om[3]), float(w0[3]))
+    both = pendula.undamped(t[:20], np.full(20, th[3]), om[3], w0[3])
+    assert np.array_equal(few[0], both[0]) and np.array_equal(few[1], both[1])
     # broadcasting: a 2-D grid of theta0 x Omega0 equals the flat call
     g = pendula.period(th[:40, None], om[None, :30], 1.3)
     assert np.array_equal(g, pendula.period(np.repeat(th[:40], 30), np.tile(om[:30], 40), 1.3).reshape(40, 30))
