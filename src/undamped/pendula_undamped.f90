@@ -720,6 +720,7 @@ contains
     real(wp), intent(out), optional :: period(:), amplitude(:), m(:), mc(:)
     integer, intent(out), optional :: regime(:)
     type(undamped_motion_t) :: motion
+    real(wp) :: th, om, w
     integer :: i, n
     logical :: bad
     n = max(size(theta0), size(omega0), size(w0))
@@ -735,17 +736,21 @@ contains
           'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
       return
     end if
-    call check_states(n, theta0, omega0, w0, status)
-    if (status%code /= PENDULA_OK) then
-      if (present(period)) period = 0
-      if (present(amplitude)) amplitude = 0
-      if (present(m)) m = 0
-      if (present(mc)) mc = 0
-      if (present(regime)) regime = 0
-      return
-    end if
     do i = 1, n
-      call set_geometry(motion, at(theta0, i), at(omega0, i), at(w0, i))
+      th = at(theta0, i)
+      om = at(omega0, i)
+      w = at(w0, i)
+      if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
+        ! checked here, not in a pass before: one read of the inputs
+        call check_state(th, om, w, status)
+        if (present(period)) period = 0
+        if (present(amplitude)) amplitude = 0
+        if (present(m)) m = 0
+        if (present(mc)) mc = 0
+        if (present(regime)) regime = 0
+        return
+      end if
+      call set_geometry(motion, th, om, w)
       if (present(period)) then
         call set_period(motion)
         period(i) = motion%period
