@@ -17,7 +17,6 @@ The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
 import math
-from functools import partial
 
 import numpy as np
 
@@ -26,6 +25,7 @@ from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg,
 from ._errors import raise_for_status
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
+_PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
 #: Largest |n| accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
@@ -95,19 +95,16 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
     return restore(dth, shape, scalar), restore(dom, shape, scalar)
 
 
-def _state_property(kernel, nout, theta0, omega0, w0):
-    """Broadcast the states and run one of the Fortran property kernels (``nout`` results)."""
+def _state_property(kernel, nout, theta0, omega0, w0, *options):
+    """Broadcast the states and run one of the Fortran property kernels (``nout`` results);
+    ``options`` go between the size and the states."""
     shape, scalar, f = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=w0)
     n = math.prod(shape)
     if n == 0:
         return shape, scalar, [np.empty(0)] * nout
-    *values, code, msg = kernel(n, f["theta0"], f["omega0"], f["w0"])
+    *values, code, msg = kernel(n, *options, f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return shape, scalar, values
-
-
-def _period_amplitude(which, n, *states):
-    return _undamped.period_amplitude_f2py(n, which, *states)
 
 
 def period(theta0, omega0=0.0, w0=1.0):
@@ -118,13 +115,13 @@ def period(theta0, omega0=0.0, w0=1.0):
     separatrix: +inf.  theta0 = pi - 1e-10 gives the slow hug of the top
     (T ~ 4 ln(8/1e-10)/w0).  Accuracy a few eps times its condition number.
     """
-    shape, scalar, (per,) = _state_property(partial(_period_amplitude, 1), 1, theta0, omega0, w0)
+    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD)
     return restore(per, shape, scalar)
 
 
 def amplitude(theta0, omega0=0.0, w0=1.0):
     """Amplitude in rad: max |theta - 2 pi N| = 2 asin(k) for libration, pi on the separatrix, +inf for rotation."""
-    shape, scalar, (amp,) = _state_property(partial(_period_amplitude, 2), 1, theta0, omega0, w0)
+    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE)
     return restore(amp, shape, scalar)
 
 
