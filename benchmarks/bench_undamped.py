@@ -16,6 +16,20 @@ at the turning points; pendula passes 1 - m = cos^2(theta0/2) to the
 complement forms and uses cos(theta/2) = dn.  Rotation states are timed too
 (the listing has no answer there).
 
+Many states (the closed forms over arrays, one call each): `period`,
+`amplitude`, `elliptic_parameter` and `regime` over N amplitudes against the
+SciPy form of the period, 4*ellipkm1(cos(theta0/2)**2)/w0 (and the same
+formula on pendula.ellipkm1); `undamped` over M distinct libration states, one
+time each, against SciPy's vectorised closed form as a user writes it (eq. 1.52
+generalised to Omega0):
+
+    m = sin(theta0/2)**2 + (Omega0/(2 w0))**2,  u0 = ellipkinc(phi0, m),
+    phi0 = arctan2(sin(theta0/2), Omega0/(2 w0))   (u0 = ellipk(m) for Omega0 = 0)
+    sn, cn, dn, _ = ellipj(w0 t + u0, m);  theta = 2 arcsin(sqrt(m) sn),  Omega = 2 sqrt(m) w0 cn
+
+for t within one period (|w0 t| <~ 4K) and over 0..100 s.  Ratio = pendula / SciPy
+(the targets: <= 2 for the properties, <= 1 for undamped).
+
 Usage: python3 benchmarks/bench_undamped.py [--quick] [--n N] [--out DIR]
 """
 import math
@@ -55,6 +69,45 @@ def speed_rows(n, repeat, rng):
     return rows
 
 
+def scipy_period(theta0, w0, ellipkm1=sc.ellipkm1):
+    return lambda: 4 * ellipkm1(np.cos(theta0 / 2) ** 2) / w0
+
+
+def scipy_undamped(t, theta0, omega0, w0):
+    """The user's vectorised closed form for libration (see the module text)."""
+    def run():
+        s, q = np.sin(theta0 / 2), omega0 / (2 * w0)
+        m = s * s + q * q
+        u0 = sc.ellipkinc(np.arctan2(s, q), m)
+        sn, cn, _, _ = sc.ellipj(w0 * t + u0, m)
+        k = np.sqrt(m)
+        return 2 * np.arcsin(k * sn), 2 * k * w0 * cn
+    return run
+
+
+def many_state_rows(n, m, repeat, rng):
+    """(name, pendula ns/pt, reference ns/pt, reference name) for the closed forms over arrays."""
+    w0 = math.sqrt(2.0)
+    th = rng.uniform(-3.1, 3.1, n)
+    ref = scipy_period(th, w0)
+    rows = []
+    tk, ts = harness.best_times_interleaved([scipy_period(th, w0, pendula.ellipkm1), ref], repeat)
+    rows.append(("4*ellipkm1(cos^2(theta0/2))/w0 on pendula.ellipkm1", tk / n * 1e9, ts / n * 1e9, "SciPy form"))
+    for fn in (pendula.period, pendula.amplitude, pendula.elliptic_parameter, pendula.regime):
+        tp, ts = harness.best_times_interleaved([lambda: fn(th, 0.0, w0), ref], repeat)
+        rows.append((f"{fn.__name__}, {n} amplitudes", tp / n * 1e9, ts / n * 1e9, "SciPy period"))
+    # libration states: theta0 in (-3, 3), |Omega0| below the separatrix speed 2 w0 cos(theta0/2)
+    th = rng.uniform(-3.0, 3.0, m)
+    om = 2 * w0 * np.cos(th / 2) * rng.uniform(-0.99, 0.99, m)
+    per = pendula.period(th, om, w0)
+    worst = 0.0
+    for label, t in (("t within one period", rng.uniform(0, 1, m) * per), ("t in 0..100 s", rng.uniform(0, 100, m))):
+        tp, ts = harness.best_times_interleaved([lambda: pendula.undamped(t, th, om, w0), scipy_undamped(t, th, om, w0)], repeat)
+        rows.append((f"undamped, {m} distinct states, {label}", tp / m * 1e9, ts / m * 1e9, "SciPy closed form"))
+        worst = max(worst, float(np.max(np.abs(pendula.undamped(t, th, om, w0)[0] - scipy_undamped(t, th, om, w0)()[0]))))
+    return rows, worst
+
+
 def accuracy_rows(npts):
     w0 = math.sqrt(2.0)
     rows = []
@@ -79,28 +132,37 @@ def main(argv=None):
     ap = harness.parser(__doc__, "1e5 points, 3 repeats, fewer reference points",
                         "also write undamped_bench.md and .csv there")
     ap.add_argument("--n", type=int, default=None, help="times per state (default 1e6)")
+    ap.add_argument("--states", type=int, default=None, help="distinct states for undamped (default 1e5)")
     ap.add_argument("--repeat", type=int, default=None)
     args = ap.parse_args(argv)
     n = args.n or (100_000 if args.quick else 1_000_000)
     repeat = args.repeat or (3 if args.quick else 7)
     rng = np.random.default_rng(1)
     speed = speed_rows(n, repeat, rng)
+    many, many_diff = many_state_rows(n, args.states or (20_000 if args.quick else 100_000), repeat, rng)
     acc = accuracy_rows(40 if args.quick else 200)
 
     speed_cells = [(name, f"{tp:.1f}", f"{ts:.1f}" if np.isfinite(ts) else "-",
                     f"{ts / tp:.2f}x" if np.isfinite(ts) else "n/a (no answer)") for name, tp, ts in speed]
+    many_cells = [(name, f"{tp:.1f}", f"{ts:.1f}", rname, f"{tp / ts:.2f}") for name, tp, ts, rname in many]
     acc_cells = [(f"{delta:.0e}", f"{eo:.2e}", f"{el:.2e}" if np.isfinite(el) else "NaN", f"{nf:.2f}")
                  for delta, eo, el, nf in acc]
     text = "\n".join([
         f"pendula.undamped vs the text's listing (scipy {scipy.__version__}), {n} times per state, w0 = sqrt(2)", "",
         harness.markdown_table(["case", "pendula ns/pt (theta and Omega)", "listing ns/pt (theta only)", "speed-up"],
                                speed_cells),
+        "", "Many states, one call (pendula vs SciPy in the same run):", "",
+        harness.markdown_table(["case", "pendula ns/pt", "reference ns/pt", "reference", "ratio pendula/reference"],
+                               many_cells),
+        "", f"(max |theta_pendula - theta_SciPy| over those states: {many_diff:.1e} rad)",
         "", "Max |theta - mpmath| over two periods, Omega0 = 0, theta0 = pi - delta:", "",
         harness.markdown_table(["delta", "pendula", "listing", "listing NaN fraction"], acc_cells, align="rrrr")])
     print(text)
     harness.write_outputs(args.out, "undamped_bench", text, [
         (["case", "pendula_ns", "listing_ns", "speedup"],
          [(name, f"{tp:.2f}", f"{ts:.2f}", f"{ts / tp:.3f}") for name, tp, ts in speed]),
+        (["case", "pendula_ns", "reference_ns", "reference", "ratio"],
+         [(name, f"{tp:.2f}", f"{ts:.2f}", rname, f"{tp / ts:.3f}") for name, tp, ts, rname in many]),
         (["delta", "pendula_max_err", "listing_max_err", "listing_nan_fraction"],
          [(f"{delta:.0e}", f"{eo:.3e}", f"{el:.3e}", f"{nf:.3f}") for delta, eo, el, nf in acc])])
 

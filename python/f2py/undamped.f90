@@ -1,48 +1,24 @@
 ! f2py-facing layer for the undamped concern (pendula_undamped,
 ! pendula_small_angle, pendula_equilibria).  Plain subroutines over flat
 ! broadcast arrays, c_double/c_int arguments, a status code + message.  No
-! numerics: a motion is (re)built only when the initial state changes from one
-! element to the next, so one state at many times costs one setup.
+! numerics and no decisions: each routine is one call into pendula_undamped
+! (or a plain loop over elements).
 
-subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
+subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg, nt, n0, n1, n2)
+  ! Element i: the state (theta0, omega0, w0)(i) at t(i); inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, check_finite, PENDULA_OK
-  use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval
+  use pendula_status, only: status_t
+  use pendula_undamped, only: undamped_states
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n)
+  integer(c_int), intent(in) :: n, nt, n0, n1, n2
+  real(c_double), intent(in) :: t(nt), theta0(n0), omega0(n1), w0(n2)
   real(c_double), intent(out) :: theta(n), omega(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
-  type(undamped_motion_t) :: motion
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
-  integer :: i, run
-  logical :: built
-  code = PENDULA_OK
-  msg = ''
-  theta = 0
-  omega = 0
-  built = .false.
-  do i = 1, n
-    if (built) built = theta0(i) == theta0(i - 1) .and. omega0(i) == omega0(i - 1) &
-        .and. w0(i) == w0(i - 1)
-    if (.not. built) then
-      ! how many of the next elements share this state: a Jacobi plan pays
-      ! for itself from ~30 times on
-      run = 1
-      do while (i + run <= n .and. run < 32)
-        if (theta0(i + run) /= theta0(i) .or. omega0(i + run) /= omega0(i) .or. w0(i + run) /= w0(i)) exit
-        run = run + 1
-      end do
-      call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=run >= 32)
-      if (st%code /= PENDULA_OK) exit
-      built = .true.
-    end if
-    call check_finite('t', t(i), st)
-    if (st%code /= PENDULA_OK) exit
-    call undamped_eval(motion, t(i), theta(i), omega(i))
-  end do
+  call undamped_states(t, theta0, omega0, w0, theta, omega, st)
   code = st%code
   msg = st%message
 end subroutine undamped_f2py
@@ -52,12 +28,13 @@ subroutine small_angle_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_small_angle, only: small_angle_solve
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n)
   real(c_double), intent(out) :: theta(n), omega(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
   code = PENDULA_OK
@@ -80,12 +57,13 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
   use pendula_undamped, only: undamped_motion_t, undamped_init
   use pendula_small_angle, only: small_angle_bound
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: tmax(n), theta0(n), omega0(n), w0(n)
   real(c_double), intent(out) :: dtheta(n), domega(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(undamped_motion_t) :: motion
   type(status_t) :: st
   integer :: i
@@ -104,51 +82,78 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
   msg = st%message
 end subroutine small_angle_bound_f2py
 
-subroutine undamped_props_f2py(n, theta0, omega0, w0, m, mc, period, amplitude, energy, regime, code, msg)
+subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0, n1, n2)
+  ! which = 1: the period [s] of each of n states, 2: its amplitude [rad]; the
+  ! property routines take inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
-  use pendula_undamped, only: undamped_motion_t, undamped_init
+  use pendula_status, only: status_t
+  use pendula_undamped, only: undamped_properties
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: theta0(n), omega0(n), w0(n)
-  real(c_double), intent(out) :: m(n), mc(n), period(n), amplitude(n), energy(n)
+  integer(c_int), intent(in) :: n, which, n0, n1, n2
+  real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
+  real(c_double), intent(out) :: x(n)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
+  if (which == 1) then
+    call undamped_properties(theta0, omega0, w0, st, period=x)
+  else
+    call undamped_properties(theta0, omega0, w0, st, amplitude=x)
+  end if
+  code = st%code
+  msg = st%message
+end subroutine period_amplitude_f2py
+
+subroutine parameter_f2py(n, theta0, omega0, w0, m, mc, code, msg, n0, n1, n2)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t
+  use pendula_undamped, only: undamped_properties
+  implicit none
+  include 'pendula_msg_len.inc'
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n, n0, n1, n2
+  real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
+  real(c_double), intent(out) :: m(n), mc(n)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
+  call undamped_properties(theta0, omega0, w0, st, m=m, mc=mc)
+  code = st%code
+  msg = st%message
+end subroutine parameter_f2py
+
+subroutine regime_f2py(n, theta0, omega0, w0, regime, code, msg, n0, n1, n2)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t
+  use pendula_undamped, only: undamped_properties
+  implicit none
+  include 'pendula_msg_len.inc'
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n, n0, n1, n2
+  real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
   integer(c_int), intent(out) :: regime(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
-  type(undamped_motion_t) :: motion
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
-  integer :: i
-  code = PENDULA_OK
-  msg = ''
-  m = 0; mc = 0; period = 0; amplitude = 0; energy = 0; regime = 0
-  do i = 1, n
-    call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=.false.)
-    if (st%code /= PENDULA_OK) then
-      code = st%code
-      msg = st%message
-      return
-    end if
-    m(i) = motion%m
-    mc(i) = motion%mc
-    period(i) = motion%period
-    amplitude(i) = motion%amplitude
-    energy(i) = motion%energy
-    regime(i) = motion%regime
-  end do
-end subroutine undamped_props_f2py
+  call undamped_properties(theta0, omega0, w0, st, regime=regime)
+  code = st%code
+  msg = st%message
+end subroutine regime_f2py
 
 subroutine pendulum_energy_f2py(n, theta, omega, w0, energy, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, check_finite, check_positive, PENDULA_OK
   use pendula_undamped, only: pendulum_energy
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: theta(n), omega(n), w0(n)
   real(c_double), intent(out) :: energy(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
   code = PENDULA_OK
@@ -173,6 +178,7 @@ subroutine equilibria_f2py(n, idx, w0, theta, lam_re, lam_im, kind, code, msg)
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_equilibria, only: equilibrium
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   integer(c_int), intent(in) :: idx(n)
@@ -180,7 +186,7 @@ subroutine equilibria_f2py(n, idx, w0, theta, lam_re, lam_im, kind, code, msg)
   real(c_double), intent(out) :: theta(n), lam_re(n), lam_im(n)
   integer(c_int), intent(out) :: kind(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   complex(wp) :: l1, l2
   integer :: i, k
@@ -206,12 +212,13 @@ subroutine undamped_one_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_undamped, only: undamped_solve
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: t(n), theta0, omega0, w0
   real(c_double), intent(out) :: theta(n), omega(n)
   integer(c_int), intent(out) :: code
-  character(len=256), intent(out) :: msg
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call undamped_solve(t, theta0, omega0, w0, theta, omega, st)
   code = st%code

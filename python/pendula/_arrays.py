@@ -82,13 +82,14 @@ def as_real(x, name):
     return np.array(_real_array(x, name), dtype=np.float64, copy=True)
 
 
-def broadcast_real(**named):
+def broadcast_real(size1=False, **named):
     """Broadcast named real inputs together.
 
     Returns ``(shape, scalar, flats)``: the broadcast shape, whether every input
-    was a scalar, and a dict of contiguous 1-D float64 copies of the same length.
-    Raises ValueError naming the arguments when shapes are incompatible or the
-    broadcast result is too large for the core.
+    was a scalar, and a dict of contiguous 1-D float64 copies of the same length
+    (with ``size1``, an input of one element stays one element, for the kernels
+    that take size n or 1).  Raises ValueError naming the arguments when shapes
+    are incompatible or the broadcast result is too large for the core.
     """
     arrays = {k: _real_array(v, k) for k, v in named.items()}
     try:
@@ -102,7 +103,8 @@ def broadcast_real(**named):
         check_size(n, f"the broadcast of {shapes}")
     scalar = all(a.ndim == 0 for a in arrays.values())
     # one contiguous float64 copy each: the core never holds a user's array
-    flats = {k: np.array(np.broadcast_to(a, shape), dtype=np.float64, order="C", copy=True).reshape(-1)
+    flats = {k: np.array(a if size1 and a.size == 1 else np.broadcast_to(a, shape), dtype=np.float64,
+                         order="C", copy=True).reshape(-1)
              for k, a in arrays.items()}
     return shape, scalar, flats
 

@@ -16,6 +16,8 @@ raises ValueError naming the argument.
 The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
+import math
+
 import numpy as np
 
 from . import _fortran as _undamped
@@ -23,6 +25,7 @@ from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg,
 from ._errors import raise_for_status
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
+_PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
 #: Largest |n| accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
@@ -51,10 +54,11 @@ def undamped(t, theta0, omega0=0.0, w0=1.0):
         theta, omega, code, msg = _undamped.undamped_one_f2py(ta.reshape(-1), *(float(x) for x in state))
         raise_for_status(code, msg)
         return restore(theta, ta.shape, ta.ndim == 0), restore(omega, ta.shape, ta.ndim == 0)
-    shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0)
-    if f["t"].size == 0:
+    shape, scalar, f = broadcast_real(size1=True, t=t, theta0=theta0, omega0=omega0, w0=w0)
+    n = math.prod(shape)
+    if n == 0:
         return np.empty(shape), np.empty(shape)
-    theta, omega, code, msg = _undamped.undamped_f2py(f["t"], f["theta0"], f["omega0"], f["w0"])
+    theta, omega, code, msg = _undamped.undamped_f2py(n, f["t"], f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
@@ -91,14 +95,16 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
     return restore(dth, shape, scalar), restore(dom, shape, scalar)
 
 
-def _props(theta0, omega0, w0):
-    shape, scalar, f = broadcast_real(theta0=theta0, omega0=omega0, w0=w0)
-    if f["theta0"].size == 0:
-        e = np.empty(0)
-        return shape, scalar, (e, e, e, e, e, np.empty(0, dtype=np.int32))
-    out = _undamped.undamped_props_f2py(f["theta0"], f["omega0"], f["w0"])
-    raise_for_status(out[-2], out[-1])
-    return shape, scalar, out[:-2]
+def _state_property(kernel, nout, theta0, omega0, w0, *options):
+    """Broadcast the states and run one of the Fortran property kernels (``nout`` results);
+    ``options`` go between the size and the states."""
+    shape, scalar, f = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=w0)
+    n = math.prod(shape)
+    if n == 0:
+        return shape, scalar, [np.empty(0)] * nout
+    *values, code, msg = kernel(n, *options, f["theta0"], f["omega0"], f["w0"])
+    raise_for_status(code, msg)
+    return shape, scalar, values
 
 
 def period(theta0, omega0=0.0, w0=1.0):
@@ -109,29 +115,32 @@ def period(theta0, omega0=0.0, w0=1.0):
     separatrix: +inf.  theta0 = pi - 1e-10 gives the slow hug of the top
     (T ~ 4 ln(8/1e-10)/w0).  Accuracy a few eps times its condition number.
     """
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD)
     return restore(per, shape, scalar)
 
 
 def amplitude(theta0, omega0=0.0, w0=1.0):
     """Amplitude in rad: max |theta - 2 pi N| = 2 asin(k) for libration, pi on the separatrix, +inf for rotation."""
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE)
     return restore(amp, shape, scalar)
 
 
 def elliptic_parameter(theta0, omega0=0.0, w0=1.0):
     """``(m, 1 - m)``: m = sin^2(theta0/2) + (omega0/(2 w0))^2 = E/E_separatrix and its
     complement, the latter computed without cancellation (accurate near the separatrix)."""
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (m, mc) = _state_property(_undamped.parameter_f2py, 2, theta0, omega0, w0)
     return restore(m, shape, scalar), restore(mc, shape, scalar)
 
 
 def regime(theta0, omega0=0.0, w0=1.0):
     """'libration' (m < 1), 'separatrix' (m = 1) or 'rotation' (m > 1); a str, or an array of str."""
-    shape, scalar, (m, mc, per, amp, en, reg) = _props(theta0, omega0, w0)
+    shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0)
     if scalar:
-        return REGIMES[int(reg[0])]
-    return np.array([REGIMES[int(r)] for r in reg], dtype=object).reshape(shape).astype(str)
+        return REGIMES[int(codes[0])]
+    names = np.array([""] + [REGIMES[k] for k in sorted(REGIMES)])   # codes are 1, 2, 3
+    if len(codes) == 0:
+        return np.empty(shape, dtype=names.dtype)
+    return names.take(codes).reshape(shape)
 
 
 def energy(theta, omega, w0=1.0):

@@ -52,6 +52,8 @@ program test_undamped
   call check_small_angle()
   call check_equilibria()
   call check_bad_input()
+  call check_many_states()
+  call check_many_states_bad_input()
   call tc%report('test_undamped')
 
 contains
@@ -273,5 +275,124 @@ contains
     call small_angle_solve([1.0_wp, 2.0_wp], 0.1_wp, 0.0_wp, -1.0_wp, th, om, st)
     call tc%check_true(st%code == PENDULA_ERR_DOMAIN .and. index(st%message, 'w0 =') == 1, 'small-angle w0 < 0')
   end subroutine check_bad_input
+
+  !> States of every kind for the many-state kernels: random libration and
+  !> rotation (theta0 up to +-20 rad), Omega0 = 0, |1 - m| from 1e-3 down to
+  !> 1e-15 on both sides, the exact separatrix, the free rotor (|Omega0| = 1e150),
+  !> huge theta0.
+  subroutine many_states(th, om, w)
+    real(wp), allocatable, intent(out) :: th(:), om(:), w(:)
+    integer, parameter :: nr = 600
+    real(wp) :: u(nr, 3), gap
+    integer :: i
+    call random_seed(put=[(7 * i + 1, i = 1, 64)])
+    call random_number(u)
+    th = [40 * u(:, 1) - 20, 6.2_wp * u(1:100, 2) - 3.1_wp, 0.0_wp, 1.0_wp, -2.5_wp, 1.0e20_wp, -3.0e15_wp, &
+          3.141592653589793_wp, 0.0_wp, 0.0_wp]
+    om = [6 * u(:, 2) - 3, [(0.0_wp, i = 1, 100)], 2.0_wp, 0.0_wp, 1.0e151_wp, 0.3_wp, -0.7_wp, 0.0_wp, &
+          -2.0_wp, 1.0_wp]
+    w = [0.2_wp + 3 * u(:, 3), [(1.3_wp, i = 1, 100)], 1.0_wp, 1.0_wp, 0.5_wp, 1.2_wp, 2.0_wp, 1.0_wp, 1.0_wp, 0.5_wp]
+    ! near the separatrix: Omega0 = 2 w0 cos(theta0/2) (1 +- gap)
+    do i = 1, 100
+      gap = 10.0_wp**(-3 - 12 * u(i, 1)) * merge(1, -1, mod(i, 2) == 0)
+      om(i) = 2 * w(i) * cos(0.5_wp * th(i) - 6.283185307179586_wp * anint(th(i) / 6.283185307179586_wp)) * (1 + gap)
+    end do
+  end subroutine many_states
+
+  subroutine check_many_states()
+    real(wp), allocatable :: th(:), om(:), w(:), per(:), amp(:), m(:), mc(:), t(:), ts(:), ths(:), oms(:), &
+        st0(:, :)
+    integer, allocatable :: reg(:)
+    type(undamped_motion_t) :: mo
+    type(status_t) :: st
+    real(wp) :: x, y
+    integer :: i, n, nbad, nrun
+    call many_states(th, om, w)
+    n = size(th)
+    allocate(per(n), amp(n), m(n), mc(n), reg(n))
+    call undamped_properties(th, om, w, st, period=per, amplitude=amp, m=m, mc=mc, regime=reg)
+    call tc%check_true(st%code == PENDULA_OK, 'undamped_properties: ' // trim(st%message))
+    nbad = 0
+    do i = 1, n
+      call undamped_init(mo, th(i), om(i), w(i), st, plan=.false.)
+      if (.not. (same(per(i), mo%period) .and. same(amp(i), mo%amplitude) .and. same(m(i), mo%m) &
+          .and. same(mc(i), mo%mc) .and. reg(i) == mo%regime)) nbad = nbad + 1
+    end do
+    call tc%check_true(nbad == 0, 'undamped_properties == undamped_init, bit for bit')
+    call tc%check_true(count(reg == REGIME_SEPARATRIX) >= 3 .and. count(reg == REGIME_LIBRATION) > 100 .and. &
+        count(reg == REGIME_ROTATION) > 100, 'the states cover every regime')
+    ! only what is asked: the period alone is the same
+    call undamped_properties(th, om, w, st, period=amp)
+    call tc%check_true(all(same(amp, per)), 'period alone == period with the others')
+
+    ! undamped_states: every state once at one time (light motions), then a run of
+    ! UNDAMPED_PLAN_MIN_TIMES copies of one state (a planned motion), times up to
+    ! 1e15 s (whole periods taken out: the light motion gets its period on demand)
+    nrun = UNDAMPED_PLAN_MIN_TIMES
+    allocate(t(n))
+    call random_number(t)
+    t = 400 * t - 200
+    t(1:20) = t(1:20) * 5.0e12_wp
+    allocate(st0(3, n + nrun), ts(n + nrun), ths(n + nrun), oms(n + nrun))
+    st0(:, 1:n) = transpose(reshape([th, om, w], [n, 3]))
+    st0(:, n + 1:) = spread([-2.0_wp, 3.9_wp, 1.3_wp], 2, nrun)
+    ts(1:n) = t
+    ts(n + 1:) = [(-100 + 7.0_wp * i, i = 1, nrun)]
+    ts(n + 1) = 3.0e14_wp
+    call undamped_states(ts, st0(1, :), st0(2, :), st0(3, :), ths, oms, st)
+    call tc%check_true(st%code == PENDULA_OK, 'undamped_states: ' // trim(st%message))
+    nbad = 0
+    do i = 1, n + nrun
+      if (i <= n .or. i == n + 1) call undamped_init(mo, st0(1, i), st0(2, i), st0(3, i), st, plan=i > n)
+      call undamped_eval(mo, ts(i), x, y)
+      if (.not. (same(x, ths(i)) .and. same(y, oms(i)))) nbad = nbad + 1
+    end do
+    call tc%check_true(nbad == 0, 'undamped_states == undamped_init + undamped_eval, bit for bit')
+    ! inputs of size 1 stand for every element
+    call undamped_properties(th, [0.25_wp], [1.3_wp], st, period=per, regime=reg)
+    call undamped_properties(th, spread(0.25_wp, 1, n), spread(1.3_wp, 1, n), st, period=amp, m=m)
+    call tc%check_true(st%code == PENDULA_OK .and. all(same(per, amp)), 'undamped_properties: size-1 inputs')
+    call undamped_states([2.5_wp], th, om, [1.3_wp], ths(1:n), oms(1:n), st)
+    call undamped_states(spread(2.5_wp, 1, n), th, om, spread(1.3_wp, 1, n), ts(1:n), t, st)
+    call tc%check_true(st%code == PENDULA_OK .and. all(same(ths(1:n), ts(1:n))) .and. all(same(oms(1:n), t)), &
+        'undamped_states: size-1 inputs')
+  end subroutine check_many_states
+
+  !> Equal including the sign of zero and NaN == NaN.
+  elemental logical function same(a, b)
+    real(wp), intent(in) :: a, b
+    same = transfer(a, 1_8) == transfer(b, 1_8)
+  end function same
+
+  subroutine check_many_states_bad_input()
+    type(status_t) :: st
+    real(wp) :: nan, per(4), th(4), om(4)
+    integer :: reg(3)
+    nan = ieee_value(nan, ieee_quiet_nan)
+    call undamped_properties([0.1_wp, 0.2_wp, 0.3_wp, 0.4_wp], [0.0_wp, 0.0_wp, nan, 0.0_wp], &
+        [1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp], st, period=per)
+    call tc%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 'omega0 =') == 1 .and. &
+        all(per == 0), 'undamped_properties: first bad element named, outputs 0')
+    call undamped_properties([0.1_wp, 0.2_wp, 0.3_wp, 0.4_wp], [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], &
+        [1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp], st, period=per)
+    call tc%check_true(st%code == PENDULA_ERR_DOMAIN .and. index(st%message, 'w0 =') == 1, &
+        'undamped_properties: w0 <= 0')
+    call undamped_properties([0.1_wp, 0.2_wp, 0.3_wp, 0.4_wp], [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], &
+        [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], st, regime=reg)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'undamped_properties: output size')
+    call undamped_states([0.0_wp, 1.0_wp, nan, 1.0_wp], [0.1_wp, 0.1_wp, 0.1_wp, 0.1_wp], &
+        [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], th, om, st)
+    call tc%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 't =') == 1 .and. &
+        all(th == 0) .and. all(om == 0), 'undamped_states: NaN t named, outputs 0: ' // trim(st%message))
+    call undamped_states([0.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, nan, 0.1_wp, 0.1_wp], &
+        [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], th, om, st)
+    call tc%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 'theta0 =') == 1, &
+        'undamped_states: NaN theta0 named')
+    call undamped_states([0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 0.1_wp, 0.1_wp], &
+        [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], th(1:3), om, st)
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'undamped_states: size mismatch')
+    call undamped_properties([0.1_wp, 0.2_wp], [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp], st, period=per(1:3))
+    call tc%check_true(st%code == PENDULA_ERR_SIZE, 'undamped_properties: inputs of sizes 2 and 3')
+  end subroutine check_many_states_bad_input
 
 end program test_undamped

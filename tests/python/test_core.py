@@ -73,8 +73,7 @@ def test_message_length_has_one_home():
     literal = re.compile(r"character\s*\(\s*(len\s*=\s*)?\d", re.I)
     spelled = {path.name for path in (ROOT / "python" / "f2py").glob("*.f90")
                if any(literal.search(line) for line in path.read_text().splitlines())}
-    # glue files not yet switched to the include (drop each name as it is)
-    assert spelled <= {"undamped.f90"}, spelled
+    assert not spelled, spelled
     status = (ROOT / "src" / "core" / "pendula_status.f90").read_text()
     assert "include 'pendula_msg_len.inc'" in status
     assert not re.search(r"PENDULA_MSG_LEN\s*=", status)

@@ -422,6 +422,76 @@ def test_equilibria():
         pendula.equilibria(1, -1.0)
 
 
+# ---------------------------------------------------------------- many states at once
+def _mixed_states(n=3000, seed=11):
+    """Random libration and rotation states (|theta0| up to 20 rad), Omega0 = 0, states within
+    1e-3..1e-15 of the separatrix on both sides, the exact separatrix, huge theta0."""
+    rng = np.random.default_rng(seed)
+    th = rng.uniform(-20, 20, n)
+    w0 = rng.uniform(0.2, 3.2, n)
+    om = rng.uniform(-3, 3, n)
+    om[: n // 4] = 0.0
+    near = slice(n // 4, n // 2)
+    gap = 10.0 ** rng.uniform(-15, -3, n // 4) * rng.choice([-1.0, 1.0], n // 4)
+    om[near] = 2 * w0[near] * np.cos(np.remainder(th[near] + np.pi, 2 * np.pi) / 2 - np.pi / 2) * (1 + gap)
+    th = np.concatenate([th, [0.0, 0.0, 1e20, -3e15]])
+    om = np.concatenate([om, [2.0, -1.0, 0.3, -0.7]])
+    w0 = np.concatenate([w0, [1.0, 0.5, 1.2, 2.0]])
+    return th, om, w0
+
+
+def test_state_properties_over_arrays_equal_scalar_calls():
+    """period, amplitude, elliptic_parameter, regime and undamped over arrays are, element by
+    element and bit for bit, the scalar calls (one kernel; no vectorised libm inside it); the
+    properties agree with each other: separatrix states have infinite period."""
+    th, om, w0 = _mixed_states()
+    per, amp = pendula.period(th, om, w0), pendula.amplitude(th, om, w0)
+    m, mc = pendula.elliptic_parameter(th, om, w0)
+    reg = pendula.regime(th, om, w0)
+    assert set(reg) == {"libration", "separatrix", "rotation"}
+    for i in range(0, len(th), 7):
+        args = (float(th[i]), float(om[i]), float(w0[i]))
+        assert per[i] == pendula.period(*args) and amp[i] == pendula.amplitude(*args)
+        assert (m[i], mc[i]) == pendula.elliptic_parameter(*args) and reg[i] == pendula.regime(*args)
+    assert np.all(np.isinf(per[reg == "separatrix"])) and np.all(np.isfinite(per[reg != "separatrix"]))
+    assert np.array_equal(reg == "libration", mc > 0) and np.array_equal(reg == "rotation", mc < 0)
+    # the rotation's amplitude is +inf, the libration's below pi
+    assert np.all(amp[reg == "rotation"] == np.inf) and np.all(amp[reg == "libration"] <= np.pi)
+    # scalars are passed to the kernel as one value for every state: the same numbers
+    assert np.array_equal(pendula.period(th, 0.25, 1.3), pendula.period(th, np.full_like(th, 0.25), np.full_like(th, 1.3)))
+    a = pendula.undamped(2.5, th, om, 1.3)
+    b = pendula.undamped(np.full_like(th, 2.5), th, om, np.full_like(th, 1.3))
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    # undamped: a scalar call, or one state at a few times (< 32: no plan), is the same
+    # evaluation as the element of the many-state call, bit for bit
+    t = np.random.default_rng(5).uniform(-300, 300, len(th))
+    a = pendula.undamped(t, th, om, w0)
+    for i in range(0, len(th), 7):
+        assert pendula.undamped(float(t[i]), float(th[i]), float(om[i]), float(w0[i])) == (a[0][i], a[1][i])
+    few = pendula.undamped(t[:20], float(th[3]), float(om[3]), float(w0[3]))
+    both = pendula.undamped(t[:20], np.full(20, th[3]), om[3], w0[3])
+    assert np.array_equal(few[0], both[0]) and np.array_equal(few[1], both[1])
+    # broadcasting: a 2-D grid of theta0 x Omega0 equals the flat call
+    g = pendula.period(th[:40, None], om[None, :30], 1.3)
+    assert np.array_equal(g, pendula.period(np.repeat(th[:40], 30), np.tile(om[:30], 40), 1.3).reshape(40, 30))
+
+
+def test_reference_table_many_states_in_runs(table):
+    """The reference rows through the many-state path with every state repeated in a run of
+    40 consecutive elements (the run gets a Jacobi plan, decided in Fortran; the table's own
+    rows, a few per state, take light motions in test_reference_table_cond_scaled): 16 eps cond."""
+    d = table
+    idx = np.arange(len(d["t"]))
+    reps = 40
+    # each row's state 40 times in a row, at the row's time
+    tt = np.repeat(d["t"][:, None], reps, axis=1)
+    th, om = pendula.undamped(tt, d["theta0"][:, None], d["omega0"][:, None], d["w0"][:, None])
+    assert th.shape == (len(idx), reps)
+    assert _ratios(th[:, 0], d["theta"], d["cond_theta"]).max() <= 16
+    assert _ratios(om[:, 0], d["omega"], d["cond_omega"]).max() <= 16
+    assert np.all(th == th[:, :1]) and np.all(om == om[:, :1])
+
+
 # ---------------------------------------------------------------- API: broadcasting, scalars, bad input
 def test_broadcasting_and_scalars():
     th, om = pendula.undamped(1.0, 0.5, 0.1, 2.0)
