@@ -64,14 +64,14 @@ end subroutine scene_check_f2py
 
 ! Most events the scene's motion can have in (0, t_end] (scene_event_bound):
 ! the capacity of the event slots of scene_solve_f2py.
-subroutine scene_event_bound_f2py(w0, t_end, bound)
+subroutine scene_event_bound_f2py(w0, t_end, theta0, omega0, bound)
   use, intrinsic :: iso_c_binding, only: c_double
   use pendula_scene, only: scene_event_bound
   implicit none
   !f2py threadsafe
-  real(c_double), intent(in) :: w0, t_end
+  real(c_double), intent(in) :: w0, t_end, theta0, omega0
   real(c_double), intent(out) :: bound
-  bound = real(scene_event_bound(w0, t_end), c_double)
+  bound = real(scene_event_bound(w0, t_end, theta0, omega0), c_double)
 end subroutine scene_event_bound_f2py
 
 ! Solve a scene (fixed = 0: choose and verify; fixed = 1: run `model` at

@@ -97,7 +97,8 @@ class Scene:
         ``"energy"``: energy per unit m l^2 [1/s^2], Omega^2/2 + w0^2 (1 - cos theta), at t;
         ``"period"``: the period (libration) or time per revolution (rotation) [s],
         gamma = 0 only (K computed once, no time series);
-        ``"events"``: turning points (Omega = 0) and zero crossings (theta = 0) in (0, t[-1]].
+        ``"events"``: turning points (Omega = 0) and zero crossings (passes through the bottom,
+        theta = 0 mod 2 pi) in (0, t[-1]].
 
     Raises ValueError (naming the argument) for inconsistent or out-of-range
     parameters, TypeError for non-real input.  The scene keeps its own copy of t.
@@ -230,7 +231,8 @@ def _event_slots(scene, tt):
     # so that one solve always has room for them all.
     if scene.want != "events":
         return 1
-    return int(min(_MAX_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]))))
+    return int(min(_MAX_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]), scene.theta0,
+                                                                    scene.omega0)))
 
 
 def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None):

@@ -139,19 +139,22 @@ def test_the_second_copy_scan_is_not_blind(tmp_path):
 # ---------------------------------------------------------------- the event bound, one solve
 
 def test_event_bound_holds_and_is_tight():
-    """Sturm: turning points are >= pi/w0 apart, zero crossings at most one more:
-    2 floor(w0 T/pi) + 3.  An undamped small swing reaches it up to the rounding of floor."""
+    """Sturm: turning points are >= pi/w0 apart, passes through the bottom at most one more
+    plus one per full turn: 2 floor(w0 T/pi) + 3 + floor(Omega_max T/(2 pi)).  An undamped small
+    swing reaches the swinging part up to the rounding of floor."""
     for theta0, omega0, gamma, periods in [(0.1, 0.0, 0.0, 10.25), (1.0, 0.5, 0.0, 7.0), (3.0, 0.0, 0.0, 3.0),
                                            (0.5, 0.0, 0.2, 20.0), (0.3, 2.0, 3.5, 5.0), (0.0, 4.0, 0.0, 6.0)]:
         t_end = periods * 2 * np.pi / W0
         s = pendula.Scene(theta0=theta0, omega0=omega0, t=[t_end], gamma=gamma, tol=1e-8, want="events")
         res = pendula.solve(s)
-        bound = int(pendula.scene._scene.scene_event_bound_f2py(s.w0, t_end))
-        assert bound == 2 * int(s.w0 * t_end / np.pi) + 3
+        bound = int(pendula.scene._scene.scene_event_bound_f2py(s.w0, t_end, theta0, omega0))
+        turns = np.hypot(omega0, 2 * s.w0 * np.sin(theta0 / 2)) * t_end / (2 * np.pi)
+        assert bound == 2 * int(s.w0 * t_end / np.pi) + 3 + int(turns)
         assert len(res.events.t) <= bound, (theta0, omega0, gamma)
     s = pendula.Scene(theta0=0.1, t=[10.25 * 2 * np.pi / W0], tol=1e-8, want="events")
     n = len(pendula.solve(s).events.t)
-    assert n >= int(pendula.scene._scene.scene_event_bound_f2py(s.w0, s.t[-1])) - 3
+    bound = int(pendula.scene._scene.scene_event_bound_f2py(s.w0, s.t[-1], s.theta0, s.omega0))
+    assert n >= bound - 3 - int(np.hypot(0, 2 * s.w0 * np.sin(0.05)) * s.t[-1] / (2 * np.pi))
 
 
 @pytest.mark.parametrize("gamma, model", [(0.0, None), (0.01, "rk4"), (0.01, None)])

@@ -283,4 +283,5 @@ def test_integrated_event_times_within_their_estimate(model):
     c = pendula.cvode([0.0, 30.0], 0.0, 2.0, W0, 0.5, rtol=1e-13, atol=1e-15, events=True)
     assert len(r.events.t) == len(c.events.t) == 26
     np.testing.assert_array_equal(r.events.kind, c.events.kind)
-    assert np.max(np.abs(r.events.t - c.events.t)) <= r.event_time_error <= 1e-6
+    # the estimate includes the Hermite interpolation between samples (tol/10)
+    assert np.max(np.abs(r.events.t - c.events.t)) <= r.event_time_error <= 3e-6
