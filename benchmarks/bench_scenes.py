@@ -35,7 +35,7 @@ import scene_grid_draw
 import scene_reference as ref
 
 import pendula
-from pendula.integrate import rk4_max_stable_step
+from pendula.integrate import TURNING_POINT, ZERO_CROSSING, rk4_max_stable_step
 
 REF_VERSION = 1
 HAVE_CVODE = pendula.scene.HAVE_CVODE
@@ -105,7 +105,8 @@ def true_error(sc, res, r, w0):
         w0 = mp.mpf(w0)
         if want == "events":
             ev = res.events
-            if ev is None or len(ev.t) != len(r["ev_t"]) or list(ev.kind) != list(r["ev_k"]):
+            kinds = [TURNING_POINT if k == 1 else ZERO_CROSSING for k in r["ev_k"]]   # the reference's 1 / 2
+            if ev is None or len(ev.t) != len(kinds) or list(ev.kind) != kinds:
                 return math.inf
             return max((float(abs(mp.mpf(a) - mp.mpf(b))) for a, b in zip(ev.t, r["ev_t"])), default=0.0)
         if want == "period":
