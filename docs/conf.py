@@ -53,5 +53,28 @@ def _generate(app):
         docs_gallery.write_gallery(HERE / "gallery", HERE.parent / "examples" / "python")
 
 
+def _plain_docstrings(app, what, name, obj, options, lines):
+    """Make docstrings safe for reST before numpydoc reads them.
+
+    A docstring with numpydoc sections gets its |x| (absolute values, which reST would
+    read as substitutions) escaped.  One without sections (free-form text, aligned
+    columns) is shown as written: its summary line, then the rest as a literal block.
+    """
+    numpydoc_style = any(set(ln.strip()) == {"-"} and len(ln.strip()) >= 3 for ln in lines)
+    if numpydoc_style:
+        for i, line in enumerate(lines):
+            if "|" in line and not line.lstrip().startswith(("+", "|", "=")):
+                lines[i] = line.replace("|", "\\|")
+        return
+    end = lines.index("") if "" in lines else len(lines)
+    lines[:end] = [ln.replace("|", "\\|") for ln in lines[:end]]
+    rest = lines[end + 1:]
+    if any(ln.strip() for ln in rest):
+        lines[end + 1:] = ["::", ""] + ["    " + ln for ln in rest]
+
+
 def setup(app):
-    app.connect("builder-inited", _generate)
+    # before autosummary reads api/index.rst to write its stub pages
+    app.connect("builder-inited", _generate, priority=10)
+    # before numpydoc (priority 500) turns sections into fields
+    app.connect("autodoc-process-docstring", _plain_docstrings, priority=400)

@@ -14,7 +14,7 @@ log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 
 start=$(date +%s)
-"$py" -m sphinx -W --keep-going -q -b html "$here/docs" "$out"
+"$py" -m sphinx -E -W --keep-going -q -b html "$here/docs" "$out"
 
 # FORD writes into docs/_build/html/fortran (output_dir of docs/fortran/pendula.md).
 ford_bin=$(dirname "$("$py" -c 'import sys; print(sys.executable)')")/ford
