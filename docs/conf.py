@@ -44,7 +44,9 @@ html_static_path = []
 suppress_warnings = ["myst.header"]
 
 
-def _generate(app):
+def _generate():
+    """Write the generated pages.  Runs when this file is read, before Sphinx looks for
+    source files: autosummary writes its stubs only for pages that exist by then."""
     import docs_gallery  # tools/docs_gallery.py
 
     docs_gallery.write_api_list(HERE / "api" / "index.rst")
@@ -74,7 +76,8 @@ def _plain_docstrings(app, what, name, obj, options, lines):
 
 
 def setup(app):
-    # before autosummary reads api/index.rst to write its stub pages
-    app.connect("builder-inited", _generate, priority=10)
     # before numpydoc (priority 500) turns sections into fields
     app.connect("autodoc-process-docstring", _plain_docstrings, priority=400)
+
+
+_generate()
