@@ -5,7 +5,9 @@
 #   ./quickstart.sh test   every test: Fortran tests (meson test), the consumer
 #                          tests of every install route (pkg-config, CMake, meson
 #                          subproject, fpm), then pytest on the installed package
-#                          (the wheel route included)
+#                          (the wheel route included), then the documentation site
+#                          with warnings as errors (tools/build_docs.sh)
+#   ./quickstart.sh docs   only the documentation site -> docs/_build/html
 # Both are idempotent: a second run installs nothing and rebuilds only what changed.
 #
 # What "install what is missing" means:
@@ -25,8 +27,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 cd "$here"
 mode=${1:-}
 case "$mode" in
-  run|test) ;;
-  *) echo "usage: $0 run|test   (run: main job into out/; test: all tests)" >&2; exit 2 ;;
+  run|test|docs) ;;
+  *) echo "usage: $0 run|test|docs   (run: main job into out/; test: all tests; docs: the site)" >&2; exit 2 ;;
 esac
 sundials=${PENDULA_SUNDIALS:-enabled}
 case "$sundials" in
@@ -64,11 +66,11 @@ if [ ! -x "$py" ]; then
 fi
 # meson, ninja and fpm (the fpm consumer test) come from the environment
 export PATH="$venv/bin:$PATH"
-req_hash=$(sha256sum requirements-dev.txt | cut -c1-16)
+req_hash=$(cat requirements-dev.txt requirements-docs.txt | sha256sum | cut -c1-16)
 if [ "$(cat "$venv/.req-hash" 2>/dev/null)" != "$req_hash" ]; then
-  say "installing Python requirements (requirements-dev.txt)"
+  say "installing Python requirements (requirements-dev.txt, requirements-docs.txt)"
   "$py" -m pip install -q --upgrade pip
-  "$py" -m pip install -q -r requirements-dev.txt
+  "$py" -m pip install -q -r requirements-dev.txt -r requirements-docs.txt
   echo "$req_hash" >"$venv/.req-hash"
 fi
 
@@ -132,12 +134,24 @@ if [ "$mode" = run ]; then
   exit 0
 fi
 
+# The documentation site (Sphinx -W, FORD), from the package just installed.
+build_docs() {
+  say "documentation site (warnings are errors) -> docs/_build/html"
+  PYTHON="$py" "$here/tools/build_docs.sh"
+}
+if [ "$mode" = docs ]; then
+  build_docs
+  exit 0
+fi
+
 # mode = test
 say "Fortran tests (meson test) and the consumer tests of the install routes"
 meson_dir build/test -Dpython=disabled
 ninja -C build/test >/dev/null
 meson test -C build/test --print-errorlogs --num-processes 2 --no-suite consumer
 meson test -C build/test --print-errorlogs --suite consumer
+# before pytest, so that pytest's summary stays the last line of the run
+build_docs
 say "pytest on the installed package"
 cd /tmp
 PENDULA_BUILD_DIR="$here/build/test" MPLBACKEND=Agg "$py" -m pytest -c "$here/pytest.ini" \

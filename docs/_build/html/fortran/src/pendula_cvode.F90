@@ -1,0 +1,734 @@
+!> SUNDIALS CVODE (Hindmarsh et al., ACM TOMS 31 (2005) 363; SUNDIALS 6.4)
+!> for the nonlinear damped pendulum theta'' + gamma theta' + w0**2 sin(theta) = 0
+!> (text eq. 2.2): variable-step, variable-order Adams (non-stiff) or BDF
+!> (stiff), Newton iteration with a dense linear solver and the analytic
+!> Jacobian, scalar relative/absolute tolerances, output at requested times and
+!> root finding for turning points (Omega = 0) and zero crossings (theta = 0).
+!>
+!> Built only when the build found the SUNDIALS Fortran 2003 modules (meson and
+!> CMake define PENDULA_WITH_SUNDIALS then; fpm users pass it in their flags);
+!> otherwise pendula_cvode_unavailable.inc provides this module with the same
+!> API, whose procedures return PENDULA_ERR_UNAVAILABLE.  One file defines the
+!> module on both paths (the stand-in comes in by #include) because fpm finds
+!> modules by scanning source text and rejects two files naming one module.
+!>
+!> The state vector is a SUNDIALS serial vector whose arithmetic operations
+!> are replaced by length-2 kernels (pendula_cvode_vector; same results bit
+!> for bit, about half the time per step).
+!>
+!> Thread safety: the parameters reach the callbacks through CVODE's user_data
+!> (a pointer to the solver's own data); there is no module state.  cvode_solve
+!> creates and frees its SUNDIALS objects inside one call, on every path; a
+!> batch keeps one solver per thread (cvode_work_t) and restarts it for each
+!> problem with CVodeReInit, through the same code as cvode_solve.  CVODE's own
+!> error messages are captured (never printed) and returned in the status.
+#ifdef PENDULA_WITH_SUNDIALS
+module pendula_cvode
+  use, intrinsic :: iso_c_binding
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci, format_int
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_same_size, PENDULA_OK, &
+      PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
+  use pendula_ode, only: ode_stats_t, check_problem, check_cvode_options, check_span, &
+      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
+  use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer, FN_VDestroy
+  use fsundials_matrix_mod, only: SUNMatrix, FSUNMatDestroy
+  use fsundials_linearsolver_mod, only: SUNLinearSolver, FSUNLinSolFree
+  use fnvector_serial_mod, only: FN_VNew_Serial
+  use fsunmatrix_dense_mod, only: FSUNDenseMatrix, FSUNDenseMatrix_Data
+  use fsunlinsol_dense_mod, only: FSUNLinSol_Dense
+  use fcvode_mod
+  use pendula_cvode_vector, only: specialise_pair_ops, pair_t, pair_of
+  implicit none
+  private
+  public :: cvode_solve, cvode_solve_events, cvode_available
+  ! one solver reused for many problems (pendula_cvode_batch)
+  public :: cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
+  public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+
+  !> What the callbacks see through user_data: the parameters, the time
+  !> scale, the tolerances of the pure relative mode (atol = 0), and room for
+  !> the last error message CVODE reports, and the caller's control array
+  !> (c_null_ptr: none) with the right-hand-side evaluations counted so far.
+  !>
+  !> CVODE integrates in tau = (t - t(1)) / T, T = 2**tscale: the problem is
+  !> autonomous, so moving the origin to t(1) costs nothing and lets a window
+  !> of a few ulps at t(1) = 1e300 be resolved; T = 1 except for windows
+  !> shorter than 2**-64 s, where CVODE's products of two times (e.g.
+  !> (tstop - t) h) would underflow (t = [0, 1e-300] was refused).  The
+  !> state stays (theta, Omega) in rad, rad/s; d/dtau = T d/dt, and T is a
+  !> power of 2, so the scaling itself is exact.
+  type :: cv_data_t
+    real(c_double) :: w0sq = 0
+    real(c_double) :: gamma = 0
+    integer :: tscale = 0
+    real(c_double) :: w0 = 1
+    real(c_double) :: rtol = 0
+    character(len=200) :: errmsg = ''
+    type(c_ptr) :: control = c_null_ptr
+    integer(i8) :: evals = 0
+    logical :: cancelled = .false.
+    logical :: eval_progress = .true.
+  end type cv_data_t
+
+  !> A CVODE solver that outlives one problem (see cvode_work_open): the
+  !> SUNDIALS context, state vector, solver memory, dense matrix and linear
+  !> solver, and the callbacks' data (allocated, so that the address CVODE
+  !> holds as user_data stays valid wherever the work is copied).
+  type :: cvode_work_t
+    private
+    type(c_ptr) :: ctx = c_null_ptr
+    type(c_ptr) :: mem = c_null_ptr
+    type(N_Vector), pointer :: y => null()
+    type(SUNMatrix), pointer :: amat => null()
+    type(SUNLinearSolver), pointer :: ls => null()
+    type(cv_data_t), pointer :: data => null()
+    integer :: method = 0
+    logical :: roots = .false.
+  end type cvode_work_t
+
+  !> Right-hand-side evaluations between two looks at the cancel flag (a few
+  !> tens of microseconds of CVODE work); progress is counted in evaluations.
+  integer(i8), parameter :: CV_POLL_EVALS = 256
+
+contains
+
+  !> True: this build includes SUNDIALS CVODE.
+  pure logical function cvode_available()
+    cvode_available = .true.
+  end function cvode_available
+
+  !> Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with CVODE and
+  !> return theta(i) [rad], omega(i) [rad/s] at the output times t(i) [s].
+  !>
+  !> t: strictly increasing, finite, size >= 1; t(1) is the initial time of
+  !> (theta0, omega0); t(n) - t(1) must not overflow.  w0 > 0, gamma >= 0 [1/s].
+  !> rtol > 0, atol >= 0: CVODE keeps each step's local error below
+  !> rtol |y| + atol (the global error is typically 1-100x that); atol = 0 is
+  !> pure relative control, normwise (see relative_weights).  method: PENDULA_CVODE_ADAMS (non-stiff) or
+  !> PENDULA_CVODE_BDF (stiff, e.g. gamma >> w0).  max_steps >= 1: total step
+  !> budget for the whole run.  theta, omega: size(t).  stats: all counters of
+  !> ode_stats_t.  Errors: bad arguments (outputs zero); CVODE failures
+  !> (PENDULA_ERR_SOLVER) and exhausted budget (PENDULA_ERR_MAXSTEPS) with
+  !> CVODE's reason, outputs before the failure time kept, later ones zero.
+  !> control (optional, see pendula_control): its cancel flag is polled every
+  !> 256 right-hand-side evaluations (tens of microseconds); a cancelled run
+  !> returns PENDULA_ERR_CANCELLED like a failure (outputs reached kept, the
+  !> solver memory freed).  Progress counts right-hand-side evaluations.
+  subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
+      theta, omega, stats, status, control)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    real(wp) :: et(0), eth(0), eom(0)
+    integer :: ek(0), n_events
+    logical :: truncated
+    call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .false., &
+        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+  end subroutine cvode_solve
+
+  !> As cvode_solve, and also locate the events: turning points (Omega = 0,
+  !> kind PENDULA_EVENT_TURNING) and zero crossings (theta = 0, kind
+  !> PENDULA_EVENT_ZERO) in (t(1), t(n)], in time order, with the state there
+  !> (event_theta, event_omega).  A root exactly at t(1) (e.g. theta0 = 0) is
+  !> not reported.  The event arrays (all of one size, the maximum number of
+  !> events kept, may be 0) receive the first n_events; truncated is true when
+  !> more occurred.  Event times are accurate to about the integration error.
+  !> control: as for cvode_solve.
+  subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(out) :: event_t(:), event_theta(:), event_omega(:)
+    integer, intent(out) :: event_kind(:)
+    integer, intent(out) :: n_events
+    logical, intent(out) :: truncated
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .true., &
+        theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+  end subroutine cvode_solve_events
+
+  subroutine solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, with_events, &
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    logical, intent(in) :: with_events
+    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(out) :: event_t(:), event_theta(:), event_omega(:)
+    integer, intent(out) :: event_kind(:)
+    integer, intent(out) :: n_events
+    logical, intent(out) :: truncated
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    type(cvode_work_t) :: work
+
+    theta = 0
+    omega = 0
+    event_t = 0
+    event_kind = 0
+    event_theta = 0
+    event_omega = 0
+    n_events = 0
+    truncated = .false.
+    call check_problem(t, theta0, omega0, w0, gamma, status)
+    call check_positive('rtol', rtol, status)
+    call check_nonnegative('atol', atol, status)
+    call check_cvode_options(method, max_steps, status)
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
+    ! event_t's size is the maximum number of events kept
+    call check_same_size('event_kind', size(event_kind), 'event_t', size(event_t), status)
+    call check_same_size('event_theta', size(event_theta), 'event_t', size(event_t), status)
+    call check_same_size('event_omega', size(event_omega), 'event_t', size(event_t), status)
+    call check_span(t, status)
+    if (status%code /= PENDULA_OK) return
+    theta(1) = theta0
+    omega(1) = omega0
+    if (size(t) == 1) return
+    ! A solver of its own for this one call, freed on every path.
+    call cvode_work_open(work, method, status)
+    if (status%code == PENDULA_OK) call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
+        with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
+        stats, status, control)
+    call cvode_work_close(work, status)
+  end subroutine solve
+
+  !> Create a CVODE solver for `method` (PENDULA_CVODE_ADAMS or
+  !> PENDULA_CVODE_BDF) in `work`, to be used for any number of problems by
+  !> cvode_work_solve and released by cvode_work_close (also after a failed
+  !> open).  Its set-up (SUNDIALS context, state vector, solver memory, dense
+  !> linear solver, about 29 us) is paid here once.  A work belongs to one
+  !> thread at a time; works share nothing.  Errors: method out of range
+  !> (PENDULA_ERR_DOMAIN), `work` already open or a SUNDIALS allocation
+  !> failure (PENDULA_ERR_SOLVER).
+  subroutine cvode_work_open(work, method, status)
+    type(cvode_work_t), intent(inout) :: work
+    integer, intent(in) :: method
+    type(status_t), intent(out) :: status
+    real(c_double), pointer :: yv(:)
+    integer(c_int) :: ierr, lmm
+    logical :: ok
+    call check_cvode_options(method, 1_i8, status)
+    if (status%code /= PENDULA_OK) return
+    if (associated(work%data)) then
+      call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: this work is already open (close it first)')
+      return
+    end if
+    allocate (work%data)
+    work%method = method
+    ! One pass through the set-up; the first failure skips the rest (the
+    ! `block` exits) and cvode_work_close frees whatever was made.
+    setup: block
+      ierr = FSUNContext_Create(c_null_ptr, work%ctx)
+      if (fail(ierr, 'SUNContext_Create')) exit setup
+      work%y => FN_VNew_Serial(2_c_int64_t, work%ctx)
+      if (.not. associated(work%y)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: N_VNew_Serial could not allocate the state vector')
+        exit setup
+      end if
+      ! Length-2 arithmetic kernels instead of the generic serial ones (the
+      ! vector operations are most of CVODE's work for N = 2); CVODE's work
+      ! vectors, cloned from y in CVodeInit, inherit them.
+      call specialise_pair_ops(work%y, ok)
+      if (.not. ok) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: the state vector is not a serial vector of length 2')
+        exit setup
+      end if
+      yv => FN_VGetArrayPointer(work%y)
+      yv = 0   ! each problem sets its own initial state (run: CVodeReInit)
+      lmm = CV_ADAMS
+      if (method == PENDULA_CVODE_BDF) lmm = CV_BDF
+      work%mem = FCVodeCreate(lmm, work%ctx)
+      if (.not. c_associated(work%mem)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: CVodeCreate could not allocate the solver memory')
+        exit setup
+      end if
+      ! From here on every CVODE message goes to capture_error, never to stderr
+      ! (SUNDIALS would fprintf it): no stdio from threads, and the text is kept.
+      ierr = FCVodeSetErrHandlerFn(work%mem, c_funloc(capture_error), c_loc(work%data))
+      if (fail(ierr, 'CVodeSetErrHandlerFn')) exit setup
+      ierr = FCVodeInit(work%mem, c_funloc(rhs), 0.0_c_double, work%y)
+      if (fail(ierr, 'CVodeInit')) exit setup
+      ierr = FCVodeSetUserData(work%mem, c_loc(work%data))
+      if (fail(ierr, 'CVodeSetUserData')) exit setup
+      work%amat => FSUNDenseMatrix(2_c_int64_t, 2_c_int64_t, work%ctx)
+      if (.not. associated(work%amat)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNDenseMatrix could not allocate the Jacobian')
+        exit setup
+      end if
+      work%ls => FSUNLinSol_Dense(work%y, work%amat, work%ctx)
+      if (.not. associated(work%ls)) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSol_Dense could not create the linear solver')
+        exit setup
+      end if
+      ierr = FCVodeSetLinearSolver(work%mem, work%ls, work%amat)
+      if (fail(ierr, 'CVodeSetLinearSolver')) exit setup
+      ierr = FCVodeSetJacFn(work%mem, c_funloc(jacobian))
+      if (fail(ierr, 'CVodeSetJacFn')) exit setup
+    end block setup
+    if (status%code /= PENDULA_OK) call cvode_work_close(work, status)
+  contains
+    logical function fail(flag, what)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      fail = failed(flag, what, work%data%errmsg, status)
+    end function fail
+  end subroutine cvode_work_open
+
+  !> Free everything cvode_work_open made (safe on a work never opened or
+  !> already closed); a SUNDIALS failure to free is recorded in status unless
+  !> it already holds an error.
+  subroutine cvode_work_close(work, status)
+    type(cvode_work_t), intent(inout) :: work
+    type(status_t), intent(inout) :: status
+    integer(c_int) :: ierr
+    if (c_associated(work%mem)) call FCVodeFree(work%mem)
+    work%mem = c_null_ptr
+    if (associated(work%ls)) then
+      ierr = FSUNLinSolFree(work%ls)
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag ' // &
+          format_int(ierr))
+    end if
+    if (associated(work%amat)) call FSUNMatDestroy(work%amat)
+    if (associated(work%y)) call FN_VDestroy(work%y)
+    nullify (work%ls, work%amat, work%y)
+    if (c_associated(work%ctx)) then
+      ierr = FSUNContext_Free(work%ctx)
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag ' // &
+          format_int(ierr))
+    end if
+    work%ctx = c_null_ptr
+    if (associated(work%data)) deallocate (work%data)
+    work%method = 0
+    work%roots = .false.
+  end subroutine cvode_work_close
+
+  !> cvode_solve for one problem on an open work (the work's method; no
+  !> events): the same checks, results, stats and status as cvode_solve, bit
+  !> for bit, without the solver set-up (CVodeReInit restarts the solver
+  !> memory from scratch).  control: its cancel flag is polled as in
+  !> cvode_solve, but progress is not counted (a batch counts states).
+  !> Errors: as cvode_solve; a work that is not open: PENDULA_ERR_SOLVER
+  !> (after the argument checks, which need no solver).
+  subroutine cvode_work_solve(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
+      theta, omega, stats, status, control)
+    type(cvode_work_t), intent(inout) :: work
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    real(wp) :: et(0), eth(0), eom(0)
+    integer :: ek(0), n_events
+    logical :: truncated
+    theta = 0
+    omega = 0
+    call check_problem(t, theta0, omega0, w0, gamma, status)
+    call check_positive('rtol', rtol, status)
+    call check_nonnegative('atol', atol, status)
+    call check_cvode_options(PENDULA_CVODE_ADAMS, max_steps, status)
+    call check_same_size('theta', size(theta), 't', size(t), status)
+    call check_same_size('omega', size(omega), 't', size(t), status)
+    call check_span(t, status)
+    if (status%code /= PENDULA_OK) return
+    theta(1) = theta0
+    omega(1) = omega0
+    if (size(t) == 1) return
+    if (.not. associated(work%data)) then
+      call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: the work is not open (call cvode_work_open first)')
+      theta(1) = 0
+      omega(1) = 0
+      return
+    end if
+    call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, .false., .false., &
+        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+  end subroutine cvode_work_solve
+
+  !> One problem on an open work, arguments already checked and size(t) >= 2:
+  !> CVodeReInit at (theta0, omega0), this problem's tolerances, stop time and
+  !> event functions, then the output loop.  eval_progress: count
+  !> right-hand-side evaluations as progress in control (else only poll its
+  !> cancel flag).
+  subroutine run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, with_events, eval_progress, &
+      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+    type(cvode_work_t), intent(inout) :: work
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer(i8), intent(in) :: max_steps
+    logical, intent(in) :: with_events, eval_progress
+    real(wp), intent(inout) :: theta(:), omega(:)
+    real(wp), intent(inout) :: event_t(:), event_theta(:), event_omega(:)
+    integer, intent(inout) :: event_kind(:)
+    integer, intent(inout) :: n_events
+    logical, intent(inout) :: truncated
+    type(ode_stats_t), intent(inout) :: stats
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+
+    type(cv_data_t), pointer :: cb   ! what the callbacks see
+    real(c_double), pointer :: yv(:)
+    real(c_double) :: tret(1)
+    integer(c_int) :: ierr, roots(2)
+    integer(c_long) :: nst(1)
+    integer :: i, k, nt
+    logical :: ok
+    real(c_double) :: span, tau_end
+
+    nt = size(t)
+    span = t(nt) - t(1)
+    ! Everything the callbacks see is set afresh: nothing of the previous
+    ! problem on this work survives (its message, counters, cancel state).
+    cb => work%data
+    cb = cv_data_t()
+    cb%w0sq = w0 * w0
+    cb%gamma = gamma
+    cb%w0 = w0
+    cb%rtol = rtol
+    cb%tscale = 0
+    if (span < 2.0_wp**(-64)) cb%tscale = exponent(span)
+    cb%eval_progress = eval_progress
+    tau_end = tau(t(nt))
+    if (present(control)) cb%control = c_loc(control)
+    yv => FN_VGetArrayPointer(work%y)
+    yv(1) = theta0
+    yv(2) = omega0
+    i = 2
+
+    steps: block
+      ! CVodeReInit resets the history, step size, order and counters; the
+      ! per-problem settings follow (tstop is cleared when CVODE reaches it).
+      ierr = FCVodeReInit(work%mem, 0.0_c_double, work%y)
+      if (fail(ierr, 'CVodeReInit')) exit steps
+      if (atol > 0) then
+        ierr = FCVodeSStolerances(work%mem, rtol, atol)
+        if (fail(ierr, 'CVodeSStolerances')) exit steps
+      else
+        ! pure relative control, normwise (see relative_weights)
+        ierr = FCVodeWFtolerances(work%mem, c_funloc(relative_weights))
+        if (fail(ierr, 'CVodeWFtolerances')) exit steps
+      end if
+      ! Stop exactly at the last output instead of stepping past it.
+      ierr = FCVodeSetStopTime(work%mem, tau_end)
+      if (fail(ierr, 'CVodeSetStopTime')) exit steps
+      if (with_events) then
+        ierr = FCVodeRootInit(work%mem, 2_c_int, c_funloc(root_functions))
+        if (fail(ierr, 'CVodeRootInit')) exit steps
+        work%roots = .true.
+        ! theta0 = 0 or omega0 = 0 makes a root function vanish at t(1);
+        ! CVODE then deactivates it until it moves away: not a warning here.
+        ierr = FCVodeSetNoInactiveRootWarn(work%mem)
+        if (fail(ierr, 'CVodeSetNoInactiveRootWarn')) exit steps
+      else if (work%roots) then
+        ierr = FCVodeRootInit(work%mem, 0_c_int, c_null_funptr)
+        if (fail(ierr, 'CVodeRootInit')) exit steps
+        work%roots = .false.
+      end if
+
+      do while (i <= nt)
+        ! The budget is for the whole run; CVODE's mxstep counts per call.
+        ierr = FCVodeGetNumSteps(work%mem, nst)
+        if (fail(ierr, 'CVodeGetNumSteps')) exit steps
+        if (int(nst(1), i8) >= max_steps) then
+          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
+              format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
+              ' or use method BDF if the problem is stiff')
+          exit steps
+        end if
+        ierr = FCVodeSetMaxNumSteps(work%mem, int(max_steps - int(nst(1), i8), c_long))
+        if (fail(ierr, 'CVodeSetMaxNumSteps')) exit steps
+        ierr = FCVode(work%mem, merge(tau_end, tau(t(i)), i == nt), work%y, tret, CV_NORMAL)
+        if (ierr < 0 .and. cb%cancelled) then
+          call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // format_sci(t(i), 8) // &
+              ' (interrupted by the caller)')
+          exit steps
+        end if
+        if (ierr == CV_ROOT_RETURN) then
+          ierr = FCVodeGetRootInfo(work%mem, roots)
+          if (fail(ierr, 'CVodeGetRootInfo')) exit steps
+          do k = 1, 2
+            if (roots(k) == 0) cycle
+            if (n_events < size(event_t)) then
+              n_events = n_events + 1
+              event_t(n_events) = min(t(1) + scale(tret(1), cb%tscale), t(nt))
+              event_kind(n_events) = merge(PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, k == 1)
+              event_theta(n_events) = yv(1)
+              event_omega(n_events) = yv(2)
+            else
+              truncated = .true.
+            end if
+          end do
+          cycle
+        end if
+        if (ierr == CV_TOO_MUCH_WORK) then
+          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
+              format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
+              ' or use method BDF if the problem is stiff')
+          exit steps
+        end if
+        if (ierr /= CV_SUCCESS .and. ierr /= CV_TSTOP_RETURN) then
+          if (fail(ierr, 'CVode')) exit steps
+        end if
+        theta(i) = yv(1)
+        omega(i) = yv(2)
+        i = i + 1
+      end do
+    end block steps
+    ! progress: the evaluations since the last poll
+    if (c_associated(cb%control)) &
+        call poll(cb%control, merge(mod(cb%evals, CV_POLL_EVALS), 0_i8, eval_progress), ok)
+
+    call collect_stats(work%mem, with_events, stats, status)
+    if (status%code /= PENDULA_OK) then
+      ! Keep the outputs reached before the failure; zero the rest.
+      theta(i:) = 0
+      omega(i:) = 0
+    end if
+
+  contains
+
+    logical function fail(flag, what)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      fail = failed(flag, what, cb%errmsg, status)
+    end function fail
+
+    !> An output time in CVODE's time tau (exact for t within a factor 2 of t(1)).
+    pure real(c_double) function tau(tt)
+      real(wp), intent(in) :: tt
+      tau = scale(tt - t(1), -cb%tscale)
+    end function tau
+
+  end subroutine run
+
+  !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation
+  !> (errmsg: the last error CVODE reported, if any).
+  logical function failed(flag, what, errmsg, status)
+    integer(c_int), intent(in) :: flag
+    character(len=*), intent(in) :: what, errmsg
+    type(status_t), intent(inout) :: status
+    character(len=:), allocatable :: why
+    failed = flag < 0
+    if (.not. failed) return
+    why = trim(errmsg)
+    if (len(why) == 0) why = flag_meaning(flag)
+    if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
+    call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+        format_int(flag) // ' (' // flag_name(flag) // '): ' // why)
+  end function failed
+
+  !> Copy CVODE's counters into stats; a failing getter is itself an error.
+  subroutine collect_stats(mem, with_events, stats, status)
+    type(c_ptr), intent(in) :: mem
+    logical, intent(in) :: with_events
+    type(ode_stats_t), intent(inout) :: stats
+    type(status_t), intent(inout) :: status
+    integer(c_long) :: v(1)
+    integer(c_int) :: ierr
+    ierr = FCVodeGetNumSteps(mem, v);            call take(ierr, 'CVodeGetNumSteps', stats%steps)
+    ierr = FCVodeGetNumRhsEvals(mem, v);         call take(ierr, 'CVodeGetNumRhsEvals', stats%rhs_evals)
+    ierr = FCVodeGetNumJacEvals(mem, v);         call take(ierr, 'CVodeGetNumJacEvals', stats%jac_evals)
+    ierr = FCVodeGetNumErrTestFails(mem, v);     call take(ierr, 'CVodeGetNumErrTestFails', stats%err_test_fails)
+    ierr = FCVodeGetNumNonlinSolvIters(mem, v);  call take(ierr, 'CVodeGetNumNonlinSolvIters', stats%nonlin_iters)
+    ierr = FCVodeGetNumNonlinSolvConvFails(mem, v)
+    call take(ierr, 'CVodeGetNumNonlinSolvConvFails', stats%nonlin_fails)
+    if (with_events) then
+      ierr = FCVodeGetNumGEvals(mem, v);         call take(ierr, 'CVodeGetNumGEvals', stats%root_evals)
+    end if
+  contains
+    subroutine take(flag, what, dest)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      integer(i8), intent(out) :: dest
+      dest = 0
+      if (flag < 0) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+            format_int(flag) // ' (' // flag_name(flag) // ')')
+      else
+        dest = int(v(1), i8)
+      end if
+    end subroutine take
+  end subroutine collect_stats
+
+  ! ---- callbacks (C calling convention; parameters arrive in user_data) ----
+  ! name='': no global C symbol, so no clash with a same-named C function of
+  ! another library in the process (they were plain `rhs`, `jacobian`, ...).
+
+  !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
+  integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C, name='')
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y, sunvec_f
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    type(pair_t), pointer :: yy, ff
+    call c_f_pointer(user_data, p)
+    ! Every vector CVODE hands us is a length-2 serial vector (cloned from y).
+    yy => pair_of(sunvec_y)
+    ff => pair_of(sunvec_f)
+    ff%v(1) = yy%v(2)
+    ff%v(2) = -p%gamma * yy%v(2) - p%w0sq * sin(yy%v(1))
+    if (p%tscale /= 0) ff%v = scale(ff%v, p%tscale)   ! d/dtau = T d/dt
+    ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
+    ierr = 0
+    if (.not. (ieee_is_finite(ff%v(1)) .and. ieee_is_finite(ff%v(2)))) ierr = -1
+    ! A cancel request is answered the same way: CVODE stops at once and
+    ! solve() turns the failure into PENDULA_ERR_CANCELLED.
+    if (c_associated(p%control)) then
+      p%evals = p%evals + 1
+      if (mod(p%evals, CV_POLL_EVALS) == 0) then
+        call poll(p%control, merge(CV_POLL_EVALS, 0_i8, p%eval_progress), p%cancelled)
+        if (p%cancelled) ierr = -1
+      end if
+    end if
+  end function rhs
+
+  !> Add n to the progress of the control array at address `control`;
+  !> cancelled: whether its cancel flag is set.
+  subroutine poll(control, n, cancelled)
+    type(c_ptr), intent(in) :: control
+    integer(i8), intent(in) :: n
+    logical, intent(out) :: cancelled
+    integer(i8), pointer, volatile :: ctl(:)
+    call c_f_pointer(control, ctl, [CONTROL_SIZE])
+    call add_progress(ctl, n)
+    cancelled = cancel_requested(ctl)
+  end subroutine poll
+
+  !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
+  integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
+      result(ierr) bind(C, name='')
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y, sunvec_f, tmp1, tmp2, tmp3
+    type(SUNMatrix) :: sunmat_j
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    real(c_double), pointer :: yy(:), first(:), jd(:)
+    call c_f_pointer(user_data, p)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    ! The SWIG wrapper returns the data as a 1-element array; view all 4.
+    first => FSUNDenseMatrix_Data(sunmat_j)
+    call c_f_pointer(c_loc(first(1)), jd, [4])
+    jd(1) = 0
+    jd(2) = -p%w0sq * cos(yy(1))
+    jd(3) = 1
+    jd(4) = -p%gamma
+    if (p%tscale /= 0) jd = scale(jd, p%tscale)
+    ierr = 0
+  end function jacobian
+
+  !> Error weights for atol = 0 (pure relative control).  CVODE's own weights
+  !> 1/(rtol |y_i|) are infinite where a component is zero, and theta and
+  !> Omega both pass through zero every half period (theta0 = 0 is the text's
+  !> own start: CVODE refused it).  The tolerance is relative to the size of
+  !> the whole state instead, S = max(|theta|, |Omega|/w0) (Omega measured in
+  !> theta's units, as in the scenes): each step's local error in theta is
+  !> kept below rtol S and in Omega below rtol w0 S.  S is zero only at rest
+  !> at theta = 0, where the solution is exactly zero; the weights are kept
+  !> finite and positive there.
+  integer(c_int) function relative_weights(sunvec_y, sunvec_w, user_data) result(ierr) bind(C, name='')
+    type(N_Vector) :: sunvec_y, sunvec_w
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    type(pair_t), pointer :: yy, ww
+    real(c_double) :: tol(2)
+    call c_f_pointer(user_data, p)
+    yy => pair_of(sunvec_y)
+    ww => pair_of(sunvec_w)
+    tol(1) = p%rtol * max(abs(yy%v(1)), abs(yy%v(2)) / p%w0)
+    tol(2) = p%rtol * max(p%w0 * abs(yy%v(1)), abs(yy%v(2)))
+    ww%v = 1 / min(max(tol, tiny(tol)), huge(tol))
+    ierr = 0
+  end function relative_weights
+
+  !> Event functions: g1 = Omega (turning point), g2 = theta (zero crossing).
+  integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C, name='')
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y
+    real(c_double) :: gout(2)
+    type(c_ptr), value :: user_data
+    real(c_double), pointer :: yy(:)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    gout(1) = yy(2)
+    gout(2) = yy(1)
+    ierr = 0
+  end function root_functions
+
+  !> CVODE error handler: keep the message of errors (flag < 0) in user data
+  !> instead of printing it; warnings are dropped.
+  subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C, name='')
+    integer(c_int), value :: error_code
+    type(c_ptr), value :: module_name, function_name, msg, eh_data
+    type(cv_data_t), pointer :: p
+    character(kind=c_char), pointer :: chars(:)
+    integer :: j, nmax
+    if (error_code >= 0 .or. .not. c_associated(eh_data) .or. .not. c_associated(msg)) return
+    call c_f_pointer(eh_data, p)
+    nmax = len(p%errmsg)
+    call c_f_pointer(msg, chars, [nmax])
+    p%errmsg = ''
+    do j = 1, nmax
+      if (chars(j) == c_null_char) exit
+      p%errmsg(j:j) = chars(j)
+    end do
+  end subroutine capture_error
+
+  ! ---- small helpers for messages ----
+
+  pure function flag_name(flag) result(s)
+    integer(c_int), intent(in) :: flag
+    character(len=:), allocatable :: s
+    select case (flag)
+    case (CV_TOO_MUCH_WORK);      s = 'CV_TOO_MUCH_WORK'
+    case (CV_TOO_MUCH_ACC);       s = 'CV_TOO_MUCH_ACC'
+    case (CV_ERR_FAILURE);        s = 'CV_ERR_FAILURE'
+    case (CV_CONV_FAILURE);       s = 'CV_CONV_FAILURE'
+    case (CV_LINIT_FAIL);         s = 'CV_LINIT_FAIL'
+    case (CV_LSETUP_FAIL);        s = 'CV_LSETUP_FAIL'
+    case (CV_LSOLVE_FAIL);        s = 'CV_LSOLVE_FAIL'
+    case (CV_RHSFUNC_FAIL);       s = 'CV_RHSFUNC_FAIL'
+    case (CV_FIRST_RHSFUNC_ERR);  s = 'CV_FIRST_RHSFUNC_ERR'
+    case (CV_REPTD_RHSFUNC_ERR);  s = 'CV_REPTD_RHSFUNC_ERR'
+    case (CV_UNREC_RHSFUNC_ERR);  s = 'CV_UNREC_RHSFUNC_ERR'
+    case (CV_RTFUNC_FAIL);        s = 'CV_RTFUNC_FAIL'
+    case (CV_NLS_INIT_FAIL);      s = 'CV_NLS_INIT_FAIL'
+    case (CV_NLS_SETUP_FAIL);     s = 'CV_NLS_SETUP_FAIL'
+    case (CV_NLS_FAIL);           s = 'CV_NLS_FAIL'
+    case (CV_MEM_FAIL);           s = 'CV_MEM_FAIL'
+    case (CV_MEM_NULL);           s = 'CV_MEM_NULL'
+    case (CV_ILL_INPUT);          s = 'CV_ILL_INPUT'
+    case (CV_NO_MALLOC);          s = 'CV_NO_MALLOC'
+    case (CV_BAD_T);              s = 'CV_BAD_T'
+    case (CV_TOO_CLOSE);          s = 'CV_TOO_CLOSE'
+    case default;                 s = 'flag ' // format_int(flag)
+    end select
+  end function flag_name
+
+  pure function flag_meaning(flag) result(s)
+    integer(c_int), intent(in) :: flag
+    character(len=:), allocatable :: s
+    select case (flag)
+    case (CV_TOO_MUCH_ACC);   s = 'the requested accuracy could not be met'
+    case (CV_ERR_FAILURE);    s = 'repeated error-test failures (the step size hit its minimum)'
+    case (CV_CONV_FAILURE);   s = 'repeated nonlinear-solver convergence failures'
+    case (CV_MEM_FAIL);       s = 'out of memory'
+    case (CV_ILL_INPUT);      s = 'an input to CVODE was invalid'
+    case default;             s = 'see the SUNDIALS CVODE documentation'
+    end select
+  end function flag_meaning
+
+end module pendula_cvode
+#else
+#include "pendula_cvode_unavailable.inc"
+#endif

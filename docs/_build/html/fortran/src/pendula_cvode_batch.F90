@@ -1,0 +1,216 @@
+!> SUNDIALS CVODE (pendula_cvode) for many pendulums in one call: each state
+!> i has its own theta0(i), omega0(i), w0(i), gamma(i), rtol(i), atol(i);
+!> the output grid t, the method and the step budget are shared.
+!>
+!> Why: CVODE's set-up (SUNDIALS context, vectors, solver memory, dense
+!> linear solver: about 29 us) costs a sizeable part of a short run.  Here
+!> each thread opens one solver (cvode_work_t) and restarts it for every
+!> state with CVodeReInit, through the very code cvode_solve runs
+!> (cvode_work_solve), so every state's outputs, counters and status are
+!> bit-identical to cvode_solve for that state alone, whichever states came
+!> before it on the same solver.  States are spread over OpenMP threads (when
+!> built with -Dopenmp), one solver per thread; threads share nothing but the
+!> output arrays, each state written by one thread.
+!>
+!> No SUNDIALS symbol is used here, so this module builds unchanged without
+!> SUNDIALS; the stand-in pendula_cvode then makes every call report
+!> PENDULA_ERR_UNAVAILABLE.  Events are not supported in batch mode (call
+!> cvode_solve_events per state).
+module pendula_cvode_batch
+  use, intrinsic :: iso_fortran_env, only: int64
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_int
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN, &
+      PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
+  use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options
+  use pendula_cvode, only: cvode_available, cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
+  !$ use omp_lib, only: omp_get_max_threads
+  implicit none
+  private
+  public :: cvode_batch_solve
+
+contains
+
+  !> CVODE for n = size(theta0) states over the shared output grid t [s]
+  !> (strictly increasing, finite, size >= 1, t(n) - t(1) finite).  State i
+  !> starts at (theta0(i) [rad], omega0(i) [rad/s]) at t(1) with w0(i) > 0,
+  !> gamma(i) >= 0 [1/s], tolerances rtol(i) > 0, atol(i) >= 0 (as
+  !> cvode_solve); omega0, w0, gamma, rtol and atol have n elements or one
+  !> (then shared).  method (PENDULA_CVODE_ADAMS or PENDULA_CVODE_BDF) and the
+  !> per-state step budget max_steps >= 1 are shared.  Outputs theta(:, i),
+  !> omega(:, i) (shape (size(t), n): each state's series contiguous), stats(i)
+  !> and codes(i) are bit-identical to cvode_solve for that state: a failed
+  !> state (bad argument, CVODE failure, exhausted budget) keeps what
+  !> cvode_solve returns (outputs before the failure time, zero after); the
+  !> other states are unaffected.
+  !>
+  !> status: OK when every state succeeded; PENDULA_ERR_CANCELLED when the
+  !> call was cancelled; otherwise the first failed state's code, with its
+  !> index and cvode_solve's message for it.  first_failed: that state (0:
+  !> none).  When the call itself is refused (bad t, method, max_steps, array
+  !> sizes, threads < 0, or no CVODE in this build), first_failed = 0 and
+  !> every codes(i) holds status%code.
+  !>
+  !> threads: OpenMP threads (0 = the OpenMP default, which honours
+  !> OMP_NUM_THREADS; ignored without OpenMP); each opens one solver.  GNU
+  !> OpenMP is not fork-safe: a process forked after a call with more than one
+  !> thread must pass threads = 1.  control (optional, pendula_control):
+  !> control(CONTROL_CANCEL) /= 0 stops the call within about 0.1 ms per
+  !> thread (the solver polls it every 256 right-hand-side evaluations);
+  !> finished states keep their results, unfinished ones get zero outputs
+  !> and PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS) counts finished states.
+  subroutine cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
+      theta, omega, codes, stats, status, threads, control, first_failed)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:)
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(out) :: theta(:, :), omega(:, :)
+    integer, intent(out) :: codes(:)
+    type(ode_stats_t), intent(out) :: stats(:)
+    type(status_t), intent(out) :: status
+    integer, intent(in), optional :: threads
+    integer(int64), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    integer, intent(out), optional :: first_failed
+    type(cvode_work_t) :: probe
+    character(len=PENDULA_MSG_LEN) :: first_msg
+    integer :: n, i, nthreads, first, nfail, ncancel
+    n = size(theta0)
+    if (present(first_failed)) first_failed = 0
+    theta = 0
+    omega = 0
+    call check_call(t, n, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
+        threads, status)
+    if (status%code == PENDULA_OK .and. .not. cvode_available()) then
+      call cvode_work_open(probe, method, status)   ! the stand-in's explanation
+      call cvode_work_close(probe, status)
+    end if
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
+      return
+    end if
+    nthreads = 1
+    !$ nthreads = omp_get_max_threads()
+    if (present(threads)) then
+      if (threads > 0) nthreads = threads
+    end if
+
+    codes = PENDULA_ERR_CANCELLED   ! until its state is done
+    first = n + 1
+    first_msg = ''
+    !$omp parallel num_threads(nthreads) if(nthreads > 1 .and. n > 1) default(shared)
+    call run_states(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
+        first, first_msg, control)
+    !$omp end parallel
+
+    ! Summary: the first failed state, with cvode_solve's own message for it.
+    nfail = count(codes /= PENDULA_OK)
+    ncancel = count(codes == PENDULA_ERR_CANCELLED)
+    if (nfail == 0) return
+    do i = 1, n
+      if (codes(i) == PENDULA_ERR_CANCELLED) then
+        theta(:, i) = 0
+        omega(:, i) = 0
+        stats(i) = ode_stats_t()
+      end if
+    end do
+    if (present(first_failed)) first_failed = findloc(codes /= PENDULA_OK, .true., dim=1)
+    if (ncancel > 0) then
+      ! a cancelled call says so first, whatever else failed
+      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
+          format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
+      return
+    end if
+    call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
+        format_int(nfail) // ' failed, see codes): ' // trim(first_msg))
+  end subroutine cvode_batch_solve
+
+  !> One thread's share: open a solver (when some state needs one), take
+  !> states from the shared loop, close it.  first/first_msg: the lowest failed
+  !> state so far and its message (updated under a critical section).
+  subroutine run_states(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, &
+      stats, first, first_msg, control)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:)
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(inout) :: theta(:, :), omega(:, :)
+    integer, intent(inout) :: codes(:)
+    type(ode_stats_t), intent(inout) :: stats(:)
+    integer, intent(inout) :: first
+    character(len=*), intent(inout) :: first_msg
+    integer(int64), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    type(cvode_work_t) :: work
+    type(status_t) :: opened, st
+    integer :: i
+    ! A one-point grid needs no solver (cvode_solve returns the start).
+    if (size(t) > 1) call cvode_work_open(work, method, opened)
+    !$omp do schedule(dynamic)
+    do i = 1, size(theta0)
+      if (present(control)) then
+        if (cancel_requested(control)) cycle   ! code stays PENDULA_ERR_CANCELLED
+      end if
+      if (opened%code == PENDULA_OK) then
+        call cvode_work_solve(work, t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
+            rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control)
+      else
+        st = opened   ! this thread has no solver: its states carry the reason
+      end if
+      if (st%code == PENDULA_ERR_CANCELLED) cycle
+      codes(i) = st%code
+      if (st%code /= PENDULA_OK) then
+        !$omp critical (pendula_cvode_batch_first)
+        if (i < first) then
+          first = i
+          first_msg = st%message
+        end if
+        !$omp end critical (pendula_cvode_batch_first)
+      end if
+      if (present(control)) call add_progress(control, 1_int64)
+    end do
+    !$omp end do
+    call cvode_work_close(work, st)
+  end subroutine run_states
+
+  !> Checks of the call as a whole: t, method, max_steps, sizes, threads.
+  subroutine check_call(t, n, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
+      threads, status)
+    real(wp), intent(in) :: t(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:), theta(:, :), omega(:, :)
+    integer, intent(in) :: n, method, codes(:)
+    integer(i8), intent(in) :: max_steps
+    type(ode_stats_t), intent(in) :: stats(:)
+    integer, intent(in), optional :: threads
+    type(status_t), intent(inout) :: status
+    ! t alone (neutral state values): size, order, finiteness, span
+    call check_problem(t, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, status)
+    call check_span(t, status)
+    call check_cvode_options(method, max_steps, status)
+    if (status%code /= PENDULA_OK) return
+    if (.not. (one_or_n(omega0) .and. one_or_n(w0) .and. one_or_n(gamma) .and. one_or_n(rtol) &
+        .and. one_or_n(atol))) then
+      call set_error(status, PENDULA_ERR_SIZE, 'omega0, w0, gamma, rtol and atol must each have one ' // &
+          'element or one per state (size(theta0) = ' // format_int(n) // ')')
+    else if (any(shape(theta) /= [size(t), n]) .or. any(shape(omega) /= [size(t), n])) then
+      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have shape (size(t), size(theta0)) = (' // &
+          format_int(size(t)) // ', ' // format_int(n) // ')')
+    else if (size(codes) /= n .or. size(stats) /= n) then
+      call set_error(status, PENDULA_ERR_SIZE, 'codes and stats must have one element per state (' // &
+          format_int(n) // ')')
+    else if (present(threads)) then
+      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = ' // format_int(threads) // &
+          ' is out of range: it must be >= 0 (0: the OpenMP default)')
+    end if
+  contains
+    pure logical function one_or_n(a)
+      real(wp), intent(in) :: a(:)
+      one_or_n = size(a) == 1 .or. size(a) == n
+    end function one_or_n
+  end subroutine check_call
+
+  !> Index of state i's value in a parameter array of one element or n.
+  pure integer function at(a, i)
+    real(wp), intent(in) :: a(:)
+    integer, intent(in) :: i
+    at = merge(i, 1, size(a) > 1)
+  end function at
+
+end module pendula_cvode_batch

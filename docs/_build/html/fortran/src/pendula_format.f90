@@ -1,0 +1,383 @@
+!> Numbers as text for messages, without any I/O.
+!>
+!> Why no internal WRITE: an internal WRITE takes libgfortran's unit lock, and a
+!> process forked while another thread holds that lock leaves the child blocked
+!> for ever on its first own WRITE.  Error messages are built in threads, so
+!> they are formatted here with integer arithmetic only.
+!>
+!> Every real is first expanded to its exact decimal value (a double is
+!> m * 2**e, so its decimal expansion is finite: at most 767 significant
+!> digits), then rounded half-to-even to the digits shown: the text is the
+!> correctly rounded decimal, so reading it back gives x to within half a unit
+!> of its last digit.  NaN prints as 'NaN', infinities as '+Inf' / '-Inf'; the
+!> sign of a negative zero is kept ('-0.000E+00').  Cost: a few microseconds,
+!> run only when a message is built.
+module pendula_format
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+  use pendula_kinds, only: wp, i8
+  implicit none
+  private
+
+  public :: format_sci, format_fixed, format_general, format_short, format_int
+
+  !> Largest number of significant digits (format_sci, format_general) or
+  !> decimals (format_fixed) honoured; larger requests are clamped.
+  integer, parameter, public :: FORMAT_MAX_DIGITS = 40
+
+  integer, parameter :: MAX_DEC = 810              ! exact expansion of any double fits
+  integer, parameter :: LIMB_DIGITS = 9
+  integer(i8), parameter :: LIMB = 1000000000_i8   ! base 10**9 limbs of the big integer
+  integer, parameter :: NLIMB = MAX_DEC / LIMB_DIGITS
+  integer, parameter :: STYLE_SCI = 1, STYLE_FIXED = 2, STYLE_GENERAL = 3
+
+  !> Decimal text of an integer (any default or 64-bit integer, like i0).
+  interface format_int
+    module procedure format_int_default, format_int_i8
+  end interface format_int
+
+contains
+
+  !> Scientific form with `sig` significant digits, like Fortran's ES edit
+  !> descriptor: '-1.235E+00', '5.000E-324' (two exponent digits, three when
+  !> needed).  sig is clamped to [1, FORMAT_MAX_DIGITS]; sig = 1 gives '5E-01'.
+  pure function format_sci(x, sig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    s = text_of(x, STYLE_SCI, sig)
+  end function format_sci
+
+  !> Fixed form with `decimals` digits after the point, like Fortran's F0.d
+  !> but always with a digit before the point: '0.500000', '-12.000000'.
+  !> decimals is clamped to [0, FORMAT_MAX_DIGITS].
+  pure function format_fixed(x, decimals) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: decimals
+    character(len=:), allocatable :: s
+    s = text_of(x, STYLE_FIXED, decimals)
+  end function format_fixed
+
+  !> Shortest natural form with at most `sig` significant digits, like C's
+  !> "%.<sig>g" without trailing zeros: 0.1 -> '0.1', -1 -> '-1',
+  !> 1e300 -> '1e+300', 1.5e-7 -> '1.5e-7' (fixed when -4 <= exponent < sig).
+  pure function format_general(x, sig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    s = text_of(x, STYLE_GENERAL, sig)
+  end function format_general
+
+  !> Short text for step sizes and rates: '0' for zero; six decimals without
+  !> trailing zeros for 1e-3 <= |x| < 1e6 ('1.437464', '2.5'); otherwise six
+  !> significant digits in scientific form ('1.23457E-05').
+  pure function format_short(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    integer :: last
+    if (x == 0) then
+      s = '0'
+    else if (abs(x) >= 1.0e-3_wp .and. abs(x) < 1.0e6_wp) then
+      s = format_fixed(x, 6)
+      last = len(s)
+      do while (s(last:last) == '0')
+        last = last - 1
+      end do
+      if (s(last:last) == '.') last = last - 1
+      s = s(1:last)
+    else
+      s = format_sci(x, 6)
+    end if
+  end function format_short
+
+  ! ---------------------------------------------------------------- helpers
+
+  ! x in one of the styles; NaN and infinities have fixed texts in all.
+  pure function text_of(x, style, ndig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: style, ndig
+    character(len=:), allocatable :: s
+    if (.not. ieee_is_finite(x)) then
+      s = special_text(x)
+      return
+    end if
+    select case (style)
+    case (STYLE_SCI)
+      s = sign_text(x) // sci_text(x, ndig)
+    case (STYLE_FIXED)
+      s = sign_text(x) // fixed_text(x, ndig)
+    case default
+      s = sign_text(x) // general_text(x, ndig)
+    end select
+  end function text_of
+
+  ! |x| (finite) in scientific form with sig significant digits.
+  pure function sci_text(x, sig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    integer :: d(MAX_DEC), n, e10, k
+    k = max(1, min(sig, FORMAT_MAX_DIGITS))
+    call rounded_digits(x, k, d, n, e10)
+    s = digit_text(d(1:1))
+    if (k > 1) s = s // '.' // digit_text(d(2:k))
+    s = s // 'E' // exponent_text(e10, 2)
+  end function sci_text
+
+  ! |x| (finite) in fixed form with `decimals` digits after the point.
+  pure function fixed_text(x, decimals) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: decimals
+    character(len=:), allocatable :: s
+    integer :: d(MAX_DEC), n, e10, nd, p
+    nd = max(0, min(decimals, FORMAT_MAX_DIGITS))
+    call exact_digits(x, d, n, e10)
+    ! keep the digits down to the place 10**(-nd): e10 + 1 + nd of them
+    call round_to(d, n, e10, e10 + 1 + nd)
+    if (e10 < 0) then
+      s = '0'
+    else
+      s = digit_text([(digit(d, n, e10, p), p = e10, 0, -1)])
+    end if
+    if (nd > 0) s = s // '.' // digit_text([(digit(d, n, e10, p), p = -1, -nd, -1)])
+  end function fixed_text
+
+  ! |x| (finite) like "%.<sig>g" without trailing zeros.
+  pure function general_text(x, sig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: s
+    integer :: d(MAX_DEC), n, e10, k, last
+    k = max(1, min(sig, FORMAT_MAX_DIGITS))
+    call rounded_digits(x, k, d, n, e10)
+    last = k
+    do while (last > 1 .and. d(last) == 0)
+      last = last - 1
+    end do
+    if (e10 >= -4 .and. e10 < k) then
+      if (e10 < 0) then
+        s = '0.' // repeat('0', -e10 - 1) // digit_text(d(1:last))
+      else if (last <= e10 + 1) then
+        s = digit_text(d(1:last)) // repeat('0', e10 + 1 - last)
+      else
+        s = digit_text(d(1:e10+1)) // '.' // digit_text(d(e10+2:last))
+      end if
+    else
+      s = digit_text(d(1:1))
+      if (last > 1) s = s // '.' // digit_text(d(2:last))
+      s = s // 'e' // exponent_text(e10, 1)
+    end if
+  end function general_text
+
+
+  pure function format_int_default(n) result(s)
+    integer, intent(in) :: n
+    character(len=:), allocatable :: s
+    s = format_int_i8(int(n, i8))
+  end function format_int_default
+
+  pure function format_int_i8(n) result(s)
+    integer(i8), intent(in) :: n
+    character(len=:), allocatable :: s
+    character(len=20) :: buf
+    integer(i8) :: v
+    integer :: p
+    ! Work with -|n|: the most negative integer has no positive counterpart.
+    v = -abs(n)
+    if (n < 0) v = n
+    p = len(buf) + 1
+    do
+      p = p - 1
+      buf(p:p) = achar(iachar('0') - int(mod(v, 10_i8)))
+      v = v / 10
+      if (v == 0) exit
+    end do
+    s = buf(p:)
+    if (n < 0) s = '-' // s
+  end function format_int_i8
+
+  ! The fixed texts of NaN and the infinities (x not finite).
+  pure function special_text(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    if (ieee_is_nan(x)) then
+      s = 'NaN'
+    else if (x > 0) then
+      s = '+Inf'
+    else
+      s = '-Inf'
+    end if
+  end function special_text
+
+  ! '-' for negative x, including -0.
+  pure function sign_text(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    s = merge('-', ' ', sign(1.0_wp, x) < 0)
+    s = trim(s)
+  end function sign_text
+
+  ! Signed exponent with at least `width` digits: '+05', '-324', '+7'.
+  pure function exponent_text(e, width) result(s)
+    integer, intent(in) :: e, width
+    character(len=:), allocatable :: s
+    s = format_int(abs(e))
+    if (len(s) < width) s = repeat('0', width - len(s)) // s
+    s = merge('+', '-', e >= 0) // s
+  end function exponent_text
+
+  pure function digit_text(d) result(s)
+    integer, intent(in) :: d(:)
+    character(len=size(d)) :: s
+    integer :: i
+    do i = 1, size(d)
+      s(i:i) = achar(iachar('0') + d(i))
+    end do
+  end function digit_text
+
+  ! The digit of place 10**p in the rounded digits d(1:n) (d(1) has place
+  ! 10**e10); zero outside them.
+  pure integer function digit(d, n, e10, p)
+    integer, intent(in) :: d(:), n, e10, p
+    integer :: i
+    i = e10 - p + 1
+    digit = 0
+    if (i >= 1 .and. i <= n) digit = d(i)
+  end function digit
+
+  ! |x| to k significant digits: d(1:k) with d(1) of place 10**e10 (zero:
+  ! k zeros and e10 = 0).
+  pure subroutine rounded_digits(x, k, d, n, e10)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: k
+    integer, intent(out) :: d(:), n, e10
+    call exact_digits(x, d, n, e10)
+    call round_to(d, n, e10, k)
+    if (n < k) d(n+1:k) = 0
+    n = k
+  end subroutine rounded_digits
+
+  ! Round the digits d(1:n) (place of d(1): 10**e10) half-to-even to their
+  ! first k; on a carry out of the first digit e10 grows by one.  k <= 0
+  ! rounds to zero or to one unit of place 10**(e10-k+1).  On return n = the
+  ! digits kept (may be < k when the rest are zeros; 0 for a zero result).
+  pure subroutine round_to(d, n, e10, k)
+    integer, intent(inout) :: d(:), n, e10
+    integer, intent(in) :: k
+    logical :: up
+    integer :: i
+    if (n <= k) return
+    if (k < 0) then
+      n = 0
+      return
+    end if
+    ! the dropped part vs half a unit of the last kept place
+    if (d(k+1) /= 5) then
+      up = d(k+1) > 5
+    else if (any(d(k+2:n) /= 0)) then
+      up = .true.
+    else if (k == 0) then
+      up = .false.                        ! tie with an (even) zero before it
+    else
+      up = mod(d(k), 2) == 1
+    end if
+    n = k
+    if (.not. up) return
+    if (k == 0) then                      ! 0.5+ units become one unit
+      e10 = e10 + 1
+      d(1) = 1
+      n = 1
+      return
+    end if
+    do i = k, 1, -1
+      if (d(i) < 9) then
+        d(i) = d(i) + 1
+        return
+      end if
+      d(i) = 0
+    end do
+    ! 9...9 rounded up to 10...0
+    d(1) = 1
+    e10 = e10 + 1
+  end subroutine round_to
+
+  ! The exact decimal expansion of |x| (finite): digits d(1:n), d(1) /= 0 of
+  ! place 10**e10, no trailing zeros.  x = 0 gives n = 0, e10 = 0.
+  pure subroutine exact_digits(x, d, n, e10)
+    real(wp), intent(in) :: x
+    integer, intent(out) :: d(:), n, e10
+    integer(i8) :: m, big(NLIMB), v
+    integer :: e2, nl, i, j, shift
+    n = 0
+    e10 = 0
+    if (x == 0) return
+    ! |x| = m * 2**e2 with m an odd integer (< 2**53)
+    m = int(scale(fraction(abs(x)), digits(x)), i8)
+    e2 = exponent(x) - digits(x)
+    do while (mod(m, 2_i8) == 0)
+      m = m / 2
+      e2 = e2 + 1
+    end do
+    big = 0
+    big(1) = mod(m, LIMB)
+    big(2) = m / LIMB
+    nl = 2
+    if (e2 >= 0) then
+      ! m * 2**e2, 29 doublings at a time (limb * 2**29 < 2**63)
+      do while (e2 > 0)
+        call multiply(big, nl, 2_i8**min(e2, 29))
+        e2 = e2 - min(e2, 29)
+      end do
+      shift = 0
+    else
+      ! m * 2**e2 = m * 5**(-e2) / 10**(-e2), 12 factors of 5 at a time
+      shift = e2
+      do while (e2 < 0)
+        call multiply(big, nl, 5_i8**min(-e2, 12))
+        e2 = e2 + min(-e2, 12)
+      end do
+    end if
+    do while (nl > 1 .and. big(nl) == 0)
+      nl = nl - 1
+    end do
+    ! limbs to digits, most significant first
+    do i = nl, 1, -1
+      v = big(i)
+      do j = LIMB_DIGITS, 1, -1
+        d(n + j) = int(mod(v, 10_i8))
+        v = v / 10
+      end do
+      n = n + LIMB_DIGITS
+    end do
+    i = 1
+    do while (d(i) == 0)
+      i = i + 1
+    end do
+    d(1:n-i+1) = d(i:n)
+    n = n - i + 1
+    e10 = n - 1 + shift
+    do while (d(n) == 0)
+      n = n - 1
+    end do
+  end subroutine exact_digits
+
+  ! big(1:nl) := big(1:nl) * f in base LIMB (f < 2**33).
+  pure subroutine multiply(big, nl, f)
+    integer(i8), intent(inout) :: big(:)
+    integer, intent(inout) :: nl
+    integer(i8), intent(in) :: f
+    integer(i8) :: carry, p
+    integer :: i
+    carry = 0
+    do i = 1, nl
+      p = big(i) * f + carry
+      big(i) = mod(p, LIMB)
+      carry = p / LIMB
+    end do
+    do while (carry > 0)
+      nl = nl + 1
+      big(nl) = mod(carry, LIMB)
+      carry = carry / LIMB
+    end do
+  end subroutine multiply
+
+end module pendula_format

@@ -1,0 +1,19 @@
+!> The integrators concern in one `use`: the nonlinear damped pendulum
+!> (text eq. 2.2) by classic RK4 (pendula_rk4) and by SUNDIALS CVODE
+!> (pendula_cvode, and for many states pendula_cvode_batch; a stub returning PENDULA_ERR_UNAVAILABLE when SUNDIALS was
+!> not built), with the shared definitions of pendula_ode.
+module pendula_integrators
+  use pendula_ode, only: ode_stats_t, linear_eigenvalues, &
+      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_rk4, only: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
+  use pendula_rk4_batch, only: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
+  use pendula_cvode, only: cvode_solve, cvode_solve_events, cvode_available
+  use pendula_cvode_batch, only: cvode_batch_solve
+  implicit none
+  private
+  public :: ode_stats_t, linear_eigenvalues
+  public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
+  public :: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
+  public :: cvode_solve, cvode_solve_events, cvode_available, cvode_batch_solve
+end module pendula_integrators

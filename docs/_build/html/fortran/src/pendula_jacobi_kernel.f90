@@ -1,0 +1,543 @@
+!> Kernel of the Jacobi functions sn, cn, dn, am at a transformed parameter (see
+!> pendula_elliptic_modulus): Maclaurin series at u/2^N followed by N duplications,
+!> first on the complements 1 - cn, 1 - dn and then on cn, dn written without
+!> cancellation (cn(2u) = (cn^2 dn^2 - mc sn^2)/D, dn(2u) = (mc + m cn^4)/D,
+!> D = cn^2 + sn^2 dn^2), after the idea of Fukushima's conditional duplication
+!> (Numer. Math. 2012); the complement steps run on fractions without division.
+!> u is reduced modulo 2K with K and 1 - m in double-double and [K/2, K] is mapped
+!> to [0, K/2] by u -> K - u (DLMF 22.4.3), which keeps cn and dn relatively accurate
+!> when mc is tiny.  am = 2 atan(sn/(1 + cn)) by a polynomial.  Also the Taylor rows
+!> of the plans' tables (degree 8 from the ODEs, DLMF 22.13).
+module pendula_jacobi_kernel
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
+  use pendula_kinds, only: wp
+  use pendula_constants, only: pi, quiet_nan
+  use pendula_double_double, only: two_prod, veltkamp_split
+  use pendula_elliptic_tables, only: atan_poly
+  use pendula_elliptic_ke, only: k_unit, k_double_double
+  use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
+      MODULUS_RECIPROCAL, MODULUS_IMAGINARY
+  implicit none
+  private
+
+  public :: eval_at_param, eval_table_array, ellipj_points, taylor_row_at
+  public :: ntay, tab_step, tab_inv_step, khi_tab_max
+
+  !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
+  real(wp), parameter :: wmax = 0.1_wp
+  !> Switch from complement (1-cn, 1-dn) to direct duplication once 1 - cn exceeds this.
+  real(wp), parameter :: xswitch = 0.25_wp
+  !> Tabulated plans: Taylor polynomials of degree ntay about a grid of step 1/32 in the core
+  !> argument; |delta| <= 1/64 and the nearest singularity is >= K' >= pi/2 away, so the
+  !> truncation is below ~ (1/64 / (pi/2))**9 ~ 1e-18 relative.
+  integer, parameter :: ntay = 8
+  real(wp), parameter :: tab_step = 0.03125_wp, tab_inv_step = 32.0_wp
+  !> Largest core K a plan tabulates (the core K is at most 374, at mc = 5e-324).
+  real(wp), parameter :: khi_tab_max = 400.0_wp
+
+  real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp
+  !> 2**-n, n = 0..4 (exact scalings for sncndn_duplication)
+  real(wp), parameter :: halvings(0:4) = [1.0_wp, 0.5_wp, 0.25_wp, 0.125_wp, 0.0625_wp]
+
+contains
+
+  !> sn, cn, dn at 0 <= v <= K(m)/2 for 0 <= m <= 1 (mc = 1 - m accurate).
+  pure subroutine sncndn_duplication(v, m, mc, cs, cc, cd, s, c, d)
+    real(wp), intent(in) :: v, m, mc, cs(0:6), cc(0:6), cd(0:6)
+    real(wp), intent(out) :: s, c, d
+    real(wp) :: w, w2, w4, x, y, s2, den, r, c2, d2, q
+    integer :: n, i
+    ! the number of halvings to w <= wmax, counted without a data-dependent loop exit
+    ! for v <= 16 wmax (random v made that exit mispredict); exact: w = v / 2**n
+    n = merge(1, 0, v > wmax) + merge(1, 0, v > 2 * wmax) + merge(1, 0, v > 4 * wmax) &
+        + merge(1, 0, v > 8 * wmax)
+    w = v * halvings(n)
+    do while (w > wmax)
+      w = 0.5_wp * w
+      n = n + 1
+    end do
+    w2 = w * w
+    w4 = w2 * w2
+    ! Estrin's scheme (short dependency chains); terms fall by >= 400x each
+    s = w * (((cs(0) + cs(1) * w2) + (cs(2) + cs(3) * w2) * w4) + ((cs(4) + cs(5) * w2) + cs(6) * w4) * (w4 * w4))
+    x = w2 * (((cc(0) + cc(1) * w2) + (cc(2) + cc(3) * w2) * w4) + ((cc(4) + cc(5) * w2) + cc(6) * w4) * (w4 * w4))
+    y = w2 * (((cd(0) + cd(1) * w2) + (cd(2) + cd(3) * w2) * w4) + ((cd(4) + cd(5) * w2) + cd(6) * w4) * (w4 * w4))
+    i = 0
+    ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u),
+    ! kept as fractions x = xq/q, y = yq/q, s = sq/q so that the steps need no division:
+    ! with c = q - xq, d = q - yq (times 1/q),
+    !   xq' = 2 sq^2 d^2, yq' = 2 m sq^2 c^2, sq' = 2 sq q c d, q' = c^2 q^2 + sq^2 d^2.
+    ! Here cn >= 3/4, so 1 - m sn^4 >= 0.8 and q' >= 0.8 q^4: at most 4 steps keep q >= 1e-8.
+    if (n > 0 .and. x < xswitch) then
+      q = 1
+      do while (i < n)
+        c = q - x; d = q - y
+        s2 = s * s
+        c2 = c * c; d2 = d * d
+        x = 2 * s2 * d2
+        y = 2 * m * s2 * c2
+        s = 2 * s * q * c * d
+        q = c2 * (q * q) + s2 * d2
+        i = i + 1
+        if (x >= xswitch * q) exit
+      end do
+      r = 1 / q
+      x = x * r; y = y * r; s = s * r
+    end if
+    c = 1 - x; d = 1 - y
+    ! direct duplication, cancellation-free forms for 0 <= m <= 1
+    do while (i < n)
+      s2 = s * s
+      c2 = c * c; d2 = d * d
+      den = c2 + s2 * d2
+      r = 1 / den
+      s = 2 * r * s * c * d
+      c = r * (c2 * d2 - mc * s2)
+      d = r * (mc + m * (c2 * c2))
+      i = i + 1
+    end do
+  end subroutine sncndn_duplication
+
+  !> cd = cn/dn without the cancellation of two nearly equal small numbers when m -> 1:
+  !> dn^2 - cn^2 = mc sn^2, so cd = 1 - mc sn^2 / (dn (dn + cn)) (cn >= 0 here).
+  pure elemental real(wp) function cd_ratio(s, c, d, mc) result(cd)
+    real(wp), intent(in) :: s, c, d, mc
+    real(wp) :: t
+    t = mc * (s * s) / (d * (d + c))
+    if (t <= 0.5_wp) then
+      cd = 1 - t
+    else
+      cd = c / d
+    end if
+  end function cd_ratio
+
+  !> Amplitude atan2(sn, cn) for normalized sn**2 + cn**2 = 1 and cn >= 0 (always the case
+  !> on the core interval [0, K]): am = 2 atan(sn/(1 + cn)) by the half-angle identity,
+  !> atan by a polynomial; no libm call (glibc atan2 dominated the cost).
+  pure elemental real(wp) function am_from_sn_cn(s, c) result(am)
+    real(wp), intent(in) :: s, c
+    real(wp) :: as, c1, w, t, t2, t4, p, base
+    logical :: big
+    ! x = |s|/(1 + c) in [0, 1]; above tan(pi/8) use atan x = pi/4 + atan((x - 1)/(x + 1)),
+    ! formed directly from s and c with a single division
+    as = abs(s)
+    c1 = 1 + c
+    big = as > tan_pi8 * c1      ! merge, not a branch: the test is unpredictable
+    w = merge(as - c1, as, big) / merge(as + c1, c1, big)
+    base = merge(0.25_wp * pi, 0.0_wp, big)
+    t = w * w
+    t2 = t * t
+    t4 = t2 * t2
+    p = ((atan_poly(0) + atan_poly(1) * t) + (atan_poly(2) + atan_poly(3) * t) * t2) &
+        + ((atan_poly(4) + atan_poly(5) * t) + (atan_poly(6) + atan_poly(7) * t) * t2) * t4 &
+        + ((atan_poly(8) + atan_poly(9) * t) + atan_poly(10) * t2) * (t4 * t4)
+    am = sign(2 * (base + (w + w * t * p)), s)
+  end function am_from_sn_cn
+
+  !> Core functions at 0 <= t <= K (+ one table step): s, c, d of the core parameter.
+  pure subroutine core_sncndn_at(plan, t, s, c, d)
+    type(jacobi_param_t), intent(in) :: plan
+    real(wp), intent(in) :: t
+    real(wp), intent(out) :: s, c, d
+    call core_sncndn(plan%m, plan%mc, plan%khi, plan%klo, plan%cs, plan%cc, plan%cd, t, s, c, d)
+  end subroutine core_sncndn_at
+
+  !> sn, cn, dn of the core parameter (m, mc, K = khi + klo) at 0 <= t <= K (+ one table step).
+  pure subroutine core_sncndn(m, mc, khi, klo, cs, cc, cd, t, s, c, d)
+    real(wp), intent(in) :: m, mc, khi, klo, cs(0:6), cc(0:6), cd(0:6), t
+    real(wp), intent(out) :: s, c, d
+    real(wp) :: w, rd, sq
+    if (t > 0.5_wp * khi) then
+      ! sn(K - w) = cd(w), cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w) (DLMF 22.4.3)
+      w = (khi - t) + klo
+      call sncndn_duplication(abs(w), m, mc, cs, cc, cd, s, c, d)
+      if (w < 0) s = -s
+      ! one division: rd = 1/(d (d + c)) gives 1/d = rd (d + c) and the cancellation-free
+      ! cd = 1 - mc s^2 rd (see cd_ratio)
+      rd = 1 / (d * (d + c))
+      sq = sqrt(mc)
+      w = mc * (s * s) * rd
+      if (w <= 0.5_wp) then
+        w = 1 - w
+      else
+        w = c * (d + c) * rd
+      end if
+      rd = rd * (d + c)
+      c = sq * s * rd
+      d = sq * rd
+      s = w
+    else
+      call sncndn_duplication(t, m, mc, cs, cc, cd, s, c, d)
+    end if
+  end subroutine core_sncndn
+
+  !> The final sn, cn, dn, am of the caller's parameter at core argument t >= 0
+  !> (no half-period shift), from the core values by the modulus transformations.
+  pure subroutine final_values_at(plan, t, want_am, fs, fc, fd, fa)
+    type(jacobi_param_t), intent(in) :: plan
+    real(wp), intent(in) :: t
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: fs, fc, fd, fa
+    real(wp) :: s, c, d
+    call core_sncndn_at(plan, t, s, c, d)
+    call apply_modulus(plan, s, c, d, want_am, fs, fc, fd, fa)
+  end subroutine final_values_at
+
+  !> The modulus transformations from core s, c, d to the caller's sn, cn, dn, am.
+  pure subroutine apply_modulus(plan, s, c, d, want_am, fs, fc, fd, fa)
+    type(jacobi_param_t), intent(in) :: plan
+    real(wp), intent(in) :: s, c, d
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: fs, fc, fd, fa
+    fa = 0
+    select case (plan%kind)
+    case (MODULUS_RECIPROCAL)   ! m > 1 (DLMF 22.6.11): sn = sn'/k, cn = dn', dn = cn'; am on the asin branch
+      fs = s * plan%oscale; fc = d; fd = c
+    case (MODULUS_IMAGINARY)   ! m < 0 (DLMF 22.6.12): sn = k1' sd', cn = cd', dn = nd'
+      fs = plan%oscale * s / d
+      fc = cd_ratio(s, c, d, plan%mc)
+      fd = 1 / d
+    case default
+      fs = s; fc = c; fd = d
+    end select
+    if (want_am) fa = am_from_sn_cn(fs, fc)
+  end subroutine apply_modulus
+
+  !> Taylor coefficients (degree ntay) of the final sn, cn, dn, am about t, from the
+  !> ODEs sn' = cn dn, cn' = -sn dn, dn' = -m sn cn of the core (DLMF 22.13).
+  pure subroutine taylor_row_at(plan, t, tab)
+    type(jacobi_param_t), intent(in) :: plan
+    real(wp), intent(in) :: t
+    real(wp), intent(out) :: tab(0:ntay, 4)
+    real(wp) :: s(0:ntay), c(0:ntay), d(0:ntay), r(0:ntay), fs, fc, fd, fa, acc1, acc2, acc3
+    integer :: k, i
+    call core_sncndn_at(plan, t, s(0), c(0), d(0))
+    do k = 0, ntay - 1
+      acc1 = 0; acc2 = 0; acc3 = 0
+      do i = 0, k
+        acc1 = acc1 + c(i) * d(k - i)
+        acc2 = acc2 + s(i) * d(k - i)
+        acc3 = acc3 + s(i) * c(k - i)
+      end do
+      s(k + 1) = acc1 / (k + 1)
+      c(k + 1) = -acc2 / (k + 1)
+      d(k + 1) = -plan%m * acc3 / (k + 1)
+    end do
+    call apply_modulus(plan, s(0), c(0), d(0), .true., fs, fc, fd, fa)
+    select case (plan%kind)
+    case (MODULUS_RECIPROCAL)
+      tab(:, 1) = plan%oscale * s
+      tab(:, 2) = d
+      tab(:, 3) = c
+      tab(1:, 4) = plan%oscale * c(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+    case (MODULUS_IMAGINARY)
+      r(0) = 1 / d(0)
+      do k = 1, ntay
+        acc1 = 0
+        do i = 1, k
+          acc1 = acc1 + d(i) * r(k - i)
+        end do
+        r(k) = -acc1 * r(0)
+      end do
+      do k = 0, ntay
+        acc1 = 0; acc2 = 0
+        do i = 0, k
+          acc1 = acc1 + s(i) * r(k - i)
+          acc2 = acc2 + c(i) * r(k - i)
+        end do
+        tab(k, 1) = plan%oscale * acc1
+        tab(k, 2) = acc2
+      end do
+      tab(:, 3) = r
+      tab(1:, 4) = plan%oscale * r(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+    case default
+      tab(:, 1) = s
+      tab(:, 2) = c
+      tab(:, 3) = d
+      tab(1:, 4) = d(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+    end select
+    ! the values themselves from the accurate path (cancellation-free cd etc.)
+    tab(0, 1) = fs; tab(0, 2) = fc; tab(0, 3) = fd; tab(0, 4) = fa
+  end subroutine taylor_row_at
+
+  !> sn, cn, dn, am at u for a transformed parameter: reduction modulo 2K (K in
+  !> double-double when exact_k, else refined to it for |u| > 9 K), then the table
+  !> (if given) or the duplication kernel, then the modulus transformation.
+  pure subroutine eval_at_param(plan, u, exact_k, want_am, sn, cn, dn, am, tab, ntab)
+    type(jacobi_param_t), intent(in) :: plan
+    real(wp), intent(in), optional :: tab(0:, :, 0:)
+    integer, intent(in), optional :: ntab
+    real(wp), intent(in) :: u
+    logical, intent(in) :: exact_k, want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    real(wp) :: v, vl, n, khi, klo, p, e, r, t, ex, fs, fc, fd, fa, del
+    integer :: j, parity
+    if (plan%kind == MODULUS_INVALID .or. ieee_is_nan(u)) then
+      sn = quiet_nan(); cn = sn; dn = sn; am = sn
+      return
+    end if
+    if (plan%kind == MODULUS_ONE) then
+      ! m = 1: sn = tanh, cn = dn = sech, am = gd(u)
+      sn = tanh(u)
+      if (abs(u) < 20) then
+        cn = 1 / cosh(u)
+      else
+        ex = exp(-abs(u))      ! sech without overflow, subnormal tail kept
+        cn = 2 * ex / (1 + ex * ex)
+      end if
+      dn = cn
+      am = 0
+      if (want_am) am = am_from_sn_cn(sn, cn)
+      return
+    end if
+    if (.not. ieee_is_finite(u)) then
+      sn = quiet_nan(); cn = sn; dn = sn; am = sn
+      return
+    end if
+    ! |u| * uscale may exceed huge(): test before multiplying (an overflowing
+    ! product would raise the overflow flag, which the checked build traps)
+    if (plan%uscale > 1) then
+      v = huge(v)
+      if (abs(u) <= huge(v) / plan%uscale) v = abs(u) * plan%uscale
+    else
+      v = abs(u) * plan%uscale
+    end if
+    khi = plan%khi; klo = plan%klo
+    n = 0
+    parity = 0
+    r = v
+    if (v == huge(v)) then
+      ! |u| sqrt(|m|) or |u| sqrt(1 - m) overflows (|m| > ~1e300, |u| > ~1e150): the
+      ! phase u mod 2K is far below the resolution of u (the condition number is ~ |u|
+      ! sqrt|m| there), so any point of the period is within eps*cond; take r = 0
+      r = 0
+    else if (v > khi) then
+      ! u * scale and n * 2K both in extra precision: large u keeps its digits
+      vl = 0
+      if (plan%kind /= MODULUS_CORE) then
+        call two_prod(abs(u), plan%uscale, v, vl)
+        vl = vl + abs(u) * plan%uscale_lo
+      end if
+      n = anint(v / (2 * khi))
+      if (.not. exact_k .and. n > 4) then
+        call k_double_double(plan%mc, plan%mcl, khi, klo)
+        n = anint(v / (2 * khi))
+      end if
+      if (n < 2.0_wp**26) then
+        ! Cody-Waite: 2K = c1 + c2 + 2 klo with c1, c2 of 26 bits, so n*c1, n*c2 are exact
+        call veltkamp_split(2 * khi, p, e)
+        r = (((v - n * p) - n * e) + vl) - n * (2 * klo)
+      else
+        call two_prod(n, 2 * khi, p, e)
+        r = (((v - p) - e) + vl) - n * (2 * klo)
+      end if
+      if (n < 1.0e15_wp) then
+        parity = int(mod(int(n, kind=8), 2_8))
+      else
+        parity = merge(1, 0, mod(n, 2.0_wp) /= 0)
+      end if
+    end if
+    if (.not. (abs(r) <= 1.5_wp * khi)) then
+      ! only when n*2K outruns the double-double K (|u| > ~1e15 K): the phase is then
+      ! below the resolution of u itself (error within eps*cond); keep r in range
+      r = modulo(r, 2 * khi)
+      if (r > khi) r = r - 2 * khi
+      if (.not. (abs(r) <= 1.5_wp * khi)) r = 0
+    end if
+    t = abs(r)
+    if (present(tab)) then
+      j = tab_index(t, ntab)
+      del = t - j * tab_step
+      fs = estrin8(tab(:, 1, j), del)
+      fc = estrin8(tab(:, 2, j), del)
+      fd = estrin8(tab(:, 3, j), del)
+      fa = 0
+      if (want_am) fa = estrin8(tab(:, 4, j), del)
+    else
+      call final_values_at(plan, t, want_am, fs, fc, fd, fa)
+    end if
+    fs = sign(fs, r)
+    fa = sign(fa, r)
+    if (parity /= 0) then
+      select case (plan%kind)
+      case (MODULUS_RECIPROCAL)
+        fs = -fs; fd = -fd; fa = -fa
+      case default
+        fs = -fs; fc = -fc
+      end select
+    end if
+    if (plan%kind /= MODULUS_RECIPROCAL) fa = fa + n * pi
+    if (u < 0) then
+      fs = -fs
+      fa = -fa
+    end if
+    sn = fs; cn = fc; dn = fd; am = fa
+  end subroutine eval_at_param
+
+  !> The loop of ellipj_array (here, next to the kernel, so that the compiler inlines the
+  !> short path): sn, cn, dn and, if want_am, am at the points (u(i), m(i)).
+  pure subroutine ellipj_points(n, u, m, want_am, sn, cn, dn, am)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: u(n), m(n)
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn(n), cn(n), dn(n)
+    real(wp), intent(inout) :: am(*)
+    real(wp) :: a
+    integer :: i
+    do i = 1, n
+      call ellipj_point(u(i), m(i), want_am, sn(i), cn(i), dn(i), a)
+      if (want_am) am(i) = a
+    end do
+  end subroutine ellipj_points
+
+  !> One point of ellipj_points: the inline path for 0 <= m < 1 and |u| < 9 K, else the
+  !> general one (the same numbers as the elemental ellipj).
+  pure subroutine ellipj_point(u, m, want_am, sn, cn, dn, am)
+    real(wp), intent(in) :: u, m
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    logical :: done
+    done = .false.
+    if (.not. (ieee_is_nan(m) .or. ieee_is_nan(u))) then
+      if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
+    end if
+    if (.not. done) call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., &
+        want_am, sn, cn, dn, am)
+  end subroutine ellipj_point
+
+  !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) with all work inline; the
+  !> same steps as jacobi_param + eval_at_param.  Beyond |u| ~ 9 K the reduction takes K
+  !> in double-double (k_double_double, a compensated AGM), as eval_at_param does.
+  !> done = .false. leaves the point to the general path.
+  pure subroutine ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
+    real(wp), intent(in) :: u, m
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    logical, intent(out) :: done
+    real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
+    real(wp) :: mc, mcl, k, khi, klo, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
+    mc = 1 - m
+    k = k_unit(m, mc)
+    v = abs(u)
+    ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
+    n = anint(v / (2 * k))
+    if (n <= 4) then
+      call veltkamp_split(2 * k, c1, c2)
+      r = (v - n * c1) - n * c2
+    else if (n < nmax) then
+      ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
+      mcl = (1 - mc) - m
+      call k_double_double(mc, mcl, khi, klo)
+      n = anint(v / (2 * khi))
+      call veltkamp_split(2 * khi, c1, c2)
+      r = ((v - n * c1) - n * c2) - n * (2 * klo)
+    else
+      done = .false.   ! beyond 2**26 half periods, or u = +-Inf
+      sn = 0; cn = 0; dn = 0; am = 0
+      return
+    end if
+    t = abs(r)
+    call series_coeffs(m, cs, cc, cd)
+    call core_sncndn(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
+    ! signs by merge (blends, not branches): the parity of n and the sign of u are random
+    ps = merge(-1.0_wp, 1.0_wp, iand(int(n), 1) /= 0)
+    su = merge(-1.0_wp, 1.0_wp, u < 0)
+    am = 0
+    if (want_am) am = (sign(am_from_sn_cn(s, c), r) + n * pi) * su
+    sn = sign(s, r) * (ps * su); cn = c * ps; dn = d
+    done = .true.
+  end subroutine ellipj_unit_short
+
+  !> Table row 0..ntab nearest to the core argument t >= 0; t beyond the table or NaN
+  !> gives ntab (the compare comes before int(), so no NaN or huge value is converted).
+  pure elemental integer function tab_index(t, ntab) result(j)
+    real(wp), intent(in) :: t
+    integer, intent(in) :: ntab
+    real(wp) :: x
+    x = t * tab_inv_step + 0.5_wp
+    if (x >= 0 .and. x < ntab) then
+      j = int(x)
+    else if (x >= 0) then
+      j = ntab
+    else
+      j = 0
+    end if
+  end function tab_index
+
+  !> Degree-ntay (8) polynomial p at x by Estrin's scheme.
+  pure real(wp) function estrin8(p, x) result(y)
+    real(wp), intent(in) :: p(0:ntay), x
+    real(wp) :: x2, x4
+    x2 = x * x
+    x4 = x2 * x2
+    y = ((p(0) + p(1) * x) + (p(2) + p(3) * x) * x2) + ((p(4) + p(5) * x) + (p(6) + p(7) * x) * x2) * x4 &
+        + p(8) * (x4 * x4)
+  end function estrin8
+
+  !> The loop of ellipj_eval_array for tabulated plans (here, next to the polynomial and
+  !> index helpers, so that the compiler inlines them).  Points the fast reduction
+  !> cannot take (NaN, Inf, n >= 2**26 half periods) go through eval_at_param.
+  pure subroutine eval_table_array(par, tab, ntab, n, u, want_am, sn, cn, dn, am)
+    type(jacobi_param_t), intent(in) :: par
+    integer, intent(in) :: ntab, n
+    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab), u(n)
+    logical, intent(in) :: want_am
+    real(wp), intent(out) :: sn(n), cn(n), dn(n)
+    real(wp), intent(inout) :: am(*)
+    real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
+    integer :: i, j, parity
+    logical :: big
+    call veltkamp_split(2 * par%khi, c1, c2)
+    c3 = 2 * par%klo
+    inv2k = 1 / (2 * par%khi)
+    vmax = 2.0_wp**25 * (2 * par%khi)
+    do i = 1, n
+      v = abs(u(i)) * par%uscale
+      big = ieee_is_nan(v)
+      if (.not. big) big = v >= vmax
+      if (big) then
+        call eval_at_param(par, u(i), .true., want_am, sn(i), cn(i), dn(i), a, tab, ntab)
+        if (want_am) am(i) = a
+        cycle
+      end if
+      vl = 0
+      if (par%kind /= MODULUS_CORE) then
+        call two_prod(abs(u(i)), par%uscale, v, vl)
+        vl = vl + abs(u(i)) * par%uscale_lo
+      end if
+      q = anint(v * inv2k)
+      r = (((v - q * c1) - q * c2) + vl) - q * c3
+      t = abs(r)
+      j = tab_index(t, ntab)
+      del = t - j * tab_step
+      fs = sign(estrin8(tab(:, 1, j), del), r)
+      fc = estrin8(tab(:, 2, j), del)
+      fd = estrin8(tab(:, 3, j), del)
+      parity = iand(int(q), 1)
+      if (par%kind == MODULUS_RECIPROCAL) then
+        if (parity /= 0) then
+          fs = -fs; fd = -fd
+        end if
+      else if (parity /= 0) then
+        fs = -fs; fc = -fc
+      end if
+      if (u(i) < 0) fs = -fs
+      sn(i) = fs; cn(i) = fc; dn(i) = fd
+      if (want_am) then
+        fa = sign(estrin8(tab(:, 4, j), del), r)
+        if (par%kind == MODULUS_RECIPROCAL) then
+          if (parity /= 0) fa = -fa
+        else
+          fa = fa + q * pi
+        end if
+        if (u(i) < 0) fa = -fa
+        am(i) = fa
+      end if
+    end do
+  end subroutine eval_table_array
+
+  ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py); included here so that the
+  ! compiler inlines it into the short path (no inlining across modules without LTO)
+  include 'pendula_jacobi_series.inc'
+
+end module pendula_jacobi_kernel

@@ -1,0 +1,118 @@
+!> What the integrators share: the nonlinear damped pendulum (text eq. 2.2)
+!>   theta'' + gamma theta' + w0**2 sin(theta) = 0
+!> as a first-order system y = (theta, Omega), its Jacobian, the statistics
+!> record every integrator fills, the event and method codes, and the argument
+!> checks common to RK4 and CVODE.
+module pendula_ode
+  use pendula_kinds, only: wp, i8
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use pendula_format, only: format_int
+  use pendula_status, only: status_t, set_error, check_finite, check_positive, &
+      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN
+  implicit none
+  private
+  public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, &
+            linear_eigenvalues, check_cvode_options, check_span
+  public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+
+  !> CVODE linear multistep families: Adams-Moulton (non-stiff, orders 1-12)
+  !> and BDF (stiff, orders 1-5).
+  integer, parameter :: PENDULA_CVODE_ADAMS = 1
+  integer, parameter :: PENDULA_CVODE_BDF = 2
+  !> Event kinds: a turning point (Omega = 0, theta at an extremum) and a zero
+  !> crossing (theta = 0, the pendulum passes the vertical).
+  integer, parameter :: PENDULA_EVENT_TURNING = 1
+  integer, parameter :: PENDULA_EVENT_ZERO = 2
+
+  !> Work counters of one integration.  RK4 fills steps and rhs_evals; CVODE
+  !> fills all of them (root_evals counts evaluations of the event functions).
+  type :: ode_stats_t
+    integer(i8) :: steps = 0
+    integer(i8) :: rhs_evals = 0
+    integer(i8) :: jac_evals = 0
+    integer(i8) :: err_test_fails = 0
+    integer(i8) :: nonlin_iters = 0
+    integer(i8) :: nonlin_fails = 0
+    integer(i8) :: root_evals = 0
+  end type ode_stats_t
+
+contains
+
+  !> Right-hand side of eq. 2.2 as a system: theta' = Omega,
+  !> Omega' = -gamma Omega - w0**2 sin(theta); w0sq = w0**2 [1/s^2], gamma [1/s].
+  elemental subroutine pendulum_rhs(theta, omega, w0sq, gamma, dtheta, domega)
+    real(wp), intent(in) :: theta, omega, w0sq, gamma
+    real(wp), intent(out) :: dtheta, domega
+    dtheta = omega
+    domega = -gamma * omega - w0sq * sin(theta)
+  end subroutine pendulum_rhs
+
+  !> Jacobian d(theta', Omega')/d(theta, Omega) = [[0, 1], [-w0**2 cos(theta), -gamma]].
+  pure subroutine pendulum_jacobian(theta, w0sq, gamma, jac)
+    real(wp), intent(in) :: theta, w0sq, gamma
+    real(wp), intent(out) :: jac(2, 2)
+    jac(1, 1) = 0
+    jac(1, 2) = 1
+    jac(2, 1) = -w0sq * cos(theta)
+    jac(2, 2) = -gamma
+  end subroutine pendulum_jacobian
+
+  !> Eigenvalues of the problem linearised about theta = 0 (text eqs. 2.4-2.18):
+  !> lambda = -gamma/2 +- sqrt(gamma**2/4 - w0**2), as (re, im) pairs; the first
+  !> has the larger modulus.  Written without gamma**2 so that it neither
+  !> overflows nor cancels (the small real root comes from lambda1 lambda2 = w0**2).
+  pure subroutine linear_eigenvalues(w0, gamma, lam1, lam2)
+    real(wp), intent(in) :: w0, gamma
+    complex(wp), intent(out) :: lam1, lam2
+    real(wp) :: half, s
+    half = gamma / 2
+    if (half >= w0) then
+      s = sqrt(half - w0) * sqrt(half + w0)
+      lam1 = cmplx(-(half + s), 0, wp)
+      lam2 = cmplx((w0 / (half + s)) * (-w0), 0, wp)
+    else
+      s = sqrt(w0 - half) * sqrt(w0 + half)
+      lam1 = cmplx(-half, s, wp)
+      lam2 = cmplx(-half, -s, wp)
+    end if
+  end subroutine linear_eigenvalues
+
+  !> Checks shared by every integrator: t strictly increasing, finite, at least
+  !> one element (t(1) is the initial time); finite theta0, omega0; w0 > 0;
+  !> gamma >= 0.
+  pure subroutine check_problem(t, theta0, omega0, w0, gamma, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma
+    type(status_t), intent(inout) :: status
+    call check_size('t', size(t), 1, status)
+    call check_increasing('t', t, status)
+    call check_finite('theta0', theta0, status)
+    call check_finite('omega0', omega0, status)
+    call check_positive('w0', w0, status)
+    call check_nonnegative('gamma', gamma, status)
+  end subroutine check_problem
+
+  !> CVODE's settings that a batch shares: method PENDULA_CVODE_ADAMS or
+  !> PENDULA_CVODE_BDF, step budget max_steps >= 1.
+  pure subroutine check_cvode_options(method, max_steps, status)
+    integer, intent(in) :: method
+    integer(i8), intent(in) :: max_steps
+    type(status_t), intent(inout) :: status
+    if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // format_int(method) // &
+            ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
+    if (status%code == PENDULA_OK .and. max_steps < 1) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_int(max_steps) // &
+            ' is out of range: it must be >= 1')
+  end subroutine check_cvode_options
+
+  !> Require t(n) - t(1) to be finite (t already checked by check_problem).
+  pure subroutine check_span(t, status)
+    real(wp), intent(in) :: t(:)
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(t(size(t)) - t(1))) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) ' // &
+            'overflows): no integration can cover that window')
+  end subroutine check_span
+
+end module pendula_ode

@@ -1,0 +1,208 @@
+!> Scenes: answer a question about a pendulum with the cheapest model whose
+!> error fits a tolerance, say which model and why, and back the answer with
+!> an error estimate.
+!>
+!> A scene is the text's parameters (w0 = sqrt(g/l), gamma = b/m; see
+!> scene_physics), an initial state (theta0, Omega0) at t = 0, a window of
+!> output times t(:) >= 0, what is wanted (SCENE_WANT_*) and a tolerance tol:
+!> an ABSOLUTE bound on theta [rad] over the whole window, with Omega scaled by
+!> w0, i.e. the error measure is sup_t max(|d theta|, |d Omega|/w0).
+!>
+!> Models, cheapest first (SCENE_MODEL_*):
+!>  * small_angle (gamma = 0): theta0 cos w0t + (Omega0/w0) sin w0t; its
+!>    rigorous bound over the window (pendula_small_angle, phase drift
+!>    ~ (m/4) w0 t) decides;
+!>  * linear damped closed form (gamma > 0): error of dropping sin(theta) -
+!>    theta, estimated a priori (see linear_estimate: amplitude^2 frequency
+!>    shift accumulated over the decaying window, and a Green's-function bound);
+!>  * exact undamped (gamma = 0): elliptic closed form, error a few eps times
+!>    the problem's condition number (exact_estimate);
+!>  * rk4: step chosen from tol and the window length (global error ~ C h^4 T),
+!>    verified a posteriori by a second run at 2h (Richardson: the difference
+!>    over the output grid / 15 estimates the error of the h run); refined
+!>    until the estimate meets tol;
+!>  * cvode: rtol/atol chosen from tol and the number of periods in the window
+!>    (a local tolerance is not a global error), verified by a second run ten
+!>    times tighter; the tighter run is returned and the difference is its
+!>    (conservative) error estimate.
+!> Only what the scene asks for is computed: SCENE_WANT_PERIOD evaluates K once
+!> (no time series), SCENE_WANT_FINAL keeps no history (RK4 final-state mode),
+!> SCENE_WANT_ENERGY with gamma = 0 is the constant energy of the initial state.
+!>
+!> The concern's files: pendula_scene_codes (codes, names, limits),
+!> pendula_scene_types (scene_t and its result), pendula_scene_setup
+!> (construction and rules), pendula_scene_estimates (model choice and error
+!> models), pendula_scene_closed (closed forms and their events),
+!> pendula_scene_integrated (RK4/CVODE runs and their verification),
+!> pendula_scene_events (event bound, Hermite events); this module is the
+!> public face and the two entry points that run a scene.
+module pendula_scene
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci, format_int
+  use pendula_status, only: status_t, set_error, check_positive, PENDULA_OK, PENDULA_ERR_DOMAIN, &
+      PENDULA_ERR_SOLVER
+  use pendula_integrators, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_control, only: CONTROL_SIZE
+  use pendula_scene_codes, only: scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
+      scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
+      SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
+      SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats
+  use pendula_scene_setup, only: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, &
+      get_budget, alloc_outputs, finish_outputs
+  use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model
+  use pendula_scene_closed, only: solve_closed
+  use pendula_scene_integrated, only: solve_rk4, solve_cvode, integrate
+  use pendula_scene_events, only: scene_event_bound
+  implicit none
+  private
+
+  public :: scene_t, scene_result_t, scene_cost_t
+  public :: scene_init, scene_physics, scene_solve, scene_run_model, scene_estimate, scene_event_bound
+  public :: scene_model_name, scene_model_code, scene_want_name, scene_want_code
+  public :: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
+            SCENE_MODEL_RK4, SCENE_MODEL_CVODE
+  public :: SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
+            SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
+  public :: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+
+contains
+
+  !> Answer the scene with the cheapest model whose error estimate is <= tol
+  !> (or with scene%model when forced).  result%model, %reason,
+  !> %error_estimate, %tol_met and %cost say which, why, how good and how
+  !> expensive.  When no model meets tol (e.g. tol below the rounding floor of
+  !> the exact solution) the most accurate one is used, tol_met is false and
+  !> the reason says so.  Errors: an invalid scene (use scene_init), CVODE
+  !> forced but not built (PENDULA_ERR_UNAVAILABLE), integrator failures.
+  !> max_steps (optional, default SCENE_STEP_CAP of pendula_scene_codes): the
+  !> work budget in RK4 steps (a CVODE step counts as SCENE_CVODE_STEP_COST); a solve predicted to need more is refused up front
+  !> (PENDULA_ERR_MAXSTEPS, naming the window, tol and max_steps).  control
+  !> (optional, see pendula_control): cancel flag polled throughout the
+  !> integrations (PENDULA_ERR_CANCELLED), progress in steps / evaluations.
+  subroutine scene_solve(scene, result, status, control, max_steps)
+    type(scene_t), intent(in) :: scene
+    type(scene_result_t), intent(out) :: result
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer(i8), intent(in), optional :: max_steps
+    integer(i8) :: c0, c1, rate
+    integer :: model
+    real(wp) :: est, tend, budget
+    character(len=:), allocatable :: why
+    call system_clock(c0, rate)
+    call check_scene(scene, status)
+    call get_budget(budget, status, max_steps)
+    if (status%code /= PENDULA_OK) return
+    tend = window_end(scene)
+    model = scene%model
+    if (model == SCENE_MODEL_AUTO) then
+      call choose_model(scene, tend, model, est, why, status)
+    else
+      call model_estimate(scene, model, est, status)
+      why = 'forced by the caller'
+      call check_model_built(model, status)
+    end if
+    if (status%code /= PENDULA_OK) return
+    select case (model)
+    case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)
+      call solve_closed(scene, model, est, result, status)
+    case (SCENE_MODEL_RK4)
+      call solve_rk4(scene, tend, budget, result, status, control)
+    case (SCENE_MODEL_CVODE)
+      call solve_cvode(scene, tend, budget, result, status, control)
+    end select
+    call check_event_count(scene, tend, result, status)
+    if (status%code /= PENDULA_OK) return
+    result%model = model
+    result%want = scene%want
+    result%tol_met = result%error_estimate <= scene%tol
+    if (.not. result%tol_met) then
+      why = why // '; tol NOT met: error estimate ' // format_sci(result%error_estimate, 4) // ' > tol'
+    end if
+    result%reason = why
+    call system_clock(c1)
+    result%cost%wall_time = real(c1 - c0, wp) / real(max(rate, 1_i8), wp)
+  end subroutine scene_solve
+
+  !> Run one model at a fixed setting, with no verification and no choice:
+  !> setting is the RK4 step h [s] or the CVODE rtol (atol = rtol/100 * the
+  !> state scale; Adams, BDF when stiff); ignored for closed forms.  Meant for
+  !> work-precision studies (pendula.tradeoff).  result%error_estimate is the a
+  !> priori estimate for closed forms and 0 (unknown) for the integrators.
+  !> control and max_steps: as for scene_solve (an RK4 run needing more than
+  !> max_steps steps is refused up front; CVODE stops after max_steps/20).
+  subroutine scene_run_model(scene, model, setting, result, status, control, max_steps)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(in) :: setting
+    type(scene_result_t), intent(out) :: result
+    type(status_t), intent(out) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer(i8), intent(in), optional :: max_steps
+    integer(i8) :: c0, c1, rate
+    real(wp) :: est, tend, budget
+    type(ode_stats_t) :: stats
+    call system_clock(c0, rate)
+    call check_scene(scene, status)
+    call get_budget(budget, status, max_steps)
+    if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_CVODE) call set_error(status, &
+        PENDULA_ERR_DOMAIN, 'model = ' // format_int(model) // ' is unknown: it must be one of ' // &
+        scene_model_list(SCENE_MODEL_SMALL_ANGLE))
+    if (status%code /= PENDULA_OK) return
+    call check_model_gamma(model, scene%gamma, status)
+    call check_model_built(model, status)
+    if (status%code /= PENDULA_OK) return
+    tend = window_end(scene)
+    select case (model)
+    case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)
+      call model_estimate(scene, model, est, status)
+      if (status%code /= PENDULA_OK) return
+      call solve_closed(scene, model, est, result, status)
+      call check_event_count(scene, tend, result, status)
+    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
+      call check_positive('setting', setting, status)
+      if (status%code /= PENDULA_OK) return
+      if (model == SCENE_MODEL_RK4 .and. tend / setting > budget) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // format_sci(setting, 4) // ' is too small: ' // &
+            'the RK4 step h would need more than max_steps = ' // format_sci(budget, 4) // ' steps over t = 0 .. ' // &
+            format_sci(tend, 4) // ' (raise max_steps to allow it)')
+        return
+      end if
+      call alloc_outputs(scene, result)
+      call integrate(scene, model, setting, budget, result%t, result%theta, result%omega, stats, status, &
+          control)
+      if (status%code /= PENDULA_OK) return
+      call add_stats(result%cost, stats)
+      result%setting = setting
+      if (model == SCENE_MODEL_RK4) result%step = setting
+      if (model == SCENE_MODEL_CVODE) result%rtol = setting
+      result%error_estimate = 0
+      call finish_outputs(scene, result)
+    end select
+    if (status%code /= PENDULA_OK) return
+    result%model = model
+    result%want = scene%want
+    result%reason = 'forced by the caller at a fixed setting (no verification)'
+    call system_clock(c1)
+    result%cost%wall_time = real(c1 - c0, wp) / real(max(rate, 1_i8), wp)
+  end subroutine scene_run_model
+
+  ! More events than the motion can have (scene_event_bound) means the
+  ! sampled trajectory was not resolved: an error, never a silent answer.
+  pure subroutine check_event_count(scene, tend, result, status)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend
+    type(scene_result_t), intent(in) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8) :: nmax
+    if (status%code /= PENDULA_OK .or. scene%want /= SCENE_WANT_EVENTS) return
+    if (.not. allocated(result%event_t)) return
+    nmax = scene_event_bound(scene%w0, tend)
+    if (size(result%event_t, kind=i8) > nmax) call set_error(status, PENDULA_ERR_SOLVER, 'found ' // &
+        format_int(size(result%event_t)) // ' events in t = 0 .. ' // format_sci(tend, 4) // &
+        ', more than the ' // format_int(nmax) // ' the motion can have (2 floor(w0 t/pi) + 3): ' // &
+        'the sampled trajectory is not resolved; give a smaller tol')
+  end subroutine check_event_count
+
+end module pendula_scene

@@ -1,0 +1,191 @@
+!> The closed-form path of the scenes: small-angle, exact elliptic and linear
+!> damped solutions evaluated at the outputs, their period and energy, and
+!> their events (sign changes on a scan, refined to a few ulps of t).
+module pendula_scene_closed
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
+  use pendula_kinds, only: wp, i8
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_constants, only: pi
+  use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_ILLINOIS
+  use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
+      REGIME_SEPARATRIX
+  use pendula_small_angle, only: small_angle_eval
+  use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state, &
+      DAMPING_UNDERDAMPED
+  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
+      SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
+  use pendula_scene_types, only: scene_t, scene_result_t, window_end
+  use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_events, only: append_events, trim_events, event_time_error, sign_change
+  implicit none
+  private
+
+  public :: solve_closed
+
+  real(wp), parameter :: eps = epsilon(1.0_wp)
+
+  ! A closed form ready to evaluate.
+  type :: closed_t
+    integer :: model = SCENE_MODEL_EXACT
+    type(undamped_motion_t) :: motion
+    type(linear_damped_t) :: lin
+    real(wp) :: w0 = 1, gamma = 0
+  end type closed_t
+
+contains
+
+  pure subroutine closed_init(scene, model, cf, status)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    type(closed_t), intent(out) :: cf
+    type(status_t), intent(inout) :: status
+    cf%model = model
+    cf%w0 = scene%w0
+    cf%gamma = scene%gamma
+    if (model == SCENE_MODEL_LINEAR) then
+      call linear_damped_init(cf%lin, scene%theta0, scene%omega0, scene%w0, scene%gamma, status)
+    else
+      call undamped_init(cf%motion, scene%theta0, scene%omega0, scene%w0, status)
+    end if
+  end subroutine closed_init
+
+  elemental subroutine closed_eval(cf, t, theta, omega)
+    type(closed_t), intent(in) :: cf
+    real(wp), intent(in) :: t
+    real(wp), intent(out) :: theta, omega
+    select case (cf%model)
+    case (SCENE_MODEL_SMALL_ANGLE)
+      call small_angle_eval(cf%motion, t, theta, omega)
+    case (SCENE_MODEL_LINEAR)
+      call linear_damped_state(cf%lin, t, theta, omega)
+    case default
+      call undamped_eval(cf%motion, t, theta, omega)
+    end select
+  end subroutine closed_eval
+
+  !> Answer a checked scene with closed-form model (small_angle, exact or
+  !> linear) whose a priori estimate is est [rad]: the wanted quantities,
+  !> the estimate, and the closed-form evaluations in result%cost.
+  subroutine solve_closed(scene, model, est, result, status)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(in) :: est
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    type(closed_t) :: cf
+    call closed_init(scene, model, cf, status)
+    if (status%code /= PENDULA_OK) return
+    result%error_estimate = est
+    select case (scene%want)
+    case (SCENE_WANT_PERIOD)
+      if (model == SCENE_MODEL_SMALL_ANGLE) then
+        result%period = 2 * pi / scene%w0
+      else
+        result%period = cf%motion%period
+      end if
+      allocate (result%t(0), result%theta(0), result%omega(0))
+    case (SCENE_WANT_ENERGY)
+      call alloc_outputs(scene, result)
+      if (model == SCENE_MODEL_EXACT) then
+        ! conserved: the energy of the initial state, no time series
+        result%theta = 0
+        result%omega = 0
+        result%energy = pendulum_energy(scene%theta0, scene%omega0, scene%w0)
+        result%error_estimate = max(est, 4 * eps * result%energy(1) / scene%w0**2)
+        result%cost%closed_form_evals = 1
+        deallocate (result%theta, result%omega)
+        allocate (result%theta(0), result%omega(0))
+        return
+      end if
+      call closed_eval(cf, result%t, result%theta, result%omega)
+      result%cost%closed_form_evals = size(result%t)
+      call finish_outputs(scene, result)
+    case (SCENE_WANT_EVENTS)
+      call closed_events(cf, window_end(scene), result)
+      allocate (result%t(0), result%theta(0), result%omega(0))
+      result%event_time_error = event_time_error(result, est, scene%w0)
+    case default
+      call alloc_outputs(scene, result)
+      call closed_eval(cf, result%t, result%theta, result%omega)
+      result%cost%closed_form_evals = size(result%t)
+      call finish_outputs(scene, result)
+    end select
+  end subroutine solve_closed
+
+  ! Event times from a closed form: scan (0, tend] at 16 samples per period
+  ! (geometric steps for motions that do not oscillate), then refine each sign
+  ! change of theta (zero crossing) or Omega (turning point) by the Illinois
+  ! variant of regula falsi to a few ulps of t.
+  subroutine closed_events(cf, tend, result)
+    type(closed_t), intent(in) :: cf
+    real(wp), intent(in) :: tend
+    type(scene_result_t), intent(inout) :: result
+    real(wp) :: step, growth, stepmax, ta, tb, tha, oma, thb, omb, te(2), per
+    integer :: kinds(2), ne, nev
+    integer(i8) :: nevals
+    allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0))
+    per = ieee_value(1.0_wp, ieee_positive_inf)
+    select case (cf%model)
+    case (SCENE_MODEL_SMALL_ANGLE)
+      per = 2 * pi / cf%w0
+    case (SCENE_MODEL_EXACT)
+      if (cf%motion%regime /= REGIME_SEPARATRIX) per = cf%motion%period
+    case (SCENE_MODEL_LINEAR)
+      if (cf%lin%info%regime == DAMPING_UNDERDAMPED) per = cf%lin%info%damped_period
+    end select
+    if (ieee_is_finite(per)) then
+      step = per / 16
+      growth = 1
+      stepmax = step
+    else
+      ! no oscillation: at most one root of each; resolve the fast time scale first
+      step = 1 / (8 * max(cf%w0, cf%gamma))
+      growth = 1.05_wp
+      stepmax = max(tend / 64, step)
+    end if
+    nevals = 1
+    ta = 0
+    call closed_eval(cf, ta, tha, oma)
+    nev = 0
+    do while (ta < tend)
+      tb = min(tend, ta + step)
+      call closed_eval(cf, tb, thb, omb)
+      nevals = nevals + 1
+      ne = 0
+      if (sign_change(tha, thb)) then
+        ne = ne + 1
+        kinds(ne) = PENDULA_EVENT_ZERO
+        te(ne) = refine(1, ta, tb, tha, thb)
+      end if
+      if (sign_change(oma, omb)) then
+        ne = ne + 1
+        kinds(ne) = PENDULA_EVENT_TURNING
+        te(ne) = refine(2, ta, tb, oma, omb)
+      end if
+      if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev)
+      ta = tb
+      tha = thb
+      oma = omb
+      step = min(stepmax, step * growth)
+    end do
+    call trim_events(result, nev)
+    call closed_eval(cf, result%event_t, result%event_theta, result%event_omega)
+    result%cost%closed_form_evals = nevals + size(result%event_t)
+  contains
+    real(wp) function refine(which, a0, b0, fa0, fb0) result(r)
+      integer, intent(in) :: which
+      real(wp), intent(in) :: a0, b0, fa0, fb0
+      real(wp) :: th, om
+      type(bracket_t) :: br
+      call bracket_start(br, a0, b0, fa0, fb0, ROOT_ILLINOIS, 200, 4 * eps * tiny(1.0_wp), 4 * eps)
+      do while (.not. br%done)
+        call closed_eval(cf, br%c, th, om)
+        nevals = nevals + 1
+        call bracket_update(br, merge(th, om, which == 1))
+      end do
+      r = br%root
+    end function refine
+  end subroutine closed_events
+
+end module pendula_scene_closed

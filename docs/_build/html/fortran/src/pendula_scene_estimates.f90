@@ -1,0 +1,364 @@
+!> Model choice and error models of the scenes: the a priori error estimate
+!> of each closed form over a window (small-angle bound, linear model's
+!> nonlinearity, exact solution's rounding), the a priori RK4 step, the
+!> rounding floor of an integration, and the choice of the cheapest model
+!> whose estimate meets tol.
+module pendula_scene_estimates
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use pendula_kinds, only: wp
+  use pendula_format, only: format_sci, format_int
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_DOMAIN
+  use pendula_constants, only: pi
+  use pendula_elliptic, only: ellipkm1
+  use pendula_undamped, only: undamped_motion_t, undamped_init, REGIME_LIBRATION, REGIME_SEPARATRIX
+  use pendula_small_angle, only: small_angle_bound
+  use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state, &
+      DAMPING_UNDERDAMPED
+  use pendula_integrators, only: rk4_max_stable_step, cvode_available
+  use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
+      SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_RK4_STEP_LIMIT, &
+      SCENE_STIFF_RK4_STEPS, scene_want_name
+  use pendula_scene_types, only: scene_t, window_end, is_stiff
+  use pendula_scene_setup, only: check_scene
+  implicit none
+  private
+
+  public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding
+
+  real(wp), parameter :: eps = epsilon(1.0_wp)
+  !> Safety factor on the a priori nonlinearity estimate of the linear model
+  !> (calibrated: the estimate is within 3 % of the true error where tight).
+  real(wp), parameter :: LINEAR_SAFETY = 1.5_wp
+
+contains
+
+  !> A priori error estimate [rad] of a closed-form model over the scene's
+  !> window (sup of max(|d theta|, |d Omega|/w0)): the small-angle bound, the
+  !> linear model's nonlinearity estimate, or the exact solution's rounding
+  !> estimate.  For rk4 and cvode the value is scene%tol: their settings are
+  !> chosen from it and verified a posteriori by scene_solve.  +inf where the
+  !> model does not apply (small angle over the top, closed forms with the
+  !> wrong gamma).
+  pure subroutine scene_estimate(scene, model, estimate, status)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(out) :: estimate
+    type(status_t), intent(out) :: status
+    estimate = ieee_value(1.0_wp, ieee_positive_inf)
+    call check_scene(scene, status)
+    if (status%code /= PENDULA_OK) return
+    call model_estimate(scene, model, estimate, status)
+  end subroutine scene_estimate
+
+  !> scene_estimate for a scene already checked (no second check).
+  pure subroutine model_estimate(scene, model, estimate, status)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(out) :: estimate
+    type(status_t), intent(inout) :: status
+    type(undamped_motion_t) :: motion
+    real(wp) :: tend, dth, dom
+    estimate = ieee_value(1.0_wp, ieee_positive_inf)
+    tend = window_end(scene)
+    select case (model)
+    case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT)
+      if (scene%gamma > 0) return
+      call undamped_init(motion, scene%theta0, scene%omega0, scene%w0, status)
+      if (status%code /= PENDULA_OK) return
+      if (model == SCENE_MODEL_SMALL_ANGLE) then
+        call small_angle_bound(motion, tend, dth, dom)
+        estimate = max(dth, dom / scene%w0)
+        if (scene%want == SCENE_WANT_PERIOD) estimate = period_small_angle_error(motion)
+      else
+        estimate = exact_estimate(motion, tend)
+        if (scene%want == SCENE_WANT_PERIOD) estimate = 8 * eps * (1 + abs(log(max(abs(motion%mc), &
+            tiny(1.0_wp)))))
+      end if
+    case (SCENE_MODEL_LINEAR)
+      estimate = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend)
+    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
+      estimate = scene%tol
+    case default
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // format_int(model) // ' is unknown')
+    end select
+  end subroutine model_estimate
+
+  !> The choice: cheapest model whose estimate meets tol (model, its
+  !> estimate, and why in words).
+  subroutine choose_model(scene, tend, model, est, why, status)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend
+    integer, intent(out) :: model
+    real(wp), intent(out) :: est
+    character(len=:), allocatable, intent(out) :: why
+    type(status_t), intent(inout) :: status
+    real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps, rk4_round, big, msep
+    type(status_t) :: st
+    if (scene%gamma == 0) then
+      call model_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
+      call model_estimate(scene, SCENE_MODEL_EXACT, e_ex, status)
+      if (status%code /= PENDULA_OK) return
+      if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_ENERGY) then
+        ! K (or the energy) comes with the motion's set-up: nothing cheaper exists.
+        model = SCENE_MODEL_EXACT
+        est = e_ex
+        why = 'gamma = 0 and want = ' // scene_want_name(scene%want) // &
+            ': the exact value costs one set-up (K once), no time series'
+      else if (e_sa <= scene%tol) then
+        model = SCENE_MODEL_SMALL_ANGLE
+        est = e_sa
+        why = 'gamma = 0 and the small-angle bound over the window, ' // format_sci(e_sa, 4) // &
+            ' rad, is <= tol'
+      else
+        model = SCENE_MODEL_EXACT
+        est = e_ex
+        why = 'gamma = 0 and the small-angle bound ' // format_sci(e_sa, 4) // ' rad exceeds tol: exact ' // &
+            'elliptic solution'
+      end if
+      return
+    end if
+    e_lin = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend)
+    if (e_lin <= scene%tol) then
+      model = SCENE_MODEL_LINEAR
+      est = e_lin
+      why = 'gamma > 0 and the nonlinearity estimate of the linear closed form over the window, ' // &
+          format_sci(e_lin, 4) // ' rad, is <= tol'
+      return
+    end if
+    est = scene%tol
+    model = SCENE_MODEL_RK4
+    call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
+    nsteps = tend / min(0.9_wp * hmax, rk4_apriori_step(scene, tend))
+    ! RK4's rounding floor grows like sqrt(steps) times max|theta| (unwrapped
+    ! rotations): when it would eat tol, CVODE's fewer, longer steps do better
+    ! (the angle grows without bound only while the pendulum goes over the top:
+    ! at most max|Omega| = sqrt(Omega0^2 + 4 w0^2) times the window, or the
+    ! time damping needs to bring the energy E0 = m E_sep below the separatrix)
+    big = abs(scene%theta0) + 2 * pi
+    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
+    if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * &
+        min(tend, 2 * (1 + log(msep)) / scene%gamma)
+    rk4_round = integrator_rounding(scene, [big], nsteps)
+    if (cvode_available() .and. (nsteps > SCENE_RK4_STEP_LIMIT .or. rk4_round > scene%tol / 4 .or. &
+        (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))) then
+      model = SCENE_MODEL_CVODE
+      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
+          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad), so CVODE (' // &
+          trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
+          ') with tolerances from tol and the window, verified by a run 10x tighter'
+    else
+      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad: RK4 with h from ' // &
+          'tol and the window (C h^4 T), verified by a run at 2h'
+    end if
+  end subroutine choose_model
+
+  ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad].
+  pure real(wp) function period_small_angle_error(motion) result(e)
+    type(undamped_motion_t), intent(in) :: motion
+    if (motion%regime /= REGIME_LIBRATION) then
+      e = ieee_value(1.0_wp, ieee_positive_inf)
+    else
+      e = abs(motion%w0 * motion%period - 2 * pi)
+    end if
+  end function period_small_angle_error
+
+  ! Rounding estimate of the exact elliptic solution over [0, tend] at the
+  ! given (exact double) inputs: the phase w0 t is rounded (theta moves by
+  ! ~eps Omega_max t), and the energy parameter carries an error delta_m that
+  ! shifts the frequency by t |d ln T/d m| delta_m (T ~ ln(16/mc) near the
+  ! separatrix); theta moves by the phase error times max|Omega|/w.
+  pure real(wp) function exact_estimate(motion, tend) result(e)
+    type(undamped_motion_t), intent(in) :: motion
+    real(wp), intent(in) :: tend
+    real(wp) :: omax, dm, mc, dlnt, h
+    if (motion%m == 0) then
+      e = 0
+      return
+    end if
+    omax = 2 * sqrt(motion%m) * motion%w0          ! max |Omega| (libration and rotation)
+    mc = motion%mc
+    ! pendula_undamped forms 1 - m as (c - q)(c + q) with c, q carried to ~2
+    ! doubles, so mc is known to a few eps RELATIVE to itself: near the
+    ! separatrix the energy error is that small, not eps * m
+    dm = 4 * eps * abs(mc) + eps**2 * (1 + abs(motion%center))
+    if (motion%regime == REGIME_SEPARATRIX .or. mc == 0) then
+      dlnt = 1 / max(abs(mc), dm)
+    else
+      h = 1.0e-4_wp * abs(mc)
+      dlnt = abs(log(turn_time(mc + h) / turn_time(mc - h))) / (2 * h)
+    end if
+    e = 4 * eps * (abs(motion%theta0) + 2 * pi + omax / motion%w0) &
+        + 4 * omax * tend * (eps + min(dlnt * dm, 1.0_wp))
+    e = min(e, 2 * (omax / motion%w0 + 2 * pi))
+  contains
+    pure real(wp) function turn_time(c)
+      real(wp), intent(in) :: c
+      if (c > 0) then
+        turn_time = 4 * ellipkm1(c)
+      else
+        turn_time = 2 * ellipkm1(-c / (1 - c)) / sqrt(1 - c)
+      end if
+    end function turn_time
+  end function exact_estimate
+
+  !> Nonlinearity error of the linear model theta'' + gamma theta' + w0^2 theta
+  !> = 0 against eq. 2.2 over [0, tend], as sup max(|d theta|, |d Omega|/w0).
+  !> Two estimates, the smaller is used (times LINEAR_SAFETY), plus rounding:
+  !>  (a) underdamped, phase drift: an oscillation of amplitude A is slower by
+  !>      dw = w0^2 A^2/(16 w_d) (the pendulum's A^2/16 shift, eq. 1.53 expanded);
+  !>      with A(t) = A0 e^(-gamma t/2) the phase lag is
+  !>      phi(t) = w0^2 A0^2 (1 - e^(-gamma t))/(16 w_d gamma), so the error is
+  !>      about A(t) min(2, phi(t)) (1 + gamma/(2 w0)) plus the harmonics A^3/16;
+  !>  (b) any regime, Green's function: the error d solves the linear equation
+  !>      forced by w0^2 (theta - sin theta) <= w0^2 |theta|^3/6, so
+  !>      |d| <= w0^2 B^3/6 int_0^tend |G|, B = max |theta_lin|, and the same with
+  !>      |G'|/w0 for Omega; G(s) = e^(-gamma s/2) sin(w_d s)/w_d (sinh, s).
+  pure real(wp) function linear_estimate(theta0, omega0, w0, gamma, tend) result(e)
+    real(wp), intent(in) :: theta0, omega0, w0, gamma, tend
+    integer, parameter :: n = 400
+    type(linear_damped_t) :: lin, gl
+    type(status_t) :: st
+    real(wp) :: tt(0:n), th(0:n), om(0:n), bmax, ig, igp, eg, ep, wd, a0, a, amp, phi, scale, &
+        round, t0, gt, gpt, gmax, jmin
+    integer :: i
+    call linear_damped_init(lin, theta0, omega0, w0, gamma, st)
+    if (st%code /= PENDULA_OK) then
+      e = ieee_value(1.0_wp, ieee_positive_inf)
+      return
+    end if
+    scale = abs(theta0) + abs(omega0) / w0
+    if (tend <= 0 .or. scale == 0) then
+      e = 0
+      return
+    end if
+    a = gamma / 2
+    call linear_damped_init(gl, 0.0_wp, 1.0_wp, w0, gamma, st)   ! G: theta0 = 0, Omega0 = 1
+    call linear_damped_state(gl, tend, gt, gpt)
+    if (lin%info%regime == DAMPING_UNDERDAMPED) then
+      wd = lin%info%omega_d
+      bmax = lin%amplitude                      ! |theta| <= R e^(-gamma t/2) <= R
+      ! |G(s)| <= e^(-a s) min(s, 1/w_d), |G'(s)| <= e^(-a s) (1 + a min(s, 1/w_d))
+      jmin = min(int_exp_s(a, tend), int_exp(a, tend) / wd)
+      ig = jmin
+      igp = int_exp(a, tend) + a * jmin
+      ! (a) phase drift, sampled on a uniform grid (A(t) phi(t) is smooth)
+      a0 = lin%amplitude
+      ep = 0
+      do i = 0, n
+        tt(i) = tend * (real(i, wp) / n)
+        amp = a0 * exp(-a * tt(i))
+        if (gamma > 0) then
+          phi = w0**2 * a0**2 * (-expm1(-gamma * tt(i))) / (16 * wd * gamma)
+        else
+          phi = w0**2 * a0**2 * tt(i) / (16 * wd)
+        end if
+        ep = max(ep, amp * min(2.0_wp, phi) * max(1.0_wp, (wd + a) / w0) + amp**3 / 16)
+      end do
+    else
+      ! over-damped or critical: theta has at most one hump; sample it on a
+      ! geometric grid that resolves the fast time scale 1/|lambda1|
+      t0 = min(tend, 1.0e-3_wp / max(w0, gamma))
+      tt(0) = 0
+      do i = 1, n
+        tt(i) = t0 * (tend / t0)**(real(i - 1, wp) / (n - 1))
+      end do
+      call linear_damped_state(lin, tt, th, om)
+      bmax = maxval(abs(th)) * (1 + 1.0e-2_wp)
+      ! G >= 0: int G = (1 - G'(T) - gamma G(T))/w0^2 from the equation itself;
+      ! G' changes sign once (at the hump of G), so int |G'| <= 2 max G.
+      ig = max(0.0_wp, (1 - gpt - gamma * gt) / w0**2)
+      call linear_damped_state(gl, tt, th, om)
+      gmax = maxval(th) * (1 + 1.0e-2_wp)
+      igp = 2 * gmax
+      ep = ieee_value(1.0_wp, ieee_positive_inf)
+    end if
+    ! (b) Green's function bound, any regime
+    eg = w0**2 * bmax**3 / 6 * max(ig, igp / w0)
+    round = 16 * eps * scale * (1 + (w0 + gamma) * tend)
+    e = LINEAR_SAFETY * min(eg, ep) + round
+  contains
+    ! int_0^T e^(-a s) ds and int_0^T s e^(-a s) ds, without cancellation
+    pure real(wp) function int_exp(a, t) result(r)
+      real(wp), intent(in) :: a, t
+      if (a * t < 1.0e-8_wp) then
+        r = t
+      else
+        r = -expm1(-a * t) / a
+      end if
+    end function int_exp
+    pure real(wp) function int_exp_s(a, t) result(r)
+      real(wp), intent(in) :: a, t
+      real(wp) :: x
+      x = a * t
+      if (x < 1.0e-3_wp) then
+        r = t**2 * (0.5_wp - x / 3 + x**2 / 8)
+      else
+        r = (-expm1(-x) - x * exp(-x)) / a**2
+      end if
+    end function int_exp_s
+  end function linear_estimate
+
+  !> A priori RK4 step for the window: global error ~ C A (w0 h)^4 w0 T_eff
+  !> with C = 1/120 for the harmonic oscillator (the phase error of one step is
+  !> (w0 h)^5/120), doubled for the nonlinear pendulum.  With damping the error
+  !> stops growing once the motion has decayed below tol, so T_eff is the
+  !> window or the time the slowest mode needs to decay from A to tol.  The
+  !> a posteriori check (run at 2h) catches what this misjudges.
+  pure real(wp) function rk4_apriori_step(scene, tend) result(h)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend
+    real(wp) :: a, teff, c, slow, half
+    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    a = min(a, 2 * pi)
+    teff = tend
+    if (scene%gamma > 0) then
+      half = scene%gamma / 2
+      if (half > scene%w0) then
+        slow = scene%w0**2 / (half + sqrt(half - scene%w0) * sqrt(half + scene%w0))
+      else
+        slow = half
+      end if
+      teff = min(tend, (1 + log(max(exp(1.0_wp), a / scene%tol))) / slow)
+    end if
+    c = 2.0_wp / 120
+    h = (scene%tol / (c * a * max(scene%w0 * teff, 1.0_wp)))**0.25_wp / scene%w0
+    h = min(h, 0.5_wp / scene%w0)
+  end function rk4_apriori_step
+
+  !> Rounding floor of an integration that the comparison of two runs cannot
+  !> see: each of n steps rounds theta by ~eps |theta|, a random walk ~ sqrt(n)
+  !> while it swings, a biased sum ~ n for the unwrapped angle of a rotation
+  !> (max|theta| beyond 2 pi); and a start near the unstable
+  !> equilibrium (pi, 0) amplifies any perturbation by ~1/d0 while the
+  !> pendulum hangs there (growth e^(w0 t) until it leaves, t ~ ln(1/d0)/w0),
+  !> d0 the distance of the initial state from the top in (theta, Omega/w0).
+  pure real(wp) function integrator_rounding(scene, theta, nsteps) result(r)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: theta(:), nsteps
+    real(wp) :: big, d0, xr, swing
+    swing = abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi   ! size of a swing
+    big = swing
+    if (size(theta) > 0) big = max(big, maxval(abs(theta)))
+    xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)          ! |theta0| reduced to [0, pi]
+    d0 = hypot(pi - xr, scene%omega0 / scene%w0)
+    ! a rotation's unwrapped angle (beyond a swing) grows steadily: adding nearly
+    ! equal increments to it rounds with a bias, so that part grows like n
+    r = 4 * eps * swing * sqrt(max(nsteps, 1.0_wp)) &
+        + eps * (big - swing) * max(nsteps, 1.0_wp) / 2 + 4 * eps * pi / max(d0, eps)
+  end function integrator_rounding
+
+  ! e^x - 1 without cancellation for small |x| (accurate to ~1e-11 relative,
+  ! ample for error estimates).  Kept here, next to its only caller, rather
+  ! than in src/core: inlined into linear_estimate's sampling loop it lets
+  ! gfortran vectorise that loop (vector exp), and the estimates depend on
+  ! that to the last bit; a call across modules would change them.
+  elemental real(wp) function expm1(x) result(r)
+    real(wp), intent(in) :: x
+    if (abs(x) < 1.0e-5_wp) then
+      r = x * (1 + x * (0.5_wp + x / 6))
+    else
+      r = exp(x) - 1
+    end if
+  end function expm1
+
+end module pendula_scene_estimates

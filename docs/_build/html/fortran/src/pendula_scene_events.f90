@@ -1,0 +1,209 @@
+!> Events of a scene (turning points, Omega = 0, and zero crossings,
+!> theta = 0, in (0, t(n)]): the rigorous bound on their number, the event
+!> list of a result, the event-time error, and the events of an integrated
+!> trajectory (a sample grid fine enough for cubic Hermite interpolation,
+!> sign changes refined on the interpolant).
+!>
+!> The bound (scene_event_bound): for theta'' + gamma theta' + w0^2 sin(theta)
+!> = 0 with gamma >= 0, Omega = theta' solves the LINEAR equation
+!> Omega'' + gamma Omega' + w0^2 cos(theta(t)) Omega = 0, and v = Omega
+!> e^(gamma t/2) solves v'' + (w0^2 cos(theta(t)) - gamma^2/4) v = 0, whose
+!> coefficient is <= w0^2.  By Sturm's comparison with u'' + w0^2 u = 0,
+!> consecutive zeros of Omega are at least pi/w0 apart, so (0, T] holds at
+!> most floor(w0 T/pi) + 1 turning points.  Between two zero crossings of
+!> theta, Omega vanishes (Rolle): at most one more zero crossing than turning
+!> points.  Hence at most 2 floor(w0 T/pi) + 3 events.  The same holds for
+!> every model a scene uses (the small-angle and linear damped equations have
+!> the same form with cos(theta) replaced by 1).
+module pendula_scene_events
+  use pendula_kinds, only: wp, i8
+  use pendula_constants, only: pi
+  use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_BISECT
+  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_scene_types, only: scene_t, scene_result_t
+  implicit none
+  private
+
+  public :: scene_event_bound, sign_change, append_events, trim_events, event_time_error, event_grid, grid_events
+
+  real(wp), parameter :: eps = epsilon(1.0_wp)
+
+contains
+
+  !> Most events (turning points and zero crossings) that the motion with
+  !> natural frequency w0 > 0 [1/s] and any damping gamma >= 0 can have in
+  !> (0, tend], tend >= 0 [s]: 2 floor(w0 tend/pi) + 3 (derivation above);
+  !> huge(1_i8) when that does not fit (or w0 tend is not finite).
+  elemental integer(i8) function scene_event_bound(w0, tend) result(n)
+    real(wp), intent(in) :: w0, tend
+    real(wp) :: half_periods
+    half_periods = w0 * tend / pi
+    if (half_periods >= 0 .and. half_periods < 4.0e18_wp) then
+      n = 2 * int(half_periods, i8) + 3
+    else
+      n = huge(1_i8)
+    end if
+  end function scene_event_bound
+
+  !> An event between samples with values fa then fb: a sign change, or fb
+  !> reaching 0 from a nonzero fa (an event at a sample counts once).
+  pure logical function sign_change(fa, fb)
+    real(wp), intent(in) :: fa, fb
+    sign_change = fa * fb < 0 .or. (fb == 0 .and. fa /= 0)
+  end function sign_change
+
+  !> Append the events of one sample interval (te(:) [s], kinds(:) of
+  !> PENDULA_EVENT_*, at most two: one of each kind) in time order to the
+  !> first nev of result's event list, growing it geometrically.
+  pure subroutine append_events(result, te, kinds, nev)
+    type(scene_result_t), intent(inout) :: result
+    real(wp), intent(in) :: te(:)
+    integer, intent(in) :: kinds(:)
+    integer, intent(inout) :: nev
+    real(wp), allocatable :: tmp(:)
+    integer, allocatable :: itmp(:)
+    integer :: cap
+    if (nev + size(te) > size(result%event_t)) then
+      cap = max(16, 2 * (nev + size(te)))
+      allocate (tmp(cap), itmp(cap))
+      tmp(1:nev) = result%event_t(1:nev)
+      itmp(1:nev) = result%event_kind(1:nev)
+      call move_alloc(tmp, result%event_t)
+      call move_alloc(itmp, result%event_kind)
+    end if
+    result%event_t(nev+1:nev+size(te)) = te
+    result%event_kind(nev+1:nev+size(te)) = kinds
+    if (size(te) == 2) then
+      if (te(2) < te(1)) then
+        result%event_t(nev+1:nev+2) = te([2, 1])
+        result%event_kind(nev+1:nev+2) = kinds([2, 1])
+      end if
+    end if
+    nev = nev + size(te)
+  end subroutine append_events
+
+  !> Cut result's event list to its first nev events, with room for the
+  !> state at each.
+  pure subroutine trim_events(result, nev)
+    type(scene_result_t), intent(inout) :: result
+    integer, intent(in) :: nev
+    result%event_t = result%event_t(1:nev)
+    result%event_kind = result%event_kind(1:nev)
+    if (allocated(result%event_theta)) deallocate (result%event_theta)
+    if (allocated(result%event_omega)) deallocate (result%event_omega)
+    allocate (result%event_theta(nev), result%event_omega(nev))
+  end subroutine trim_events
+
+  !> Event time error from the state error: dt = d theta/|Omega| at a zero
+  !> crossing, d Omega/|Omega'| = w0 d/(w0^2 |sin theta| + gamma |Omega|) at a turning point.
+  pure real(wp) function event_time_error(result, est, w0) result(e)
+    type(scene_result_t), intent(in) :: result
+    real(wp), intent(in) :: est, w0
+    integer :: i
+    real(wp) :: rate
+    e = 0
+    do i = 1, size(result%event_t)
+      if (result%event_kind(i) == PENDULA_EVENT_ZERO) then
+        rate = abs(result%event_omega(i))
+      else
+        rate = w0 * abs(sin(result%event_theta(i)))
+      end if
+      e = max(e, est / max(rate, tiny(1.0_wp)))
+    end do
+  end function event_time_error
+
+  ! Sample grid for events found from an integrated trajectory: spacing d
+  ! with (w0 d)^4/384 * A <= tol/10, so that the cubic Hermite interpolant
+  ! used to place the events (error d^4/384 max|theta''''|, and
+  ! |theta''''| ~ w0^4 A for the swinging pendulum) is ten times more
+  ! accurate than tol; at least 64 samples per small-angle period, and the
+  ! fast time scale 1/gamma resolved when over-damped (capped at 4e6 samples).
+  pure subroutine event_grid(scene, tend, tg)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend
+    real(wp), allocatable, intent(out) :: tg(:)
+    integer :: n, i
+    real(wp) :: a, d, per
+    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    d = (384 * scene%tol / (10 * a))**0.25_wp / scene%w0
+    per = max(64.0_wp, 2 * pi / (scene%w0 * d))
+    n = int(min(4.0e6_wp, max(64.0_wp, per * scene%w0 * tend / (2 * pi) + 1)))
+    if (scene%gamma > scene%w0) n = max(n, min(4000000, ceiling(8 * scene%gamma * tend) + 1))
+    allocate (tg(n + 1))
+    do i = 0, n
+      tg(i+1) = tend * (real(i, wp) / n)
+    end do
+  end subroutine event_grid
+
+  ! Events from samples of an integrated trajectory: a sign change of theta
+  ! or Omega between samples is refined on the cubic Hermite interpolant,
+  ! built from (theta, Omega) and (Omega, Omega') at both ends, whose error
+  ! (h^4/384 max|theta''''|) is below tol/10 on the grid of event_grid.
+  pure subroutine grid_events(scene, tg, th, om, result)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tg(:), th(:), om(:)
+    type(scene_result_t), intent(inout) :: result
+    integer :: i, nev, ne, kinds(2)
+    real(wp) :: te(2), h, da, db
+    if (allocated(result%event_t)) deallocate (result%event_t, result%event_kind)
+    allocate (result%event_t(0), result%event_kind(0))
+    nev = 0
+    do i = 1, size(tg) - 1
+      h = tg(i+1) - tg(i)
+      ne = 0
+      if (sign_change(th(i), th(i+1))) then
+        ne = ne + 1
+        kinds(ne) = PENDULA_EVENT_ZERO
+        te(ne) = tg(i) + h * hermite_root(th(i), th(i+1), h * om(i), h * om(i+1))
+      end if
+      if (sign_change(om(i), om(i+1))) then
+        da = h * accel(th(i), om(i))
+        db = h * accel(th(i+1), om(i+1))
+        ne = ne + 1
+        kinds(ne) = PENDULA_EVENT_TURNING
+        te(ne) = tg(i) + h * hermite_root(om(i), om(i+1), da, db)
+      end if
+      if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev)
+    end do
+    call trim_events(result, nev)
+    do i = 1, nev
+      call hermite_state(result%event_t(i), result%event_theta(i), result%event_omega(i))
+    end do
+  contains
+    pure real(wp) function accel(x, v)
+      real(wp), intent(in) :: x, v
+      accel = -scene%gamma * v - scene%w0**2 * sin(x)
+    end function accel
+    pure subroutine hermite_state(tq, x, v)
+      real(wp), intent(in) :: tq
+      real(wp), intent(out) :: x, v
+      integer :: j
+      real(wp) :: s, hh
+      j = max(1, min(size(tg) - 1, count(tg <= tq)))
+      hh = tg(j+1) - tg(j)
+      s = (tq - tg(j)) / hh
+      x = hermite(th(j), th(j+1), hh * om(j), hh * om(j+1), s)
+      v = hermite(om(j), om(j+1), hh * accel(th(j), om(j)), hh * accel(th(j+1), om(j+1)), s)
+    end subroutine hermite_state
+  end subroutine grid_events
+
+  pure real(wp) function hermite(f0, f1, d0, d1, s) result(f)
+    real(wp), intent(in) :: f0, f1, d0, d1, s
+    f = (2 * s**3 - 3 * s**2 + 1) * f0 + (s**3 - 2 * s**2 + s) * d0 + (-2 * s**3 + 3 * s**2) * f1 &
+        + (s**3 - s**2) * d1
+  end function hermite
+
+  ! Root in (0, 1] of the cubic Hermite interpolant (f0, f1 of opposite
+  ! signs, or f1 = 0) by bisection (stops at a bracket of 2 eps: the bracket
+  ! halves from 1 exactly, so that is a width below 4 eps).
+  pure real(wp) function hermite_root(f0, f1, d0, d1) result(s)
+    real(wp), intent(in) :: f0, f1, d0, d1
+    type(bracket_t) :: br
+    call bracket_start(br, 0.0_wp, 1.0_wp, f0, f1, ROOT_BISECT, 100, 2 * eps, 0.0_wp)
+    do while (.not. br%done)
+      call bracket_update(br, hermite(f0, f1, d0, d1, br%c))
+    end do
+    s = br%root
+  end function hermite_root
+
+end module pendula_scene_events

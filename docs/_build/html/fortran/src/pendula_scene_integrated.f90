@@ -1,0 +1,300 @@
+!> The integrator path of the scenes: RK4 with its step from tol and the
+!> window, verified by a run at 2h (Richardson), and CVODE with rtol from tol
+!> and the number of periods, verified by a run ten times tighter; both
+!> refined until the estimate meets tol.  Events come from the integrated
+!> trajectory on a sample grid (pendula_scene_events).
+module pendula_scene_integrated
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci, format_int
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+  use pendula_constants, only: pi
+  use pendula_integrators, only: ode_stats_t, rk4_solve, rk4_final_state, rk4_max_stable_step, &
+      cvode_solve, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
+  use pendula_control, only: CONTROL_SIZE, cancel_requested
+  use pendula_scene_codes, only: SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_FINAL, SCENE_WANT_EVENTS, &
+      SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats
+  use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding
+  use pendula_scene_events, only: event_grid, grid_events, event_time_error
+  implicit none
+  private
+
+  public :: solve_rk4, solve_cvode, integrate
+
+  !> Richardson: |y_h - y_2h| / 15 estimates the error of y_h; doubled for safety.
+  real(wp), parameter :: RK4_SAFETY = 2.0_wp
+  !> Fewest CVODE (Adams) steps per small-angle period of an underdamped
+  !> scene, decayed or not (measured ~7 at tol 1e-10 over 1e5 s): the lower
+  !> bound of the up-front CVODE cost prediction.
+  real(wp), parameter :: CVODE_MIN_STEPS_PER_PERIOD = 4
+  !> A posteriori refinements before giving up on meeting tol.
+  integer, parameter :: MAX_REFINE = 4
+
+contains
+
+  ! One integrator run over the scene's window, output at tout (the times of
+  ! the result, which may be only t(n)).  The integrators start at tout(1),
+  ! so 0 is prepended when the first output time is later.  setting: h (RK4)
+  ! or rtol (CVODE; atol = rtol * scale / 100 with scale the state's size).
+  ! budget: RK4 steps allowed (CVODE: budget / SCENE_CVODE_STEP_COST steps).
+  subroutine integrate(scene, model, setting, budget, tout, theta, omega, stats, status, control)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(in) :: setting, budget, tout(:)
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp), allocatable :: tt(:), th(:), om(:)
+    integer :: off, n, method
+    real(wp) :: scale
+    n = size(tout)
+    if (scene%want == SCENE_WANT_FINAL .and. model == SCENE_MODEL_RK4) then
+      call rk4_final_state(0.0_wp, tout(n), scene%theta0, scene%omega0, scene%w0, scene%gamma, &
+          setting, theta(n), omega(n), stats, status, control, int(min(budget, 9.0e18_wp), i8))
+      return
+    end if
+    off = 0
+    if (tout(1) > 0) off = 1
+    allocate (tt(n + off), th(n + off), om(n + off))
+    tt(1) = 0
+    tt(1+off:) = tout
+    if (model == SCENE_MODEL_RK4) then
+      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, th, om, stats, status, &
+          control, int(min(budget, 9.0e18_wp), i8))
+    else
+      method = merge(PENDULA_CVODE_BDF, PENDULA_CVODE_ADAMS, is_stiff(scene))
+      scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
+      call cvode_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, &
+          setting * scale / 100, method, max(int(budget / SCENE_CVODE_STEP_COST, i8), 1_i8), th, om, stats, status, &
+          control)
+    end if
+    theta = th(1+off:)
+    omega = om(1+off:)
+  end subroutine integrate
+
+  ! sup over the outputs of max(|d theta|, |d Omega|/w0)
+  pure real(wp) function state_diff(th1, om1, th2, om2, w0) result(d)
+    real(wp), intent(in) :: th1(:), om1(:), th2(:), om2(:), w0
+    d = 0
+    if (size(th1) > 0) d = max(maxval(abs(th1 - th2)), maxval(abs(om1 - om2)) / w0)
+  end function state_diff
+
+  ! RK4 with h from tol and the window, verified by a run at 2h; refined
+  ! from the observed error (which scales like h^4) until it meets tol.
+  subroutine solve_rk4(scene, tend, budget, result, status, control)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend, budget
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp) :: h, hmax, est, d, round
+    real(wp), allocatable :: th2(:), om2(:), tgrid(:)
+    type(status_t) :: st
+    integer :: it
+    call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
+    hmax = 0.9_wp * hmax
+    h = min(rk4_apriori_step(scene, tend), hmax / 2)
+    call sample_grid(scene, tend, result, tgrid)
+    allocate (th2(size(tgrid)), om2(size(tgrid)))
+    if (.not. allocated(result%theta)) allocate (result%theta(size(tgrid)), result%omega(size(tgrid)))
+    if (size(result%theta) /= size(tgrid)) then
+      deallocate (result%theta, result%omega)
+      allocate (result%theta(size(tgrid)), result%omega(size(tgrid)))
+    end if
+    est = ieee_value(1.0_wp, ieee_positive_inf)
+    do it = 1, MAX_REFINE
+      ! the run at h and its check at 2h: 1.5 tend/h steps
+      if (1.5_wp * tend / h > budget) then
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 needs ~' // format_sci(1.5_wp * tend / h, 4) // &
+            ' steps for tol = ' // format_sci(scene%tol, 4) // ' over t = 0 .. ' // format_sci(tend, 4) // &
+            ', over max_steps = ' // format_sci(budget, 4) // ' (' // format_sci(SCENE_STEP_CAP, 4) // &
+            ' ~ 1 min): use cvode, a larger tol,' // &
+            ' a shorter window, or raise max_steps')
+        return
+      end if
+      call rk4_run(scene, tgrid, h, 1, result%theta, result%omega, result%cost, status, control)
+      if (status%code /= PENDULA_OK) return
+      call rk4_run(scene, tgrid, h, 2, th2, om2, result%cost, status, control)
+      if (status%code /= PENDULA_OK) return
+      d = state_diff(result%theta, result%omega, th2, om2, scene%w0)
+      round = integrator_rounding(scene, result%theta, tend / h)
+      est = RK4_SAFETY * d / 15 + round
+      if (est <= scene%tol) exit
+      if (it == MAX_REFINE .or. round > 0.5_wp * est) exit   ! a smaller h only adds rounding
+      ! e ~ C h^4: step for tol/4, at least halved, at most /16
+      h = h * max(1.0_wp / 16, min(0.5_wp, 0.8_wp * (scene%tol / (4 * est))**0.25_wp))
+    end do
+    result%setting = h
+    result%step = h
+    result%error_estimate = est
+    call finish_run(scene, tgrid, est, result)
+  end subroutine solve_rk4
+
+  ! RK4 from t = 0 through the outputs tg(:) with, on every interval dt_i
+  ! between consecutive times (0 first), n_i = 2 ceil(dt_i/(2 h)) equal
+  ! substeps (factor = 1) or exactly half as many (factor = 2).  Both runs
+  ! thus halve the step on EVERY interval, so that their difference / 15 is
+  ! the Richardson estimate of the fine run's error even when the outputs are
+  ! denser than h.  A uniform grid goes to rk4_solve in one call (the step
+  ! dt/n makes it take exactly n substeps); otherwise one rk4_final_state
+  ! call per interval.  Final-state scenes integrate one interval.
+  subroutine rk4_run(scene, tg, h, factor, th, om, cost, status, control)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tg(:), h
+    integer, intent(in) :: factor
+    real(wp), intent(out) :: th(:), om(:)
+    type(scene_cost_t), intent(inout) :: cost
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp), allocatable :: tt(:), th1(:), om1(:)
+    real(wp) :: dt, x, v, t0, x1, v1
+    real(wp) :: nsub
+    type(ode_stats_t) :: stats
+    integer :: i, off, n
+    logical :: uniform
+    n = size(tg)
+    off = merge(1, 0, tg(1) > 0)
+    allocate (tt(n + off))
+    tt(1) = 0
+    tt(1+off:) = tg
+    uniform = .true.
+    dt = tt(min(2, size(tt))) - tt(1)
+    do i = 2, size(tt)
+      if (abs((tt(i) - tt(i-1)) - dt) > 1.0e-12_wp * dt) uniform = .false.
+    end do
+    if (size(tt) >= 2 .and. uniform) then
+      nsub = substeps(dt)
+      allocate (th1(size(tt)), om1(size(tt)))
+      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt / nsub, th1, om1, &
+          stats, status, control, huge(1_i8))
+      call add_stats(cost, stats)
+      th = th1(1+off:)
+      om = om1(1+off:)
+      return
+    end if
+    x = scene%theta0
+    v = scene%omega0
+    t0 = 0
+    do i = 1, n
+      ! each short run polls only every 4096 steps of its own: look between runs too
+      if (present(control)) then
+        if (cancel_requested(control)) then
+          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // format_sci(t0, 4) // &
+              ' (interrupted by the caller)')
+          return
+        end if
+      end if
+      if (tg(i) > t0) then
+        dt = tg(i) - t0
+        call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substeps(dt), x1, v1, &
+            stats, status, control, huge(1_i8))
+        x = x1
+        v = v1
+        call add_stats(cost, stats)
+        cost%runs = cost%runs - 1
+        if (status%code /= PENDULA_OK) return
+      end if
+      th(i) = x
+      om(i) = v
+      t0 = tg(i)
+    end do
+    cost%runs = cost%runs + 1
+  contains
+    pure real(wp) function substeps(d) result(ns)
+      real(wp), intent(in) :: d
+      ns = 2 * ceiling(d / (2 * h), i8)
+      ns = ns / factor
+    end function substeps
+  end subroutine rk4_run
+
+  ! CVODE with rtol from tol and the number of periods in the window, checked
+  ! by a run 10x tighter; the tighter run is returned, and the difference of
+  ! the two (an estimate of the looser run's error, which bounds the tighter
+  ! one's) is its error estimate.
+  subroutine solve_cvode(scene, tend, budget, result, status, control)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend, budget
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp) :: rtol, est, periods, scale, predicted
+    real(wp), allocatable :: th1(:), om1(:), tgrid(:)
+    type(ode_stats_t) :: stats
+    integer :: it
+    call sample_grid(scene, tend, result, tgrid)
+    if (allocated(result%theta)) deallocate (result%theta, result%omega)
+    allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)))
+    periods = 1 + scene%w0 * tend / (2 * pi)
+    ! Up front: an underdamped, non-stiff scene costs CVODE (Adams) at least a
+    ! few steps per period however loose tol (or decayed the swing), in each of
+    ! the two runs.
+    if (.not. is_stiff(scene) .and. scene%gamma < 2 * scene%w0) then
+      predicted = 2 * CVODE_MIN_STEPS_PER_PERIOD * periods * SCENE_CVODE_STEP_COST
+      if (predicted > budget) then
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // format_sci(tend, 4) // ' spans ~' // &
+            format_sci(periods, 4) // ' periods: CVODE needs > ~' // format_sci(predicted / SCENE_CVODE_STEP_COST, 4) // &
+            ' steps, over the budget max_steps = ' // format_sci(budget, 4) // ' (RK4 steps, a CVODE step counts' // &
+            ' ' // format_int(nint(SCENE_CVODE_STEP_COST)) // '; ' // format_sci(SCENE_STEP_CAP, 4) // &
+            ' ~ 1 min): shorten the window or raise max_steps')
+        return
+      end if
+    end if
+    scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
+    rtol = max(0.1_wp * scene%tol / (periods * scale), 1.0e-14_wp)
+    est = ieee_value(1.0_wp, ieee_positive_inf)
+    do it = 1, MAX_REFINE
+      call integrate(scene, SCENE_MODEL_CVODE, rtol, budget, tgrid, th1, om1, stats, status, control)
+      call add_stats(result%cost, stats)
+      if (status%code /= PENDULA_OK) return
+      call integrate(scene, SCENE_MODEL_CVODE, rtol / 10, budget, tgrid, result%theta, result%omega, stats, &
+          status, control)
+      call add_stats(result%cost, stats)
+      if (status%code /= PENDULA_OK) return
+      est = state_diff(th1, om1, result%theta, result%omega, scene%w0) &
+          + integrator_rounding(scene, result%theta, real(stats%steps, wp))
+      if (est <= scene%tol .or. rtol <= 1.0e-14_wp .or. it == MAX_REFINE) exit
+      rtol = max(rtol * max(1.0e-3_wp, 0.3_wp * scene%tol / est), 1.0e-14_wp)
+    end do
+    result%setting = rtol / 10
+    result%rtol = rtol / 10
+    result%error_estimate = est
+    call finish_run(scene, tgrid, est, result)
+  end subroutine solve_cvode
+
+  ! The times an integrator run samples: the outputs of the result
+  ! (allocated here), or for events a grid fine enough for Hermite
+  ! interpolation (event_grid).
+  pure subroutine sample_grid(scene, tend, result, tgrid)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend
+    type(scene_result_t), intent(inout) :: result
+    real(wp), allocatable, intent(out) :: tgrid(:)
+    if (scene%want == SCENE_WANT_EVENTS) then
+      call event_grid(scene, tend, tgrid)
+    else
+      call alloc_outputs(scene, result)
+      tgrid = result%t
+    end if
+  end subroutine sample_grid
+
+  ! The wanted quantities from the trajectory on tgrid (in result%theta,
+  ! result%omega) with error estimate est: the events on the grid (and no
+  ! time series), or the outputs themselves.
+  pure subroutine finish_run(scene, tgrid, est, result)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tgrid(:), est
+    type(scene_result_t), intent(inout) :: result
+    if (scene%want == SCENE_WANT_EVENTS) then
+      call grid_events(scene, tgrid, result%theta, result%omega, result)
+      deallocate (result%theta, result%omega)
+      allocate (result%t(0), result%theta(0), result%omega(0))
+      result%event_time_error = event_time_error(result, est, scene%w0)
+    else
+      call finish_outputs(scene, result)
+    end if
+  end subroutine finish_run
+
+end module pendula_scene_integrated

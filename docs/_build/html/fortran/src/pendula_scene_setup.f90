@@ -1,0 +1,211 @@
+!> Building and checking scenes: the text's parameters to (w0, gamma), the
+!> construction of a scene with every rule on its fields, the rules on a
+!> model for a scene, the work budget, and the result arrays a want needs.
+!> Each rule is stated here once; Python passes its arguments through.
+module pendula_scene_setup
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci, format_int
+  use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
+      check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
+  use pendula_physics, only: natural_frequency, damping_rate
+  use pendula_undamped, only: pendulum_energy
+  use pendula_integrators, only: cvode_available
+  use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
+      SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, &
+      SCENE_WANT_EVENTS, SCENE_STEP_CAP, scene_model_name, scene_model_list, scene_want_list
+  use pendula_scene_types, only: scene_t, scene_result_t
+  implicit none
+  private
+
+  public :: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, get_budget
+  public :: alloc_outputs, finish_outputs
+
+contains
+
+  !> The text's parameters to (w0, gamma): w0 = sqrt(g/l) (eq. 1.7) with g,
+  !> length > 0 [m/s^2, m]; the damping either as gamma [1/s] >= 0 directly, or
+  !> as mass [kg] > 0 and b [kg/s] >= 0 (gamma = b/m, eq. 2.1), or both when
+  !> they agree to 1e-12 relative; none gives gamma = 0.  Errors name the
+  !> argument: b without mass, mass without b, gamma and b/mass disagreeing.
+  pure subroutine scene_physics(g, length, w0, gamma, status, gamma_in, mass, b)
+    real(wp), intent(in) :: g, length
+    real(wp), intent(out) :: w0, gamma
+    type(status_t), intent(out) :: status
+    real(wp), intent(in), optional :: gamma_in, mass, b
+    real(wp) :: gb
+    type(status_t) :: st
+    w0 = 0
+    gamma = 0
+    call natural_frequency(g, length, w0, status)
+    if (status%code /= PENDULA_OK) return
+    if (present(gamma_in)) then
+      call check_nonnegative('gamma', gamma_in, status)
+      if (status%code /= PENDULA_OK) return
+      gamma = gamma_in
+    end if
+    if (present(mass) .neqv. present(b)) then
+      if (present(mass)) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'mass is given without b: give both mass and b ' // &
+            '(gamma = b/mass, eq. 2.1), or gamma alone')
+      else
+        call set_error(status, PENDULA_ERR_DOMAIN, 'b is given without mass: give both mass and b ' // &
+            '(gamma = b/mass, eq. 2.1), or gamma alone')
+      end if
+      return
+    end if
+    if (present(mass)) then
+      call damping_rate(b, mass, gb, st)
+      if (st%code /= PENDULA_OK) then
+        status = st
+        return
+      end if
+      if (present(gamma_in)) then
+        if (abs(gb - gamma_in) > 1.0e-12_wp * max(gb, gamma_in)) then
+          call set_error(status, PENDULA_ERR_DOMAIN, 'gamma = ' // format_sci(gamma_in, 4) // &
+              ' and b/mass = ' // format_sci(gb, 4) // ' disagree: give gamma, or mass and b, not both')
+          return
+        end if
+      end if
+      gamma = gb
+    end if
+  end subroutine scene_physics
+
+  !> Build a scene.  theta0 [rad], omega0 [rad/s] finite (state at t = 0);
+  !> t(:) [s] output times, finite, >= 0, strictly increasing, at least one
+  !> (may be empty only for want = SCENE_WANT_PERIOD); w0 > 0, gamma >= 0
+  !> [1/s]; tol > 0 [rad]; want one of SCENE_WANT_*; model (optional) one of
+  !> SCENE_MODEL_* (default AUTO).  On bad input status names the argument.
+  pure subroutine scene_init(scene, theta0, omega0, t, w0, gamma, tol, want, status, model)
+    type(scene_t), intent(out) :: scene
+    real(wp), intent(in) :: theta0, omega0, t(:), w0, gamma, tol
+    integer, intent(in) :: want
+    type(status_t), intent(out) :: status
+    integer, intent(in), optional :: model
+    integer :: mdl
+    mdl = SCENE_MODEL_AUTO
+    if (present(model)) mdl = model
+    call check_fields(theta0, omega0, t, w0, gamma, tol, want, mdl, status)
+    if (status%code /= PENDULA_OK) return
+    scene%theta0 = theta0
+    scene%omega0 = omega0
+    scene%w0 = w0
+    scene%gamma = gamma
+    scene%tol = tol
+    scene%want = want
+    scene%model = mdl
+    scene%t = t
+  end subroutine scene_init
+
+  !> Check a scene's fields in place (no copy): the rules of scene_init, for
+  !> a scene_t built or changed by hand.  status names the first bad field.
+  pure subroutine check_scene(scene, status)
+    type(scene_t), intent(in) :: scene
+    type(status_t), intent(inout) :: status
+    if (.not. allocated(scene%t)) then
+      call set_error(status, PENDULA_ERR_SIZE, 'the scene has no output times: build it with scene_init')
+      return
+    end if
+    call check_fields(scene%theta0, scene%omega0, scene%t, scene%w0, scene%gamma, scene%tol, scene%want, &
+        scene%model, status)
+  end subroutine check_scene
+
+  ! The rules on a scene's fields (scene_init).
+  pure subroutine check_fields(theta0, omega0, t, w0, gamma, tol, want, mdl, status)
+    real(wp), intent(in) :: theta0, omega0, t(:), w0, gamma, tol
+    integer, intent(in) :: want, mdl
+    type(status_t), intent(out) :: status
+    call check_finite('theta0', theta0, status)
+    call check_finite('omega0', omega0, status)
+    call check_positive('w0', w0, status)
+    call check_nonnegative('gamma', gamma, status)
+    call check_positive('tol', tol, status)
+    if (status%code /= PENDULA_OK) return
+    if (want < SCENE_WANT_STATE .or. want > SCENE_WANT_EVENTS) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = ' // format_int(want) // ' is unknown: it must be ' // &
+          'one of ' // scene_want_list())
+      return
+    end if
+    if (mdl < SCENE_MODEL_AUTO .or. mdl > SCENE_MODEL_CVODE) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // format_int(mdl) // ' is unknown: it must be ' // &
+          'one of ' // scene_model_list(SCENE_MODEL_AUTO))
+      return
+    end if
+    if (want /= SCENE_WANT_PERIOD) call check_size('t', size(t), 1, status)
+    call check_increasing('t', t, status)
+    if (status%code /= PENDULA_OK) return
+    if (size(t) > 0) then
+      if (t(1) < 0) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 't[0] = ' // format_sci(t(1), 4) // &
+            ' is out of range: output times must be >= 0 (the initial state holds at t = 0)')
+        return
+      end if
+    end if
+    if (want == SCENE_WANT_PERIOD .and. gamma > 0) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = period needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // &
+          ': the damped motion is not periodic); use want = events for its turning points')
+      return
+    end if
+    call check_model_gamma(mdl, gamma, status)
+  end subroutine check_fields
+
+  !> The closed forms small_angle and exact describe the undamped pendulum
+  !> only: model one of them with gamma > 0 is an error naming both.
+  pure subroutine check_model_gamma(model, gamma, status)
+    integer, intent(in) :: model
+    real(wp), intent(in) :: gamma
+    type(status_t), intent(inout) :: status
+    if (gamma > 0 .and. (model == SCENE_MODEL_SMALL_ANGLE .or. model == SCENE_MODEL_EXACT)) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // scene_model_name(model) // &
+          ' needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // '): use linear, rk4 or cvode')
+    end if
+  end subroutine check_model_gamma
+
+  !> model = cvode in a build without SUNDIALS is PENDULA_ERR_UNAVAILABLE.
+  subroutine check_model_built(model, status)
+    integer, intent(in) :: model
+    type(status_t), intent(inout) :: status
+    if (model == SCENE_MODEL_CVODE .and. .not. cvode_available()) call set_error(status, &
+        PENDULA_ERR_UNAVAILABLE, 'model = cvode is not available: this build has no SUNDIALS CVODE')
+  end subroutine check_model_built
+
+  !> The work budget [RK4 steps] from the optional max_steps (>= 1; default SCENE_STEP_CAP).
+  pure subroutine get_budget(budget, status, max_steps)
+    real(wp), intent(out) :: budget
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(in), optional :: max_steps
+    budget = SCENE_STEP_CAP
+    if (.not. present(max_steps)) return
+    budget = real(max_steps, wp)
+    if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_sci(budget, 4) // &
+        ' is out of range: it must be >= 1')
+  end subroutine get_budget
+
+  !> Output arrays for the want: every t, or only t(n) for want = final.
+  pure subroutine alloc_outputs(scene, result)
+    type(scene_t), intent(in) :: scene
+    type(scene_result_t), intent(inout) :: result
+    integer :: n
+    n = size(scene%t)
+    if (scene%want == SCENE_WANT_FINAL) then
+      result%t = scene%t(n:n)
+    else if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_EVENTS) then
+      allocate (result%t(0))
+    else
+      result%t = scene%t
+    end if
+    allocate (result%theta(size(result%t)), result%omega(size(result%t)))
+    if (scene%want == SCENE_WANT_ENERGY) allocate (result%energy(size(result%t)))
+  end subroutine alloc_outputs
+
+  !> Energies from the state, and empty event arrays where no events were asked.
+  pure subroutine finish_outputs(scene, result)
+    type(scene_t), intent(in) :: scene
+    type(scene_result_t), intent(inout) :: result
+    if (scene%want == SCENE_WANT_ENERGY) &
+        result%energy = pendulum_energy(result%theta, result%omega, scene%w0)
+    if (.not. allocated(result%event_t)) then
+      allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0))
+    end if
+  end subroutine finish_outputs
+
+end module pendula_scene_setup

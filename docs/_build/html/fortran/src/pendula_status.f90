@@ -1,0 +1,212 @@
+!> Status codes, messages and argument checks shared by every non-elemental procedure.
+!>
+!> Library code never stops or prints: a procedure that can fail takes a
+!> `type(status_t), intent(out) :: status` and fills it.  The codes below are the
+!> single table of failure kinds; the Python layer maps them to exceptions
+!> (argument errors -> ValueError, solver failures -> RuntimeError).
+module pendula_status
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use pendula_kinds, only: wp
+  use pendula_format, only: format_general, format_int
+  implicit none
+  private
+
+  public :: status_t, status_ok, set_error, code_name
+  public :: check_finite, check_positive, check_nonnegative, check_range, &
+            check_all_finite, check_increasing, check_size, check_same_size
+  public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
+            PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
+            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
+
+  integer, parameter :: PENDULA_OK = 0
+  !> An argument is NaN or infinite where a finite value is required.
+  integer, parameter :: PENDULA_ERR_NONFINITE = 1
+  !> An argument is finite but outside its valid range.
+  integer, parameter :: PENDULA_ERR_DOMAIN = 2
+  !> Array sizes disagree, or an array is empty where values are required.
+  integer, parameter :: PENDULA_ERR_SIZE = 3
+  !> Output times are not strictly increasing.
+  integer, parameter :: PENDULA_ERR_ORDER = 4
+  !> A fixed step lies outside the method's stability region.
+  integer, parameter :: PENDULA_ERR_UNSTABLE = 5
+  !> An integrator (CVODE) reported a failure.
+  integer, parameter :: PENDULA_ERR_SOLVER = 6
+  !> The requested feature was not built (e.g. CVODE without SUNDIALS).
+  integer, parameter :: PENDULA_ERR_UNAVAILABLE = 7
+  !> The step budget was exhausted before the end of the window.
+  integer, parameter :: PENDULA_ERR_MAXSTEPS = 8
+  !> The caller cancelled the call (pendula_control); finished work is kept.
+  integer, parameter :: PENDULA_ERR_CANCELLED = 9
+
+  include 'pendula_msg_len.inc'
+
+  !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
+  !> the table above and a message naming the argument and its valid range.
+  type :: status_t
+    integer :: code = PENDULA_OK
+    character(len=PENDULA_MSG_LEN) :: message = ''
+  end type status_t
+
+contains
+
+  !> True when `status` holds no error.
+  elemental logical function status_ok(status)
+    type(status_t), intent(in) :: status
+    status_ok = status%code == PENDULA_OK
+  end function status_ok
+
+  !> Record an error (only the first error of a call is kept).
+  pure subroutine set_error(status, code, message)
+    type(status_t), intent(inout) :: status
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: message
+    if (status%code /= PENDULA_OK) return
+    status%code = code
+    status%message = message
+  end subroutine set_error
+
+  !> Short name of a status code, for messages and logs.
+  pure function code_name(code) result(name)
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    select case (code)
+    case (PENDULA_OK);              name = 'ok'
+    case (PENDULA_ERR_NONFINITE);   name = 'non-finite argument'
+    case (PENDULA_ERR_DOMAIN);      name = 'argument out of range'
+    case (PENDULA_ERR_SIZE);        name = 'bad array size'
+    case (PENDULA_ERR_ORDER);       name = 'times not increasing'
+    case (PENDULA_ERR_UNSTABLE);    name = 'unstable step'
+    case (PENDULA_ERR_SOLVER);      name = 'solver failure'
+    case (PENDULA_ERR_UNAVAILABLE); name = 'not available in this build'
+    case (PENDULA_ERR_MAXSTEPS);    name = 'step budget exhausted'
+    case (PENDULA_ERR_CANCELLED);   name = 'cancelled'
+    case default;                   name = 'unknown status'
+    end select
+  end function code_name
+
+  ! A real as it appears in messages, like C's "%.15g": 0.1 -> 0.1, 1e300 -> 1e+300.
+  pure function fmt(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    s = format_general(x, 15)
+  end function fmt
+
+  !> Require `x` finite.
+  pure subroutine check_finite(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) call set_error(status, PENDULA_ERR_NONFINITE, &
+        name // ' = ' // fmt(x) // ' is invalid: it must be a finite real number')
+  end subroutine check_finite
+
+  !> Require `x` finite and > 0.
+  pure subroutine check_positive(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, &
+          name // ' = ' // fmt(x) // ' is invalid: it must be finite and > 0')
+    else if (.not. x > 0) then
+      call set_error(status, PENDULA_ERR_DOMAIN, &
+          name // ' = ' // fmt(x) // ' is out of range: it must be finite and > 0')
+    end if
+  end subroutine check_positive
+
+  !> Require `x` finite and >= 0.
+  pure subroutine check_nonnegative(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, &
+          name // ' = ' // fmt(x) // ' is invalid: it must be finite and >= 0')
+    else if (.not. x >= 0) then
+      call set_error(status, PENDULA_ERR_DOMAIN, &
+          name // ' = ' // fmt(x) // ' is out of range: it must be finite and >= 0')
+    end if
+  end subroutine check_nonnegative
+
+  !> Require lo <= x <= hi (x finite). `range_text` describes the range for the
+  !> message, e.g. '[0, 1]'.
+  pure subroutine check_range(name, x, lo, hi, range_text, status)
+    character(len=*), intent(in) :: name, range_text
+    real(wp), intent(in) :: x, lo, hi
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, &
+          name // ' = ' // fmt(x) // ' is invalid: it must be finite and in ' // range_text)
+    else if (x < lo .or. x > hi) then
+      call set_error(status, PENDULA_ERR_DOMAIN, &
+          name // ' = ' // fmt(x) // ' is out of range: it must be in ' // range_text)
+    end if
+  end subroutine check_range
+
+  !> Require every element of `x` finite; the message names the first bad index.
+  pure subroutine check_all_finite(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x(:)
+    type(status_t), intent(inout) :: status
+    integer :: i
+    if (status%code /= PENDULA_OK) return
+    do i = 1, size(x)
+      if (.not. ieee_is_finite(x(i))) then
+        call set_error(status, PENDULA_ERR_NONFINITE, name // '[' // format_int(i - 1) // '] = ' // &
+            fmt(x(i)) // ' is invalid: every element must be a finite real number')
+        return
+      end if
+    end do
+  end subroutine check_all_finite
+
+  !> Require `x` strictly increasing (and finite); the message names the first
+  !> offending index (0-based, as Python users see it).
+  pure subroutine check_increasing(name, x, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x(:)
+    type(status_t), intent(inout) :: status
+    integer :: i
+    call check_all_finite(name, x, status)
+    if (status%code /= PENDULA_OK) return
+    do i = 2, size(x)
+      if (.not. x(i) > x(i-1)) then
+        call set_error(status, PENDULA_ERR_ORDER, name // ' must be strictly increasing, but ' // &
+            name // '[' // format_int(i - 1) // '] = ' // fmt(x(i)) // ' does not exceed the previous value ' // &
+            fmt(x(i-1)))
+        return
+      end if
+    end do
+  end subroutine check_increasing
+
+  !> Require size(x) >= min_size.
+  pure subroutine check_size(name, n, min_size, status)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: n, min_size
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (n < min_size) then
+      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
+          ' element(s): it needs at least ' // format_int(min_size))
+    end if
+  end subroutine check_size
+
+  !> Require size n of array `name` to equal n_like, the size of array `like`
+  !> (an output sized like an input, or inputs that go together).  The one
+  !> exact-size check of the library: every procedure uses it, so every size
+  !> message reads alike.
+  pure subroutine check_same_size(name, n, like, n_like, status)
+    character(len=*), intent(in) :: name, like
+    integer, intent(in) :: n, n_like
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (n /= n_like) then
+      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
+          ' element(s): it must have the same size as ' // like // ' (' // format_int(n_like) // ')')
+    end if
+  end subroutine check_same_size
+
+end module pendula_status
