@@ -427,7 +427,7 @@ def cmd_sweep(args, out):
     _write_csv(folder / "sweep.csv", ["theta0_rad", "omega0_rad_per_s", "theta_end_rad", "omega_end_rad_per_s",
                                       "well", "code"], rows)
     out.write(f"{r.codes.size} starts, w0 = {w0:.12g} 1/s, gamma = {gamma:g} 1/s, t-end = {args.t_end:g} s; "
-              f"{int((r.codes != 0).sum())} failed; wells {int(well.min())}..{int(well.max())}\n")
+              f"{int((~r.ok).sum())} failed; wells {int(well.min())}..{int(well.max())}\n")
     out.write(f"wrote {folder / 'sweep.npz'}\nwrote {folder / 'sweep.csv'}\n")
     if not args.no_png:
         from .figures import basin_map_plot
