@@ -6,6 +6,7 @@ Subcommands (``pendula SUBCOMMAND --help`` for each):
   period    exact period (or time per revolution) against small-angle and series
   solve     solve a scene (the library picks the cheapest model meeting --tol)
   tradeoff  speed/accuracy table of every model on a scene (CSV, work-precision PNG)
+  sweep     a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and the basin map (PNG)
 
 Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
 mass kg, b kg/s, gamma and w0 1/s.  Exit status 0 on success, 2 on a bad
@@ -172,6 +173,24 @@ def build_parser():
                    help="comma-separated subset of " + ", ".join(MODELS) + " (default: every applicable one)")
     t.add_argument("--repeat", type=_count, default=3, metavar="N",
                    help="wall time is the best of N >= 2 calls (default 3)")
+    w = sub.add_parser("sweep", help="a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and basin map",
+                       description="Integrate every start of a theta0 x Omega0 grid (RK4 batch kernel, in "
+                                   "chunks; Ctrl-C stops it) to --t-end and write into --out: sweep.npz "
+                                   "(theta0 [rad], omega0 [rad/s], final theta [rad], final Omega [rad/s], "
+                                   "well, status codes), sweep.csv (one row per start) and basin.png: the "
+                                   "basin map, each start coloured by the well 2 pi k it ends in (the turns "
+                                   "made before the damping caught it).")
+    w.add_argument("--theta0", type=_finite, nargs=3, default=[-math.pi, math.pi, 101], metavar=("LO", "HI", "N"),
+                   help="theta0 grid in rad: LO HI N (default -pi pi 101)")
+    w.add_argument("--omega0", type=_finite, nargs=3, default=[-6.0, 6.0, 101], metavar=("LO", "HI", "N"),
+                   help="Omega0 grid in rad/s: LO HI N (default -6 6 101)")
+    w.add_argument("--t-end", type=_positive, default=30.0, metavar="S", help="end time in s (default 30)")
+    w.add_argument("--h", type=_positive, default=0.01, metavar="S", help="RK4 step in s (default 0.01)")
+    w.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder (created if missing, but its parent must exist unless --mkdir)")
+    w.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
+    w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
+    _add_physics(w)
     return p
 
 
@@ -377,7 +396,49 @@ def _tradeoff_rows(table):
     return tradeoff_rows(table)
 
 
-COMMANDS = {"figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff}
+def _grid_axis(spec, option):
+    lo, hi, n = spec
+    if n != int(n) or not 2 <= n <= 100_000:
+        raise CliError(f"{option}: N = {n:g} must be an integer in [2, 100000]")
+    if not hi > lo:
+        raise CliError(f"{option}: HI = {hi:g} must be > LO = {lo:g}")
+    return np.linspace(lo, hi, int(n))
+
+
+def cmd_sweep(args, out):
+    import pendula
+    th = _grid_axis(args.theta0, "--theta0")
+    om = _grid_axis(args.omega0, "--omega0")
+    _check_output(args.out, "--out", args, folder=True)
+    w0 = pendula.natural_frequency(args.g, args.length)
+    gamma = args.gamma if args.gamma is not None else (
+        pendula.damping_rate(args.b, args.mass) if args.mass is not None and args.b is not None else 0.0)
+    t = np.array([0.0, args.t_end])
+    r = pendula.sweep(t, th[:, None], om[None, :], w0, gamma, h=args.h)
+    _make_parent(Path(args.out) / "x", args)
+    folder = Path(args.out)
+    folder.mkdir(exist_ok=True)
+    well = r.well
+    np.savez(folder / "sweep.npz", theta0=th, omega0=om, theta=r.theta, omega=r.omega, well=well, codes=r.codes,
+             t_end=args.t_end, w0=w0, gamma=gamma, h=args.h)
+    tt, oo = np.meshgrid(th, om, indexing="ij")
+    rows = [[f"{a:.17g}", f"{b:.17g}", f"{c:.17g}", f"{d:.17g}", int(k), int(code)] for a, b, c, d, k, code in
+            zip(tt.ravel(), oo.ravel(), r.theta.ravel(), r.omega.ravel(), well.ravel(), r.codes.ravel())]
+    _write_csv(folder / "sweep.csv", ["theta0_rad", "omega0_rad_per_s", "theta_end_rad", "omega_end_rad_per_s",
+                                      "well", "code"], rows)
+    out.write(f"{r.codes.size} starts, w0 = {w0:.12g} 1/s, gamma = {gamma:g} 1/s, t-end = {args.t_end:g} s; "
+              f"{int((~r.ok).sum())} failed; wells {int(well.min())}..{int(well.max())}\n")
+    out.write(f"wrote {folder / 'sweep.npz'}\nwrote {folder / 'sweep.csv'}\n")
+    if not args.no_png:
+        from .figures import basin_map_plot
+        out.write(f"wrote {basin_map_plot(th, om, well, folder / 'basin.png', w0=w0, gamma=gamma)}\n")
+    if r.code:
+        sys.stderr.write(f"{PROG} sweep: {r.message}\n")
+        return 1
+    return 0
+
+
+COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff}
 
 
 def main(argv=None, out=None):

@@ -737,3 +737,22 @@ def figures_main(argv, only, description, quick_help="fewer points per curve (fa
 
 
 __all__ = ["make_figures", "figures_main", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]
+
+
+def basin_map_plot(theta0, omega0, well, path, w0=None, gamma=None):
+    """The basin map of a damped sweep: each start (theta0 [rad], omega0 [rad/s])
+    coloured by the well 2 pi k its motion ends in (``SweepResult.well``,
+    shape (len(theta0), len(omega0))); returns the path of the PNG."""
+    from matplotlib.colors import BoundaryNorm
+    fig, axs = _figure(size=(7.0, 5.4))
+    ax = axs[0, 0]
+    well = np.asarray(well)
+    ks = np.arange(int(well.min()), int(well.max()) + 2) - 0.5
+    mesh = ax.pcolormesh(theta0, omega0, well.T, shading="nearest", cmap="coolwarm",
+                         norm=BoundaryNorm(ks, 256))
+    fig.colorbar(mesh, ax=ax, ticks=np.arange(int(well.min()), int(well.max()) + 1), label="well k: ends near θ = 2πk (full turns made)")
+    sub = "" if w0 is None else f"  (w0 = {w0:.4g} 1/s, γ = {gamma:.4g} 1/s)"
+    ax.set(xlabel="θ0  (rad)", ylabel="Ω0  (rad/s)", title="Basin map: where each start comes to rest" + sub)
+    path = Path(path)
+    fig.savefig(path, dpi=DPI)
+    return path

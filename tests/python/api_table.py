@@ -127,6 +127,19 @@ API: dict[str, Entry] = {
                   # a budget below the window's steps is refused up front
                   max_steps=Arg(COUNT, extra=((3, ValueError),)),
                   progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
+    # sweeps (sweep.py): inputs checked up front, before any chunk runs
+    "sweep": Entry(
+        valid=dict(t=[0.0, 0.5, 1.0], theta0=0.3, omega0=0.5, w0=1.4, gamma=0.1, h=0.05),
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True),
+                  h=Arg(POS, array=True, extremes=(1e300, 1e154, 1e-300, 5e-324)),
+                  want=Arg(CHOICE, extra=(("all", ValueError),)), method=Arg(CHOICE, extra=(("euler", ValueError),)),
+                  chunk_states=Arg(COUNT),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))),
+                  client=Arg(OTHER, extra=(("tcp://x", TypeError),))),
+        unchecked=dict(rtol="CVODE only (method='cvode')", atol="CVODE only (method='cvode')",
+                       cvode_method="checked by cvode_batch", max_steps="checked by cvode_batch",
+                       threads="checked by _batch (test_sweep)")),
     "rk4_max_stable_step": Entry(
         valid=dict(w0=1.4, gamma=0.1),
         args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),

@@ -164,7 +164,10 @@ def test_bad_input(case):
         else:
             vals = list(_walk_numbers(result))
             assert not vals or all(np.isfinite(v) for v in vals)
-            arrs = [np.asarray(r) for r in (result if isinstance(result, tuple) else (result,))]
+            parts = result if isinstance(result, tuple) else (result,)
+            if dataclasses.is_dataclass(result):   # a result object: its arrays
+                parts = [v for v in vars(result).values() if isinstance(v, np.ndarray)]
+            arrs = [np.asarray(r) for r in parts]
             assert any(a.size == 0 for a in arrs), \
                 f"{case.id}: empty input must give an empty result or ValueError, got {result!r}"
     elif expect == "error-or-defined":

@@ -27,7 +27,7 @@ def run(argv, capsys):
 def test_help_lists_subcommands_and_units(capsys):
     code, out, _ = run(["--help"], capsys)
     assert code == 0
-    for word in ("figures", "period", "solve", "tradeoff", "rad/s", "m/s^2", "kg/s"):
+    for word in ("figures", "period", "solve", "tradeoff", "sweep", "rad/s", "m/s^2", "kg/s"):
         assert word in out
 
 
@@ -311,3 +311,30 @@ def test_figures_out_creates_the_folder_but_not_its_parents(capsys, tmp_path):
     code, _, err = run(["figures", "--out", str(tmp_path / "figs"), "--quick", "--only", "fig03"], capsys)
     assert code == 0, err
     assert (tmp_path / "figs").is_dir()
+
+
+# ---------------------------------------------------------------- sweep
+
+def test_sweep_writes_npz_csv_png_equal_to_the_library(capsys, tmp_path):
+    out_dir = tmp_path / "sw"
+    code, out, _ = run(["sweep", "--theta0", "-3", "3", "7", "--omega0", "-5", "5", "5", "--t-end", "12",
+                        "--gamma", "0.2", "--h", "0.02", "--out", str(out_dir)], capsys)
+    assert code == 0 and "35 starts" in out
+    z = np.load(out_dir / "sweep.npz")
+    th, om = np.linspace(-3, 3, 7), np.linspace(-5, 5, 5)
+    lib = pendula.sweep([0.0, 12.0], th[:, None], om[None, :], W0, 0.2, h=0.02)
+    assert np.array_equal(z["theta"], lib.theta) and np.array_equal(z["well"], lib.well)
+    with open(out_dir / "sweep.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 35 and float(rows[-1]["theta_end_rad"]) == lib.theta[-1, -1]
+    assert (out_dir / "basin.png").stat().st_size > 1000
+
+
+def test_sweep_refuses_missing_parent_and_bad_grid(capsys, tmp_path):
+    code, _, err = run(["sweep", "--out", str(tmp_path / "a" / "b")], capsys)
+    assert code == 2 and "--mkdir" in err and not (tmp_path / "a").exists()
+    code, _, err = run(["sweep", "--theta0", "1", "0", "5", "--out", str(tmp_path / "c")], capsys)
+    assert code == 2 and "--theta0" in err
+    code, _, _ = run(["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1",
+                      "--no-png", "--mkdir", "--out", str(tmp_path / "d" / "e")], capsys)
+    assert code == 0 and (tmp_path / "d" / "e" / "sweep.npz").exists()
