@@ -64,9 +64,14 @@ class Entry:
 NOT_ENTRY_POINTS = {
     "PendulaSolverError": "exception class",
     "TradeoffTable": "result container built by tradeoff() from checked runs",
+    "BatchIntegrationResult": "result container built by rk4()/cvode() for a batch of states",
     "build_info": "no arguments: build configuration",
     "have_cvode": "no arguments: build configuration",
 }
+
+# threads= of the batch paths: 0 (the default: every core) or a count
+THREADS = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("2", TypeError), (True, TypeError),
+                            (None, TypeError)))
 
 # ---- the table ----------------------------------------------------------------
 API: dict[str, Entry] = {
@@ -119,8 +124,8 @@ API: dict[str, Entry] = {
     # integrators (src/integrators, integrate.py)
     "rk4": Entry(
         valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.05),
-        args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL),
-                  w0=Arg(POS), gamma=Arg(NONNEG),
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), threads=THREADS,
                   # a step outside RK4's stability region is refused, not integrated into garbage
                   h=Arg(POS, extremes=(1e300, 1e154, 1e-300, 5e-324),
                         extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)),
@@ -133,7 +138,8 @@ API: dict[str, Entry] = {
     "cvode": Entry(
         valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, max_steps=200_000),
         needs_cvode=True,
-        args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG),
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), threads=THREADS,
                   rtol=Arg(POS), atol=Arg(NONNEG), method=Arg(CHOICE),
                   max_steps=Arg(COUNT, extra=((3, pendula.PendulaSolverError,
                                                dict(t=np.array([0.0, 100.0]))),)),

@@ -165,6 +165,8 @@ def test_bad_input(case):
             vals = list(_walk_numbers(result))
             assert not vals or all(np.isfinite(v) for v in vals)
             arrs = [np.asarray(r) for r in (result if isinstance(result, tuple) else (result,))]
+            if hasattr(result, "codes"):   # a batch result: its status array is the batch
+                arrs.append(result.codes)
             assert any(a.size == 0 for a in arrs), \
                 f"{case.id}: empty input must give an empty result or ValueError, got {result!r}"
     elif expect == "error-or-defined":
