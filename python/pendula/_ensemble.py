@@ -40,8 +40,34 @@ def is_batch(*values):
     return False
 
 
+class BatchStatus:
+    """Per-state status of a batch result (mixed into the result classes)."""
+
+    @property
+    def ok(self):
+        """Boolean mask of the states that succeeded (shape batch_shape)."""
+        return self.codes == OK
+
+    @property
+    def shape(self):
+        """The batch shape."""
+        return self.codes.shape
+
+
+def summary(codes, messages):
+    """(first_failed, message) of a batch from flat codes and per-state messages;
+    raises the first state's exception when every state of a non-empty batch failed."""
+    bad = np.flatnonzero(codes != OK)
+    if not bad.size:
+        return -1, ""
+    first = int(bad[0])
+    message = f"state {first + 1} of {codes.size} ({bad.size} failed, see codes): {messages[first]}"
+    _all_failed(codes, int(codes[first]), message)
+    return first, message
+
+
 @dataclass(frozen=True)
-class BatchIntegrationResult:
+class BatchIntegrationResult(BatchStatus):
     """Result of ``rk4``/``cvode`` over a batch of states.
 
     t: output times [s], shape (n_t,).  theta [rad], omega [rad/s]: shape
@@ -64,16 +90,6 @@ class BatchIntegrationResult:
     message: str
     first_failed: int
     events: np.ndarray = field(default=None)
-
-    @property
-    def ok(self):
-        """Boolean mask of the states that succeeded (shape batch_shape)."""
-        return self.codes == OK
-
-    @property
-    def shape(self):
-        """The batch shape."""
-        return self.codes.shape
 
 
 def _all_failed(codes, code, message):
@@ -150,11 +166,8 @@ def _from_states(tt, shape, values, codes, messages, method):
         theta[i], omega[i], ev[i] = r.theta, r.omega, r.events
         for k, v in r.stats.items():
             stats.setdefault(k, np.zeros(n, dtype=np.int64))[i] = v
-    bad = np.flatnonzero(codes != OK)
-    first = int(bad[0]) if bad.size else -1
-    message = "" if first < 0 else (f"state {first + 1} of {n} ({bad.size} failed, see codes): {messages[first]}")
+    first, message = summary(codes, messages)
     codes = codes.reshape(shape)
-    _all_failed(codes, int(codes.flat[first]) if first >= 0 else OK, message)
     return BatchIntegrationResult(t=tt, theta=theta.reshape(shape + (tt.size,)),
                                   omega=omega.reshape(shape + (tt.size,)),
                                   stats={k: v.reshape(shape) for k, v in stats.items()}, method=method,

@@ -65,6 +65,8 @@ NOT_ENTRY_POINTS = {
     "PendulaSolverError": "exception class",
     "TradeoffTable": "result container built by tradeoff() from checked runs",
     "BatchIntegrationResult": "result container built by rk4()/cvode() for a batch of states",
+    "SceneBatch": "built by Scene() for array parameters (its table entry covers them)",
+    "SceneBatchResult": "result container built by solve()/run_model() for a SceneBatch",
     "build_info": "no arguments: build configuration",
     "have_cvode": "no arguments: build configuration",
 }
@@ -174,22 +176,24 @@ API: dict[str, Entry] = {
     "Scene": Entry(
         valid=dict(theta0=0.3, omega0=0.1, t=[0.0, 1.0, 2.0], g=9.8, length=4.9, mass=0.1, b=0.01,
                    tol=1e-6, want="state"),
-        args=dict(theta0=Arg(REAL), omega0=Arg(REAL), g=Arg(POS), length=Arg(POS, aliases=("l",)),
-                  mass=Arg(POS, aliases=("m",)), b=Arg(NONNEG), tol=Arg(POS), want=Arg(CHOICE),
-                  gamma=Arg(NONNEG, others=dict(mass=None, b=None)),
+        args=dict(theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), g=Arg(POS, array=True),
+                  length=Arg(POS, aliases=("l",), array=True),
+                  mass=Arg(POS, aliases=("m",), array=True), b=Arg(NONNEG, array=True), tol=Arg(POS, array=True),
+                  want=Arg(CHOICE),
+                  gamma=Arg(NONNEG, others=dict(mass=None, b=None), array=True),
                   t=Arg(TIMES, extra=((np.array([-1.0, 0.0, 1.0]), ValueError), (np.array([]), ValueError))))),
     "solve": Entry(
         valid=dict(scene="SCENE", model=None),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError), (1.0, TypeError))),
                   model=Arg(CHOICE, extra=(("exact", ValueError, dict(scene="DAMPED")),)),
-                  max_steps=Arg(COUNT),
+                  max_steps=Arg(COUNT), threads=THREADS,
                   progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "run_model": Entry(
         valid=dict(scene="SCENE", model="rk4", setting=0.01),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
                   model=Arg(CHOICE, extra=(("auto", ValueError),)),
                   setting=Arg(POS, aliases=("h",), extremes=(1e300, 1e154, 1e-300, 5e-324)),
-                  max_steps=Arg(COUNT, extra=((3, ValueError),)),
+                  max_steps=Arg(COUNT, extra=((3, ValueError),)), threads=THREADS,
                   progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "tradeoff": Entry(
         valid=dict(scene="SCENE", models=["small_angle", "rk4"], rk4_steps=[0.1, 0.05], cvode_rtols=[1e-6],

@@ -131,3 +131,74 @@ def test_progress_callback_counts_states():
     assert res.ok.all() and seen and seen[-1] == (50, 50)
     assert all(total == 50 and 0 <= done <= 50 for done, total in seen)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+
+
+# ---- scenes -------------------------------------------------------------------
+
+TS = np.linspace(0.0, 20.0, 41)
+
+
+def _scene_states(batch_kw, shape):
+    b = {k: np.broadcast_to(v, shape) for k, v in batch_kw.items()}
+    return [(idx, {k: float(v[idx]) for k, v in b.items()}) for idx in np.ndindex(shape)]
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("fn", ["solve", "run_model"])
+def test_scene_batch_is_the_scalar_solve_bit_for_bit(fn, threads):
+    kw = dict(theta0=np.array([[0.2, 1.0, 3.0]]), gamma=np.array([[0.0], [0.1]]), tol=1e-7)
+    batch = pendula.Scene(t=TS, **kw)
+    assert isinstance(batch, pendula.SceneBatch) and batch.shape == (2, 3)
+    call = (lambda s, **k: pendula.solve(s, **k)) if fn == "solve" else \
+        (lambda s, **k: pendula.run_model(s, "rk4", 0.01, **k))
+    res = call(batch, threads=threads)
+    assert res.ok.all() and res.theta.shape == (2, 3, TS.size) and res.message == ""
+    for idx, one in _scene_states(kw, (2, 3)):
+        s = call(pendula.Scene(t=TS, **one))
+        assert res.model[idx] == s.model and res.error_estimate[idx] == s.error_estimate
+        assert np.array_equal(res.theta[idx], s.theta) and np.array_equal(res.omega[idx], s.omega)
+        assert res.results[idx].reason == s.reason
+
+
+def test_scene_batch_wants_and_scalar_t():
+    res = pendula.solve(pendula.Scene([0.5, 2.0], want="period"))
+    assert res.period.shape == (2,) and res.theta is None
+    assert res.period[1] == pendula.solve(pendula.Scene(2.0, want="period")).period
+    res = pendula.solve(pendula.Scene([0.5, 2.0], t=3.0, want="energy"))
+    assert res.energy.shape == (2,) and res.energy[0] == pendula.solve(pendula.Scene(0.5, t=3.0, want="energy")).energy
+
+
+def test_scene_batch_mixed_failures_and_all_failed():
+    # length 4.9e-4 m: w0 = 141 1/s, so the RK4 step 0.05 s is unstable for that scene alone
+    mixed = pendula.run_model(pendula.Scene([0.3, 0.4], t=[0.0, 10.0], gamma=0.1, length=[4.9, 4.9e-4]),
+                              "rk4", 0.05)
+    assert mixed.codes[0] == OK and mixed.codes[1] == ERR_UNSTABLE and mixed.first_failed == 1
+    assert mixed.message.startswith("state 2 of 2 (1 failed") and "unstable" in mixed.messages[1]
+    assert mixed.messages[0] == "" and mixed.model[1] == "" and np.isinf(mixed.error_estimate[1])
+    assert mixed.results[1] is None and not mixed.theta[1].any() and not mixed.tol_met[1]
+    single = pendula.run_model(pendula.Scene(0.3, t=[0.0, 10.0], gamma=0.1), "rk4", 0.05)
+    assert np.array_equal(mixed.theta[0], single.theta)
+    with pytest.raises(ValueError, match="every state failed"):
+        pendula.run_model(pendula.Scene([0.3, 0.4], t=[0.0, 10.0], gamma=0.1, length=4.9e-4), "rk4", 0.05)
+
+
+def test_scene_batch_bad_state_names_state_and_argument():
+    with pytest.raises(ValueError, match=r"state \(1,\) .*length"):
+        pendula.Scene([0.3, 0.4], t=TS, length=[4.9, -1.0])
+
+
+def test_scene_batch_empty_and_progress():
+    res = pendula.solve(pendula.Scene(np.zeros(0), t=TS))
+    assert res.codes.shape == (0,) and res.results.shape == (0,)
+    seen = []
+    res = pendula.solve(pendula.Scene(np.linspace(0.1, 1.0, 7), t=TS, gamma=0.1),
+                        progress=lambda done, total: seen.append((done, total)), threads=2)
+    assert res.ok.all() and seen[-1] == (7, 7)
+
+
+def test_tradeoff_of_a_batch_is_one_table_per_scene():
+    tables = pendula.tradeoff(pendula.Scene([0.2, 1.0], t=TS), models=["exact", "rk4"], rk4_steps=[0.05],
+                              repeat=1)
+    assert tables.shape == (2,)
+    one = pendula.tradeoff(pendula.Scene(1.0, t=TS), models=["exact", "rk4"], rk4_steps=[0.05], repeat=1)
+    assert tables[1].column("sup_error") == one.column("sup_error")
