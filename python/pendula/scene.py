@@ -109,8 +109,10 @@ class Scene:
     ``solve``).  A bad value in one state raises ValueError naming the state.
     """
 
-    def __new__(cls, theta0, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
+    def __new__(cls, theta0=None, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
                 tol=1e-6, want="state"):
+        # (theta0 defaults to None here only so that pickle and copy, which call
+        # __new__ with no arguments, work; __init__ still requires it)
         if cls is Scene and _is_batch(theta0, omega0, g, length, gamma, mass, b, tol):
             return _scene_batch.SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want)
         return object.__new__(cls)

@@ -202,3 +202,13 @@ def test_tradeoff_of_a_batch_is_one_table_per_scene():
     assert tables.shape == (2,)
     one = pendula.tradeoff(pendula.Scene(1.0, t=TS), models=["exact", "rk4"], rk4_steps=[0.05], repeat=1)
     assert tables[1].column("sup_error") == one.column("sup_error")
+
+
+def test_scenes_and_scene_batches_pickle():
+    import pickle
+    s = pendula.Scene(0.3, t=TS, gamma=0.1)
+    assert repr(pickle.loads(pickle.dumps(s))) == repr(s)
+    b = pickle.loads(pickle.dumps(pendula.Scene([0.3, 0.4], t=TS)))
+    assert np.array_equal(pendula.solve(b).theta, pendula.solve(pendula.Scene([0.3, 0.4], t=TS)).theta)
+    with pytest.raises(TypeError, match="theta0"):
+        pendula.Scene()
