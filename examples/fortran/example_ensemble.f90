@@ -1,4 +1,4 @@
-!> Example: many pendulums in one call (rk4_batch_solve).
+!> Example: many pendulums in one call (rk4_batch_solve, cvode_batch_solve).
 !>
 !> A map of the text's damped pendulum (w0**2 = 2 1/s**2, gamma = 0.1 1/s):
 !> for a 9 x 25 grid of starts (theta0 in (-pi, pi), Omega0 in [0, 6] rad/s)
@@ -6,7 +6,10 @@
 !> pendulum went over the top (the integer part of (theta(30) + pi) / 2 pi):
 !> '.' librated only, digits count the turns.  Then the same batch with one
 !> state given an unstable step, to show the per-state status: that state
-!> fails alone and the others keep their answers.
+!> fails alone and the others keep their answers.  Last, when this build has
+!> CVODE, the same grid by cvode_batch_solve (one solver per thread, restarted
+!> per state) with a tight budget of 600 steps per state: the states that need
+!> more fail alone (ERR_MAXSTEPS) and the others keep their answers.
 program example_ensemble
   use pendula
   use example_support, only: require
@@ -15,6 +18,7 @@ program example_ensemble
   real(wp) :: t(nt), th0(n), om0(n), h(n), theta(nt, n), omega(nt, n)
   integer :: codes(n), i, j, k, turns, first
   integer(i8) :: steps(n)
+  type(ode_stats_t) :: stats(n)
   type(status_t) :: st
   character(len=n_om) :: row
 
@@ -49,5 +53,17 @@ program example_ensemble
       '); the others succeeded:'
   write (*, '(2x, a)') trim(st%message)
   if (first /= 7 .or. count(codes == PENDULA_OK) /= n - 1) error stop 'per-state status not as expected'
+
+  if (.not. cvode_available()) then
+    write (*, '(/, a)') 'This build has no CVODE: cvode_batch_solve is not shown.'
+  else
+    t = [(0.05_wp * i, i = 0, nt - 1)]
+    call cvode_batch_solve(t, th0, om0, [sqrt(2.0_wp)], [0.1_wp], [1e-8_wp], [1e-10_wp], PENDULA_CVODE_ADAMS, &
+        600_i8, theta, omega, codes, stats, st, threads=0, first_failed=first)
+    write (*, '(/, a, i0, a, i0, a)') 'CVODE (Adams, at most 600 steps per state): ', count(codes == PENDULA_OK), &
+        ' of ', n, ' states finished; the others ran out of steps:'
+    write (*, '(2x, a)') trim(st%message)
+    if (count(codes == PENDULA_OK) == 0 .or. all(codes == PENDULA_OK)) error stop 'CVODE per-state status not as expected'
+  end if
 
 end program example_ensemble

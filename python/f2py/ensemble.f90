@@ -6,7 +6,7 @@
 ! the GIL for the call, so other Python threads (a watcher raising the cancel
 ! flag in `control`, other batch calls) run meanwhile.  No numerics here.
 
-subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h, threads, control, &
+subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h, max_steps, threads, control, &
     theta, omega, codes, steps, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
@@ -17,6 +17,8 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
   !f2py threadsafe
   integer(c_int), intent(in) :: nt, n, no, nw, ng, nh, threads
   real(c_double), intent(in) :: t(nt), theta0(n), omega0(no), w0(nw), gamma(ng), h(nh)
+  ! the per-state step budget as a double (rk4_f2py's convention), already >= 1
+  real(c_double), intent(in) :: max_steps
   ! int64: the cancel flag and progress counter (pendula_control), shared with
   ! the caller's thread while the call runs
   integer(8), intent(inout) :: control(2)
@@ -28,7 +30,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
   integer :: first
   allocate (nsteps(n))
   call rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, nsteps, st, &
-      threads=int(threads), control=control, first_failed=first)
+      threads=int(threads), control=control, first_failed=first, max_steps=int(max_steps, i8))
   steps = real(nsteps, c_double)
   first_failed = first
   code = st%code

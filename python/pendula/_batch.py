@@ -101,7 +101,7 @@ def _control(control):
     return control
 
 
-def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
+def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None, max_steps=2_000_000_000):
     """RK4 (as ``pendula.rk4``) for a batch of states over one output grid.
 
     t: strictly increasing, finite output times [s], 1-D, shared by every
@@ -120,10 +120,11 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None):
     """
     tt = _grid(t)
     shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)
+    budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     nthreads = _threads(threads)
     control = _control(control)
     theta, omega, codes, steps, first, code, msg = _fortran.rk4_batch_f2py(
-        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), nthreads, control)
+        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control)
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)   # the call itself was refused

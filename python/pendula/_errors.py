@@ -37,9 +37,11 @@ def _text(msg):
 
 
 def raise_for_status(code, msg):
-    """Raise the exception for a Fortran status ``code`` (no-op when OK)."""
+    """Raise the exception for a Fortran status ``code`` (no-op when OK);
+    the exception carries the code as ``pendula_code``."""
     code = int(code)
     if code == OK:
         return
-    exc = _EXCEPTIONS.get(code, RuntimeError)
-    raise exc(_text(msg) or f"pendula error code {code}")
+    exc = _EXCEPTIONS.get(code, RuntimeError)(_text(msg) or f"pendula error code {code}")
+    exc.pendula_code = code   # the batch layer reports it per state
+    raise exc

@@ -64,6 +64,19 @@ def _progress_sink(progress, total, unit):
                     f"got {type(progress).__name__}")
 
 
+def stop(controls, threads):
+    """Raise the cancel flag of every control array and wait for every
+    thread (a Ctrl-C meanwhile is absorbed: the caller re-raises the first)."""
+    for control in controls:
+        control[0] = 1
+    for th in threads:
+        while th.is_alive():
+            try:
+                th.join()
+            except KeyboardInterrupt:
+                pass
+
+
 def run(call, control, long, progress=None, total=None, unit="step"):
     """Return ``call()``, which runs Fortran work that polls ``control``.
 
@@ -100,12 +113,7 @@ def run(call, control, long, progress=None, total=None, unit="step"):
             # Fortran side (within ~1 ms) and wait for it, so that no worker
             # runs on behind the caller's back; a second Ctrl-C meanwhile is
             # absorbed, the first is re-raised.
-            control[0] = 1
-            while th.is_alive():
-                try:
-                    th.join()
-                except KeyboardInterrupt:
-                    pass
+            stop([control], [th])
             raise
         if "error" in box:
             raise box["error"]

@@ -111,7 +111,7 @@ def _result(t, theta, omega, stats, method):
     return r
 
 
-def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None):
+def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None, threads=0):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
@@ -129,12 +129,30 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None)
     half-done).  progress: True for a tqdm bar (needs tqdm), or a
     callable(done, total) called about every 20 ms with the steps taken.
 
+    Batches: theta0, omega0, w0 and gamma may be arrays; they broadcast
+    together like NumPy to the batch shape, and the result is a
+    ``BatchIntegrationResult`` with theta.shape == batch_shape + (len(t),),
+    each state bit-identical to the scalar call (the Fortran batch kernel,
+    on ``threads`` OpenMP threads: 0 = OMP_NUM_THREADS or every core; the
+    GIL is released).  A value refused without integrating (NaN, inf, out
+    of domain) raises ValueError naming the first bad state; a state that
+    fails over the window (unstable h, more than max_steps steps) gets its
+    own code in ``result.codes`` (``result.ok``, ``result.message``) and the
+    others keep their answers; when every state failed the call raises that
+    exception.  progress counts finished states; Ctrl-C as above.  Scalars
+    and 0-d arrays take the scalar path (``threads`` is then unused).
+
     Returns an ``IntegrationResult`` (stats: steps, rhs_evals = 4 steps).
     Raises ValueError for bad arguments, for more than max_steps steps and
     for a step outside RK4's stability region for the linearisation about
     theta = 0 (the message gives the largest stable h; see
     ``rk4_max_stable_step``).
     """
+    if _ensemble.is_batch(theta0, omega0, w0, gamma):
+        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, _real(h, "h"), max_steps, progress,
+                                   threads)
+    if threads != 0:
+        _batch._threads(threads)   # checked, unused: one state runs on one thread
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
         check_size(t.size, "t")
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
@@ -177,7 +195,7 @@ def rk4_max_stable_step(w0, gamma):
 
 
 def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", max_steps=10_000_000,
-          events=False, max_events=100_000, progress=None):
+          events=False, max_events=100_000, progress=None, threads=0):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     t: strictly increasing, finite output times [s]; t[0] is the initial time
@@ -203,6 +221,12 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     tqdm bar (needs tqdm), or a callable(done, total) called about every
     20 ms with the right-hand-side evaluations so far (total None: unknown).
 
+    Batches: theta0, omega0, w0 and gamma may be arrays, as for ``rk4``
+    (same rules; a state's CVODE failure or exhausted max_steps is its code);
+    the Fortran batch kernel reuses one solver per thread.  With
+    events=True each state runs the scalar call on a pool of ``threads``
+    Python threads (``result.events``: an object array of ``Events``).
+
     Returns an ``IntegrationResult``.  Raises ValueError for bad arguments,
     ``PendulaSolverError`` (a RuntimeError) when CVODE fails or runs out of
     steps (message with CVODE's reason), NotImplementedError when this build
@@ -215,6 +239,23 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
             np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, CVODE_ADAMS, 1.0, 0, _longcall.new_control())
         raise_for_status(code, msg)
     tt = _grid(t)
+    if _ensemble.is_batch(theta0, omega0, w0, gamma):
+        if not isinstance(method, str):
+            raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
+        if not isinstance(events, bool):
+            raise TypeError(f"events must be True or False, got {type(events).__name__}")
+        return _ensemble.cvode_batch(tt, theta0, omega0, w0, gamma, real_scalar(rtol, "rtol"),
+                                     real_scalar(atol, "atol"), method, max_steps, events, max_events, progress,
+                                     threads, _cvode_one)
+    if threads != 0:
+        _batch._threads(threads)
+    return _cvode_one(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress)
+
+
+def _cvode_one(tt, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", max_steps=10_000_000,
+               events=False, max_events=100_000, progress=None, control=None):
+    """``cvode`` for one state on the checked grid tt; control: the caller's
+    (a batch pool thread's) control array, watched by the caller."""
     args = [real_scalar(x, name) for x, name in
             ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"),
              (rtol, "rtol"), (atol, "atol"))]
@@ -227,12 +268,13 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     if events:
         # the event arrays are allocated up front: 28 bytes per event
         m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
-    control = _longcall.new_control()
+    watched = control is None
+    control = _longcall.new_control() if watched else control
     call_args = (tt, *args, _METHODS[method.lower()], float(min(max_steps, 2**62)), m, control)
     # CVODE's step count is not known up front: any run that may take more
     # than ~50 ms (a long window in periods, or many outputs) runs watched.
     periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
-    long = not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS    # NaN/inf: long
+    long = watched and not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS    # NaN/inf: long
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
         lambda: _fortran.cvode_f2py(*call_args), control, long, progress, unit="rhs")
     raise_for_status(code, msg)
@@ -245,5 +287,9 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
                              events=ev)
 
 
-__all__ = ["rk4", "rk4_max_stable_step", "cvode", "IntegrationResult", "Events",
+# Last: the batch modules import this module's names (_METHODS, _STAT_NAMES).
+from . import _batch, _ensemble  # noqa: E402
+from ._ensemble import BatchIntegrationResult  # noqa: E402
+
+__all__ = ["rk4", "rk4_max_stable_step", "cvode", "IntegrationResult", "BatchIntegrationResult", "Events",
            "TURNING_POINT", "ZERO_CROSSING"]

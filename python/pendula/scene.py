@@ -102,7 +102,21 @@ class Scene:
 
     Raises ValueError (naming the argument) for inconsistent or out-of-range
     parameters, TypeError for non-real input.  The scene keeps its own copy of t.
+
+    Batches: when theta0, omega0, g, length, gamma, mass, b or tol is an
+    array (one or more dimensions), they broadcast like NumPy and ``Scene``
+    returns a ``SceneBatch`` (one scene per state, t and want shared);
+    ``solve``, ``run_model`` and ``tradeoff`` then answer every scene (see
+    ``solve``).  A bad value in one state raises ValueError naming the state.
     """
+
+    def __new__(cls, theta0=None, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
+                tol=1e-6, want="state"):
+        # (theta0 defaults to None here only so that pickle and copy, which call
+        # __new__ with no arguments, work; __init__ still requires it)
+        if cls is Scene and _is_batch(theta0, omega0, g, length, gamma, mass, b, tol):
+            return _scene_batch.SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want)
+        return object.__new__(cls)
 
     def __init__(self, theta0, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
                  tol=1e-6, want="state"):
@@ -235,18 +249,21 @@ def _event_slots(scene, tt):
                                                                     scene.omega0)))
 
 
-def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None):
+def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, control=None):
+    # control: a batch thread's control array (the batch layer watches it)
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
     tt = scene._t_arg()
     m = _event_slots(scene, tt)
     budget = _budget(max_steps)
-    long = _long_scene(scene, tt, model_code, float(setting))
+    watched = control is None
+    long = watched and _long_scene(scene, tt, model_code, float(setting))
     start = time.perf_counter()
-    control = _longcall.new_control()
+    control = _longcall.new_control() if watched else control
     args = (tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol, WANT_CODES[scene.want],
             model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
-    out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress, unit="step")
+    out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress if watched else None,
+                        unit="step")
     (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
      reason, code, msg) = out
     raise_for_status(code, msg)
@@ -295,7 +312,7 @@ def _result(scene, raw):
                        rtol=num["rtol"] if model == "cvode" else None, cost=cost, **kw)
 
 
-def solve(scene, model=None, max_steps=STEP_CAP, progress=None):
+def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
     model: None or "auto" to let the library choose, or one of ``MODELS`` to
@@ -318,17 +335,28 @@ def solve(scene, model=None, max_steps=STEP_CAP, progress=None):
     Raises ValueError for an unknown model name or a model that does not apply
     (small_angle/exact with gamma > 0), NotImplementedError for "cvode" in a
     build without SUNDIALS, ``PendulaSolverError`` when an integrator fails.
+
+    A ``SceneBatch`` (``Scene`` with array parameters) gives a
+    ``SceneBatchResult``: every scene solved as alone (bit for bit) on
+    ``threads`` threads (0: OMP_NUM_THREADS or every core), per-scene codes
+    and messages for the scenes whose solve failed (the others keep their
+    answers), stacked quantities with the batch shape in front; the call
+    raises only when every scene failed.  progress counts scenes; Ctrl-C
+    stops every thread.
     """
     code = _model_code(model)
+    if isinstance(scene, _scene_batch.SceneBatch):
+        return _scene_batch.run(scene, code, False, 0.0, max_steps, progress, threads)
+    _check_threads(threads)
     return _result(scene, _run(scene, code, False, 0.0, max_steps, progress))
 
 
-def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None):
+def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, threads=0):
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
     setting: RK4 step h [s] or CVODE rtol (atol = rtol * state scale / 100);
     ignored for the closed forms.  For work-precision studies (``tradeoff``).
-    max_steps, progress, Ctrl-C: as for ``solve`` (an RK4 run of more than
+    max_steps, progress, Ctrl-C, threads and batches: as for ``solve`` (an RK4 run of more than
     max_steps steps is refused up front).
     """
     code = _model_code(model)
@@ -340,7 +368,15 @@ def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None):
         setting = real_scalar(setting, "setting")
     else:
         setting = 0.0
+    if isinstance(scene, _scene_batch.SceneBatch):
+        return _scene_batch.run(scene, code, True, setting, max_steps, progress, threads)
+    _check_threads(threads)
     return _result(scene, _run(scene, code, True, setting, max_steps, progress))
+
+
+def _check_threads(threads):
+    if threads != 0 or type(threads) is not int:
+        _threads(threads)   # checked, unused: one scene runs on one thread
 
 
 class TradeoffTable:
@@ -440,8 +476,16 @@ def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv
     ``table.reference``).  Wall time is the best of ``repeat``
     calls.  models: subset of ``MODELS`` to run; rk4_steps / cvode_rtols:
     explicit settings.  csv / plot: paths to also write the CSV and a log-log
-    work-precision PNG.  Returns a ``TradeoffTable``.
+    work-precision PNG.  Returns a ``TradeoffTable``; for a ``SceneBatch``,
+    an object array of them with the batch shape (the scenes run one after
+    another, so that their wall times do not compete for cores; csv/plot
+    are refused for a batch).
     """
+    if isinstance(scene, _scene_batch.SceneBatch):
+        if csv is not None or plot is not None:
+            raise ValueError("csv and plot take one scene: call tradeoff per scene of the batch to write them")
+        return _scene_batch.tradeoff(scene, models=models, rk4_steps=rk4_steps, cvode_rtols=cvode_rtols,
+                                     repeat=repeat, max_steps=max_steps)
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
     if scene.t.size < 1:
@@ -521,4 +565,11 @@ def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv
     return table
 
 
-__all__ = ["Scene", "SceneResult", "solve", "run_model", "tradeoff", "TradeoffTable"]
+# Last: the batch layer builds on this module's Scene, _run and _result.
+from . import _scene_batch  # noqa: E402
+from ._batch import _threads  # noqa: E402
+from ._ensemble import is_batch as _is_batch  # noqa: E402
+from ._scene_batch import SceneBatch, SceneBatchResult  # noqa: E402
+
+__all__ = ["Scene", "SceneResult", "solve", "run_model", "tradeoff", "TradeoffTable", "SceneBatch",
+           "SceneBatchResult"]

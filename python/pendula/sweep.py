@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _batch, _longcall
+from . import _batch, _fortran, _longcall
 from ._arrays import broadcast_real, integer_arg
 from ._errors import OK
-from .undamped import _props
+from .undamped import REGIMES, _state_property, period as _period
 
 WANTS = ("final", "trajectory", "period")
 METHODS = ("rk4", "cvode")
@@ -77,9 +77,9 @@ class SweepResult:
         """True where the state at t[-1] is above the separatrix energy
         2 w0^2 (still going over the top), for the sweep's w0 [1/s]."""
         theta, omega = self._final()
-        shape, _, out = _props(theta, omega, w0)
-        reg = out[-1]
-        return (np.asarray(reg) == 3).reshape(shape)
+        shape, _, (reg,) = _state_property(_fortran.regime_f2py, 1, theta, omega, w0)
+        rotation = next(code for code, name in REGIMES.items() if name == "rotation")
+        return (np.asarray(reg) == rotation).reshape(shape)
 
     @property
     def well(self):
@@ -95,8 +95,8 @@ def _chunk(kind, t, cols, opts, want, threads):
     arrays), reduced to what ``want`` keeps.  Runs locally or on a Dask
     worker; a pure function of its arguments (Dask may run it twice)."""
     if want == "period":
-        shape, _, out = _props(cols["theta0"], cols["omega0"], cols["w0"])
-        return {"period": out[2], "codes": np.zeros(len(out[2]), dtype=np.int64), "code": 0, "message": ""}
+        per = np.asarray(_period(cols["theta0"], cols["omega0"], cols["w0"]), dtype=float).reshape(-1)
+        return {"period": per, "codes": np.zeros(per.size, dtype=np.int64), "code": 0, "message": ""}
     control = opts.pop("control", None)
     if kind == "rk4":
         r = _batch.rk4_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["h"],

@@ -64,9 +64,16 @@ class Entry:
 NOT_ENTRY_POINTS = {
     "PendulaSolverError": "exception class",
     "TradeoffTable": "result container built by tradeoff() from checked runs",
+    "BatchIntegrationResult": "result container built by rk4()/cvode() for a batch of states",
+    "SceneBatch": "built by Scene() for array parameters (its table entry covers them)",
+    "SceneBatchResult": "result container built by solve()/run_model() for a SceneBatch",
     "build_info": "no arguments: build configuration",
     "have_cvode": "no arguments: build configuration",
 }
+
+# threads= of the batch paths: 0 (the default: every core) or a count
+THREADS = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("2", TypeError), (True, TypeError),
+                            (None, TypeError)))
 
 # ---- the table ----------------------------------------------------------------
 API: dict[str, Entry] = {
@@ -119,8 +126,8 @@ API: dict[str, Entry] = {
     # integrators (src/integrators, integrate.py)
     "rk4": Entry(
         valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.05),
-        args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL),
-                  w0=Arg(POS), gamma=Arg(NONNEG),
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), threads=THREADS,
                   # a step outside RK4's stability region is refused, not integrated into garbage
                   h=Arg(POS, extremes=(1e300, 1e154, 1e-300, 5e-324),
                         extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)),
@@ -146,7 +153,8 @@ API: dict[str, Entry] = {
     "cvode": Entry(
         valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, max_steps=200_000),
         needs_cvode=True,
-        args=dict(t=Arg(TIMES), theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG),
+        args=dict(t=Arg(TIMES), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), threads=THREADS,
                   rtol=Arg(POS), atol=Arg(NONNEG), method=Arg(CHOICE),
                   max_steps=Arg(COUNT, extra=((3, pendula.PendulaSolverError,
                                                dict(t=np.array([0.0, 100.0]))),)),
@@ -181,22 +189,24 @@ API: dict[str, Entry] = {
     "Scene": Entry(
         valid=dict(theta0=0.3, omega0=0.1, t=[0.0, 1.0, 2.0], g=9.8, length=4.9, mass=0.1, b=0.01,
                    tol=1e-6, want="state"),
-        args=dict(theta0=Arg(REAL), omega0=Arg(REAL), g=Arg(POS), length=Arg(POS, aliases=("l",)),
-                  mass=Arg(POS, aliases=("m",)), b=Arg(NONNEG), tol=Arg(POS), want=Arg(CHOICE),
-                  gamma=Arg(NONNEG, others=dict(mass=None, b=None)),
+        args=dict(theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), g=Arg(POS, array=True),
+                  length=Arg(POS, aliases=("l",), array=True),
+                  mass=Arg(POS, aliases=("m",), array=True), b=Arg(NONNEG, array=True), tol=Arg(POS, array=True),
+                  want=Arg(CHOICE),
+                  gamma=Arg(NONNEG, others=dict(mass=None, b=None), array=True),
                   t=Arg(TIMES, extra=((np.array([-1.0, 0.0, 1.0]), ValueError), (np.array([]), ValueError))))),
     "solve": Entry(
         valid=dict(scene="SCENE", model=None),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError), (1.0, TypeError))),
                   model=Arg(CHOICE, extra=(("exact", ValueError, dict(scene="DAMPED")),)),
-                  max_steps=Arg(COUNT),
+                  max_steps=Arg(COUNT), threads=THREADS,
                   progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "run_model": Entry(
         valid=dict(scene="SCENE", model="rk4", setting=0.01),
         args=dict(scene=Arg(OTHER, extra=(("scene", TypeError), (None, TypeError))),
                   model=Arg(CHOICE, extra=(("auto", ValueError),)),
                   setting=Arg(POS, aliases=("h",), extremes=(1e300, 1e154, 1e-300, 5e-324)),
-                  max_steps=Arg(COUNT, extra=((3, ValueError),)),
+                  max_steps=Arg(COUNT, extra=((3, ValueError),)), threads=THREADS,
                   progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     "tradeoff": Entry(
         valid=dict(scene="SCENE", models=["small_angle", "rk4"], rk4_steps=[0.1, 0.05], cvode_rtols=[1e-6],

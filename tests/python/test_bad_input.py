@@ -119,7 +119,7 @@ def test_valid_call_gives_finite_results_and_keeps_inputs(fname):
     assert all(np.isfinite(v) for v in vals), f"{fname}: the valid call returned non-finite values"
     # Array variants of array arguments: broadcasting keeps them untouched too.
     for aname, spec in entry.args.items():
-        if spec.array:
+        if spec.array and aname in entry.valid:   # (an optional one left out stays out)
             kw = dict(kwargs)
             kw[aname] = _as_array_arg(entry.valid[aname])
             snap = _snapshot(kw)
@@ -168,6 +168,9 @@ def test_bad_input(case):
             if dataclasses.is_dataclass(result):   # a result object: its arrays
                 parts = [v for v in vars(result).values() if isinstance(v, np.ndarray)]
             arrs = [np.asarray(r) for r in parts]
+            for attr in ("codes", "scenes"):   # a batch (result): its status or scene array is the batch
+                if hasattr(result, attr):
+                    arrs.append(np.asarray(getattr(result, attr)))
             assert any(a.size == 0 for a in arrs), \
                 f"{case.id}: empty input must give an empty result or ValueError, got {result!r}"
     elif expect == "error-or-defined":

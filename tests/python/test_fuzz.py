@@ -642,6 +642,29 @@ def test_fuzz_rk4(worker):
     rec.verdict()
 
 
+@settings(SETTINGS, max_examples=30)
+@given(t=grid_src(), p=real_args(["theta0", "omega0", "w0", "gamma", "h"]),
+       want=st.sampled_from(["'final'", "'trajectory'", "'period'", "'bogus'"]),
+       chunk=st.sampled_from(["1", "7", "4096", "0", "-3", "2**70", "True"]))
+def _run_sweep(worker, rec, t, p, want, chunk):
+    v = {k: evaluate(s) for k, s in p.items()}
+    scal = all(x is not None and x.ndim == 0 for x in v.values())
+    ok = scal and all(np.isfinite(x) for x in v.values()) and want in ("'final'", "'trajectory'")
+    if ok:
+        ss = _span_steps(t, float(v["w0"]), float(v["gamma"]), float(v["h"]))
+        assume(ss is None or ss[1] < 2e5 or ss[1] > 3e9 or float(v["w0"]) <= 0 or float(v["gamma"]) < 0)
+        ok = ss is not None
+    args = [t] + [p[k] for k in ("theta0", "omega0", "w0", "gamma")]
+    out = worker.call("sweep", args, {"h": p["h"], "want": want, "chunk_states": chunk})
+    rec.add(judge(out, ["t", "theta0", "omega0", "w0", "gamma", "h", "want", "chunk_states"]), "sweep", args)
+
+
+def test_fuzz_sweep(worker):
+    rec = Recorder("sweep")
+    _run_sweep(worker, rec)
+    rec.verdict()
+
+
 @settings(SETTINGS, max_examples=60)
 @given(t=grid_src(), p=real_args(["theta0", "omega0", "w0", "gamma", "rtol", "atol"]),
        method=st.sampled_from(["'adams'", "'bdf'", "'BDF'", "'rk'", "3"]),
@@ -833,9 +856,11 @@ def test_fuzz_cli(argv, tmp_path):
 # Names in pendula.__all__ that are not called: constants, an exception class and
 # result containers (their contents are checked through the calls that return them).
 NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "PendulaSolverError", "IntegrationResult", "Events",
-              "SceneResult", "DampingRegime", "TradeoffTable"}
+              "SceneResult", "DampingRegime", "TradeoffTable",
+              # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
+              "BatchIntegrationResult", "SceneBatch", "SceneBatchResult", "SweepResult"}
 FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
-                                            "tradeoff", "build_info", "have_cvode"})
+                                            "tradeoff", "build_info", "have_cvode", "sweep"})
 
 
 def test_fuzz_covers_every_public_name():

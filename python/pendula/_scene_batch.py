@@ -1,0 +1,140 @@
+"""Batches of scenes: ``Scene(...)`` with array parameters, and its solves.
+
+``Scene`` returns a ``SceneBatch`` when theta0, omega0, g, length, gamma,
+mass, b or tol is an array of one or more dimensions (they broadcast like
+NumPy; t and want are shared).  ``solve``, ``run_model`` and ``tradeoff``
+of a SceneBatch answer every scene of it.
+
+Why a thread pool over the scalar solve (``_pool``), not a Fortran loop: each
+scene picks its own model, setting and verification runs, and its answer
+must be bit-identical to ``solve`` of that scene alone, which the scalar
+Fortran solve is by construction; the f2py call releases the GIL, so with one
+thread per core every core runs Fortran while the Python overhead (~30 us
+a scene) is small against a scene's integration.  tradeoff of a batch runs
+the scenes one after another: its wall times must not compete for cores.
+
+Failure rules (as rk4/cvode batches): a scene that cannot be built (a bad
+value in one state) raises ValueError naming the state; a scene whose solve
+fails gets its code and message; when every scene failed, the call raises
+the first one's exception.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _pool, scene as _scene
+from ._arrays import broadcast_real
+from ._ensemble import BatchStatus, summary
+
+_PARAMS = ("theta0", "omega0", "g", "length", "gamma", "mass", "b", "tol")
+
+
+class SceneBatch:
+    """Scenes over a batch of parameters (see ``pendula.Scene``).
+
+    shape: the batch shape; scenes: object array of ``Scene`` of that shape;
+    t, want: shared by every scene; theta0, omega0, w0, gamma, tol: float
+    arrays of the batch shape.
+    """
+
+    def __init__(self, theta0, omega0, t, g, length, gamma, mass, b, tol, want):
+        given = {k: v for k, v in zip(_PARAMS, (theta0, omega0, g, length, gamma, mass, b, tol)) if v is not None}
+        shape, _, flats = broadcast_real(**given)
+        n = int(np.prod(shape, dtype=np.int64))
+        probe = _scene.Scene(0.0, 0.0, t=t, want=want)   # t and want, also for an empty batch
+        scenes = np.empty(n, dtype=object)
+        for i in range(n):
+            kw = {k: float(v[i]) for k, v in flats.items()}
+            try:
+                scenes[i] = _scene.Scene(t=t, want=want, **kw)
+            except ValueError as exc:
+                where = np.unravel_index(i, shape)
+                raise ValueError(f"state {tuple(int(j) for j in where)} of the batch {shape}: {exc}") from None
+        self.shape = shape
+        self.scenes = scenes.reshape(shape)
+        self.t = probe.t
+        self.want = probe.want
+        for name in ("theta0", "omega0", "w0", "gamma", "tol"):
+            setattr(self, name, np.array([getattr(s, name) for s in scenes], dtype=float).reshape(shape))
+
+    def __len__(self):
+        return self.shape[0] if self.shape else 1
+
+    def __repr__(self):
+        return f"SceneBatch(shape={self.shape}, want={self.want!r}, t[{self.t.size}])"
+
+
+@dataclass(frozen=True)
+class SceneBatchResult(BatchStatus):
+    """The answers to a ``SceneBatch``.
+
+    results: object array (batch shape) of ``SceneResult`` (None for a failed
+    scene); codes: int64 status per scene (0 = ok); messages: object array
+    of the failed scenes' messages ('' for the others); message: summary
+    ('' when every scene succeeded); first_failed: flat index or -1.
+    model (str, '' when failed), error_estimate (inf when failed), tol_met:
+    per scene.  t, theta, omega, energy, period, event_time_error: the
+    per-scene quantities stacked with the batch shape in front (theta.shape
+    == batch_shape + (len(t),)), zero for a failed scene; None when not
+    asked for.
+    """
+    results: np.ndarray
+    codes: np.ndarray
+    messages: np.ndarray
+    message: str
+    first_failed: int
+    model: np.ndarray
+    error_estimate: np.ndarray
+    tol_met: np.ndarray
+    t: object = None
+    theta: object = None
+    omega: object = None
+    energy: object = None
+    period: object = None
+    event_time_error: object = None
+
+
+def _stack(values, shape, name):
+    good = [getattr(v, name) for v in values if v is not None]
+    if not good or good[0] is None:
+        return None
+    out = np.zeros((len(values),) + np.shape(good[0]))
+    for i, v in enumerate(values):
+        if v is not None:
+            out[i] = getattr(v, name)
+    return out.reshape(shape + np.shape(good[0]))
+
+
+def _collect(batch, values, codes, messages):
+    shape, n = batch.shape, len(values)
+    first, message = summary(codes, messages)
+    res = np.empty(n, dtype=object)
+    res[:] = values
+    return SceneBatchResult(
+        results=res.reshape(shape), codes=codes.reshape(shape),
+        messages=np.array(messages, dtype=object).reshape(shape), message=message, first_failed=first,
+        model=np.array([v.model if v is not None else "" for v in values], dtype=object).reshape(shape),
+        error_estimate=np.array([v.error_estimate if v is not None else np.inf for v in values],
+                                dtype=float).reshape(shape),
+        tol_met=np.array([v is not None and v.tol_met for v in values], dtype=bool).reshape(shape),
+        **{k: _stack(values, shape, k) for k in ("t", "theta", "omega", "energy", "period", "event_time_error")})
+
+
+def run(batch, model_code, fixed, setting, max_steps, progress, threads):
+    """solve / run_model of every scene of ``batch`` on ``threads`` threads."""
+    scenes = batch.scenes.reshape(-1)
+
+    def one(i, control):
+        sc = scenes[i]
+        return _scene._result(sc, _scene._run(sc, model_code, fixed, setting, max_steps, control=control))
+    values, codes, messages = _pool.map_states(one, scenes.size, threads, progress)
+    return _collect(batch, values, codes, messages)
+
+
+def tradeoff(batch, **kw):
+    """``tradeoff`` of every scene, one after another: an object array of
+    ``TradeoffTable`` with the batch shape."""
+    out = np.empty(batch.scenes.size, dtype=object)
+    for i, sc in enumerate(batch.scenes.reshape(-1)):
+        out[i] = _scene.tradeoff(sc, **kw)
+    return out.reshape(batch.shape)
