@@ -20,6 +20,7 @@ module pendula
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, &
       undamped_theta, undamped_omega, undamped_solve, undamped_period, undamped_amplitude, &
       undamped_energy, undamped_regime, pendulum_energy, undamped_regime_name, &
+      undamped_states, undamped_properties, UNDAMPED_PLAN_MIN_TIMES, &
       REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_small_angle, only: small_angle, harmonic_state, small_angle_solve, small_angle_eval, &
       small_angle_bound, small_angle_phase_drift
@@ -33,7 +34,7 @@ module pendula
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, &
       rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function, &
       rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES, &
-      cvode_solve, cvode_solve_events, cvode_available
+      cvode_solve, cvode_solve_events, cvode_available, cvode_batch_solve
   use pendula_scene, only: scene_t, scene_result_t, scene_cost_t, &
       scene_init, scene_physics, scene_solve, scene_run_model, scene_estimate, &
       scene_model_name, scene_model_code, scene_want_name, scene_want_code, &

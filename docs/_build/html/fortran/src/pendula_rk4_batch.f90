@@ -73,9 +73,11 @@ contains
   !> pendula_control): control(CONTROL_CANCEL) /= 0 stops the call within
   !> about 0.25 ms per thread; finished states keep their results and the
   !> unfinished ones get PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS)
-  !> counts finished states.
+  !> counts finished states.  max_steps (optional, >= 1): each state's step
+  !> budget, as rk4_solve's (default RK4_DEFAULT_MAX_STEPS); a state that needs
+  !> more is refused before any work, with rk4_solve's code.
   subroutine rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, steps, status, &
-      threads, control, first_failed)
+      threads, control, first_failed, max_steps)
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), h(:)
     real(wp), intent(out) :: theta(:, :), omega(:, :)
     integer, intent(out) :: codes(:)
@@ -84,12 +86,18 @@ contains
     integer, intent(in), optional :: threads
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer, intent(out), optional :: first_failed
+    integer(i8), intent(in), optional :: max_steps
     integer, allocatable :: live(:)
     integer :: n, i, nlive, nblocks, b, nthreads, first, nfail, ncancel
+    integer(i8) :: budget
     type(status_t) :: st
     n = size(theta0)
+    budget = RK4_DEFAULT_MAX_STEPS
+    if (present(max_steps)) budget = max_steps
     if (present(first_failed)) first_failed = 0
     call check_call(t, n, omega0, w0, gamma, h, theta, omega, codes, steps, threads, status)
+    if (status%code == PENDULA_OK .and. budget < 1) call set_error(status, PENDULA_ERR_DOMAIN, &
+        'max_steps = ' // format_int(budget) // ' is out of range: it must be >= 1')
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -104,13 +112,13 @@ contains
     end if
 
     ! Per-state checks, in rk4_solve's order (t is already known to be good),
-    ! with rk4_solve's default step budget per state.
+    ! with the step budget per state (rk4_solve's default unless max_steps).
     allocate (live(n))
     nlive = 0
     do i = 1, n
       st = status_t()
       call check_problem(t(1:1), theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), st)
-      call check_step(t, w0(at(w0, i)), gamma(at(gamma, i)), h(at(h, i)), real(RK4_DEFAULT_MAX_STEPS, wp), st)
+      call check_step(t, w0(at(w0, i)), gamma(at(gamma, i)), h(at(h, i)), real(budget, wp), st)
       codes(i) = st%code
       steps(i) = 0
       ! outputs are written by the blocks, and zeroed below for failed states
@@ -154,7 +162,7 @@ contains
       return
     end if
     st = state_status(t, theta0(first), omega0(at(omega0, first)), w0(at(w0, first)), &
-        gamma(at(gamma, first)), h(at(h, first)), codes(first))
+        gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
     call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
         format_int(nfail) // ' failed, see codes): ' // trim(st%message))
   end subroutine rk4_batch_solve
@@ -197,14 +205,15 @@ contains
   end function at
 
   !> rk4_solve's status for one state (its message for the batch summary).
-  function state_status(t, theta0, omega0, w0, gamma, h, code) result(st)
+  function state_status(t, theta0, omega0, w0, gamma, h, code, budget) result(st)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h
     integer, intent(in) :: code
+    integer(i8), intent(in) :: budget
     type(status_t) :: st
     real(wp), allocatable :: th(:), om(:)
     type(ode_stats_t) :: s
     allocate (th(size(t)), om(size(t)))
-    call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, s, st)
+    call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, s, st, max_steps=budget)
     if (st%code == PENDULA_OK) call set_error(st, code, 'failed in the batch')   ! cannot happen: same kernel
   end function state_status
 

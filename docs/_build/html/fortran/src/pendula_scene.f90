@@ -41,7 +41,7 @@ module pendula_scene
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, PENDULA_OK, PENDULA_ERR_DOMAIN, &
       PENDULA_ERR_SOLVER
-  use pendula_integrators, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
       scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
@@ -52,7 +52,7 @@ module pendula_scene
       get_budget, alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model
   use pendula_scene_closed, only: solve_closed
-  use pendula_scene_integrated, only: solve_rk4, solve_cvode, integrate
+  use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed
   use pendula_scene_events, only: scene_event_bound
   implicit none
   private
@@ -130,6 +130,9 @@ contains
   !> state scale; Adams, BDF when stiff); ignored for closed forms.  Meant for
   !> work-precision studies (pendula.tradeoff).  result%error_estimate is the a
   !> priori estimate for closed forms and 0 (unknown) for the integrators.
+  !> want = events with rk4/cvode: the events of the run sampled on the
+  !> event grid (pendula_scene_events); want = period with rk4/cvode is an
+  !> error (PENDULA_ERR_DOMAIN: only the exact closed form gives a period).
   !> control and max_steps: as for scene_solve (an RK4 run needing more than
   !> max_steps steps is refused up front; CVODE stops after max_steps/20).
   subroutine scene_run_model(scene, model, setting, result, status, control, max_steps)
@@ -142,7 +145,6 @@ contains
     integer(i8), intent(in), optional :: max_steps
     integer(i8) :: c0, c1, rate
     real(wp) :: est, tend, budget
-    type(ode_stats_t) :: stats
     call system_clock(c0, rate)
     call check_scene(scene, status)
     call get_budget(budget, status, max_steps)
@@ -159,9 +161,11 @@ contains
       call model_estimate(scene, model, est, status)
       if (status%code /= PENDULA_OK) return
       call solve_closed(scene, model, est, result, status)
-      call check_event_count(scene, tend, result, status)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call check_positive('setting', setting, status)
+      if (scene%want == SCENE_WANT_PERIOD) call set_error(status, PENDULA_ERR_DOMAIN, 'want = period with ' // &
+          'model = ' // scene_model_name(model) // ': a fixed-setting run gives no period; the period ' // &
+          'comes from the exact closed form (model exact, or solve)')
       if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_RK4 .and. tend / setting > budget) then
         call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // format_sci(setting, 4) // ' is too small: ' // &
@@ -169,17 +173,9 @@ contains
             format_sci(tend, 4) // ' (raise max_steps to allow it)')
         return
       end if
-      call alloc_outputs(scene, result)
-      call integrate(scene, model, setting, budget, result%t, result%theta, result%omega, stats, status, &
-          control)
-      if (status%code /= PENDULA_OK) return
-      call add_stats(result%cost, stats)
-      result%setting = setting
-      if (model == SCENE_MODEL_RK4) result%step = setting
-      if (model == SCENE_MODEL_CVODE) result%rtol = setting
-      result%error_estimate = 0
-      call finish_outputs(scene, result)
+      call run_fixed(scene, model, setting, budget, result, status, control)
     end select
+    call check_event_count(scene, tend, result, status)
     if (status%code /= PENDULA_OK) return
     result%model = model
     result%want = scene%want
@@ -198,10 +194,11 @@ contains
     integer(i8) :: nmax
     if (status%code /= PENDULA_OK .or. scene%want /= SCENE_WANT_EVENTS) return
     if (.not. allocated(result%event_t)) return
-    nmax = scene_event_bound(scene%w0, tend)
+    nmax = scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0)
     if (size(result%event_t, kind=i8) > nmax) call set_error(status, PENDULA_ERR_SOLVER, 'found ' // &
         format_int(size(result%event_t)) // ' events in t = 0 .. ' // format_sci(tend, 4) // &
-        ', more than the ' // format_int(nmax) // ' the motion can have (2 floor(w0 t/pi) + 3): ' // &
+        ', more than the ' // format_int(nmax) // ' the motion can have (2 floor(w0 t/pi) + 3 + ' // &
+        'floor(Omega_max t/(2 pi))): ' // &
         'the sampled trajectory is not resolved; give a smaller tol')
   end subroutine check_event_count
 

@@ -17,7 +17,7 @@ module pendula_scene_closed
       SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
-  use pendula_scene_events, only: append_events, trim_events, event_time_error, sign_change
+  use pendula_scene_events, only: append_events, trim_events, event_time_error, sign_change, bottom_sign
   implicit none
   private
 
@@ -153,10 +153,10 @@ contains
       call closed_eval(cf, tb, thb, omb)
       nevals = nevals + 1
       ne = 0
-      if (sign_change(tha, thb)) then
+      if (sign_change(bottom_sign(tha), bottom_sign(thb))) then
         ne = ne + 1
         kinds(ne) = PENDULA_EVENT_ZERO
-        te(ne) = refine(1, ta, tb, tha, thb)
+        te(ne) = refine(1, ta, tb, bottom_sign(tha), bottom_sign(thb))
       end if
       if (sign_change(oma, omb)) then
         ne = ne + 1
@@ -182,7 +182,7 @@ contains
       do while (.not. br%done)
         call closed_eval(cf, br%c, th, om)
         nevals = nevals + 1
-        call bracket_update(br, merge(th, om, which == 1))
+        call bracket_update(br, merge(bottom_sign(th), om, which == 1))
       end do
       r = br%root
     end function refine

@@ -69,6 +69,10 @@ contains
         call small_angle_bound(motion, tend, dth, dom)
         estimate = max(dth, dom / scene%w0)
         if (scene%want == SCENE_WANT_PERIOD) estimate = period_small_angle_error(motion)
+      else if (scene%want == SCENE_WANT_ENERGY) then
+        ! conserved: only the rounding of E = Omega0^2/2 + w0^2 (1 - cos theta0)
+        ! (a few eps of its terms, scaled by w0^2), not the trajectory's error
+        estimate = energy_rounding(scene%theta0, scene%omega0, scene%w0)
       else
         estimate = exact_estimate(motion, tend)
         if (scene%want == SCENE_WANT_PERIOD) estimate = 8 * eps * (1 + abs(log(max(abs(motion%mc), &
@@ -151,6 +155,13 @@ contains
           'tol and the window (C h^4 T), verified by a run at 2h'
     end if
   end subroutine choose_model
+
+  ! Rounding of the energy per unit m l^2 of a state, divided by w0^2: each
+  ! of the two terms Omega^2/2 and w0^2 (1 - cos theta) rounds by a few eps.
+  pure real(wp) function energy_rounding(theta, omega, w0) result(e)
+    real(wp), intent(in) :: theta, omega, w0
+    e = 4 * eps * ((omega / w0)**2 / 2 + (1 - cos(theta)) + eps)
+  end function energy_rounding
 
   ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad].
   pure real(wp) function period_small_angle_error(motion) result(e)
@@ -236,7 +247,12 @@ contains
     call linear_damped_state(gl, tend, gt, gpt)
     if (lin%info%regime == DAMPING_UNDERDAMPED) then
       wd = lin%info%omega_d
-      bmax = lin%amplitude                      ! |theta| <= R e^(-gamma t/2) <= R
+      ! |theta| <= R e^(-a t) <= R, but R ~ 1/w_d blows up towards critical
+      ! damping; with |sin(w_d t)/w_d| <= t also |theta| <= e^(-a t) (|theta0|
+      ! + |Omega0 + a theta0| t) <= |theta0| + |Omega0 + a theta0| min(T, 1/(a e)),
+      ! which is the critical-damping bound: the smaller keeps the estimate
+      ! seamless across gamma = 2 w0
+      bmax = min(lin%amplitude, abs(theta0) + abs(omega0 + a * theta0) * min(tend, 1 / (a * exp(1.0_wp))))
       ! |G(s)| <= e^(-a s) min(s, 1/w_d), |G'(s)| <= e^(-a s) (1 + a min(s, 1/w_d))
       jmin = min(int_exp_s(a, tend), int_exp(a, tend) / wd)
       ig = jmin

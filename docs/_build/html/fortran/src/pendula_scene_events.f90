@@ -1,5 +1,5 @@
-!> Events of a scene (turning points, Omega = 0, and zero crossings,
-!> theta = 0, in (0, t(n)]): the rigorous bound on their number, the event
+!> Events of a scene (turning points, Omega = 0, and zero crossings, passes
+!> through the bottom theta = 0 mod 2 pi, in (0, t(n)]): the rigorous bound on their number, the event
 !> list of a result, the event-time error, and the events of an integrated
 !> trajectory (a sample grid fine enough for cubic Hermite interpolation,
 !> sign changes refined on the interpolant).
@@ -12,9 +12,15 @@
 !> consecutive zeros of Omega are at least pi/w0 apart, so (0, T] holds at
 !> most floor(w0 T/pi) + 1 turning points.  Between two zero crossings of
 !> theta, Omega vanishes (Rolle): at most one more zero crossing than turning
-!> points.  Hence at most 2 floor(w0 T/pi) + 3 events.  The same holds for
-!> every model a scene uses (the small-angle and linear damped equations have
-!> the same form with cos(theta) replaced by 1).
+!> points.  Hence at most 2 floor(w0 T/pi) + 3 events while the pendulum
+!> swings.  Zero crossings count passes through the bottom, theta = 2 pi k
+!> for any integer k: two consecutive ones with no turning point between are
+!> a full turn apart (theta is monotone there), which takes at least
+!> 2 pi/Omega_max, Omega_max^2 = Omega0^2 + 2 w0^2 (1 - cos theta0) (the
+!> energy does not grow, gamma >= 0): at most floor(Omega_max T/(2 pi)) more.
+!> The same holds for every model a scene uses (the small-angle and linear
+!> damped equations have the same form with cos(theta) replaced by 1, and
+!> do not go over the top).
 module pendula_scene_events
   use pendula_kinds, only: wp, i8
   use pendula_constants, only: pi
@@ -24,26 +30,44 @@ module pendula_scene_events
   implicit none
   private
 
-  public :: scene_event_bound, sign_change, append_events, trim_events, event_time_error, event_grid, grid_events
+  public :: scene_event_bound, sign_change, bottom_sign, bottom_level, append_events, trim_events, event_time_error, &
+      event_grid, grid_events, event_interp_error
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
 contains
 
-  !> Most events (turning points and zero crossings) that the motion with
-  !> natural frequency w0 > 0 [1/s] and any damping gamma >= 0 can have in
-  !> (0, tend], tend >= 0 [s]: 2 floor(w0 tend/pi) + 3 (derivation above);
-  !> huge(1_i8) when that does not fit (or w0 tend is not finite).
-  elemental integer(i8) function scene_event_bound(w0, tend) result(n)
-    real(wp), intent(in) :: w0, tend
-    real(wp) :: half_periods
+  !> Most events (turning points and passes through the bottom) that the
+  !> motion from (theta0 [rad], omega0 [rad/s]) with natural frequency w0 > 0
+  !> [1/s] and any damping gamma >= 0 can have in (0, tend], tend >= 0 [s]:
+  !> 2 floor(w0 tend/pi) + 3 + floor(Omega_max tend/(2 pi)) (derivation
+  !> above); huge(1_i8) when that does not fit (or is not finite).
+  elemental integer(i8) function scene_event_bound(w0, tend, theta0, omega0) result(n)
+    real(wp), intent(in) :: w0, tend, theta0, omega0
+    real(wp) :: half_periods, turns
     half_periods = w0 * tend / pi
-    if (half_periods >= 0 .and. half_periods < 4.0e18_wp) then
-      n = 2 * int(half_periods, i8) + 3
+    turns = sqrt(omega0**2 + 4 * w0**2 * sin(theta0 / 2)**2) * tend / (2 * pi)
+    if (half_periods >= 0 .and. half_periods < 2.0e18_wp .and. turns >= 0 .and. turns < 2.0e18_wp) then
+      n = 2 * int(half_periods, i8) + 3 + int(turns, i8)
     else
       n = huge(1_i8)
     end if
   end function scene_event_bound
+
+  !> The function whose sign changes mark a pass through the bottom:
+  !> sin(theta/2), zero exactly at theta = 2 pi k and of one sign between.
+  elemental real(wp) function bottom_sign(theta) result(f)
+    real(wp), intent(in) :: theta
+    f = sin(theta / 2)
+  end function bottom_sign
+
+  !> The multiple of 2 pi [rad] passed between two angles a and b (less than
+  !> 2 pi apart) whose bottom_sign differs: it is within (b - a)/2 < pi of
+  !> their midpoint, so the multiple nearest to the midpoint.
+  elemental real(wp) function bottom_level(a, b) result(c)
+    real(wp), intent(in) :: a, b
+    c = 2 * pi * anint((a / 2 + b / 2) / (2 * pi))
+  end function bottom_level
 
   !> An event between samples with values fa then fb: a sign change, or fb
   !> reaching 0 from a nonzero fa (an event at a sample counts once).
@@ -94,8 +118,10 @@ contains
     allocate (result%event_theta(nev), result%event_omega(nev))
   end subroutine trim_events
 
-  !> Event time error from the state error: dt = d theta/|Omega| at a zero
-  !> crossing, d Omega/|Omega'| = w0 d/(w0^2 |sin theta| + gamma |Omega|) at a turning point.
+  !> Event time error from the state error est (the sup of |d theta| and
+  !> |d Omega|/w0 where the events were placed, interpolation included):
+  !> dt = d theta/|Omega| at a zero crossing, d Omega/|Omega'| =
+  !> w0 d/(w0^2 |sin theta|) at a turning point.
   pure real(wp) function event_time_error(result, est, w0) result(e)
     type(scene_result_t), intent(in) :: result
     real(wp), intent(in) :: est, w0
@@ -113,19 +139,19 @@ contains
   end function event_time_error
 
   ! Sample grid for events found from an integrated trajectory: spacing d
-  ! with (w0 d)^4/384 * A <= tol/10, so that the cubic Hermite interpolant
-  ! used to place the events (error d^4/384 max|theta''''|, and
-  ! |theta''''| ~ w0^4 A for the swinging pendulum) is ten times more
-  ! accurate than tol; at least 64 samples per small-angle period, and the
-  ! fast time scale 1/gamma resolved when over-damped (capped at 4e6 samples).
+  ! with interp_bound(d) <= tol/10, so that the cubic Hermite interpolant
+  ! used to place the events is ten times more accurate than tol; at least
+  ! 64 samples per small-angle period, and the fast time scale 1/gamma
+  ! resolved when over-damped (capped at 4e6 samples; event_interp_error
+  ! says what the grid achieves).
   pure subroutine event_grid(scene, tend, tg)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
     real(wp), allocatable, intent(out) :: tg(:)
     integer :: n, i
-    real(wp) :: a, d, per
-    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
-    d = (384 * scene%tol / (10 * a))**0.25_wp / scene%w0
+    real(wp) :: d, per
+    d = scene%tol / (10 * interp_bound(scene, 1.0_wp))
+    d = d**0.25_wp
     per = max(64.0_wp, 2 * pi / (scene%w0 * d))
     n = int(min(4.0e6_wp, max(64.0_wp, per * scene%w0 * tend / (2 * pi) + 1)))
     if (scene%gamma > scene%w0) n = max(n, min(4000000, ceiling(8 * scene%gamma * tend) + 1))
@@ -134,6 +160,32 @@ contains
       tg(i+1) = tend * (real(i, wp) / n)
     end do
   end subroutine event_grid
+
+  !> Bound on the error of the cubic Hermite interpolant between the samples
+  !> tg(:) of the scene's trajectory (in theta, and Omega/w0), to be added
+  !> to the state error at the samples where events are placed.
+  pure real(wp) function event_interp_error(scene, tg) result(e)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tg(:)
+    e = 0
+    if (size(tg) > 1) e = interp_bound(scene, maxval(tg(2:) - tg(:size(tg)-1)))
+  end function event_interp_error
+
+  ! h^4/384 max|theta''''| and h^4/384 max|Omega''''|/w0 for spacing h.
+  ! The derivatives grow like w^k with w = max(w0, gamma): a heavily damped
+  ! motion decays at rates up to gamma, and a critically damped one
+  ! (t e^(-w0 t)) has |theta''''| up to 4 w0^4 A, within (2 w0)^4 A; Omega's
+  ! fourth derivative carries one more factor w, over w0 in the scaled
+  ! measure.  A rotation (A = |Omega0|/w0 > 1) has theta'''' ~ w0^2 Omega^2,
+  ! hence A max(1, A).
+  pure real(wp) function interp_bound(scene, h) result(e)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: h
+    real(wp) :: a, w
+    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    w = max(scene%w0, scene%gamma)
+    e = (w * h)**4 / 384 * a * max(1.0_wp, a) * (w / scene%w0)
+  end function interp_bound
 
   ! Events from samples of an integrated trajectory: a sign change of theta
   ! or Omega between samples is refined on the cubic Hermite interpolant,
@@ -144,17 +196,18 @@ contains
     real(wp), intent(in) :: tg(:), th(:), om(:)
     type(scene_result_t), intent(inout) :: result
     integer :: i, nev, ne, kinds(2)
-    real(wp) :: te(2), h, da, db
+    real(wp) :: te(2), h, da, db, c
     if (allocated(result%event_t)) deallocate (result%event_t, result%event_kind)
     allocate (result%event_t(0), result%event_kind(0))
     nev = 0
     do i = 1, size(tg) - 1
       h = tg(i+1) - tg(i)
       ne = 0
-      if (sign_change(th(i), th(i+1))) then
+      if (sign_change(bottom_sign(th(i)), bottom_sign(th(i+1)))) then
         ne = ne + 1
         kinds(ne) = PENDULA_EVENT_ZERO
-        te(ne) = tg(i) + h * hermite_root(th(i), th(i+1), h * om(i), h * om(i+1))
+        c = bottom_level(th(i), th(i+1))
+        te(ne) = tg(i) + h * hermite_root(th(i) - c, th(i+1) - c, h * om(i), h * om(i+1))
       end if
       if (sign_change(om(i), om(i+1))) then
         da = h * accel(th(i), om(i))

@@ -14,14 +14,14 @@ module pendula_scene_integrated
   use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_scene_codes, only: SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_FINAL, SCENE_WANT_EVENTS, &
       SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
-  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding
-  use pendula_scene_events, only: event_grid, grid_events, event_time_error
+  use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error
   implicit none
   private
 
-  public :: solve_rk4, solve_cvode, integrate
+  public :: solve_rk4, solve_cvode, integrate, run_fixed
 
   !> Richardson: |y_h - y_2h| / 15 estimates the error of y_h; doubled for safety.
   real(wp), parameter :: RK4_SAFETY = 2.0_wp
@@ -264,6 +264,32 @@ contains
     call finish_run(scene, tgrid, est, result)
   end subroutine solve_cvode
 
+  !> One run of rk4 (setting = h) or cvode (setting = rtol) at a fixed
+  !> setting with no verification (scene_run_model): the outputs, or for
+  !> want = events the events of the run on the event grid; the error
+  !> estimate is 0 (unknown).  want = period is the caller's to refuse.
+  subroutine run_fixed(scene, model, setting, budget, result, status, control)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(in) :: setting, budget
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp), allocatable :: tgrid(:)
+    type(ode_stats_t) :: stats
+    call sample_grid(scene, window_end(scene), result, tgrid)
+    if (allocated(result%theta)) deallocate (result%theta, result%omega)
+    allocate (result%theta(size(tgrid)), result%omega(size(tgrid)))
+    call integrate(scene, model, setting, budget, tgrid, result%theta, result%omega, stats, status, control)
+    if (status%code /= PENDULA_OK) return
+    call add_stats(result%cost, stats)
+    result%setting = setting
+    if (model == SCENE_MODEL_RK4) result%step = setting
+    if (model == SCENE_MODEL_CVODE) result%rtol = setting
+    result%error_estimate = 0
+    call finish_run(scene, tgrid, 0.0_wp, result)
+  end subroutine run_fixed
+
   ! The times an integrator run samples: the outputs of the result
   ! (allocated here), or for events a grid fine enough for Hermite
   ! interpolation (event_grid).
@@ -291,7 +317,7 @@ contains
       call grid_events(scene, tgrid, result%theta, result%omega, result)
       deallocate (result%theta, result%omega)
       allocate (result%t(0), result%theta(0), result%omega(0))
-      result%event_time_error = event_time_error(result, est, scene%w0)
+      result%event_time_error = event_time_error(result, est + event_interp_error(scene, tgrid), scene%w0)
     else
       call finish_outputs(scene, result)
     end if

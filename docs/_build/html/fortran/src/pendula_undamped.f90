@@ -15,16 +15,23 @@
 !> theta0 is first reduced to theta_r in [-pi, pi] about the nearest stable
 !> equilibrium 2 pi N; results are continuous with theta0 (2 pi N is added back).
 !> 1 - m is never formed by subtraction: it is cos^2(theta_r/2) - (Omega0/2w0)^2
-!> factored as (c - q)(c + q) with c and q carried to ~2 doubles, and it feeds
-!> the complement forms of pendula_elliptic, so near-separatrix states keep
-!> their accuracy.  Energies are per unit m l^2 (units 1/s^2).
+!> factored as (c - q)(c + q) with q and, where c - |q| can cancel, c carried
+!> to ~2 doubles, and it feeds the complement forms of pendula_elliptic, so
+!> near-separatrix states keep their accuracy.  Energies are per unit m l^2
+!> (units 1/s^2).
+!>
+!> Many states at once: `undamped_properties` (period, amplitude, m, 1 - m,
+!> regime of each state) and `undamped_states` (each state at its own time)
+!> compute per state only what is asked -- no F, no K unless needed, a Jacobi
+!> plan only for a run of UNDAMPED_PLAN_MIN_TIMES equal states -- with the
+!> same numbers as undamped_init + undamped_period/undamped_eval.
 module pendula_undamped
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
-  use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
-      check_same_size, PENDULA_OK
+  use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, check_same_size, &
+      set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_constants, only: pi, half_pi, half_pi_lo, two_pi, two_pi_lo
-  use pendula_double_double, only: two_prod, dd_add_fast, dd_mul, dd_div_d
+  use pendula_double_double, only: two_prod, dd_add_fast, dd_mul
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1, ellipj_eval, ellipj_eval_array, ellipjm1
   implicit none
   private
@@ -32,7 +39,8 @@ module pendula_undamped
   public :: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, undamped_theta, undamped_omega, &
             undamped_solve, undamped_period, undamped_amplitude, undamped_energy, &
             undamped_regime, pendulum_energy, undamped_regime_name, reduce_angle_2pi
-  public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
+  public :: undamped_states, undamped_properties
+  public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
 
   !> The pendulum swings about theta = 2 pi N (m < 1).
   integer, parameter :: REGIME_LIBRATION = 1
@@ -40,6 +48,12 @@ module pendula_undamped
   integer, parameter :: REGIME_SEPARATRIX = 2
   !> It goes over the top and keeps turning (m > 1).
   integer, parameter :: REGIME_ROTATION = 3
+
+  !> A state evaluated at this many times or more gets a Jacobi plan (~13 us
+  !> once, then ~40 ns per time); below, each time costs ~0.3-0.7 us of
+  !> ellipjm1, so the plan pays for itself from about 30 times on (measured on
+  !> this project's 2-core machine).
+  integer, parameter :: UNDAMPED_PLAN_MIN_TIMES = 32
 
   !> Everything about one initial state that does not depend on t; build it once
   !> with `undamped_init` and evaluate it at any number of times with
@@ -55,6 +69,7 @@ module pendula_undamped
     real(wp) :: s = 0             !< direction of turning, sign(Omega0) (rotation, separatrix)
     real(wp) :: center = 0        !< 2 pi N, the stable equilibrium theta0 is reduced to
     real(wp) :: theta_r = 0       !< theta0 - 2 pi N in [-pi, pi]
+    real(wp) :: h = 0, hlo = 0    !< theta_r/2 = h + hlo (double-double; hlo /= 0 for |theta0| > pi)
     real(wp) :: rate = 1          !< d(argument)/dt: w0, or k w0 for rotation [1/s]
     real(wp) :: phase = 0         !< u0 (libration), v0 (rotation) or c (separatrix)
     real(wp) :: sh = 0            !< sin(theta_r/2) = k sn(u0|m) = sn(v0|1/m)
@@ -74,13 +89,35 @@ module pendula_undamped
 contains
 
   !> cos(x) in double-double for x = xh + xl, |x| <= pi/2 (+ rounding), to
-  !> ~1e-31 relative: Taylor series of cos x (|x| <= pi/4) or of sin(pi/2 - |x|)
-  !> in nested form with exact integer divisors, 16 terms (last < 1e-35).
+  !> ~1e-31 relative: the Taylor series of cos x (|x| <= pi/4) or of
+  !> sin(pi/2 - |x|), in powers of y = x^2 up to y^16: the terms j >= 9 (below
+  !> 3e-18) by Horner in double, the first nine by Horner in double-double
+  !> with the coefficients 1/(2j)! (1/(2j+1)!) as double-double constants
+  !> (mpmath; 1/n! = hi + lo), so no division.
   elemental subroutine cos_dd(xh, xl, ch, cl)
     real(wp), intent(in) :: xh, xl
     real(wp), intent(out) :: ch, cl
-    real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, vh, vl
     integer :: j
+    real(wp), parameter :: cos_hi(0:8) = [1.0_wp, 0.5_wp, 0.041666666666666664_wp, 0.001388888888888889_wp, &
+        2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
+        4.779477332387385e-14_wp]
+    real(wp), parameter :: cos_lo(0:8) = [0.0_wp, 0.0_wp, 2.3129646346357427e-18_wp, -5.300543954373577e-20_wp, &
+        2.1511947866775882e-23_wp, 2.3767714622250297e-23_wp, -1.20734505911326e-25_wp, 2.0655512752830745e-28_wp, &
+        4.399205485834081e-31_wp]
+    real(wp), parameter :: sin_hi(0:8) = [1.0_wp, 0.16666666666666666_wp, 0.008333333333333333_wp, &
+        0.0001984126984126984_wp, 2.7557319223985893e-06_wp, 2.505210838544172e-08_wp, &
+        1.6059043836821613e-10_wp, 7.647163731819816e-13_wp, 2.8114572543455206e-15_wp]
+    real(wp), parameter :: sin_lo(0:8) = [0.0_wp, 9.25185853854297e-18_wp, 1.1564823173178714e-19_wp, &
+        1.7209558293420705e-22_wp, -1.858393274046472e-22_wp, -1.448814070935912e-24_wp, &
+        1.2585294588752098e-26_wp, 7.03872877733453e-30_wp, 1.6508842730861433e-31_wp]
+    ! (-1)^j/(2j)! and (-1)^j/(2j+1)!, j = 9..16, in double (mpmath; their rounding is ~1e-31 of cos)
+    real(wp), parameter :: cos_tail(9:16) = [-1.5619206968586225e-16_wp, &
+        4.110317623312165e-19_wp, -8.896791392450574e-22_wp, 1.6117375710961184e-24_wp, &
+        -2.4795962632247976e-27_wp, 3.279889237069838e-30_wp, -3.7699876288159054e-33_wp, 3.8003907548547434e-36_wp]
+    real(wp), parameter :: sin_tail(9:16) = [-8.22063524662433e-18_wp, &
+        1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
+        -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
+    real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, sgn
     logical :: use_sin
     use_sin = abs(xh) > 0.25_wp * pi
     if (use_sin) then
@@ -90,17 +127,24 @@ contains
       yl = xl
     end if
     call dd_mul(yh, yl, yh, yl, y2h, y2l)
-    th = 1
-    tl = 0
-    do j = 16, 1, -1
-      ! t <- 1 - y^2 t / ((2j-1) 2j)  (cos)   or   1 - y^2 t / (2j (2j+1))  (sin)
-      call dd_mul(y2h, y2l, th, tl, uh, ul)
+    th = 0
+    do j = 16, 9, -1
       if (use_sin) then
-        call dd_div_d(uh, ul, real((2 * j) * (2 * j + 1), wp), vh, vl)
+        th = sin_tail(j) + y2h * th
       else
-        call dd_div_d(uh, ul, real((2 * j - 1) * (2 * j), wp), vh, vl)
+        th = cos_tail(j) + y2h * th
       end if
-      call dd_add_fast(1.0_wp, 0.0_wp, -vh, -vl, th, tl)
+    end do
+    tl = 0
+    do j = 8, 0, -1
+      ! t <- (-1)^j c_j + y^2 t
+      call dd_mul(y2h, y2l, th, tl, uh, ul)
+      sgn = 1 - 2 * modulo(j, 2)
+      if (use_sin) then
+        call dd_add_fast(sgn * sin_hi(j), sgn * sin_lo(j), uh, ul, th, tl)
+      else
+        call dd_add_fast(sgn * cos_hi(j), sgn * cos_lo(j), uh, ul, th, tl)
+      end if
     end do
     if (use_sin) then
       call dd_mul(yh, yl, th, tl, ch, cl)
@@ -118,6 +162,13 @@ contains
     real(wp), intent(in) :: x
     real(wp), intent(out) :: n, r_hi, r_lo
     real(wp) :: p, e, d, t
+    if (abs(x) < pi) then
+      ! already reduced (what the general path below returns for these x)
+      n = 0
+      r_hi = x
+      r_lo = 0
+      return
+    end if
     if (abs(x) > 2.0_wp**40) then
       ! beyond |n| ~ 2^37 the two-double 2 pi is not enough: let libm's exact
       ! (Payne-Hanek) reduction inside sin and cos do it; |r| to ~1 ulp of pi
@@ -166,51 +217,82 @@ contains
     type(status_t), intent(out) :: status
     !> Build a Jacobi plan (default .true.): ~13 us once, then ~40 ns per time;
     !> .false. gives a light motion (~1 us) that costs ~0.3-0.7 us per time
-    !> (ellipjm1), for states evaluated at fewer than ~30 times or only queried.
-    !> Measured on this project's 2-core machine; both give the same accuracy.
+    !> (ellipjm1), for states evaluated at fewer than UNDAMPED_PLAN_MIN_TIMES
+    !> times or only queried.  Both give the same accuracy.
     logical, intent(in), optional :: plan
     logical :: want_plan
-    real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a, phi0, pc
 
-    call check_finite('theta0', theta0, status)
-    call check_finite('omega0', omega0, status)
-    call check_positive('w0', w0, status)
+    call check_state(theta0, omega0, w0, status)
     want_plan = .true.
     if (present(plan)) want_plan = plan
     if (status%code /= PENDULA_OK) then
       motion%period = 2 * pi
       return
     end if
+    call set_geometry(motion, theta0, omega0, w0)
+    call set_period(motion)
+    motion%amplitude = motion_amplitude(motion)
+    if (motion%free) return
+    select case (motion%regime)
+    case (REGIME_LIBRATION)
+      motion%phase = ellipfm1(atan2(motion%sh, motion%q), motion%mc)
+    case (REGIME_ROTATION)
+      ! dF/dphi = 1/sqrt(1 - sin^2(phi)/m) = k/|q| carries the r_lo correction
+      motion%phase = ellipfm1(motion%s * motion%h, motion%pmc) + motion%s * motion%hlo * motion%k / abs(motion%q)
+    end select
+    if (motion%regime /= REGIME_SEPARATRIX .and. want_plan) then
+      motion%plan = ellipj_planm1(motion%pmc)
+      motion%planned = .true.
+    end if
+  end subroutine undamped_init
+
+  !> The checks of undamped_init: theta0, Omega0 finite, w0 finite and > 0.
+  pure subroutine check_state(theta0, omega0, w0, status)
+    real(wp), intent(in) :: theta0, omega0, w0
+    type(status_t), intent(out) :: status
+    call check_finite('theta0', theta0, status)
+    call check_finite('omega0', omega0, status)
+    call check_positive('w0', w0, status)
+  end subroutine check_state
+
+  !> Everything of a checked state that needs no elliptic function: the
+  !> reduction about 2 pi N, sin and cos of theta_r/2, q, m, 1 - m, the regime
+  !> and its rate (the separatrix phase too: it is elementary).  Leaves the
+  !> period, amplitude, the phases u0, v0 and the plan unset (period = 0): a
+  !> light motion evaluates at moderate t without them (undamped_eval needs
+  !> the period only beyond |rate t| ~ 5e11).
+  pure subroutine set_geometry(motion, theta0, omega0, w0)
+    type(undamped_motion_t), intent(out) :: motion
+    real(wp), intent(in) :: theta0, omega0, w0
+    real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
+
     motion%theta0 = theta0
     motion%omega0 = omega0
     motion%w0 = w0
-
     call reduce_angle_2pi(theta0, n, r_hi, r_lo)
     if (abs(theta0) > 2.0_wp**40) then
       motion%center = theta0 - r_hi           ! 2 pi n to the rounding of theta0
-    else
+    else if (n /= 0) then
       call two_prod(n, two_pi, p, e)
       motion%center = p + (e + n * two_pi_lo)   ! the double nearest 2 pi n
     end if
     motion%theta_r = r_hi
     h = 0.5_wp * r_hi
     hlo = 0.5_wp * r_lo
+    motion%h = h
+    motion%hlo = hlo
     sh0 = sin(h)
     ch0 = cos(h)
     sh = sh0 + ch0 * hlo            ! sin(theta_r/2), first-order correction for r_lo
-    ! cos(theta_r/2) in double-double: the separatrix distance 1 - m below
-    ! cancels it against |q|, and over 100 periods its error is multiplied by
-    ! ~t/(T (1-m) K); a double-double c keeps 1 - m relatively exact.
-    call cos_dd(h, hlo, ch, chlo)
     ! q = Omega0/(2 w0) with its rounding error qlo (exact residual by two_prod)
     w2 = omega0 / w0                  ! Omega0/w0, halved below (exact); no 2 w0 overflow
     q = 0.5_wp * w2
     motion%sh = sh
-    motion%ch = ch
     motion%q = q
     if (abs(q) > 1.0e150_wp) then
       ! m = q^2 would overflow; the pull of gravity is below 1e-300 of the
       ! motion, so the free rotor theta0 + Omega0 t is exact in double.
+      motion%ch = ch0 - sh0 * hlo
       motion%regime = REGIME_ROTATION
       motion%free = .true.
       motion%s = sign(1.0_wp, q)
@@ -218,55 +300,51 @@ contains
       motion%m = ieee_value(1.0_wp, ieee_positive_inf)
       motion%mc = -motion%m
       motion%rate = abs(omega0)
-      motion%period = 2 * pi / abs(omega0)
-      motion%amplitude = ieee_value(1.0_wp, ieee_positive_inf)
       motion%energy = 0.5_wp * omega0 * omega0
       return
     end if
+    if (abs(q) >= 0.5_wp * ch0 .and. abs(q) <= 2 * ch0) then
+      ! cos(theta_r/2) in double-double: the separatrix distance 1 - m below
+      ! cancels it against |q|, and over 100 periods its error is multiplied by
+      ! ~t/(T (1-m) K); a double-double c keeps 1 - m relatively exact.
+      call cos_dd(h, hlo, ch, chlo)
+    else
+      ! c - |q| loses at most one bit: libm's cos (< 1 ulp) keeps 1 - m to a
+      ! few ulps, at a twentieth of the cost of cos_dd
+      ch = ch0 - sh0 * hlo
+      chlo = 0
+    end if
+    motion%ch = ch
     qlo = 0
-    if (max(abs(w2), w0) < 1.0e290_wp) then   ! the Veltkamp split would overflow beyond
+    if (w2 /= 0 .and. max(abs(w2), w0) < 1.0e290_wp) then   ! the Veltkamp split would overflow beyond
       call two_prod(w2, w0, p, e)
       qlo = 0.5_wp * (((omega0 - p) - e) / w0)
     end if
     motion%m = sh * sh + q * q
     motion%k = sqrt(motion%m)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double
-    call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
     a = ch + abs(q)
-    motion%mc = (d + dlo) * a
+    if (chlo == 0 .and. qlo == 0) then
+      motion%mc = (ch - abs(q)) * a             ! what the double-double sum gives then
+    else
+      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
+      motion%mc = (d + dlo) * a
+    end if
     motion%energy = 2 * (w0 * motion%k)**2
 
     if (motion%mc > 0) then
       motion%regime = REGIME_LIBRATION
       motion%rate = w0
-      phi0 = atan2(sh, q)
-      motion%phase = ellipfm1(phi0, motion%mc)
-      motion%kk = ellipkm1(motion%mc)
       motion%pmc = motion%mc
-      if (want_plan) motion%plan = ellipj_planm1(motion%mc)
-      motion%planned = want_plan
-      motion%period = 4 * motion%kk / w0
-      motion%amplitude = 2 * atan2(motion%k, sqrt(motion%mc))
     else if (motion%mc < 0) then
       motion%regime = REGIME_ROTATION
       motion%s = sign(1.0_wp, q)
       motion%rate = motion%k * w0
-      pc = -motion%mc / motion%m      ! complement of the parameter 1/m
-      ! dF/dphi = 1/sqrt(1 - sin^2(phi)/m) = k/|q| carries the r_lo correction
-      motion%phase = ellipfm1(motion%s * h, pc) + motion%s * hlo * motion%k / abs(q)
-      motion%kk = ellipkm1(pc)
+      motion%pmc = -motion%mc / motion%m      ! complement of the parameter 1/m
       motion%dnb = abs(q) / motion%k
-      motion%pmc = pc
-      if (want_plan) motion%plan = ellipj_planm1(pc)
-      motion%planned = want_plan
-      motion%period = 2 * motion%kk / motion%rate
-      motion%amplitude = ieee_value(1.0_wp, ieee_positive_inf)
     else
       motion%regime = REGIME_SEPARATRIX
       motion%rate = w0
-      motion%period = ieee_value(1.0_wp, ieee_positive_inf)
-      motion%amplitude = pi
-      motion%kk = ieee_value(1.0_wp, ieee_positive_inf)
       if (q == 0) then
         ! 1 - m == 0 with Omega0 = 0 would be the upright equilibrium; cos of a
         ! double never rounds to 0, so this is unreachable, but stay at rest.
@@ -278,7 +356,41 @@ contains
         motion%phase = asinh(tan(motion%s * h)) + motion%s * hlo / ch
       end if
     end if
-  end subroutine undamped_init
+  end subroutine set_geometry
+
+  !> K of the parameter in use and the period (set_geometry first): 4 K(m)/w0,
+  !> 2 K(1/m)/(k w0) per turn, 2 pi/|Omega0| for the free rotor, +inf on the separatrix.
+  elemental subroutine set_period(motion)
+    type(undamped_motion_t), intent(inout) :: motion
+    if (motion%free) then
+      motion%period = 2 * pi / abs(motion%omega0)
+      return
+    end if
+    select case (motion%regime)
+    case (REGIME_LIBRATION)
+      motion%kk = ellipkm1(motion%mc)
+      motion%period = 4 * motion%kk / motion%w0
+    case (REGIME_ROTATION)
+      motion%kk = ellipkm1(motion%pmc)
+      motion%period = 2 * motion%kk / motion%rate
+    case default
+      motion%period = ieee_value(1.0_wp, ieee_positive_inf)
+      motion%kk = ieee_value(1.0_wp, ieee_positive_inf)
+    end select
+  end subroutine set_period
+
+  !> Amplitude [rad] of a motion with its geometry set (see undamped_amplitude).
+  elemental real(wp) function motion_amplitude(motion) result(amplitude)
+    type(undamped_motion_t), intent(in) :: motion
+    select case (motion%regime)
+    case (REGIME_LIBRATION)
+      amplitude = 2 * atan2(motion%k, sqrt(motion%mc))
+    case (REGIME_SEPARATRIX)
+      amplitude = pi
+    case default
+      amplitude = ieee_value(1.0_wp, ieee_positive_inf)
+    end select
+  end function motion_amplitude
 
   !> theta(t) [rad] and Omega(t) [rad/s] of the motion at any real time t [s]
   !> (negative, unsorted, arrays: elemental).  theta is continuous with theta0
@@ -308,7 +420,7 @@ contains
     if (motion%regime == REGIME_SEPARATRIX) then
       ! |w0 t| ~> 1e301 would overflow; theta is pi to the last bit long before
       if (exponent(t) > 1000 - exponent(motion%rate)) tt = sign(1.0e300_wp, t) / motion%rate
-    else if (exponent(t) > 40 - exponent(motion%rate)) then
+    else if (period_needed(motion, t)) then
       ! |rate t| >~ 5e11: take whole periods out first (modulo is exact; the
       ! period's rounding moves t by ~eps |t|, inside the condition number).
       ! This also kept clear of an ellipj_eval bug of 03:12 UTC (|sn| > 1 from
@@ -401,7 +513,7 @@ contains
     do i0 = 1, size(t), nb
       nc = min(nb, size(t) - i0 + 1)
       i1 = i0 + nc - 1
-      if (any(exponent(t(i0:i1)) > 40 - exponent(motion%rate))) then
+      if (any(period_needed(motion, t(i0:i1)))) then
         ! huge times need the period reduction of the scalar path
         call undamped_eval(motion, t(i0:i1), theta(i0:i1), omega(i0:i1))
         cycle
@@ -474,6 +586,9 @@ contains
 
   !> Checked array convenience: theta(i), omega(i) at times t(i) for one initial
   !> state.  Arrays must have equal sizes; every t finite (status otherwise).
+  !> From UNDAMPED_PLAN_MIN_TIMES times on, a Jacobi plan and the blocked
+  !> undamped_eval_many; below, a light motion (no F, no plan) and
+  !> undamped_eval, exactly as undamped_states evaluates the same state.
   pure subroutine undamped_solve(t, theta0, omega0, w0, theta, omega, status)
     real(wp), intent(in) :: t(:), theta0, omega0, w0
     real(wp), intent(out) :: theta(:), omega(:)
@@ -481,13 +596,175 @@ contains
     type(undamped_motion_t) :: motion
     theta = 0
     omega = 0
-    ! a Jacobi plan (~13 us) pays for itself from ~30 times on (light: ~0.5 us per time)
-    call undamped_init(motion, theta0, omega0, w0, status, plan=size(t) >= 32)
+    call check_state(theta0, omega0, w0, status)
     if (status%code /= PENDULA_OK) return
     call check_all_finite('t', t, status)
     if (status%code /= PENDULA_OK) return
-    call undamped_eval_many(motion, t, theta, omega, status)
+    if (size(t) < UNDAMPED_PLAN_MIN_TIMES) then
+      call undamped_states(t, [theta0], [omega0], [w0], theta, omega, status)
+    else
+      call undamped_init(motion, theta0, omega0, w0, status, plan=.true.)
+      call undamped_eval_many(motion, t, theta, omega, status)
+    end if
   end subroutine undamped_solve
+
+  !> Many initial states, each at its own time: theta(i), omega(i) of the state
+  !> (theta0(i), omega0(i), w0(i)) at t(i).  Each input has the size of theta
+  !> and omega or size 1 (one value for every element); status otherwise.
+  !> Each state costs its elementary geometry and one Jacobi evaluation -- no
+  !> F, no K (unless |w0 t| > ~5e11), no plan -- the same numbers as
+  !> undamped_init + undamped_eval.  A run of equal consecutive states is built
+  !> once; from UNDAMPED_PLAN_MIN_TIMES on, with a Jacobi plan.  On a bad
+  !> element (message naming the argument of the first one, checked in the
+  !> order theta0, omega0, w0, t) theta and omega are 0.
+  pure subroutine undamped_states(t, theta0, omega0, w0, theta, omega, status)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(status_t), intent(out) :: status
+    type(undamped_motion_t) :: motion
+    integer :: i, j, n, run
+    n = size(theta)
+    if (size(omega) /= n .or. .not. (fits(t, n) .and. fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))) then
+      call set_error(status, PENDULA_ERR_SIZE, &
+          'theta and omega must have one size, and t, theta0, omega0, w0 that size or size 1')
+      return
+    end if
+    theta = 0
+    omega = 0
+    call check_states(n, theta0, omega0, w0, status, t)
+    if (status%code /= PENDULA_OK) return
+    i = 1
+    do while (i <= n)
+      run = same_state_run(i, n, theta0, omega0, w0)
+      if (run >= UNDAMPED_PLAN_MIN_TIMES) then
+        call undamped_init(motion, at(theta0, i), at(omega0, i), at(w0, i), status, plan=.true.)
+      else
+        call set_geometry(motion, at(theta0, i), at(omega0, i), at(w0, i))
+      end if
+      do j = i, i + run - 1
+        if (motion%period == 0 .and. period_needed(motion, at(t, j))) call set_period(motion)
+        call undamped_eval(motion, at(t, j), theta(j), omega(j))
+      end do
+      i = i + run
+    end do
+  end subroutine undamped_states
+
+  !> Whether an input of size 1 or n fits n elements.
+  pure logical function fits(x, n)
+    real(wp), intent(in) :: x(:)
+    integer, intent(in) :: n
+    fits = size(x) == n .or. size(x) == 1
+  end function fits
+
+  !> Element i of an input of size n or 1 (one value for every element).
+  pure real(wp) function at(x, i)
+    real(wp), intent(in) :: x(:)
+    integer, intent(in) :: i
+    at = x(min(i, size(x)))
+  end function at
+
+  !> How many elements from i on (up to n) share the state of element i.
+  pure integer function same_state_run(i, n, theta0, omega0, w0) result(run)
+    integer, intent(in) :: i, n
+    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    integer :: j
+    run = 1
+    do j = i + 1, n
+      if (at(theta0, j) /= at(theta0, i) .or. at(omega0, j) /= at(omega0, i) .or. at(w0, j) /= at(w0, i)) exit
+      run = run + 1
+    end do
+  end function same_state_run
+
+  !> Whether undamped_eval at t takes whole periods out (and so needs the period).
+  elemental logical function period_needed(motion, t) result(needed)
+    type(undamped_motion_t), intent(in) :: motion
+    real(wp), intent(in) :: t
+    needed = .not. motion%free .and. motion%regime /= REGIME_SEPARATRIX &
+        .and. exponent(t) > 40 - exponent(motion%rate)
+  end function period_needed
+
+  !> The checks of undamped_init over n states (inputs of size n or 1), then
+  !> of t if present: status names the argument of the first bad element (its
+  !> checks in the order theta0, omega0, w0, t).  One vectorisable pass when
+  !> all are good.
+  pure subroutine check_states(n, theta0, omega0, w0, status, t)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    type(status_t), intent(out) :: status
+    real(wp), intent(in), optional :: t(:)
+    integer :: i
+    if (all(ieee_is_finite(theta0)) .and. all(ieee_is_finite(omega0)) .and. &
+        all(w0 > 0 .and. w0 <= huge(w0))) then
+      if (.not. present(t)) return
+      if (all(ieee_is_finite(t))) return
+    end if
+    do i = 1, n
+      call check_state(at(theta0, i), at(omega0, i), at(w0, i), status)
+      if (present(t)) call check_finite('t', at(t, i), status)
+      if (status%code /= PENDULA_OK) return
+    end do
+  end subroutine check_states
+
+  !> Properties of many states (theta0(i), omega0(i), w0(i)) at once, each only
+  !> when its output is present: period [s], amplitude [rad], the elliptic
+  !> parameter m and 1 - m, the regime code (see undamped_period etc.).  The
+  !> same numbers as undamped_init gives, from each state's elementary geometry
+  !> and, for the period, one K: no F, no plan, no motion kept.  The outputs
+  !> have one size n, each input n or 1 (one value for every state), and every
+  !> state must be valid: otherwise status names the argument of the first bad
+  !> state and the outputs are 0.
+  pure subroutine undamped_properties(theta0, omega0, w0, status, period, amplitude, m, mc, regime)
+    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    type(status_t), intent(out) :: status
+    real(wp), intent(out), optional :: period(:), amplitude(:), m(:), mc(:)
+    integer, intent(out), optional :: regime(:)
+    type(undamped_motion_t) :: motion
+    real(wp) :: th, om, w
+    integer :: i, n
+    logical :: bad
+    n = max(size(theta0), size(omega0), size(w0))
+    if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
+    bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
+    if (present(period)) bad = bad .or. size(period) /= n
+    if (present(amplitude)) bad = bad .or. size(amplitude) /= n
+    if (present(m)) bad = bad .or. size(m) /= n
+    if (present(mc)) bad = bad .or. size(mc) /= n
+    if (present(regime)) bad = bad .or. size(regime) /= n
+    if (bad) then
+      call set_error(status, PENDULA_ERR_SIZE, &
+          'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
+      return
+    end if
+    do i = 1, n
+      th = at(theta0, i)
+      om = at(omega0, i)
+      w = at(w0, i)
+      if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
+        ! checked here, not in a pass before: one read of the inputs
+        call check_state(th, om, w, status)
+        if (present(period)) period = 0
+        if (present(amplitude)) amplitude = 0
+        if (present(m)) m = 0
+        if (present(mc)) mc = 0
+        if (present(regime)) regime = 0
+        return
+      end if
+      call set_geometry(motion, th, om, w)
+      if (present(period)) then
+        call set_period(motion)
+        period(i) = motion%period
+      end if
+      if (present(amplitude)) amplitude(i) = motion_amplitude(motion)
+      if (present(m)) m(i) = motion%m
+      if (present(mc)) mc(i) = motion%mc
+      if (present(regime)) regime(i) = motion%regime
+    end do
+  end subroutine undamped_properties
+
+  pure subroutine size_error(status)
+    type(status_t), intent(inout) :: status
+    call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have the size of t')
+  end subroutine size_error
 
   !> Period [s]: 4 K(m)/w0 for libration (eq. 1.53 generalised to any state),
   !> the time of one full turn 2 K(1/m)/(k w0) for rotation (the period of
