@@ -276,3 +276,14 @@ class Recorder:
             print(f"\n{self.name}: {len(uniq)} failing call(s) of {self.calls}:\n" + "\n".join(uniq[:40]))
             pytest.fail(f"{self.name}: {len(uniq)} failing call(s) of {self.calls}; first:\n{uniq[0]}",
                         pytrace=False)
+
+
+def recorded_test(label, run):
+    """The test function test_fuzz_<label>: runs the hypothesis-driven
+    run(worker, rec) and fails once, listing every reproducer it recorded."""
+    def test(worker):
+        rec = Recorder(label)
+        run(worker, rec)
+        rec.verdict()
+    test.__name__ = f"test_fuzz_{label}"
+    return test

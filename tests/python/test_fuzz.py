@@ -42,7 +42,7 @@ from hypothesis import strategies as st
 import pendula
 
 from fuzz_support import (  # noqa: F401 (worker: the fixture)
-    BIG, HALF_PI, Recorder, SETTINGS, evaluate, flt, judge, nonfinite_problem, real_args,
+    recorded_test, BIG, HALF_PI, Recorder, SETTINGS, evaluate, flt, judge, nonfinite_problem, real_args,
     scalar_src, values, worker)
 
 
@@ -193,12 +193,7 @@ def _elementwise_test(fn):
     for ex in REPORTED_EXAMPLES.get(fn, []):
         run = example(srcs=ex)(run)
 
-    def test(worker):
-        rec = Recorder(fn)
-        run(worker, rec)
-        rec.verdict()
-    test.__name__ = f"test_fuzz_{fn}"
-    return test
+    return recorded_test(fn, run)
 
 
 for _fn in ELEMENTWISE:
@@ -250,12 +245,7 @@ def _scalar_test(fn):
     def run(worker, rec, srcs):
         _scalar_case(worker, rec, fn, srcs, keys, bound)
 
-    def test(worker):
-        rec = Recorder(fn)
-        run(worker, rec)
-        rec.verdict()
-    test.__name__ = f"test_fuzz_{fn}"
-    return test
+    return recorded_test(fn, run)
 
 
 for _fn in SCALAR:
