@@ -62,17 +62,24 @@ def _check_nan_domain(out, message, **inputs):
             raise ValueError(f"{message} (got {_first_bad(bad, **inputs)})")
 
 
+def _one_output(kernel, message, **named):
+    """Broadcast the named inputs, call the one-output f2py kernel on them (in
+    that order) and raise ValueError (message) where it returns NaN for
+    non-NaN input (a domain error); the result has the inputs' shape."""
+    shape, scalar, f = _prepare(**named)
+    if next(iter(f.values())).size == 0:
+        return _empty(shape, 1)
+    out = kernel(*f.values())
+    _check_nan_domain(out, message, **f)
+    return restore(out, shape, scalar)
+
+
 def ellipk(m):
     """Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
 
     K(1) = inf.  ValueError for m > 1.  Accuracy: a few ulps (AGM).
     """
-    shape, scalar, f = _prepare(m=m)
-    if f["m"].size == 0:
-        return _empty(shape, 1)
-    k = _elliptic.ellipk_f2py(f["m"])
-    _check_nan_domain(k, "ellipk: m must be <= 1", m=f["m"])
-    return restore(k, shape, scalar)
+    return _one_output(_elliptic.ellipk_f2py, "ellipk: m must be <= 1", m=m)
 
 
 def ellipkm1(p):
@@ -80,12 +87,7 @@ def ellipkm1(p):
 
     Same name and meaning as scipy.special.ellipkm1.  ValueError for p < 0.
     """
-    shape, scalar, f = _prepare(p=p)
-    if f["p"].size == 0:
-        return _empty(shape, 1)
-    k = _elliptic.ellipkm1_f2py(f["p"])
-    _check_nan_domain(k, "ellipkm1: p = 1 - m must be >= 0", p=f["p"])
-    return restore(k, shape, scalar)
+    return _one_output(_elliptic.ellipkm1_f2py, "ellipkm1: p = 1 - m must be >= 0", p=p)
 
 
 def ellipe(m):
@@ -93,22 +95,12 @@ def ellipe(m):
 
     ValueError for m > 1.  Accuracy: a few ulps.
     """
-    shape, scalar, f = _prepare(m=m)
-    if f["m"].size == 0:
-        return _empty(shape, 1)
-    e = _elliptic.ellipe_f2py(f["m"])
-    _check_nan_domain(e, "ellipe: m must be <= 1", m=f["m"])
-    return restore(e, shape, scalar)
+    return _one_output(_elliptic.ellipe_f2py, "ellipe: m must be <= 1", m=m)
 
 
 def ellipem1(p):
     """E(1 - p) for p >= 0, accurate for tiny p.  ValueError for p < 0."""
-    shape, scalar, f = _prepare(p=p)
-    if f["p"].size == 0:
-        return _empty(shape, 1)
-    e = _elliptic.ellipem1_f2py(f["p"])
-    _check_nan_domain(e, "ellipem1: p = 1 - m must be >= 0", p=f["p"])
-    return restore(e, shape, scalar)
+    return _one_output(_elliptic.ellipem1_f2py, "ellipem1: p = 1 - m must be >= 0", p=p)
 
 
 def ellipf(phi, m):
@@ -119,12 +111,7 @@ def ellipf(phi, m):
     Re K(m) = K(1/m)/sqrt(m)).  ValueError where m sin^2(phi) > 1.
     Same as scipy.special.ellipkinc (alias ``ellipkinc``) where SciPy is defined.
     """
-    shape, scalar, f = _prepare(phi=phi, m=m)
-    if f["phi"].size == 0:
-        return _empty(shape, 1)
-    out = _elliptic.ellipf_f2py(f["phi"], f["m"])
-    _check_nan_domain(out, "ellipf: need m*sin(phi)**2 <= 1", phi=f["phi"], m=f["m"])
-    return restore(out, shape, scalar)
+    return _one_output(_elliptic.ellipf_f2py, "ellipf: need m*sin(phi)**2 <= 1", phi=phi, m=m)
 
 
 ellipkinc = ellipf
@@ -135,12 +122,7 @@ def ellipfm1(phi, p):
 
     ValueError where (1 - p) sin^2(phi) > 1.
     """
-    shape, scalar, f = _prepare(phi=phi, p=p)
-    if f["phi"].size == 0:
-        return _empty(shape, 1)
-    out = _elliptic.ellipfm1_f2py(f["phi"], f["p"])
-    _check_nan_domain(out, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=f["phi"], p=f["p"])
-    return restore(out, shape, scalar)
+    return _one_output(_elliptic.ellipfm1_f2py, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=phi, p=p)
 
 
 def _check_finite_jacobi(sn, u, m, name):

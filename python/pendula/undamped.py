@@ -63,6 +63,17 @@ def undamped(t, theta0, omega0=0.0, w0=1.0):
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
 
+def _two_outputs(kernel, **named):
+    """Broadcast the named inputs, call the two-output f2py kernel on them (in
+    that order), raise for its status; both results have the inputs' shape."""
+    shape, scalar, f = broadcast_real(**named)
+    if next(iter(f.values())).size == 0:
+        return np.empty(shape), np.empty(shape)
+    a, b, code, msg = kernel(*f.values())
+    raise_for_status(code, msg)
+    return restore(a, shape, scalar), restore(b, shape, scalar)
+
+
 def small_angle(t, theta0, omega0=0.0, w0=1.0):
     """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t) (eq. 1.18).
 
@@ -70,12 +81,7 @@ def small_angle(t, theta0, omega0=0.0, w0=1.0):
     the formula above for |theta0| < pi).  Use ``small_angle_error`` to know
     how far it is from ``undamped``.  Returns ``(theta, omega)``.
     """
-    shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0)
-    if f["t"].size == 0:
-        return np.empty(shape), np.empty(shape)
-    theta, omega, code, msg = _undamped.small_angle_f2py(f["t"], f["theta0"], f["omega0"], f["w0"])
-    raise_for_status(code, msg)
-    return restore(theta, shape, scalar), restore(omega, shape, scalar)
+    return _two_outputs(_undamped.small_angle_f2py, t=t, theta0=theta0, omega0=omega0, w0=w0)
 
 
 def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
@@ -87,12 +93,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
     (m/4) w0 t = (theta_max^2/16) w0 t.  +inf for the separatrix and rotation
     (the model cannot go over the top).  Non-decreasing in |tmax|.
     """
-    shape, scalar, f = broadcast_real(tmax=tmax, theta0=theta0, omega0=omega0, w0=w0)
-    if f["tmax"].size == 0:
-        return np.empty(shape), np.empty(shape)
-    dth, dom, code, msg = _undamped.small_angle_bound_f2py(f["tmax"], f["theta0"], f["omega0"], f["w0"])
-    raise_for_status(code, msg)
-    return restore(dth, shape, scalar), restore(dom, shape, scalar)
+    return _two_outputs(_undamped.small_angle_bound_f2py, tmax=tmax, theta0=theta0, omega0=omega0, w0=w0)
 
 
 def _state_property(kernel, nout, theta0, omega0, w0, *options):

@@ -20,10 +20,11 @@ module pendula_cvode_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN, &
+  use pendula_status, only: status_t, set_error, PENDULA_OK, &
       PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options
+  use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options, check_batch_shapes, &
+      at => batch_index
   use pendula_cvode, only: cvode_available, cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
   !$ use omp_lib, only: omp_get_max_threads
   implicit none
@@ -185,32 +186,9 @@ contains
     call check_span(t, status)
     call check_cvode_options(method, max_steps, status)
     if (status%code /= PENDULA_OK) return
-    if (.not. (one_or_n(omega0) .and. one_or_n(w0) .and. one_or_n(gamma) .and. one_or_n(rtol) &
-        .and. one_or_n(atol))) then
-      call set_error(status, PENDULA_ERR_SIZE, 'omega0, w0, gamma, rtol and atol must each have one ' // &
-          'element or one per state (size(theta0) = ' // format_int(n) // ')')
-    else if (any(shape(theta) /= [size(t), n]) .or. any(shape(omega) /= [size(t), n])) then
-      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have shape (size(t), size(theta0)) = (' // &
-          format_int(size(t)) // ', ' // format_int(n) // ')')
-    else if (size(codes) /= n .or. size(stats) /= n) then
-      call set_error(status, PENDULA_ERR_SIZE, 'codes and stats must have one element per state (' // &
-          format_int(n) // ')')
-    else if (present(threads)) then
-      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = ' // format_int(threads) // &
-          ' is out of range: it must be >= 0 (0: the OpenMP default)')
-    end if
-  contains
-    pure logical function one_or_n(a)
-      real(wp), intent(in) :: a(:)
-      one_or_n = size(a) == 1 .or. size(a) == n
-    end function one_or_n
+    call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), size(rtol), size(atol)] == 1 &
+        .or. [size(omega0), size(w0), size(gamma), size(rtol), size(atol)] == n), &
+        'omega0, w0, gamma, rtol and atol', theta, omega, size(codes), size(stats), 'stats', threads, status)
   end subroutine check_call
-
-  !> Index of state i's value in a parameter array of one element or n.
-  pure integer function at(a, i)
-    real(wp), intent(in) :: a(:)
-    integer, intent(in) :: i
-    at = merge(i, 1, size(a) > 1)
-  end function at
 
 end module pendula_cvode_batch

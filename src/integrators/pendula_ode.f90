@@ -8,11 +8,13 @@ module pendula_ode
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN
+      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE
   implicit none
   private
   public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, &
             linear_eigenvalues, check_cvode_options, check_span
+  ! shared by the batch integrators (pendula_rk4_batch, pendula_cvode_batch)
+  public :: check_batch_shapes, batch_index
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
   !> CVODE linear multistep families: Adams-Moulton (non-stiff, orders 1-12)
@@ -116,5 +118,40 @@ contains
         call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) ' // &
             'overflows): no integration can cover that window')
   end subroutine check_span
+
+  !> The size and threads checks of a batch call (rk4_batch, cvode_batch) over
+  !> n states and nt times, after the caller's own checks of t: params_ok
+  !> (each per-state parameter named in params has one element or n), theta
+  !> and omega of shape (nt, n), n_codes and n_counts (the array named in
+  !> counts) equal to n, threads >= 0.  The first failed check sets status.
+  pure subroutine check_batch_shapes(nt, n, params_ok, params, theta, omega, n_codes, n_counts, counts, &
+      threads, status)
+    integer, intent(in) :: nt, n, n_codes, n_counts
+    logical, intent(in) :: params_ok
+    character(len=*), intent(in) :: params, counts
+    real(wp), intent(in) :: theta(:, :), omega(:, :)
+    integer, intent(in), optional :: threads
+    type(status_t), intent(inout) :: status
+    if (.not. params_ok) then
+      call set_error(status, PENDULA_ERR_SIZE, params // ' must each have one ' // &
+          'element or one per state (size(theta0) = ' // format_int(n) // ')')
+    else if (any(shape(theta) /= [nt, n]) .or. any(shape(omega) /= [nt, n])) then
+      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have shape (size(t), size(theta0)) = (' // &
+          format_int(nt) // ', ' // format_int(n) // ')')
+    else if (n_codes /= n .or. n_counts /= n) then
+      call set_error(status, PENDULA_ERR_SIZE, 'codes and ' // counts // ' must have one element per state (' // &
+          format_int(n) // ')')
+    else if (present(threads)) then
+      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = ' // format_int(threads) // &
+          ' is out of range: it must be >= 0 (0: the OpenMP default)')
+    end if
+  end subroutine check_batch_shapes
+
+  !> Index of state i's value in a batch parameter array of one element or n.
+  pure integer function batch_index(a, i) result(at)
+    real(wp), intent(in) :: a(:)
+    integer, intent(in) :: i
+    at = merge(i, 1, size(a) > 1)
+  end function batch_index
 
 end module pendula_ode

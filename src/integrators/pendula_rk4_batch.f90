@@ -20,10 +20,10 @@ module pendula_rk4_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN, &
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_DOMAIN, &
       PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: check_problem
+  use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
   use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS
   use pendula_ode, only: ode_stats_t
   use pendula_rk4_kernel, only: substeps, node_reduce, stage_rmax, stage_xmax, nnodes, node_sin, node_cos, &
@@ -177,32 +177,10 @@ contains
     ! t alone (neutral state values): size, order, finiteness
     call check_problem(t, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, status)
     if (status%code /= PENDULA_OK) return
-    if (.not. (one_or_n(omega0) .and. one_or_n(w0) .and. one_or_n(gamma) .and. one_or_n(h))) then
-      call set_error(status, PENDULA_ERR_SIZE, 'omega0, w0, gamma and h must each have one element ' // &
-          'or one per state (size(theta0) = ' // format_int(n) // ')')
-    else if (any(shape(theta) /= [size(t), n]) .or. any(shape(omega) /= [size(t), n])) then
-      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have shape (size(t), size(theta0)) = (' // &
-          format_int(size(t)) // ', ' // format_int(n) // ')')
-    else if (size(codes) /= n .or. size(steps) /= n) then
-      call set_error(status, PENDULA_ERR_SIZE, 'codes and steps must have one element per state (' // &
-          format_int(n) // ')')
-    else if (present(threads)) then
-      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = ' // format_int(threads) // &
-          ' is out of range: it must be >= 0 (0: the OpenMP default)')
-    end if
-  contains
-    pure logical function one_or_n(a)
-      real(wp), intent(in) :: a(:)
-      one_or_n = size(a) == 1 .or. size(a) == n
-    end function one_or_n
+    call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), size(h)] == 1 .or. &
+        [size(omega0), size(w0), size(gamma), size(h)] == n), 'omega0, w0, gamma and h', theta, omega, &
+        size(codes), size(steps), 'steps', threads, status)
   end subroutine check_call
-
-  !> Index of state i's value in a parameter array of one element or n.
-  pure integer function at(a, i)
-    real(wp), intent(in) :: a(:)
-    integer, intent(in) :: i
-    at = merge(i, 1, size(a) > 1)
-  end function at
 
   !> rk4_solve's status for one state (its message for the batch summary).
   function state_status(t, theta0, omega0, w0, gamma, h, code, budget) result(st)

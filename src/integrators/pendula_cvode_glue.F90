@@ -1,0 +1,273 @@
+!> The SUNDIALS side of pendula_cvode: the data CVODE hands its callbacks
+!> (cv_data_t through user_data), the callbacks themselves (right-hand side,
+!> analytic Jacobian, relative error weights, event functions, error capture)
+!> and the translation of CVODE's flags and counters into status_t and
+!> ode_stats_t.  pendula_cvode does the solver work on top of it.  Built, like
+!> pendula_cvode_vector, only with SUNDIALS (PENDULA_WITH_SUNDIALS).
+#ifdef PENDULA_WITH_SUNDIALS
+module pendula_cvode_glue
+  use, intrinsic :: iso_c_binding
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use pendula_kinds, only: i8
+  use pendula_format, only: format_int
+  use pendula_status, only: status_t, set_error, PENDULA_ERR_SOLVER
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
+  use pendula_ode, only: ode_stats_t
+  use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer
+  use fsundials_matrix_mod, only: SUNMatrix
+  use fsunmatrix_dense_mod, only: FSUNDenseMatrix_Data
+  use fcvode_mod
+  use pendula_cvode_vector, only: pair_t, pair_of
+  implicit none
+  private
+  public :: cv_data_t, rhs, jacobian, relative_weights, root_functions, capture_error, failed, collect_stats, poll
+  public :: CV_POLL_EVALS
+
+  !> What the callbacks see through user_data: the parameters, the time
+  !> scale, the tolerances of the pure relative mode (atol = 0), and room for
+  !> the last error message CVODE reports, and the caller's control array
+  !> (c_null_ptr: none) with the right-hand-side evaluations counted so far.
+  !>
+  !> CVODE integrates in tau = (t - t(1)) / T, T = 2**tscale: the problem is
+  !> autonomous, so moving the origin to t(1) costs nothing and lets a window
+  !> of a few ulps at t(1) = 1e300 be resolved; T = 1 except for windows
+  !> shorter than 2**-64 s, where CVODE's products of two times (e.g.
+  !> (tstop - t) h) would underflow (t = [0, 1e-300] was refused).  The
+  !> state stays (theta, Omega) in rad, rad/s; d/dtau = T d/dt, and T is a
+  !> power of 2, so the scaling itself is exact.
+  type :: cv_data_t
+    real(c_double) :: w0sq = 0
+    real(c_double) :: gamma = 0
+    integer :: tscale = 0
+    real(c_double) :: w0 = 1
+    real(c_double) :: rtol = 0
+    character(len=200) :: errmsg = ''
+    type(c_ptr) :: control = c_null_ptr
+    integer(i8) :: evals = 0
+    logical :: cancelled = .false.
+    logical :: eval_progress = .true.
+  end type cv_data_t
+
+  !> Right-hand-side evaluations between two looks at the cancel flag (a few
+  !> tens of microseconds of CVODE work); progress is counted in evaluations.
+  integer(i8), parameter :: CV_POLL_EVALS = 256
+
+contains
+
+  !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation
+  !> (errmsg: the last error CVODE reported, if any).
+  logical function failed(flag, what, errmsg, status)
+    integer(c_int), intent(in) :: flag
+    character(len=*), intent(in) :: what, errmsg
+    type(status_t), intent(inout) :: status
+    character(len=:), allocatable :: why
+    failed = flag < 0
+    if (.not. failed) return
+    why = trim(errmsg)
+    if (len(why) == 0) why = flag_meaning(flag)
+    if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
+    call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+        format_int(flag) // ' (' // flag_name(flag) // '): ' // why)
+  end function failed
+
+  !> Copy CVODE's counters into stats; a failing getter is itself an error.
+  subroutine collect_stats(mem, with_events, stats, status)
+    type(c_ptr), intent(in) :: mem
+    logical, intent(in) :: with_events
+    type(ode_stats_t), intent(inout) :: stats
+    type(status_t), intent(inout) :: status
+    integer(c_long) :: v(1)
+    integer(c_int) :: ierr
+    ierr = FCVodeGetNumSteps(mem, v);            call take(ierr, 'CVodeGetNumSteps', stats%steps)
+    ierr = FCVodeGetNumRhsEvals(mem, v);         call take(ierr, 'CVodeGetNumRhsEvals', stats%rhs_evals)
+    ierr = FCVodeGetNumJacEvals(mem, v);         call take(ierr, 'CVodeGetNumJacEvals', stats%jac_evals)
+    ierr = FCVodeGetNumErrTestFails(mem, v);     call take(ierr, 'CVodeGetNumErrTestFails', stats%err_test_fails)
+    ierr = FCVodeGetNumNonlinSolvIters(mem, v);  call take(ierr, 'CVodeGetNumNonlinSolvIters', stats%nonlin_iters)
+    ierr = FCVodeGetNumNonlinSolvConvFails(mem, v)
+    call take(ierr, 'CVodeGetNumNonlinSolvConvFails', stats%nonlin_fails)
+    if (with_events) then
+      ierr = FCVodeGetNumGEvals(mem, v);         call take(ierr, 'CVodeGetNumGEvals', stats%root_evals)
+    end if
+  contains
+    subroutine take(flag, what, dest)
+      integer(c_int), intent(in) :: flag
+      character(len=*), intent(in) :: what
+      integer(i8), intent(out) :: dest
+      dest = 0
+      if (flag < 0) then
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
+            format_int(flag) // ' (' // flag_name(flag) // ')')
+      else
+        dest = int(v(1), i8)
+      end if
+    end subroutine take
+  end subroutine collect_stats
+
+  ! ---- callbacks (C calling convention; parameters arrive in user_data) ----
+  ! name='': no global C symbol, so no clash with a same-named C function of
+  ! another library in the process (they were plain `rhs`, `jacobian`, ...).
+
+  !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
+  integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C, name='')
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y, sunvec_f
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    type(pair_t), pointer :: yy, ff
+    call c_f_pointer(user_data, p)
+    ! Every vector CVODE hands us is a length-2 serial vector (cloned from y).
+    yy => pair_of(sunvec_y)
+    ff => pair_of(sunvec_f)
+    ff%v(1) = yy%v(2)
+    ff%v(2) = -p%gamma * yy%v(2) - p%w0sq * sin(yy%v(1))
+    if (p%tscale /= 0) ff%v = scale(ff%v, p%tscale)   ! d/dtau = T d/dt
+    ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
+    ierr = 0
+    if (.not. (ieee_is_finite(ff%v(1)) .and. ieee_is_finite(ff%v(2)))) ierr = -1
+    ! A cancel request is answered the same way: CVODE stops at once and
+    ! solve() turns the failure into PENDULA_ERR_CANCELLED.
+    if (c_associated(p%control)) then
+      p%evals = p%evals + 1
+      if (mod(p%evals, CV_POLL_EVALS) == 0) then
+        call poll(p%control, merge(CV_POLL_EVALS, 0_i8, p%eval_progress), p%cancelled)
+        if (p%cancelled) ierr = -1
+      end if
+    end if
+  end function rhs
+
+  !> Add n to the progress of the control array at address `control`;
+  !> cancelled: whether its cancel flag is set.
+  subroutine poll(control, n, cancelled)
+    type(c_ptr), intent(in) :: control
+    integer(i8), intent(in) :: n
+    logical, intent(out) :: cancelled
+    integer(i8), pointer, volatile :: ctl(:)
+    call c_f_pointer(control, ctl, [CONTROL_SIZE])
+    call add_progress(ctl, n)
+    cancelled = cancel_requested(ctl)
+  end subroutine poll
+
+  !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
+  integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
+      result(ierr) bind(C, name='')
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y, sunvec_f, tmp1, tmp2, tmp3
+    type(SUNMatrix) :: sunmat_j
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    real(c_double), pointer :: yy(:), first(:), jd(:)
+    call c_f_pointer(user_data, p)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    ! The SWIG wrapper returns the data as a 1-element array; view all 4.
+    first => FSUNDenseMatrix_Data(sunmat_j)
+    call c_f_pointer(c_loc(first(1)), jd, [4])
+    jd(1) = 0
+    jd(2) = -p%w0sq * cos(yy(1))
+    jd(3) = 1
+    jd(4) = -p%gamma
+    if (p%tscale /= 0) jd = scale(jd, p%tscale)
+    ierr = 0
+  end function jacobian
+
+  !> Error weights for atol = 0 (pure relative control).  CVODE's own weights
+  !> 1/(rtol |y_i|) are infinite where a component is zero, and theta and
+  !> Omega both pass through zero every half period (theta0 = 0 is the text's
+  !> own start: CVODE refused it).  The tolerance is relative to the size of
+  !> the whole state instead, S = max(|theta|, |Omega|/w0) (Omega measured in
+  !> theta's units, as in the scenes): each step's local error in theta is
+  !> kept below rtol S and in Omega below rtol w0 S.  S is zero only at rest
+  !> at theta = 0, where the solution is exactly zero; the weights are kept
+  !> finite and positive there.
+  integer(c_int) function relative_weights(sunvec_y, sunvec_w, user_data) result(ierr) bind(C, name='')
+    type(N_Vector) :: sunvec_y, sunvec_w
+    type(c_ptr), value :: user_data
+    type(cv_data_t), pointer :: p
+    type(pair_t), pointer :: yy, ww
+    real(c_double) :: tol(2)
+    call c_f_pointer(user_data, p)
+    yy => pair_of(sunvec_y)
+    ww => pair_of(sunvec_w)
+    tol(1) = p%rtol * max(abs(yy%v(1)), abs(yy%v(2)) / p%w0)
+    tol(2) = p%rtol * max(p%w0 * abs(yy%v(1)), abs(yy%v(2)))
+    ww%v = 1 / min(max(tol, tiny(tol)), huge(tol))
+    ierr = 0
+  end function relative_weights
+
+  !> Event functions: g1 = Omega (turning point), g2 = theta (zero crossing).
+  integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C, name='')
+    real(c_double), value :: tt
+    type(N_Vector) :: sunvec_y
+    real(c_double) :: gout(2)
+    type(c_ptr), value :: user_data
+    real(c_double), pointer :: yy(:)
+    yy => FN_VGetArrayPointer(sunvec_y)
+    gout(1) = yy(2)
+    gout(2) = yy(1)
+    ierr = 0
+  end function root_functions
+
+  !> CVODE error handler: keep the message of errors (flag < 0) in user data
+  !> instead of printing it; warnings are dropped.
+  subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C, name='')
+    integer(c_int), value :: error_code
+    type(c_ptr), value :: module_name, function_name, msg, eh_data
+    type(cv_data_t), pointer :: p
+    character(kind=c_char), pointer :: chars(:)
+    integer :: j, nmax
+    if (error_code >= 0 .or. .not. c_associated(eh_data) .or. .not. c_associated(msg)) return
+    call c_f_pointer(eh_data, p)
+    nmax = len(p%errmsg)
+    call c_f_pointer(msg, chars, [nmax])
+    p%errmsg = ''
+    do j = 1, nmax
+      if (chars(j) == c_null_char) exit
+      p%errmsg(j:j) = chars(j)
+    end do
+  end subroutine capture_error
+
+  ! ---- small helpers for messages ----
+
+  pure function flag_name(flag) result(s)
+    integer(c_int), intent(in) :: flag
+    character(len=:), allocatable :: s
+    select case (flag)
+    case (CV_TOO_MUCH_WORK);      s = 'CV_TOO_MUCH_WORK'
+    case (CV_TOO_MUCH_ACC);       s = 'CV_TOO_MUCH_ACC'
+    case (CV_ERR_FAILURE);        s = 'CV_ERR_FAILURE'
+    case (CV_CONV_FAILURE);       s = 'CV_CONV_FAILURE'
+    case (CV_LINIT_FAIL);         s = 'CV_LINIT_FAIL'
+    case (CV_LSETUP_FAIL);        s = 'CV_LSETUP_FAIL'
+    case (CV_LSOLVE_FAIL);        s = 'CV_LSOLVE_FAIL'
+    case (CV_RHSFUNC_FAIL);       s = 'CV_RHSFUNC_FAIL'
+    case (CV_FIRST_RHSFUNC_ERR);  s = 'CV_FIRST_RHSFUNC_ERR'
+    case (CV_REPTD_RHSFUNC_ERR);  s = 'CV_REPTD_RHSFUNC_ERR'
+    case (CV_UNREC_RHSFUNC_ERR);  s = 'CV_UNREC_RHSFUNC_ERR'
+    case (CV_RTFUNC_FAIL);        s = 'CV_RTFUNC_FAIL'
+    case (CV_NLS_INIT_FAIL);      s = 'CV_NLS_INIT_FAIL'
+    case (CV_NLS_SETUP_FAIL);     s = 'CV_NLS_SETUP_FAIL'
+    case (CV_NLS_FAIL);           s = 'CV_NLS_FAIL'
+    case (CV_MEM_FAIL);           s = 'CV_MEM_FAIL'
+    case (CV_MEM_NULL);           s = 'CV_MEM_NULL'
+    case (CV_ILL_INPUT);          s = 'CV_ILL_INPUT'
+    case (CV_NO_MALLOC);          s = 'CV_NO_MALLOC'
+    case (CV_BAD_T);              s = 'CV_BAD_T'
+    case (CV_TOO_CLOSE);          s = 'CV_TOO_CLOSE'
+    case default;                 s = 'flag ' // format_int(flag)
+    end select
+  end function flag_name
+
+  pure function flag_meaning(flag) result(s)
+    integer(c_int), intent(in) :: flag
+    character(len=:), allocatable :: s
+    select case (flag)
+    case (CV_TOO_MUCH_ACC);   s = 'the requested accuracy could not be met'
+    case (CV_ERR_FAILURE);    s = 'repeated error-test failures (the step size hit its minimum)'
+    case (CV_CONV_FAILURE);   s = 'repeated nonlinear-solver convergence failures'
+    case (CV_MEM_FAIL);       s = 'out of memory'
+    case (CV_ILL_INPUT);      s = 'an input to CVODE was invalid'
+    case default;             s = 'see the SUNDIALS CVODE documentation'
+    end select
+  end function flag_meaning
+
+end module pendula_cvode_glue
+#endif

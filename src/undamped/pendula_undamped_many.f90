@@ -1,0 +1,187 @@
+!> Many undamped states at once (undamped_states, undamped_properties) and the
+!> checked one-state convenience undamped_solve, built on pendula_undamped_motion
+!> with the same numbers as undamped_init + undamped_period/undamped_eval.
+!> Users `use pendula_undamped` (the facade).
+module pendula_undamped_many
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use pendula_kinds, only: wp
+  use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
+  use pendula_undamped_motion, only: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, &
+      check_state, set_geometry, set_period, motion_amplitude, period_needed, UNDAMPED_PLAN_MIN_TIMES
+  implicit none
+  private
+
+  public :: undamped_solve, undamped_states, undamped_properties
+
+contains
+
+  !> Checked array convenience: theta(i), omega(i) at times t(i) for one initial
+  !> state.  Arrays must have equal sizes; every t finite (status otherwise).
+  !> From UNDAMPED_PLAN_MIN_TIMES times on, a Jacobi plan and the blocked
+  !> undamped_eval_many; below, a light motion (no F, no plan) and
+  !> undamped_eval, exactly as undamped_states evaluates the same state.
+  pure subroutine undamped_solve(t, theta0, omega0, w0, theta, omega, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(status_t), intent(out) :: status
+    type(undamped_motion_t) :: motion
+    theta = 0
+    omega = 0
+    call check_state(theta0, omega0, w0, status)
+    if (status%code /= PENDULA_OK) return
+    call check_all_finite('t', t, status)
+    if (status%code /= PENDULA_OK) return
+    if (size(t) < UNDAMPED_PLAN_MIN_TIMES) then
+      call undamped_states(t, [theta0], [omega0], [w0], theta, omega, status)
+    else
+      call undamped_init(motion, theta0, omega0, w0, status, plan=.true.)
+      call undamped_eval_many(motion, t, theta, omega, status)
+    end if
+  end subroutine undamped_solve
+
+  !> Many initial states, each at its own time: theta(i), omega(i) of the state
+  !> (theta0(i), omega0(i), w0(i)) at t(i).  Each input has the size of theta
+  !> and omega or size 1 (one value for every element); status otherwise.
+  !> Each state costs its elementary geometry and one Jacobi evaluation -- no
+  !> F, no K (unless |w0 t| > ~5e11), no plan -- the same numbers as
+  !> undamped_init + undamped_eval.  A run of equal consecutive states is built
+  !> once; from UNDAMPED_PLAN_MIN_TIMES on, with a Jacobi plan.  On a bad
+  !> element (message naming the argument of the first one, checked in the
+  !> order theta0, omega0, w0, t) theta and omega are 0.
+  pure subroutine undamped_states(t, theta0, omega0, w0, theta, omega, status)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(status_t), intent(out) :: status
+    type(undamped_motion_t) :: motion
+    integer :: i, j, n, run
+    n = size(theta)
+    if (size(omega) /= n .or. .not. (fits(t, n) .and. fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))) then
+      call set_error(status, PENDULA_ERR_SIZE, &
+          'theta and omega must have one size, and t, theta0, omega0, w0 that size or size 1')
+      return
+    end if
+    theta = 0
+    omega = 0
+    call check_states(n, theta0, omega0, w0, status, t)
+    if (status%code /= PENDULA_OK) return
+    i = 1
+    do while (i <= n)
+      run = same_state_run(i, n, theta0, omega0, w0)
+      if (run >= UNDAMPED_PLAN_MIN_TIMES) then
+        call undamped_init(motion, at(theta0, i), at(omega0, i), at(w0, i), status, plan=.true.)
+      else
+        call set_geometry(motion, at(theta0, i), at(omega0, i), at(w0, i))
+      end if
+      do j = i, i + run - 1
+        if (motion%period == 0 .and. period_needed(motion, at(t, j))) call set_period(motion)
+        call undamped_eval(motion, at(t, j), theta(j), omega(j))
+      end do
+      i = i + run
+    end do
+  end subroutine undamped_states
+
+  !> Whether an input of size 1 or n fits n elements.
+  pure logical function fits(x, n)
+    real(wp), intent(in) :: x(:)
+    integer, intent(in) :: n
+    fits = size(x) == n .or. size(x) == 1
+  end function fits
+
+  !> Element i of an input of size n or 1 (one value for every element).
+  pure real(wp) function at(x, i)
+    real(wp), intent(in) :: x(:)
+    integer, intent(in) :: i
+    at = x(min(i, size(x)))
+  end function at
+
+  !> How many elements from i on (up to n) share the state of element i.
+  pure integer function same_state_run(i, n, theta0, omega0, w0) result(run)
+    integer, intent(in) :: i, n
+    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    integer :: j
+    run = 1
+    do j = i + 1, n
+      if (at(theta0, j) /= at(theta0, i) .or. at(omega0, j) /= at(omega0, i) .or. at(w0, j) /= at(w0, i)) exit
+      run = run + 1
+    end do
+  end function same_state_run
+
+  !> The checks of undamped_init over n states (inputs of size n or 1), then
+  !> of t if present: status names the argument of the first bad element (its
+  !> checks in the order theta0, omega0, w0, t).  One vectorisable pass when
+  !> all are good.
+  pure subroutine check_states(n, theta0, omega0, w0, status, t)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    type(status_t), intent(out) :: status
+    real(wp), intent(in), optional :: t(:)
+    integer :: i
+    if (all(ieee_is_finite(theta0)) .and. all(ieee_is_finite(omega0)) .and. &
+        all(w0 > 0 .and. w0 <= huge(w0))) then
+      if (.not. present(t)) return
+      if (all(ieee_is_finite(t))) return
+    end if
+    do i = 1, n
+      call check_state(at(theta0, i), at(omega0, i), at(w0, i), status)
+      if (present(t)) call check_finite('t', at(t, i), status)
+      if (status%code /= PENDULA_OK) return
+    end do
+  end subroutine check_states
+
+  !> Properties of many states (theta0(i), omega0(i), w0(i)) at once, each only
+  !> when its output is present: period [s], amplitude [rad], the elliptic
+  !> parameter m and 1 - m, the regime code (see undamped_period etc.).  The
+  !> same numbers as undamped_init gives, from each state's elementary geometry
+  !> and, for the period, one K: no F, no plan, no motion kept.  The outputs
+  !> have one size n, each input n or 1 (one value for every state), and every
+  !> state must be valid: otherwise status names the argument of the first bad
+  !> state and the outputs are 0.
+  pure subroutine undamped_properties(theta0, omega0, w0, status, period, amplitude, m, mc, regime)
+    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    type(status_t), intent(out) :: status
+    real(wp), intent(out), optional :: period(:), amplitude(:), m(:), mc(:)
+    integer, intent(out), optional :: regime(:)
+    type(undamped_motion_t) :: motion
+    real(wp) :: th, om, w
+    integer :: i, n
+    logical :: bad
+    n = max(size(theta0), size(omega0), size(w0))
+    if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
+    bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
+    if (present(period)) bad = bad .or. size(period) /= n
+    if (present(amplitude)) bad = bad .or. size(amplitude) /= n
+    if (present(m)) bad = bad .or. size(m) /= n
+    if (present(mc)) bad = bad .or. size(mc) /= n
+    if (present(regime)) bad = bad .or. size(regime) /= n
+    if (bad) then
+      call set_error(status, PENDULA_ERR_SIZE, &
+          'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
+      return
+    end if
+    do i = 1, n
+      th = at(theta0, i)
+      om = at(omega0, i)
+      w = at(w0, i)
+      if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
+        ! checked here, not in a pass before: one read of the inputs
+        call check_state(th, om, w, status)
+        if (present(period)) period = 0
+        if (present(amplitude)) amplitude = 0
+        if (present(m)) m = 0
+        if (present(mc)) mc = 0
+        if (present(regime)) regime = 0
+        return
+      end if
+      call set_geometry(motion, th, om, w)
+      if (present(period)) then
+        call set_period(motion)
+        period(i) = motion%period
+      end if
+      if (present(amplitude)) amplitude(i) = motion_amplitude(motion)
+      if (present(m)) m(i) = motion%m
+      if (present(mc)) mc(i) = motion%mc
+      if (present(regime)) regime(i) = motion%regime
+    end do
+  end subroutine undamped_properties
+
+end module pendula_undamped_many
