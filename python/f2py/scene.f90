@@ -5,7 +5,7 @@
 ! in pendula_scene.
 
 subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass, has_b, &
-    w0, gamma, code, msg)
+    w0, gamma, w0lo, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: wp
   use pendula_status, only: status_t
@@ -15,31 +15,32 @@ subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass,
   !f2py threadsafe
   real(c_double), intent(in) :: g, length, gamma_in, mass, b
   integer(c_int), intent(in) :: has_gamma, has_mass, has_b
-  real(c_double), intent(out) :: w0, gamma
+  real(c_double), intent(out) :: w0, gamma, w0lo   ! w0lo: w0's rounding residual (scene_physics)
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
-  real(wp) :: w, gm
+  real(wp) :: w, gm, wl
   ! every combination of present arguments, so that scene_physics sees them as Fortran optionals
   if (has_gamma /= 0 .and. has_mass /= 0 .and. has_b /= 0) then
-    call scene_physics(g, length, w, gm, st, gamma_in=gamma_in, mass=mass, b=b)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, gamma_in=gamma_in, mass=mass, b=b)
   else if (has_gamma /= 0 .and. has_mass /= 0) then
-    call scene_physics(g, length, w, gm, st, gamma_in=gamma_in, mass=mass)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, gamma_in=gamma_in, mass=mass)
   else if (has_gamma /= 0 .and. has_b /= 0) then
-    call scene_physics(g, length, w, gm, st, gamma_in=gamma_in, b=b)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, gamma_in=gamma_in, b=b)
   else if (has_gamma /= 0) then
-    call scene_physics(g, length, w, gm, st, gamma_in=gamma_in)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, gamma_in=gamma_in)
   else if (has_mass /= 0 .and. has_b /= 0) then
-    call scene_physics(g, length, w, gm, st, mass=mass, b=b)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, mass=mass, b=b)
   else if (has_mass /= 0) then
-    call scene_physics(g, length, w, gm, st, mass=mass)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, mass=mass)
   else if (has_b /= 0) then
-    call scene_physics(g, length, w, gm, st, b=b)
+    call scene_physics(g, length, w, gm, st, w0lo=wl, b=b)
   else
-    call scene_physics(g, length, w, gm, st)
+    call scene_physics(g, length, w, gm, st, w0lo=wl)
   end if
   w0 = w
   gamma = gm
+  w0lo = wl
   code = st%code
   msg = st%message
 end subroutine scene_physics_f2py
@@ -81,7 +82,7 @@ end subroutine scene_event_bound_f2py
 ! (m from scene_event_bound_f2py), n_events the number found.  info: the
 ! numbers of the result, at the SCENE_INFO_* slots of pendula_scene_codes
 ! (ninfo = SCENE_INFO_SIZE, which Python reads from pendula/_codes.py).
-subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, fixed, setting, m, ninfo, &
+subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, m, ninfo, &
     max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
     info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
@@ -97,7 +98,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
   include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, want, model, fixed, m, ninfo
-  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, setting, max_steps
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, w0lo, gamma, tol, setting, max_steps
   integer(8), intent(inout) :: control(2)   ! int64 [cancel flag, progress] (pendula_control), in place
   integer(c_int), intent(out) :: nout, n_events, model_out
   real(c_double), intent(out) :: tout(n), theta(n), omega(n), energy(n)
@@ -132,7 +133,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, f
   code = st%code
   msg = st%message
   if (st%code /= PENDULA_OK) return
-  scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, tol=tol, want=int(want), &
+  scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
       model=merge(0, int(model), fixed /= 0), t=t)
   if (fixed /= 0) then
     call scene_run_model(scene, int(model), setting, res, st, control, budget)

@@ -133,7 +133,7 @@ class Scene:
         if want.strip().lower() not in WANT_CODES:
             raise ValueError(f"want = {want!r} is unknown: it must be one of {', '.join(WANTS)}")
         self.want = want.strip().lower()
-        w0, gam, code, msg = _scene.scene_physics_f2py(
+        w0, gam, w0lo, code, msg = _scene.scene_physics_f2py(
             self.g, self.length,
             0.0 if self.gamma_given is None else self.gamma_given,
             1.0 if self.mass is None else self.mass,
@@ -141,6 +141,9 @@ class Scene:
             int(self.gamma_given is not None), int(self.mass is not None), int(self.b is not None))
         raise_for_status(code, msg)
         self.w0 = float(w0)
+        # w0 = fl(sqrt(g/length)); the closed forms take the energy of the data
+        # as given (near the separatrix a half-ulp of w0 matters): its residual
+        self._w0lo = float(w0lo)
         self.gamma = float(gam)
         if t is None:
             if self.want != "period":
@@ -260,7 +263,7 @@ def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, c
     long = watched and _long_scene(scene, tt, model_code, float(setting))
     start = time.perf_counter()
     control = _longcall.new_control() if watched else control
-    args = (tt, scene.theta0, scene.omega0, scene.w0, scene.gamma, scene.tol, WANT_CODES[scene.want],
+    args = (tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol, WANT_CODES[scene.want],
             model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
     out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress if watched else None,
                         unit="step")

@@ -34,7 +34,9 @@
 !> (construction and rules), pendula_scene_estimates (model choice and error
 !> models), pendula_scene_closed (closed forms and their events),
 !> pendula_scene_integrated (RK4/CVODE runs and their verification),
-!> pendula_scene_events (event bound, Hermite events); this module is the
+!> pendula_scene_events (event bound, Hermite events), pendula_scene_handover
+!> (an integrator only until a damped motion has decayed, then the linear
+!> closed form); this module is the
 !> public face and the two entry points that run a scene.
 module pendula_scene
   use pendula_kinds, only: wp, i8
@@ -52,7 +54,8 @@ module pendula_scene
       get_budget, alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model
   use pendula_scene_closed, only: solve_closed
-  use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed
+  use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed, integrate
+  use pendula_scene_handover, only: solve_integrated
   use pendula_scene_events, only: scene_event_bound
   implicit none
   private
@@ -107,10 +110,8 @@ contains
     select case (model)
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)
       call solve_closed(scene, model, est, result, status)
-    case (SCENE_MODEL_RK4)
-      call solve_rk4(scene, tend, budget, result, status, control)
-    case (SCENE_MODEL_CVODE)
-      call solve_cvode(scene, tend, budget, result, status, control)
+    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
+      call solve_integrated(scene, model, tend, budget, why, result, status, control)
     end select
     call check_event_count(scene, tend, result, status)
     if (status%code /= PENDULA_OK) return

@@ -46,7 +46,7 @@ contains
     if (model == SCENE_MODEL_LINEAR) then
       call linear_damped_init(cf%lin, scene%theta0, scene%omega0, scene%w0, scene%gamma, status)
     else
-      call undamped_init(cf%motion, scene%theta0, scene%omega0, scene%w0, status)
+      call undamped_init(cf%motion, scene%theta0, scene%omega0, scene%w0, status, w0lo=scene%w0lo)
     end if
   end subroutine closed_init
 

@@ -23,7 +23,7 @@ module pendula_scene_estimates
   implicit none
   private
 
-  public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding
+  public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
   !> Safety factor on the a priori nonlinearity estimate of the linear model
@@ -63,7 +63,7 @@ contains
     select case (model)
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT)
       if (scene%gamma > 0) return
-      call undamped_init(motion, scene%theta0, scene%omega0, scene%w0, status)
+      call undamped_init(motion, scene%theta0, scene%omega0, scene%w0, status, w0lo=scene%w0lo)
       if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_SMALL_ANGLE) then
         call small_angle_bound(motion, tend, dth, dom)
@@ -318,14 +318,16 @@ contains
   !> with C = 1/120 for the harmonic oscillator (the phase error of one step is
   !> (w0 h)^5/120), doubled for the nonlinear pendulum.  With damping the error
   !> stops growing once the motion has decayed below tol, so T_eff is the
-  !> window or the time the slowest mode needs to decay from A to tol.  The
+  !> window or the time the slowest mode needs to decay from A to tol.  A is
+  !> the swing |theta0 mod 2 pi| + |Omega0|/w0 (capped at 2 pi), not |theta0|.  The
   !> a posteriori check (run at 2h) catches what this misjudges.
   pure real(wp) function rk4_apriori_step(scene, tend) result(h)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
     real(wp) :: a, teff, c, slow, half
-    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
-    a = min(a, 2 * pi)
+    ! the motion's size, not the raw angle: theta0 + 2 pi k is the same motion
+    a = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
+    a = min(max(a, 1.0e-3_wp), 2 * pi)
     teff = tend
     if (scene%gamma > 0) then
       half = scene%gamma / 2

@@ -8,6 +8,7 @@ module pendula_scene_setup
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
       check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
   use pendula_physics, only: natural_frequency, damping_rate
+  use pendula_double_double, only: dd_div_d, dd_sqrt
   use pendula_undamped, only: pendulum_energy
   use pendula_integrators, only: cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
@@ -27,17 +28,22 @@ contains
   !> as mass [kg] > 0 and b [kg/s] >= 0 (gamma = b/m, eq. 2.1), or both when
   !> they agree to 1e-12 relative; none gives gamma = 0.  Errors name the
   !> argument: b without mass, mass without b, gamma and b/mass disagreeing.
-  pure subroutine scene_physics(g, length, w0, gamma, status, gamma_in, mass, b)
+  !> w0lo (optional): the rounding residual of w0, sqrt(g/l) - w0 to ~eps^2 w0
+  !> (0 where g/l leaves the double range), for scene_init.
+  pure subroutine scene_physics(g, length, w0, gamma, status, gamma_in, mass, b, w0lo)
     real(wp), intent(in) :: g, length
     real(wp), intent(out) :: w0, gamma
     type(status_t), intent(out) :: status
     real(wp), intent(in), optional :: gamma_in, mass, b
+    real(wp), intent(out), optional :: w0lo
     real(wp) :: gb
     type(status_t) :: st
     w0 = 0
     gamma = 0
+    if (present(w0lo)) w0lo = 0
     call natural_frequency(g, length, w0, status)
     if (status%code /= PENDULA_OK) return
+    if (present(w0lo)) w0lo = w0_residual(g, length, w0)
     if (present(gamma_in)) then
       call check_nonnegative('gamma', gamma_in, status)
       if (status%code /= PENDULA_OK) return
@@ -70,25 +76,47 @@ contains
     end if
   end subroutine scene_physics
 
+  ! sqrt(g/l) - w0 from g/l and its root in double-double (w0 = fl(sqrt(g/l))
+  ! is off by up to half an ulp; near the separatrix that moves 1 - m by a
+  ! large fraction of itself).  0 where g/l would leave the normal range.
+  pure real(wp) function w0_residual(g, length, w0) result(lo)
+    real(wp), intent(in) :: g, length, w0
+    real(wp) :: rh, rl, sh, sl
+    lo = 0
+    if (abs(exponent(g) - exponent(length)) > 900 .or. abs(exponent(g)) > 900 .or. &
+        abs(exponent(length)) > 900) return
+    call dd_div_d(g, 0.0_wp, length, rh, rl)
+    call dd_sqrt(rh, rl, sh, sl)
+    lo = (sh - w0) + sl
+  end function w0_residual
+
   !> Build a scene.  theta0 [rad], omega0 [rad/s] finite (state at t = 0);
   !> t(:) [s] output times, finite, >= 0, strictly increasing, at least one
   !> (may be empty only for want = SCENE_WANT_PERIOD); w0 > 0, gamma >= 0
   !> [1/s]; tol > 0 [rad]; want one of SCENE_WANT_*; model (optional) one of
-  !> SCENE_MODEL_* (default AUTO).  On bad input status names the argument.
-  pure subroutine scene_init(scene, theta0, omega0, t, w0, gamma, tol, want, status, model)
+  !> SCENE_MODEL_* (default AUTO); w0lo (optional, default 0): w0's rounding
+  !> residual from scene_physics, |w0lo| <= eps w0, so that the closed forms
+  !> use the energy of the data g, l as given.  On bad input status names the argument.
+  pure subroutine scene_init(scene, theta0, omega0, t, w0, gamma, tol, want, status, model, w0lo)
     type(scene_t), intent(out) :: scene
     real(wp), intent(in) :: theta0, omega0, t(:), w0, gamma, tol
     integer, intent(in) :: want
     type(status_t), intent(out) :: status
     integer, intent(in), optional :: model
+    real(wp), intent(in), optional :: w0lo
     integer :: mdl
+    real(wp) :: lo
     mdl = SCENE_MODEL_AUTO
     if (present(model)) mdl = model
+    lo = 0
+    if (present(w0lo)) lo = w0lo
     call check_fields(theta0, omega0, t, w0, gamma, tol, want, mdl, status)
+    call check_w0lo(w0, lo, status)
     if (status%code /= PENDULA_OK) return
     scene%theta0 = theta0
     scene%omega0 = omega0
     scene%w0 = w0
+    scene%w0lo = lo
     scene%gamma = gamma
     scene%tol = tol
     scene%want = want
@@ -107,7 +135,18 @@ contains
     end if
     call check_fields(scene%theta0, scene%omega0, scene%t, scene%w0, scene%gamma, scene%tol, scene%want, &
         scene%model, status)
+    call check_w0lo(scene%w0, scene%w0lo, status)
   end subroutine check_scene
+
+  ! w0lo is a rounding residual: finite, |w0lo| <= eps w0.
+  pure subroutine check_w0lo(w0, w0lo, status)
+    real(wp), intent(in) :: w0, w0lo
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    if (.not. abs(w0lo) <= epsilon(w0) * w0) call set_error(status, PENDULA_ERR_DOMAIN, 'w0lo = ' // &
+        format_sci(w0lo, 4) // ' is out of range: the rounding residual of w0 must be within eps w0 = ' // &
+        format_sci(epsilon(w0) * w0, 4) // ' (from scene_physics; 0 when w0 is the datum)')
+  end subroutine check_w0lo
 
   ! The rules on a scene's fields (scene_init).
   pure subroutine check_fields(theta0, omega0, t, w0, gamma, tol, want, mdl, status)

@@ -16,6 +16,9 @@ module pendula_scene_types
     real(wp) :: theta0 = 0        !< initial angle [rad] at t = 0
     real(wp) :: omega0 = 0        !< initial angular velocity [rad/s] at t = 0
     real(wp) :: w0 = 1            !< natural frequency sqrt(g/l) [1/s]
+    !> Rounding residual of w0 [1/s] when it was rounded from g and l
+    !> (scene_physics): the data's frequency is w0 + w0lo; 0 when w0 is the datum.
+    real(wp) :: w0lo = 0
     real(wp) :: gamma = 0         !< damping rate b/m [1/s]
     real(wp) :: tol = 1.0e-6_wp   !< absolute tolerance on theta [rad] (Omega/w0 too)
     integer :: want = SCENE_WANT_STATE

@@ -188,7 +188,7 @@ contains
   !> w0 = sqrt(g/l) [1/s]: theta0, Omega0 finite, w0 finite and > 0 (otherwise
   !> status names the argument and `motion` is the resting pendulum).
   !> Cost: one K, one F and one Jacobi plan (~ a few hundred ns).
-  pure subroutine undamped_init(motion, theta0, omega0, w0, status, plan)
+  pure subroutine undamped_init(motion, theta0, omega0, w0, status, plan, w0lo)
     type(undamped_motion_t), intent(out) :: motion
     real(wp), intent(in) :: theta0, omega0, w0
     type(status_t), intent(out) :: status
@@ -197,6 +197,12 @@ contains
     !> (ellipjm1), for states evaluated at fewer than UNDAMPED_PLAN_MIN_TIMES
     !> times or only queried.  Both give the same accuracy.
     logical, intent(in), optional :: plan
+    !> The rounding residual of w0 when w0 is itself rounded from the data
+    !> (w0 = fl(sqrt(g/l)): the data's frequency is w0 + w0lo, |w0lo| <= ulp(w0)).
+    !> Near the separatrix 1 - m is ill-conditioned in w0 (a relative 4e-17
+    !> moved it by 0.25 %), so it is formed for w0 + w0lo; the time scale, whose
+    !> rounding costs only ~eps w0 t of phase, stays w0.  Default 0.
+    real(wp), intent(in), optional :: w0lo
     logical :: want_plan
 
     call check_state(theta0, omega0, w0, status)
@@ -206,7 +212,7 @@ contains
       motion%period = 2 * pi
       return
     end if
-    call set_geometry(motion, theta0, omega0, w0)
+    call set_geometry(motion, theta0, omega0, w0, w0lo)
     call set_period(motion)
     motion%amplitude = motion_amplitude(motion)
     if (motion%free) return
@@ -238,9 +244,10 @@ contains
   !> period, amplitude, the phases u0, v0 and the plan unset (period = 0): a
   !> light motion evaluates at moderate t without them (undamped_eval needs
   !> the period only beyond |rate t| ~ 5e11).
-  pure subroutine set_geometry(motion, theta0, omega0, w0)
+  pure subroutine set_geometry(motion, theta0, omega0, w0, w0lo)
     type(undamped_motion_t), intent(out) :: motion
     real(wp), intent(in) :: theta0, omega0, w0
+    real(wp), intent(in), optional :: w0lo   ! see undamped_init
     real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
 
     motion%theta0 = theta0
@@ -297,6 +304,8 @@ contains
       call two_prod(w2, w0, p, e)
       qlo = 0.5_wp * (((omega0 - p) - e) / w0)
     end if
+    ! Omega0/(2 (w0 + w0lo)) = q (1 - w0lo/w0) + O(eps^2 q)
+    if (present(w0lo)) qlo = qlo - q * (w0lo / w0)
     motion%m = sh * sh + q * q
     motion%k = sqrt(motion%m)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double

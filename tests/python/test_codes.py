@@ -164,7 +164,7 @@ def test_events_come_from_one_solve(monkeypatch, gamma, model):
     real = scene_mod._scene.scene_solve_f2py
 
     def counted(*args):
-        calls.append(args[10])   # m, the event slots
+        calls.append(args[11])   # m, the event slots
         return real(*args)
 
     monkeypatch.setattr(scene_mod._scene, "scene_solve_f2py", counted)

@@ -45,10 +45,11 @@ _CHILD = textwrap.dedent("""
             r = pendula.cvode(t, np.linspace(0.0, 1.0, 4), 2.0, 1.4, 0.0, rtol=1e-12, atol=1e-14, threads=2)
         elif kind == "solve_batch":   # a pool of 2 threads over the scalar solve
             t = [0.0, 1e6] if long else [0.0, 100.0]
-            r = pendula.solve(pendula.Scene(np.linspace(0.5, 1.0, 4), t=t, gamma=0.1, tol=1e-10), threads=2)
+            # gamma = 1e-5: no decay to hand over to the linear form within 1e6 s
+            r = pendula.solve(pendula.Scene(np.linspace(0.5, 1.0, 4), t=t, gamma=1e-5, tol=1e-10), threads=2)
         elif kind == "solve":
             t = [0.0, 1e6] if long else [0.0, 100.0]
-            r = pendula.solve(pendula.Scene(1.0, t=t, gamma=0.1, tol=1e-10))
+            r = pendula.solve(pendula.Scene(1.0, t=t, gamma=1e-5, tol=1e-10))
         elif kind == "run_model":
             t = [0.0, 1e5] if long else [0.0, 10.0]
             r = pendula.run_model(pendula.Scene(1.0, t=t, gamma=0.1), "rk4", 1e-4)
@@ -186,8 +187,12 @@ def test_budgets_refuse_up_front():
         pendula.rk4([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, 0.05, max_steps=1000)
     assert pendula.rk4([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, 0.05, max_steps=2000).stats["steps"] == 2000
     if HAVE_CVODE:
+        # gamma = 1e-9: the swing never decays within the window, CVODE would need ~2e9 steps
         with pytest.raises(pendula.PendulaSolverError, match="shorten the window or raise max_steps"):
-            pendula.solve(pendula.Scene(1.0, t=[0.0, 1e9], gamma=0.1, tol=1e-10))
+            pendula.solve(pendula.Scene(1.0, t=[0.0, 1e9], gamma=1e-9, tol=1e-10))
+        # gamma = 0.1: the motion decays, the linear closed form takes over: answered at once
+        r = pendula.solve(pendula.Scene(1.0, t=[0.0, 1e9], gamma=0.1, tol=1e-10, want="final"))
+        assert r.tol_met and abs(r.theta) < 1e-10
     with pytest.raises(pendula.PendulaSolverError, match="raise max_steps"):
         pendula.solve(pendula.Scene(1.0, t=[0.0, 100.0], gamma=0.1, tol=1e-10), model="rk4", max_steps=1000)
     with pytest.raises(ValueError, match="raise max_steps"):

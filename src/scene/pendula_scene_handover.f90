@@ -1,0 +1,209 @@
+!> Integrated scenes, part by part: a damped motion that has decayed into the
+!> regime the linear closed form covers needs no integrator for the rest of
+!> the window.  The integrator (RK4 or CVODE, verified as in
+!> pendula_scene_integrated) runs over [0, ts] only; from its state at ts the
+!> linear damped closed form answers t > ts.  ts is predicted from the decay
+!> rate and the amplitude at which the linear model's nonlinearity estimate
+!> (linear_estimate) fits the tolerance, and checked a posteriori from the
+!> integrated state; a later ts is tried when the check fails.
+!>
+!> Error of the hand-over: after ts the answer differs from the pendulum by
+!> the linear model's nonlinearity from the true state at ts (linear_estimate
+!> from the integrated state), plus the integrator's error at ts carried by
+!> the linear equation.  That equation does not amplify: its energy
+!> Omega^2 + w0^2 theta^2 never grows (d/dt = -2 gamma Omega^2), so the
+!> carried error is at most sqrt(2) times the integrator's estimate (in
+!> max(|d theta|, |d Omega|/w0)).  Both are inside the reported estimate.
+module pendula_scene_handover
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci
+  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_constants, only: pi
+  use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
+  use pendula_control, only: CONTROL_SIZE
+  use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, &
+      SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t
+  use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_estimates, only: choose_model, linear_estimate
+  use pendula_scene_integrated, only: solve_rk4, solve_cvode
+  implicit none
+  private
+
+  public :: solve_integrated
+
+  !> A hand-over is tried only when it spares at least this part of the window.
+  real(wp), parameter :: MAX_PART = 0.75_wp
+  !> Hand-over points tried before integrating the whole window.
+  integer, parameter :: MAX_TRIES = 3
+
+contains
+
+  !> Answer a checked, damped or undamped scene with the integrator `model`
+  !> (RK4 or CVODE), handing over to the linear closed form once the motion
+  !> has decayed enough (gamma > 0; want state, theta, final or energy).  why:
+  !> the reason so far; the hand-over, when made, is appended.
+  subroutine solve_integrated(scene, model, tend, budget, why, result, status, control)
+    type(scene_t), intent(in) :: scene
+    integer, intent(in) :: model
+    real(wp), intent(in) :: tend, budget
+    character(len=:), allocatable, intent(inout) :: why
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t) :: sub
+    type(scene_result_t) :: part, fresh
+    type(scene_cost_t) :: spent
+    real(wp) :: ts, xs, vs, e1, elin, est, center
+    integer :: it, k, sub_model
+    if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
+        scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
+      ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
+      do it = 1, MAX_TRIES
+        if (.not. ts < MAX_PART * tend) exit
+        call sub_scene(scene, ts, sub, k)
+        part = fresh
+        sub_model = model
+        if (scene%model == SCENE_MODEL_AUTO) call pick_integrator(sub, ts, model, sub_model, status)
+        if (status%code /= PENDULA_OK) return
+        call run(sub, sub_model, ts, part)
+        if (status%code /= PENDULA_OK) return
+        call add_cost(spent, part%cost)
+        ! the linear model about the equilibrium the motion has settled to,
+        ! 2 pi k (to its rounding, eps |2 pi k|, added to its estimate)
+        center = 2 * pi * anint(part%theta(size(part%theta)) / (2 * pi))
+        xs = part%theta(size(part%theta)) - center
+        vs = part%omega(size(part%omega))
+        e1 = part%error_estimate
+        elin = linear_estimate(xs, vs, scene%w0, scene%gamma, tend - ts) + 2 * epsilon(1.0_wp) * abs(center)
+        est = max(e1, elin + sqrt(2.0_wp) * e1)
+        if (est <= scene%tol) then
+          call assemble(scene, part, k, ts, center, xs, vs, est, result)
+          call add_cost(spent, result%cost)
+          result%cost = spent
+          result%setting = part%setting
+          result%step = part%step
+          result%rtol = part%rtol
+          why = why // '; the motion has decayed by t = ' // format_sci(ts, 4) // ' s: ' // &
+              trim(merge('RK4  ', 'CVODE', sub_model == SCENE_MODEL_RK4)) // ' up to there, then the linear ' // &
+              'closed form from that state (nonlinearity ~' // format_sci(elin, 4) // ' rad, carried error ~' // &
+              format_sci(sqrt(2.0_wp) * e1, 4) // ' rad)'
+          return
+        end if
+        if (elin <= scene%tol / 4) exit   ! the integrator's part is what fails: no later ts helps
+        ts = ts + max(0.5_wp * ts, handover_time(xs, vs, scene%w0, scene%gamma, scene%tol, tend - ts))
+      end do
+    end if
+    call run(scene, model, tend, result)
+    call add_cost(result%cost, spent)
+  contains
+    subroutine run(sc, mdl, t_end, res)
+      type(scene_t), intent(in) :: sc
+      integer, intent(in) :: mdl
+      real(wp), intent(in) :: t_end
+      type(scene_result_t), intent(inout) :: res
+      if (mdl == SCENE_MODEL_RK4) then
+        call solve_rk4(sc, t_end, budget, res, status, control)
+      else
+        call solve_cvode(sc, t_end, budget, res, status, control)
+      end if
+    end subroutine run
+  end subroutine solve_integrated
+
+  ! The first part of the scene: the outputs before ts, then ts itself (or
+  ! ts alone for want = final), at tol/2; k of the scene's outputs lie before ts.
+  pure subroutine sub_scene(scene, ts, sub, k)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: ts
+    type(scene_t), intent(out) :: sub
+    integer, intent(out) :: k
+    sub = scene
+    sub%tol = scene%tol / 2
+    k = count(scene%t < ts)
+    if (scene%want == SCENE_WANT_FINAL) k = 0
+    sub%t = [scene%t(1:k), ts]
+    if (scene%want /= SCENE_WANT_FINAL) sub%want = SCENE_WANT_STATE
+  end subroutine sub_scene
+
+  ! The integrator for the part [0, ts] (the choice for the whole window may
+  ! have taken CVODE for a length RK4 now need not cover); a closed form is
+  ! not an option there (it was not for the whole window).
+  subroutine pick_integrator(sub, ts, model, sub_model, status)
+    type(scene_t), intent(in) :: sub
+    real(wp), intent(in) :: ts
+    integer, intent(in) :: model
+    integer, intent(out) :: sub_model
+    type(status_t), intent(inout) :: status
+    real(wp) :: e
+    character(len=:), allocatable :: w
+    call choose_model(sub, ts, sub_model, e, w, status)
+    if (sub_model /= SCENE_MODEL_RK4 .and. sub_model /= SCENE_MODEL_CVODE) sub_model = model
+  end subroutine pick_integrator
+
+  ! The answer from the integrated part (outputs 1..k, state at ts last) and
+  ! the linear closed form about center from (center + xs, vs) at ts for the
+  ! outputs after it.
+  pure subroutine assemble(scene, part, k, ts, center, xs, vs, est, result)
+    type(scene_t), intent(in) :: scene
+    type(scene_result_t), intent(in) :: part
+    integer, intent(in) :: k
+    real(wp), intent(in) :: ts, center, xs, vs, est
+    type(scene_result_t), intent(inout) :: result
+    type(linear_damped_t) :: lin
+    type(status_t) :: st
+    integer :: n
+    call alloc_outputs(scene, result)
+    n = size(result%t)
+    result%theta(1:k) = part%theta(1:k)
+    result%omega(1:k) = part%omega(1:k)
+    call linear_damped_init(lin, xs, vs, scene%w0, scene%gamma, st)
+    call linear_damped_state(lin, result%t(k+1:n) - ts, result%theta(k+1:n), result%omega(k+1:n))
+    result%theta(k+1:n) = result%theta(k+1:n) + center
+    result%cost%closed_form_evals = n - k
+    result%error_estimate = est
+    call finish_outputs(scene, result)
+  end subroutine assemble
+
+  pure subroutine add_cost(total, c)
+    type(scene_cost_t), intent(inout) :: total
+    type(scene_cost_t), intent(in) :: c
+    total%closed_form_evals = total%closed_form_evals + c%closed_form_evals
+    total%rhs_evals = total%rhs_evals + c%rhs_evals
+    total%steps = total%steps + c%steps
+    total%runs = total%runs + c%runs
+  end subroutine add_cost
+
+  ! Predicted time [s] after which the linear model's nonlinearity over the
+  ! rest of a window of length span fits tol/4, for a motion from (x0, v0):
+  ! a rotation first loses its excess energy (m decays at least like
+  ! e^(-gamma t) while it goes over the top), then the swing A decays at the
+  ! slowest rate of the linear modes down to the amplitude A_h where
+  ! linear_estimate (which grows like A^3) is tol/4.  A prediction only: the
+  ! integrated state at that time decides.
+  pure real(wp) function handover_time(x0, v0, w0, gamma, tol, span) result(ts)
+    real(wp), intent(in) :: x0, v0, w0, gamma, tol, span
+    real(wp), parameter :: AREF = 0.1_wp
+    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot
+    xr = abs(modulo(x0 + pi, 2 * pi) - pi)
+    msep = sin(xr / 2)**2 + (v0 / (2 * w0))**2
+    trot = 0
+    if (msep >= 1) trot = (1 + log(msep)) / gamma
+    a0 = min(xr + abs(v0) / w0, pi)
+    if (msep >= 1) a0 = pi
+    half = gamma / 2
+    if (half > w0) then
+      rate = w0**2 / (half + sqrt(half - w0) * sqrt(half + w0))
+    else
+      rate = half
+    end if
+    eref = linear_estimate(AREF, 0.0_wp, w0, gamma, span)
+    if (.not. eref > 0) then
+      ts = 0
+      return
+    end if
+    ah = 0.8_wp * AREF * (0.25_wp * tol / eref)**(1.0_wp / 3)
+    ts = trot + max(0.0_wp, log(a0 / ah)) / rate
+    ts = max(ts, 1 / max(w0, gamma))
+  end function handover_time
+
+end module pendula_scene_handover
