@@ -40,7 +40,7 @@ import scene_reference as ref
 import pendula
 from pendula.integrate import TURNING_POINT, ZERO_CROSSING, rk4_max_stable_step
 
-REF_VERSION = 1
+REF_VERSION = 2   # 2: zero crossings are theta = 0 mod 2 pi
 HAVE_CVODE = pendula.scene.HAVE_CVODE
 
 

@@ -186,7 +186,8 @@ class Taylor:
     def solve(self, t, theta0, omega0, events=False, handover=True):
         """theta, omega at the (increasing, >= 0) times t as mpf lists; with events,
         also (times, kinds) of the turning points (kind 1, omega = 0) and the zero
-        crossings (kind 2, theta = 0) in (0, t[-1]]."""
+        crossings (kind 2, theta = 0 mod 2 pi: passes through the bottom, as pendula's
+        scenes count them) in (0, t[-1]]."""
         th, om = _fix(theta0), _fix(omega0)
         t_now = 0
         targets = [_fix(x) for x in t]
@@ -215,7 +216,11 @@ class Taylor:
                 i += 1
             if events:
                 ev.extend(_roots(_deriv(a), H, t_now, 1))
-                ev.extend(_roots(a, H, t_now, 2))
+                # zero crossings are passes through the bottom, theta = 0 mod 2 pi: the
+                # roots of theta - 2 pi k for every k the step's samples span
+                vals = [_horner(a, H * j // 16) for j in range(17)]
+                for k in range(min(vals) // self.two_pi, max(vals) // self.two_pi + 2):
+                    ev.extend(_roots([a[0] - k * self.two_pi] + list(a[1:]), H, t_now, 2))
             th, om = _horner(a, H), _horner(_deriv(a), H)
             t_now += H
         ev.sort()
