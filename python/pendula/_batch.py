@@ -17,7 +17,7 @@ import numpy as np
 from . import _fortran
 from ._arrays import as_real, broadcast_real, integer_arg
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
-from .integrate import _METHODS, _STAT_NAMES
+from .integrate import _METHODS, _STAT_NAMES, _grid
 
 
 @dataclass(frozen=True)
@@ -81,15 +81,6 @@ class CvodeBatchResult(BatchResult):
     method: str = "adams"
 
 
-
-
-def _grid(t):
-    tt = as_real(t, "t")
-    if tt.ndim != 1:
-        raise ValueError(f"t must be a 1-D array of output times, got an array of shape {tt.shape}")
-    if tt.size < 1:
-        raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
-    return tt
 
 
 def _control(control):

@@ -169,7 +169,7 @@ def test_agrees_with_scipy_where_scipy_is_right():
 
 
 def test_scipy_failures_fixed():
-    # scipy issue 8480: garbage for 1 - m <= 1e-10 and u >= 1.5 K
+    # a known SciPy defect: garbage for 1 - m <= 1e-10 and u >= 1.5 K
     p = 1e-12
     k = pendula.ellipkm1(p)
     sn, cn, dn, ph = pendula.ellipjm1(1.7 * k, p)
