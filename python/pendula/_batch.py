@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _fortran
-from ._arrays import as_real, broadcast_real, integer_arg
+from ._arrays import broadcast_real, integer_arg
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
 from .integrate import _METHODS, _STAT_NAMES, _grid
 
