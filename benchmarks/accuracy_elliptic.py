@@ -20,8 +20,8 @@ T = harness.load_test_module("test_elliptic")
 REGIONS = [  # (label, region in the data, selection on the parameter p passed)
     ("m < 0 (down to −1e10)", "mneg", None),
     ("0 ≤ m < 1 generic, \\|u\\| ≤ 12", "generic", None),
-    ("1 − m in [1e-10, 1e-3] (complement)", "near1", lambda p: p >= 1e-10),
-    ("1 − m < 1e-10, down to 5e-324 (complement)", "near1", lambda p: p < 1e-10),
+    ("1 − m in (1e-10, 1e-3] (complement)", "near1", lambda p: p > 1e-10),
+    ("1 − m ≤ 1e-10, down to 5e-324 (complement)", "near1", lambda p: p <= 1e-10),
     ("m = 1 − 10^−(3…15) passed as m", "near1m", None),
     ("m > 1 (up to 1e6)", "mgt1", None),
     ("\\|u\\| from 1e2 to 1e6 (m < 0, 0 ≤ m < 1, m > 1, 1 − m ≥ 1e-12)", "largeu", None),
