@@ -7,7 +7,6 @@ copied under fortran/ by tools/build_docs.sh and linked from fortran.md.
 """
 import os
 import pathlib
-import re
 import sys
 
 from sphinx.util import logging
@@ -16,6 +15,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tools"))
 
 import pendula  # noqa: E402  the installed (or staged) package being documented
+import docs_docstrings  # noqa: E402  tools/docs_docstrings.py
 
 logger = logging.getLogger("pendula.docs")
 
@@ -62,69 +62,17 @@ def _generate():
         docs_gallery.write_gallery_placeholder(HERE / "gallery")
 
 
-# Public names whose docstrings are not numpydoc yet: rendered as written (literal block)
-# instead of failing the build.  The same list drives tests/python/test_docstrings.py.
-PENDING = {ln.strip() for ln in (HERE / "numpydoc_pending.txt").read_text().splitlines()
-           if ln.strip() and not ln.lstrip().startswith("#")} \
-    if (HERE / "numpydoc_pending.txt").exists() else set()
-_LITERAL_DIRECTIVE = re.compile(r"^\s*\.\.\s+(math|code|code-block|sourcecode|literalinclude)::")
-_CODE_SPAN = re.compile(r"(``.+?``|`[^`]*`)")
-
-
-def _escape_bars(lines):
-    """Escape the | of absolute values (|x|, which reST reads as a substitution) in prose;
-    leave them alone where reST does not read markup: inline code and roles (`...`),
-    doctest blocks (>>> up to a blank line), literal blocks (after ::) and math/code
-    directive bodies, and table rows."""
-    literal_indent = None    # indent of the line that opened a literal block or directive
-    doctest = False
-    for i, line in enumerate(lines):
-        stripped = line.strip()
-        indent = len(line) - len(line.lstrip())
-        if literal_indent is not None:
-            if not stripped or indent > literal_indent:
-                continue
-            literal_indent = None
-        if doctest:
-            if stripped:
-                continue
-            doctest = False
-        if stripped.startswith(">>>"):
-            doctest = True
-            continue
-        if stripped.endswith("::") and (stripped == "::" or not stripped.startswith("..")
-                                        or _LITERAL_DIRECTIVE.match(line)):
-            literal_indent = indent
-        if "|" not in line or stripped.startswith(("+", "|", "=")):
-            continue
-        parts = _CODE_SPAN.split(line)
-        lines[i] = "".join(p if p.startswith("`") else p.replace("|", "\\|") for p in parts)
+# Public names whose docstrings are not numpydoc yet: shown as written instead of failing
+# the build.  The same list drives tests/python/test_docstrings.py.
+PENDING = docs_docstrings.read_pending(HERE / "numpydoc_pending.txt")
 
 
 def _numpydoc_or_pending(app, what, name, obj, options, lines):
-    """Check and prepare each docstring before numpydoc reads it.
-
-    A docstring with numpydoc sections gets its |x| escaped (see _escape_bars).  A public
-    function, class or method without sections fails the build (a warning; -W makes it an
-    error) unless docs/numpydoc_pending.txt lists it: those are shown as written, their
-    summary line and then the rest as a literal block (free-form text, aligned columns).
-    Data and attributes (constants, dataclass fields) and properties are documented by a
-    summary; they only get the escaping.
-    """
-    numpydoc_style = any(set(ln.strip()) == {"-"} and len(ln.strip()) >= 3 for ln in lines)
-    short = name[len("pendula."):] if name.startswith("pendula.") else name
-    if numpydoc_style or what not in ("function", "class", "method", "exception"):
-        _escape_bars(lines)
-        return
-    if short not in PENDING and not short.rpartition(".")[2].startswith("_"):
-        logger.warning("pendula.%s has no numpydoc sections (Parameters, Returns, Raises, "
-                       "Examples): write them (tests/python/test_docstrings.py lists what "
-                       "is missing)", short, location=name)
-    end = lines.index("") if "" in lines else len(lines)
-    lines[:end] = [ln.replace("|", "\\|") for ln in lines[:end]]
-    rest = lines[end + 1:]
-    if any(ln.strip() for ln in rest):
-        lines[end + 1:] = ["::", ""] + ["    " + ln for ln in rest]
+    """Escape |x| for reST before numpydoc reads a docstring; warn (with -W: fail) on a
+    public callable without numpydoc sections unless PENDING lists it."""
+    warning = docs_docstrings.prepare(what, name, lines, PENDING)
+    if warning:
+        logger.warning("%s", warning, location=name)
 
 
 def setup(app):

@@ -28,6 +28,7 @@ leave the list.
 """
 import ast
 import doctest
+import importlib.util
 import inspect
 import textwrap
 
@@ -59,12 +60,20 @@ CHECKS = {
 PENDING_FILE = ROOT / "docs" / "numpydoc_pending.txt"
 
 
+def _load_tool(name):
+    """tools/<name>.py as a module (the docs build's own code), loaded from its file."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+DOCS = _load_tool("docs_docstrings")
+
+
 def _pending():
     """Names (as in the test ids) whose docstrings are not numpydoc yet."""
-    if not PENDING_FILE.is_file():
-        return set()
-    return {ln.strip() for ln in PENDING_FILE.read_text().splitlines()
-            if ln.strip() and not ln.lstrip().startswith("#")}
+    return DOCS.read_pending(PENDING_FILE)
 
 
 def _is_constant(obj):
@@ -301,3 +310,27 @@ def test_checks_accept_a_teaching_docstring_and_reject_a_bare_one():
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     runner.run(test)
     assert runner.failures == 0 and runner.tries == 1
+
+
+def test_docs_build_escapes_absolute_values_only_in_prose():
+    """What the docs build does to a docstring before numpydoc reads it (docs/conf.py)."""
+    lines = ["Summary with |x|.", "", "Text |x - y| and ``|g|`` and :math:`|w_0|`.", "",
+             ".. math::", "", "    |w_0| > 0", "", "After |t|::", "", "    |literal|", "",
+             ">>> abs(-1)   # |x|", "1", "", "Parameters", "----------"]
+    assert DOCS.prepare("function", "pendula.f", lines, set()) is None
+    assert lines[0] == "Summary with \\|x\\|."
+    assert lines[2] == "Text \\|x - y\\| and ``|g|`` and :math:`|w_0|`."
+    assert lines[6] == "    |w_0| > 0" and lines[10] == "    |literal|"
+    assert lines[8] == "After \\|t\\|::"
+    assert lines[12] == ">>> abs(-1)   # |x|"
+
+
+def test_docs_build_warns_on_a_callable_without_sections_unless_pending():
+    bare = ["Summary |x|.", "", "free text", "  aligned |columns|"]
+    lines = list(bare)
+    assert "pendula.f has no numpydoc sections" in DOCS.prepare("function", "pendula.f", lines, set())
+    assert lines == ["Summary \\|x\\|.", "", "::", "", "    free text", "      aligned |columns|"]
+    assert DOCS.prepare("function", "pendula.f", list(bare), {"f"}) is None
+    assert DOCS.prepare("method", "pendula.C.m", list(bare), {"C.m"}) is None
+    assert DOCS.prepare("method", "pendula.C.__init__", list(bare), set()) is None
+    assert DOCS.prepare("data", "pendula.CONST", list(bare), set()) is None
