@@ -112,3 +112,14 @@ def write_gallery(gallery, examples):
     index += [s.stem for s in scripts] + ["```", ""]
     (gallery / "index.md").write_text("\n".join(index))
     print(f"docs gallery: {len(scripts)} examples run in {total:.1f} s")
+
+
+def write_gallery_placeholder(gallery):
+    """docs/gallery/index.md when the examples are not run (PENDULA_DOCS_GALLERY=skip): the
+    index the table of contents points to, saying so (pages of an earlier run are kept)."""
+    index = pathlib.Path(gallery) / "index.md"
+    if index.exists():
+        return
+    index.parent.mkdir(parents=True, exist_ok=True)
+    index.write_text("# Example gallery\n\nThis build skipped running the examples "
+                     "(`PENDULA_DOCS_GALLERY=skip`); the scripts are in `examples/python/`.\n")
