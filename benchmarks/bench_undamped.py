@@ -42,7 +42,7 @@ import scipy.special as sc
 import harness
 import pendula
 
-ref = harness.load_test_module("gen_undamped_reference")
+ref = harness.load_generator("gen_undamped_reference")
 
 
 def listing(t, theta0, w0):

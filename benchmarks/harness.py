@@ -1,7 +1,7 @@
 """What every benchmarks/bench_*.py shares: the command line (--quick, --out),
 best-of-N timing, interleaved timing of two contenders, Markdown tables and
-the CSV/Markdown files written with --out, and loading the tests' mpmath
-reference modules without editing sys.path.
+the CSV/Markdown files written with --out, and loading the mpmath reference
+generators of tools/gen without editing sys.path.
 
 A script in this folder imports it as ``import harness`` (Python puts the
 script's folder first on sys.path when it runs a script).
@@ -76,10 +76,10 @@ def write_outputs(out, stem, markdown, tables=()):
                 w.writerows(rows)
 
 
-def load_test_module(name):
-    """tests/python/<name>.py as a module (the mpmath references the tests use),
+def load_generator(name):
+    """tools/gen/<name>.py as a module (the mpmath references the tests use too),
     loaded from its file: no sys.path edit."""
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tests" / "python" / f"{name}.py")
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / "gen" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

@@ -5,14 +5,13 @@ The Python API pages are generated from pendula.__all__ and the docstrings
 which runs each examples/python/*.py in quick mode; the Fortran API is a FORD site
 copied under fortran/ by tools/build_docs.sh and linked from fortran.md.
 """
+import importlib.util
 import os
 import pathlib
-import sys
+
+import pendula  # the installed (or staged) package being documented
 
 HERE = pathlib.Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent / "tools"))
-
-import pendula  # noqa: E402  the installed (or staged) package being documented
 
 project = "pendula"
 author = "the pendula authors"
@@ -47,7 +46,10 @@ suppress_warnings = ["myst.header"]
 def _generate():
     """Write the generated pages.  Runs when this file is read, before Sphinx looks for
     source files: autosummary writes its stubs only for pages that exist by then."""
-    import docs_gallery  # tools/docs_gallery.py
+    # tools/docs_gallery.py, loaded from its file (tools/ is not a package)
+    spec = importlib.util.spec_from_file_location("docs_gallery", HERE.parent / "tools" / "docs_gallery.py")
+    docs_gallery = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(docs_gallery)
 
     docs_gallery.write_api_list(HERE / "api" / "index.rst")
     docs_gallery.write_ensembles_slot(HERE / "guide" / "ensembles.md", HERE / "ensembles.md")

@@ -1,5 +1,6 @@
 """Helpers shared by the Python test modules (imported as `helpers`; pytest
 puts this folder on sys.path because tests/python has no __init__.py)."""
+import importlib.util
 import os
 import pathlib
 import signal
@@ -14,6 +15,16 @@ import pendula
 
 #: The source tree (tests that read sources or data skip without it).
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def load_generator(name):
+    """tools/gen/<name>.py (a reference generator whose mpmath functions tests
+    reuse) as a module, loaded from its file: no sys.path edit."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / "gen" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
 
 #: Marks a test that reads the source tree.
 needs_source = pytest.mark.skipif(not (ROOT / "src").is_dir(), reason="needs the source tree")
