@@ -44,11 +44,7 @@ def cases(n, rng):
 
 def main(argv=None):
     ap = harness.parser(__doc__, "1e5 points, 3 repeats (a few seconds)", "also write elliptic_bench.md and .csv there")
-    ap.add_argument("--n", type=int, default=None, help="points per case (default 1e6)")
-    ap.add_argument("--repeat", type=int, default=None)
-    args = ap.parse_args(argv)
-    n = args.n or (100_000 if args.quick else 1_000_000)
-    repeat = args.repeat or (3 if args.quick else 7)
+    args, n, repeat = harness.parse_with_sizes(ap, argv, "points per case (default 1e6)")
     rng = np.random.default_rng(1)
     rows = []
     for _, fp, fs in cases(1000, rng):  # warm up (imports, plan code paths)

@@ -34,15 +34,13 @@ rows say so.  Times are best of --repeat runs.
 """
 from __future__ import annotations
 
-import argparse
 import os
-import pathlib
 import platform
-import time
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+import harness
 import pendula
 from pendula import _batch
 
@@ -55,18 +53,6 @@ FLOOR_NS = 3.3
 def scene(n, seed=2024):
     rng = np.random.default_rng(seed)
     return rng.uniform(-0.1, 0.1, n), rng.uniform(1.9, 2.1, n)
-
-
-def timed(fn, repeat):
-    """Best wall and CPU seconds of `repeat` runs, and the last result."""
-    best_w = best_c = float("inf")
-    out = None
-    for _ in range(repeat):
-        c0, w0 = time.process_time(), time.perf_counter()
-        out = fn()
-        best_w = min(best_w, time.perf_counter() - w0)
-        best_c = min(best_c, time.process_time() - c0)
-    return best_w, best_c, out
 
 
 # ---- contenders -----------------------------------------------------------
@@ -168,14 +154,10 @@ def numba_kernels():
 # ---- main -------------------------------------------------------------------
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="2,000 states, slow contenders on fewer (a few seconds)")
-    ap.add_argument("--n", type=int, default=0, help="states (default 10,000; --quick 2,000)")
-    ap.add_argument("--repeat", type=int, default=0, help="best of this many runs (default 3; --quick 2)")
-    ap.add_argument("--out", type=pathlib.Path, help="also write bench_ensembles.md here")
-    args = ap.parse_args(argv)
-    n = args.n or (2_000 if args.quick else 10_000)
-    repeat = args.repeat or (2 if args.quick else 3)
+    ap = harness.parser(__doc__, "2,000 states, slow contenders on fewer (a few seconds)",
+                        "also write bench_ensembles.md here")
+    args, n, repeat = harness.parse_with_sizes(ap, argv, "states (default 10,000; --quick 2,000)",
+                                               n=(2_000, 10_000), repeat=(2, 3))
     ncores = os.cpu_count() or 1
     th0, om0 = scene(n)
 
@@ -193,7 +175,7 @@ def main(argv=None):
     rows = []
 
     def add(name, fn, m, steps=STEPS, threads=1, rep=repeat):
-        w, c, theta = timed(lambda: fn(th0[:m], om0[:m]), rep)
+        w, c, _, theta = harness.best_run(lambda: fn(th0[:m], om0[:m]), rep)
         err = float(np.abs(theta - ref[:m]).max())
         rows.append(dict(name=name, n=m, threads=threads, wall=w, cpu=c, sps=m / w, sps_core=m / c,
                          ns_step=(c / (m * steps) * 1e9) if steps else float("nan"), err=err))
@@ -246,9 +228,7 @@ def main(argv=None):
     text = "\n".join(lines + [""] + ["- " + r for r in ratios])
     print()
     print(text)
-    if args.out:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "bench_ensembles.md").write_text(text + "\n")
+    harness.write_outputs(args.out, "bench_ensembles", text)
 
 
 if __name__ == "__main__":

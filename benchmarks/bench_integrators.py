@@ -22,10 +22,7 @@ arrays are traced) -- memory grows with the outputs only.
 
     python3 benchmarks/bench_integrators.py [--quick] [--out DIR]
 """
-import argparse
-import csv
 import math
-import pathlib
 import sys
 import time
 import tracemalloc
@@ -33,6 +30,7 @@ import tracemalloc
 import numpy as np
 from scipy.integrate import solve_ivp
 
+import harness
 import pendula
 from pendula.textbook import text_listing_rk4
 
@@ -49,33 +47,12 @@ def reference():
     sol = solve_ivp(lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])], (0, 30), [0.0, 2.0],
                     method="DOP853", rtol=1e-13, atol=1e-15, t_eval=T)
     ref = sol.y[0]
-    table = pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "integrators_reference.csv"
+    table = harness.ROOT / "tests" / "data" / "integrators_reference.csv"
     if table.exists():
         rows = [ln.split(",") for ln in table.read_text().splitlines()[2:] if ln.startswith("0.01,")]
         got = max(abs(ref[int(round(float(r[2]) / 0.05))] - float(r[3])) for r in rows)
         print(f"reference: DOP853 rtol 1e-13, max deviation from the mpmath table {got:.1e} rad")
     return ref
-
-
-def timeit(fn, budget):
-    """Best CPU time of fn() over repeats filling about `budget` seconds (>= 3 runs).
-
-    CPU time of this process (time.process_time), not wall time: on a shared
-    machine the wall clock also counts the time the process waits for a core.
-    Every method timed here is single-threaded."""
-    best = math.inf
-    spent = 0.0
-    runs = 0
-    while runs < 3 or spent < budget:
-        t0 = time.process_time()
-        fn()
-        dt = time.process_time() - t0
-        best = min(best, dt)
-        spent += dt
-        runs += 1
-        if runs >= 200:
-            break
-    return best
 
 
 def printed_listing(h, tf=30.0):
@@ -84,6 +61,8 @@ def printed_listing(h, tf=30.0):
     Verbatim apart from line 67 (``m2 = m1 + h * k1 / 2.0``) and the loop over
     b, which is fixed at its first value; returns the theta list.
     """
+    # A deliberate verbatim copy of the text's listing (it is what is timed as
+    # "the text's loop"), so it is not shared with pendula.textbook's paraphrase.
     g = 9.8          # noqa: E221
     l = 4.9          # noqa: E221,E741
     b = [0.01, 0.05]
@@ -189,10 +168,8 @@ def memory_run(periods):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="fewer targets, short timing, 1e4 periods")
-    ap.add_argument("--out", type=pathlib.Path, help="also write bench_integrators.md/.csv here")
-    a = ap.parse_args(argv)
+    a = harness.parser(__doc__, "fewer targets, short timing, 1e4 periods",
+                       "also write bench_integrators.md/.csv here").parse_args(argv)
     budget = 0.05 if a.quick else 0.5
     targets = [1e-5] if a.quick else [1e-4, 1e-5, 1e-7, 1e-9]
     ref = reference()
@@ -208,7 +185,9 @@ def main(argv=None):
                 rows.append(dict(target=target, method=name, setting="not reached", error="", ns_per_point="",
                                  vs_best_scipy="", vs_text_loop="", vs_paraphrase=""))
                 continue
-            wall = timeit(lambda fn=fn, s=s: fn(s), budget)
+            # CPU time of this process, not wall time: on a shared machine the wall
+            # clock also counts waiting for a core (every method here is single-threaded)
+            wall = harness.best_time(lambda fn=fn, s=s: fn(s), 3, clock=time.process_time, budget=budget)
             times[name] = wall
             rows.append(dict(target=target, method=name, setting=f"{kind}={s:.3g}", error=f"{err:.2e}",
                              ns_per_point=f"{wall / len(T) * 1e9:.0f}", wall=wall))
@@ -243,13 +222,8 @@ def main(argv=None):
     print("\nLong runs (gamma = 0, theta0 = 0, Omega0 = 2, RK4 h = 0.05 s, CVODE rtol 1e-8):\n")
     print(mtable)
 
-    if a.out:
-        a.out.mkdir(parents=True, exist_ok=True)
-        (a.out / "bench_integrators.md").write_text(table + "\n\n" + mtable + "\n")
-        with open(a.out / "bench_integrators.csv", "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=cols, extrasaction="ignore")
-            w.writeheader()
-            w.writerows(rows)
+    harness.write_outputs(a.out, "bench_integrators", table + "\n\n" + mtable,
+                          [(cols, [[r.get(c, "") for c in cols] for r in rows])])
     return 0
 
 

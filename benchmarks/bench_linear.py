@@ -16,16 +16,13 @@ Prints a table and, with --out, writes bench_linear.md and bench_linear.csv ther
 """
 from __future__ import annotations
 
-import argparse
-import csv
 import math
-import pathlib
 import platform
-import time
 
 import mpmath as mp
 import numpy as np
 
+import harness
 import pendula
 
 try:
@@ -100,20 +97,9 @@ def max_error(fn, t, th0, om0, w0, gamma):
     return worst
 
 
-def best_time(fn, repeats):
-    best = math.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (a few seconds)")
-    ap.add_argument("--out", type=pathlib.Path, help="also write bench_linear.md/.csv here")
-    args = ap.parse_args()
+def main(argv=None):
+    ap = harness.parser(__doc__, "small sizes, few repeats (a few seconds)", "also write bench_linear.md/.csv here")
+    args = ap.parse_args(argv)
     sizes = [1_000, 100_000] if args.quick else [1_000, 100_000, 1_000_000]
     repeats = 3 if args.quick else 7
     th0, om0 = 0.1, 0.5
@@ -129,12 +115,12 @@ def main():
         err_s = max_error(scipy_expm, sample, th0, om0, W0, gamma) if scipy else math.nan
         for n in sizes:
             t = np.linspace(0.0, tmax, n)
-            tp = best_time(lambda: pendula.linear_damped(t, th0, om0, W0, gamma), repeats)
-            tn = best_time(lambda: numpy_text(t, th0, om0, W0, gamma), repeats)
+            tp, tn = harness.best_times_interleaved([lambda: pendula.linear_damped(t, th0, om0, W0, gamma),
+                                                     lambda: numpy_text(t, th0, om0, W0, gamma)], repeats)
             ts = math.nan
             if scipy and n == sizes[0]:
                 ts_n = 200 if args.quick else n
-                ts = best_time(lambda: scipy_expm(t[:ts_n], th0, om0, W0, gamma), 2) * n / ts_n
+                ts = harness.best_time(lambda: scipy_expm(t[:ts_n], th0, om0, W0, gamma), 2) * n / ts_n
             rows.append(dict(regime=label, n=n,
                              pendula_ns=1e9 * tp / n, numpy_text_ns=1e9 * tn / n, scipy_expm_ns=1e9 * ts / n,
                              ratio_numpy=tn / tp, ratio_scipy=ts / tp,
@@ -144,26 +130,15 @@ def main():
     fmt = lambda r: [r["regime"], f"{r['n']:,}", f"{r['pendula_ns']:.1f}", f"{r['numpy_text_ns']:.1f}",  # noqa: E731
                      f"{r['scipy_expm_ns']:.0f}", f"{r['ratio_numpy']:.2f}", f"{r['ratio_scipy']:.0f}",
                      f"{r['err_pendula']:.3g}", f"{r['err_numpy_text']:.3g}", f"{r['err_scipy_expm']:.3g}"]
-    table = [head] + [fmt(r) for r in rows]
-    widths = [max(len(row[i]) for row in table) for i in range(len(head))]
-    print(f"pendula.linear_damped vs numpy (text formulas) and scipy.linalg.expm; "
-          f"{platform.machine()}, numpy {np.__version__}")
-    print("errors: max over a sample, vs mpmath, in eps * (|theta| + |Omega|/max(w0, gamma))")
-    for row in table:
-        print("  ".join(c.rjust(w) for c, w in zip(row, widths)))
-    if args.out:
-        args.out.mkdir(parents=True, exist_ok=True)
-        with open(args.out / "bench_linear.csv", "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-        with open(args.out / "bench_linear.md", "w") as f:
-            f.write("# pendula.linear_damped: speed and accuracy\n\n")
-            f.write("ns per point (best of repeats); ratios > 1 mean pendula is faster. Errors: max over "
-                    "a sample vs mpmath (50 digits), in eps * (|theta| + |Omega|/max(w0, gamma)).\n\n")
-            f.write("| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n")
-            for row in table[1:]:
-                f.write("| " + " | ".join(row) + " |\n")
+    text = "\n".join([
+        "# pendula.linear_damped: speed and accuracy", "",
+        f"pendula.linear_damped vs numpy (text formulas) and scipy.linalg.expm, this run; "
+        f"{platform.machine()}, numpy {np.__version__}.",
+        "ns per point (best of repeats); ratios > 1 mean pendula is faster. Errors: max over "
+        "a sample vs mpmath (50 digits), in eps * (|theta| + |Omega|/max(w0, gamma)).", "",
+        harness.markdown_table(head, [fmt(r) for r in rows])])
+    print(text)
+    harness.write_outputs(args.out, "bench_linear", text, [(list(rows[0]), [list(r.values()) for r in rows])])
 
 
 if __name__ == "__main__":

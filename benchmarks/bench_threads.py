@@ -17,16 +17,14 @@ writes bench_threads.md and bench_threads.csv there.
 """
 from __future__ import annotations
 
-import argparse
 import concurrent.futures as cf
-import csv
 import os
-import pathlib
 import platform
 import time
 
 import numpy as np
 
+import harness
 import pendula
 
 
@@ -90,21 +88,6 @@ def _workloads(n):
     return out
 
 
-def _best(fn, repeats):
-    """Best wall time of `repeats` runs, and the process CPU time / wall time of
-    that run: above 1 only if two threads computed at the same moment, which a
-    routine holding the GIL cannot do (a load-independent sign of the release)."""
-    best, par = float("inf"), 0.0
-    for _ in range(repeats):
-        c0 = time.process_time()
-        t0 = time.perf_counter()
-        fn()
-        dt = time.perf_counter() - t0
-        if dt < best:
-            best, par = dt, (time.process_time() - c0) / dt
-    return best, par
-
-
 def _python_progress(call):
     """Fraction of its free-running rate that a pure-Python counter thread keeps
     while `call` runs on another thread: ~1 when the GIL is released (given a
@@ -141,9 +124,8 @@ def _python_progress(call):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (a few seconds)")
-    ap.add_argument("--out", type=pathlib.Path, help="also write bench_threads.md/.csv into this folder")
+    ap = harness.parser(__doc__, "small sizes, few repeats (a few seconds)",
+                        "also write bench_threads.md/.csv into this folder")
     ap.add_argument("--threads", type=int, default=2, help="threads (and chunks); default 2")
     args = ap.parse_args(argv)
     n = 100_000 if args.quick else 1_000_000
@@ -172,8 +154,10 @@ def main(argv=None):
             def threaded():
                 list(pool.map(lambda c: c(), chunks))
 
-            ts, _ = _best(serial, repeats)
-            tt, par = _best(threaded, repeats)
+            # CPU/wall of the fastest threaded run: above 1 only if two threads computed at
+            # the same moment, which a routine holding the GIL cannot do (load-independent)
+            ts, _, _, _ = harness.best_run(serial, repeats)
+            tt, _, par, _ = harness.best_run(threaded, repeats)
             prog = _python_progress(serial)
             total = points * k
             rows.append(dict(entry=name, points=total, serial_ns=ts / total * 1e9,
@@ -185,25 +169,16 @@ def main(argv=None):
     head = (f"GIL release: {k} threads vs 1 on {cores} logical cores "
             f"({platform.processor() or platform.machine()}), best of {repeats}; "
             f"load average {load0:.1f} -> {load:.1f} (speed-ups need idle cores)")
-    print(head)
-    print(f"{'entry point':<22}{'points':>10}{'serial ns/pt':>14}{'threaded ns/pt':>16}{'speed-up':>10}"
-          f"{'cpu/wall':>10}{'py-thread':>11}")
-    for r in rows:
-        print(f"{r['entry']:<22}{r['points']:>10}{r['serial_ns']:>14.1f}{r['threaded_ns']:>16.1f}"
-              f"{r['speedup']:>10.2f}{r['cpu_per_wall']:>10.2f}{r['python_progress']:>10.0%}  {r['note']}")
-    if args.out:
-        args.out.mkdir(parents=True, exist_ok=True)
-        with open(args.out / "bench_threads.csv", "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0]) if rows else ["entry"])
-            w.writeheader()
-            w.writerows(rows)
-        with open(args.out / "bench_threads.md", "w") as f:
-            f.write(f"{head}\n\n| entry point | points | serial ns/point | threaded ns/point | speed-up "
-                    "| CPU/wall (threaded) | Python thread progress during the call |\n")
-            f.write("|---|---:|---:|---:|---:|---:|---:|\n")
-            for r in rows:
-                f.write(f"| {r['entry']} | {r['points']} | {r['serial_ns']:.1f} | {r['threaded_ns']:.1f} | "
-                        f"{r['speedup']:.2f} | {r['cpu_per_wall']:.2f} | {r['python_progress']:.0%} |\n")
+    table = harness.markdown_table(
+        ["entry point", "points", "serial ns/point", "threaded ns/point", "speed-up", "CPU/wall (threaded)",
+         "Python thread progress during the call"],
+        [(r["entry"], r["points"], f"{r['serial_ns']:.1f}", f"{r['threaded_ns']:.1f}", f"{r['speedup']:.2f}",
+          f"{r['cpu_per_wall']:.2f}", f"{r['python_progress']:.0%}") for r in rows])
+    notes = [f"{r['entry']}: {r['note']}" for r in rows if r["note"]]
+    text = "\n".join([head, "", table] + ([""] + notes if notes else []))
+    print(text)
+    fields = list(rows[0]) if rows else ["entry"]
+    harness.write_outputs(args.out, "bench_threads", text, [(fields, [list(r.values()) for r in rows])])
     return 0
 
 

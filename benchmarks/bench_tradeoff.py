@@ -24,7 +24,6 @@ tradeoff_summary.md; prints the summary.
 
     python3 benchmarks/bench_tradeoff.py [--quick] [--out DIR]
 """
-import argparse
 import csv
 import math
 import pathlib
@@ -33,6 +32,7 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
+import harness
 import pendula
 
 W0 = math.sqrt(9.8 / 4.9)
@@ -54,7 +54,7 @@ def scenes(quick):
     ]
 
 
-def scipy_rows(scene, ref, quick):
+def scipy_rows(scene, ref, quick, repeat):
     gamma, w0 = scene.gamma, scene.w0
     stiff = gamma > 20 * w0
     methods = ["Radau", "BDF", "LSODA"] if stiff else ["RK45", "DOP853", "LSODA"]
@@ -72,10 +72,10 @@ def scipy_rows(scene, ref, quick):
     for m in methods:
         for r in rtols:
             kw = {"jac": jac} if m in ("Radau", "BDF", "LSODA") else {}
-            t0 = time.perf_counter()
-            sol = solve_ivp(rhs, (0.0, t[-1]), [scene.theta0, scene.omega0], method=m, t_eval=t,
-                            rtol=r, atol=r * 1e-3, **kw)
-            wall = time.perf_counter() - t0
+            # best wall time of the same repeats as pendula.tradeoff's rows
+            wall, _, _, sol = harness.best_run(lambda m=m, r=r, kw=kw: solve_ivp(
+                rhs, (0.0, t[-1]), [scene.theta0, scene.omega0], method=m, t_eval=t, rtol=r, atol=r * 1e-3, **kw),
+                repeat)
             if sol.status != 0:
                 break
             err = max(np.max(np.abs(sol.y[0] - ref.theta)), np.max(np.abs(sol.y[1] - ref.omega)) / w0)
@@ -91,9 +91,7 @@ def auto_rows(name, scene_kw, t, ref, w0):
     out = []
     for tol in (1e-6, 1e-10):
         s = pendula.Scene(t=t, tol=tol, **scene_kw)
-        t0 = time.perf_counter()
-        r = pendula.solve(s)
-        wall = time.perf_counter() - t0
+        wall, _, _, r = harness.best_run(lambda s=s: pendula.solve(s), 1)
         err = max(np.max(np.abs(r.theta - ref.theta)), np.max(np.abs(r.omega - ref.omega)) / w0)
         out.append(dict(scene=name, tol=tol, model=r.model, estimate=r.error_estimate, true_error=float(err),
                         tol_met=r.tol_met, wall_time=wall, rhs_evals=r.cost["rhs_evals"],
@@ -112,11 +110,11 @@ def cheapest(rows, target):
     return best
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="fewer settings and shorter long run (a few s)")
-    ap.add_argument("--out", default="bench_tradeoff_out", help="output folder (CSV, PNG, markdown)")
-    args = ap.parse_args()
+def main(argv=None):
+    ap = harness.parser(__doc__, "fewer settings and shorter long run (a few s)",
+                        "output folder (CSV, PNG, markdown; default bench_tradeoff_out)")
+    ap.set_defaults(out=pathlib.Path("bench_tradeoff_out"))
+    args = ap.parse_args(argv)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     try:
@@ -137,7 +135,7 @@ def main():
         table = pendula.tradeoff(scene, repeat=repeat, max_steps=200_000 if args.quick else 2_000_000,
                                  cvode_rtols=[10.0 ** -k for k in range(3, 13, 3 if args.quick else 1)])
         ref = table.reference_result
-        rows = list(table.rows) + scipy_rows(table.scene, ref, args.quick)
+        rows = list(table.rows) + scipy_rows(table.scene, ref, args.quick, repeat)
         with open(out / f"{name}.csv", "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(table.COLUMNS), extrasaction="ignore")
             w.writeheader()
@@ -179,9 +177,8 @@ def main():
     for a in autos:
         md.append(f"| {a['scene']} | {a['tol']:g} | {a['model']} | {a['estimate']:.1e} | {a['true_error']:.1e} | "
                   f"{a['tol_met']} | {a['wall_time']:.2e} | {a['rhs_evals']} |")
-    md.append("")
     text = "\n".join(md)
-    (out / "tradeoff_summary.md").write_text(text)
+    harness.write_outputs(out, "tradeoff_summary", text)
     print()
     print(text)
     print(f"wrote {out.resolve()}/ (CSV, PNG, tradeoff_summary.md)")

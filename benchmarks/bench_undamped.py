@@ -42,7 +42,7 @@ import scipy.special as sc
 import harness
 import pendula
 
-ref = harness.load_test_module("gen_undamped_reference")
+ref = harness.load_generator("gen_undamped_reference")
 
 
 def listing(t, theta0, w0):
@@ -131,12 +131,8 @@ def accuracy_rows(npts):
 def main(argv=None):
     ap = harness.parser(__doc__, "1e5 points, 3 repeats, fewer reference points",
                         "also write undamped_bench.md and .csv there")
-    ap.add_argument("--n", type=int, default=None, help="times per state (default 1e6)")
     ap.add_argument("--states", type=int, default=None, help="distinct states for undamped (default 1e5)")
-    ap.add_argument("--repeat", type=int, default=None)
-    args = ap.parse_args(argv)
-    n = args.n or (100_000 if args.quick else 1_000_000)
-    repeat = args.repeat or (3 if args.quick else 7)
+    args, n, repeat = harness.parse_with_sizes(ap, argv, "times per state (default 1e6)")
     rng = np.random.default_rng(1)
     speed = speed_rows(n, repeat, rng)
     many, many_diff = many_state_rows(n, args.states or (20_000 if args.quick else 100_000), repeat, rng)

@@ -5,18 +5,26 @@ The Python API pages are generated from pendula.__all__ and the docstrings
 which runs each examples/python/*.py in quick mode; the Fortran API is a FORD site
 copied under fortran/ by tools/build_docs.sh and linked from fortran.md.
 """
+import importlib.util
 import os
 import pathlib
-import sys
+
+import pendula  # the installed (or staged) package being documented
 
 from sphinx.util import logging
 
 HERE = pathlib.Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent / "tools"))
 
-import pendula  # noqa: E402  the installed (or staged) package being documented
-import docs_docstrings  # noqa: E402  tools/docs_docstrings.py
 
+def _tool(name):
+    """A module of tools/ loaded from its file (tools/ is not a package; no sys.path edit)."""
+    spec = importlib.util.spec_from_file_location(name, HERE.parent / "tools" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+docs_docstrings = _tool("docs_docstrings")
 logger = logging.getLogger("pendula.docs")
 
 project = "pendula"
@@ -52,7 +60,7 @@ suppress_warnings = ["myst.header"]
 def _generate():
     """Write the generated pages.  Runs when this file is read, before Sphinx looks for
     source files: autosummary writes its stubs only for pages that exist by then."""
-    import docs_gallery  # tools/docs_gallery.py
+    docs_gallery = _tool("docs_gallery")
 
     docs_gallery.write_api_list(HERE / "api" / "index.rst")
     docs_gallery.write_ensembles_slot(HERE / "guide" / "ensembles.md", HERE / "ensembles.md")

@@ -98,7 +98,8 @@ def write_gallery(gallery, examples):
     """docs/gallery/: an index and one page per example script, each run afresh."""
     gallery = pathlib.Path(gallery)
     gallery.mkdir(parents=True, exist_ok=True)
-    scripts = sorted(p for p in pathlib.Path(examples).glob("*.py") if p.name not in SKIP)
+    # a leading underscore marks a module the examples share, not an example
+    scripts = sorted(p for p in pathlib.Path(examples).glob("*.py") if p.name not in SKIP and not p.name.startswith("_"))
     total = 0.0
     for script in scripts:
         out = gallery / "_out" / script.stem

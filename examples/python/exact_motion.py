@@ -7,12 +7,9 @@ generalised to any initial state).  For each state it prints theta [rad], Omega
 own expression (1.52), theta = 2 asin(k sn(K - w0 t | k^2)), against the library.
 Writes exact_motion.csv into --out.
 """
-import argparse
-import csv
-from pathlib import Path
-
 import numpy as np
 
+import _example_support
 import pendula
 
 STATES = [
@@ -22,6 +19,7 @@ STATES = [
     ("separatrix: theta0 = 0, Omega0 = 2 w0", 0.0, 2.0),
     ("rotation: theta0 = 0, Omega0 = 2.5 w0 (theta unwrapped)", 0.0, 2.5),
 ]
+COLUMNS = ["state", "theta0_rad", "omega0_rad_per_s", "t_s", "theta_rad", "omega_rad_per_s", "relative_energy_drift"]
 
 
 def energy(theta, omega, w0):
@@ -30,10 +28,7 @@ def energy(theta, omega, w0):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=".", help="folder for exact_motion.csv (default: .)")
-    ap.add_argument("--quick", action="store_true", help="accepted for symmetry with the other examples")
-    args = ap.parse_args(argv)
+    args = _example_support.parse_args(__doc__, "exact_motion.csv", argv)
 
     w0 = pendula.natural_frequency(9.8, 4.9)
     print(f"Undamped pendulum, w0 = {w0:.12f} 1/s (g = 9.8 m/s^2, l = 4.9 m)")
@@ -64,15 +59,7 @@ def main(argv=None):
     if worst > 1e-12:
         raise SystemExit("error: eq. 1.52 and the general solution disagree")
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / "exact_motion.csv"
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["state", "theta0_rad", "omega0_rad_per_s", "t_s", "theta_rad", "omega_rad_per_s",
-                    "relative_energy_drift"])
-        w.writerows(rows)
-    print(f"wrote {path}")
+    _example_support.write_csv(args.out, "exact_motion.csv", COLUMNS, rows)
 
 
 if __name__ == "__main__":

@@ -12,45 +12,26 @@ Mirrors examples/fortran/example_integrators.f90.
 3. Small amplitude with damping: both against the linear closed form.
 Writes integrators_comparison.csv into --out.
 """
-import argparse
-import csv
 import time
-from pathlib import Path
 
 import numpy as np
 
+import _example_support
 import pendula
+from pendula.textbook import text_listing_rk4
+
+COLUMNS = ["scenario", "b_kg_per_s", "gamma_per_s", "method", "max_theta_error_rad", "rhs_evals", "wall_time_s"]
 
 
 def text_listing(theta0, omega0, w0, gamma, h, t_out):
-    """The text's §2.2 listing as printed (with its line-67 typo), sampled at t_out.
+    """theta [rad] of the text's §2.2 listing as printed (with its line-67 typo) at
+    t_out (a uniform grid from 0 whose spacing is a multiple of h).
 
     Kept here only to show how far it drifts; pendula.rk4 is the correct method.
     """
     per_output = int(round((t_out[1] - t_out[0]) / h))
-    y, u = theta0, omega0
-    theta, omega = [y], [u]
-    for _ in t_out[1:]:
-        for _ in range(per_output):
-            m1 = u
-            k1 = -gamma * u - w0**2 * np.sin(y)
-            m2 = m1 * h * k1 / 2.0          # the typo: should be m1 + h * k1 / 2.0
-            k2 = -gamma * m2 - w0**2 * np.sin(y + h * m1 / 2.0)
-            m3 = m1 + h * k2 / 2.0
-            k3 = -gamma * m3 - w0**2 * np.sin(y + h * m2 / 2.0)
-            m4 = m1 + h * k3
-            k4 = -gamma * m4 - w0**2 * np.sin(y + h * m3)
-            y = y + h * (m1 + 2.0 * m2 + 2.0 * m3 + m4) / 6.0
-            u = u + h * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
-        theta.append(y)
-        omega.append(u)
-    return np.array(theta), np.array(omega)
-
-
-def reference(t, theta0, omega0, w0, gamma):
-    if pendula.build_info()["cvode"]:
-        return pendula.cvode(t, theta0, omega0, w0, gamma, rtol=1e-12, atol=1e-14, method="bdf").theta
-    return pendula.rk4(t, theta0, omega0, w0, gamma, 1e-4).theta
+    _, theta, _ = text_listing_rk4(t_out[-1], h, theta0, omega0, w0, gamma, typo=True)
+    return theta[::per_output][:len(t_out)]
 
 
 def timed(fn, *args, **kw):
@@ -60,10 +41,7 @@ def timed(fn, *args, **kw):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=".", help="folder for integrators_comparison.csv (default: .)")
-    ap.add_argument("--quick", action="store_true", help="accepted for symmetry with the other examples")
-    args = ap.parse_args(argv)
+    args = _example_support.parse_args(__doc__, "integrators_comparison.csv", argv)
 
     w0 = pendula.natural_frequency(9.8, 4.9)
     t = np.arange(31.0)
@@ -74,11 +52,10 @@ def main(argv=None):
     print("\n1. The text's scene, theta0 = 0, Omega0 = 2 rad/s, t in [0, 30] s: max |theta - reference| [rad]")
     print(f"{'b [kg/s]':>9} {'gamma [1/s]':>12} {'RK4 h=0.05':>12} {'CVODE Adams 1e-8':>17} "
           f"{'text listing':>13} {'RK4 rhs evals':>14} {'CVODE rhs evals':>16}")
-    for b in (0.01, 0.05):
-        gamma = pendula.damping_rate(b, 0.1)
-        ref = reference(t, 0.0, 2.0, w0, gamma)
+    for b, gamma in _example_support.text_damping():
+        ref, _ = _example_support.tight_reference(t, 0.0, 2.0, w0, gamma, method="bdf")
         rk, rk_s = timed(pendula.rk4, t, 0.0, 2.0, w0, gamma, 0.05)
-        txt, _ = text_listing(0.0, 2.0, w0, gamma, 0.05, t)
+        txt = text_listing(0.0, 2.0, w0, gamma, 0.05, t)
         e_rk = np.max(np.abs(rk.theta - ref))
         e_txt = np.max(np.abs(txt - ref))
         if cv:
@@ -110,15 +87,7 @@ def main(argv=None):
     rows += [["linear small amplitude", "", 0.5, "rk4 h=0.01", e_rk, "", ""],
              ["linear small amplitude", "", 0.5, "cvode adams rtol=1e-8", e_cv, "", ""]]
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / "integrators_comparison.csv"
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["scenario", "b_kg_per_s", "gamma_per_s", "method", "max_theta_error_rad", "rhs_evals",
-                    "wall_time_s"])
-        w.writerows(rows)
-    print(f"\nwrote {path}")
+    _example_support.write_csv(args.out, "integrators_comparison.csv", COLUMNS, rows)
 
 
 if __name__ == "__main__":

@@ -7,24 +7,20 @@ gamma = 0.5, 2, 3, 5 x w0 (under-, critically and over-damped; the text's figs
 regime numbers, then theta [rad] and Omega [rad/s] at a few times (s) for
 theta0 = 0.1 rad, Omega0 = 0, 0.5, -0.5 rad/s.  Writes linear_damping.csv into --out.
 """
-import argparse
-import csv
-from pathlib import Path
-
 import numpy as np
 
+import _example_support
 import pendula
 
 RATIOS = [0.5, 2.0, 3.0, 5.0]
 OMEGA0S = [0.0, 0.5, -0.5]
 TIMES = np.array([0.0, 0.5, 1.0, 2.0, 5.0])
+COLUMNS = ["gamma_over_w0", "gamma_per_s", "regime", "theta0_rad", "omega0_rad_per_s", "t_s", "theta_rad",
+           "omega_rad_per_s"]
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=".", help="folder for linear_damping.csv (default: .)")
-    ap.add_argument("--quick", action="store_true", help="accepted for symmetry with the other examples")
-    args = ap.parse_args(argv)
+    args = _example_support.parse_args(__doc__, "linear_damping.csv", argv)
 
     w0 = pendula.natural_frequency(9.8, 4.9)
     theta0 = 0.1
@@ -51,15 +47,7 @@ def main(argv=None):
         print(f"  gamma/(2 w0) - 1 = {eps:9.1e}  {pendula.damping_regime(w0, gamma).regime:>12}  "
               f"theta = {th:.15e} rad")
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / "linear_damping.csv"
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["gamma_over_w0", "gamma_per_s", "regime", "theta0_rad", "omega0_rad_per_s", "t_s",
-                    "theta_rad", "omega_rad_per_s"])
-        w.writerows(rows)
-    print(f"\nwrote {path}")
+    _example_support.write_csv(args.out, "linear_damping.csv", COLUMNS, rows)
 
 
 if __name__ == "__main__":

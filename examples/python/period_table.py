@@ -9,22 +9,18 @@ Kidd-Fogg T0/sqrt(cos(theta0/2)) and Lima-Arun -T0 ln(c)/(1 - c), c = cos(theta0
 then periods of states the text cannot handle (Omega0 != 0, rotation).
 Writes period_table.csv into --out.
 """
-import argparse
-import csv
-from pathlib import Path
-
 import numpy as np
 
+import _example_support
 import pendula
 
 DEGREES = [1, 5, 10, 20, 30, 45, 60, 90, 120, 150, 170, 179, 179.9, 179.999]
+COLUMNS = ["theta0_deg", "theta0_rad", "T_exact_s", "T0_small_angle_s", "T_small_angle_s", "T_series_s",
+           "T_kidd_fogg_s", "T_lima_arun_s"]
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=".", help="folder for period_table.csv (default: .)")
-    ap.add_argument("--quick", action="store_true", help="accepted for symmetry with the other examples")
-    args = ap.parse_args(argv)
+    args = _example_support.parse_args(__doc__, "period_table.csv", argv)
 
     w0 = pendula.natural_frequency(9.8, 4.9)
     t0 = pendula.small_angle_period(w0)
@@ -55,15 +51,7 @@ def main(argv=None):
         m = np.sin(th0 / 2) ** 2 + (om0 / (2 * w0)) ** 2
         print(f"{th0:14.10f} {om0:15.8f} {m:10.6f} {pendula.period(th0, om0, w0):28.16e}")
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / "period_table.csv"
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["theta0_deg", "theta0_rad", "T_exact_s", "T0_small_angle_s", "T_small_angle_s",
-                    "T_series_s", "T_kidd_fogg_s", "T_lima_arun_s"])
-        w.writerows(rows)
-    print(f"\nwrote {path}")
+    _example_support.write_csv(args.out, "period_table.csv", COLUMNS, rows)
 
 
 if __name__ == "__main__":

@@ -86,36 +86,40 @@ def _run(label, path, out_dir, extra, log_dir, timeout):
     return {"label": label, "ok": code == 0, "seconds": seconds, "new": new, "notes": notes, "log": log}
 
 
+def _integrator_highlights(rows):
+    by = {(r["scenario"], r["b_kg_per_s"], r["method"]): r for r in rows}
+    for b in ("0.01", "0.05"):
+        lst = float(by[("text scene", b, "text listing as printed h=0.05")]["max_theta_error_rad"])
+        rk4 = float(by[("text scene", b, "rk4 h=0.05")]["max_theta_error_rad"])
+        yield (f"| text §2.2 scene, b = {b} kg/s: max abs θ error, t = 0, 1, ..., 30 s | "
+               f"printed listing {lst:.3g} rad | pendula.rk4 (same h = 0.05 s) {rk4:.2g} rad |")
+
+
+def _scene_highlights(rows):
+    for r in rows:
+        yield (f"| scene: {r['scene']} (tol {float(r['tol_rad']):g} rad) | model {r['model']} | "
+               f"estimate {float(r['error_estimate_rad']):.2g}, true {float(r['true_error_rad']):.2g} rad |")
+
+
+def _period_highlights(rows):
+    for r in rows:
+        if r["theta0_deg"] in ("90", "179"):
+            t, t0 = float(r["T_exact_s"]), float(r["T0_small_angle_s"])
+            yield (f"| period at θ0 = {r['theta0_deg']}° | exact {t:.6f} s | "
+                   f"small-angle {t0:.6f} s ({(t0 - t) / t:+.1%}) |")
+
+
 def _highlights(out):
     """A few headline numbers read back from the tables (lines for the summary; empty if absent)."""
     import csv
     lines = []
-    try:
-        with open(out / "tables" / "integrators_comparison.csv", newline="") as fh:
-            rows = {(r["scenario"], r["b_kg_per_s"], r["method"]): r for r in csv.DictReader(fh)}
-        for b in ("0.01", "0.05"):
-            lst = float(rows[("text scene", b, "text listing as printed h=0.05")]["max_theta_error_rad"])
-            rk4 = float(rows[("text scene", b, "rk4 h=0.05")]["max_theta_error_rad"])
-            lines.append(f"| text §2.2 scene, b = {b} kg/s: max abs θ error, t = 0, 1, ..., 30 s | "
-                         f"printed listing {lst:.3g} rad | pendula.rk4 (same h = 0.05 s) {rk4:.2g} rad |")
-    except (OSError, KeyError, ValueError):
-        pass
-    try:
-        with open(out / "tables" / "scene_solver.csv", newline="") as fh:
-            for r in csv.DictReader(fh):
-                lines.append(f"| scene: {r['scene']} (tol {float(r['tol_rad']):g} rad) | model {r['model']} | "
-                             f"estimate {float(r['error_estimate_rad']):.2g}, true {float(r['true_error_rad']):.2g} rad |")
-    except (OSError, KeyError, ValueError):
-        pass
-    try:
-        with open(out / "tables" / "period_table.csv", newline="") as fh:
-            for r in csv.DictReader(fh):
-                if r["theta0_deg"] in ("90", "179"):
-                    t, t0 = float(r["T_exact_s"]), float(r["T0_small_angle_s"])
-                    lines.append(f"| period at θ0 = {r['theta0_deg']}° | exact {t:.6f} s | "
-                                 f"small-angle {t0:.6f} s ({(t0 - t) / t:+.1%}) |")
-    except (OSError, KeyError, ValueError):
-        pass
+    for table, highlights in (("integrators_comparison.csv", _integrator_highlights),
+                              ("scene_solver.csv", _scene_highlights), ("period_table.csv", _period_highlights)):
+        try:   # a missing or malformed table gives fewer lines, never a failure
+            with open(out / "tables" / table, newline="") as fh:
+                lines.extend(highlights(list(csv.DictReader(fh))))
+        except (OSError, KeyError, ValueError):
+            pass
     if lines:
         lines = ["| highlight | value | compared with |", "|---|---|---|"] + lines
     return lines

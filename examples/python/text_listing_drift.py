@@ -12,13 +12,11 @@ CVODE's events (zero crossings and turning points).
 
     python3 examples/python/text_listing_drift.py [--out DIR]   (writes text_listing_drift.csv)
 """
-import argparse
-import csv
 import math
-from pathlib import Path
 
 import numpy as np
 
+import _example_support
 import pendula
 from pendula.textbook import text_listing_rk4
 
@@ -26,30 +24,21 @@ W0 = pendula.natural_frequency(9.8, 4.9)
 T = np.arange(601) * 0.05
 
 
-def reference(gamma):
-    if pendula.build_info()["cvode"]:
-        return pendula.cvode(T, 0.0, 2.0, W0, gamma, rtol=1e-12, atol=1e-14, method="adams"), "CVODE rtol 1e-12"
-    return pendula.rk4(T, 0.0, 2.0, W0, gamma, 1e-4), "RK4 h = 1e-4 s"
-
-
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, help="directory for text_listing_drift.csv")
-    a = ap.parse_args()
+def main(argv=None):
+    a = _example_support.parse_args(__doc__, "text_listing_drift.csv", argv, default_out=None)
     rows = []
     print("sup over t in [0, 30] s of |theta - reference| [rad], h = 0.05 s")
     print(f"{'b [kg/s]':>9} {'listing as printed':>19} {'at t = 30 s':>12} {'listing fixed':>14} {'pendula.rk4':>12}"
           f"  {'first t with drift > 0.1 rad':>28}")
-    for b in (0.01, 0.05):
-        gamma = pendula.damping_rate(b, 0.1)
-        ref, ref_name = reference(gamma)
+    for b, gamma in _example_support.text_damping():
+        ref, ref_name = _example_support.tight_reference(T, 0.0, 2.0, W0, gamma)
         _, th_typo, _ = text_listing_rk4(30.0, 0.05, 0.0, 2.0, W0, gamma, typo=True)
         _, th_fix, _ = text_listing_rk4(30.0, 0.05, 0.0, 2.0, W0, gamma, typo=False)
         ours = pendula.rk4(T, 0.0, 2.0, W0, gamma, 0.05)
-        d_typo = np.abs(th_typo[:601] - ref.theta)
+        d_typo = np.abs(th_typo[:601] - ref)
         first = T[np.argmax(d_typo > 0.1)] if np.any(d_typo > 0.1) else float("nan")
         row = dict(b=b, gamma=gamma, reference=ref_name, printed_sup=d_typo.max(), printed_at_30=d_typo[-1],
-                   fixed_sup=np.abs(th_fix[:601] - ref.theta).max(), rk4_sup=np.abs(ours.theta - ref.theta).max(),
+                   fixed_sup=np.abs(th_fix[:601] - ref).max(), rk4_sup=np.abs(ours.theta - ref).max(),
                    first_t_over_0_1=first)
         rows.append(row)
         print(f"{b:9.2f} {row['printed_sup']:19.3f} {row['printed_at_30']:12.3f} {row['fixed_sup']:14.2e} "
@@ -69,11 +58,7 @@ def main():
         print("  log decrement per half swing ln|theta_k/theta_k+1|: "
               + " ".join(f"{math.log(abs(amp[k] / amp[k + 1])):.5f}" for k in range(min(7, len(amp) - 1))))
     if a.out:
-        a.out.mkdir(parents=True, exist_ok=True)
-        with open(a.out / "text_listing_drift.csv", "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
+        _example_support.write_csv(a.out, "text_listing_drift.csv", list(rows[0]), [list(r.values()) for r in rows])
 
 
 if __name__ == "__main__":

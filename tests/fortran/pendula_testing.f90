@@ -6,9 +6,10 @@
 module pendula_testing
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
   use pendula_kinds, only: wp
+  use pendula_status, only: status_t
   implicit none
   private
-  public :: checker_t, ulps_between
+  public :: checker_t, ulps_between, time_grid
 
   type :: checker_t
     integer :: passed = 0
@@ -17,6 +18,7 @@ module pendula_testing
     procedure :: check_true
     procedure :: check_close
     procedure :: check_ulps
+    procedure :: check_status
     procedure :: report
   end type checker_t
 
@@ -71,6 +73,26 @@ contains
         got, want, ' ulps =', u
     call self%check_true(u <= max_ulps, label)
   end subroutine check_ulps
+
+  !> A status with the given code whose message contains fragment (two checks:
+  !> the code, then the message, which the failure line prints).
+  subroutine check_status(self, st, code, fragment, label)
+    class(checker_t), intent(inout) :: self
+    type(status_t), intent(in) :: st
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: fragment, label
+    call self%check_true(st%code == code, 'code: ' // label)
+    call self%check_true(index(st%message, fragment) > 0, 'message: ' // label // ' -> ' // trim(st%message))
+  end subroutine check_status
+
+  !> n equally spaced times t0, t0 + dt, ..., t0 + (n - 1) dt [s] (each t0 + dt*i, no accumulation).
+  pure function time_grid(t0, dt, n) result(t)
+    real(wp), intent(in) :: t0, dt
+    integer, intent(in) :: n
+    real(wp) :: t(n)
+    integer :: i
+    t = [(t0 + dt * i, i = 0, n - 1)]
+  end function time_grid
 
   !> Print the closing line and exit non-zero on any failure.
   subroutine report(self, name)

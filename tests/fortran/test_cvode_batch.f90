@@ -17,14 +17,13 @@ program test_cvode_batch
   use pendula_ode, only: ode_stats_t, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
   use pendula_cvode, only: cvode_solve, cvode_available
   use pendula_cvode_batch, only: cvode_batch_solve
-  use pendula_testing, only: checker_t
+  use pendula_testing, only: checker_t, time_grid
   implicit none
   type(checker_t) :: tc
   integer, parameter :: nt = 121
   real(wp) :: t(nt)
-  integer :: i
 
-  t = [(0.25_wp * i, i = 0, nt - 1)]   ! 0 .. 30 s
+  t = time_grid(0.0_wp, 0.25_wp, nt)   ! 0 .. 30 s
   if (cvode_available()) then
     call test_identity()
     call test_shared_parameters()

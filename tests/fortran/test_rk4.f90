@@ -10,18 +10,10 @@ program test_rk4
   use pendula_rk4, only: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_eval
   use pendula_testing, only: checker_t
+  use pendula_test_data, only: w0 => text_w0, ref_th => text_ref_theta, ref_om => text_ref_omega
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   type(checker_t) :: tc
-  real(wp), parameter :: w0 = sqrt(9.8_wp / 4.9_wp)
-  ! mpmath.odefun, 30 digits (tests/data/integrators_reference.csv): theta, omega
-  ! at t = 10, 20, 30 for b = 0.01 (gamma = 0.1) and b = 0.05 (gamma = 0.5).
-  real(wp), parameter :: ref_th(3, 2) = reshape([ &
-      0.2400126145763811213858_wp, 0.5344712913225421240946_wp, 0.1179274468147600127087_wp, &
-      0.1000924483346291624116_wp, 0.007455571654278061090688_wp, -0.0004083907732093957465404_wp], [3, 2])
-  real(wp), parameter :: ref_om(3, 2) = reshape([ &
-      1.184454667053134559653_wp, 0.1191161960216510483342_wp, -0.4375926992513724250281_wp, &
-      0.07323844044153948735306_wp, -0.01125299113151889803706_wp, -0.0008961503710664712388837_wp], [3, 2])
 
   call test_order()
   call test_text_scenario()
@@ -182,35 +174,27 @@ contains
     real(wp), parameter :: t(3) = [0.0_wp, 1.0_wp, 2.0_wp]
     nan = ieee_value(1.0_wp, ieee_quiet_nan)
     call rk4_solve(t, 0.1_wp, 0.0_wp, w0, 0.1_wp, 0.0_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_DOMAIN, 'h = 0', 'h = 0')
+    call tc%check_status(st, PENDULA_ERR_DOMAIN, 'h = 0', 'h = 0')
     call rk4_solve(t, 0.1_wp, 0.0_wp, w0, 0.1_wp, -1.0_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_DOMAIN, 'h = -1', 'h < 0')
+    call tc%check_status(st, PENDULA_ERR_DOMAIN, 'h = -1', 'h < 0')
     call rk4_solve(t, 0.1_wp, 0.0_wp, w0, 0.1_wp, nan, th, om, s, st)
-    call expect(st, PENDULA_ERR_NONFINITE, 'h = NaN', 'h NaN')
+    call tc%check_status(st, PENDULA_ERR_NONFINITE, 'h = NaN', 'h NaN')
     call rk4_solve([0.0_wp, 1.0_wp, 1.0_wp], 0.1_wp, 0.0_wp, w0, 0.1_wp, 0.1_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_ORDER, 't must be strictly increasing', 't repeated')
+    call tc%check_status(st, PENDULA_ERR_ORDER, 't must be strictly increasing', 't repeated')
     call rk4_solve([0.0_wp, nan, 2.0_wp], 0.1_wp, 0.0_wp, w0, 0.1_wp, 0.1_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_NONFINITE, 't[1] = NaN', 't NaN')
+    call tc%check_status(st, PENDULA_ERR_NONFINITE, 't[1] = NaN', 't NaN')
     call rk4_solve(t, 0.1_wp, 0.0_wp, 0.0_wp, 0.1_wp, 0.1_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_DOMAIN, 'w0 = 0', 'w0 = 0')
+    call tc%check_status(st, PENDULA_ERR_DOMAIN, 'w0 = 0', 'w0 = 0')
     call rk4_solve(t, 0.1_wp, 0.0_wp, w0, -0.1_wp, 0.1_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_DOMAIN, 'gamma = -0.1', 'gamma < 0')
+    call tc%check_status(st, PENDULA_ERR_DOMAIN, 'gamma = -0.1', 'gamma < 0')
     call rk4_solve(t, nan, 0.0_wp, w0, 0.1_wp, 0.1_wp, th, om, s, st)
-    call expect(st, PENDULA_ERR_NONFINITE, 'theta0', 'theta0 NaN')
+    call tc%check_status(st, PENDULA_ERR_NONFINITE, 'theta0', 'theta0 NaN')
     call rk4_solve(t, 0.1_wp, 0.0_wp, w0, 0.1_wp, 0.1_wp, th2, om, s, st)
-    call expect(st, PENDULA_ERR_SIZE, 'theta has 2', 'theta size')
+    call tc%check_status(st, PENDULA_ERR_SIZE, 'theta has 2', 'theta size')
     call rk4_solve([0.0_wp, 1.0e300_wp], 0.1_wp, 0.0_wp, w0, 0.1_wp, 0.1_wp, th2, om(1:2), s, st)
-    call expect(st, PENDULA_ERR_DOMAIN, 'too small for the window', 'too many steps')
+    call tc%check_status(st, PENDULA_ERR_DOMAIN, 'too small for the window', 'too many steps')
     call rk4_max_stable_step(-1.0_wp, 0.1_wp, th(1), st)
-    call expect(st, PENDULA_ERR_DOMAIN, 'w0 = -1', 'max stable step w0 < 0')
+    call tc%check_status(st, PENDULA_ERR_DOMAIN, 'w0 = -1', 'max stable step w0 < 0')
   end subroutine test_bad_input
-
-  subroutine expect(st, code, fragment, label)
-    type(status_t), intent(in) :: st
-    integer, intent(in) :: code
-    character(len=*), intent(in) :: fragment, label
-    call tc%check_true(st%code == code, 'bad input code: ' // label)
-    call tc%check_true(index(st%message, fragment) > 0, 'bad input message: ' // label // ' -> ' // trim(st%message))
-  end subroutine expect
 
 end program test_rk4

@@ -13,14 +13,13 @@ program test_rk4_batch
   use pendula_ode, only: ode_stats_t
   use pendula_rk4, only: rk4_solve
   use pendula_rk4_batch, only: rk4_batch_solve, RK4_BATCH_LANES
-  use pendula_testing, only: checker_t
+  use pendula_testing, only: checker_t, time_grid
   implicit none
   type(checker_t) :: tc
   integer, parameter :: nt = 121
   real(wp) :: t(nt)
-  integer :: i
 
-  t = [(0.25_wp * i, i = 0, nt - 1)]   ! 0 .. 30 s
+  t = time_grid(0.0_wp, 0.25_wp, nt)   ! 0 .. 30 s
   call test_identity()
   call test_failures()
   call test_shared_parameters()

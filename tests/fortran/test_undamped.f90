@@ -1,6 +1,6 @@
 !> Undamped concern: exact motion, small-angle model and bound, equilibria.
 !> References: mpmath at 60 digits from the exact double inputs
-!> (tests/python/gen_undamped_reference.py), with the condition number
+!> (tools/gen/gen_undamped_reference.py), with the condition number
 !> cond = sum |x d(.)/dx| over theta0, Omega0, w0, t; required |error| <=
 !> 16 eps (cond + |ref|) and <= 1e-11 absolute.
 program test_undamped

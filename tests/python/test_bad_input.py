@@ -137,6 +137,19 @@ def _names_argument(msg, aname, spec):
     return False
 
 
+_RAISED = object()
+
+
+def _result_or_named_error(case, kwargs, spec):
+    """The call's result, or _RAISED when it raised a ValueError that names case.arg."""
+    try:
+        return _call(case.func, kwargs)
+    except ValueError as exc:
+        assert _names_argument(str(exc), case.arg, spec), \
+            f"{case.id}: message does not name {case.arg!r}: {exc}"
+    return _RAISED
+
+
 @pytest.mark.parametrize("case", ALL_CASES, ids=[c.id for c in ALL_CASES])
 def test_bad_input(case):
     entry = API[case.func]
@@ -156,12 +169,8 @@ def test_bad_input(case):
         assert np.isnan(arr[..., 1]).all() and np.isfinite(arr[..., 0]).all(), \
             f"{case.id}: NaN element must give NaN only there, got {result!r}"
     elif expect == "error-or-empty":
-        try:
-            result = _call(case.func, kwargs)
-        except ValueError as exc:
-            assert _names_argument(str(exc), case.arg, spec), \
-                f"{case.id}: message does not name {case.arg!r}: {exc}"
-        else:
+        result = _result_or_named_error(case, kwargs, spec)
+        if result is not _RAISED:
             vals = list(_walk_numbers(result))
             assert not vals or all(np.isfinite(v) for v in vals)
             parts = result if isinstance(result, tuple) else (result,)
@@ -174,12 +183,8 @@ def test_bad_input(case):
             assert any(a.size == 0 for a in arrs), \
                 f"{case.id}: empty input must give an empty result or ValueError, got {result!r}"
     elif expect == "error-or-defined":
-        try:
-            result = _call(case.func, kwargs)
-        except ValueError as exc:
-            assert _names_argument(str(exc), case.arg, spec), \
-                f"{case.id}: message does not name {case.arg!r}: {exc}"
-        else:
+        result = _result_or_named_error(case, kwargs, spec)
+        if result is not _RAISED:
             vals = list(_walk_numbers(result))
             assert vals and not any(v != v for v in vals), \
                 f"{case.id}: must raise ValueError or give a defined (non-NaN) value, got {result!r}"

@@ -11,17 +11,17 @@ damped scene is also checked against SciPy's DOP853 at rtol 1e-12.
 """
 import math
 import os
-import signal
 import threading
 import time
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 import pendula
+from helpers import (dop853_text_scene, finished_states_of_cancelled_batch, forked_child_exit_code,
+                     text_scene_ensemble)
 from pendula import _batch
-from pendula._errors import ERR_CANCELLED, ERR_DOMAIN, ERR_MAXSTEPS, ERR_NONFINITE, ERR_SOLVER, OK
+from pendula._errors import ERR_DOMAIN, ERR_MAXSTEPS, ERR_NONFINITE, ERR_SOLVER, OK
 
 pytestmark = pytest.mark.skipif(not pendula.have_cvode(), reason="this build has no CVODE")
 
@@ -176,12 +176,8 @@ def test_cancel_from_another_thread_keeps_finished_states():
     r = _batch.cvode_batch(t, th0, 2.0, W0, 0.1, rtol=1e-9, atol=1e-11, threads=1, control=control)
     elapsed = time.perf_counter() - t0
     timer.join()
-    assert r.code == ERR_CANCELLED and "cancelled" in r.message
-    done = r.codes == OK
-    assert ((r.codes == OK) | (r.codes == ERR_CANCELLED)).all()
-    assert 0 < done.sum() < n, "the flag should land mid-run"
-    assert control[1] == done.sum()                     # progress counts finished states
-    assert (r.theta[~done] == 0).all() and (r.steps[~done] == 0).all()
+    done = finished_states_of_cancelled_batch(r, n, control)
+    assert (r.steps[~done] == 0).all()
     for i in np.flatnonzero(done)[:: max(1, done.sum() // 5)]:
         assert np.array_equal(r.theta[i], pendula.cvode(t, th0[i], 2.0, W0, 0.1, rtol=1e-9, atol=1e-11).theta)
     assert elapsed < 5.0
@@ -195,15 +191,10 @@ def test_progress_counter_counts_every_state():
 
 def test_accuracy_of_the_text_scene_against_dop853():
     # an ensemble of the text's damped scene: every state within 1e-6 rad
-    rng = np.random.default_rng(11)
-    th0 = rng.uniform(-0.1, 0.1, 12)
-    om0 = rng.uniform(1.9, 2.1, 12)
-    t = np.linspace(0.0, 30.0, 601)
+    th0, om0, t = text_scene_ensemble(12)
     r = _batch.cvode_batch(t, th0, om0, W0, 0.1, rtol=1e-9, atol=1e-11)
     for i in range(12):
-        ref = solve_ivp(lambda _, y: [y[1], -0.1 * y[1] - 2.0 * np.sin(y[0])], (0, 30), [th0[i], om0[i]],
-                        method="DOP853", t_eval=t, rtol=1e-12, atol=1e-13)
-        assert np.abs(r.theta[i] - ref.y[0]).max() < 1e-6
+        assert np.abs(r.theta[i] - dop853_text_scene(t, th0[i], om0[i])).max() < 1e-6
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
@@ -211,15 +202,4 @@ def test_forked_child_after_threaded_parent_does_not_hang():
     # GNU OpenMP's thread pool does not survive fork: the child runs its
     # batch on one thread, with the same results bit for bit.
     th0 = np.linspace(-1, 1, 16)
-    r = _batch.cvode_batch(T, th0, 2.0, W0, 0.1, threads=2)
-    pid = os.fork()
-    if pid == 0:   # child: SIGALRM ends it if the call hangs
-        code = 1
-        try:
-            signal.alarm(20)
-            r2 = _batch.cvode_batch(T, th0, 2.0, W0, 0.1, threads=2)
-            code = 0 if np.array_equal(r2.theta, r.theta) else 3
-        finally:
-            os._exit(code)
-    _, status = os.waitpid(pid, 0)
-    assert os.waitstatus_to_exitcode(status) == 0
+    assert forked_child_exit_code(lambda: _batch.cvode_batch(T, th0, 2.0, W0, 0.1, threads=2)) == 0

@@ -10,7 +10,6 @@ answer of a fresh process bit for bit: no broken state.
 """
 import json
 import os
-import signal
 import subprocess
 import sys
 import textwrap
@@ -20,7 +19,7 @@ import numpy as np
 import pytest
 
 import pendula
-from helpers import HAVE_CVODE
+from helpers import HAVE_CVODE, interrupt_child
 from pendula._errors import ERR_CANCELLED
 
 _CHILD = textwrap.dedent("""
@@ -85,17 +84,8 @@ def _child(kind, mode):
 def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
     if kind.startswith("cvode") and not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
-    p = _child(kind, "long")
-    try:
-        assert p.stdout.readline().strip() == "started"
-        time.sleep(0.3)
-        sent = time.monotonic()
-        p.send_signal(signal.SIGINT)
-        out, err = p.communicate(timeout=60)
-    finally:
-        if p.poll() is None:
-            p.kill()
-    assert p.returncode == 0, err
+    sent, code, out, err = interrupt_child([_CHILD, kind, "long"], wait=0.3, timeout=60)
+    assert code == 0, err
     res = json.loads(out.strip().splitlines()[-1])
     assert "caught" in res, f"the long {kind} call was not interrupted: {res}"
     latency = res["caught"] - sent

@@ -175,9 +175,22 @@ def _fortran_program(tmp_path_factory, name, source):
     return exe
 
 
-@pytest.fixture(scope="module")
-def fortran_linear(tmp_path_factory):
-    return _fortran_program(tmp_path_factory, "fortran_linear", FORTRAN_LINEAR)
+def _program_fixture(name, source):
+    """A module-scoped fixture: the Fortran program `source` built once as `name`."""
+    @pytest.fixture(scope="module", name=name)
+    def fixture(tmp_path_factory):
+        return _fortran_program(tmp_path_factory, name, source)
+    return fixture
+
+
+def _run_program(exe, rows):
+    """Feed exe one line of numbers (repr, exact) per row; its output lines as a float array."""
+    lines = "\n".join(" ".join(repr(float(v)) for v in row) for row in rows)
+    out = subprocess.run([str(exe)], input=lines + "\n", capture_output=True, text=True, check=True).stdout
+    return np.array([[float(x) for x in line.split()] for line in out.split("\n") if line.strip()])
+
+
+fortran_linear = _program_fixture("fortran_linear", FORTRAN_LINEAR)
 
 
 def test_fortran_and_python_paths_agree_linear(fortran_linear):
@@ -189,10 +202,7 @@ def test_fortran_and_python_paths_agree_linear(fortran_linear):
     w0 = rng.uniform(0.1, 10, n)
     gamma = np.where(rng.random(n) < 0.2, 2 * w0, rng.uniform(0, 25, n))
     gamma[:10] = 0.0
-    lines = "\n".join(" ".join(repr(float(v)) for v in row) for row in zip(t, theta0, omega0, w0, gamma))
-    out = subprocess.run([str(fortran_linear)], input=lines + "\n", capture_output=True, text=True,
-                         check=True).stdout.split("\n")
-    f = np.array([[float(x) for x in line.split()] for line in out if line.strip()])
+    f = _run_program(fortran_linear, zip(t, theta0, omega0, w0, gamma))
     th, om = pendula.linear_damped(t, theta0, omega0, w0, gamma)
     # Same archive, same compiler: only the 17-digit decimal round trip
     # separates the paths, which is exact; allow 2 ulps for a different -O.
@@ -482,9 +492,7 @@ end program fortran_exact
 """
 
 
-@pytest.fixture(scope="module")
-def fortran_exact(tmp_path_factory):
-    return _fortran_program(tmp_path_factory, "fortran_exact", FORTRAN_EXACT)
+fortran_exact = _program_fixture("fortran_exact", FORTRAN_EXACT)
 
 
 def test_fortran_and_python_paths_agree_elliptic_and_undamped(fortran_exact):
@@ -497,11 +505,7 @@ def test_fortran_and_python_paths_agree_elliptic_and_undamped(fortran_exact):
     theta0 = rng.uniform(-7, 7, n)
     omega0 = rng.uniform(-6, 6, n)
     w0 = rng.uniform(0.2, 5, n)
-    rows = zip(u, m, t, theta0, omega0, w0)
-    lines = "\n".join(" ".join(repr(float(v)) for v in row) for row in rows)
-    out = subprocess.run([str(fortran_exact)], input=lines + "\n", capture_output=True, text=True,
-                         check=True).stdout.split("\n")
-    f = np.array([[float(x) for x in line.split()] for line in out if line.strip()])
+    f = _run_program(fortran_exact, zip(u, m, t, theta0, omega0, w0))
     py = np.array(pendula.ellipj(u, m)).T
     th, om = pendula.undamped(t, theta0, omega0, w0)
     # The Python API may take a different (vectorised) kernel than the
@@ -538,9 +542,7 @@ end program fortran_rk4
 """
 
 
-@pytest.fixture(scope="module")
-def fortran_rk4(tmp_path_factory):
-    return _fortran_program(tmp_path_factory, "fortran_rk4", FORTRAN_RK4)
+fortran_rk4 = _program_fixture("fortran_rk4", FORTRAN_RK4)
 
 
 def test_fortran_and_python_paths_agree_rk4(fortran_rk4):
@@ -556,8 +558,5 @@ def test_fortran_and_python_paths_agree_rk4(fortran_rk4):
         rows.append([theta0, omega0, w0, gamma, h, *t])
         r = pendula.rk4(t, theta0, omega0, w0, gamma, h)
         pys.append(np.concatenate([r.theta, r.omega]))
-    lines = "\n".join(" ".join(repr(float(v)) for v in row) for row in rows)
-    out = subprocess.run([str(fortran_rk4)], input=lines + "\n", capture_output=True, text=True,
-                         check=True).stdout.split("\n")
-    f = np.array([[float(x) for x in line.split()] for line in out if line.strip()])
+    f = _run_program(fortran_rk4, rows)
     np.testing.assert_array_equal(f, np.array(pys))

@@ -13,13 +13,12 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 
 import pendula
-from helpers import HAVE_CVODE
+from helpers import HAVE_CVODE, interrupt_child
 from pendula import _batch
 
 T = np.linspace(0.0, 20.0, 81)
@@ -132,16 +131,7 @@ _CHILD = textwrap.dedent("""
 
 
 def test_sigint_stops_a_local_sweep():
-    p = subprocess.Popen([sys.executable, "-c", _CHILD], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=dict(os.environ, PYTHONUNBUFFERED="1"))
-    try:
-        assert p.stdout.readline().strip() == "started"
-        time.sleep(0.5)
-        sent = time.monotonic()
-        p.send_signal(signal.SIGINT)
-        out, err = p.communicate(timeout=30)
-    finally:
-        p.kill()
+    sent, _, out, err = interrupt_child([_CHILD], wait=0.5, timeout=30)
     msg = json.loads(out.strip().splitlines()[-1])
     assert "caught" in msg, (out, err)
     assert msg["caught"] - sent < 2.0

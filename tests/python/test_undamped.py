@@ -1,7 +1,7 @@
 """The undamped pendulum in closed form: accuracy, invariants, special cases, API.
 
 References are INDEPENDENT of the library: mpmath at 60 digits from the exact
-double inputs (tests/python/gen_undamped_reference.py, whose closed form is
+double inputs (tools/gen/gen_undamped_reference.py, whose closed form is
 cross-checked there against a direct Taylor integration of the ODE), the
 text's own expressions (1.52) and (1.66) evaluated in mpmath, and invariants
 (energy, time reversal, turning points).
@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 import pendula
-import gen_undamped_reference as ref
+from helpers import load_generator
 
+ref = load_generator("gen_undamped_reference")   # the mpmath references and their table
 EPS = np.finfo(float).eps
 REGIME_CODES = {1: "libration", 2: "separatrix", 3: "rotation"}
 
