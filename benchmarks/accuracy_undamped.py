@@ -1,7 +1,7 @@
 """Accuracy of the undamped pendulum against mpmath: the tables of docs/guide/undamped.md.
 
 The reference is the tests' table (tests/data/undamped_reference.csv.gz, made by
-tests/python/gen_undamped_reference.py with mpmath at 60 digits from the exact double
+tools/gen/gen_undamped_reference.py with mpmath at 60 digits from the exact double
 inputs, with cond = sum |x d theta/dx| over x in theta0, Omega0, w0, t): per regime the
 worst and median |error| / (eps (cond + |value|)) of theta and Omega, through the light
 path (one state per call: ``undamped`` at one time) and the planned path (one state at
@@ -16,7 +16,7 @@ import numpy as np
 import harness
 import pendula
 
-REF = harness.load_test_module("gen_undamped_reference")
+REF = harness.load_generator("gen_undamped_reference")
 EPS = np.finfo(float).eps
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
 BANDS = [(0.0, 1e-12), (1e-12, 1e-9), (1e-9, 1e-6), (1e-6, 1e-4), (1e-4, 1.0), (1.0, np.inf)]

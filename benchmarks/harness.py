@@ -107,10 +107,19 @@ def write_outputs(out, stem, markdown, tables=()):
                 w.writerows(rows)
 
 
-def load_generator(name):
-    """tools/gen/<name>.py as a module (the mpmath references the tests use too),
-    loaded from its file: no sys.path edit."""
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / "gen" / f"{name}.py")
+def _load_file(name, folder):
+    """<folder>/<name>.py as a module, loaded from its file: no sys.path edit."""
+    spec = importlib.util.spec_from_file_location(name, folder / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def load_generator(name):
+    """tools/gen/<name>.py as a module (the mpmath references the tests use too)."""
+    return _load_file(name, ROOT / "tools" / "gen")
+
+
+def load_test_module(name):
+    """tests/python/<name>.py as a module (the mpmath references and error measures the tests use)."""
+    return _load_file(name, ROOT / "tests" / "python")
