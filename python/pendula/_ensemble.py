@@ -50,7 +50,7 @@ class BatchStatus:
         Returns
         -------
         numpy.ndarray
-            bool, shape batch_shape: codes == 0.
+            bool, shape batch_shape: True where the state's code is OK.
 
         Examples
         --------

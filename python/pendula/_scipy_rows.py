@@ -24,9 +24,11 @@ def methods(scipy, default_all):
         return list(SCIPY_METHODS)
     if scipy is False:
         return []
-    if isinstance(scipy, str) or not all(isinstance(m, str) for m in scipy):
-        raise ValueError(f"scipy = {scipy!r} must be True, False, None or a list of solve_ivp method names, "
-                         f"e.g. {list(SCIPY_METHODS[:2])}")
+    if isinstance(scipy, str):
+        raise ValueError(f"scipy = {scipy!r} must be a list of solve_ivp method names, e.g. [{scipy!r}]")
+    if not isinstance(scipy, (list, tuple)) or not all(isinstance(m, str) for m in scipy):
+        raise TypeError(f"scipy must be True, False, None or a list of solve_ivp method names "
+                        f"(e.g. {list(SCIPY_METHODS[:2])}), got {scipy!r}")
     bad = [m for m in scipy if m not in SCIPY_METHODS + ("BDF",)]
     if bad:
         raise ValueError(f"scipy methods {bad} are unknown: use some of {list(SCIPY_METHODS) + ['BDF']}")

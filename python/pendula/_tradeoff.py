@@ -316,7 +316,8 @@ def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv
         For a model that does not apply, bad settings or counts, csv/plot
         with a batch.
     TypeError
-        When scene is not a Scene.
+        When scene is not a Scene, or scipy is not None, a bool or a list
+        of method names.
     ImportError
         For ``scipy=True`` (or a list) without SciPy installed.
 

@@ -90,7 +90,7 @@ class SweepResult(_tables.Tabular):
         Returns
         -------
         numpy.ndarray
-            bool, the batch shape: codes == 0.
+            bool, the batch shape: True where the state's code is OK.
 
         Examples
         --------

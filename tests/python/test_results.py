@@ -235,8 +235,8 @@ def test_tradeoff_scipy_argument():
     assert plain.column("model") == ["exact"]
     some = pendula.tradeoff(scene, models=["exact"], repeat=1, scipy=["RK45"], scipy_rtols=[1e-3])
     assert some.column("model") == ["exact", "scipy RK45"]
-    for bad in ("RK45", ["Euler"], [1]):
-        with pytest.raises(ValueError, match="scipy"):
+    for bad, exc in (("RK45", ValueError), (["Euler"], ValueError), ([1], TypeError), (1, TypeError)):
+        with pytest.raises(exc, match="scipy"):
             pendula.tradeoff(scene, models=["exact"], repeat=1, scipy=bad)
     with pytest.raises(ValueError, match="scipy_rtols"):
         pendula.tradeoff(scene, models=["exact"], repeat=1, scipy=True, scipy_rtols=[0.0])
