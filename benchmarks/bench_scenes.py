@@ -120,7 +120,7 @@ def true_error(sc, res, r, w0):
         th = [mp.mpf(x) for x in r["theta"]]
         om = [mp.mpf(x) for x in r["omega"]]
         if want == "final":
-            return float(max(abs(mp.mpf(res.theta) - th[-1]), abs(mp.mpf(res.omega) - om[-1]) / w0))
+            return float(max(abs(mp.mpf(res.theta[-1]) - th[-1]), abs(mp.mpf(res.omega[-1]) - om[-1]) / w0))
         if want == "energy":
             e = np.atleast_1d(res.energy)
             if len(e) == 1 and len(th) > 1:

@@ -132,7 +132,7 @@ def main(argv=None):
     for name, kw, t in scenes(args.quick):
         scene = pendula.Scene(t=t, tol=1e-6, **kw)
         tstart = time.perf_counter()
-        table = pendula.tradeoff(scene, repeat=repeat, max_steps=200_000 if args.quick else 2_000_000,
+        table = pendula.tradeoff(scene, repeat=repeat, max_steps=200_000 if args.quick else 2_000_000, scipy=False,
                                  cvode_rtols=[10.0 ** -k for k in range(3, 13, 3 if args.quick else 1)])
         ref = table.reference_result
         rows = list(table.rows) + scipy_rows(table.scene, ref, args.quick, repeat)

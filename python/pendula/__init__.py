@@ -48,6 +48,15 @@ def build_info():
         packaged SUNDIALS 6.4.1 is not, and makes CVODE about 2.3x slower);
         ``compiler``: the Fortran compiler, meson's ``buildtype``,
         ``optimization`` and ``b_ndebug``, and pendula's own Fortran flags.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> info = pendula.build_info()
+    >>> sorted(info)
+    ['compiler', 'cvode', 'sundials', 'version']
+    >>> info["version"] == pendula.__version__
+    True
     """
     return {"version": __version__, "cvode": bool(_HAVE_CVODE),
             "sundials": dict(_config.SUNDIALS),
@@ -58,7 +67,20 @@ def build_info():
 def have_cvode():
     """True when this build includes the SUNDIALS CVODE integrator.
 
-    A thin alias of ``build_info()["cvode"]``, kept for existing code:
-    ``build_info()`` is the one way to ask what this build contains.
+    Returns
+    -------
+    bool
+        ``build_info()["cvode"]``.
+
+    Notes
+    -----
+    A thin alias kept for existing code: ``build_info()`` is the one way to
+    ask what this build contains.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> pendula.have_cvode() == pendula.build_info()["cvode"]
+    True
     """
     return build_info()["cvode"]

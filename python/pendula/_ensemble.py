@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _batch, _longcall, _pool
+from . import _batch, _longcall, _pool, _tables
 from ._errors import OK, raise_for_status
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma")
@@ -45,12 +45,36 @@ class BatchStatus:
 
     @property
     def ok(self):
-        """Boolean mask of the states that succeeded (shape batch_shape)."""
+        """Boolean mask of the states that succeeded.
+
+        Returns
+        -------
+        numpy.ndarray
+            bool, shape batch_shape: True where the state's code is OK.
+
+        Examples
+        --------
+        >>> import pendula
+        >>> pendula.rk4([0.0, 1.0], [0.1, 0.2], 0.0, 1.0, 0.0, h=0.1).ok.tolist()
+        [True, True]
+        """
         return self.codes == OK
 
     @property
     def shape(self):
-        """The batch shape."""
+        """The batch shape.
+
+        Returns
+        -------
+        tuple of int
+            The broadcast shape of the batch's state arguments.
+
+        Examples
+        --------
+        >>> import pendula
+        >>> pendula.rk4([0.0, 1.0], [[0.1], [0.2]], 0.0, [1.0, 2.0, 3.0], 0.0, h=0.1).shape
+        (2, 3)
+        """
         return self.codes.shape
 
 
@@ -66,20 +90,45 @@ def summary(codes, messages):
     return first, message
 
 
-@dataclass(frozen=True)
-class BatchIntegrationResult(BatchStatus):
-    """Result of ``rk4``/``cvode`` over a batch of states.
+@dataclass(frozen=True, repr=False)
+class BatchIntegrationResult(BatchStatus, _tables.Tabular):
+    """Result of ``rk4`` / ``cvode`` over a batch of states.
 
-    t: output times [s], shape (n_t,).  theta [rad], omega [rad/s]: shape
-    batch_shape + (n_t,); a failed state's rows are zero (CVODE: what it
-    reached before failing, zero after).  stats: dict of int64 arrays of shape
-    batch_shape (the keys of the scalar result's stats).  method: "rk4",
-    "adams" or "bdf".  codes: int64 status per state (0 = ok, see
-    ``pendula._codes``).  message: summary ('' when every state succeeded;
-    else the first failed state's index and the scalar call's message for
-    it, states numbered from 1 in C order).  first_failed: flat index of the
-    first failed state, or -1.  events: for ``cvode(..., events=True)``, an
-    object array of ``Events`` (None for a failed state), else None.
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Output times [s], shape (n_t,).
+    theta, omega : numpy.ndarray
+        [rad], [rad/s], shape batch_shape + (n_t,); a failed state's rows
+        are zero (CVODE: what it reached before failing, zero after).
+    stats : dict
+        int64 arrays of shape batch_shape (the keys of the scalar result's
+        stats).
+    method : str
+        "rk4", "adams" or "bdf".
+    codes : numpy.ndarray
+        int64 status per state (0 = ok, see ``pendula._codes``).
+    message : str
+        Summary ('' when every state succeeded; else the first failed
+        state's index and the scalar call's message for it, states numbered
+        from 1 in C order).
+    first_failed : int
+        Flat index of the first failed state, or -1.
+    events : numpy.ndarray, optional
+        For ``cvode(..., events=True)``, an object array of ``Events`` (None
+        for a failed state), else None.
+
+    Notes
+    -----
+    ``ok`` and ``shape`` come from the codes; ``repr`` is a few lines;
+    ``to_pandas`` / ``to_xarray`` convert.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> r = pendula.rk4([0.0, 1.0], [0.1, 0.2], 0.0, [1.0, 300.0], 0.0, h=0.1)
+    >>> r.ok.tolist(), r.first_failed
+    ([True, False], 1)
     """
     t: np.ndarray
     theta: np.ndarray
@@ -91,6 +140,18 @@ class BatchIntegrationResult(BatchStatus):
     first_failed: int
     events: np.ndarray = field(default=None)
 
+    def __repr__(self):
+        good = self.ok
+        steps = self.stats.get("steps")
+        return _tables.block("BatchIntegrationResult", [
+            f"method={self.method!r}, batch shape {self.shape}, " + _tables.series(self.t, {}),
+            _tables.series(None, {"theta": self.theta[good], "omega": self.omega[good]}) + " (states that succeeded)",
+            None if steps is None or not good.any() else f"steps per state in {_tables.span(steps[good])}",
+            _tables.codes_line(self.codes, self.message)])
+
+    def _table(self):
+        return dict(t=self.t, fields={"theta": self.theta, "omega": self.omega}, shape=self.shape,
+                    per_state={"code": self.codes}, attrs={"method": self.method})
 
 def _all_failed(codes, code, message):
     if codes.size and not (codes == OK).any():

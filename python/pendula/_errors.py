@@ -10,7 +10,30 @@ from ._codes import (OK, ERR_NONFINITE, ERR_DOMAIN, ERR_SIZE, ERR_ORDER, ERR_UNS
 
 
 class PendulaSolverError(RuntimeError):
-    """An integrator failed (CVODE error flag, step budget exhausted)."""
+    """An integrator failed: a CVODE error flag, or a step budget exhausted.
+
+    A ``RuntimeError``; raised by ``cvode``, ``solve`` and ``run_model`` (and
+    by a batch call when every state failed so).
+
+    Parameters
+    ----------
+    message : str
+        What failed and what to change (window, tol, max_steps).
+
+    Attributes
+    ----------
+    pendula_code : int
+        The Fortran status code (``pendula._codes``), when raised for one.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> try:
+    ...     pendula.cvode([0.0, 1e6], 1.0, 0.0, 1.0, 0.0, max_steps=10)
+    ... except pendula.PendulaSolverError as exc:
+    ...     print(type(exc).__name__, isinstance(exc, RuntimeError))
+    PendulaSolverError True
+    """
 
 
 _EXCEPTIONS = {

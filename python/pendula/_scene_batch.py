@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _pool, scene as _scene
+from . import _pool, _tables, scene as _scene
 from ._arrays import broadcast_real
 from ._ensemble import BatchStatus, summary
 
@@ -30,11 +30,37 @@ _PARAMS = ("theta0", "omega0", "g", "length", "gamma", "mass", "b", "tol")
 
 
 class SceneBatch:
-    """Scenes over a batch of parameters (see ``pendula.Scene``).
+    """Scenes over a batch of parameters: what ``Scene`` returns for array parameters.
 
-    shape: the batch shape; scenes: object array of ``Scene`` of that shape;
-    t, want: shared by every scene; theta0, omega0, w0, gamma, tol: float
-    arrays of the batch shape.
+    Parameters
+    ----------
+    theta0, omega0, t, g, length, gamma, mass, b, tol, want
+        As for ``Scene``; the numeric ones (not t, want) broadcast like NumPy.
+
+    Attributes
+    ----------
+    shape : tuple of int
+        The batch shape.
+    scenes : numpy.ndarray
+        Object array of ``Scene`` of that shape.
+    t, want
+        Shared by every scene (t [s], read-only).
+    theta0, omega0, w0, gamma, tol : numpy.ndarray
+        Float arrays of the batch shape ([rad], [rad/s], [1/s], [1/s], [rad]).
+
+    Raises
+    ------
+    ValueError
+        For a bad value in one state, naming the state and the argument.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> batch = pendula.Scene([0.1, 0.5, 1.0], t=[0.0, 1.0])
+    >>> batch
+    SceneBatch(shape=(3,), want='state', t[2])
+    >>> batch.theta0.tolist()
+    [0.1, 0.5, 1.0]
     """
 
     def __init__(self, theta0, omega0, t, g, length, gamma, mass, b, tol, want):
@@ -64,19 +90,42 @@ class SceneBatch:
         return f"SceneBatch(shape={self.shape}, want={self.want!r}, t[{self.t.size}])"
 
 
-@dataclass(frozen=True)
-class SceneBatchResult(BatchStatus):
-    """The answers to a ``SceneBatch``.
+@dataclass(frozen=True, repr=False)
+class SceneBatchResult(BatchStatus, _tables.Tabular):
+    """The answers to a ``SceneBatch`` (``solve`` / ``run_model`` of array scenes).
 
-    results: object array (batch shape) of ``SceneResult`` (None for a failed
-    scene); codes: int64 status per scene (0 = ok); messages: object array
-    of the failed scenes' messages ('' for the others); message: summary
-    ('' when every scene succeeded); first_failed: flat index or -1.
-    model (str, '' when failed), error_estimate (inf when failed), tol_met:
-    per scene.  t, theta, omega, energy, period, event_time_error: the
-    per-scene quantities stacked with the batch shape in front (theta.shape
-    == batch_shape + (len(t),)), zero for a failed scene; None when not
-    asked for.
+    Parameters
+    ----------
+    results : numpy.ndarray
+        Object array (batch shape) of ``SceneResult`` (None for a failed
+        scene).
+    codes : numpy.ndarray
+        int64 status per scene (0 = ok).
+    messages : numpy.ndarray
+        The failed scenes' messages ('' for the others).
+    message : str
+        Summary ('' when every scene succeeded).
+    first_failed : int
+        Flat index of the first failed scene, or -1.
+    model, error_estimate, tol_met : numpy.ndarray
+        Per scene: model name ('' when failed), error estimate [rad] (inf
+        when failed), tol met.
+    t, theta, omega, energy, period, event_time_error : numpy.ndarray or None
+        The per-scene quantities stacked with the batch shape in front
+        (theta.shape == batch_shape + (len(t),); batch_shape + (1,) for want
+        "final"), zero for a failed scene; None when not asked for.
+
+    Notes
+    -----
+    ``ok`` (mask of the scenes that succeeded) and ``shape`` come with it;
+    ``repr`` is a few lines; ``to_pandas`` / ``to_xarray`` convert.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> r = pendula.solve(pendula.Scene([0.1, 3.0], t=[0.0, 1.0]))
+    >>> r.shape, list(r.model), bool(r.tol_met.all())
+    ((2,), ['exact', 'exact'], True)
     """
     results: np.ndarray
     codes: np.ndarray
@@ -93,6 +142,32 @@ class SceneBatchResult(BatchStatus):
     period: object = None
     event_time_error: object = None
 
+    def _series(self):
+        return {"theta": self.theta, "omega": self.omega, "energy": self.energy}
+
+    def _t(self):
+        # t is stacked like the series; every scene shares it
+        return None if self.t is None else self.t.reshape(-1, self.t.shape[-1])[0]
+
+    def _table(self):
+        if self.t is None and self.period is None:
+            raise ValueError("a batch of want='events' scenes has no table: convert results[i].events one by one")
+        return dict(t=self._t(), fields=self._series(), shape=self.shape, per_state={
+            "code": self.codes, "model": self.model, "error_estimate": self.error_estimate,
+            "tol_met": self.tol_met, "period": self.period})
+
+    def __repr__(self):
+        good = self.ok
+        series = {k: None if v is None else v[good] for k, v in self._series().items()}
+        quantities = _tables.series(self._t(), series) if self.t is not None else ""
+        if self.period is not None:
+            quantities = f"period in {_tables.span(self.period[good], 's')}"
+        return _tables.block("SceneBatchResult", [
+            f"batch shape {self.shape}, models: {_tables.counts(self.model)}",
+            f"error_estimate in {_tables.span(self.error_estimate[good], 'rad')}, "
+            f"tol met by {int(np.count_nonzero(self.tol_met))} of {self.codes.size}",
+            quantities + (" (scenes that succeeded)" if quantities else ""),
+            _tables.codes_line(self.codes, self.message)])
 
 def _stack(values, shape, name):
     good = [getattr(v, name) for v in values if v is not None]

@@ -334,10 +334,10 @@ def cmd_solve(args, out):
         out.write(f"period or time per revolution: {float(res.period):.17g} s\n")
         header, rows = ["period_s"], [[f"{float(res.period):.17g}"]]
     elif args.want == "final":
-        out.write(f"final state at t = {args.t_end:g} s: theta = {float(res.theta):.17g} rad, "
-                  f"Omega = {float(res.omega):.17g} rad/s\n")
+        theta, omega = float(res.theta[-1]), float(res.omega[-1])
+        out.write(f"final state at t = {args.t_end:g} s: theta = {theta:.17g} rad, Omega = {omega:.17g} rad/s\n")
         header = ["t_s", "theta_rad", "omega_rad_per_s"]
-        rows = [[f"{args.t_end:.17g}", f"{float(res.theta):.17g}", f"{float(res.omega):.17g}"]]
+        rows = [[f"{args.t_end:.17g}", f"{theta:.17g}", f"{omega:.17g}"]]
     elif args.want == "events":
         ev = res.events
         kinds = {EVENT_TURNING: "turning point (Omega = 0)", EVENT_ZERO: "zero crossing (theta = 0)"}

@@ -11,19 +11,37 @@ Units: t and h in s, angles in rad, Omega in rad/s, w0 and gamma in 1/s.
 
 Long runs keep memory proportional to the outputs only: ask for
 ``t=[0, t_end]`` to get the final state of a run of any length.
+
+Constants
+---------
+TURNING_POINT : int
+    ``Events.kind`` of a turning point: Omega = 0, theta at an extremum
+    (the amplitude is abs(theta) there).
+ZERO_CROSSING : int
+    ``Events.kind`` of a zero crossing: theta = 0, the pendulum passes the
+    vertical.
+
+Both come from the Fortran core (``pendula._codes``).
+
+Examples
+--------
+>>> import pendula
+>>> ev = pendula.cvode([0.0, 7.0], 1.0, 0.0, 1.0, 0.0, events=True).events
+>>> [int(k) == pendula.TURNING_POINT for k in ev.kind]
+[False, True, False, True]
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _fortran, _longcall
+from . import _fortran, _longcall, _tables
 from ._arrays import as_real, check_size, integer_arg, real_scalar
 from ._codes import CVODE_ADAMS, CVODE_BDF, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
 from ._errors import raise_for_status
 
 TURNING_POINT = EVENT_TURNING
-"""Event kind: Omega = 0 (theta at an extremum; the amplitude is |theta| there)."""
+"""Event kind: Omega = 0 (theta at an extremum; the amplitude is abs(theta) there)."""
 ZERO_CROSSING = EVENT_ZERO
 """Event kind: theta = 0 (the pendulum passes the vertical)."""
 
@@ -32,13 +50,36 @@ _STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iter
 _METHODS = {"adams": CVODE_ADAMS, "bdf": CVODE_BDF}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Events:
-    """Events located by ``cvode(..., events=True)``, in time order.
+    """Events of the motion, in time order: turning points and zero crossings.
 
-    t: event times [s]; kind: TURNING_POINT (Omega = 0) or ZERO_CROSSING
-    (theta = 0); theta, omega: the state at each event; truncated: True
-    when more events occurred than ``max_events`` (only the first are kept).
+    Made by ``cvode(..., events=True)`` and by scenes with ``want="events"``.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Event times [s].
+    kind : numpy.ndarray
+        ``TURNING_POINT`` (Omega = 0) or ``ZERO_CROSSING`` (theta = 0; for
+        scenes, a pass through the bottom, theta = 0 mod 2 pi) per event.
+    theta, omega : numpy.ndarray
+        The state at each event [rad], [rad/s].
+    truncated : bool
+        True when more events occurred than ``max_events`` (only the first
+        are kept).
+
+    Notes
+    -----
+    Successive abs(theta) at turning points give the decrement; every
+    second zero crossing is a full period.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> ev = pendula.cvode([0.0, 7.0], 1.0, 0.0, 1.0, 0.0, events=True).events
+    >>> ev
+    Events(4 events (2 turning points, 2 zero crossings), t in [1.675, 6.7] s)
     """
     t: np.ndarray
     kind: np.ndarray
@@ -48,25 +89,132 @@ class Events:
 
     @property
     def turning_points(self):
-        """(t, theta) at the turning points: successive |theta| give the decrement."""
+        """(t [s], theta [rad]) at the turning points (Omega = 0).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            Times and angles of the turning points; successive abs(theta)
+            give the decrement.
+
+        Examples
+        --------
+        >>> import pendula
+        >>> t, th = pendula.cvode([0.0, 7.0], 1.0, 0.0, 1.0, 0.0, events=True).events.turning_points
+        >>> [round(float(x), 6) for x in th]
+        [-1.0, 1.0]
+        """
         m = self.kind == TURNING_POINT
         return self.t[m], self.theta[m]
 
     @property
     def zero_crossings(self):
-        """(t, omega) at the zero crossings: every second one is a full period."""
+        """(t [s], omega [rad/s]) at the zero crossings (theta = 0).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            Times and angular velocities of the zero crossings; every second
+            one is a full period later.
+
+        Examples
+        --------
+        >>> import pendula
+        >>> t, om = pendula.cvode([0.0, 7.0], 1.0, 0.0, 1.0, 0.0, events=True).events.zero_crossings
+        >>> round(float(t[1] - t[0]), 4)   # half the period 6.70 s of amplitude 1 rad at w0 = 1
+        3.35
+        """
         m = self.kind == ZERO_CROSSING
         return self.t[m], self.omega[m]
 
+    def summary(self):
+        """One line: how many events of each kind, over which times.
 
-@dataclass(frozen=True)
-class IntegrationResult:
-    """theta [rad] and omega [rad/s] at the output times t [s].
+        Returns
+        -------
+        str
+            The counts, the time range [s], and whether the list was truncated.
 
-    stats: dict of work counters -- steps, rhs_evals (both integrators),
-    jac_evals, err_test_fails, nonlin_iters, nonlin_fails, root_evals (CVODE;
-    zero for RK4).  method: "rk4", "adams" or "bdf".  events: ``Events`` for
-    ``cvode(..., events=True)``, else None.
+        Examples
+        --------
+        >>> import pendula
+        >>> pendula.cvode([0.0, 7.0], 1.0, 0.0, 1.0, 0.0, events=True).events.summary()
+        '4 events (2 turning points, 2 zero crossings), t in [1.675, 6.7] s'
+        """
+        n_turn = int(np.count_nonzero(self.kind == TURNING_POINT))
+        text = (f"{self.t.size} events ({n_turn} turning points, {self.t.size - n_turn} zero crossings), "
+                f"t in {_tables.span(self.t, 's')}")
+        return text + (", truncated at max_events" if self.truncated else "")
+
+    def __repr__(self):
+        return f"Events({self.summary()})"
+
+    def to_pandas(self):
+        """The events as a pandas DataFrame, one row per event in time order.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns t [s], kind (``"turning_point"`` or ``"zero_crossing"``),
+            theta [rad], omega [rad/s]; index: the event number.
+
+        Raises
+        ------
+        ImportError
+            When pandas is not installed.
+
+        Notes
+        -----
+        ``attrs["truncated"]`` says whether events were left out (``max_events``).
+
+        Examples
+        --------
+        >>> import pendula
+        >>> r = pendula.cvode([0.0, 3.0], 1.0, 0.0, 2 ** 0.5, 0.0, events=True)
+        >>> list(r.events.to_pandas().kind)
+        ['zero_crossing', 'turning_point']
+        """
+        pd = _tables.optional("pandas")
+        kind = np.where(self.kind == TURNING_POINT, "turning_point", "zero_crossing")
+        out = pd.DataFrame({"t": self.t, "kind": kind, "theta": self.theta, "omega": self.omega},
+                           index=pd.RangeIndex(self.t.size, name="event"))
+        out.attrs["truncated"] = bool(self.truncated)
+        return out
+
+
+@dataclass(frozen=True, repr=False)
+class IntegrationResult(_tables.Tabular):
+    """theta [rad] and omega [rad/s] of one integration at the output times t [s].
+
+    Returned by ``rk4`` and ``cvode`` for a single state.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Output times [s], shape (n_t,).
+    theta, omega : numpy.ndarray
+        Angle [rad] and angular velocity [rad/s] at t, shape (n_t,).
+    stats : dict
+        Work counters: steps, rhs_evals (both integrators), jac_evals,
+        err_test_fails, nonlin_iters, nonlin_fails, root_evals (CVODE;
+        zero for RK4).
+    method : str
+        "rk4", "adams" or "bdf".
+    events : Events, optional
+        For ``cvode(..., events=True)``, else None.
+
+    Notes
+    -----
+    ``repr`` is a few lines (sizes, ranges, work); ``to_pandas`` and
+    ``to_xarray`` convert (pandas / xarray are optional dependencies).
+
+    Examples
+    --------
+    >>> import pendula
+    >>> pendula.rk4([0.0, 1.0, 2.0], 0.1, 0.0, 1.0, 0.0, h=0.1)   # doctest: +ELLIPSIS
+    IntegrationResult(method='rk4', t[3] in [0, 2] s
+      theta in [...] rad, omega in [...] rad/s
+      stats: steps=20, rhs_evals=80)
     """
     t: np.ndarray
     theta: np.ndarray
@@ -75,6 +223,16 @@ class IntegrationResult:
     method: str
     events: Events = field(default=None)
 
+    def __repr__(self):
+        st = self.stats
+        return _tables.block("IntegrationResult", [
+            f"method={self.method!r}, " + _tables.series(self.t, {}),
+            _tables.series(None, {"theta": self.theta, "omega": self.omega}),
+            f"stats: steps={st.get('steps')}, rhs_evals={st.get('rhs_evals')}",
+            None if self.events is None else "events: " + self.events.summary()])
+
+    def _table(self):
+        return dict(t=self.t, fields={"theta": self.theta, "omega": self.omega}, attrs={"method": self.method})
 
 def _grid(t):
     arr = as_real(t, "t")
@@ -114,39 +272,76 @@ def _result(t, theta, omega, stats, method):
 def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None, threads=0):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
-    t: strictly increasing, finite output times [s]; t[0] is the initial time
-    of (theta0 [rad], omega0 [rad/s]).  Between consecutive output times RK4
-    takes the fewest equal substeps of at most h [s] (a spacing that is a
-    multiple of h up to rounding counts as that multiple).  w0 > 0, gamma >= 0
-    [1/s].  Global error O(h**4); for the text's scenario (w0 = sqrt(2),
-    gamma = 0.1, theta0 = 0, Omega0 = 2, t <= 30 s) h = 0.05 s gives about
-    3e-6 rad.
+    Parameters
+    ----------
+    t : array_like
+        Strictly increasing, finite output times [s], 1-D, at least one;
+        t[0] is the initial time.
+    theta0, omega0 : float or array_like
+        Initial angle [rad] and angular velocity [rad/s] at t[0], finite.
+    w0 : float or array_like
+        Small-angle angular frequency sqrt(g/l) [1/s], > 0.
+    gamma : float or array_like
+        Damping rate [1/s], >= 0.
+    h : float
+        Largest step [s], > 0 and inside RK4's stability limit
+        (``rk4_max_stable_step``).  Between consecutive output times RK4
+        takes the fewest equal substeps of at most h (a spacing that is a
+        multiple of h up to rounding counts as that multiple).
+    max_steps : int
+        Step budget (default 2e9, about a minute of CPU); a window that
+        needs more steps is refused before any work.
+    progress : bool or callable, optional
+        True for a tqdm bar (needs tqdm), or a callable(done, total) called
+        about every 20 ms with the steps taken.
+    threads : int
+        OpenMP threads of a batch (0: OMP_NUM_THREADS or every core);
+        unused by a single state.
 
-    max_steps: step budget (default 2e9, about a minute of CPU); a window
-    that needs more steps is refused before any work -- raise it to allow
-    longer runs.  Long runs (over ~50 ms) can be stopped with Ctrl-C
-    (KeyboardInterrupt, raised within a millisecond or so; nothing is left
-    half-done).  progress: True for a tqdm bar (needs tqdm), or a
-    callable(done, total) called about every 20 ms with the steps taken.
+    Returns
+    -------
+    IntegrationResult or BatchIntegrationResult
+        theta [rad] and omega [rad/s] at t, stats (steps, rhs_evals = 4
+        steps); a ``BatchIntegrationResult`` when a state argument is an
+        array.
 
-    Batches: theta0, omega0, w0 and gamma may be arrays; they broadcast
-    together like NumPy to the batch shape, and the result is a
-    ``BatchIntegrationResult`` with theta.shape == batch_shape + (len(t),),
-    each state bit-identical to the scalar call (the Fortran batch kernel,
-    on ``threads`` OpenMP threads: 0 = OMP_NUM_THREADS or every core; the
-    GIL is released).  A value refused without integrating (NaN, inf, out
-    of domain) raises ValueError naming the first bad state; a state that
+    Raises
+    ------
+    ValueError
+        For bad arguments (naming them), more than max_steps steps, or a
+        step outside RK4's stability region for the linearisation about
+        theta = 0 (the message gives the largest stable h).
+    TypeError
+        For non-real input.
+    KeyboardInterrupt
+        Ctrl-C during a long run (over ~50 ms), raised within a
+        millisecond or so; nothing is left half-done.
+
+    Notes
+    -----
+    Global error O(h**4): for the text's scenario (w0 = sqrt(2), gamma =
+    0.1, theta0 = 0, Omega0 = 2, t <= 30 s) h = 0.05 s gives about 3e-6 rad.
+
+    Batches: theta0, omega0, w0 and gamma broadcast together like NumPy to
+    the batch shape; theta.shape == batch_shape + (len(t),), each state
+    bit-identical to the scalar call (the Fortran batch kernel, GIL
+    released).  A value refused without integrating (NaN, inf, out of
+    domain) raises ValueError naming the first bad state; a state that
     fails over the window (unstable h, more than max_steps steps) gets its
-    own code in ``result.codes`` (``result.ok``, ``result.message``) and the
-    others keep their answers; when every state failed the call raises that
-    exception.  progress counts finished states; Ctrl-C as above.  Scalars
-    and 0-d arrays take the scalar path (``threads`` is then unused).
+    own code in ``result.codes`` (``result.ok``, ``result.message``) and
+    the others keep their answers; when every state failed the call raises
+    that exception.  progress then counts finished states.  Scalars and
+    0-d arrays take the scalar path.
 
-    Returns an ``IntegrationResult`` (stats: steps, rhs_evals = 4 steps).
-    Raises ValueError for bad arguments, for more than max_steps steps and
-    for a step outside RK4's stability region for the linearisation about
-    theta = 0 (the message gives the largest stable h; see
-    ``rk4_max_stable_step``).
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> r = pendula.rk4(np.linspace(0, 30, 601), 0.0, 2.0, np.sqrt(2), 0.1, h=0.05)
+    >>> r.theta.shape, r.stats["steps"]
+    ((601,), 600)
+    >>> b = pendula.rk4([0.0, 1.0], [0.1, 0.2], 0.0, 1.0, 0.0, h=0.01)
+    >>> b.theta.shape, bool(b.ok.all())
+    ((2, 2), True)
     """
     if _ensemble.is_batch(theta0, omega0, w0, gamma):
         return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, _real(h, "h"), max_steps, progress,
@@ -183,11 +378,39 @@ def _step_budget(max_steps):
 
 
 def rk4_max_stable_step(w0, gamma):
-    """Largest RK4 step h [s] with |R(h lambda)| <= 1 for the eigenvalues
-    lambda = -gamma/2 +- sqrt(gamma**2/4 - w0**2) of the pendulum linearised
-    about theta = 0, R(z) = 1 + z + z**2/2 + z**3/6 + z**4/24.  It is
-    2.7853/|lambda| on the real axis (overdamped) and 2 sqrt(2)/w0 for gamma = 0.
-    w0 > 0, gamma >= 0 [1/s].
+    """Largest RK4 step h [s] that is stable for the pendulum linearised about theta = 0.
+
+    Parameters
+    ----------
+    w0 : float
+        Small-angle angular frequency [1/s], > 0.
+    gamma : float
+        Damping rate [1/s], >= 0.
+
+    Returns
+    -------
+    float
+        The largest h [s] with abs(R(h lambda)) <= 1 for both eigenvalues
+        lambda = -gamma/2 +- sqrt(gamma**2/4 - w0**2), where R(z) = 1 + z +
+        z**2/2 + z**3/6 + z**4/24 is RK4's stability function.
+
+    Raises
+    ------
+    ValueError
+        For w0 <= 0, gamma < 0 or non-finite input.
+    TypeError
+        For non-real input.
+
+    Notes
+    -----
+    2 sqrt(2)/w0 for gamma = 0; 2.7853/abs(lambda) on the real axis
+    (overdamped).  A larger step makes ``rk4`` refuse the run.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.rk4_max_stable_step(1.0, 0.0), 6)   # 2 sqrt(2)
+    2.828427
     """
     h, code, msg = _fortran.rk4_max_stable_step_f2py(real_scalar(w0, "w0"), real_scalar(gamma, "gamma"))
     raise_for_status(code, msg)
@@ -198,39 +421,80 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
           events=False, max_events=100_000, progress=None, threads=0):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
-    t: strictly increasing, finite output times [s]; t[0] is the initial time
-    of (theta0 [rad], omega0 [rad/s]); windows as short as 5e-324 s, or one
-    ulp at any t[0] (the ODE is autonomous: CVODE works in t - t[0]; one ulp
-    at t[0] = 1e300 is 1.4e284 s, beyond any step budget); t[-1] - t[0] must
-    not overflow.  w0 > 0, gamma >= 0 [1/s].
-    rtol > 0, atol >= 0: CVODE keeps each local error below rtol |y| + atol
-    (global errors are typically 1-100x that).  atol = 0 is pure relative
-    control, normwise: the local error in theta stays below rtol S and in
-    Omega below rtol w0 S, S = max(|theta|, |Omega|/w0) the size of the
-    state (componentwise rtol |y| has no scale where theta or Omega crosses
-    zero); it keeps its relative accuracy as damped motion decays, where a
-    fixed atol stops resolving the state.  method: "adams" (non-stiff,
-    the default) or "bdf" (stiff problems, e.g. gamma >> w0); both use Newton
-    iteration with a dense solver and the analytic Jacobian.  max_steps: total
-    step budget for the whole run.  events=True also locates turning points
-    (Omega = 0) and zero crossings (theta = 0) after t[0], keeping at most
-    max_events (<= 10**7) of them (``result.events.truncated`` tells if more occurred);
-    use them to measure the period and the decrement of the motion.
-    Long runs can be stopped with Ctrl-C (KeyboardInterrupt within a
-    millisecond or so; the solver memory is freed).  progress: True for a
-    tqdm bar (needs tqdm), or a callable(done, total) called about every
-    20 ms with the right-hand-side evaluations so far (total None: unknown).
+    Parameters
+    ----------
+    t : array_like
+        Strictly increasing, finite output times [s], 1-D; t[0] is the
+        initial time.  Windows as short as 5e-324 s, or one ulp at any t[0]
+        (the ODE is autonomous: CVODE works in t - t[0]); t[-1] - t[0] must
+        not overflow.
+    theta0, omega0 : float or array_like
+        Initial angle [rad] and angular velocity [rad/s] at t[0], finite.
+    w0 : float or array_like
+        Small-angle angular frequency [1/s], > 0.
+    gamma : float or array_like
+        Damping rate [1/s], >= 0.
+    rtol : float
+        Relative tolerance, > 0: CVODE keeps each local error below
+        rtol abs(y) + atol (global errors are typically 1-100x that).
+    atol : float
+        Absolute tolerance, >= 0.  atol = 0 is pure relative control,
+        normwise: the local error in theta stays below rtol S and in Omega
+        below rtol w0 S, S = max(abs(theta), abs(Omega)/w0); it keeps its
+        relative accuracy as damped motion decays.
+    method : {"adams", "bdf"}
+        Adams (non-stiff, default) or BDF (stiff, e.g. gamma >> w0); both
+        use Newton iteration with a dense solver and the analytic Jacobian.
+    max_steps : int
+        Total step budget of the run, >= 1.
+    events : bool
+        Also locate turning points (Omega = 0) and zero crossings
+        (theta = 0) after t[0].
+    max_events : int
+        Events kept, 1 ... 10**7 (``result.events.truncated`` tells if
+        more occurred).
+    progress : bool or callable, optional
+        True for a tqdm bar, or a callable(done, total) called about every
+        20 ms with the right-hand-side evaluations so far (total None).
+    threads : int
+        Threads of a batch (0: OMP_NUM_THREADS or every core).
 
+    Returns
+    -------
+    IntegrationResult or BatchIntegrationResult
+        theta [rad], omega [rad/s] at t, CVODE's stats, events when asked.
+
+    Raises
+    ------
+    ValueError
+        For bad arguments (naming them).
+    PendulaSolverError
+        When CVODE fails or runs out of steps (a RuntimeError; the message
+        gives CVODE's reason).
+    NotImplementedError
+        When this build has no CVODE (``pendula.build_info()["cvode"]``).
+    KeyboardInterrupt
+        Ctrl-C during a long run (the solver memory is freed).
+
+    Notes
+    -----
     Batches: theta0, omega0, w0 and gamma may be arrays, as for ``rk4``
-    (same rules; a state's CVODE failure or exhausted max_steps is its code);
-    the Fortran batch kernel reuses one solver per thread.  With
+    (same rules; a state's CVODE failure or exhausted max_steps is its
+    code); the Fortran batch kernel reuses one solver per thread.  With
     events=True each state runs the scalar call on a pool of ``threads``
     Python threads (``result.events``: an object array of ``Events``).
+    Use the events to measure the period and the decrement of the motion.
 
-    Returns an ``IntegrationResult``.  Raises ValueError for bad arguments,
-    ``PendulaSolverError`` (a RuntimeError) when CVODE fails or runs out of
-    steps (message with CVODE's reason), NotImplementedError when this build
-    has no CVODE (see ``pendula.build_info()['cvode']``).
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> r = pendula.cvode(np.linspace(0, 30, 601), 0.0, 2.0, np.sqrt(2), 0.1, rtol=1e-10, atol=0.0)
+    >>> r.method, r.theta.shape
+    ('adams', (601,))
+    >>> e = pendula.cvode([0.0, 10.0], 1.0, 0.0, 1.0, 0.0, events=True).events
+    >>> t_turn, theta_turn = e.turning_points
+    >>> np.round(theta_turn, 6).tolist()
+    [-1.0, 1.0]
     """
     if not HAVE_CVODE:
         # The Fortran stub says the same; checking here first keeps the

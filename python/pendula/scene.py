@@ -4,7 +4,8 @@ model whose error fits, says which and why, and backs it with an error estimate.
 A ``Scene`` holds the text's parameters (g, length, and either gamma or mass
 and b), the initial state (theta0, omega0) at t = 0, the output times ``t``,
 what is wanted and a tolerance ``tol``.  ``solve(scene)`` answers it;
-``tradeoff(scene)`` measures the speed/accuracy trade of every applicable model.
+``tradeoff(scene)`` (``pendula.tradeoff``) measures the speed/accuracy trade of
+every applicable model.
 
 The tolerance is ABSOLUTE, on theta in rad, over the whole window, with Omega
 scaled by w0: the error measure is sup_t max(|d theta|, |d Omega|/w0).
@@ -37,15 +38,14 @@ Units: angles rad, Omega rad/s, t s, g m/s^2, length m, mass kg, b kg/s,
 gamma and w0 1/s, energies per unit m l^2 in 1/s^2.
 """
 from dataclasses import dataclass, field
-import csv as _csv
 import time
 
 import numpy as np
 
-from . import _fortran as _scene, _longcall
-from ._arrays import as_real, integer_arg, real_scalar
+from . import _fortran as _scene, _longcall, _tables
+from ._arrays import as_real, real_scalar
 from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, STEP_CAP, WANT_CODES
-from ._config import HAVE_CVODE
+from ._config import HAVE_CVODE  # noqa: F401 (read by benchmarks/bench_scenes.py)
 from ._errors import PendulaSolverError, _text, raise_for_status
 from .integrate import Events, _step_budget
 
@@ -100,14 +100,38 @@ class Scene:
         ``"events"``: turning points (Omega = 0) and zero crossings (passes through the bottom,
         theta = 0 mod 2 pi) in (0, t[-1]].
 
-    Raises ValueError (naming the argument) for inconsistent or out-of-range
-    parameters, TypeError for non-real input.  The scene keeps its own copy of t.
+    Attributes
+    ----------
+    theta0, omega0, g, length, tol, want, t
+        As given (t: a read-only 1-D copy).
+    w0, gamma : float
+        sqrt(g/length) and the damping rate [1/s] the scene uses.
+    mass, b, gamma_given
+        As given, or None.
 
+    Raises
+    ------
+    ValueError
+        For inconsistent or out-of-range parameters, naming the argument.
+    TypeError
+        For non-real input or a want that is not a string.
+
+    Notes
+    -----
     Batches: when theta0, omega0, g, length, gamma, mass, b or tol is an
     array (one or more dimensions), they broadcast like NumPy and ``Scene``
     returns a ``SceneBatch`` (one scene per state, t and want shared);
     ``solve``, ``run_model`` and ``tradeoff`` then answer every scene (see
     ``solve``).  A bad value in one state raises ValueError naming the state.
+
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> scene = pendula.Scene(theta0=0.0, omega0=2.0, t=np.linspace(0, 30, 601), mass=0.1, b=0.01)
+    >>> scene  # doctest: +ELLIPSIS
+    Scene(theta0=0, omega0=2, w0=1.41421, gamma=0.1 (b=0.01, mass=0.1), t[601] in [0, 30], ...)
+    >>> round(scene.periods, 3)
+    6.752
     """
 
     def __new__(cls, theta0=None, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
@@ -149,12 +173,10 @@ class Scene:
             if self.want != "period":
                 raise ValueError("t is missing: give the output times (only want='period' needs none)")
             tt = np.zeros(0)
-            self._scalar_t = False
         else:
             arr = as_real(t, "t")
             if arr.ndim > 1:
                 raise ValueError(f"t must be a scalar or a 1-D array of output times, got shape {arr.shape}")
-            self._scalar_t = arr.ndim == 0
             tt = np.ascontiguousarray(arr.reshape(-1))
             if tt.size == 0 and self.want != "period":
                 raise ValueError("t has 0 elements: it needs at least 1 output time (>= 0, increasing)")
@@ -172,7 +194,19 @@ class Scene:
 
     @property
     def periods(self):
-        """Length of the window in small-angle periods, w0 t[-1] / (2 pi)."""
+        """Length of the window in small-angle periods, w0 t[-1] / (2 pi).
+
+        Returns
+        -------
+        float
+            The number of periods (0 for a scene without t).
+
+        Examples
+        --------
+        >>> import pendula
+        >>> pendula.Scene(0.1, t=[0.0, 10.0], g=9.8, length=9.8).periods == 10 / (2 * 3.141592653589793)
+        True
+        """
         return float(self.w0 * self.t[-1] / (2 * np.pi)) if self.t.size else 0.0
 
     def __repr__(self):
@@ -185,24 +219,66 @@ class Scene:
                 f"{window}, tol={self.tol:g}, want={self.want!r})")
 
 
-@dataclass(frozen=True)
-class SceneResult:
-    """The answer to a scene.
+@dataclass(frozen=True, repr=False)
+class SceneResult(_tables.Tabular):
+    """The answer to a scene: the model used, why, its error estimate, and the wanted quantities.
 
-    model: the model used ("small_angle", "exact", "linear", "rk4", "cvode");
-    reason: why it was chosen; error_estimate: estimated sup over the window of
-    max(|d theta| [rad], |d Omega|/w0); tol_met: error_estimate <= tol;
-    setting: RK4 step h [s] or CVODE rtol of the returned run (None for closed
-    forms; kept for compatibility, ``step`` and ``rtol`` say which); step: the
-    RK4 step h [s] (model "rk4", else None); rtol: the CVODE rtol (model
-    "cvode", else None); cost: dict with closed_form_evals, rhs_evals, steps, runs
-    (integrator runs, verification included), wall_time (s, inside Fortran)
-    and python_wall_time (s, the whole call).
+    Returned by ``solve`` and ``run_model``.
 
-    Quantities (None when not asked for): t, theta, omega (want "state",
-    "theta" -- omega None --, "final" -- scalars at t[-1] --, "energy");
-    energy [1/s^2] (want "energy"); period [s] (want "period"); events
-    (``pendula.Events``, want "events") and event_time_error [s].
+    Parameters
+    ----------
+    model : str
+        The model used: "small_angle", "exact", "linear", "rk4" or "cvode".
+    reason : str
+        Why it was chosen.
+    error_estimate : float
+        Estimated sup over the window of max(abs(d theta) [rad],
+        abs(d Omega)/w0).
+    tol_met : bool
+        error_estimate <= the scene's tol.
+    setting : float or None
+        RK4 step h [s] or CVODE rtol of the returned run (None for closed
+        forms; kept for compatibility: ``step`` and ``rtol`` say which).
+    cost : dict
+        closed_form_evals, rhs_evals, steps, runs (integrator runs,
+        verification included), wall_time [s] (inside Fortran),
+        python_wall_time [s] (the whole call).
+    step : float or None
+        The RK4 step h [s] (model "rk4").
+    rtol : float or None
+        The CVODE rtol (model "cvode").
+    t : numpy.ndarray or None
+        Output times [s]: shape (n_t,) for want "state", "theta" and
+        "energy" (also for a scalar t: shape (1,)), (1,) -- t[-1] -- for
+        "final"; None for "period" and "events".
+    theta, omega : numpy.ndarray or None
+        Angle [rad] and angular velocity [rad/s] at t, with t's shape
+        (``r.theta[-1]`` is the final angle for every want that has one);
+        omega None for want "theta"; both None for "energy" answered by the
+        exact model (conserved: no series evaluated).
+    energy : numpy.ndarray or None
+        Energy per unit m l^2 [1/s^2] at t (want "energy").
+    period : float or None
+        Period or time per revolution [s] (want "period").
+    events : Events or None
+        Turning points and zero crossings (want "events").
+    event_time_error : float or None
+        Estimated error of the event times [s] (want "events").
+
+    Notes
+    -----
+    The field types do not depend on the data: series are always 1-D
+    arrays.  ``repr`` is a few lines; ``to_pandas`` / ``to_xarray`` convert
+    the series (pandas / xarray are optional dependencies).
+
+    Examples
+    --------
+    >>> import pendula
+    >>> r = pendula.solve(pendula.Scene(1.0, t=[0.0, 2.0], want="final"))
+    >>> r.model, r.tol_met, r.theta.shape
+    ('exact', True, (1,))
+    >>> round(float(r.theta[-1]), 6)
+    -0.886993
     """
     model: str
     reason: str
@@ -220,6 +296,30 @@ class SceneResult:
     events: Events = field(default=None)
     event_time_error: object = None
 
+    def _series(self):
+        return {"theta": self.theta, "omega": self.omega, "energy": self.energy}
+
+    def _table(self):
+        if self.t is None:
+            raise ValueError("this result has no time series to convert (want='period' or 'events'): "
+                             "use result.period or result.events.to_pandas()")
+        return dict(t=self.t, fields=self._series(), attrs={
+            "model": self.model, "error_estimate": self.error_estimate, "tol_met": int(self.tol_met)})
+
+    def __repr__(self):
+        setting = (f", step h={self.step:.4g} s" if self.step is not None else
+                   f", rtol={self.rtol:.3g}" if self.rtol is not None else "")
+        c = self.cost
+        quantities = _tables.series(self.t, self._series()) if self.t is not None else ""
+        if self.period is not None:
+            quantities = f"period={self.period:.17g} s"
+        if self.events is not None:
+            quantities = f"events: {self.events.summary()}, time error ~{self.event_time_error:.2g} s"
+        return _tables.block("SceneResult", [
+            f"model={self.model!r}{setting}, error_estimate={self.error_estimate:.3g} rad, tol_met={self.tol_met}",
+            f"reason: {_tables.clip(self.reason)}", quantities,
+            f"cost: runs={c.get('runs')}, steps={c.get('steps')}, rhs_evals={c.get('rhs_evals')}, "
+            f"closed_form_evals={c.get('closed_form_evals')}, wall_time={c.get('python_wall_time', 0.0):.3g} s"])
 
 def _long_scene(scene, tt, model_code, setting):
     # Predicted > ~50 ms: an integrated window of more than a few dozen
@@ -288,19 +388,16 @@ def _result(scene, raw):
     kw = {}
     want = scene.want
     if want in ("state", "theta", "energy"):
-        t = tout[:nout].copy()
-        th = theta[:nout].copy()
-        om = omega[:nout].copy()
-        if scene._scalar_t:
-            t, th, om = float(t[0]), float(th[0]), float(om[0])
-        kw.update(t=t, theta=th, omega=None if want == "theta" else om)
+        # always 1-D arrays, also for a scalar t (shape (1,)): one type per field
+        kw.update(t=tout[:nout].copy(), theta=theta[:nout].copy(),
+                  omega=None if want == "theta" else omega[:nout].copy())
         if want == "energy":
-            e = energy[:nout].copy()
-            kw.update(energy=float(e[0]) if scene._scalar_t else e)
+            kw.update(energy=energy[:nout].copy())
             if model == "exact":   # conserved: no time series was evaluated
                 kw.update(theta=None, omega=None)
     elif want == "final":
-        kw.update(t=float(tout[0]), theta=float(theta[0]), omega=float(omega[0]))
+        # shape (1,): the state at t[-1], indexable as r.theta[-1] like a history
+        kw.update(t=tout[:1].copy(), theta=theta[:1].copy(), omega=omega[:1].copy())
     elif want == "period":
         kw.update(period=num["period"])
     elif want == "events":
@@ -318,34 +415,66 @@ def _result(scene, raw):
 def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
-    model: None or "auto" to let the library choose, or one of ``MODELS`` to
-    force it (its setting is still chosen from tol and verified).  Returns a
-    ``SceneResult`` (model, reason, error_estimate, tol_met, cost, and the
-    wanted quantities).  When no model can meet tol (e.g. tol below the
-    rounding floor of the exact solution over a long window), the most accurate
-    one is used and ``tol_met`` is False with the reason saying so.
+    Parameters
+    ----------
+    scene : Scene or SceneBatch
+        The scene(s) to answer.
+    model : str, optional
+        None or "auto" to let the library choose, or one of ``MODELS`` to
+        force it (its setting is still chosen from tol and verified).
+    max_steps : int
+        Work budget in RK4 steps (a CVODE step counts as
+        ``pendula._codes.CVODE_STEP_COST``; the default ``STEP_CAP`` is about
+        a minute of CPU): a solve predicted to need more is refused before it
+        starts, with a message naming what to change (window, tol, or a
+        larger max_steps).
+    progress : bool or callable, optional
+        True for a tqdm bar (needs tqdm) or a callable(done, total) called
+        about every 20 ms with the integrator's work so far (RK4 steps /
+        CVODE right-hand-side evaluations; total None); for a batch, scenes.
+    threads : int
+        Threads of a batch (0: OMP_NUM_THREADS or every core); unused for
+        one scene.
 
-    max_steps: work budget in RK4 steps (a CVODE step counts as
-    ``pendula._codes.CVODE_STEP_COST``; the default ``STEP_CAP`` is about a
-    minute of CPU): a solve predicted to need more is
-    refused before it starts, with a message naming what to change (window,
-    tol, or a larger max_steps).  Long solves stop on Ctrl-C
-    (KeyboardInterrupt within a millisecond or so).  progress: True for a
-    tqdm bar (needs tqdm) or a callable(done, total) called about every 20 ms
-    with the integrator's work so far (RK4 steps / CVODE right-hand-side
-    evaluations; total None).
+    Returns
+    -------
+    SceneResult or SceneBatchResult
+        model, reason, error_estimate, tol_met, cost and the wanted
+        quantities; a ``SceneBatchResult`` for a ``SceneBatch``.
 
-    Raises ValueError for an unknown model name or a model that does not apply
-    (small_angle/exact with gamma > 0), NotImplementedError for "cvode" in a
-    build without SUNDIALS, ``PendulaSolverError`` when an integrator fails.
+    Raises
+    ------
+    ValueError
+        For an unknown model name or a model that does not apply
+        (small_angle/exact with gamma > 0), or a solve over max_steps.
+    NotImplementedError
+        For "cvode" in a build without SUNDIALS.
+    PendulaSolverError
+        When an integrator fails.
+    KeyboardInterrupt
+        Ctrl-C during a long solve (within a millisecond or so).
 
-    A ``SceneBatch`` (``Scene`` with array parameters) gives a
-    ``SceneBatchResult``: every scene solved as alone (bit for bit) on
-    ``threads`` threads (0: OMP_NUM_THREADS or every core), per-scene codes
-    and messages for the scenes whose solve failed (the others keep their
+    Notes
+    -----
+    When no model can meet tol (e.g. tol below the rounding floor of the
+    exact solution over a long window), the most accurate one is used and
+    ``tol_met`` is False with the reason saying so.
+
+    A ``SceneBatch`` gives a ``SceneBatchResult``: every scene solved as
+    alone (bit for bit) on ``threads`` threads, per-scene codes and
+    messages for the scenes whose solve failed (the others keep their
     answers), stacked quantities with the batch shape in front; the call
-    raises only when every scene failed.  progress counts scenes; Ctrl-C
-    stops every thread.
+    raises only when every scene failed.  Ctrl-C stops every thread.
+
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> r = pendula.solve(pendula.Scene(0.0, 2.0, t=np.linspace(0, 30, 601), gamma=0.1, tol=1e-6))
+    >>> r.model, r.tol_met, r.error_estimate <= 1e-6
+    ('rk4', True, True)
+    >>> b = pendula.solve(pendula.Scene([0.1, 3.0], t=[0.0, 1.0]))
+    >>> list(b.model), b.theta.shape
+    (['exact', 'exact'], (2, 2))
     """
     code = _model_code(model)
     if isinstance(scene, _scene_batch.SceneBatch):
@@ -357,10 +486,43 @@ def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
 def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, threads=0):
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
-    setting: RK4 step h [s] or CVODE rtol (atol = rtol * state scale / 100);
-    ignored for the closed forms.  For work-precision studies (``tradeoff``).
-    max_steps, progress, Ctrl-C, threads and batches: as for ``solve`` (an RK4 run of more than
-    max_steps steps is refused up front).
+    For work-precision studies (``tradeoff``).
+
+    Parameters
+    ----------
+    scene : Scene or SceneBatch
+        The scene(s).
+    model : str
+        One of ``MODELS`` (not "auto").
+    setting : float, optional
+        RK4 step h [s] > 0 or CVODE rtol > 0 (atol = rtol * state scale /
+        100); required for "rk4" and "cvode", ignored for the closed forms.
+    max_steps, progress, threads
+        As for ``solve`` (an RK4 run of more than max_steps steps is refused
+        up front).
+
+    Returns
+    -------
+    SceneResult or SceneBatchResult
+        The run's answer; its error_estimate is what the model claims
+        without verification (0 for an unverified integration).
+
+    Raises
+    ------
+    ValueError
+        For "auto", an unknown or inapplicable model, a missing or bad
+        setting, an unstable RK4 step, a run over max_steps.
+    NotImplementedError
+        For "cvode" in a build without SUNDIALS.
+    PendulaSolverError
+        When an integrator fails.
+
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> r = pendula.run_model(pendula.Scene(0.0, 2.0, t=np.linspace(0, 30, 601), gamma=0.1), "rk4", 0.05)
+    >>> r.model, r.step, r.cost["steps"]
+    ('rk4', 0.05, 600)
     """
     code = _model_code(model)
     if code == MODEL_CODES["auto"]:
@@ -382,197 +544,12 @@ def _check_threads(threads):
         _threads(threads)   # checked, unused: one scene runs on one thread
 
 
-class TradeoffTable:
-    """Rows of a speed/accuracy study (see ``tradeoff``).
-
-    rows: list of dicts with model, setting, sup_error [rad] (sup over the
-    output grid of max(|d theta|, |d Omega|/w0) against the reference),
-    wall_time [s] (best of the repeats, the whole Python call),
-    rhs_evals, closed_form_evals, error_estimate (what the model claimed, 0
-    when unverified).  reference: how the reference was made;
-    reference_result: the reference itself (a ``SceneResult``).
-    """
-
-    COLUMNS = ("model", "setting", "sup_error", "wall_time", "rhs_evals", "closed_form_evals",
-               "error_estimate")
-
-    def __init__(self, scene, rows, reference, reference_result=None):
-        self.scene = scene
-        self.rows = rows
-        self.reference = reference
-        self.reference_result = reference_result
-
-    def __iter__(self):
-        return iter(self.rows)
-
-    def __len__(self):
-        return len(self.rows)
-
-    def __getitem__(self, i):
-        return self.rows[i]
-
-    def column(self, name):
-        """One column as a list."""
-        return [r[name] for r in self.rows]
-
-    def to_csv(self, path):
-        """Write the table as CSV (one row per run); returns the path."""
-        with open(path, "w", newline="") as fh:
-            w = _csv.DictWriter(fh, fieldnames=self.COLUMNS, extrasaction="ignore")
-            w.writeheader()
-            for r in self.rows:
-                w.writerow(r)
-        return path
-
-    def plot(self, path, title=None, ax=None):
-        """Work-precision plot: sup error against wall time, log-log, one line per model
-        (``pendula.figures.work_precision_plot``).  ax: draw into these axes (path
-        may then be None); returns the path written, or None."""
-        from .figures import tradeoff_rows, work_precision_plot
-        return work_precision_plot(tradeoff_rows(self), path, title=title or "Work-precision",
-                                   tol=self.scene.tol, ax=ax)
-
-
-def _sup_error(theta, omega, ref_theta, ref_omega, w0):
-    return float(max(np.max(np.abs(theta - ref_theta)), np.max(np.abs(omega - ref_omega)) / w0))
-
-
-def _timed(fn, repeat):
-    best = np.inf
-    out = None
-    for _ in range(max(1, repeat)):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return out, best
-
-
-def _count(x, name):
-    return integer_arg(x, name, 1, 2**63 - 1, scalar=True)
-
-
-def _positive_list(xs, name):
-    if xs is None:
-        return None
-    arr = as_real(xs, name)
-    if arr.ndim != 1 or arr.size == 0:
-        raise ValueError(f"{name} must be a non-empty 1-D list of settings, got shape {arr.shape}")
-    bad = [float(v) for v in arr if not (np.isfinite(v) and v > 0)]
-    if bad:
-        raise ValueError(f"{name} contains {bad[0]}: every setting must be finite and > 0")
-    return [float(v) for v in arr]
-
-
-def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv=None, plot=None,
-             max_steps=2_000_000):
-    """Measure the speed/accuracy trade of every applicable model on ``scene``.
-
-    Runs the closed forms that apply (small_angle and exact when gamma = 0,
-    linear otherwise), RK4 over a range of steps h (halving from just inside
-    the stability limit while the run stays under ``max_steps`` steps) and
-    CVODE over rtol = 1e-3 ... 1e-12 (when built), each at a FIXED setting with
-    no verification, on the state (theta, Omega) at scene.t.  The error is the
-    sup over the output grid of max(|d theta|, |d Omega|/w0) against a
-    reference: the exact elliptic solution when gamma = 0, otherwise
-    ``solve`` at tol = 1e-12 with RK4 (or the automatic choice when that
-    estimates better; verified a posteriori, its estimate is reported in
-    ``table.reference``).  Wall time is the best of ``repeat``
-    calls.  models: subset of ``MODELS`` to run; rk4_steps / cvode_rtols:
-    explicit settings.  csv / plot: paths to also write the CSV and a log-log
-    work-precision PNG.  Returns a ``TradeoffTable``; for a ``SceneBatch``,
-    an object array of them with the batch shape (the scenes run one after
-    another, so that their wall times do not compete for cores; csv/plot
-    are refused for a batch).
-    """
-    if isinstance(scene, _scene_batch.SceneBatch):
-        if csv is not None or plot is not None:
-            raise ValueError("csv and plot take one scene: call tradeoff per scene of the batch to write them")
-        return _scene_batch.tradeoff(scene, models=models, rk4_steps=rk4_steps, cvode_rtols=cvode_rtols,
-                                     repeat=repeat, max_steps=max_steps)
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
-    if scene.t.size < 1:
-        raise ValueError("tradeoff needs output times: the scene has no t")
-    repeat = _count(repeat, "repeat")
-    max_steps = _count(max_steps, "max_steps")
-    if isinstance(models, str):
-        raise ValueError(f"models = {models!r} must be a list of model names, e.g. [{models!r}]")
-    rk4_steps = _positive_list(rk4_steps, "rk4_steps")
-    cvode_rtols = _positive_list(cvode_rtols, "cvode_rtols")
-    st = Scene(theta0=scene.theta0, omega0=scene.omega0, t=scene.t, g=scene.g, length=scene.length,
-               gamma=scene.gamma, tol=scene.tol, want="state")
-    damped = st.gamma > 0
-    applicable = ["linear", "rk4"] if damped else ["small_angle", "exact", "rk4"]
-    if HAVE_CVODE:
-        applicable.append("cvode")
-    if models is None:
-        models = applicable
-    else:
-        for mname in models:
-            _model_code(mname, "models")
-        bad = [mname for mname in models if mname not in applicable]
-        if bad:
-            raise ValueError(f"models {bad} do not apply to this scene (applicable: {applicable})")
-    if damped:
-        ref_scene = Scene(theta0=st.theta0, omega0=st.omega0, t=st.t, g=st.g, length=st.length,
-                          gamma=st.gamma, tol=1e-12, want="state")
-        # RK4 first (fixed steps, verified at 2h; its many cheap steps are fine for a
-        # reference), the automatic choice when RK4 cannot meet 1e-12 (stiff, long)
-        ref = solve(ref_scene, model="rk4")
-        if not ref.tol_met:
-            alt = solve(ref_scene)
-            if alt.error_estimate < ref.error_estimate:
-                ref = alt
-        reference = (f"converged integration: solve(tol=1e-12) -> {ref.model} at setting {ref.setting:.3g}, "
-                     f"its a posteriori estimate {ref.error_estimate:.2g} rad")
-    else:
-        ref = run_model(st, "exact")
-        reference = f"exact elliptic solution (rounding estimate {ref.error_estimate:.2g} rad)"
-    rows = []
-
-    def add(name, setting, fn):
-        res, wall = _timed(fn, repeat)
-        rows.append({"model": name, "setting": setting,
-                     "sup_error": _sup_error(res.theta, res.omega, ref.theta, ref.omega, st.w0),
-                     "wall_time": wall, "rhs_evals": res.cost["rhs_evals"],
-                     "closed_form_evals": res.cost["closed_form_evals"],
-                     "error_estimate": res.error_estimate})
-
-    tend = float(st.t[-1])
-    for name in models:
-        if name in ("small_angle", "exact", "linear"):
-            add(name, "closed form", lambda name=name: run_model(st, name))
-        elif name == "rk4":
-            from .integrate import rk4_max_stable_step
-            steps = rk4_steps
-            if steps is None:
-                h = 0.9 * rk4_max_stable_step(st.w0, st.gamma)
-                steps = []
-                while tend / h <= max_steps and len(steps) < 14:
-                    steps.append(h)
-                    h /= 2
-            for h in steps:
-                add("rk4", f"h={h:.3g}", lambda h=h: run_model(st, "rk4", h))
-        elif name == "cvode":
-            rtols = cvode_rtols if cvode_rtols is not None else [10.0**-k for k in range(3, 13)]
-            for r in rtols:
-                try:
-                    add("cvode", f"rtol={r:.0e}", lambda r=r: run_model(st, "cvode", r))
-                except RuntimeError:
-                    pass   # budget exhausted at this setting: no point to plot
-    table = TradeoffTable(st, rows, reference, ref)
-    if csv is not None:
-        table.to_csv(csv)
-    if plot is not None:
-        table.plot(plot)
-    return table
-
-
 # Last: the batch layer builds on this module's Scene, _run and _result.
 from . import _scene_batch  # noqa: E402
 from ._batch import _threads  # noqa: E402
 from ._ensemble import is_batch as _is_batch  # noqa: E402
 from ._scene_batch import SceneBatch, SceneBatchResult  # noqa: E402
+from ._tradeoff import TradeoffTable, tradeoff  # noqa: E402
 
 __all__ = ["Scene", "SceneResult", "solve", "run_model", "tradeoff", "TradeoffTable", "SceneBatch",
            "SceneBatchResult"]

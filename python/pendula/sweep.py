@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _batch, _fortran, _longcall
+from . import _batch, _fortran, _longcall, _tables
 from ._arrays import broadcast_real, integer_arg
 from ._errors import OK
 from .undamped import REGIMES, _state_property, period as _period
@@ -38,18 +38,40 @@ _PREFIX = re.compile(r"^state \d+ of \d+ \(\d+ failed, see codes\): ")
 _DASK_POLL_SECONDS = 0.1
 
 
-@dataclass(frozen=True)
-class SweepResult:
+@dataclass(frozen=True, repr=False)
+class SweepResult(_tables.Tabular):
     """Result of ``sweep``; every array has the broadcast batch shape in front.
 
-    want: "final", "trajectory" or "period".  t: the output times [s] (None
-    for "period").  theta [rad], omega [rad/s]: the state at t[-1] (shape
-    batch_shape) for "final", the whole series (batch_shape + (n_t,)) for
-    "trajectory", None for "period".  period [s]: for "period" (the
-    libration period, or the time of one turn of a rotation; +inf on the
-    separatrix), else None.  codes: status per state (0 = ok; see
-    ``pendula._errors``).  code, message: the first failure's code and
-    message, or 0 and ''.  n_chunks: the chunks the sweep ran in.
+    Parameters
+    ----------
+    want : str
+        "final", "trajectory" or "period".
+    t : numpy.ndarray or None
+        The output times [s] (None for "period").
+    theta, omega : numpy.ndarray or None
+        [rad], [rad/s]: the state at t[-1] (shape batch_shape) for "final",
+        the whole series (batch_shape + (n_t,)) for "trajectory", None for
+        "period".
+    period : numpy.ndarray or None
+        For "period" [s]: the libration period, or the time of one turn of a
+        rotation (+inf on the separatrix); else None.
+    codes : numpy.ndarray
+        Status per state (0 = ok; see ``pendula._errors``).
+    code, message
+        The first failure's code and message, or 0 and ''.
+    n_chunks : int
+        The chunks the sweep ran in.
+
+    Notes
+    -----
+    ``repr`` is a few lines; ``to_pandas`` / ``to_xarray`` convert.
+
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> r = pendula.sweep([0.0, 5.0], np.array([0.5, 1.0]), w0=1.0, h=0.01)
+    >>> r.want, r.theta.shape, r.n_chunks
+    ('final', (2,), 1)
     """
     want: str
     t: object
@@ -63,8 +85,41 @@ class SweepResult:
 
     @property
     def ok(self):
-        """Boolean mask of the states that succeeded."""
+        """Boolean mask of the states that succeeded.
+
+        Returns
+        -------
+        numpy.ndarray
+            bool, the batch shape: True where the state's code is OK.
+
+        Examples
+        --------
+        >>> import numpy as np, pendula
+        >>> pendula.sweep([0.0, 1.0], np.array([0.5, 1.0]), h=0.01).ok.tolist()
+        [True, True]
+        """
         return self.codes == OK
+
+    def _fields(self):
+        return {"theta": self.theta, "omega": self.omega, "period": self.period}
+
+    def _table(self):
+        # final and period: one value per state (no t dimension); attrs["t"]: the time of a final state
+        attrs = {"want": self.want}
+        if self.want == "final":
+            attrs["t"] = float(self.t[-1])
+        return dict(t=self.t if self.want == "trajectory" else None, fields=self._fields(),
+                    shape=self.codes.shape, per_state={"code": self.codes}, attrs=attrs)
+
+    def __repr__(self):
+        good = self.ok
+        fields = {k: None if v is None else v[good] for k, v in self._fields().items()}
+        at = "" if self.t is None else f" at t={self.t[-1]:.4g} s" if self.want == "final" else ""
+        return _tables.block("SweepResult", [
+            f"want={self.want!r}, batch shape {self.codes.shape}, {self.n_chunks} chunks"
+            + ("" if self.t is None else f", t[{self.t.size}] in {_tables.span(self.t, 's')}"),
+            _tables.series(None, fields) + at + " (states that succeeded)",
+            _tables.codes_line(self.codes, self.message)])
 
     def _final(self):
         if self.want == "period":
@@ -74,8 +129,30 @@ class SweepResult:
         return self.theta[..., -1], self.omega[..., -1]
 
     def rotating(self, w0):
-        """True where the state at t[-1] is above the separatrix energy
-        2 w0^2 (still going over the top), for the sweep's w0 [1/s]."""
+        """True where the state at t[-1] is above the separatrix energy 2 w0^2.
+
+        Parameters
+        ----------
+        w0 : float or array_like
+            The sweep's w0 [1/s], > 0 (broadcast against the batch).
+
+        Returns
+        -------
+        numpy.ndarray
+            bool, the batch shape: still going over the top at t[-1].
+
+        Raises
+        ------
+        ValueError
+            For want="period" (no final state) or a bad w0.
+
+        Examples
+        --------
+        >>> import numpy as np, pendula
+        >>> r = pendula.sweep([0.0, 1.0], 0.0, np.array([1.0, 3.0]), w0=1.0, h=0.01)
+        >>> r.rotating(1.0).tolist()
+        [False, True]
+        """
         theta, omega = self._final()
         shape, _, (reg,) = _state_property(_fortran.regime_f2py, 1, theta, omega, w0)
         rotation = next(code for code, name in REGIMES.items() if name == "rotation")
@@ -83,9 +160,26 @@ class SweepResult:
 
     @property
     def well(self):
-        """The well each state ends in: the integer k nearest theta(t[-1])/(2 pi),
-        i.e. the number of full turns made before the damping caught it (the
-        basin map of the damped pendulum colours starts by this)."""
+        """The well each state ends in: the integer k nearest theta(t[-1])/(2 pi).
+
+        Returns
+        -------
+        numpy.ndarray
+            int64, the batch shape: the number of full turns made before the
+            damping caught the pendulum (the basin map colours starts by it).
+
+        Raises
+        ------
+        ValueError
+            For want="period" (no final state).
+
+        Examples
+        --------
+        >>> import numpy as np, pendula
+        >>> r = pendula.sweep([0.0, 40.0], 0.0, np.array([1.0, 3.0]), w0=1.0, gamma=0.2, h=0.01)
+        >>> r.well.tolist()
+        [0, 1]
+        """
         theta, _ = self._final()
         return np.rint(np.asarray(theta) / (2 * math.pi)).astype(np.int64)
 
@@ -129,26 +223,71 @@ def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4
           progress=None, client=None):
     """Integrate (or, for want="period", answer in closed form) every state of a sweep.
 
-    t: strictly increasing output times [s], shared by every state (None for
-    want="period").  theta0 [rad], omega0 [rad/s], w0 > 0 [1/s], gamma >= 0
-    [1/s], and h > 0 [s] (method="rk4") or rtol > 0, atol >= 0
-    (method="cvode") broadcast together like NumPy: pass ``theta0[:, None]``
-    and ``omega0[None, :]`` for a grid.  want: "final" (theta, omega at
-    t[-1]), "trajectory" (the whole series) or "period" (undamped only,
-    ``pendula.period``'s closed form).  cvode_method, max_steps: as
-    ``pendula.cvode``.  chunk_states: states per chunk (>= 1).
+    Parameters
+    ----------
+    t : array_like or None
+        Strictly increasing output times [s], shared by every state (None
+        for want="period").
+    theta0, omega0 : float or array_like
+        Initial angle [rad] and angular velocity [rad/s]; with w0, gamma and
+        h (or rtol, atol) they broadcast like NumPy: pass
+        ``theta0[:, None]`` and ``omega0[None, :]`` for a grid.
+    w0 : float or array_like
+        [1/s], > 0.
+    gamma : float or array_like
+        [1/s], >= 0 (0 everywhere for want="period").
+    want : {"final", "trajectory", "period"}
+        theta, omega at t[-1]; the whole series; or the closed-form period
+        (undamped only, ``pendula.period``).
+    method : {"rk4", "cvode"}
+        The integrator.
+    h : float or array_like
+        RK4 step [s], > 0 (method="rk4").
+    rtol, atol : float or array_like
+        CVODE tolerances, rtol > 0, atol >= 0 (method="cvode").
+    cvode_method, max_steps
+        As ``pendula.cvode``'s method and max_steps.
+    chunk_states : int
+        States per chunk, >= 1.
+    threads : int, optional
+        OpenMP threads per chunk (None: the OpenMP default locally, 1 on
+        Dask workers, whose own threads give the parallelism).
+    progress : bool or callable, optional
+        True (tqdm bar; tqdm is optional) or callable(done, total) in states.
+    client : dask.distributed.Client, optional
+        Run the chunks as Dask tasks on its workers (a worker lost mid-sweep
+        has its chunks rerun by Dask; each chunk is placed exactly once).
 
-    threads: OpenMP threads per chunk (None: the OpenMP default locally,
-    1 on Dask workers, whose own threads give the parallelism).  progress:
-    None, True (tqdm bar; tqdm is optional) or callable(done, total) in
-    states.  client: a dask.distributed Client; the chunks then run as Dask
-    tasks on its workers (a worker lost mid-sweep has its chunks rerun by
-    Dask; each chunk is placed exactly once) and come back as NumPy arrays.
+    Returns
+    -------
+    SweepResult
+        Arrays with the batch shape in front; per-state solver failures are
+        reported in ``codes``.
 
-    Ctrl-C stops a local sweep within ~0.1 s and a Dask one within
-    ~0.1 s plus the cancellation of its tasks (KeyboardInterrupt).  Returns a
-    ``SweepResult``; bad arguments raise ValueError/TypeError naming them,
-    per-state solver failures are reported in ``codes``.
+    Raises
+    ------
+    ValueError
+        For bad arguments, naming them.
+    TypeError
+        For a client that is not a Dask client, or bad types.
+    KeyboardInterrupt
+        Ctrl-C: a local sweep stops within ~0.1 s, a Dask one within
+        ~0.1 s plus the cancellation of its tasks.
+
+    Notes
+    -----
+    Each state's answer is bit-identical to the direct batch call (and so
+    to ``pendula.rk4`` / ``pendula.cvode``): chunking only changes which
+    call computes it.
+
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> r = pendula.sweep([0.0, 10.0], np.linspace(0, 3, 4)[:, None], np.zeros(2)[None, :], w0=1.0)
+    >>> r.theta.shape, bool(r.ok.all())
+    ((4, 2), True)
+    >>> np.round(pendula.sweep(None, np.array([0.1, 1.0]), want="period").period, 3).tolist()
+    [6.287, 6.7]
     """
     if not isinstance(want, str) or want not in WANTS:
         raise ValueError(f"want = {want!r} is invalid: it must be one of {', '.join(WANTS)}")

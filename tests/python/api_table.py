@@ -219,7 +219,9 @@ API: dict[str, Entry] = {
                       if HAVE_CVODE else ())),
                   repeat=Arg(COUNT),
                   # max_steps bounds the automatic RK4 sweep (rk4_steps=None)
-                  max_steps=Arg(COUNT, others=dict(rk4_steps=None))),
+                  max_steps=Arg(COUNT, others=dict(rk4_steps=None)),
+                  scipy=Arg(OTHER, extra=((["Euler"], ValueError), ("RK45", ValueError), ([1], TypeError), (1, TypeError))),
+                  scipy_rtols=Arg(OTHER, extra=(([NAN], ValueError), ([-1e-3], ValueError), ([0.0], ValueError)))),
         unchecked=dict(csv="output path (file I/O)", plot="output path (file I/O)")),
 }
 

@@ -165,7 +165,10 @@ def test_scene_batch_wants_and_scalar_t():
     assert res.period.shape == (2,) and res.theta is None
     assert res.period[1] == pendula.solve(pendula.Scene(2.0, want="period")).period
     res = pendula.solve(pendula.Scene([0.5, 2.0], t=3.0, want="energy"))
-    assert res.energy.shape == (2,) and res.energy[0] == pendula.solve(pendula.Scene(0.5, t=3.0, want="energy")).energy
+    assert res.energy.shape == (2, 1)
+    assert res.energy[0, 0] == pendula.solve(pendula.Scene(0.5, t=3.0, want="energy")).energy[0]
+    final = pendula.solve(pendula.Scene([0.5, 2.0], t=[0.0, 3.0], want="final"))
+    assert final.theta.shape == final.omega.shape == final.t.shape == (2, 1)
 
 
 def test_scene_batch_mixed_failures_and_all_failed():

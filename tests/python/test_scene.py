@@ -130,16 +130,17 @@ def test_final_keeps_no_history_and_matches_state():
     common = dict(theta0=2.5, omega0=0.0, gamma=0.05, tol=1e-8)
     rs = pendula.solve(pendula.Scene(t=t, **common))
     rf = pendula.solve(pendula.Scene(t=t, want="final", **common))
-    assert isinstance(rf.theta, float) and rf.t == 40.0
-    assert abs(rf.theta - rs.theta[-1]) <= 2e-8 and abs(rf.omega - rs.omega[-1]) <= 2e-8 * W0
+    # the same types as a history: 1-D arrays of one element at t[-1]
+    assert rf.t.shape == rf.theta.shape == rf.omega.shape == (1,) and rf.t[-1] == 40.0
+    assert abs(rf.theta[-1] - rs.theta[-1]) <= 2e-8 and abs(rf.omega[-1] - rs.omega[-1]) <= 2e-8 * W0
     assert rf.error_estimate <= 1e-8
 
 
 def test_theta_only_and_scalar_time():
     r = pendula.solve(pendula.Scene(theta0=0.5, t=3.0, want="theta", tol=1e-9))
-    assert r.omega is None and isinstance(r.theta, float)
+    assert r.omega is None and r.theta.shape == r.t.shape == (1,)
     th, _ = scene_grid.mp_undamped(np.array([3.0]), 0.5, 0.0, W0)
-    assert abs(r.theta - th[0]) <= 1e-9
+    assert abs(r.theta[0] - th[0]) <= 1e-9
 
 
 def test_events_exact_small_angle_and_damped():

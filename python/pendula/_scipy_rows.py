@@ -1,0 +1,71 @@
+"""SciPy ``solve_ivp`` rows of ``tradeoff``: the trade measured against what
+a user would otherwise pick, on the same reference and error measure.
+
+SciPy is optional: imported only when rows are asked for.
+"""
+import importlib.util
+import math
+
+from ._tables import optional
+from ._tradeoff import SCIPY_METHODS, _sup_error, _timed
+from .integrate import rk4_max_stable_step
+
+_IMPLICIT = ("Radau", "BDF", "LSODA")
+# a method's tighter rtols are skipped once one run takes longer than this [s]
+_SLOW_RUN = 1.0
+
+
+def methods(scipy, default_all):
+    """The solve_ivp methods asked for by tradeoff's ``scipy`` argument."""
+    if scipy is None:
+        return list(SCIPY_METHODS) if default_all and importlib.util.find_spec("scipy") is not None else []
+    if scipy is True:
+        optional("scipy")
+        return list(SCIPY_METHODS)
+    if scipy is False:
+        return []
+    if isinstance(scipy, str):
+        raise ValueError(f"scipy = {scipy!r} must be a list of solve_ivp method names, e.g. [{scipy!r}]")
+    if not isinstance(scipy, (list, tuple)) or not all(isinstance(m, str) for m in scipy):
+        raise TypeError(f"scipy must be True, False, None or a list of solve_ivp method names "
+                        f"(e.g. {list(SCIPY_METHODS[:2])}), got {scipy!r}")
+    bad = [m for m in scipy if m not in SCIPY_METHODS + ("BDF",)]
+    if bad:
+        raise ValueError(f"scipy methods {bad} are unknown: use some of {list(SCIPY_METHODS) + ['BDF']}")
+    optional("scipy")
+    return list(scipy)
+
+
+def rows(st, method, rtols, ref, repeat, max_steps):
+    """TradeoffTable rows of solve_ivp(method) on the state scene st at each rtol."""
+    tend = float(st.t[-1])
+    # an explicit method needs at least the steps stability allows (RK4's limit as the measure)
+    if tend <= 0 or (method not in _IMPLICIT and tend / rk4_max_stable_step(st.w0, st.gamma) > max_steps):
+        return []
+    solve_ivp = optional("scipy").integrate.solve_ivp
+    w0, gamma = st.w0, st.gamma
+    scale = max(abs(st.theta0), abs(st.omega0) / w0) or 1.0
+
+    def rhs(_, y):
+        return [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])]
+
+    def jac(_, y):
+        return [[0.0, 1.0], [-w0 * w0 * math.cos(y[0]), -gamma]]
+
+    out = []
+    for r in rtols:
+        kw = {"jac": jac} if method in _IMPLICIT else {}
+
+        def run(r=r, kw=kw):
+            return solve_ivp(rhs, (0.0, tend), [st.theta0, st.omega0], method=method, t_eval=st.t, rtol=r,
+                             atol=[r * scale / 100, r * w0 * scale / 100], **kw)
+        sol, wall = _timed(run, repeat)
+        if sol.status != 0:
+            break   # tighter rtols fail too
+        out.append({"model": f"scipy {method}", "setting": f"rtol={r:.0e}",
+                    "sup_error": _sup_error(sol.y[0], sol.y[1], ref.theta, ref.omega, w0), "wall_time": wall,
+                    "rhs_evals": int(sol.nfev), "closed_form_evals": 0, "error_estimate": 0.0,
+                    "step_used": None, "steps": None})
+        if wall > _SLOW_RUN:
+            break
+    return out
