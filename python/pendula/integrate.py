@@ -468,6 +468,9 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     ------
     ValueError
         For bad arguments (naming them).
+    TypeError
+        For non-real input (str, bool, complex), a non-integer max_steps or
+        max_events, a non-bool events or a progress that is not callable.
     PendulaSolverError
         When CVODE fails or runs out of steps (a RuntimeError; the message
         gives CVODE's reason).

@@ -447,6 +447,9 @@ def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
     ValueError
         For an unknown model name or a model that does not apply
         (small_angle/exact with gamma > 0), or a solve over max_steps.
+    TypeError
+        For a scene that is not a Scene or SceneBatch, or a non-integer
+        max_steps or threads, or a progress that is not callable.
     NotImplementedError
         For "cvode" in a build without SUNDIALS.
     PendulaSolverError
@@ -512,6 +515,10 @@ def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, thr
     ValueError
         For "auto", an unknown or inapplicable model, a missing or bad
         setting, an unstable RK4 step, a run over max_steps.
+    TypeError
+        For a scene that is not a Scene or SceneBatch, a model that is not a
+        str, a non-integer max_steps or threads, or a progress that is not
+        callable.
     NotImplementedError
         For "cvode" in a build without SUNDIALS.
     PendulaSolverError

@@ -166,6 +166,20 @@ def _signature_params(obj):
             if p.name not in ("self", "cls") and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
 
 
+def _entry_names(entry):
+    """The names of one Parameters/Attributes entry: numpydoc allows ``theta, omega : ndarray``."""
+    return [n.strip() for n in entry.name.split(":")[0].split(",") if n.strip()]
+
+
+def _takes_var_positional(obj):
+    """True for a constructor taking *args, or one without a signature (a builtin
+    exception's: its message has no parameter name to match)."""
+    try:
+        return any(p.kind == p.VAR_POSITIONAL for p in inspect.signature(obj).parameters.values())
+    except (TypeError, ValueError):
+        return True
+
+
 def _problems(name, obj, kind):
     """What the docstring of one public object lacks (empty when it teaches)."""
     what = {"class": "class", "method": "method", "property": "property"}.get(kind, "function")
@@ -181,11 +195,12 @@ def _problems(name, obj, kind):
     if not doc["Summary"]:
         return found or ["no summary"]
     if kind == "class":
-        documented = {p.name.split(":")[0].strip() for sec in ("Parameters", "Attributes")
-                      for p in doc[sec]}
+        documented = {n for sec in ("Parameters", "Attributes") for p in doc[sec]
+                      for n in _entry_names(p)}
         params = _signature_params(obj)
         missing = [p for p in params if p not in documented]
-        unknown = [p.name for p in doc["Parameters"] if p.name not in params]
+        unknown = [] if _takes_var_positional(obj) else [
+            n for p in doc["Parameters"] for n in _entry_names(p) if n not in params]
         if missing:
             found.append(f"constructor arguments not under Parameters or Attributes: {missing}")
         if unknown:
