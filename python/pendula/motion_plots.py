@@ -334,9 +334,11 @@ def plot_phase_portrait(*, w0, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
             label="centres (2nπ, 0): stable")
     ax.plot(k[k % 2 == 1] * np.pi, 0 * k[k % 2 == 1], "kx", ms=8, mew=2, gid="saddles",
             label="saddles ((2n+1)π, 0): unstable")
+    shown = sorted(levels)
+    which = ("the separatrix" if not shown else "levels E/E_sep = " + ", ".join(f"{e:g}" for e in shown)
+             if len(shown) <= 10 else f"{len(shown)} levels E/E_sep from {shown[0]:g} to {shown[-1]:g}")
     ax.set(xlim=(lo, hi), ylim=(-omega_max, omega_max), xlabel=_THETA, ylabel=_OMEGA,
-           title=f"Phase portrait, w0 = {w0:.4g} 1/s: levels E/E_sep = "
-                 + ", ".join(f"{e:g}" for e in sorted(levels)))
+           title=f"Phase portrait, w0 = {w0:.4g} 1/s: {which}")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     return fig

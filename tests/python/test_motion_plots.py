@@ -169,6 +169,14 @@ def test_portrait_curves_are_exact_levels_of_the_energy(w0):
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("θ  (rad)", "Ω  (rad/s)")
 
 
+@pytest.mark.parametrize("levels, title", [(1.0, "the separatrix"), ([2.0, 0.5], "levels E/E_sep = 0.5, 2"),
+                                            (np.linspace(0.05, 3.0, 40), "40 levels E/E_sep from 0.05 to 3")])
+def test_portrait_title_says_which_levels(levels, title):
+    fig = pendula.plot_phase_portrait(w0=W0, levels=levels, n=16)
+    assert fig.axes[0].get_title().endswith(title)
+    assert sum(ln.get_gid() == "separatrix 1" for ln in fig.axes[0].get_lines()) == 2
+
+
 def test_portrait_libration_closes_on_its_amplitude():
     fig = pendula.plot_phase_portrait(w0=W0, levels=0.5, theta_range=(-1.0, 1.0))
     (ln,) = [x for x in fig.axes[0].get_lines() if x.get_gid() == "libration 0.5"]   # only the centre 0 shows
