@@ -147,7 +147,10 @@ def build_parser():
                    help="write t [s], theta [rad], omega [rad/s] as CSV, a data file: every number to full "
                         "precision, the times as computed (default: print a summary table, its times "
                         "rounded to the grid's resolution: 0.45, not 0.44999999999999996)")
-    s.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv")
+    s.add_argument("--png", default=None, metavar="FILE",
+                   help="also draw theta(t), Omega(t) and the phase plane as PNG (pendula.plot_motion; "
+                        "theta(t) alone for --want theta); needs matplotlib")
+    s.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv and --png")
 
     t = sub.add_parser("tradeoff", help="speed/accuracy table of every applicable model on a scene",
                        description="Run every applicable model over a range of settings (RK4 steps, "
@@ -224,6 +227,15 @@ def _check_output(path, option, args, folder=False):
                        f"(create it, or give --mkdir to let {PROG} create it)")
 
 
+def _need_matplotlib(what):
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        from .motion_plots import EXTRA
+        raise CliError(f"{what} needs matplotlib: pip install 'pendula[{EXTRA}]' (or pip install matplotlib)") \
+            from None
+
+
 def _make_parent(path, args):
     if getattr(args, "mkdir", False):
         Path(path).parent.mkdir(parents=True, exist_ok=True)
@@ -265,10 +277,7 @@ def cmd_figures(args, out):
         if bad:
             raise CliError(f"--only: unknown figure key(s) {', '.join(bad)}; known: {', '.join(keys)}")
     _check_output(args.out, "--out", args, folder=True)
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise CliError("the figures need matplotlib: pip install matplotlib") from None
+    _need_matplotlib("drawing the figures")
     _make_parent(Path(args.out) / "x", args)
     written, missing = figures.make_figures(args.out, quick=args.quick, only=only)
     out.write(f"wrote {len(written)} figure(s) to {Path(args.out).resolve()}\n")
@@ -309,10 +318,18 @@ def cmd_period(args, out):
     return 0
 
 
+_SERIES = ("state", "theta", "energy")   # the wants that give theta at every output time
+
+
 def cmd_solve(args, out):
     import pendula
-    if args.csv:
-        _check_output(args.csv, "--csv", args)
+    for opt, path in (("--csv", args.csv), ("--png", args.png)):
+        if path:
+            _check_output(path, opt, args)
+    if args.png:
+        if args.want not in _SERIES:
+            raise CliError(f"--png draws a time series: give --want {', '.join(_SERIES)}, not {args.want}")
+        _need_matplotlib("--png")
     scene = _scene(args, want=args.want)
     kw = {"model": args.model} if args.model else {}
     res = pendula.solve(scene, **kw)
@@ -352,6 +369,12 @@ def cmd_solve(args, out):
     elif len(rows) > 1 or args.want in ("events",):
         show = rows if len(rows) <= 12 else rows[:6] + [["..."] * len(header)] + rows[-5:]
         out.write(_fmt_table(header, show) + "\n")
+    if args.png:
+        from .motion_plots import plot_motion
+        from .plots import DPI
+        _make_parent(args.png, args)
+        plot_motion(res, kind="time" if res.omega is None else "both").savefig(args.png, dpi=DPI)
+        out.write(f"wrote {args.png}\n")
     return 0
 
 

@@ -279,6 +279,7 @@ _TRADEOFF = ["tradeoff", "--theta0", "0.5", "--t-end", "2", "--n", "5", "--model
 @pytest.mark.parametrize("argv, option", [
     (["period", "--theta0", "0.1", "--csv"], "--csv"),
     (_SOLVE + ["--csv"], "--csv"),
+    (_SOLVE + ["--png"], "--png"),
     (_TRADEOFF + ["--csv"], "--csv"),
     (_TRADEOFF + ["--png"], "--png"),
 ])
@@ -458,3 +459,24 @@ def test_grid_times(t_end, n, expect):
     # every string names its grid point: within 4 ulps of it and all distinct
     vals = np.array([float(x) for x in got])
     assert np.all(np.abs(vals - t) <= 4 * np.spacing(t_end)) and len(set(got)) == n
+
+
+def test_solve_png_draws_the_motion(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "m.png"
+    code, out, err = run(["solve", "--theta0", "0", "--v0", "10.4", "--t-end", "20", "--png", str(path)], capsys)
+    assert code == 0, err
+    assert f"wrote {path}" in out and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = run(["solve", "--theta0", "1", "--t-end", "5", "--want", "theta", "--png", str(path)], capsys)
+    assert code == 0, err
+    code, out, err = run(["solve", "--theta0", "1", "--t-end", "5", "--want", "period", "--png", str(path)], capsys)
+    assert code == 2 and "--png draws a time series: give --want state, theta, energy, not period" in err
+    assert out == ""
+
+
+def test_png_without_matplotlib_names_the_extra(capsys, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    code, out, err = run(["solve", "--theta0", "1", "--t-end", "5", "--png", str(tmp_path / "m.png")], capsys)
+    assert code == 2 and "--png needs matplotlib: pip install 'pendula[examples]'" in err and out == ""
+    code, _, err = run(["figures", "--out", str(tmp_path / "f"), "--only", "fig03"], capsys)
+    assert code == 2 and "drawing the figures needs matplotlib" in err
