@@ -9,8 +9,15 @@ Subcommands (``pendula SUBCOMMAND --help`` for each):
   sweep     a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and the basin map (PNG)
 
 Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
-mass kg, b kg/s, gamma and w0 1/s.  Exit status 0 on success, 2 on a bad
-flag or value (with a message saying what is wrong), 1 when a solver fails.
+mass kg, b kg/s, gamma and w0 1/s; angles may be given in degrees (--theta0 90deg,
+--omega0 30deg/s) and the initial state by the text's launch speed (--v0 in m/s,
+Omega0 = v0/l).  Exit status 0 on success, 2 on a bad flag or value (with a
+message saying what is wrong), 1 when a solver fails.
+
+Output: tables printed for people show the times of the output grid without
+binary noise (0.45, not 0.44999999999999996); CSV and NPZ files are data files
+and keep every number to full precision (the shortest decimal that reads back as
+the same double).
 """
 import argparse
 import csv
@@ -20,6 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times
+from ._cli_values import finite as _finite
+from ._cli_values import nonnegative as _nonnegative, positive as _positive
 from ._codes import EVENT_TURNING, EVENT_ZERO, MODEL_CODES, WANT_CODES
 
 PROG = "pendula"
@@ -29,42 +39,6 @@ WANTS = tuple(WANT_CODES)
 
 class CliError(Exception):
     """A bad value the parser could not see (e.g. inconsistent flags)."""
-
-
-# ---------------------------------------------------------------- value types
-
-def _finite(text):
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not math.isfinite(x):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
-    return x
-
-
-def _positive(text):
-    x = _finite(text)
-    if x <= 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be > 0")
-    return x
-
-
-def _nonnegative(text):
-    x = _finite(text)
-    if x < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be >= 0")
-    return x
-
-
-def _count(text):
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-    if n < 2 or n > 10_000_000:
-        raise argparse.ArgumentTypeError(f"{text!r} must be an integer in [2, 10000000]")
-    return n
 
 
 # ---------------------------------------------------------------- parser
@@ -88,12 +62,25 @@ def _add_physics(p, damping=True):
                        help="damping constant b in kg/s (with --mass)")
 
 
+_ANGLE_HELP = "in rad, or in degrees with the unit: 90deg"
+_RATE_HELP = "in rad/s, or in degrees per second with the unit: 30deg/s"
+
+
+def _add_launch(group, what="initial angular velocity Omega0"):
+    """--omega0 and its alternative --v0 (the bob's launch speed of the text's §1.3)."""
+    one = group.add_mutually_exclusive_group()
+    one.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S",
+                     help=f"{what} {_RATE_HELP} (default 0)")
+    one.add_argument("--v0", type=_finite, default=None, metavar="M/S",
+                     help="instead of --omega0: the bob's launch speed v0 in m/s (text §1.3), "
+                          "Omega0 = v0/l; signed, > 0 towards increasing theta")
+
+
 def _add_scene(p):
     s = p.add_argument_group("initial state and window")
-    s.add_argument("--theta0", type=_finite, required=True, metavar="RAD",
-                   help="initial angle theta0 in rad (any real; 0 = hanging down)")
-    s.add_argument("--omega0", type=_finite, default=0.0, metavar="RAD/S",
-                   help="initial angular velocity Omega0 in rad/s (default 0)")
+    s.add_argument("--theta0", type=angle, required=True, metavar="ANGLE",
+                   help=f"initial angle theta0 {_ANGLE_HELP} (any real; 0 = hanging down)")
+    _add_launch(s)
     s.add_argument("--t-end", type=_positive, required=True, metavar="S",
                    help="end of the time window in s (the window starts at t = 0)")
     s.add_argument("--n", type=_count, default=201, metavar="N",
@@ -109,7 +96,8 @@ def build_parser():
     p = argparse.ArgumentParser(
         prog=PROG,
         description="The simple pendulum, exact where mathematics allows. "
-                    "Units: angles rad, angular velocities rad/s, times s, g m/s^2, "
+                    "Units: angles rad (or degrees with the unit: 90deg), angular velocities rad/s "
+                    "(or 30deg/s), times s, g m/s^2, "
                     "length m, mass kg, b kg/s, gamma and w0 1/s.",
         epilog="Run `pendula SUBCOMMAND --help` for the flags of each subcommand.")
     p.add_argument("--version", action="store_true", help="print the version and build information")
@@ -134,10 +122,9 @@ def build_parser():
                                    "the small-angle period T0 = 2 pi/w0 (eq. 1.8) and the series "
                                    "T0 (1 + m/4 + 9 m^2/64), where m = sin^2(theta0/2) + (Omega0/2w0)^2 "
                                    "is the energy over the separatrix energy. Times in s.")
-    q.add_argument("--theta0", type=_finite, nargs="+", required=True, metavar="RAD",
-                   help="one or more initial angles in rad")
-    q.add_argument("--omega0", type=_finite, default=0.0, metavar="RAD/S",
-                   help="initial angular velocity in rad/s (default 0)")
+    q.add_argument("--theta0", type=angle, nargs="+", required=True, metavar="ANGLE",
+                   help=f"one or more initial angles {_ANGLE_HELP}")
+    _add_launch(q, "initial angular velocity")
     q.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     q.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv")
     _add_physics(q, damping=False)
@@ -157,8 +144,13 @@ def build_parser():
                         "(per unit m l^2, 1/s^2), period (period or time per revolution [s], "
                         "undamped only), events (turning points and zero crossings [s])")
     s.add_argument("--csv", default=None, metavar="FILE",
-                   help="write t [s], theta [rad], omega [rad/s] as CSV (default: print a summary table)")
-    s.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv")
+                   help="write t [s], theta [rad], omega [rad/s] as CSV, a data file: every number to full "
+                        "precision, the times as computed (default: print a summary table, its times "
+                        "rounded to the grid's resolution: 0.45, not 0.44999999999999996)")
+    s.add_argument("--png", default=None, metavar="FILE",
+                   help="also draw theta(t), Omega(t) and the phase plane as PNG (pendula.plot_motion; "
+                        "theta(t) alone for --want theta); needs matplotlib")
+    s.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv and --png")
 
     t = sub.add_parser("tradeoff", help="speed/accuracy table of every applicable model on a scene",
                        description="Run every applicable model over a range of settings (RK4 steps, "
@@ -180,10 +172,11 @@ def build_parser():
                                    "well, status codes), sweep.csv (one row per start) and basin.png: the "
                                    "basin map, each start coloured by the well 2 pi k it ends in (the turns "
                                    "made before the damping caught it).")
-    w.add_argument("--theta0", type=_finite, nargs=3, default=[-math.pi, math.pi, 101], metavar=("LO", "HI", "N"),
-                   help="theta0 grid in rad: LO HI N (default -pi pi 101)")
-    w.add_argument("--omega0", type=_finite, nargs=3, default=[-6.0, 6.0, 101], metavar=("LO", "HI", "N"),
-                   help="Omega0 grid in rad/s: LO HI N (default -6 6 101)")
+    w.add_argument("--theta0", nargs=3, default=[-math.pi, math.pi, 101], metavar=("LO", "HI", "N"),
+                   help=f"theta0 grid: LO HI {_ANGLE_HELP} (-180deg 180deg 101), N points "
+                        "(default -pi pi 101)")
+    w.add_argument("--omega0", nargs=3, default=[-6.0, 6.0, 101], metavar=("LO", "HI", "N"),
+                   help=f"Omega0 grid: LO HI {_RATE_HELP}, N points (default -6 6 101)")
     w.add_argument("--t-end", type=_positive, default=30.0, metavar="S", help="end time in s (default 30)")
     w.add_argument("--h", type=_positive, default=0.01, metavar="S", help="RK4 step in s (default 0.01)")
     w.add_argument("--out", required=True, metavar="DIR",
@@ -191,6 +184,8 @@ def build_parser():
     w.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
     w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
     _add_physics(w)
+    for parser in (p, *sub.choices.values()):
+        accept_negative_values(parser)
     return p
 
 
@@ -230,6 +225,15 @@ def _check_output(path, option, args, folder=False):
     if not parent.is_dir() and not getattr(args, "mkdir", False):
         raise CliError(f"{option} {path}: directory {parent} does not exist "
                        f"(create it, or give --mkdir to let {PROG} create it)")
+
+
+def _need_matplotlib(what):
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        from .motion_plots import EXTRA
+        raise CliError(f"{what} needs matplotlib: pip install 'pendula[{EXTRA}]' (or pip install matplotlib)") \
+            from None
 
 
 def _make_parent(path, args):
@@ -273,10 +277,7 @@ def cmd_figures(args, out):
         if bad:
             raise CliError(f"--only: unknown figure key(s) {', '.join(bad)}; known: {', '.join(keys)}")
     _check_output(args.out, "--out", args, folder=True)
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise CliError("the figures need matplotlib: pip install matplotlib") from None
+    _need_matplotlib("drawing the figures")
     _make_parent(Path(args.out) / "x", args)
     written, missing = figures.make_figures(args.out, quick=args.quick, only=only)
     out.write(f"wrote {len(written)} figure(s) to {Path(args.out).resolve()}\n")
@@ -317,10 +318,18 @@ def cmd_period(args, out):
     return 0
 
 
+_SERIES = ("state", "theta", "energy")   # the wants that give theta at every output time
+
+
 def cmd_solve(args, out):
     import pendula
-    if args.csv:
-        _check_output(args.csv, "--csv", args)
+    for opt, path in (("--csv", args.csv), ("--png", args.png)):
+        if path:
+            _check_output(path, opt, args)
+    if args.png:
+        if args.want not in _SERIES:
+            raise CliError(f"--png draws a time series: give --want {', '.join(_SERIES)}, not {args.want}")
+        _need_matplotlib("--png")
     scene = _scene(args, want=args.want)
     kw = {"model": args.model} if args.model else {}
     res = pendula.solve(scene, **kw)
@@ -331,18 +340,19 @@ def cmd_solve(args, out):
     if cost is not None:
         out.write(f"cost: {cost}\n")
     if args.want == "period":
-        out.write(f"period or time per revolution: {float(res.period):.17g} s\n")
-        header, rows = ["period_s"], [[f"{float(res.period):.17g}"]]
+        out.write(f"period or time per revolution: {data(res.period)} s\n")
+        header, rows = ["period_s"], [[data(res.period)]]
     elif args.want == "final":
         theta, omega = float(res.theta[-1]), float(res.omega[-1])
-        out.write(f"final state at t = {args.t_end:g} s: theta = {theta:.17g} rad, Omega = {omega:.17g} rad/s\n")
+        out.write(f"final state at t = {args.t_end:g} s: theta = {data(theta)} rad, "
+                  f"Omega = {data(omega)} rad/s\n")
         header = ["t_s", "theta_rad", "omega_rad_per_s"]
-        rows = [[f"{args.t_end:.17g}", f"{theta:.17g}", f"{omega:.17g}"]]
-    elif args.want == "events":
+        rows = [[data(args.t_end), data(theta), data(omega)]]
+    elif args.want == "events":   # event times are found, not grid points: full precision everywhere
         ev = res.events
-        kinds = {EVENT_TURNING: "turning point (Omega = 0)", EVENT_ZERO: "zero crossing (theta = 0)"}
+        kinds = {EVENT_TURNING: "turning point (Omega = 0)", EVENT_ZERO: "zero crossing (theta = 0 mod 2 pi)"}
         header = ["t_s", "kind", "theta_rad", "omega_rad_per_s"]
-        rows = [[f"{a:.17g}", kinds.get(int(k), str(k)), f"{b:.17g}", f"{c:.17g}"]
+        rows = [[data(a), kinds.get(int(k), str(k)), data(b), data(c)]
                 for a, k, b, c in zip(ev.t, ev.kind, ev.theta, ev.omega)]
         out.write(f"{len(rows)} event(s) in (0, {args.t_end:g}] s, time error ~ {res.event_time_error} s\n")
     else:
@@ -350,13 +360,22 @@ def cmd_solve(args, out):
         cols = [("theta_rad", res.theta), ("omega_rad_per_s", res.omega), ("energy_per_ml2_1_per_s2", res.energy)]
         cols = [(n, np.asarray(v, dtype=float)) for n, v in cols if v is not None]
         header = ["t_s"] + [n for n, _ in cols]
-        rows = [[f"{x:.17g}" for x in vals] for vals in zip(t, *(v for _, v in cols))]
+        rows = [[data(x) for x in vals] for vals in zip(t, *(v for _, v in cols))]
+        if not args.csv:   # the printed table is for people: the grid's times without binary noise
+            for row, clean in zip(rows, grid_times(t)):
+                row[0] = clean
     if args.csv:
         _make_parent(args.csv, args)
         out.write(f"wrote {len(rows)} rows to {_write_csv(args.csv, header, rows)}\n")
     elif len(rows) > 1 or args.want in ("events",):
         show = rows if len(rows) <= 12 else rows[:6] + [["..."] * len(header)] + rows[-5:]
         out.write(_fmt_table(header, show) + "\n")
+    if args.png:
+        from .motion_plots import plot_motion
+        from .plots import DPI
+        _make_parent(args.png, args)
+        plot_motion(res, kind="time" if res.omega is None else "both").savefig(args.png, dpi=DPI)
+        out.write(f"wrote {args.png}\n")
     return 0
 
 
@@ -396,8 +415,11 @@ def _tradeoff_rows(table):
     return tradeoff_rows(table)
 
 
-def _grid_axis(spec, option):
-    lo, hi, n = spec
+def _grid_axis(spec, option, kind):
+    try:
+        lo, hi, n = kind(spec[0]), kind(spec[1]), _finite(spec[2])
+    except argparse.ArgumentTypeError as exc:
+        raise CliError(f"{option}: {exc}") from None
     if n != int(n) or not 2 <= n <= 100_000:
         raise CliError(f"{option}: N = {n:g} must be an integer in [2, 100000]")
     if not hi > lo:
@@ -407,8 +429,8 @@ def _grid_axis(spec, option):
 
 def cmd_sweep(args, out):
     import pendula
-    th = _grid_axis(args.theta0, "--theta0")
-    om = _grid_axis(args.omega0, "--omega0")
+    th = _grid_axis(args.theta0, "--theta0", angle)
+    om = _grid_axis(args.omega0, "--omega0", angular_velocity)
     _check_output(args.out, "--out", args, folder=True)
     w0 = pendula.natural_frequency(args.g, args.length)
     gamma = args.gamma if args.gamma is not None else (
@@ -422,7 +444,7 @@ def cmd_sweep(args, out):
     np.savez(folder / "sweep.npz", theta0=th, omega0=om, theta=r.theta, omega=r.omega, well=well, codes=r.codes,
              t_end=args.t_end, w0=w0, gamma=gamma, h=args.h)
     tt, oo = np.meshgrid(th, om, indexing="ij")
-    rows = [[f"{a:.17g}", f"{b:.17g}", f"{c:.17g}", f"{d:.17g}", int(k), int(code)] for a, b, c, d, k, code in
+    rows = [[data(a), data(b), data(c), data(d), int(k), int(code)] for a, b, c, d, k, code in
             zip(tt.ravel(), oo.ravel(), r.theta.ravel(), r.omega.ravel(), well.ravel(), r.codes.ravel())]
     _write_csv(folder / "sweep.csv", ["theta0_rad", "omega0_rad_per_s", "theta_end_rad", "omega_end_rad_per_s",
                                       "well", "code"], rows)
@@ -455,6 +477,10 @@ def main(argv=None, out=None):
         parser.print_help(out)
         return 2
     sub = f"{PROG} {args.command}"
+    if getattr(args, "v0", None) is not None:   # the text's §1.3 launch speed: Omega0 = v0 / l
+        args.omega0 = args.v0 / args.length
+        out.write(f"Omega0 = v0/l = {data(args.omega0)} rad/s (v0 = {data(args.v0)} m/s, "
+                  f"l = {data(args.length)} m)\n")
     try:
         return COMMANDS[args.command](args, out)
     except (CliError, ValueError, TypeError) as exc:

@@ -69,6 +69,9 @@ NOT_ENTRY_POINTS = {
     "SceneBatchResult": "result container built by solve()/run_model() for a SceneBatch",
     "build_info": "no arguments: build configuration",
     "have_cvode": "no arguments: build configuration",
+    # a Figure is no result of numbers to walk; their bad input is tested in test_motion_plots.py
+    "plot_motion": "plot helper: returns a matplotlib Figure",
+    "plot_phase_portrait": "plot helper: returns a matplotlib Figure",
 }
 
 # threads= of the batch paths: 0 (the default: every core) or a count

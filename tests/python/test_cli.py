@@ -1,5 +1,6 @@
 """The command line: python -m pendula {figures, period, solve, tradeoff}, help and errors."""
 import csv
+import math
 import subprocess
 import sys
 
@@ -82,7 +83,7 @@ def test_period_rotation_and_custom_length(capsys):
 
 @pytest.mark.parametrize("argv, expect", [
     (["period", "--theta0", "nan"], "--theta0: 'nan' is not a finite number"),
-    (["period", "--theta0", "abc"], "--theta0: 'abc' is not a number"),
+    (["period", "--theta0", "abc"], "--theta0: 'abc' is not an angle: give radians (1.57 or 1.57rad) or degrees"),
     (["period", "--theta0", "1", "--g", "-9.8"], "--g: '-9.8' must be > 0"),
     (["period", "--theta0", "1", "--length", "0"], "--length/-l: '0' must be > 0"),
     (["period"], "the following arguments are required: --theta0"),
@@ -203,7 +204,7 @@ def test_python_dash_m_entry_point():
     assert f"{float(pendula.period(1.0, 0.0, W0)):.12g}" in proc.stdout
     proc = subprocess.run([sys.executable, "-m", "pendula", "period", "--theta0", "x"],
                           capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 2 and "'x' is not a number" in proc.stderr
+    assert proc.returncode == 2 and "'x' is not an angle" in proc.stderr
 
 
 @needs_scenes
@@ -278,6 +279,7 @@ _TRADEOFF = ["tradeoff", "--theta0", "0.5", "--t-end", "2", "--n", "5", "--model
 @pytest.mark.parametrize("argv, option", [
     (["period", "--theta0", "0.1", "--csv"], "--csv"),
     (_SOLVE + ["--csv"], "--csv"),
+    (_SOLVE + ["--png"], "--png"),
     (_TRADEOFF + ["--csv"], "--csv"),
     (_TRADEOFF + ["--png"], "--png"),
 ])
@@ -338,3 +340,143 @@ def test_sweep_refuses_missing_parent_and_bad_grid(capsys, tmp_path):
     code, _, _ = run(["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1",
                       "--no-png", "--mkdir", "--out", str(tmp_path / "d" / "e")], capsys)
     assert code == 0 and (tmp_path / "d" / "e" / "sweep.npz").exists()
+
+
+# ---------------------------------------------------------------- degrees, v0, times for people
+
+def _final_line(out):
+    return [ln for ln in out.splitlines() if ln.startswith("final state")]
+
+
+@pytest.mark.parametrize("deg, rad", [("90deg", "1.5707963267948966"), ("90°", "1.5707963267948966"),
+                                      ("-45DEG", "-0.7853981633974483"), ("1.2rad", "1.2"),
+                                      ("-1e-3", "-0.001"), ("-1e-1deg", repr(math.radians(-0.1)))])
+def test_theta0_in_degrees_is_the_same_scene(capsys, deg, rad):
+    base = ["solve", "--t-end", "3", "--want", "final", "--theta0"]
+    code, out_deg, err = run(base + [deg], capsys)
+    assert code == 0, err
+    code, out_rad, _ = run(base + [rad], capsys)
+    assert _final_line(out_deg) and _final_line(out_deg) == _final_line(out_rad)
+
+
+def test_degrees_everywhere(capsys, tmp_path):
+    # period: one parser for every option
+    code, out, err = run(["period", "--theta0", "90deg", "2", "--omega0", "30deg/s", "--csv", str(tmp_path / "p.csv")],
+                         capsys)
+    assert code == 0, err
+    with open(tmp_path / "p.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    expect = pendula.period(np.array([np.pi / 2, 2.0]), np.pi / 6, W0)
+    np.testing.assert_allclose([float(r["T_exact_s"]) for r in rows], expect, rtol=1e-11)
+    assert float(rows[0]["omega0_rad_per_s"]) == pytest.approx(np.pi / 6, rel=1e-10)
+    # sweep: LO and HI in degrees, N a count; the grid is exactly the one in radians
+    code, _, err = run(["sweep", "--theta0", "-180deg", "180deg", "5", "--omega0", "-90deg/s", "90deg/s", "3",
+                        "--t-end", "1", "--no-png", "--out", str(tmp_path / "d")], capsys)
+    assert code == 0, err
+    z = np.load(tmp_path / "d" / "sweep.npz")
+    assert np.array_equal(z["theta0"], np.linspace(-np.pi, np.pi, 5))
+    assert np.array_equal(z["omega0"], np.linspace(-np.pi / 2, np.pi / 2, 3))
+
+
+@pytest.mark.parametrize("argv, expect", [
+    (["solve", "--theta0", "90degs"], "argument --theta0: '90degs' is not an angle: give radians"),
+    (["solve", "--theta0", "deg"], "argument --theta0: 'deg' is not an angle"),
+    (["solve", "--theta0", "1.2.3deg"], "argument --theta0: '1.2.3deg' is not an angle"),
+    (["solve", "--theta0", "30deg/s"], "argument --theta0: '30deg/s' is not an angle"),
+    (["solve", "--theta0", "-90dg"], "argument --theta0: '-90dg' is not an angle"),
+    (["solve", "--theta0", "infdeg"], "argument --theta0: 'infdeg' is not a finite angle"),
+    (["solve", "--theta0", "1", "--omega0", "2deg"],
+     "argument --omega0: '2deg' is not an angular velocity: give rad/s (0.5 or 0.5rad/s) or degrees per second"),
+    (["solve", "--theta0", "1", "--omega0", "nan"], "argument --omega0: 'nan' is not a finite number"),
+    (["period", "--theta0", "1", "90grad"], "argument --theta0: '90grad' is not an angle"),
+    (["sweep", "--theta0", "-180dg", "180deg", "3", "--out", "x"], "--theta0: '-180dg' is not an angle"),
+    (["sweep", "--omega0", "0", "1deg", "3", "--out", "x"], "--omega0: '1deg' is not an angular velocity"),
+])
+def test_bad_angle_text_names_the_option(capsys, argv, expect):
+    code, out, err = run(argv + ([] if argv[0] != "solve" else ["--t-end", "1"]), capsys)
+    assert code == 2 and expect in err, err
+
+
+@pytest.mark.parametrize("length", [4.9, 2.0])
+def test_v0_is_the_launch_speed_of_the_text(capsys, length):
+    """§1.3: Omega0 = v0 / l; E/E_sep = (v0 / (2 sqrt(g l)))^2 from the bottom."""
+    v0 = 1.5 * float(W0) * 4.9      # the text's fig 9: v0 = 1.5 w0 l (l = 4.9 m)
+    code, out, err = run(["period", "--theta0", "0", "--v0", repr(v0), "--length", repr(length)], capsys)
+    assert code == 0, err
+    assert f"Omega0 = v0/l = {v0 / length!r} rad/s" in out
+    row = out.splitlines()[-1].split()
+    assert float(row[1]) == pytest.approx(v0 / length, rel=1e-9)
+    assert float(row[2]) == pytest.approx((v0 / (2 * math.sqrt(9.8 * length))) ** 2, rel=1e-9)
+    base = ["solve", "--theta0", "0.2", "--t-end", "4", "--want", "final", "--length", repr(length)]
+    code, out_v0, err = run(base + ["--v0", repr(v0)], capsys)
+    assert code == 0, err
+    code, out_om, _ = run(base + ["--omega0", repr(v0 / length)], capsys)
+    assert _final_line(out_v0) and _final_line(out_v0) == _final_line(out_om)
+
+
+@pytest.mark.parametrize("sub", ["solve", "tradeoff", "period"])
+def test_v0_and_omega0_are_exclusive(capsys, sub):
+    argv = [sub, "--theta0", "0", "--omega0", "1", "--v0", "2"] + ([] if sub == "period" else ["--t-end", "1"])
+    code, out, err = run(argv, capsys)
+    assert code == 2 and "argument --v0: not allowed with argument --omega0" in err and out == ""
+    code, _, err = run([sub, "--theta0", "0", "--v0", "fast"] + ([] if sub == "period" else ["--t-end", "1"]),
+                       capsys)
+    assert code == 2 and "argument --v0: 'fast' is not a number" in err
+
+
+def test_printed_times_have_no_binary_noise_and_csv_keeps_full_precision(capsys, tmp_path):
+    t = np.linspace(0.0, 30.0, 201)
+    assert repr(float(t[3])) == "0.44999999999999996"          # the noise the table must not show
+    argv = ["solve", "--theta0", "0.5", "--t-end", "30", "--n", "201"]
+    code, out, err = run(argv, capsys)
+    assert code == 0, err
+    first = [ln.split()[0] for ln in out.splitlines() if ln.strip()[:1].isdigit()]
+    assert first[:4] == ["0.00", "0.15", "0.30", "0.45"] and first[-1] == "30.00"
+    assert "0.44999999999999996" not in out
+    code, _, err = run(argv + ["--csv", str(tmp_path / "s.csv")], capsys)
+    assert code == 0, err
+    with open(tmp_path / "s.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows[3]["t_s"] == "0.44999999999999996"      # a data file: the times as computed
+    assert np.array_equal([float(r["t_s"]) for r in rows], t)
+    theta, _ = pendula.undamped(t, 0.5, 0.0, W0)
+    assert np.max(np.abs(np.array([float(r["theta_rad"]) for r in rows]) - theta)) <= 1e-6
+
+
+@pytest.mark.parametrize("t_end, n, expect", [
+    (30.0, 201, ["0.00", "0.15", "0.30"]),
+    (0.3, 4, ["0.0", "0.1", "0.2", "0.3"]),
+    (7.0, 8, ["0", "1", "2"]),
+    (1e6, 3, ["0", "500000", "1000000"]),
+    (1e5, 1_000_001, ["0.0", "0.1", "0.2"]),
+    (1.0, 4, ["0.0", "0.3333333333333333", "0.6666666666666666", "1.0"]),   # not a decimal grid
+])
+def test_grid_times(t_end, n, expect):
+    from pendula._cli_values import grid_times
+    t = np.linspace(0.0, t_end, n)
+    got = grid_times(t)
+    assert got[:len(expect)] == expect
+    # every string names its grid point: within 4 ulps of it and all distinct
+    vals = np.array([float(x) for x in got])
+    assert np.all(np.abs(vals - t) <= 4 * np.spacing(t_end)) and len(set(got)) == n
+
+
+def test_solve_png_draws_the_motion(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "m.png"
+    code, out, err = run(["solve", "--theta0", "0", "--v0", "10.4", "--t-end", "20", "--png", str(path)], capsys)
+    assert code == 0, err
+    assert f"wrote {path}" in out and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = run(["solve", "--theta0", "1", "--t-end", "5", "--want", "theta", "--png", str(path)], capsys)
+    assert code == 0, err
+    code, out, err = run(["solve", "--theta0", "1", "--t-end", "5", "--want", "period", "--png", str(path)], capsys)
+    assert code == 2 and "--png draws a time series: give --want state, theta, energy, not period" in err
+    assert out == ""
+
+
+def test_png_without_matplotlib_names_the_extra(capsys, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    code, out, err = run(["solve", "--theta0", "1", "--t-end", "5", "--png", str(tmp_path / "m.png")], capsys)
+    assert code == 2 and "--png needs matplotlib: pip install 'pendula[examples]'" in err and out == ""
+    code, _, err = run(["figures", "--out", str(tmp_path / "f"), "--only", "fig03"], capsys)
+    assert code == 2 and "drawing the figures needs matplotlib" in err
