@@ -224,7 +224,7 @@ def test_solve_want_period_final_events(capsys, tmp_path):
     with open(path) as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) > 10 and {r["kind"] for r in rows} == {"turning point (Omega = 0)",
-                                                             "zero crossing (theta = 0)"}
+                                                             "zero crossing (theta = 0 mod 2 pi)"}
     assert all(float(a["t_s"]) < float(b["t_s"]) for a, b in zip(rows, rows[1:]))
 
 
