@@ -24,11 +24,19 @@ from .physics import documented, pendulum_gamma, pendulum_w0
 _REGIMES = {1: "underdamped", 2: "critical", 3: "overdamped"}
 
 
+_START = """t : float or array_like
+        Time since the initial state [s], finite and >= 0.
+    theta0 : float or array_like
+        Initial angle [rad], finite.
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0."""
+
+
 def _params(w0, gamma, g, length, b, mass):
     return pendulum_w0(w0, g, length), pendulum_gamma(gamma, b, mass)
 
 
-@documented
+@documented(start=_START)
 def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None, mass=None):
     """Angle and angular velocity of the linear damped pendulum.
 
@@ -40,12 +48,7 @@ def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=
 
     Parameters
     ----------
-    t : float or array_like
-        Time since the initial state [s], finite and >= 0.
-    theta0 : float or array_like
-        Initial angle [rad], finite.
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
+    {start}
     {pendulum}
     {damping}
 
@@ -103,7 +106,7 @@ def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
 
-@documented
+@documented(start=_START)
 def linear_damped_envelope(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None,
                            mass=None):
     """Under-damped envelope R exp(-gamma t/2), with |theta(t)| <= envelope.
@@ -114,12 +117,7 @@ def linear_damped_envelope(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None
 
     Parameters
     ----------
-    t : float or array_like
-        Time since the initial state [s], finite and >= 0.
-    theta0 : float or array_like
-        Initial angle [rad], finite.
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
+    {start}
     {pendulum}
     {damping}
 

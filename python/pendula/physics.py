@@ -103,37 +103,40 @@ def damping_rate(b, mass):
 
 _W0_DEFAULT = natural_frequency()
 
-# The pendulum's parameters as every function documents them (substituted for
-# "{pendulum}" / "{damping}" in the docstrings, so the convention is written once).
-PENDULUM_DOC = """w0 : float or array_like, optional
+# Docstring parts shared by the functions that take a pendulum, substituted for
+# "{pendulum}", "{damping}", "{raises}" and "{swing}" (see ``documented``), so that
+# the convention is written once.
+DOC_PARTS = {
+    "pendulum": """w0 : float or array_like, optional
         Natural angular frequency sqrt(g/length) [1/s], finite and > 0.
     g, length : float, optional
         Gravity [m/s^2] and length [m], finite and > 0, instead of w0 (w0 may
         be given with them only if it agrees).  None of w0, g, length given:
-        the text's pendulum, g = 9.8 and length = 4.9 (w0 = sqrt(2))."""
-DAMPING_DOC = """gamma : float or array_like, optional
+        the text's pendulum, g = 9.8 and length = 4.9 (w0 = sqrt(2)).""",
+    "damping": """gamma : float or array_like, optional
         Damping rate b/mass [1/s], finite and >= 0.
     b, mass : float, optional
         Damping coefficient [kg/s] >= 0 and bob mass [kg] > 0, both or
         neither, instead of gamma (gamma = b/mass, text eq. 2.1; gamma may be
-        given with them only if it agrees).  None given: gamma = 0."""
+        given with them only if it agrees).  None given: gamma = 0.""",
+    "raises": """ValueError
+        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
+        given with g or length that disagree with it.
+    TypeError
+        Non-real input (str, bool, complex).""",
+    "swing": """AngleWarning
+        |theta0| > 2 pi while the pendulum swings (degrees given as radians?).""",
+}
 
 
-def documented(f):
-    """Put the shared parameter text into ``f``'s docstring."""
-    f.__doc__ = f.__doc__.replace("{pendulum}", PENDULUM_DOC).replace("{damping}", DAMPING_DOC)
+def documented(f=None, **parts):
+    """Decorator: put DOC_PARTS (and ``parts``, for one module's own) into the
+    docstring; ``@documented`` or ``@documented(name=text)``."""
+    if f is None:
+        return lambda g: documented(g, **parts)
+    for key, text in {**DOC_PARTS, **parts}.items():
+        f.__doc__ = f.__doc__.replace("{" + key + "}", text)
     return f
-
-
-def _disagree(given, name, derived, what):
-    """Indices where ``given`` (finite elements only: a non-finite one is refused
-    later by its own check) differs from ``derived`` by more than PARAM_RTOL."""
-    a = as_real(given, name)
-    bad = np.isfinite(a) & (np.abs(a - derived) > PARAM_RTOL * np.maximum(np.abs(a), derived))
-    if bad.any():
-        x = float(a.reshape(-1)[int(np.flatnonzero(bad)[0])])
-        raise ValueError(f"{name} = {x!r} and {what} = {derived!r} disagree: give {name}, "
-                         f"or {'g and length' if name == 'w0' else 'mass and b'}, not both")
 
 
 def pendulum_w0(w0=None, g=None, length=None):

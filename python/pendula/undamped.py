@@ -117,11 +117,7 @@ def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input (str, bool, complex).
+    {raises}
 
     Notes
     -----
@@ -198,16 +194,11 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Warns
     -----
-    AngleWarning
-        |theta0| > 2 pi while the pendulum swings.
+    {swing}
 
     Notes
     -----
@@ -255,16 +246,11 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Warns
     -----
-    AngleWarning
-        |theta0| > 2 pi while the pendulum swings.
+    {swing}
 
     Notes
     -----
@@ -323,16 +309,11 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Warns
     -----
-    AngleWarning
-        |theta0| > 2 pi while the pendulum swings.
+    {swing}
 
     Notes
     -----
@@ -378,16 +359,11 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Warns
     -----
-    AngleWarning
-        |theta0| > 2 pi while the pendulum swings.
+    {swing}
 
     Notes
     -----
@@ -430,11 +406,7 @@ def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Notes
     -----
@@ -477,11 +449,7 @@ def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Notes
     -----
@@ -527,11 +495,7 @@ def energy(theta, omega, w0=None, *, g=None, length=None):
 
     Raises
     ------
-    ValueError
-        A non-finite input, w0 <= 0, shapes that do not broadcast, or w0
-        given with disagreeing g/length.
-    TypeError
-        Non-real input.
+    {raises}
 
     Notes
     -----
