@@ -139,6 +139,18 @@ def documented(f=None, **parts):
     return f
 
 
+def _disagree(given, name, derived, what):
+    """ValueError where ``given`` (its finite elements: a non-finite one is
+    refused later by its own check) differs from ``derived`` by more than
+    PARAM_RTOL relative -- Scene's test for gamma against b/mass."""
+    a = as_real(given, name)
+    bad = np.isfinite(a) & (np.abs(a - derived) > PARAM_RTOL * np.maximum(np.abs(a), derived))
+    if bad.any():
+        x = float(a.reshape(-1)[int(np.flatnonzero(bad)[0])])
+        raise ValueError(f"{name} = {x!r} and {what} = {derived!r} disagree: give {name}, "
+                         f"or {'g and length' if name == 'w0' else 'mass and b'}, not both")
+
+
 def pendulum_w0(w0=None, g=None, length=None):
     """w0 from the package's one convention (see the module docstring): ``w0``
     as given (scalar or array, checked by the caller's kernel), else
