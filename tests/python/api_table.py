@@ -229,6 +229,9 @@ API: dict[str, Entry] = {
                   max_steps=Arg(COUNT, others=dict(rk4_steps=None))),
         unchecked=dict(csv="output path (file I/O)", plot="output path (file I/O)")),
 }
+# errors= of the elliptic functions: 'raise' or 'nan' (test_elliptic_errors.py)
+for _name in ("ellipk", "ellipe", "ellipkm1", "ellipem1", "ellipf", "ellipkinc", "ellipfm1", "ellipj", "ellipjm1"):
+    API[_name].args["errors"] = Arg(CHOICE)
 
 
 # ---- helpers ----------------------------------------------------------------------
