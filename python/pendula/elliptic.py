@@ -435,9 +435,9 @@ def ellipj(u, m, *, errors="raise"):
     Raises
     ------
     ValueError
-        u or m infinite (sn, cn, dn have no limit there) with
-        ``errors='raise'``, shapes that do not broadcast, or an unknown
-        ``errors``.
+        u or m infinite (sn, cn, dn have no limit there; at m = 1 the
+        limits +-1, 0, 0 are returned) with ``errors='raise'``, shapes that
+        do not broadcast, or an unknown ``errors``.
     TypeError
         Non-real input (str, bool, complex) or a non-str ``errors``.
 
