@@ -19,13 +19,12 @@ The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
 import math
-import warnings
 
 import numpy as np
 
 from . import _fortran as _undamped
 from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
-from ._codes import OK
+from ._angle_warning import AngleWarning, warn_if_degrees
 from ._errors import raise_for_status
 from .physics import documented, pendulum_w0
 
@@ -34,53 +33,6 @@ _PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
 #: Largest |n| accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
-
-
-class AngleWarning(UserWarning):
-    """An amplitude angle above 2 pi rad: probably degrees given as radians.
-
-    Raised (as a warning) by :func:`period`, :func:`amplitude`,
-    :func:`small_angle` and :func:`small_angle_error` when |theta0| > 2 pi
-    and the pendulum swings (the state is a libration or the separatrix):
-    ``period(90)`` means 90 rad, which is what 90 - 14 * 2 pi = 2.04 rad
-    gives, and is almost surely meant as 90 degrees.  Rotations (omega0 fast
-    enough to go over the top) and trajectory angles (``energy``,
-    ``undamped``) never warn: there theta counts turns legitimately.
-
-    The result is still computed for the angle as given.  Pass radians
-    (``numpy.radians``) or, when large angles are meant, silence it with
-    ``warnings.filterwarnings("ignore", category=pendula.AngleWarning)``.
-
-    Examples
-    --------
-    >>> import warnings, pendula
-    >>> with warnings.catch_warnings(record=True) as caught:
-    ...     warnings.simplefilter("always")
-    ...     T = pendula.period(90)
-    >>> caught[0].category.__name__
-    'AngleWarning'
-    """
-
-
-def _warn_if_degrees(theta0, omega0, w0):
-    """AngleWarning where |theta0| > 2 pi and the state swings (m <= 1).
-    Flat float64 inputs of n or 1 elements; called from a public function
-    through one helper, hence stacklevel 4 (the user's line)."""
-    big = np.abs(theta0) > 2 * np.pi
-    if not big.any():
-        return
-    n = max(theta0.size, omega0.size, w0.size)
-    m, _, code, _ = _undamped.parameter_f2py(n, theta0, omega0, w0)
-    if code != OK:
-        return   # bad input: the caller's kernel raises for it
-    swings = np.broadcast_to(big, m.shape) & (m <= 1)
-    if swings.any():
-        x = float(np.broadcast_to(theta0, m.shape)[int(np.flatnonzero(swings)[0])])
-        warnings.warn(AngleWarning(
-            f"theta0 = {x!r} rad is more than 2 pi for a swinging pendulum: it looks like degrees "
-            f"(radians expected; numpy.radians({x!r}) = {math.radians(x)!r}).  If large angles are meant, "
-            f"silence this with warnings.filterwarnings('ignore', category=pendula.AngleWarning)"),
-            stacklevel=4)
 
 
 @documented
@@ -160,7 +112,7 @@ def _two_outputs(kernel, **named):
     shape, scalar, f = broadcast_real(**named)
     if next(iter(f.values())).size == 0:
         return np.empty(shape), np.empty(shape)
-    _warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
+    warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
     a, b, code, msg = kernel(*f.values())
     raise_for_status(code, msg)
     return restore(a, shape, scalar), restore(b, shape, scalar)
@@ -269,7 +221,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
                         w0=pendulum_w0(w0, g, length))
 
 
-def _state_property(kernel, nout, theta0, omega0, w0, g, length, *options, amplitude=False):
+def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=None, amplitude=False):
     """Broadcast the states and run one of the Fortran property kernels (``nout``
     results); ``options`` go between the size and the states.  ``amplitude``:
     theta0 is an amplitude, so warn where it looks like degrees."""
@@ -278,7 +230,7 @@ def _state_property(kernel, nout, theta0, omega0, w0, g, length, *options, ampli
     if n == 0:
         return shape, scalar, [np.empty(0)] * nout
     if amplitude:
-        _warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
+        warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
     *values, code, msg = kernel(n, *options, f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return shape, scalar, values
@@ -331,8 +283,8 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> round(pendula.period(1.0, g=9.8, length=1.0), 6)
     2.140229
     """
-    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, g, length,
-                                            _PERIOD, amplitude=True)
+    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD,
+                                            g=g, length=length, amplitude=True)
     return restore(per, shape, scalar)
 
 
@@ -378,8 +330,8 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> pendula.amplitude(0.0, omega0=5.0, w0=1.0)      # rotation
     inf
     """
-    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, g, length,
-                                            _AMPLITUDE, amplitude=True)
+    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE,
+                                            g=g, length=length, amplitude=True)
     return restore(amp, shape, scalar)
 
 
@@ -422,7 +374,7 @@ def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> round(m, 6), round(mc, 6)
     (0.229849, 0.770151)
     """
-    shape, scalar, (m, mc) = _state_property(_undamped.parameter_f2py, 2, theta0, omega0, w0, g, length)
+    shape, scalar, (m, mc) = _state_property(_undamped.parameter_f2py, 2, theta0, omega0, w0, g=g, length=length)
     return restore(m, shape, scalar), restore(mc, shape, scalar)
 
 
@@ -463,7 +415,7 @@ def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> pendula.regime(1.0), pendula.regime(0.0, omega0=3.0)
     ('libration', 'rotation')
     """
-    shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0, g, length)
+    shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0, g=g, length=length)
     if scalar:
         return REGIMES[int(codes[0])]
     names = np.array([""] + [REGIMES[k] for k in sorted(REGIMES)])   # codes are 1, 2, 3
