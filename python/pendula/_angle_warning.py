@@ -16,7 +16,7 @@ class AngleWarning(UserWarning):
     """An amplitude angle above 2 pi rad: probably degrees given as radians.
 
     Raised (as a warning) by :func:`period`, :func:`amplitude`,
-    :func:`small_angle` and :func:`small_angle_error` when |theta0| > 2 pi
+    :func:`small_angle` and :func:`small_angle_error` when abs(theta0) > 2 pi
     and the pendulum swings (the state is a libration or the separatrix):
     ``period(90)`` means 90 rad, which is what 90 - 14 * 2 pi = 2.04 rad
     gives, and is almost surely meant as 90 degrees.  Rotations (omega0 fast
@@ -39,7 +39,7 @@ class AngleWarning(UserWarning):
 
 
 def warn_if_degrees(theta0, omega0, w0):
-    """AngleWarning where |theta0| > 2 pi and the state swings (m <= 1).
+    """AngleWarning where abs(theta0) > 2 pi and the state swings (m <= 1).
     Flat float64 inputs of n or 1 elements; called from a public function
     through one helper, hence stacklevel 4 (the user's line)."""
     big = np.abs(theta0) > 2 * np.pi

@@ -420,7 +420,7 @@ def ellipj(u, m, *, errors="raise"):
     ----------
     u : float or array_like
         Argument, any finite real value (reduced modulo the period with K in
-        double-double, so large |u| keeps its accuracy).
+        double-double, so large abs(u) keeps its accuracy).
     m : float or array_like
         Parameter m = k^2, any finite real value: m < 0 and m > 1 through
         the imaginary- and reciprocal-modulus transformations (SciPy: NaN).

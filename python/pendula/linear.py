@@ -72,7 +72,7 @@ def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=
     Evaluated as exp(-gamma t/2) [theta0 C(t) + (omega0 + gamma theta0/2) S(t)]
     with C = cosh(beta t), S = sinh(beta t)/beta, beta^2 = gamma^2/4 - w0^2
     (cos and sin below critical), continuous through gamma = 2 w0.  Error
-    within a few eps of |theta| + |omega|/max(w0, gamma) plus the problem's
+    within a few eps of abs(theta) + abs(omega)/max(w0, gamma) plus the problem's
     own condition number; values below the double range come out as 0,
     never NaN or Inf.  gamma = 0 gives the small-angle solution exactly.
 
@@ -109,7 +109,7 @@ def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=
 @documented(start=_START)
 def linear_damped_envelope(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None,
                            mass=None):
-    """Under-damped envelope R exp(-gamma t/2), with |theta(t)| <= envelope.
+    """Under-damped envelope R exp(-gamma t/2), with abs(theta(t)) <= envelope.
 
     R = sqrt(theta0^2 + ((omega0 + gamma theta0/2)/omega_d)^2), so that
     theta(t) = R exp(-gamma t/2) cos(omega_d t - phi) (text §2.1.3, filled in
@@ -137,7 +137,7 @@ def linear_damped_envelope(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None
     Notes
     -----
     R and the exponential are each evaluated to a few ulps; the bound
-    |theta(t)| <= envelope holds with equality where cos(omega_d t - phi) = +-1.
+    abs(theta(t)) <= envelope holds with equality where cos(omega_d t - phi) = +-1.
 
     Examples
     --------

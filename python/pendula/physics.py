@@ -125,7 +125,7 @@ DOC_PARTS = {
     TypeError
         Non-real input (str, bool, complex).""",
     "swing": """AngleWarning
-        |theta0| > 2 pi while the pendulum swings (degrees given as radians?).""",
+        abs(theta0) > 2 pi while the pendulum swings (degrees given as radians?).""",
 }
 
 

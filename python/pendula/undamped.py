@@ -31,7 +31,7 @@ from .physics import documented, pendulum_w0
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
 _PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
-#: Largest |n| accepted by ``equilibria`` (the Fortran index is a default integer).
+#: Largest abs(n) accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
 
 
@@ -73,7 +73,7 @@ def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Notes
     -----
-    Accuracy a few eps times the condition number sum |x d theta/dx| over x
+    Accuracy a few eps times the condition number sum abs(x d theta/dx) over x
     in {theta0, omega0, w0, t} (tested to 16 eps times it against mpmath
     over 100 periods).  One state at many times costs one setup.
 
@@ -124,7 +124,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     The solution of the linearised equation theta'' + w0^2 theta = 0 (text
     eqs 1.8 and 1.18), about the stable equilibrium 2 pi N nearest theta0
-    (the formula above for |theta0| < pi).  :func:`small_angle_error` bounds
+    (the formula above for abs(theta0) < pi).  :func:`small_angle_error` bounds
     its distance from the exact :func:`undamped`.
 
     Parameters
@@ -132,7 +132,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     t : float or array_like
         Times [s], any real values.
     theta0 : float or array_like
-        Initial angle [rad], finite; |theta0| > 2 pi on a swinging state
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
         warns (:class:`AngleWarning`: degrees given as radians?).
     omega0 : float or array_like, optional
         Initial angular velocity [rad/s], finite.  Default 0.
@@ -171,7 +171,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 @documented
 def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None):
-    """Rigorous bounds on the small-angle model's error over all |t| <= |tmax|.
+    """Rigorous bounds on the small-angle model's error over all abs(t) <= abs(tmax).
 
     How far :func:`small_angle` (text eq. 1.18) is from the exact motion
     (eqs 1.52, 1.66 and their generalisation :func:`undamped`) over a time
@@ -181,9 +181,9 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
     Parameters
     ----------
     tmax : float or array_like
-        Half-width of the window [s], any real value (|tmax| is used).
+        Half-width of the window [s], any real value (abs(tmax) is used).
     theta0 : float or array_like
-        Initial angle [rad], finite; |theta0| > 2 pi on a swinging state
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
         warns (:class:`AngleWarning`).
     omega0 : float or array_like, optional
         Initial angular velocity [rad/s], finite.  Default 0.
@@ -192,7 +192,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
     Returns
     -------
     dtheta, domega : float or ndarray
-        Upper bounds on |small_angle - undamped| for theta [rad] and omega
+        Upper bounds on abs(small_angle - undamped) for theta [rad] and omega
         [rad/s] over the window, of the broadcast shape; +inf for the
         separatrix and rotations (the model cannot go over the top).
 
@@ -207,7 +207,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
     Notes
     -----
     Bounds, not estimates: never below the true error (tested against the
-    exact motion); non-decreasing in |tmax|.  The phase drift grows like
+    exact motion); non-decreasing in abs(tmax).  The phase drift grows like
     (m/4) w0 t = (theta_max^2/16) w0 t.
 
     Examples
@@ -248,7 +248,7 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     Parameters
     ----------
     theta0 : float or array_like
-        Initial angle [rad], finite; |theta0| > 2 pi on a swinging state
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
         warns (:class:`AngleWarning`: ``period(90)`` is 90 rad, not 90 deg).
     omega0 : float or array_like, optional
         Initial angular velocity [rad/s], finite.  Default 0.
@@ -292,13 +292,13 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Amplitude of the swing from the state (theta0, omega0).
 
-    max |theta - 2 pi N| over the motion: 2 asin(k) for a libration (the
+    max abs(theta - 2 pi N) over the motion: 2 asin(k) for a libration (the
     text's theta_max, eq. 1.63), pi on the separatrix, +inf for a rotation.
 
     Parameters
     ----------
     theta0 : float or array_like
-        Initial angle [rad], finite; |theta0| > 2 pi on a swinging state
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
         warns (:class:`AngleWarning`).
     omega0 : float or array_like, optional
         Initial angular velocity [rad/s], finite.  Default 0.
@@ -362,7 +362,7 @@ def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Notes
     -----
-    1 - m is never formed by subtraction: it is (c - |q|)(c + |q|) with
+    1 - m is never formed by subtraction: it is (c - abs(q))(c + abs(q)) with
     c = cos(theta0/2) in double-double and q = omega0/(2 w0), so it stays
     relatively accurate near the separatrix, where the period depends on it
     logarithmically.
@@ -481,7 +481,7 @@ def equilibria(n, w0=None, *, g=None, length=None):
     Parameters
     ----------
     n : int or array_like of int
-        Equilibrium index, |n| <= 2**31 - 1 (checked exactly for any integer
+        Equilibrium index, abs(n) <= 2**31 - 1 (checked exactly for any integer
         type, uint64 included).
     {pendulum}
 
@@ -497,7 +497,7 @@ def equilibria(n, w0=None, *, g=None, length=None):
     Raises
     ------
     ValueError
-        |n| too large, w0 <= 0 or non-finite, shapes that do not broadcast,
+        abs(n) too large, w0 <= 0 or non-finite, shapes that do not broadcast,
         or w0 given with disagreeing g/length.
     TypeError
         n not an integer (bool and floats included), or non-real w0.
