@@ -4,7 +4,7 @@ One convention for the whole package: a function that needs the pendulum takes
 it keyword-style as ``w0=`` or as ``g=`` and ``length=``; given none, it is the
 text's pendulum, g = 9.8 m/s^2 and length = 4.9 m (w0 = sqrt(2) 1/s), the same
 default as ``Scene``.  A damping rate is ``gamma=`` or ``b=`` and ``mass=``
-(gamma = b/mass, text eq. 2.1); given none, gamma = 0.  The defaults live in the
+(gamma = b/mass, text eq. 2.2); given none, gamma = 0.  The defaults live in the
 Fortran module ``pendula_physics`` and reach Python through ``_codes``.
 """
 import numpy as np
@@ -16,10 +16,10 @@ from ._errors import raise_for_status
 
 
 def natural_frequency(g=G_DEFAULT, length=LENGTH_DEFAULT):
-    """Natural angular frequency w0 = sqrt(g/length) of the pendulum (text eq. 1.7).
+    """Natural angular frequency w0 = sqrt(g/length) of the pendulum (text eq. 1.4).
 
     The rate that sets every time scale of the motion: the small-angle
-    solution is theta0 cos(w0 t) (eq. 1.8).  Defaults are the text's
+    solution is theta0 cos(w0 t) (eq. 1.7).  Defaults are the text's
     pendulum, g = 9.8 m/s^2 and length = 4.9 m, which give w0 = sqrt(2).
 
     Parameters
@@ -62,10 +62,10 @@ def natural_frequency(g=G_DEFAULT, length=LENGTH_DEFAULT):
 
 
 def damping_rate(b, mass):
-    """Damping rate gamma = b/mass of the linear friction force (text eq. 2.1).
+    """Damping rate gamma = b/mass of the linear friction force (text eqs 2.2-2.3).
 
     The friction torque -b l^2 theta' divided by m l^2 gives the term
-    gamma theta' of theta'' + gamma theta' + w0^2 sin(theta) = 0 (eq. 2.2).
+    gamma theta' of theta'' + gamma theta' + w0^2 sin(theta) = 0 (eq. 2.3).
 
     Parameters
     ----------
@@ -117,7 +117,7 @@ DOC_PARTS = {
         Damping rate b/mass [1/s], finite and >= 0.
     b, mass : float, optional
         Damping coefficient [kg/s] >= 0 and bob mass [kg] > 0, both or
-        neither, instead of gamma (gamma = b/mass, text eq. 2.1; gamma may be
+        neither, instead of gamma (gamma = b/mass, text eq. 2.2; gamma may be
         given with them only if it agrees).  None given: gamma = 0.""",
     "raises": """ValueError
         A non-finite input, w0 <= 0, shapes that do not broadcast, or w0

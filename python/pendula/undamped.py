@@ -39,7 +39,7 @@ N_MAX = 2**31 - 1
 def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Exact motion (theta(t), omega(t)) of the undamped pendulum from any state.
 
-    Solves theta'' + w0^2 sin(theta) = 0 (text eq. 1.6) in closed form for
+    Solves theta'' + w0^2 sin(theta) = 0 (text eq. 1.3) in closed form for
     every initial state (theta0, omega0), whatever its energy; the text's
     eqs 1.52 (omega0 = 0) and 1.66 (theta0 = 0) are special cases.  With
     m = sin^2(theta0/2) + (omega0/(2 w0))^2 and k = sqrt(m):
@@ -123,7 +123,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t).
 
     The solution of the linearised equation theta'' + w0^2 theta = 0 (text
-    eqs 1.8 and 1.18), about the stable equilibrium 2 pi N nearest theta0
+    eqs 1.4, 1.7 and 1.18), about the stable equilibrium 2 pi N nearest theta0
     (the formula above for abs(theta0) < pi).  :func:`small_angle_error` bounds
     its distance from the exact :func:`undamped`.
 
@@ -293,7 +293,7 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Amplitude of the swing from the state (theta0, omega0).
 
     max abs(theta - 2 pi N) over the motion: 2 asin(k) for a libration (the
-    text's theta_max, eq. 1.63), pi on the separatrix, +inf for a rotation.
+    text's theta_max of §1.3), pi on the separatrix, +inf for a rotation.
 
     Parameters
     ----------
@@ -426,9 +426,10 @@ def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 @documented
 def energy(theta, omega, w0=None, *, g=None, length=None):
-    """Energy per unit m l^2, omega^2/2 + w0^2 (1 - cos theta) (text eq. 1.2).
+    """Energy per unit m l^2, omega^2/2 + w0^2 (1 - cos theta).
 
-    0 at rest at the bottom, 2 w0^2 on the separatrix; constant along
+    K + U of the text's Lagrangian (eq. 1.1) over m l^2.  0 at rest at the
+    bottom, 2 w0^2 on the separatrix; constant along
     :func:`undamped`.  theta is any angle of a trajectory (no warning for
     large values: a rotating pendulum's angle counts turns).
 
