@@ -12,7 +12,8 @@ module pendula
       PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, &
       PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
-  use pendula_physics, only: natural_frequency, damping_rate, small_angle_period, period_series
+  use pendula_physics, only: natural_frequency, damping_rate, small_angle_period, period_series, &
+      PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
   use pendula_elliptic, only: ellipk, ellipkm1, ellipe, ellipem1, ellipf, ellipfm1, ellipk_array, &
       ellipe_array, ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
       ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &

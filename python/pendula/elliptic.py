@@ -14,15 +14,27 @@ The ``*m1`` complement forms take p = 1 - m directly: near m = 1 (the
 pendulum's separatrix) forming 1 - m in floating point loses every digit,
 while p can be as small as the smallest subnormal double.
 
-Beyond SciPy: m < 0 and m > 1 are supported (SciPy returns NaN); for m > 1 the
-amplitude is ph = atan2(sn, cn), which stays in [-pi/2, pi/2] since cn > 0.
-NaN input gives NaN output; out-of-domain input raises ValueError (also u or m
-infinite in ellipj, where sn, cn, dn have no limit).  Empty arrays give empty arrays.
+Beyond SciPy: m < 0 and m > 1 are supported in ``ellipf`` and ``ellipj`` (SciPy
+returns NaN); for m > 1 the amplitude is ph = atan2(sn, cn), which stays in
+[-pi/2, pi/2] since cn > 0.  NaN input gives NaN output.  Empty arrays give
+empty arrays.
+
+Where they differ from ``scipy.special`` (docs/guide/elliptic.md lists it all):
+
+* out-of-domain input raises ValueError for the whole call by default;
+  ``errors="nan"`` gives NaN for those elements only, as SciPy does;
+* they are functions, not ufuncs: no ``out=``, ``where=``, ``dtype=``,
+  ``casting=``, no ``__array_ufunc__`` dispatch (array-likes are converted);
+* the result is float64 whatever the input (SciPy keeps float32), a Python
+  float for scalar or 0-d input (SciPy: numpy.float64), a plain ndarray for
+  subclasses (masked arrays lose their mask);
+* bool and complex input raise TypeError (SciPy reads True as 1.0).
 """
 import numpy as np
 
 from . import _fortran as _elliptic
 from ._arrays import as_array, broadcast_real, check_size, real_scalar, restore
+from .physics import documented
 
 __all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc",
            "ellipfm1", "ellipj", "ellipjm1"]
@@ -62,67 +74,290 @@ def _check_nan_domain(out, message, **inputs):
             raise ValueError(f"{message} (got {_first_bad(bad, **inputs)})")
 
 
-def _one_output(kernel, message, **named):
+def _raise_on_domain(errors):
+    """True for errors="raise", False for "nan"; anything else is refused by name."""
+    if not isinstance(errors, str):
+        raise TypeError(f"errors must be the str 'raise' or 'nan', got {type(errors).__name__}")
+    if errors not in ("raise", "nan"):
+        raise ValueError(f"errors = {errors!r} is not one of 'raise' (the default: a domain error "
+                         f"raises ValueError) or 'nan' (NaN for that element, like scipy.special)")
+    return errors == "raise"
+
+
+def _one_output(kernel, message, errors, **named):
     """Broadcast the named inputs, call the one-output f2py kernel on them (in
-    that order) and raise ValueError (message) where it returns NaN for
-    non-NaN input (a domain error); the result has the inputs' shape."""
+    that order); the Fortran elemental functions give a quiet NaN outside their
+    domain, which with errors="raise" becomes ValueError (message) where the
+    input was not NaN.  The result has the inputs' shape."""
+    check = _raise_on_domain(errors)
     shape, scalar, f = _prepare(**named)
     if next(iter(f.values())).size == 0:
         return _empty(shape, 1)
     out = kernel(*f.values())
-    _check_nan_domain(out, message, **f)
+    if check:
+        _check_nan_domain(out, message, **f)
     return restore(out, shape, scalar)
 
 
-def ellipk(m):
-    """Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
+_ERRORS = """errors : {'raise', 'nan'}, optional, keyword-only
+        What an out-of-domain element gives: ``'raise'`` (default) raises
+        ValueError for the whole call, naming the argument, the value and
+        the domain; ``'nan'`` gives NaN for that element and computes the
+        rest, as ``scipy.special`` does."""
+_SCIPY = """Differences from ``scipy.special`` (beyond the wider domain): not a
+    ufunc (no ``out=``, ``where=``, ``dtype=``); float64 out for any real
+    input (float32 included), a Python float for scalar or 0-d input; bool
+    and complex input raise TypeError; out-of-domain elements raise unless
+    ``errors='nan'``."""
+_DOMAIN_RAISES = """ValueError
+        An element outside the domain (with ``errors='raise'``), shapes that
+        do not broadcast, or an unknown ``errors``.
+    TypeError
+        Non-real input (str, bool, complex) or a non-str ``errors``."""
 
-    K(1) = inf.  ValueError for m > 1.  Accuracy: a few ulps (AGM).
+
+def _elliptic_doc(f):
+    return documented(f, errors=_ERRORS, scipy=_SCIPY, domain_raises=_DOMAIN_RAISES)
+
+
+@_elliptic_doc
+def ellipk(m, *, errors="raise"):
+    """Complete elliptic integral of the first kind K(m).
+
+    K(m) = F(pi/2 | m), the integral of (1 - m sin^2 t)^(-1/2) over
+    [0, pi/2] (text eq. 1.53's K(k^2), m = k^2): the pendulum's period is
+    4 K(m)/w0.
+
+    Parameters
+    ----------
+    m : float or array_like
+        Parameter m = k^2, m <= 1 (any negative value; K(-inf) = 0).
+    {errors}
+
+    Returns
+    -------
+    float or ndarray
+        K(m), of m's shape; K(1) = inf.
+
+    Raises
+    ------
+    {domain_raises}
+
+    Notes
+    -----
+    Within 2.4 ulps (2000 random m in [-1e10, 1), against mpmath):
+    polynomials on 17 intervals and the logarithmic form near m = 1.  For
+    m close to 1 use :func:`ellipkm1`, which takes 1 - m itself.
+    {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.ellipk(0.5), 12)
+    1.854074677301
+    >>> pendula.ellipk([0.0, 1.0, 2.0], errors="nan").round(6)
+    array([1.570796,      inf,      nan])
     """
-    return _one_output(_elliptic.ellipk_f2py, "ellipk: m must be <= 1", m=m)
+    return _one_output(_elliptic.ellipk_f2py, "ellipk: m must be <= 1", errors, m=m)
 
 
-def ellipkm1(p):
-    """K(1 - p) for p >= 0, accurate for tiny p (down to the smallest subnormal).
+@_elliptic_doc
+def ellipkm1(p, *, errors="raise"):
+    """K(1 - p): the complete integral of the first kind by its complementary parameter.
 
-    Same name and meaning as scipy.special.ellipkm1.  ValueError for p < 0.
+    Same name and meaning as ``scipy.special.ellipkm1``.  Near the
+    pendulum's separatrix (m -> 1, text §1.2 with theta0 -> pi) 1 - m cannot
+    be formed in floating point; p can be as small as the smallest subnormal.
+
+    Parameters
+    ----------
+    p : float or array_like
+        Complementary parameter p = 1 - m, p >= 0 (p = +inf gives 0).
+    {errors}
+
+    Returns
+    -------
+    float or ndarray
+        K(1 - p), of p's shape; inf at p = 0.
+
+    Raises
+    ------
+    {domain_raises}
+
+    Notes
+    -----
+    Within 1.3 ulps for 300 values 1e-320 <= p <= 1 (against mpmath at 340
+    digits).  {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.ellipkm1(0.5), 12)
+    1.854074677301
+    >>> round(pendula.ellipkm1(1e-300), 6)          # ln(4/sqrt(p)) + O(p ln p)
+    346.774058
     """
-    return _one_output(_elliptic.ellipkm1_f2py, "ellipkm1: p = 1 - m must be >= 0", p=p)
+    return _one_output(_elliptic.ellipkm1_f2py, "ellipkm1: p = 1 - m must be >= 0", errors, p=p)
 
 
-def ellipe(m):
-    """Complete elliptic integral of the second kind E(m), m <= 1 (E(1) = 1).
+@_elliptic_doc
+def ellipe(m, *, errors="raise"):
+    """Complete elliptic integral of the second kind E(m).
 
-    ValueError for m > 1.  Accuracy: a few ulps.
+    E(m), the integral of (1 - m sin^2 t)^(1/2) over [0, pi/2]; with K it
+    gives the pendulum's mean kinetic energy over a swing (not used by the
+    text, which stops at K).
+
+    Parameters
+    ----------
+    m : float or array_like
+        Parameter m = k^2, m <= 1.
+    {errors}
+
+    Returns
+    -------
+    float or ndarray
+        E(m), of m's shape; E(1) = 1, E(-inf) = inf.
+
+    Raises
+    ------
+    {domain_raises}
+
+    Notes
+    -----
+    Within 2.4 ulps (2000 random m in [-1e10, 1)).  {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.ellipe(0.5), 12)
+    1.350643881048
+    >>> pendula.ellipe(1.0)
+    1.0
     """
-    return _one_output(_elliptic.ellipe_f2py, "ellipe: m must be <= 1", m=m)
+    return _one_output(_elliptic.ellipe_f2py, "ellipe: m must be <= 1", errors, m=m)
 
 
-def ellipem1(p):
-    """E(1 - p) for p >= 0, accurate for tiny p.  ValueError for p < 0."""
-    return _one_output(_elliptic.ellipem1_f2py, "ellipem1: p = 1 - m must be >= 0", p=p)
+@_elliptic_doc
+def ellipem1(p, *, errors="raise"):
+    """E(1 - p): the complete integral of the second kind by its complementary parameter.
+
+    The companion of :func:`ellipkm1` (SciPy has no such function): accurate
+    for tiny p, where 1 - p would round to 1.
+
+    Parameters
+    ----------
+    p : float or array_like
+        Complementary parameter p = 1 - m, p >= 0.
+    {errors}
+
+    Returns
+    -------
+    float or ndarray
+        E(1 - p), of p's shape; 1 at p = 0.
+
+    Raises
+    ------
+    {domain_raises}
+
+    Notes
+    -----
+    Within 1.3 ulps for 300 values 1e-320 <= p <= 1.  {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.ellipem1(0.5), 12)
+    1.350643881048
+    """
+    return _one_output(_elliptic.ellipem1_f2py, "ellipem1: p = 1 - m must be >= 0", errors, p=p)
 
 
-def ellipf(phi, m):
+@_elliptic_doc
+def ellipf(phi, m, *, errors="raise"):
     """Incomplete elliptic integral of the first kind F(phi | m).
 
-    phi in rad, any real value (F(phi + n pi) = F(phi) + 2 n K(m)); any real m
-    with m sin^2(phi) <= 1, including m > 1 (there the quasi-period uses
-    Re K(m) = K(1/m)/sqrt(m)).  ValueError where m sin^2(phi) > 1.
-    Same as scipy.special.ellipkinc (alias ``ellipkinc``) where SciPy is defined.
+    F(phi | m), the integral of (1 - m sin^2 t)^(-1/2) over [0, phi] (text
+    §1.2's F): the time the pendulum takes to reach a given angle is
+    F/w0.  Also available as ``ellipkinc`` (SciPy's name).
+
+    Parameters
+    ----------
+    phi : float or array_like
+        Amplitude [rad], any real value (F(phi + n pi) = F(phi) + 2 n K(m)).
+    m : float or array_like
+        Parameter, any real value with m sin^2(phi) <= 1, m > 1 included
+        (there the quasi-period uses Re K(m) = K(1/m)/sqrt(m)).
+    {errors}
+
+    Returns
+    -------
+    float or ndarray
+        F(phi | m), of the broadcast shape.
+
+    Raises
+    ------
+    {domain_raises}
+
+    Notes
+    -----
+    Carlson's R_F (DLMF 19.36.1) with phi reduced by n pi and 2 n K added in
+    double-double: within 3.2 ulps (6000 random phi in [-1e4, 1e4], m in
+    [-1e6, 1]).  SciPy's ``ellipkinc`` returns NaN for m > 1 where this is
+    defined, and 0 for m = -inf where this treats the element as out of
+    domain.  {scipy}
+
+    Examples
+    --------
+    >>> import math, pendula
+    >>> round(pendula.ellipf(math.pi / 2, 0.5), 12)        # = K(0.5)
+    1.854074677301
+    >>> round(pendula.ellipf(0.5, 2.0), 6)                 # m > 1, m sin^2(phi) <= 1
+    0.551359
+    >>> pendula.ellipf([0.5, 1.5], 2.0, errors="nan").round(6)
+    array([0.551359,      nan])
     """
-    return _one_output(_elliptic.ellipf_f2py, "ellipf: need m*sin(phi)**2 <= 1", phi=phi, m=m)
+    return _one_output(_elliptic.ellipf_f2py, "ellipf: need m*sin(phi)**2 <= 1", errors, phi=phi, m=m)
 
 
 ellipkinc = ellipf
 
 
-def ellipfm1(phi, p):
-    """F(phi | 1 - p) with the complementary parameter p = 1 - m (accurate near m = 1).
+@_elliptic_doc
+def ellipfm1(phi, p, *, errors="raise"):
+    """F(phi | 1 - p): the incomplete integral by the complementary parameter.
 
-    ValueError where (1 - p) sin^2(phi) > 1.
+    Accurate near m = 1 (the separatrix), where 1 - m cannot be formed;
+    SciPy has no such function.
+
+    Parameters
+    ----------
+    phi : float or array_like
+        Amplitude [rad], any real value.
+    p : float or array_like
+        Complementary parameter p = 1 - m, with (1 - p) sin^2(phi) <= 1.
+    {errors}
+
+    Returns
+    -------
+    float or ndarray
+        F(phi | 1 - p), of the broadcast shape.
+
+    Raises
+    ------
+    {domain_raises}
+
+    Notes
+    -----
+    As :func:`ellipf`, with 1 - m never formed.  {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.ellipfm1(1.0, 0.5), 12) == round(pendula.ellipf(1.0, 0.5), 12)
+    True
     """
-    return _one_output(_elliptic.ellipfm1_f2py, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", phi=phi, p=p)
+    return _one_output(_elliptic.ellipfm1_f2py, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", errors, phi=phi, p=p)
 
 
 def _check_finite_jacobi(sn, u, m, name):
@@ -147,7 +382,8 @@ def _outputs(n):
     return out[0], out[1], out[2], out[3]
 
 
-def _jacobi(u, m, name, vec, one_m):
+def _jacobi(u, m, name, vec, one_m, errors):
+    check = _raise_on_domain(errors)
     # ragged or non-numeric input fails here, by name, before its shape is asked
     u = u if isinstance(u, np.ndarray) else as_array(u, "u")
     m = m if isinstance(m, np.ndarray) else as_array(m, name)
@@ -159,32 +395,113 @@ def _jacobi(u, m, name, vec, one_m):
             return _empty(shape, 4)
         res = _outputs(f["u"].size)
         one_m(f["u"], mval, *res)
-        _check_finite_jacobi(res[0], f["u"], np.broadcast_to(mval, f["u"].shape), name)
+        if check:
+            _check_finite_jacobi(res[0], f["u"], np.broadcast_to(mval, f["u"].shape), name)
         return tuple(r.reshape(shape) for r in res)
     shape, scalar, f = _prepare(u=u, **{name: m})
     if f["u"].size == 0:
         return _empty(shape, 4)
     res = _outputs(f["u"].size)
     vec(f["u"], f[name], *res)
-    _check_finite_jacobi(res[0], f["u"], f[name], name)
+    if check:
+        _check_finite_jacobi(res[0], f["u"], f[name], name)
     return tuple(restore(r, shape, scalar) for r in res)
 
 
-def ellipj(u, m):
-    """Jacobi elliptic functions ``(sn, cn, dn, ph) = ellipj(u, m)``, like scipy.special.
+@_elliptic_doc
+def ellipj(u, m, *, errors="raise"):
+    """Jacobi elliptic functions sn, cn, dn and the amplitude am of (u | m).
 
-    All real u and m (m = k**2; m < 0 and m > 1 through the modulus
-    transformations).  ph is the amplitude am(u|m) in rad.  Accuracy: a few eps
-    times the condition number, also for |u| large (u is reduced modulo the
-    period with K in double-double) and for m within 1e-300 of 1 via ``ellipjm1``.
+    ``(sn, cn, dn, ph) = ellipj(u, m)`` as in ``scipy.special``: the
+    pendulum's exact motion is sin(theta/2) = k sn(w0 t + u0 | m) (text eq.
+    1.52).  ph = am(u | m), with sn = sin(ph) and cn = cos(ph) for m <= 1.
+
+    Parameters
+    ----------
+    u : float or array_like
+        Argument, any finite real value (reduced modulo the period with K in
+        double-double, so large abs(u) keeps its accuracy).
+    m : float or array_like
+        Parameter m = k^2, any finite real value: m < 0 and m > 1 through
+        the imaginary- and reciprocal-modulus transformations (SciPy: NaN).
+    {errors}
+
+    Returns
+    -------
+    sn, cn, dn, ph : float or ndarray
+        Of the broadcast shape; ph in rad (for m > 1, atan2(sn, cn), which
+        stays in [-pi/2, pi/2] since cn > 0 there).
+
+    Raises
+    ------
+    ValueError
+        u or m infinite (sn, cn, dn have no limit there; at m = 1 the
+        limits +-1, 0, 0 are returned) with ``errors='raise'``, shapes that
+        do not broadcast, or an unknown ``errors``.
+    TypeError
+        Non-real input (str, bool, complex) or a non-str ``errors``.
+
+    Notes
+    -----
+    A few eps times the condition number (at most 2.5 times it over 842
+    points against mpmath; the table is in docs/guide/elliptic.md).  For m
+    within 1e-300 of 1 use :func:`ellipjm1`.  A scalar m with many u uses a
+    plan (tabulated Taylor polynomials) when it pays off.  SciPy's
+    ``ellipj`` gives NaN for m < 0 and m > 1, where this is defined.
+    {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> sn, cn, dn, ph = pendula.ellipj(0.5, 0.5)
+    >>> round(sn, 6), round(cn, 6), round(dn, 6), round(ph, 6)
+    (0.47075, 0.882266, 0.942972, 0.490141)
+    >>> sn, cn, dn, ph = pendula.ellipj([0.5, float("inf")], 0.5, errors="nan")
+    >>> sn.round(6)
+    array([0.47075,     nan])
     """
-    return _jacobi(u, m, "m", _elliptic.ellipj_into_f2py, _elliptic.ellipj_one_m_into_f2py)
+    return _jacobi(u, m, "m", _elliptic.ellipj_into_f2py, _elliptic.ellipj_one_m_into_f2py, errors)
 
 
-def ellipjm1(u, p):
-    """``ellipj(u, 1 - p)`` with the complementary parameter p = 1 - m (any real p).
+@_elliptic_doc
+def ellipjm1(u, p, *, errors="raise"):
+    """Jacobi elliptic functions by the complementary parameter: ``ellipj(u, 1 - p)``.
 
-    Use it near the separatrix (m -> 1), where 1 - m cannot be formed in floating
-    point: p down to the smallest subnormal double keeps full accuracy.
+    Use it near the separatrix (m -> 1), where 1 - m cannot be formed in
+    floating point; SciPy has no such function.
+
+    Parameters
+    ----------
+    u : float or array_like
+        Argument, any finite real value.
+    p : float or array_like
+        Complementary parameter p = 1 - m, any finite real value (down to the
+        smallest subnormal double at full accuracy).
+    {errors}
+
+    Returns
+    -------
+    sn, cn, dn, ph : float or ndarray
+        As for :func:`ellipj`, of the broadcast shape.
+
+    Raises
+    ------
+    ValueError
+        u or p infinite with ``errors='raise'``, shapes that do not
+        broadcast, or an unknown ``errors``.
+    TypeError
+        Non-real input or a non-str ``errors``.
+
+    Notes
+    -----
+    Worst error 2.45 eps times the condition number for 1 - m <= 1e-10 down
+    to 5e-324 (214 points against mpmath at 340 digits).  {scipy}
+
+    Examples
+    --------
+    >>> import pendula
+    >>> sn, cn, dn, ph = pendula.ellipjm1(1.0, 1e-300)      # m = 1: sn = tanh(u)
+    >>> round(sn, 12), round(dn, 12)
+    (0.761594155956, 0.648054273664)
     """
-    return _jacobi(u, p, "p", _elliptic.ellipjm1_into_f2py, _elliptic.ellipjm1_one_m_into_f2py)
+    return _jacobi(u, p, "p", _elliptic.ellipjm1_into_f2py, _elliptic.ellipjm1_one_m_into_f2py, errors)

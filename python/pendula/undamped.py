@@ -8,7 +8,9 @@ energy.  The text (§1.2-1.3) covers only omega0 = 0 (eq. 1.52) and theta0 = 0
 (eq. 1.66) while swinging; both are special cases of ``undamped``.
 
 Units: angles in rad, omega in rad/s, t in s, w0 = sqrt(g/l) in 1/s, energies
-per unit m l^2 in 1/s^2.  Every function broadcasts its array arguments
+per unit m l^2 in 1/s^2.  The pendulum is ``w0=`` or ``g=`` and ``length=``;
+given none, the text's (g = 9.8, length = 4.9, w0 = sqrt(2)), as everywhere in
+pendula (``pendula.physics``).  Every function broadcasts its array arguments
 (numpy rules), accepts any real t (negative, unsorted), returns Python floats
 for scalar input and never modifies its input.  Non-finite input or w0 <= 0
 raises ValueError naming the argument.
@@ -21,30 +23,70 @@ import math
 import numpy as np
 
 from . import _fortran as _undamped
-from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg, restore
+from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
+from ._angle_warning import AngleWarning, warn_if_degrees
 from ._errors import raise_for_status
+from .physics import documented, pendulum_w0
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
 _PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
-#: Largest |n| accepted by ``equilibria`` (the Fortran index is a default integer).
+#: Largest abs(n) accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
 
 
-def undamped(t, theta0, omega0=0.0, w0=1.0):
-    """Exact motion (theta(t), omega(t)) of the undamped pendulum from (theta0, omega0).
+@documented
+def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Exact motion (theta(t), omega(t)) of the undamped pendulum from any state.
 
-    m < 1:  sin(theta/2) = k sn(w0 t + u0 | m), omega = 2 k w0 cn(w0 t + u0 | m);
-    m > 1:  theta = 2 s am(k w0 t + v0 | 1/m), omega = 2 s k w0 dn(...), s = sign(omega0);
-    m = 1:  theta = 2 s gd(w0 t + c), omega = 2 s w0 sech(w0 t + c),
-    with k = sqrt(m) and the phases u0, v0, c fixed by the initial state.
-    theta is continuous in t and with theta0 (a rotating pendulum's angle grows
-    without bound).  Accuracy: a few eps times the condition number
-    sum |x d theta/dx| over x in {theta0, omega0, w0, t} (tested to 16 eps cond
-    against mpmath over 100 periods).  One state at many times costs one setup.
+    Solves theta'' + w0^2 sin(theta) = 0 (text eq. 1.3) in closed form for
+    every initial state (theta0, omega0), whatever its energy; the text's
+    eqs 1.52 (omega0 = 0) and 1.66 (theta0 = 0) are special cases.  With
+    m = sin^2(theta0/2) + (omega0/(2 w0))^2 and k = sqrt(m):
 
-    Returns ``(theta, omega)`` in rad and rad/s, of the broadcast shape.
+    * m < 1 (libration): sin(theta/2) = k sn(w0 t + u0 | m),
+      omega = 2 k w0 cn(w0 t + u0 | m);
+    * m > 1 (rotation): theta = 2 s am(k w0 t + v0 | 1/m),
+      omega = 2 s k w0 dn(...), s = sign(omega0);
+    * m = 1 (separatrix): theta = 2 s gd(w0 t + c), omega = 2 s w0 sech(w0 t + c).
+
+    Parameters
+    ----------
+    t : float or array_like
+        Times [s], any real values (negative, unsorted).
+    theta0 : float or array_like
+        Initial angle [rad], finite.
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    theta, omega : float or ndarray
+        Angle [rad] and angular velocity [rad/s] at t, of the broadcast shape
+        of all inputs (floats for scalar input).  theta is continuous in t: a
+        rotating pendulum's angle grows without bound.
+
+    Raises
+    ------
+    {raises}
+
+    Notes
+    -----
+    Accuracy a few eps times the condition number sum abs(x d theta/dx) over x
+    in {theta0, omega0, w0, t} (tested to 16 eps times it against mpmath
+    over 100 periods).  One state at many times costs one setup.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> theta, omega = pendula.undamped([0.0, 1.0], theta0=1.0)
+    >>> theta.round(6), omega.round(6)
+    (array([1.      , 0.247234]), array([ 0.      , -1.310406]))
+    >>> round(pendula.undamped(2.0, 0.0, omega0=3.0, w0=1.0)[0], 6)   # over the top
+    5.076914
     """
+    w0 = pendulum_w0(w0, g, length)
     state = [as_real(x, name) for x, name in ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"))]
     if all(x.ndim == 0 for x in state):
         # one state at many times: only t is copied, the motion is built once
@@ -64,78 +106,316 @@ def undamped(t, theta0, omega0=0.0, w0=1.0):
 
 
 def _two_outputs(kernel, **named):
-    """Broadcast the named inputs, call the two-output f2py kernel on them (in
-    that order), raise for its status; both results have the inputs' shape."""
+    """Broadcast the named inputs, warn for amplitudes that look like degrees,
+    call the two-output f2py kernel on them (in that order) and raise for its
+    status; both results have the inputs' shape."""
     shape, scalar, f = broadcast_real(**named)
     if next(iter(f.values())).size == 0:
         return np.empty(shape), np.empty(shape)
+    warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
     a, b, code, msg = kernel(*f.values())
     raise_for_status(code, msg)
     return restore(a, shape, scalar), restore(b, shape, scalar)
 
 
-def small_angle(t, theta0, omega0=0.0, w0=1.0):
-    """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t) (eq. 1.18).
+@documented
+def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t).
 
-    Linearised about the stable equilibrium 2 pi N nearest theta0 (identical to
-    the formula above for |theta0| < pi).  Use ``small_angle_error`` to know
-    how far it is from ``undamped``.  Returns ``(theta, omega)``.
+    The solution of the linearised equation theta'' + w0^2 theta = 0 (text
+    eqs 1.4, 1.7 and 1.18), about the stable equilibrium 2 pi N nearest theta0
+    (the formula above for abs(theta0) < pi).  :func:`small_angle_error` bounds
+    its distance from the exact :func:`undamped`.
+
+    Parameters
+    ----------
+    t : float or array_like
+        Times [s], any real values.
+    theta0 : float or array_like
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
+        warns (:class:`AngleWarning`: degrees given as radians?).
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    theta, omega : float or ndarray
+        Angle [rad] and angular velocity [rad/s] of the model at t, of the
+        broadcast shape.
+
+    Raises
+    ------
+    {raises}
+
+    Warns
+    -----
+    {swing}
+
+    Notes
+    -----
+    The model is evaluated to a few ulps; as a model of the pendulum its
+    error is what :func:`small_angle_error` bounds (phase drift about
+    (theta_max^2/16) w0 t).
+
+    Examples
+    --------
+    >>> import pendula
+    >>> theta, omega = pendula.small_angle([0.0, 1.0], theta0=0.1, w0=1.0)
+    >>> theta.round(6), omega.round(6)
+    (array([0.1    , 0.05403]), array([ 0.      , -0.084147]))
     """
-    return _two_outputs(_undamped.small_angle_f2py, t=t, theta0=theta0, omega0=omega0, w0=w0)
+    return _two_outputs(_undamped.small_angle_f2py, t=t, theta0=theta0, omega0=omega0,
+                        w0=pendulum_w0(w0, g, length))
 
 
-def small_angle_error(tmax, theta0, omega0=0.0, w0=1.0):
-    """Rigorous bounds on the small-angle model's error over all |t| <= |tmax|.
+@documented
+def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Rigorous bounds on the small-angle model's error over all abs(t) <= abs(tmax).
 
-    Returns ``(dtheta, domega)``: upper bounds on |small_angle - undamped| for
-    theta (rad) and omega (rad/s).  From the Fourier series of the exact motion
-    (amplitude error + phase drift + harmonics); the phase drift grows like
-    (m/4) w0 t = (theta_max^2/16) w0 t.  +inf for the separatrix and rotation
-    (the model cannot go over the top).  Non-decreasing in |tmax|.
+    How far :func:`small_angle` (text eq. 1.18) is from the exact motion
+    (eqs 1.52, 1.66 and their generalisation :func:`undamped`) over a time
+    window: from the Fourier series of the exact motion (amplitude error,
+    phase drift and harmonics).
+
+    Parameters
+    ----------
+    tmax : float or array_like
+        Half-width of the window [s], any real value (abs(tmax) is used).
+    theta0 : float or array_like
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
+        warns (:class:`AngleWarning`).
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    dtheta, domega : float or ndarray
+        Upper bounds on abs(small_angle - undamped) for theta [rad] and omega
+        [rad/s] over the window, of the broadcast shape; +inf for the
+        separatrix and rotations (the model cannot go over the top).
+
+    Raises
+    ------
+    {raises}
+
+    Warns
+    -----
+    {swing}
+
+    Notes
+    -----
+    Bounds, not estimates: never below the true error (tested against the
+    exact motion); non-decreasing in abs(tmax).  The phase drift grows like
+    (m/4) w0 t = (theta_max^2/16) w0 t.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> dtheta, domega = pendula.small_angle_error(10.0, theta0=0.1)
+    >>> bool(dtheta < 2e-3), bool(domega < 3e-3)
+    (True, True)
     """
-    return _two_outputs(_undamped.small_angle_bound_f2py, tmax=tmax, theta0=theta0, omega0=omega0, w0=w0)
+    return _two_outputs(_undamped.small_angle_bound_f2py, tmax=tmax, theta0=theta0, omega0=omega0,
+                        w0=pendulum_w0(w0, g, length))
 
 
-def _state_property(kernel, nout, theta0, omega0, w0, *options):
-    """Broadcast the states and run one of the Fortran property kernels (``nout`` results);
-    ``options`` go between the size and the states."""
-    shape, scalar, f = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=w0)
+def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=None, amplitude=False):
+    """Broadcast the states and run one of the Fortran property kernels (``nout``
+    results); ``options`` go between the size and the states.  ``amplitude``:
+    theta0 is an amplitude, so warn where it looks like degrees."""
+    shape, scalar, f = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length))
     n = math.prod(shape)
     if n == 0:
         return shape, scalar, [np.empty(0)] * nout
+    if amplitude:
+        warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
     *values, code, msg = kernel(n, *options, f["theta0"], f["omega0"], f["w0"])
     raise_for_status(code, msg)
     return shape, scalar, values
 
 
-def period(theta0, omega0=0.0, w0=1.0):
-    """Period in s of the motion from (theta0, omega0).
+@documented
+def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Exact period of the undamped pendulum from the state (theta0, omega0).
 
-    Libration: T = 4 K(m)/w0 (eq. 1.53, for any start, not only omega0 = 0);
-    rotation: the time of one full turn 2 K(1/m)/(k w0) (the period of omega);
-    separatrix: +inf.  theta0 = pi - 1e-10 gives the slow hug of the top
-    (T ~ 4 ln(8/1e-10)/w0).  Accuracy a few eps times its condition number.
+    Libration: T = 4 K(m)/w0 (text eq. 1.53, here for any start, not only
+    omega0 = 0); rotation: the time of one full turn, 2 K(1/m)/(k w0) (the
+    period of omega); separatrix: +inf.  m = sin^2(theta0/2) +
+    (omega0/(2 w0))^2.
+
+    Parameters
+    ----------
+    theta0 : float or array_like
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
+        warns (:class:`AngleWarning`: ``period(90)`` is 90 rad, not 90 deg).
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    float or ndarray
+        Period [s], of the broadcast shape; +inf on the separatrix.
+
+    Raises
+    ------
+    {raises}
+
+    Warns
+    -----
+    {swing}
+
+    Notes
+    -----
+    Accuracy a few eps times the condition number; 1 - m is formed without
+    cancellation, so theta0 = pi - 1e-10 gives the slow hug of the top
+    (T ~ 4 ln(8/1e-10)/w0) to full accuracy.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.period(1.0), 6)          # the text's pendulum, w0 = sqrt(2)
+    4.737598
+    >>> round(pendula.period(1.0, w0=1.0), 6)
+    6.699976
+    >>> round(pendula.period(1.0, g=9.8, length=1.0), 6)
+    2.140229
     """
-    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD)
+    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD,
+                                            g=g, length=length, amplitude=True)
     return restore(per, shape, scalar)
 
 
-def amplitude(theta0, omega0=0.0, w0=1.0):
-    """Amplitude in rad: max |theta - 2 pi N| = 2 asin(k) for libration, pi on the separatrix, +inf for rotation."""
-    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE)
+@documented
+def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Amplitude of the swing from the state (theta0, omega0).
+
+    max abs(theta - 2 pi N) over the motion: 2 asin(k) for a libration (the
+    text's theta_max of §1.3), pi on the separatrix, +inf for a rotation.
+
+    Parameters
+    ----------
+    theta0 : float or array_like
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
+        warns (:class:`AngleWarning`).
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    float or ndarray
+        Amplitude [rad], of the broadcast shape.
+
+    Raises
+    ------
+    {raises}
+
+    Warns
+    -----
+    {swing}
+
+    Notes
+    -----
+    2 asin(k) with k = sqrt(m); accuracy a few eps times the condition
+    number (large near the separatrix, where d asin/dk diverges).
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.amplitude(0.0, omega0=1.0, w0=1.0), 6)
+    1.047198
+    >>> pendula.amplitude(0.0, omega0=5.0, w0=1.0)      # rotation
+    inf
+    """
+    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE,
+                                            g=g, length=length, amplitude=True)
     return restore(amp, shape, scalar)
 
 
-def elliptic_parameter(theta0, omega0=0.0, w0=1.0):
-    """``(m, 1 - m)``: m = sin^2(theta0/2) + (omega0/(2 w0))^2 = E/E_separatrix and its
-    complement, the latter computed without cancellation (accurate near the separatrix)."""
-    shape, scalar, (m, mc) = _state_property(_undamped.parameter_f2py, 2, theta0, omega0, w0)
+@documented
+def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Elliptic parameter m = E / E_separatrix of a state, and 1 - m.
+
+    m = sin^2(theta0/2) + (omega0/(2 w0))^2 (the text's k^2 of eqs 1.52 and
+    1.66, for any start): m < 1 swings, m = 1 is the separatrix, m > 1
+    rotates.
+
+    Parameters
+    ----------
+    theta0 : float or array_like
+        Angle [rad], finite (no warning: any angle is a state).
+    omega0 : float or array_like, optional
+        Angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    m, mc : float or ndarray
+        m and its complement 1 - m (dimensionless), of the broadcast shape.
+
+    Raises
+    ------
+    {raises}
+
+    Notes
+    -----
+    1 - m is never formed by subtraction: it is (c - abs(q))(c + abs(q)) with
+    c = cos(theta0/2) in double-double and q = omega0/(2 w0), so it stays
+    relatively accurate near the separatrix, where the period depends on it
+    logarithmically.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> m, mc = pendula.elliptic_parameter(1.0)
+    >>> round(m, 6), round(mc, 6)
+    (0.229849, 0.770151)
+    """
+    shape, scalar, (m, mc) = _state_property(_undamped.parameter_f2py, 2, theta0, omega0, w0, g=g, length=length)
     return restore(m, shape, scalar), restore(mc, shape, scalar)
 
 
-def regime(theta0, omega0=0.0, w0=1.0):
-    """'libration' (m < 1), 'separatrix' (m = 1) or 'rotation' (m > 1); a str, or an array of str."""
-    shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0)
+@documented
+def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+    """Kind of motion from a state: 'libration', 'separatrix' or 'rotation'.
+
+    From m = E / E_separatrix (:func:`elliptic_parameter`): swinging (m < 1,
+    text §1.2-1.3), the separatrix (m = 1, creeping towards the top forever)
+    or going over the top (m > 1; beyond the text).
+
+    Parameters
+    ----------
+    theta0 : float or array_like
+        Angle [rad], finite.
+    omega0 : float or array_like, optional
+        Angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+
+    Returns
+    -------
+    str or ndarray of str
+        The regime, of the broadcast shape (a str for scalar input).
+
+    Raises
+    ------
+    {raises}
+
+    Notes
+    -----
+    Decided on the sign of 1 - m as computed for :func:`elliptic_parameter`
+    (without cancellation), so states a few ulps from the separatrix are
+    classified by their own energy.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> pendula.regime(1.0), pendula.regime(0.0, omega0=3.0)
+    ('libration', 'rotation')
+    """
+    shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0, g=g, length=length)
     if scalar:
         return REGIMES[int(codes[0])]
     names = np.array([""] + [REGIMES[k] for k in sorted(REGIMES)])   # codes are 1, 2, 3
@@ -144,13 +424,46 @@ def regime(theta0, omega0=0.0, w0=1.0):
     return names.take(codes).reshape(shape)
 
 
-def energy(theta, omega, w0=1.0):
-    """Energy per unit m l^2 in 1/s^2: omega^2/2 + w0^2 (1 - cos theta) (eq. 1.2).
+@documented
+def energy(theta, omega, w0=None, *, g=None, length=None):
+    """Energy per unit m l^2, omega^2/2 + w0^2 (1 - cos theta).
 
-    0 at rest at the bottom, 2 w0^2 on the separatrix; constant along ``undamped``.
-    Computed as omega^2/2 + 2 w0^2 sin^2(theta/2) (no cancellation near theta = 0).
+    K + U of the text's Lagrangian (eq. 1.1) over m l^2.  0 at rest at the
+    bottom, 2 w0^2 on the separatrix; constant along
+    :func:`undamped`.  theta is any angle of a trajectory (no warning for
+    large values: a rotating pendulum's angle counts turns).
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Angle [rad], finite.
+    omega : float or array_like
+        Angular velocity [rad/s], finite.
+    {pendulum}
+
+    Returns
+    -------
+    float or ndarray
+        Energy [1/s^2] (per unit m l^2), of the broadcast shape.
+
+    Raises
+    ------
+    {raises}
+
+    Notes
+    -----
+    Computed as omega^2/2 + 2 w0^2 sin^2(theta/2): no cancellation near
+    theta = 0, a few ulps.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> round(pendula.energy(3.141592653589793, 0.0), 12)   # 2 w0^2, w0 = sqrt(2)
+    4.0
+    >>> round(pendula.energy(0.0, 1.0, w0=1.0), 12)
+    0.5
     """
-    shape, scalar, f = broadcast_real(theta=theta, omega=omega, w0=w0)
+    shape, scalar, f = broadcast_real(theta=theta, omega=omega, w0=pendulum_w0(w0, g, length))
     if f["theta"].size == 0:
         return np.empty(shape)
     e, code, msg = _undamped.pendulum_energy_f2py(f["theta"], f["omega"], f["w0"])
@@ -158,19 +471,52 @@ def energy(theta, omega, w0=1.0):
     return restore(e, shape, scalar)
 
 
-def equilibria(n, w0=1.0):
-    """Equilibria (n pi, 0) and their linearisation (text §1.1, eqs 1.9-1.24).
+@documented
+def equilibria(n, w0=None, *, g=None, length=None):
+    """Equilibria (n pi, 0) of the pendulum and their linearisation (text §1.1).
 
-    ``n``: integer or integer array (the equilibrium index), |n| <= 2**31 - 1
-    (ValueError otherwise, checked exactly for any integer type, uint64
-    included; bool and floats raise TypeError).  Returns
-    ``(theta, eigenvalues, kind)``: theta = n pi in rad; eigenvalues of the
-    Jacobian [[0, 1], [-w0^2 cos(n pi), 0]] in 1/s, a complex array of shape
-    ``shape + (2,)`` (+-i w0 for even n, +-w0 for odd n); kind 'centre' (even n,
-    hanging, stable) or 'saddle' (odd n, upright, unstable).
+    The Jacobian [[0, 1], [-w0^2 cos(n pi), 0]] (eqs 1.9-1.24) has
+    eigenvalues +-i w0 for even n (hanging: a centre, stable) and +-w0 for
+    odd n (upright: a saddle, unstable).
+
+    Parameters
+    ----------
+    n : int or array_like of int
+        Equilibrium index, abs(n) <= 2**31 - 1 (checked exactly for any integer
+        type, uint64 included).
+    {pendulum}
+
+    Returns
+    -------
+    theta : float or ndarray
+        n pi [rad], of the broadcast shape of n and w0.
+    eigenvalues : ndarray of complex
+        The Jacobian's eigenvalues [1/s], shape ``shape + (2,)``.
+    kind : str or ndarray of str
+        'centre' (even n) or 'saddle' (odd n).
+
+    Raises
+    ------
+    ValueError
+        abs(n) too large, w0 <= 0 or non-finite, shapes that do not broadcast,
+        or w0 given with disagreeing g/length.
+    TypeError
+        n not an integer (bool and floats included), or non-real w0.
+
+    Notes
+    -----
+    theta = n pi correctly rounded; the eigenvalues are exact up to w0's
+    rounding.
+
+    Examples
+    --------
+    >>> import pendula
+    >>> theta, lam, kind = pendula.equilibria(1, w0=1.0)
+    >>> round(theta, 6), lam.real.tolist(), kind
+    (3.141593, [1.0, -1.0], 'saddle')
     """
     narr = np.asarray(integer_arg(n, "n", -N_MAX, N_MAX))   # checked before any narrowing cast
-    w0a = as_real(w0, "w0")
+    w0a = as_real(pendulum_w0(w0, g, length), "w0")
     try:
         shape = np.broadcast_shapes(narr.shape, w0a.shape)
     except ValueError:
@@ -193,4 +539,4 @@ def equilibria(n, w0=1.0):
 
 
 __all__ = ["undamped", "small_angle", "small_angle_error", "period", "amplitude", "elliptic_parameter",
-           "regime", "energy", "equilibria"]
+           "regime", "energy", "equilibria", "AngleWarning"]

@@ -9,6 +9,16 @@ module pendula_physics
   implicit none
   private
   public :: natural_frequency, damping_rate, small_angle_period, period_series, pi
+  public :: PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
+
+  !> The text's pendulum (§1.2-1.3, §2.2): g [m/s^2] and length [m], so that
+  !> w0 = sqrt(g/length) = sqrt(2) 1/s.  The one default pendulum of the library:
+  !> every interface that needs a pendulum and is given none uses these.
+  real(wp), parameter :: PENDULA_G_DEFAULT = 9.8_wp, PENDULA_LENGTH_DEFAULT = 4.9_wp
+  !> Relative tolerance within which a redundant description of the pendulum
+  !> must agree with itself (gamma with b/mass, w0 with sqrt(g/length)): about
+  !> 4500 ulps, so values computed along different roundings still agree.
+  real(wp), parameter :: PENDULA_PARAM_RTOL = 1.0e-12_wp
 
 contains
 

@@ -63,6 +63,7 @@ class Entry:
 # Public names that are not numerical entry points.
 NOT_ENTRY_POINTS = {
     "PendulaSolverError": "exception class",
+    "AngleWarning": "warning class (test_angle_warning.py)",
     "TradeoffTable": "result container built by tradeoff() from checked runs",
     "BatchIntegrationResult": "result container built by rk4()/cvode() for a batch of states",
     "SceneBatch": "built by Scene() for array parameters (its table entry covers them)",
@@ -78,6 +79,12 @@ NOT_ENTRY_POINTS = {
 THREADS = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("2", TypeError), (True, TypeError),
                             (None, TypeError)))
 
+# The pendulum as g and length instead of w0, the damping as b and mass instead of
+# gamma (pendula.physics' one convention): checked with w0 (gamma) left out.
+PENDULUM = dict(g=Arg(POS, others=dict(w0=None)), length=Arg(POS, aliases=("l",), others=dict(w0=None)))
+DAMPING = dict(b=Arg(NONNEG, others=dict(gamma=None, mass=0.1)),
+               mass=Arg(POS, aliases=("m",), others=dict(gamma=None, b=0.05)))
+
 # ---- the table ----------------------------------------------------------------
 API: dict[str, Entry] = {
     # physics (core)
@@ -89,24 +96,24 @@ API: dict[str, Entry] = {
         args=dict(b=Arg(NONNEG), mass=Arg(POS, aliases=("m",)))),
     "small_angle_period": Entry(
         valid=dict(w0=1.5),
-        args=dict(w0=Arg(POS, array=True))),
+        args=dict(w0=Arg(POS, array=True), **PENDULUM)),
     "period_series": Entry(
         valid=dict(m=0.3, w0=1.5),
         args=dict(m=Arg(NONNEG, array=True, out_of_domain=(1 + 2**-52, 1.5, 1e10, 1e300),
                         extremes=(0.0, 5e-324, 1e-300, 1 - 2**-53, 1.0)),
-                  w0=Arg(POS, array=True))),
+                  w0=Arg(POS, array=True), **PENDULUM)),
     # linear damped (src/damped, linear.py)
     "linear_damped": Entry(
         valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
         args=dict(t=Arg(NONNEG, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
-                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True))),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), **PENDULUM, **DAMPING)),
     "linear_damped_envelope": Entry(
         valid=dict(t=1.5, theta0=0.1, omega0=0.5, w0=1.4, gamma=0.3),
         args=dict(t=Arg(NONNEG, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
-                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True))),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), **PENDULUM, **DAMPING)),
     "damping_regime": Entry(
         valid=dict(w0=1.4, gamma=0.3),
-        args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),
+        args=dict(w0=Arg(POS), gamma=Arg(NONNEG), **PENDULUM, **DAMPING)),
     # elliptic (src/special, elliptic.py): NaN in -> NaN out, out of domain -> ValueError
     "ellipk": Entry(valid=dict(m=0.7), nan="propagate",
                     args=dict(m=Arg(REAL, array=True, out_of_domain=(1.5, 1 + 2**-52, INF)))),
@@ -171,23 +178,23 @@ API: dict[str, Entry] = {
     # undamped (src/undamped, undamped.py): any real t, any real state, w0 > 0
     "undamped": Entry(valid=dict(t=1.3, theta0=1.0, omega0=0.2, w0=1.4), args=dict(
         t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
-        w0=Arg(POS, array=True))),
+        w0=Arg(POS, array=True), **PENDULUM)),
     "small_angle": Entry(valid=dict(t=1.3, theta0=0.1, omega0=0.2, w0=1.4), args=dict(
         t=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
-        w0=Arg(POS, array=True))),
+        w0=Arg(POS, array=True), **PENDULUM)),
     "small_angle_error": Entry(valid=dict(tmax=10.0, theta0=0.1, omega0=0.2, w0=1.4), args=dict(
         tmax=Arg(REAL, array=True), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
-        w0=Arg(POS, array=True))),
+        w0=Arg(POS, array=True), **PENDULUM)),
     **{name: Entry(valid=dict(theta0=1.0, omega0=0.2, w0=1.4), args=dict(
-        theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), w0=Arg(POS, array=True)))
+        theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), w0=Arg(POS, array=True), **PENDULUM))
        for name in ("period", "amplitude", "elliptic_parameter", "regime")},
     "energy": Entry(valid=dict(theta=1.0, omega=0.2, w0=1.4), args=dict(
-        theta=Arg(REAL, array=True), omega=Arg(REAL, array=True), w0=Arg(POS, array=True))),
+        theta=Arg(REAL, array=True), omega=Arg(REAL, array=True), w0=Arg(POS, array=True), **PENDULUM)),
     "equilibria": Entry(valid=dict(n=3, w0=1.4), args=dict(
         n=Arg(OTHER, extra=((1.5, TypeError), ("1", TypeError), (None, TypeError), (True, TypeError),
                             (np.array([1.0, 2.0]), TypeError), (1 + 1j, TypeError), (2**40, ValueError),
                             (np.array([[1, 2]]), ValueError, dict(w0=np.array([1.0, 2.0, 3.0]))))),
-        w0=Arg(POS, array=True))),
+        w0=Arg(POS, array=True), **PENDULUM)),
     # scenes (src/scene, scene.py)
     "Scene": Entry(
         valid=dict(theta0=0.3, omega0=0.1, t=[0.0, 1.0, 2.0], g=9.8, length=4.9, mass=0.1, b=0.01,
@@ -227,6 +234,9 @@ API: dict[str, Entry] = {
                   scipy_rtols=Arg(OTHER, extra=(([NAN], ValueError), ([-1e-3], ValueError), ([0.0], ValueError)))),
         unchecked=dict(csv="output path (file I/O)", plot="output path (file I/O)")),
 }
+# errors= of the elliptic functions: 'raise' or 'nan' (test_elliptic_errors.py)
+for _name in ("ellipk", "ellipe", "ellipkm1", "ellipem1", "ellipf", "ellipkinc", "ellipfm1", "ellipj", "ellipjm1"):
+    API[_name].args["errors"] = Arg(CHOICE)
 
 
 # ---- helpers ----------------------------------------------------------------------

@@ -13,13 +13,14 @@ program gen_codes
   use pendula_scene_codes, only: SCENE_MODEL_NAMES, SCENE_MODEL_ALIAS_NAMES, SCENE_MODEL_ALIAS_CODES, &
       SCENE_WANT_NAMES, SCENE_INFO_NAMES, SCENE_INFO_SIZE, SCENE_RK4_STEP_LIMIT, SCENE_STEP_CAP, &
       SCENE_CVODE_STEP_COST, SCENE_STIFF_RATIO, SCENE_STIFF_RK4_STEPS
+  use pendula_physics, only: PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
   implicit none
   integer :: i
 
   call put('"""Codes, names and limits of the Fortran core, for the Python layer.')
   call put('')
   call put('GENERATED at build time by tools/gen/gen_codes.f90 from the Fortran modules')
-  call put('(pendula_status, pendula_ode, pendula_scene_codes): do not edit, change the')
+  call put('(pendula_status, pendula_ode, pendula_scene_codes, pendula_physics): do not edit, change the')
   call put('Fortran.  Index names of INFO are 0-based positions in the number array of')
   call put('a solved scene (python/f2py/scene.f90).')
   call put('"""')
@@ -42,6 +43,12 @@ program gen_codes
   call int_line('EVENT_ZERO', PENDULA_EVENT_ZERO)
   call int_line('CVODE_ADAMS', PENDULA_CVODE_ADAMS)
   call int_line('CVODE_BDF', PENDULA_CVODE_BDF)
+  call put('')
+  call put('# the default pendulum, the text''s: g [m/s^2], length [m] (pendula_physics); relative')
+  call put('# tolerance within which w0 and sqrt(g/length), or gamma and b/mass, must agree')
+  call real_line('G_DEFAULT', PENDULA_G_DEFAULT)
+  call real_line('LENGTH_DEFAULT', PENDULA_LENGTH_DEFAULT)
+  call real_line('PARAM_RTOL', PENDULA_PARAM_RTOL)
   call put('')
   call put('# scene models: name -> code (pendula_scene_codes); "auto" lets the library choose')
   call put('MODEL_CODES = {')
