@@ -8,6 +8,7 @@ copied under fortran/ by tools/build_docs.sh and linked from fortran.md.
 import importlib.util
 import os
 import pathlib
+import shutil
 
 import pendula  # the installed (or staged) package being documented
 
@@ -62,6 +63,8 @@ def _generate():
     source files: autosummary writes its stubs only for pages that exist by then."""
     docs_gallery = _tool("docs_gallery")
 
+    # autosummary never deletes a stub: one left by a removed name would be read as a page
+    shutil.rmtree(HERE / "api" / "generated", ignore_errors=True)
     docs_gallery.write_api_list(HERE / "api" / "index.rst")
     docs_gallery.write_ensembles_slot(HERE / "guide" / "ensembles.md", HERE / "ensembles.md")
     if os.environ.get("PENDULA_DOCS_GALLERY", "run") != "skip":
@@ -70,22 +73,17 @@ def _generate():
         docs_gallery.write_gallery_placeholder(HERE / "gallery")
 
 
-# Public names whose docstrings are not numpydoc yet: shown as written instead of failing
-# the build.  The same list drives tests/python/test_docstrings.py.
-PENDING = docs_docstrings.read_pending(HERE / "numpydoc_pending.txt")
-
-
-def _numpydoc_or_pending(app, what, name, obj, options, lines):
+def _numpydoc_only(app, what, name, obj, options, lines):
     """Escape |x| for reST before numpydoc reads a docstring; warn (with -W: fail) on a
-    public callable without numpydoc sections unless PENDING lists it."""
-    warning = docs_docstrings.prepare(what, name, lines, PENDING)
+    public callable without numpydoc sections."""
+    warning = docs_docstrings.prepare(what, name, lines)
     if warning:
         logger.warning("%s", warning, location=name)
 
 
 def setup(app):
     # before numpydoc (priority 500) turns sections into fields
-    app.connect("autodoc-process-docstring", _numpydoc_or_pending, priority=400)
+    app.connect("autodoc-process-docstring", _numpydoc_only, priority=400)
 
 
 _generate()

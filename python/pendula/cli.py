@@ -30,7 +30,7 @@ import numpy as np
 from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times
 from ._cli_values import finite as _finite
 from ._cli_values import nonnegative as _nonnegative, positive as _positive
-from ._codes import EVENT_TURNING, EVENT_ZERO, MODEL_CODES, WANT_CODES
+from ._codes import EVENT_TURNING, EVENT_ZERO, G_DEFAULT, LENGTH_DEFAULT, MODEL_CODES, WANT_CODES
 
 PROG = "pendula"
 MODELS = tuple(name for name in MODEL_CODES if name != "auto")
@@ -43,15 +43,16 @@ class CliError(Exception):
 
 # ---------------------------------------------------------------- parser
 
-_PHYS_HELP = """physical parameters (the text's defaults: g = 9.8 m/s^2, l = 4.9 m, so w0 = sqrt(2) 1/s)"""
+_PHYS_HELP = (f"physical parameters (the text's defaults: g = {G_DEFAULT:g} m/s^2, l = {LENGTH_DEFAULT:g} m, "
+              "so w0 = sqrt(2) 1/s)")
 
 
 def _add_physics(p, damping=True):
     g = p.add_argument_group(_PHYS_HELP)
-    g.add_argument("--g", type=_positive, default=9.8, metavar="M/S2",
-                   help="gravitational acceleration g in m/s^2 (default 9.8)")
-    g.add_argument("--length", "-l", type=_positive, default=4.9, metavar="M",
-                   help="pendulum length l in m (default 4.9); w0 = sqrt(g/l) in 1/s")
+    g.add_argument("--g", type=_positive, default=G_DEFAULT, metavar="M/S2",
+                   help=f"gravitational acceleration g in m/s^2 (default {G_DEFAULT:g})")
+    g.add_argument("--length", "-l", type=_positive, default=LENGTH_DEFAULT, metavar="M",
+                   help=f"pendulum length l in m (default {LENGTH_DEFAULT:g}); w0 = sqrt(g/l) in 1/s")
     if damping:
         g.add_argument("--gamma", type=_nonnegative, default=None, metavar="1/S",
                        help="damping rate gamma in 1/s (eq. 2.3); or give --mass and --b "

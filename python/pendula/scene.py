@@ -44,7 +44,8 @@ import numpy as np
 
 from . import _fortran as _scene, _longcall, _tables
 from ._arrays import as_real, real_scalar
-from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, STEP_CAP, WANT_CODES
+from ._codes import (G_DEFAULT, INFO, INFO_SIZE, LENGTH_DEFAULT, MODEL_ALIASES, MODEL_CODES, STEP_CAP,
+                     WANT_CODES)
 from ._config import HAVE_CVODE  # noqa: F401 (read by benchmarks/bench_scenes.py)
 from ._errors import PendulaSolverError, _text, raise_for_status
 from .integrate import Events, _step_budget
@@ -134,16 +135,16 @@ class Scene:
     6.752
     """
 
-    def __new__(cls, theta0=None, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
-                tol=1e-6, want="state"):
+    def __new__(cls, theta0=None, omega0=0.0, t=None, g=G_DEFAULT, length=LENGTH_DEFAULT, gamma=None,
+                mass=None, b=None, tol=1e-6, want="state"):
         # (theta0 defaults to None here only so that pickle and copy, which call
         # __new__ with no arguments, work; __init__ still requires it)
         if cls is Scene and _is_batch(theta0, omega0, g, length, gamma, mass, b, tol):
             return _scene_batch.SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want)
         return object.__new__(cls)
 
-    def __init__(self, theta0, omega0=0.0, t=None, g=9.8, length=4.9, gamma=None, mass=None, b=None,
-                 tol=1e-6, want="state"):
+    def __init__(self, theta0, omega0=0.0, t=None, g=G_DEFAULT, length=LENGTH_DEFAULT, gamma=None,
+                 mass=None, b=None, tol=1e-6, want="state"):
         self.theta0 = real_scalar(theta0, "theta0")
         self.omega0 = real_scalar(omega0, "omega0")
         self.g = real_scalar(g, "g")

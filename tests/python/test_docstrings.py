@@ -21,10 +21,8 @@ the public classes (one test per name, so a failure names what to fix):
 * the Examples run as doctests (ELLIPSIS, NORMALIZE_WHITESPACE, NumPy's print options fixed,
   ``np`` and ``pendula`` imported beforehand as in NumPy's own docstrings).
 
-Names whose docstrings are not numpydoc yet are listed in docs/numpydoc_pending.txt, which
-the docs build reads too (it renders their free-form text as a literal block instead of
-warning): their section checks are strict xfails, so a name that gets its docstring must
-leave the list.
+The docs build applies the same rule (tools/docs_docstrings.py): a public callable without
+numpydoc sections fails it.
 """
 import ast
 import doctest
@@ -57,7 +55,6 @@ CHECKS = {
     "YD01": "no Yields section for a generator",
     "EX01": "no Examples section",
 }
-PENDING_FILE = ROOT / "docs" / "numpydoc_pending.txt"
 
 
 def _load_tool(name):
@@ -69,11 +66,6 @@ def _load_tool(name):
 
 
 DOCS = _load_tool("docs_docstrings")
-
-
-def _pending():
-    """Names (as in the test ids) whose docstrings are not numpydoc yet."""
-    return DOCS.read_pending(PENDING_FILE)
 
 
 def _is_constant(obj):
@@ -117,13 +109,6 @@ def _public():
 PUBLIC = _public()
 DOCUMENTED = [p for p in PUBLIC if p[2] != "constant"]
 CONSTANTS = [p for p in PUBLIC if p[2] == "constant"]
-
-
-def _maybe_pending(items):
-    pending = _pending()
-    return [pytest.param(*it, id=it[0], marks=pytest.mark.xfail(
-        strict=True, reason="listed in docs/numpydoc_pending.txt")) if it[0] in pending
-        else pytest.param(*it, id=it[0]) for it in items]
 
 
 def _raises_on_bad_input():
@@ -216,16 +201,10 @@ def _problems(name, obj, kind):
     return found
 
 
-@pytest.mark.parametrize("name, obj, kind", _maybe_pending(DOCUMENTED))
+@pytest.mark.parametrize("name, obj, kind", [pytest.param(*p, id=p[0]) for p in DOCUMENTED])
 def test_numpydoc_sections(name, obj, kind):
     problems = _problems(name, obj, kind)
     assert not problems, f"pendula.{name}:\n  " + "\n  ".join(problems)
-
-
-def test_pending_list_names_public_objects():
-    """The pending list holds only public names that still need work (no stale entries)."""
-    known = {p[0] for p in PUBLIC}
-    assert _pending() <= known, sorted(_pending() - known)
 
 
 def _attribute_docs():
@@ -332,7 +311,7 @@ def test_docs_build_escapes_absolute_values_only_in_prose():
     lines = ["Summary with |x|.", "", "Text |x - y| and ``|g|`` and :math:`|w_0|`.", "",
              ".. math::", "", "    |w_0| > 0", "", "After |t|::", "", "    |literal|", "",
              ">>> abs(-1)   # |x|", "1", "", "Parameters", "----------"]
-    assert DOCS.prepare("function", "pendula.f", lines, set()) is None
+    assert DOCS.prepare("function", "pendula.f", lines) is None
     assert lines[0] == "Summary with \\|x\\|."
     assert lines[2] == "Text \\|x - y\\| and ``|g|`` and :math:`|w_0|`."
     assert lines[6] == "    |w_0| > 0" and lines[10] == "    |literal|"
@@ -340,12 +319,9 @@ def test_docs_build_escapes_absolute_values_only_in_prose():
     assert lines[12] == ">>> abs(-1)   # |x|"
 
 
-def test_docs_build_warns_on_a_callable_without_sections_unless_pending():
+def test_docs_build_warns_on_a_callable_without_sections():
     bare = ["Summary |x|.", "", "free text", "  aligned |columns|"]
-    lines = list(bare)
-    assert "pendula.f has no numpydoc sections" in DOCS.prepare("function", "pendula.f", lines, set())
-    assert lines == ["Summary \\|x\\|.", "", "::", "", "    free text", "      aligned |columns|"]
-    assert DOCS.prepare("function", "pendula.f", list(bare), {"f"}) is None
-    assert DOCS.prepare("method", "pendula.C.m", list(bare), {"C.m"}) is None
-    assert DOCS.prepare("method", "pendula.C.__init__", list(bare), set()) is None
-    assert DOCS.prepare("data", "pendula.CONST", list(bare), set()) is None
+    assert "pendula.f has no numpydoc sections" in DOCS.prepare("function", "pendula.f", list(bare))
+    assert "pendula.C.m has no numpydoc sections" in DOCS.prepare("method", "pendula.C.m", list(bare))
+    assert DOCS.prepare("method", "pendula.C.__init__", list(bare)) is None
+    assert DOCS.prepare("data", "pendula.CONST", list(bare)) is None
