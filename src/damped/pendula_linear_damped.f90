@@ -24,7 +24,7 @@
 module pendula_linear_damped
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
-  use pendula_format, only: format_int
+  use pendula_format, only: format_int, code_text
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, check_same_size, PENDULA_OK
   use pendula_constants, only: pi
@@ -196,12 +196,8 @@ contains
   pure function regime_name(regime) result(name)
     integer, intent(in) :: regime
     character(len=:), allocatable :: name
-    select case (regime)
-    case (DAMPING_UNDERDAMPED); name = 'underdamped'
-    case (DAMPING_CRITICAL);    name = 'critical'
-    case (DAMPING_OVERDAMPED);  name = 'overdamped'
-    case default;               name = 'unknown'
-    end select
+    name = code_text(regime, [DAMPING_UNDERDAMPED, DAMPING_CRITICAL, DAMPING_OVERDAMPED], &
+        [character(len=11) :: 'underdamped', 'critical', 'overdamped'], 'unknown')
   end function regime_name
 
   !> Set up the trajectory with theta(0) = theta0 [rad], Omega(0) = omega0
