@@ -11,7 +11,7 @@ module pendula_status
   implicit none
   private
 
-  public :: status_t, status_ok, set_error, code_name
+  public :: status_t, status_ok, set_error, code_name, status_unpack
   public :: check_finite, check_positive, check_nonnegative, check_range, &
             check_all_finite, check_increasing, check_size, check_same_size
   public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
@@ -64,6 +64,16 @@ contains
     status%code = code
     status%message = message
   end subroutine set_error
+
+  !> The code and message of `status` as plain variables (for the f2py glue,
+  !> which hands them to Python).
+  pure subroutine status_unpack(status, code, message)
+    type(status_t), intent(in) :: status
+    integer, intent(out) :: code
+    character(len=*), intent(out) :: message
+    code = status%code
+    message = status%message
+  end subroutine status_unpack
 
   !> Short name of a status code, for messages and logs.
   pure function code_name(code) result(name)
