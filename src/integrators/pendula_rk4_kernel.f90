@@ -25,7 +25,7 @@ module pendula_rk4_kernel
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   implicit none
   private
-  public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
+  public :: rk4_grid, substeps, step_constants, node_reduce, sin_node, sin_shift
   public :: stage_rmax, stage_xmax, RK4_POLL_STEPS
   ! the node tables and reduction constants, for the batch kernel's own copy
   ! of the step (pendula_rk4_batch: the same operations, across states)
@@ -225,6 +225,28 @@ contains
     end if
   end function substeps
 
+  !> The constants of one RK4 substep hs [s] for w0sq [1/s^2] and gamma [1/s]
+  !> that rk4_grid (and rk4_batch's lanes, operation for operation) use in
+  !> every step of an interval: hs/2, hs/6, their products, and the w0sq and
+  !> gamma factors of the stage updates.
+  elemental subroutine step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
+    real(wp), intent(in) :: hs, w0sq, gamma
+    real(wp), intent(out) :: half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1
+    half = hs / 2
+    sixth = hs / 6
+    h2q = half * half
+    hh = hs * half
+    c6 = hs * sixth
+    w1 = h2q * w0sq
+    w2 = hh * w0sq
+    cy = c6 * w0sq
+    g2 = (2 - gamma * hs) * gamma
+    wa = sixth * (2 - gamma * hs) * w0sq
+    wb = sixth * w0sq
+    bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
+    bu0 = hh * w0sq * (gamma * hh + 2)
+  end subroutine step_constants
+
   !> Classic RK4 for theta'' = -gamma theta' - w0sq sin(theta) over the output
   !> grid t (strictly increasing; not checked here): theta(1) [rad], omega(1)
   !> [rad/s] hold the state at t(1) on entry; between t(i) and t(i+1) the
@@ -272,19 +294,7 @@ contains
       n = n_nx
       hs = hs_nx
       if (j + 1 < size(t)) call interval(j + 1, n_nx, hs_nx)
-      half = hs / 2
-      sixth = hs / 6
-      h2q = half * half
-      hh = hs * half
-      c6 = hs * sixth
-      w1 = h2q * w0sq
-      w2 = hh * w0sq
-      cy = c6 * w0sq
-      g2 = (2 - gamma * hs) * gamma
-      wa = sixth * (2 - gamma * hs) * w0sq
-      wb = sixth * w0sq
-      bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
-      bu0 = hh * w0sq * (gamma * hh + 2)
+      call step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
       left = n
       do while (left > 0)
         ! blocks end at the next poll; without control one block is the interval
