@@ -26,8 +26,8 @@ module pendula_rk4_batch
   use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index, batch_threads, set_batch_error
   use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS
   use pendula_ode, only: ode_stats_t
-  use pendula_rk4_kernel, only: substeps, step_constants, node_reduce, stage_rmax, stage_xmax, nnodes, node_sin, node_cos, &
-      taylor, node_p1, node_p2, node_p3, nodes_per_radian
+  use pendula_rk4_kernel, only: substeps, step_constants, plain_step, node_reduce, stage_rmax, stage_xmax, &
+      nnodes, node_sin, node_cos, taylor, node_p1, node_p2, node_p3, nodes_per_radian
   implicit none
   private
   public :: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
@@ -410,20 +410,5 @@ contains
     r = merge(r + 1, r, r - ax == -0.5_wp)
     r = sign(r, x)
   end function round_away
-
-  !> rk4_grid's plain step (libm sines of the rounded stage arguments), for
-  !> one lane whose stage offsets leave the table's range.
-  pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
-    real(wp), intent(in) :: y, u, w0sq, gamma, hs, half, sixth, c6
-    real(wp), intent(out) :: yn, un
-    real(wp) :: k1, k2, k3, k4, p2
-    p2 = half * u
-    k1 = -gamma * u - w0sq * sin(y)
-    k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-    k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-    k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-    yn = y + hs * u + c6 * ((k1 + k2) + k3)
-    un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-  end subroutine plain_step
 
 end module pendula_rk4_batch
