@@ -22,7 +22,8 @@ module pendula_cvode_batch
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options, check_batch_shapes, &
-      at => batch_index, batch_threads, set_batch_error
+      at => batch_index
+  use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_cvode, only: cvode_available, cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
   implicit none
   private

@@ -8,15 +8,13 @@ module pendula_ode
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
-      PENDULA_ERR_CANCELLED
-  !$ use omp_lib, only: omp_get_max_threads
+      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE
   implicit none
   private
   public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, &
             linear_eigenvalues, check_cvode_options, check_span
   ! shared by the batch integrators (pendula_rk4_batch, pendula_cvode_batch)
-  public :: check_batch_shapes, batch_index, batch_threads, set_batch_error
+  public :: check_batch_shapes, batch_index
   ! for the f2py glue: counters and budgets as the doubles Python passes
   public :: ode_stats_values, step_budget
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
@@ -157,33 +155,6 @@ contains
     integer, intent(in) :: i
     at = merge(i, 1, size(a) > 1)
   end function batch_index
-
-  !> OpenMP threads for a batch call: `threads` when present and > 0, else the
-  !> OpenMP default (which honours OMP_NUM_THREADS); 1 without OpenMP.
-  integer function batch_threads(threads) result(nthreads)
-    integer, intent(in), optional :: threads
-    nthreads = 1
-    !$ nthreads = omp_get_max_threads()
-    if (present(threads)) then
-      if (threads > 0) nthreads = threads
-    end if
-  end function batch_threads
-
-  !> The status of a batch call of n states of which nfail failed: a
-  !> cancelled call says so first (ncancel states unfinished), whatever else
-  !> failed; otherwise the first failed state, its code and its own message.
-  pure subroutine set_batch_error(status, n, nfail, ncancel, first, code, message)
-    type(status_t), intent(inout) :: status
-    integer, intent(in) :: n, nfail, ncancel, first, code
-    character(len=*), intent(in) :: message
-    if (ncancel > 0) then
-      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
-          format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
-    else
-      call set_error(status, code, 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
-          format_int(nfail) // ' failed, see codes): ' // trim(message))
-    end if
-  end subroutine set_batch_error
 
   !> The counters of `stats` as doubles (exact up to 2**53), in the order steps,
   !> rhs_evals, jac_evals, err_test_fails, nonlin_iters, nonlin_fails, root_evals.

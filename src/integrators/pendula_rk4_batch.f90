@@ -23,9 +23,10 @@ module pendula_rk4_batch
   use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_DOMAIN, &
       PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index, batch_threads, set_batch_error
+  use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
   use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS
   use pendula_ode, only: ode_stats_t
+  use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_rk4_kernel, only: substeps, step_constants, plain_step, node_reduce, stage_rmax, stage_xmax, &
       nnodes, node_sin, node_cos, taylor, node_p1, node_p2, node_p3, nodes_per_radian
   implicit none
