@@ -121,33 +121,24 @@ contains
   end subroutine check_nonnegative
 
   ! x finite and > 0 (strict) or >= 0: the one body of check_positive and
-  ! check_nonnegative, so that their messages read alike.  The comparison runs
-  ! only on a finite x (no invalid-operation flag from a NaN).
+  ! check_nonnegative, so that their messages read alike.  The comparisons
+  ! run only on a finite x; the text is built only for an error (these checks
+  ! run per element in loops).
   pure subroutine check_sign(name, x, strict, status)
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: x
     logical, intent(in) :: strict
     type(status_t), intent(inout) :: status
-    character(len=:), allocatable :: relation
-    logical :: inside
     if (status%code /= PENDULA_OK) return
-    if (strict) then
-      relation = '> 0'
-    else
-      relation = '>= 0'
-    end if
+    ! .not. ieee_is_finite first, as the other checks: the form that stays
+    ! quiet on a NaN under -ffpe-trap=invalid (the checked build)
     if (.not. ieee_is_finite(x)) then
-      call set_error(status, PENDULA_ERR_NONFINITE, &
-          name // ' = ' // fmt(x) // ' is invalid: it must be finite and ' // relation)
-      return
+      call set_error(status, PENDULA_ERR_NONFINITE, name // ' = ' // fmt(x) // &
+          ' is invalid: it must be finite and ' // trim(merge('> 0 ', '>= 0', strict)))
+    else if ((strict .and. .not. x > 0) .or. (.not. strict .and. .not. x >= 0)) then
+      call set_error(status, PENDULA_ERR_DOMAIN, name // ' = ' // fmt(x) // &
+          ' is out of range: it must be finite and ' // trim(merge('> 0 ', '>= 0', strict)))
     end if
-    if (strict) then
-      inside = x > 0
-    else
-      inside = x >= 0
-    end if
-    if (.not. inside) call set_error(status, PENDULA_ERR_DOMAIN, &
-        name // ' = ' // fmt(x) // ' is out of range: it must be finite and ' // relation)
   end subroutine check_sign
 
   !> Require lo <= x <= hi (x finite). `range_text` describes the range for the

@@ -5,7 +5,7 @@
 !> runtime at link time.
 module pendula_batch_support
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, PENDULA_ERR_CANCELLED
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_CANCELLED
   !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
@@ -24,18 +24,23 @@ contains
     end if
   end function batch_threads
 
-  !> The status of a batch call of n states of which nfail failed: a
-  !> cancelled call says so first (ncancel states unfinished), whatever else
-  !> failed; otherwise the first failed state, its code and its own message.
-  pure subroutine set_batch_error(status, n, nfail, ncancel, first, code, message)
+  !> The status of a batch call from its per-state codes (some not
+  !> PENDULA_OK): a cancelled call says so first (how many states are
+  !> unfinished), whatever else failed; otherwise state `first` (the first
+  !> failed one; not read when states were cancelled), its code and `message`.
+  pure subroutine set_batch_error(status, codes, first, message)
     type(status_t), intent(inout) :: status
-    integer, intent(in) :: n, nfail, ncancel, first, code
+    integer, intent(in) :: codes(:), first
     character(len=*), intent(in) :: message
+    integer :: n, nfail, ncancel
+    n = size(codes)
+    nfail = count(codes /= PENDULA_OK)
+    ncancel = count(codes == PENDULA_ERR_CANCELLED)
     if (ncancel > 0) then
       call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
           format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
     else
-      call set_error(status, code, 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
+      call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
           format_int(nfail) // ' failed, see codes): ' // trim(message))
     end if
   end subroutine set_batch_error

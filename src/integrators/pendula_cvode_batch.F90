@@ -73,7 +73,7 @@ contains
     integer, intent(out), optional :: first_failed
     type(cvode_work_t) :: probe
     character(len=PENDULA_MSG_LEN) :: first_msg
-    integer :: n, i, nthreads, first, nfail, ncancel
+    integer :: n, i, nthreads, first
     n = size(theta0)
     if (present(first_failed)) first_failed = 0
     theta = 0
@@ -99,9 +99,7 @@ contains
     !$omp end parallel
 
     ! Summary: the first failed state, with cvode_solve's own message for it.
-    nfail = count(codes /= PENDULA_OK)
-    ncancel = count(codes == PENDULA_ERR_CANCELLED)
-    if (nfail == 0) return
+    if (all(codes == PENDULA_OK)) return
     do i = 1, n
       if (codes(i) == PENDULA_ERR_CANCELLED) then
         theta(:, i) = 0
@@ -110,7 +108,7 @@ contains
       end if
     end do
     if (present(first_failed)) first_failed = findloc(codes /= PENDULA_OK, .true., dim=1)
-    call set_batch_error(status, n, nfail, ncancel, first, codes(first), first_msg)
+    call set_batch_error(status, codes, first, first_msg)
   end subroutine cvode_batch_solve
 
   !> One thread's share: open a solver (when some state needs one), take

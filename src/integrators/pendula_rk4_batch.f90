@@ -88,7 +88,7 @@ contains
     integer, intent(out), optional :: first_failed
     integer(i8), intent(in), optional :: max_steps
     integer, allocatable :: live(:)
-    integer :: n, i, nlive, nblocks, b, nthreads, first, nfail, ncancel
+    integer :: n, i, nlive, nblocks, b, nthreads, first, ncancel
     integer(i8) :: budget
     type(status_t) :: st
     n = size(theta0)
@@ -137,12 +137,10 @@ contains
 
     ! Summary: the first failed state, with rk4_solve's own message for it.
     first = 0
-    nfail = 0
     ncancel = 0
     do i = n, 1, -1
       if (codes(i) /= PENDULA_OK) then
         first = i
-        nfail = nfail + 1
         if (codes(i) == PENDULA_ERR_CANCELLED) ncancel = ncancel + 1
         theta(:, i) = 0
         omega(:, i) = 0
@@ -154,7 +152,7 @@ contains
     ! rk4_solve's message for the first failed state (run again: only when it is shown)
     if (ncancel == 0) st = state_status(t, theta0(first), omega0(at(omega0, first)), w0(at(w0, first)), &
         gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
-    call set_batch_error(status, n, nfail, ncancel, first, codes(first), st%message)
+    call set_batch_error(status, codes, first, st%message)
   end subroutine rk4_batch_solve
 
   !> Checks of the call as a whole: sizes, t, threads.
