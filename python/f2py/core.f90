@@ -4,7 +4,7 @@
 
 subroutine natural_frequency_f2py(g, length, w0, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_physics, only: natural_frequency
   implicit none
   include 'pendula_msg_len.inc'
@@ -15,13 +15,12 @@ subroutine natural_frequency_f2py(g, length, w0, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call natural_frequency(g, length, w0, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine natural_frequency_f2py
 
 subroutine damping_rate_f2py(b, mass, gamma, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_physics, only: damping_rate
   implicit none
   include 'pendula_msg_len.inc'
@@ -32,13 +31,12 @@ subroutine damping_rate_f2py(b, mass, gamma, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call damping_rate(b, mass, gamma, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine damping_rate_f2py
 
 subroutine period_series_f2py(n, m, w0, t, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, PENDULA_OK
   use pendula_physics, only: period_series
   implicit none
   include 'pendula_msg_len.inc'
@@ -50,21 +48,16 @@ subroutine period_series_f2py(n, m, w0, t, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
-  code = PENDULA_OK
-  msg = ''
   do i = 1, n
     call period_series(m(i), w0(i), t(i), st)
-    if (st%code /= PENDULA_OK) then
-      code = st%code
-      msg = st%message
-      return
-    end if
+    if (st%code /= PENDULA_OK) exit
   end do
+  call status_unpack(st, code, msg)
 end subroutine period_series_f2py
 
 subroutine small_angle_period_f2py(n, w0, t0, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, PENDULA_OK
   use pendula_physics, only: small_angle_period
   implicit none
   include 'pendula_msg_len.inc'
@@ -76,14 +69,9 @@ subroutine small_angle_period_f2py(n, w0, t0, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
-  code = PENDULA_OK
-  msg = ''
   do i = 1, n
     call small_angle_period(w0(i), t0(i), st)
-    if (st%code /= PENDULA_OK) then
-      code = st%code
-      msg = st%message
-      return
-    end if
+    if (st%code /= PENDULA_OK) exit
   end do
+  call status_unpack(st, code, msg)
 end subroutine small_angle_period_f2py

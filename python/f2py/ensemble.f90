@@ -10,7 +10,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
     theta, omega, codes, steps, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_rk4_batch, only: rk4_batch_solve
   implicit none
   include 'pendula_msg_len.inc'
@@ -33,8 +33,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
       threads=int(threads), control=control, first_failed=first, max_steps=int(max_steps, i8))
   steps = real(nsteps, c_double)
   first_failed = first
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine rk4_batch_f2py
 
 subroutine rk4_batch_openmp_f2py(flag)
@@ -50,8 +49,8 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
     max_steps, threads, control, theta, omega, codes, stats, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t
-  use pendula_ode, only: ode_stats_t
+  use pendula_status, only: status_t, status_unpack
+  use pendula_ode, only: ode_stats_t, ode_stats_values, step_budget
   use pendula_cvode_batch, only: cvode_batch_solve
   implicit none
   include 'pendula_msg_len.inc'
@@ -67,16 +66,13 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
   integer(i8) :: budget
   integer :: first, i
   allocate (s(n))
-  ! max_steps arrives as a double (Python int of any size); clamp to int64.
-  budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
+  ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
+  budget = step_budget(max_steps)
   call cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, codes, &
       s, st, threads=int(threads), control=control, first_failed=first)
   do i = 1, n
-    stats(:, i) = [real(s(i)%steps, c_double), real(s(i)%rhs_evals, c_double), real(s(i)%jac_evals, c_double), &
-        real(s(i)%err_test_fails, c_double), real(s(i)%nonlin_iters, c_double), &
-        real(s(i)%nonlin_fails, c_double), real(s(i)%root_evals, c_double)]
+    stats(:, i) = ode_stats_values(s(i))
   end do
   first_failed = first
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine cvode_batch_f2py

@@ -7,9 +7,8 @@
 
 subroutine rk4_f2py(n, t, theta0, omega0, w0, gamma, h, max_steps, control, theta, omega, stats, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_kinds, only: i8
-  use pendula_status, only: status_t
-  use pendula_ode, only: ode_stats_t
+  use pendula_status, only: status_t, status_unpack
+  use pendula_ode, only: ode_stats_t, ode_stats_values, step_budget
   use pendula_rk4, only: rk4_solve
   implicit none
   include 'pendula_msg_len.inc'
@@ -22,19 +21,15 @@ subroutine rk4_f2py(n, t, theta0, omega0, w0, gamma, h, max_steps, control, thet
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(ode_stats_t) :: s
-  ! max_steps arrives as a double (Python int of any size); clamp to int64.
-  call rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, s, st, control, &
-      int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8))
-  stats = [real(s%steps, c_double), real(s%rhs_evals, c_double), real(s%jac_evals, c_double), &
-      real(s%err_test_fails, c_double), real(s%nonlin_iters, c_double), real(s%nonlin_fails, c_double), &
-      real(s%root_evals, c_double)]
-  code = st%code
-  msg = st%message
+  ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
+  call rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, s, st, control, step_budget(max_steps))
+  stats = ode_stats_values(s)
+  call status_unpack(st, code, msg)
 end subroutine rk4_f2py
 
 subroutine rk4_max_stable_step_f2py(w0, gamma, h_max, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_rk4, only: rk4_max_stable_step
   implicit none
   include 'pendula_msg_len.inc'
@@ -45,16 +40,15 @@ subroutine rk4_max_stable_step_f2py(w0, gamma, h_max, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call rk4_max_stable_step(w0, gamma, h_max, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine rk4_max_stable_step_f2py
 
 subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, m, control, &
     theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t
-  use pendula_ode, only: ode_stats_t
+  use pendula_status, only: status_t, status_unpack
+  use pendula_ode, only: ode_stats_t, ode_stats_values, step_budget
   use pendula_cvode, only: cvode_solve, cvode_solve_events
   implicit none
   include 'pendula_msg_len.inc'
@@ -74,8 +68,8 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   integer(i8) :: budget
   ! integer(c_int) is the default integer of gfortran, so ev_kind goes straight
   ! to the library (no automatic array: max_events can be 1e7).
-  ! max_steps arrives as a double (Python int of any size); clamp to int64.
-  budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
+  ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
+  budget = step_budget(max_steps)
   if (m > 0) then
     call cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, &
         theta, omega, ev_t, ev_kind, ev_theta, ev_omega, nev, trunc, s, st, control)
@@ -87,11 +81,8 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   end if
   n_events = nev
   truncated = merge(1, 0, trunc)
-  stats = [real(s%steps, c_double), real(s%rhs_evals, c_double), real(s%jac_evals, c_double), &
-      real(s%err_test_fails, c_double), real(s%nonlin_iters, c_double), real(s%nonlin_fails, c_double), &
-      real(s%root_evals, c_double)]
-  code = st%code
-  msg = st%message
+  stats = ode_stats_values(s)
+  call status_unpack(st, code, msg)
 end subroutine cvode_f2py
 
 subroutine cvode_available_f2py(flag)

@@ -5,7 +5,7 @@
 
 subroutine linear_damped_f2py(n, t, theta0, omega0, w0, gamma, theta, omega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_linear_damped, only: linear_damped_arrays
   implicit none
   include 'pendula_msg_len.inc'
@@ -17,13 +17,12 @@ subroutine linear_damped_f2py(n, t, theta0, omega0, w0, gamma, theta, omega, cod
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call linear_damped_arrays(t, theta0, omega0, w0, gamma, theta, omega, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine linear_damped_f2py
 
 subroutine linear_damped_envelope_f2py(n, t, theta0, omega0, w0, gamma, env, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, check_nonnegative, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, check_nonnegative, PENDULA_OK
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_envelope
   implicit none
   include 'pendula_msg_len.inc'
@@ -37,26 +36,21 @@ subroutine linear_damped_envelope_f2py(n, t, theta0, omega0, w0, gamma, env, cod
   type(linear_damped_t) :: sol
   integer :: i
   env = 0
-  code = PENDULA_OK
-  msg = ''
   do i = 1, n
     call check_nonnegative('t', t(i), st)
     if (st%code == PENDULA_OK) call linear_damped_init(sol, theta0(i), omega0(i), w0(i), gamma(i), st)
-    if (st%code /= PENDULA_OK) then
-      env = 0
-      code = st%code
-      msg = st%message
-      return
-    end if
+    if (st%code /= PENDULA_OK) exit
     env(i) = linear_damped_envelope(sol, t(i))
   end do
+  if (st%code /= PENDULA_OK) env = 0
+  call status_unpack(st, code, msg)
 end subroutine linear_damped_envelope_f2py
 
 subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, beta, &
     decay_slow, decay_fast, quality_factor, log_decrement, damped_period, &
     gamma_critical, damping_ratio, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_linear_damped, only: damping_regime_t, damping_regime
   implicit none
   include 'pendula_msg_len.inc'
@@ -83,15 +77,14 @@ subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, bet
   damped_period = info%damped_period
   gamma_critical = info%gamma_critical
   damping_ratio = info%damping_ratio
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine damping_regime_f2py
 
 subroutine linear_damped_one_f2py(n, t, theta0, omega0, w0, gamma, theta, omega, code, msg)
   ! One trajectory (scalar parameters) at n times: set up once, no per-point
   ! parameter arrays.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, PENDULA_OK
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_eval
   implicit none
   include 'pendula_msg_len.inc'
@@ -107,6 +100,5 @@ subroutine linear_damped_one_f2py(n, t, theta0, omega0, w0, gamma, theta, omega,
   omega = 0
   call linear_damped_init(sol, theta0, omega0, w0, gamma, st)
   if (st%code == PENDULA_OK) call linear_damped_eval(sol, t, theta, omega, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine linear_damped_one_f2py

@@ -8,7 +8,7 @@ subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass,
     w0, gamma, w0lo, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: wp
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_scene, only: scene_physics
   implicit none
   include 'pendula_msg_len.inc'
@@ -41,13 +41,12 @@ subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass,
   w0 = w
   gamma = gm
   w0lo = wl
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine scene_physics_f2py
 
 subroutine scene_check_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_scene, only: scene_t, scene_init
   implicit none
   include 'pendula_msg_len.inc'
@@ -59,8 +58,7 @@ subroutine scene_check_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, c
   type(status_t) :: st
   type(scene_t) :: scene
   call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st, int(model))
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine scene_check_f2py
 
 ! Most events the scene's motion can have in (0, t_end] (scene_event_bound):
@@ -87,7 +85,8 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
     info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_SIZE
+  use pendula_ode, only: step_budget
+  use pendula_status, only: status_t, status_unpack, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_format, only: format_int
   use pendula_scene, only: scene_t, scene_result_t, scene_solve, scene_run_model
   use pendula_scene_codes, only: SCENE_INFO_SIZE, SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, &
@@ -113,8 +112,8 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   type(scene_result_t) :: res
   integer :: k
   integer(i8) :: budget
-  ! max_steps arrives as a double (Python int of any size); clamp to int64.
-  budget = int(min(max(max_steps, -9.0e18_c_double), 9.0e18_c_double), i8)
+  ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
+  budget = step_budget(max_steps)
   nout = 0
   n_events = 0
   model_out = 0
@@ -130,8 +129,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   reason = ''
   if (ninfo /= SCENE_INFO_SIZE) call set_error(st, PENDULA_ERR_SIZE, 'info has ' // format_int(ninfo) // &
       ' slots, the result has ' // format_int(SCENE_INFO_SIZE) // ': pendula/_codes.py is stale, rebuild')
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
   if (st%code /= PENDULA_OK) return
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
       model=merge(0, int(model), fixed /= 0), t=t)
@@ -140,8 +138,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   else
     call scene_solve(scene, res, st, control, budget)
   end if
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
   if (st%code /= PENDULA_OK) return
   nout = size(res%t)
   tout(1:nout) = res%t

@@ -7,7 +7,7 @@
 subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg, nt, n0, n1, n2)
   ! Element i: the state (theta0, omega0, w0)(i) at t(i); inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_states
   implicit none
   include 'pendula_msg_len.inc'
@@ -19,13 +19,12 @@ subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg, nt, 
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call undamped_states(t, theta0, omega0, w0, theta, omega, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine undamped_f2py
 
 subroutine small_angle_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, PENDULA_OK
   use pendula_small_angle, only: small_angle_solve
   implicit none
   include 'pendula_msg_len.inc'
@@ -37,23 +36,18 @@ subroutine small_angle_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
-  code = PENDULA_OK
-  msg = ''
   theta = 0
   omega = 0
   do i = 1, n
     call small_angle_solve(t(i:i), theta0(i), omega0(i), w0(i), theta(i:i), omega(i:i), st)
-    if (st%code /= PENDULA_OK) then
-      code = st%code
-      msg = st%message
-      return
-    end if
+    if (st%code /= PENDULA_OK) exit
   end do
+  call status_unpack(st, code, msg)
 end subroutine small_angle_f2py
 
 subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, check_finite, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, check_finite, PENDULA_OK
   use pendula_undamped, only: undamped_motion_t, undamped_init
   use pendula_small_angle, only: small_angle_bound
   implicit none
@@ -67,8 +61,6 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
   type(undamped_motion_t) :: motion
   type(status_t) :: st
   integer :: i
-  code = PENDULA_OK
-  msg = ''
   dtheta = 0
   domega = 0
   do i = 1, n
@@ -78,15 +70,14 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
     if (st%code /= PENDULA_OK) exit
     call small_angle_bound(motion, tmax(i), dtheta(i), domega(i))
   end do
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine small_angle_bound_f2py
 
 subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0, n1, n2)
   ! which = 1: the period [s] of each of n states, 2: its amplitude [rad]; the
   ! property routines take inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_properties
   implicit none
   include 'pendula_msg_len.inc'
@@ -102,13 +93,12 @@ subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0,
   else
     call undamped_properties(theta0, omega0, w0, st, amplitude=x)
   end if
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine period_amplitude_f2py
 
 subroutine parameter_f2py(n, theta0, omega0, w0, m, mc, code, msg, n0, n1, n2)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_properties
   implicit none
   include 'pendula_msg_len.inc'
@@ -120,13 +110,12 @@ subroutine parameter_f2py(n, theta0, omega0, w0, m, mc, code, msg, n0, n1, n2)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call undamped_properties(theta0, omega0, w0, st, m=m, mc=mc)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine parameter_f2py
 
 subroutine regime_f2py(n, theta0, omega0, w0, regime, code, msg, n0, n1, n2)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t
+  use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_properties
   implicit none
   include 'pendula_msg_len.inc'
@@ -138,13 +127,12 @@ subroutine regime_f2py(n, theta0, omega0, w0, regime, code, msg, n0, n1, n2)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call undamped_properties(theta0, omega0, w0, st, regime=regime)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine regime_f2py
 
 subroutine pendulum_energy_f2py(n, theta, omega, w0, energy, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, check_finite, check_positive, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, check_finite, check_positive, PENDULA_OK
   use pendula_undamped, only: pendulum_energy
   implicit none
   include 'pendula_msg_len.inc'
@@ -156,26 +144,21 @@ subroutine pendulum_energy_f2py(n, theta, omega, w0, energy, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: i
-  code = PENDULA_OK
-  msg = ''
   energy = 0
   do i = 1, n
     call check_finite('theta', theta(i), st)
     call check_finite('omega', omega(i), st)
     call check_positive('w0', w0(i), st)
-    if (st%code /= PENDULA_OK) then
-      code = st%code
-      msg = st%message
-      return
-    end if
+    if (st%code /= PENDULA_OK) exit
     energy(i) = pendulum_energy(theta(i), omega(i), w0(i))
   end do
+  call status_unpack(st, code, msg)
 end subroutine pendulum_energy_f2py
 
 subroutine equilibria_f2py(n, idx, w0, theta, lam_re, lam_im, kind, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: wp
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack, PENDULA_OK
   use pendula_equilibria, only: equilibrium
   implicit none
   include 'pendula_msg_len.inc'
@@ -190,26 +173,21 @@ subroutine equilibria_f2py(n, idx, w0, theta, lam_re, lam_im, kind, code, msg)
   type(status_t) :: st
   complex(wp) :: l1, l2
   integer :: i, k
-  code = PENDULA_OK
-  msg = ''
   theta = 0; lam_re = 0; lam_im = 0; kind = 0
   do i = 1, n
     call equilibrium(int(idx(i)), w0(i), theta(i), l1, l2, k, st)
-    if (st%code /= PENDULA_OK) then
-      code = st%code
-      msg = st%message
-      return
-    end if
+    if (st%code /= PENDULA_OK) exit
     lam_re(i) = real(l1, wp)
     lam_im(i) = aimag(l1)
     kind(i) = k
   end do
+  call status_unpack(st, code, msg)
 end subroutine equilibria_f2py
 
 subroutine undamped_one_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   ! One initial state at n times (the common case: no broadcast copies of the state).
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_solve
   implicit none
   include 'pendula_msg_len.inc'
@@ -221,6 +199,5 @@ subroutine undamped_one_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   call undamped_solve(t, theta0, omega0, w0, theta, omega, st)
-  code = st%code
-  msg = st%message
+  call status_unpack(st, code, msg)
 end subroutine undamped_one_f2py

@@ -18,7 +18,7 @@ module pendula_format
   implicit none
   private
 
-  public :: format_sci, format_fixed, format_general, format_short, format_int
+  public :: format_sci, format_fixed, format_general, format_short, format_int, code_text
 
   !> Largest number of significant digits (format_sci, format_general) or
   !> decimals (format_fixed) honoured; larger requests are clamped.
@@ -88,6 +88,23 @@ contains
       s = format_sci(x, 6)
     end if
   end function format_short
+
+  !> The name of an integer code from a table: names(i) (trailing blanks
+  !> dropped) where codes(i) == code, else `fallback`.  The one home of the
+  !> library's code -> name lookups (status codes, regimes, solver flags).
+  pure function code_text(code, codes, names, fallback) result(s)
+    integer, intent(in) :: code, codes(:)
+    character(len=*), intent(in) :: names(:), fallback
+    character(len=:), allocatable :: s
+    integer :: i
+    do i = 1, min(size(codes), size(names))
+      if (codes(i) == code) then
+        s = trim(names(i))
+        return
+      end if
+    end do
+    s = fallback
+  end function code_text
 
   ! ---------------------------------------------------------------- helpers
 

@@ -7,11 +7,11 @@
 module pendula_status
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
-  use pendula_format, only: format_general, format_int
+  use pendula_format, only: format_general, format_int, code_text
   implicit none
   private
 
-  public :: status_t, status_ok, set_error, code_name
+  public :: status_t, status_ok, set_error, code_name, status_unpack
   public :: check_finite, check_positive, check_nonnegative, check_range, &
             check_all_finite, check_increasing, check_size, check_same_size
   public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
@@ -65,23 +65,26 @@ contains
     status%message = message
   end subroutine set_error
 
+  !> The code and message of `status` as plain variables (for the f2py glue,
+  !> which hands them to Python).
+  pure subroutine status_unpack(status, code, message)
+    type(status_t), intent(in) :: status
+    integer, intent(out) :: code
+    character(len=*), intent(out) :: message
+    code = status%code
+    message = status%message
+  end subroutine status_unpack
+
   !> Short name of a status code, for messages and logs.
   pure function code_name(code) result(name)
     integer, intent(in) :: code
     character(len=:), allocatable :: name
-    select case (code)
-    case (PENDULA_OK);              name = 'ok'
-    case (PENDULA_ERR_NONFINITE);   name = 'non-finite argument'
-    case (PENDULA_ERR_DOMAIN);      name = 'argument out of range'
-    case (PENDULA_ERR_SIZE);        name = 'bad array size'
-    case (PENDULA_ERR_ORDER);       name = 'times not increasing'
-    case (PENDULA_ERR_UNSTABLE);    name = 'unstable step'
-    case (PENDULA_ERR_SOLVER);      name = 'solver failure'
-    case (PENDULA_ERR_UNAVAILABLE); name = 'not available in this build'
-    case (PENDULA_ERR_MAXSTEPS);    name = 'step budget exhausted'
-    case (PENDULA_ERR_CANCELLED);   name = 'cancelled'
-    case default;                   name = 'unknown status'
-    end select
+    name = code_text(code, [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
+        PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, PENDULA_ERR_UNAVAILABLE, &
+        PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED], &
+        [character(len=27) :: 'ok', 'non-finite argument', 'argument out of range', 'bad array size', &
+        'times not increasing', 'unstable step', 'solver failure', 'not available in this build', &
+        'step budget exhausted', 'cancelled'], 'unknown status')
   end function code_name
 
   ! A real as it appears in messages, like C's "%.15g": 0.1 -> 0.1, 1e300 -> 1e+300.
@@ -106,14 +109,7 @@ contains
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: x
     type(status_t), intent(inout) :: status
-    if (status%code /= PENDULA_OK) return
-    if (.not. ieee_is_finite(x)) then
-      call set_error(status, PENDULA_ERR_NONFINITE, &
-          name // ' = ' // fmt(x) // ' is invalid: it must be finite and > 0')
-    else if (.not. x > 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, &
-          name // ' = ' // fmt(x) // ' is out of range: it must be finite and > 0')
-    end if
+    call check_sign(name, x, .true., status)
   end subroutine check_positive
 
   !> Require `x` finite and >= 0.
@@ -121,15 +117,29 @@ contains
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: x
     type(status_t), intent(inout) :: status
-    if (status%code /= PENDULA_OK) return
-    if (.not. ieee_is_finite(x)) then
-      call set_error(status, PENDULA_ERR_NONFINITE, &
-          name // ' = ' // fmt(x) // ' is invalid: it must be finite and >= 0')
-    else if (.not. x >= 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, &
-          name // ' = ' // fmt(x) // ' is out of range: it must be finite and >= 0')
-    end if
+    call check_sign(name, x, .false., status)
   end subroutine check_nonnegative
+
+  ! x finite and > 0 (strict) or >= 0: the one body of check_positive and
+  ! check_nonnegative, so that their messages read alike.  The comparisons
+  ! run only on a finite x; the text is built only for an error (these checks
+  ! run per element in loops).
+  pure subroutine check_sign(name, x, strict, status)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: x
+    logical, intent(in) :: strict
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
+    ! .not. ieee_is_finite first, as the other checks: the form that stays
+    ! quiet on a NaN under -ffpe-trap=invalid (the checked build)
+    if (.not. ieee_is_finite(x)) then
+      call set_error(status, PENDULA_ERR_NONFINITE, name // ' = ' // fmt(x) // &
+          ' is invalid: it must be finite and ' // trim(merge('> 0 ', '>= 0', strict)))
+    else if ((strict .and. .not. x > 0) .or. (.not. strict .and. .not. x >= 0)) then
+      call set_error(status, PENDULA_ERR_DOMAIN, name // ' = ' // fmt(x) // &
+          ' is out of range: it must be finite and ' // trim(merge('> 0 ', '>= 0', strict)))
+    end if
+  end subroutine check_sign
 
   !> Require lo <= x <= hi (x finite). `range_text` describes the range for the
   !> message, e.g. '[0, 1]'.

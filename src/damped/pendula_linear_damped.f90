@@ -24,7 +24,7 @@
 module pendula_linear_damped
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
-  use pendula_format, only: format_int
+  use pendula_format, only: format_int, code_text
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
       check_nonnegative, check_same_size, PENDULA_OK
   use pendula_constants, only: pi
@@ -196,12 +196,8 @@ contains
   pure function regime_name(regime) result(name)
     integer, intent(in) :: regime
     character(len=:), allocatable :: name
-    select case (regime)
-    case (DAMPING_UNDERDAMPED); name = 'underdamped'
-    case (DAMPING_CRITICAL);    name = 'critical'
-    case (DAMPING_OVERDAMPED);  name = 'overdamped'
-    case default;               name = 'unknown'
-    end select
+    name = code_text(regime, [DAMPING_UNDERDAMPED, DAMPING_CRITICAL, DAMPING_OVERDAMPED], &
+        [character(len=11) :: 'underdamped', 'critical', 'overdamped'], 'unknown')
   end function regime_name
 
   !> Set up the trajectory with theta(0) = theta0 [rad], Omega(0) = omega0
@@ -297,23 +293,15 @@ contains
     end if
   end function scale_sat
 
-  elemental real(wp) function c_series(z) result(c)
-    real(wp), intent(in) :: z
+  ! sum_k coef(k) z^k by Horner (C(z) and S(z)/t with C_COEF, S_COEF).
+  pure real(wp) function horner(coef, z) result(p)
+    real(wp), intent(in) :: coef(0:), z
     integer :: k
-    c = C_COEF(8)
-    do k = 7, 0, -1
-      c = C_COEF(k) + z * c
+    p = coef(ubound(coef, 1))
+    do k = ubound(coef, 1) - 1, 0, -1
+      p = coef(k) + z * p
     end do
-  end function c_series
-
-  elemental real(wp) function s_series(z) result(s)
-    real(wp), intent(in) :: z
-    integer :: k
-    s = S_COEF(8)
-    do k = 7, 0, -1
-      s = S_COEF(k) + z * s
-    end do
-  end function s_series
+  end function horner
 
   ! exp(x) = m 2^n with m in (1/2, 1], for X_SPLIT <= x <= 0 (m = 0 below), so
   ! that c exp(x) = scale(c m, n) never underflows before the last step.
@@ -372,8 +360,8 @@ contains
           s = 1
         else
           z = sol%zsign * (x * x)
-          c = c_series(z)
-          s = s_series(z)            ! S(t)/t
+          c = horner(C_COEF, z)
+          s = horner(S_COEF, z)      ! S(t)/t
         end if
         ! b t would overflow only for extreme b, t: then fold e^{-at} into t first.
         if (t > 1) then

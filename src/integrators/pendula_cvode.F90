@@ -155,12 +155,7 @@ contains
     event_omega = 0
     n_events = 0
     truncated = .false.
-    call check_problem(t, theta0, omega0, w0, gamma, status)
-    call check_positive('rtol', rtol, status)
-    call check_nonnegative('atol', atol, status)
-    call check_cvode_options(method, max_steps, status)
-    call check_same_size('theta', size(theta), 't', size(t), status)
-    call check_same_size('omega', size(omega), 't', size(t), status)
+    call check_call(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, size(theta), size(omega), status)
     ! event_t's size is the maximum number of events kept
     call check_same_size('event_kind', size(event_kind), 'event_t', size(event_t), status)
     call check_same_size('event_theta', size(event_theta), 'event_t', size(event_t), status)
@@ -177,6 +172,22 @@ contains
         stats, status, control)
     call cvode_work_close(work, status)
   end subroutine solve
+
+  ! The argument checks of solve and cvode_work_solve, in this order: the
+  ! problem, the tolerances, method and budget, the outputs' sizes
+  ! (n_theta, n_omega) against t.
+  pure subroutine check_call(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, n_theta, n_omega, status)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
+    integer, intent(in) :: method, n_theta, n_omega
+    integer(i8), intent(in) :: max_steps
+    type(status_t), intent(inout) :: status
+    call check_problem(t, theta0, omega0, w0, gamma, status)
+    call check_positive('rtol', rtol, status)
+    call check_nonnegative('atol', atol, status)
+    call check_cvode_options(method, max_steps, status)
+    call check_same_size('theta', n_theta, 't', size(t), status)
+    call check_same_size('omega', n_omega, 't', size(t), status)
+  end subroutine check_call
 
   !> Create a CVODE solver for `method` (PENDULA_CVODE_ADAMS or
   !> PENDULA_CVODE_BDF) in `work`, to be used for any number of problems by
@@ -309,12 +320,8 @@ contains
     logical :: truncated
     theta = 0
     omega = 0
-    call check_problem(t, theta0, omega0, w0, gamma, status)
-    call check_positive('rtol', rtol, status)
-    call check_nonnegative('atol', atol, status)
-    call check_cvode_options(PENDULA_CVODE_ADAMS, max_steps, status)
-    call check_same_size('theta', size(theta), 't', size(t), status)
-    call check_same_size('omega', size(omega), 't', size(t), status)
+    call check_call(t, theta0, omega0, w0, gamma, rtol, atol, PENDULA_CVODE_ADAMS, max_steps, size(theta), &
+        size(omega), status)
     call check_span(t, status)
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0

@@ -19,14 +19,12 @@
 module pendula_cvode_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
-  use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, PENDULA_OK, &
-      PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
+  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options, check_batch_shapes, &
       at => batch_index
+  use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_cvode, only: cvode_available, cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
-  !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
   public :: cvode_batch_solve
@@ -75,7 +73,7 @@ contains
     integer, intent(out), optional :: first_failed
     type(cvode_work_t) :: probe
     character(len=PENDULA_MSG_LEN) :: first_msg
-    integer :: n, i, nthreads, first, nfail, ncancel
+    integer :: n, i, nthreads, first
     n = size(theta0)
     if (present(first_failed)) first_failed = 0
     theta = 0
@@ -90,11 +88,7 @@ contains
       codes = status%code
       return
     end if
-    nthreads = 1
-    !$ nthreads = omp_get_max_threads()
-    if (present(threads)) then
-      if (threads > 0) nthreads = threads
-    end if
+    nthreads = batch_threads(threads)
 
     codes = PENDULA_ERR_CANCELLED   ! until its state is done
     first = n + 1
@@ -105,9 +99,7 @@ contains
     !$omp end parallel
 
     ! Summary: the first failed state, with cvode_solve's own message for it.
-    nfail = count(codes /= PENDULA_OK)
-    ncancel = count(codes == PENDULA_ERR_CANCELLED)
-    if (nfail == 0) return
+    if (all(codes == PENDULA_OK)) return
     do i = 1, n
       if (codes(i) == PENDULA_ERR_CANCELLED) then
         theta(:, i) = 0
@@ -116,14 +108,7 @@ contains
       end if
     end do
     if (present(first_failed)) first_failed = findloc(codes /= PENDULA_OK, .true., dim=1)
-    if (ncancel > 0) then
-      ! a cancelled call says so first, whatever else failed
-      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
-          format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
-      return
-    end if
-    call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
-        format_int(nfail) // ' failed, see codes): ' // trim(first_msg))
+    call set_batch_error(status, codes, first, first_msg)
   end subroutine cvode_batch_solve
 
   !> One thread's share: open a solver (when some state needs one), take

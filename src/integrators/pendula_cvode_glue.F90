@@ -9,7 +9,7 @@ module pendula_cvode_glue
   use, intrinsic :: iso_c_binding
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: i8
-  use pendula_format, only: format_int
+  use pendula_format, only: format_int, code_text
   use pendula_status, only: status_t, set_error, PENDULA_ERR_SOLVER
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t
@@ -230,43 +230,27 @@ contains
   pure function flag_name(flag) result(s)
     integer(c_int), intent(in) :: flag
     character(len=:), allocatable :: s
-    select case (flag)
-    case (CV_TOO_MUCH_WORK);      s = 'CV_TOO_MUCH_WORK'
-    case (CV_TOO_MUCH_ACC);       s = 'CV_TOO_MUCH_ACC'
-    case (CV_ERR_FAILURE);        s = 'CV_ERR_FAILURE'
-    case (CV_CONV_FAILURE);       s = 'CV_CONV_FAILURE'
-    case (CV_LINIT_FAIL);         s = 'CV_LINIT_FAIL'
-    case (CV_LSETUP_FAIL);        s = 'CV_LSETUP_FAIL'
-    case (CV_LSOLVE_FAIL);        s = 'CV_LSOLVE_FAIL'
-    case (CV_RHSFUNC_FAIL);       s = 'CV_RHSFUNC_FAIL'
-    case (CV_FIRST_RHSFUNC_ERR);  s = 'CV_FIRST_RHSFUNC_ERR'
-    case (CV_REPTD_RHSFUNC_ERR);  s = 'CV_REPTD_RHSFUNC_ERR'
-    case (CV_UNREC_RHSFUNC_ERR);  s = 'CV_UNREC_RHSFUNC_ERR'
-    case (CV_RTFUNC_FAIL);        s = 'CV_RTFUNC_FAIL'
-    case (CV_NLS_INIT_FAIL);      s = 'CV_NLS_INIT_FAIL'
-    case (CV_NLS_SETUP_FAIL);     s = 'CV_NLS_SETUP_FAIL'
-    case (CV_NLS_FAIL);           s = 'CV_NLS_FAIL'
-    case (CV_MEM_FAIL);           s = 'CV_MEM_FAIL'
-    case (CV_MEM_NULL);           s = 'CV_MEM_NULL'
-    case (CV_ILL_INPUT);          s = 'CV_ILL_INPUT'
-    case (CV_NO_MALLOC);          s = 'CV_NO_MALLOC'
-    case (CV_BAD_T);              s = 'CV_BAD_T'
-    case (CV_TOO_CLOSE);          s = 'CV_TOO_CLOSE'
-    case default;                 s = 'flag ' // format_int(flag)
-    end select
+    s = code_text(int(flag), [integer :: CV_TOO_MUCH_WORK, CV_TOO_MUCH_ACC, CV_ERR_FAILURE, &
+        CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
+        CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
+        CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
+        CV_NO_MALLOC, CV_BAD_T, CV_TOO_CLOSE], &
+        [character(len=20) :: 'CV_TOO_MUCH_WORK', 'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
+        'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
+        'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
+        'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
+        'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE'], 'flag ' // format_int(flag))
   end function flag_name
 
   pure function flag_meaning(flag) result(s)
     integer(c_int), intent(in) :: flag
     character(len=:), allocatable :: s
-    select case (flag)
-    case (CV_TOO_MUCH_ACC);   s = 'the requested accuracy could not be met'
-    case (CV_ERR_FAILURE);    s = 'repeated error-test failures (the step size hit its minimum)'
-    case (CV_CONV_FAILURE);   s = 'repeated nonlinear-solver convergence failures'
-    case (CV_MEM_FAIL);       s = 'out of memory'
-    case (CV_ILL_INPUT);      s = 'an input to CVODE was invalid'
-    case default;             s = 'see the SUNDIALS CVODE documentation'
-    end select
+    s = code_text(int(flag), [integer :: CV_TOO_MUCH_ACC, CV_ERR_FAILURE, CV_CONV_FAILURE, CV_MEM_FAIL, &
+        CV_ILL_INPUT], &
+        [character(len=60) :: 'the requested accuracy could not be met', &
+        'repeated error-test failures (the step size hit its minimum)', &
+        'repeated nonlinear-solver convergence failures', 'out of memory', &
+        'an input to CVODE was invalid'], 'see the SUNDIALS CVODE documentation')
   end function flag_meaning
 
 end module pendula_cvode_glue

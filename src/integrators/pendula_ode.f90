@@ -15,6 +15,8 @@ module pendula_ode
             linear_eigenvalues, check_cvode_options, check_span
   ! shared by the batch integrators (pendula_rk4_batch, pendula_cvode_batch)
   public :: check_batch_shapes, batch_index
+  ! for the f2py glue: counters and budgets as the doubles Python passes
+  public :: ode_stats_values, step_budget
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
 
   !> CVODE linear multistep families: Adams-Moulton (non-stiff, orders 1-12)
@@ -153,5 +155,22 @@ contains
     integer, intent(in) :: i
     at = merge(i, 1, size(a) > 1)
   end function batch_index
+
+  !> The counters of `stats` as doubles (exact up to 2**53), in the order steps,
+  !> rhs_evals, jac_evals, err_test_fails, nonlin_iters, nonlin_fails, root_evals.
+  pure function ode_stats_values(stats) result(v)
+    type(ode_stats_t), intent(in) :: stats
+    real(wp) :: v(7)
+    v = [real(stats%steps, wp), real(stats%rhs_evals, wp), real(stats%jac_evals, wp), &
+        real(stats%err_test_fails, wp), real(stats%nonlin_iters, wp), real(stats%nonlin_fails, wp), &
+        real(stats%root_evals, wp)]
+  end function ode_stats_values
+
+  !> A step budget given as a double (a Python int of any size) as int64,
+  !> clamped to +-9e18 (inside the int64 range).
+  elemental integer(i8) function step_budget(max_steps) result(budget)
+    real(wp), intent(in) :: max_steps
+    budget = int(min(max(max_steps, -9.0e18_wp), 9.0e18_wp), i8)
+  end function step_budget
 
 end module pendula_ode

@@ -26,9 +26,9 @@ module pendula_rk4_batch
   use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
   use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS
   use pendula_ode, only: ode_stats_t
-  use pendula_rk4_kernel, only: substeps, node_reduce, stage_rmax, stage_xmax, nnodes, node_sin, node_cos, &
-      taylor, node_p1, node_p2, node_p3, nodes_per_radian
-  !$ use omp_lib, only: omp_get_max_threads
+  use pendula_batch_support, only: batch_threads, set_batch_error
+  use pendula_rk4_kernel, only: substeps, step_constants, plain_step, node_reduce, stage_rmax, stage_xmax, &
+      nnodes, node_sin, node_cos, taylor, node_p1, node_p2, node_p3, nodes_per_radian
   implicit none
   private
   public :: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
@@ -88,7 +88,7 @@ contains
     integer, intent(out), optional :: first_failed
     integer(i8), intent(in), optional :: max_steps
     integer, allocatable :: live(:)
-    integer :: n, i, nlive, nblocks, b, nthreads, first, nfail, ncancel
+    integer :: n, i, nlive, nblocks, b, nthreads, first, ncancel
     integer(i8) :: budget
     type(status_t) :: st
     n = size(theta0)
@@ -105,11 +105,7 @@ contains
       steps = 0
       return
     end if
-    nthreads = 1
-    !$ nthreads = omp_get_max_threads()
-    if (present(threads)) then
-      if (threads > 0) nthreads = threads
-    end if
+    nthreads = batch_threads(threads)
 
     ! Per-state checks, in rk4_solve's order (t is already known to be good),
     ! with the step budget per state (rk4_solve's default unless max_steps).
@@ -141,12 +137,10 @@ contains
 
     ! Summary: the first failed state, with rk4_solve's own message for it.
     first = 0
-    nfail = 0
     ncancel = 0
     do i = n, 1, -1
       if (codes(i) /= PENDULA_OK) then
         first = i
-        nfail = nfail + 1
         if (codes(i) == PENDULA_ERR_CANCELLED) ncancel = ncancel + 1
         theta(:, i) = 0
         omega(:, i) = 0
@@ -155,16 +149,10 @@ contains
     end do
     if (first == 0) return
     if (present(first_failed)) first_failed = first
-    if (ncancel > 0) then
-      ! a cancelled call says so first, whatever else failed
-      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
-          format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
-      return
-    end if
-    st = state_status(t, theta0(first), omega0(at(omega0, first)), w0(at(w0, first)), &
+    ! rk4_solve's message for the first failed state (run again: only when it is shown)
+    if (ncancel == 0) st = state_status(t, theta0(first), omega0(at(omega0, first)), w0(at(w0, first)), &
         gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
-    call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
-        format_int(nfail) // ' failed, see codes): ' // trim(st%message))
+    call set_batch_error(status, codes, first, st%message)
   end subroutine rk4_batch_solve
 
   !> Checks of the call as a whole: sizes, t, threads.
@@ -251,19 +239,7 @@ contains
       where (dead) nsub = 0
       nmax = maxval(nsub)
       ! rk4_grid's per-interval constants, lane by lane
-      half = hs / 2
-      sixth = hs / 6
-      h2q = half * half
-      hh = hs * half
-      c6 = hs * sixth
-      w1 = h2q * wsq
-      w2 = hh * wsq
-      cy = c6 * wsq
-      g2 = (2 - gam * hs) * gam
-      wa = sixth * (2 - gam * hs) * wsq
-      wb = sixth * wsq
-      bu1 = hs + hh * (2 * gam + gam * gam * hh)
-      bu0 = hh * wsq * (gam * hh + 2)
+      call step_constants(hs, wsq, gam, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
       do i = 1, nmax
         call fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1, &
             yn, un, rn, kn, okv)
@@ -433,20 +409,5 @@ contains
     r = merge(r + 1, r, r - ax == -0.5_wp)
     r = sign(r, x)
   end function round_away
-
-  !> rk4_grid's plain step (libm sines of the rounded stage arguments), for
-  !> one lane whose stage offsets leave the table's range.
-  pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
-    real(wp), intent(in) :: y, u, w0sq, gamma, hs, half, sixth, c6
-    real(wp), intent(out) :: yn, un
-    real(wp) :: k1, k2, k3, k4, p2
-    p2 = half * u
-    k1 = -gamma * u - w0sq * sin(y)
-    k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-    k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-    k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-    yn = y + hs * u + c6 * ((k1 + k2) + k3)
-    un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-  end subroutine plain_step
 
 end module pendula_rk4_batch

@@ -25,7 +25,7 @@ module pendula_rk4_kernel
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   implicit none
   private
-  public :: rk4_grid, substeps, node_reduce, sin_node, sin_shift
+  public :: rk4_grid, substeps, step_constants, plain_step, node_reduce, sin_node, sin_shift
   public :: stage_rmax, stage_xmax, RK4_POLL_STEPS
   ! the node tables and reduction constants, for the batch kernel's own copy
   ! of the step (pendula_rk4_batch: the same operations, across states)
@@ -225,6 +225,44 @@ contains
     end if
   end function substeps
 
+  !> The plain RK4 step (libm sines of the rounded stage arguments) from
+  !> (y, u) = (theta, Omega) with step_constants' half, sixth and c6: rk4_grid's
+  !> path where the stage offsets leave the table's range, and the batch lanes'.
+  pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
+    real(wp), intent(in) :: y, u, w0sq, gamma, hs, half, sixth, c6
+    real(wp), intent(out) :: yn, un
+    real(wp) :: k1, k2, k3, k4, p2
+    p2 = half * u
+    k1 = -gamma * u - w0sq * sin(y)
+    k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
+    k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
+    k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
+    yn = y + hs * u + c6 * ((k1 + k2) + k3)
+    un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+  end subroutine plain_step
+
+  !> The constants of one RK4 substep hs [s] for w0sq [1/s^2] and gamma [1/s]
+  !> that rk4_grid (and rk4_batch's lanes, operation for operation) use in
+  !> every step of an interval: hs/2, hs/6, their products, and the w0sq and
+  !> gamma factors of the stage updates.
+  elemental subroutine step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
+    real(wp), intent(in) :: hs, w0sq, gamma
+    real(wp), intent(out) :: half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1
+    half = hs / 2
+    sixth = hs / 6
+    h2q = half * half
+    hh = hs * half
+    c6 = hs * sixth
+    w1 = h2q * w0sq
+    w2 = hh * w0sq
+    cy = c6 * w0sq
+    g2 = (2 - gamma * hs) * gamma
+    wa = sixth * (2 - gamma * hs) * w0sq
+    wb = sixth * w0sq
+    bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
+    bu0 = hh * w0sq * (gamma * hh + 2)
+  end subroutine step_constants
+
   !> Classic RK4 for theta'' = -gamma theta' - w0sq sin(theta) over the output
   !> grid t (strictly increasing; not checked here): theta(1) [rad], omega(1)
   !> [rad/s] hold the state at t(1) on entry; between t(i) and t(i+1) the
@@ -246,7 +284,7 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bu0, bu1
     real(wp) :: c2, c3, c4, c5, c6t, c7, c8, c9
-    real(wp) :: r2, r3, r4, k1, k2, k3, k4, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy
+    real(wp) :: r2, r3, r4, k1, k2, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy
     integer :: kk, kn, j, ik
     integer(i8) :: i, n, nf, ns, n_nx, left, nb, poll_in
     real(wp) :: hs_nx
@@ -272,19 +310,7 @@ contains
       n = n_nx
       hs = hs_nx
       if (j + 1 < size(t)) call interval(j + 1, n_nx, hs_nx)
-      half = hs / 2
-      sixth = hs / 6
-      h2q = half * half
-      hh = hs * half
-      c6 = hs * sixth
-      w1 = h2q * w0sq
-      w2 = hh * w0sq
-      cy = c6 * w0sq
-      g2 = (2 - gamma * hs) * gamma
-      wa = sixth * (2 - gamma * hs) * w0sq
-      wb = sixth * w0sq
-      bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
-      bu0 = hh * w0sq * (gamma * hh + 2)
+      call step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
       left = n
       do while (left > 0)
         ! blocks end at the next poll; without control one block is the interval
@@ -348,13 +374,7 @@ contains
             kn = int(kfn)
             nf = nf + 1
           else
-            ! plain step (libm sines of the rounded stage arguments)
-            k1 = -gamma * u - w0sq * sin(y)
-            k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-            k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-            k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-            yn = y + hs * u + c6 * ((k1 + k2) + k3)
-            un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+            call plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
             call node_reduce(yn, kn, rn)
           end if
           y = yn

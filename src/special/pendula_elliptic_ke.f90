@@ -205,21 +205,7 @@ contains
     real(wp), intent(in) :: m(:)
     real(wp), intent(out) :: k(:)
     type(status_t), intent(out) :: status
-    integer :: i
-    if (size(k) /= size(m)) then
-      k = quiet_nan()
-      call set_error(status, PENDULA_ERR_SIZE, 'ellipk_array: k must have the size of m')
-      return
-    end if
-    do i = 1, size(m)
-      if (ieee_is_nan(m(i))) then
-        k(i) = m(i)
-      else if (m(i) >= 0 .and. m(i) < 1) then
-        k(i) = k_unit(m(i), 1 - m(i))
-      else
-        k(i) = ellipk(m(i))
-      end if
-    end do
+    call ke_array(m, k, .false., 'ellipk_array: k', status)
   end subroutine ellipk_array
 
   !> ellipe over a rank-1 array (same numbers as the elemental function); e must have
@@ -228,22 +214,40 @@ contains
     real(wp), intent(in) :: m(:)
     real(wp), intent(out) :: e(:)
     type(status_t), intent(out) :: status
+    call ke_array(m, e, .true., 'ellipe_array: e', status)
+  end subroutine ellipe_array
+
+  ! The loop of ellipk_array (second = .false.) and ellipe_array (.true.):
+  ! m in [0, 1) straight to the unit-interval kernel, the rest through the
+  ! elemental function.  what: the routine and output for the size message.
+  pure subroutine ke_array(m, x, second, what, status)
+    real(wp), intent(in) :: m(:)
+    real(wp), intent(out) :: x(:)
+    logical, intent(in) :: second
+    character(len=*), intent(in) :: what
+    type(status_t), intent(out) :: status
     integer :: i
-    if (size(e) /= size(m)) then
-      e = quiet_nan()
-      call set_error(status, PENDULA_ERR_SIZE, 'ellipe_array: e must have the size of m')
+    if (size(x) /= size(m)) then
+      x = quiet_nan()
+      call set_error(status, PENDULA_ERR_SIZE, what // ' must have the size of m')
       return
     end if
     do i = 1, size(m)
       if (ieee_is_nan(m(i))) then
-        e(i) = m(i)
+        x(i) = m(i)
       else if (m(i) >= 0 .and. m(i) < 1) then
-        e(i) = e_unit(m(i), 1 - m(i))
+        if (second) then
+          x(i) = e_unit(m(i), 1 - m(i))
+        else
+          x(i) = k_unit(m(i), 1 - m(i))
+        end if
+      else if (second) then
+        x(i) = ellipe(m(i))
       else
-        e(i) = ellipe(m(i))
+        x(i) = ellipk(m(i))
       end if
     end do
-  end subroutine ellipe_array
+  end subroutine ke_array
 
   !> Complete elliptic integral of the second kind E(m), m <= 1 (E(1) = 1,
   !> E(-Inf) = +Inf); NaN for m > 1 or NaN.  A few ulps.

@@ -5,6 +5,7 @@
 !> odd n:  lambda = +-w0, a saddle (upright; unstable).
 module pendula_equilibria
   use pendula_kinds, only: wp
+  use pendula_format, only: code_text
   use pendula_status, only: status_t, check_positive, PENDULA_OK
   use pendula_constants, only: pi, pi_lo
   implicit none
@@ -75,11 +76,7 @@ contains
   pure function equilibrium_type_name(kind) result(name)
     integer, intent(in) :: kind
     character(len=:), allocatable :: name
-    select case (kind)
-    case (EQUILIBRIUM_CENTRE); name = 'centre'
-    case (EQUILIBRIUM_SADDLE); name = 'saddle'
-    case default;              name = 'unknown'
-    end select
+    name = code_text(kind, [EQUILIBRIUM_CENTRE, EQUILIBRIUM_SADDLE], ['centre', 'saddle'], 'unknown')
   end function equilibrium_type_name
 
 end module pendula_equilibria

@@ -1,13 +1,14 @@
 !> Many undamped states at once (undamped_states, undamped_properties) and the
-!> checked one-state convenience undamped_solve, built on pendula_undamped_motion
-!> with the same numbers as undamped_init + undamped_period/undamped_eval.
+!> checked one-state convenience undamped_solve, built on pendula_undamped_motion and
+!> pendula_undamped_eval with the same numbers as undamped_init + undamped_period/undamped_eval.
 !> Users `use pendula_undamped` (the facade).
 module pendula_undamped_many
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
-  use pendula_undamped_motion, only: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, &
+  use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
       check_state, set_geometry, set_period, motion_amplitude, period_needed, UNDAMPED_PLAN_MIN_TIMES
+  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many
   implicit none
   private
 

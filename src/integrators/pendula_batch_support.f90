@@ -1,0 +1,48 @@
+!> What the two batch integrators (pendula_rk4_batch, pendula_cvode_batch)
+!> share beyond pendula_ode: the thread count of a call and the status of a
+!> call with failed states.  A module of its own because it uses OpenMP: a
+!> program that integrates single states (pendula_ode) then needs no OpenMP
+!> runtime at link time.
+module pendula_batch_support
+  use pendula_format, only: format_int
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_CANCELLED
+  !$ use omp_lib, only: omp_get_max_threads
+  implicit none
+  private
+  public :: batch_threads, set_batch_error
+
+contains
+
+  !> OpenMP threads for a batch call: `threads` when present and > 0, else the
+  !> OpenMP default (which honours OMP_NUM_THREADS); 1 without OpenMP.
+  integer function batch_threads(threads) result(nthreads)
+    integer, intent(in), optional :: threads
+    nthreads = 1
+    !$ nthreads = omp_get_max_threads()
+    if (present(threads)) then
+      if (threads > 0) nthreads = threads
+    end if
+  end function batch_threads
+
+  !> The status of a batch call from its per-state codes (some not
+  !> PENDULA_OK): a cancelled call says so first (how many states are
+  !> unfinished), whatever else failed; otherwise state `first` (the first
+  !> failed one; not read when states were cancelled), its code and `message`.
+  pure subroutine set_batch_error(status, codes, first, message)
+    type(status_t), intent(inout) :: status
+    integer, intent(in) :: codes(:), first
+    character(len=*), intent(in) :: message
+    integer :: n, nfail, ncancel
+    n = size(codes)
+    nfail = count(codes /= PENDULA_OK)
+    ncancel = count(codes == PENDULA_ERR_CANCELLED)
+    if (ncancel > 0) then
+      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
+          format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
+    else
+      call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
+          format_int(nfail) // ' failed, see codes): ' // trim(message))
+    end if
+  end subroutine set_batch_error
+
+end module pendula_batch_support

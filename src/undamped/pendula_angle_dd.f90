@@ -1,0 +1,131 @@
+!> Angles in double-double for the exact undamped motion: reduction about the
+!> nearest stable equilibrium 2 pi n (2 pi carried in two doubles) and cos of a
+!> double-double angle.  Used by pendula_undamped_motion (set-up of a state) and
+!> pendula_small_angle (reduce_angle_2pi).
+module pendula_angle_dd
+  use pendula_kinds, only: wp
+  use pendula_constants, only: pi, half_pi, half_pi_lo, two_pi, two_pi_lo
+  use pendula_double_double, only: two_prod, dd_add_fast, dd_mul
+  implicit none
+  private
+
+  public :: cos_dd, reduce_angle_2pi
+
+contains
+
+  !> cos(x) in double-double for x = xh + xl, |x| <= pi/2 (+ rounding), to
+  !> ~1e-31 relative: the Taylor series of cos x (|x| <= pi/4) or of
+  !> sin(pi/2 - |x|), in powers of y = x^2 up to y^16: the terms j >= 9 (below
+  !> 3e-18) by Horner in double, the first nine by Horner in double-double
+  !> with the coefficients 1/(2j)! (1/(2j+1)!) as double-double constants
+  !> (mpmath; 1/n! = hi + lo), so no division.
+  elemental subroutine cos_dd(xh, xl, ch, cl)
+    real(wp), intent(in) :: xh, xl
+    real(wp), intent(out) :: ch, cl
+    integer :: j
+    real(wp), parameter :: cos_hi(0:8) = [1.0_wp, 0.5_wp, 0.041666666666666664_wp, 0.001388888888888889_wp, &
+        2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
+        4.779477332387385e-14_wp]
+    real(wp), parameter :: cos_lo(0:8) = [0.0_wp, 0.0_wp, 2.3129646346357427e-18_wp, -5.300543954373577e-20_wp, &
+        2.1511947866775882e-23_wp, 2.3767714622250297e-23_wp, -1.20734505911326e-25_wp, 2.0655512752830745e-28_wp, &
+        4.399205485834081e-31_wp]
+    real(wp), parameter :: sin_hi(0:8) = [1.0_wp, 0.16666666666666666_wp, 0.008333333333333333_wp, &
+        0.0001984126984126984_wp, 2.7557319223985893e-06_wp, 2.505210838544172e-08_wp, &
+        1.6059043836821613e-10_wp, 7.647163731819816e-13_wp, 2.8114572543455206e-15_wp]
+    real(wp), parameter :: sin_lo(0:8) = [0.0_wp, 9.25185853854297e-18_wp, 1.1564823173178714e-19_wp, &
+        1.7209558293420705e-22_wp, -1.858393274046472e-22_wp, -1.448814070935912e-24_wp, &
+        1.2585294588752098e-26_wp, 7.03872877733453e-30_wp, 1.6508842730861433e-31_wp]
+    ! (-1)^j/(2j)! and (-1)^j/(2j+1)!, j = 9..16, in double (mpmath; their rounding is ~1e-31 of cos)
+    real(wp), parameter :: cos_tail(9:16) = [-1.5619206968586225e-16_wp, &
+        4.110317623312165e-19_wp, -8.896791392450574e-22_wp, 1.6117375710961184e-24_wp, &
+        -2.4795962632247976e-27_wp, 3.279889237069838e-30_wp, -3.7699876288159054e-33_wp, 3.8003907548547434e-36_wp]
+    real(wp), parameter :: sin_tail(9:16) = [-8.22063524662433e-18_wp, &
+        1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
+        -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
+    real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, sgn
+    logical :: use_sin
+    use_sin = abs(xh) > 0.25_wp * pi
+    if (use_sin) then
+      call dd_add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh) * xl, yh, yl)
+    else
+      yh = xh
+      yl = xl
+    end if
+    call dd_mul(yh, yl, yh, yl, y2h, y2l)
+    th = 0
+    do j = 16, 9, -1
+      if (use_sin) then
+        th = sin_tail(j) + y2h * th
+      else
+        th = cos_tail(j) + y2h * th
+      end if
+    end do
+    tl = 0
+    do j = 8, 0, -1
+      ! t <- (-1)^j c_j + y^2 t
+      call dd_mul(y2h, y2l, th, tl, uh, ul)
+      sgn = 1 - 2 * modulo(j, 2)
+      if (use_sin) then
+        call dd_add_fast(sgn * sin_hi(j), sgn * sin_lo(j), uh, ul, th, tl)
+      else
+        call dd_add_fast(sgn * cos_hi(j), sgn * cos_lo(j), uh, ul, th, tl)
+      end if
+    end do
+    if (use_sin) then
+      call dd_mul(yh, yl, th, tl, ch, cl)
+    else
+      ch = th
+      cl = tl
+    end if
+  end subroutine cos_dd
+
+  !> Reduce an angle x [rad] about the nearest stable equilibrium 2 pi n:
+  !> x = 2 pi n + (r_hi + r_lo) with |r_hi| <= pi, 2 pi carried in two doubles
+  !> (error ~2^-100 |2 pi n|) for |x| <= 2^40; beyond, r_hi = atan2(sin x, cos x)
+  !> (libm's exact reduction, ~1 ulp of pi) and r_lo = 0.  Returns n as a real.
+  elemental subroutine reduce_angle_2pi(x, n, r_hi, r_lo)
+    real(wp), intent(in) :: x
+    real(wp), intent(out) :: n, r_hi, r_lo
+    if (abs(x) < pi) then
+      ! already reduced (what the general path below returns for these x)
+      n = 0
+      r_hi = x
+      r_lo = 0
+      return
+    end if
+    if (abs(x) > 2.0_wp**40) then
+      ! beyond |n| ~ 2^37 the two-double 2 pi is not enough: let libm's exact
+      ! (Payne-Hanek) reduction inside sin and cos do it; |r| to ~1 ulp of pi
+      r_hi = atan2(sin(x), cos(x))
+      r_lo = 0
+      n = anint((x - r_hi) / two_pi)
+      return
+    end if
+    n = anint(x / two_pi)
+    if (n == 0) then
+      r_hi = x
+      r_lo = 0
+      return
+    end if
+    call reduce_angle_fixed(x, n, r_hi, r_lo)
+    ! anint may leave |r| marginally above pi; that is harmless (reduction is
+    ! only about the nearest equilibrium) but keep the contract |r_hi| <= pi.
+    if (abs(r_hi) > pi) then
+      n = n + sign(1.0_wp, r_hi)
+      call reduce_angle_fixed(x, n, r_hi, r_lo)
+    end if
+  end subroutine reduce_angle_2pi
+
+  ! x - 2 pi n = r_hi + r_lo for a given n /= 0 near x / (2 pi).
+  elemental subroutine reduce_angle_fixed(x, n, r_hi, r_lo)
+    real(wp), intent(in) :: x, n
+    real(wp), intent(out) :: r_hi, r_lo
+    real(wp) :: p, e, d, t
+    call two_prod(n, two_pi, p, e)
+    d = x - p                      ! exact (Sterbenz: x/p in [1/2, 2] for n /= 0)
+    t = -(e + n * two_pi_lo)
+    r_hi = d + t
+    r_lo = t - (r_hi - d)           ! fast two-sum (|d| >= |t|)
+  end subroutine reduce_angle_fixed
+
+end module pendula_angle_dd
