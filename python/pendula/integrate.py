@@ -25,7 +25,7 @@ from ._errors import raise_for_status
 TURNING_POINT = EVENT_TURNING
 """Event kind: Omega = 0 (theta at an extremum; the amplitude is |theta| there)."""
 ZERO_CROSSING = EVENT_ZERO
-"""Event kind: theta = 0 (the pendulum passes the vertical)."""
+"""Event kind: theta = 0 mod 2 pi (the pendulum passes the bottom; a rotation once per turn)."""
 
 _STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters", "nonlin_fails",
                "root_evals")
@@ -37,7 +37,7 @@ class Events:
     """Events located by ``cvode(..., events=True)``, in time order.
 
     t: event times [s]; kind: TURNING_POINT (Omega = 0) or ZERO_CROSSING
-    (theta = 0); theta, omega: the state at each event; truncated: True
+    (theta = 0 mod 2 pi); theta, omega: the state at each event; truncated: True
     when more events occurred than ``max_events`` (only the first are kept).
     """
     t: np.ndarray
@@ -54,7 +54,7 @@ class Events:
 
     @property
     def zero_crossings(self):
-        """(t, omega) at the zero crossings: every second one is a full period."""
+        """(t, omega) at the zero crossings: every second one is a full period of a swing, each one a turn."""
         m = self.kind == ZERO_CROSSING
         return self.t[m], self.omega[m]
 
@@ -213,7 +213,8 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     the default) or "bdf" (stiff problems, e.g. gamma >> w0); both use Newton
     iteration with a dense solver and the analytic Jacobian.  max_steps: total
     step budget for the whole run.  events=True also locates turning points
-    (Omega = 0) and zero crossings (theta = 0) after t[0], keeping at most
+    (Omega = 0) and zero crossings (passes through the bottom, theta = 0 mod 2 pi, as
+    scenes count them) after t[0], keeping at most
     max_events (<= 10**7) of them (``result.events.truncated`` tells if more occurred);
     use them to measure the period and the decrement of the motion.
     Long runs can be stopped with Ctrl-C (KeyboardInterrupt within a

@@ -191,7 +191,8 @@ class SceneResult:
 
     model: the model used ("small_angle", "exact", "linear", "rk4", "cvode");
     reason: why it was chosen; error_estimate: estimated sup over the window of
-    max(|d theta| [rad], |d Omega|/w0); tol_met: error_estimate <= tol;
+    max(|d theta| [rad], |d Omega|/w0), for want "events" the larger of that
+    and event_time_error [s]; tol_met: error_estimate <= tol;
     setting: RK4 step h [s] or CVODE rtol of the returned run (None for closed
     forms; kept for compatibility, ``step`` and ``rtol`` say which); step: the
     RK4 step h [s] (model "rk4", else None); rtol: the CVODE rtol (model

@@ -117,6 +117,10 @@ contains
     if (status%code /= PENDULA_OK) return
     result%model = model
     result%want = scene%want
+    ! events: tol bounds the event times [s] too (the state estimate only
+    ! places them), so the reported estimate is the larger of the two
+    if (scene%want == SCENE_WANT_EVENTS) result%error_estimate = max(result%error_estimate, &
+        result%event_time_error)
     result%tol_met = result%error_estimate <= scene%tol
     if (.not. result%tol_met) then
       why = why // '; tol NOT met: error estimate ' // format_sci(result%error_estimate, 4) // ' > tol'
