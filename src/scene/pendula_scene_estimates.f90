@@ -24,6 +24,7 @@ module pendula_scene_estimates
   private
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
+  public :: cvode_min_steps
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
   !> Safety factor on the a priori nonlinearity estimate of the linear model
@@ -342,6 +343,35 @@ contains
     h = (scene%tol / (c * a * max(scene%w0 * teff, 1.0_wp)))**0.25_wp / scene%w0
     h = min(h, 0.5_wp / scene%w0)
   end function rk4_apriori_step
+
+  !> Lower bound on the steps of one CVODE (Adams) run of an underdamped,
+  !> non-stiff scene over [0, tend] at rtol (atol = rtol/100 times the state's
+  !> size, as pendula_scene_integrated sets it), for refusing work beyond the
+  !> budget up front.  Adams takes at least 4 steps per small-angle period
+  !> 2 pi/w0 however decayed the motion, and while a swing is resolved to rtol
+  !> (until its amplitude has decayed to ~sqrt(rtol) of its start, t = ln(1/rtol)/gamma)
+  !> at least 12 (1e-3/rtol)^(1/12) (measured, rtol 1e-3 .. 1e-14, swings from
+  !> 1e-3 rad to pi - 1e-6 and gamma/w0 from 1e-6 to 1.9: 20 .. 270 steps per
+  !> period, never below this bound).  A start within 1e4 rtol of the top is
+  !> not resolved at all (CVODE may stay there: no bound), and a rotation only
+  !> by the first part.  0 for stiff or over-damped scenes (BDF, few steps).
+  pure real(wp) function cvode_min_steps(scene, tend, rtol) result(n)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend, rtol
+    real(wp) :: xr, d0, msep, per, tres
+    n = 0
+    if (is_stiff(scene) .or. scene%gamma >= 2 * scene%w0 .or. .not. rtol > 0) return
+    xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)
+    d0 = hypot(pi - xr, scene%omega0 / scene%w0)
+    if (d0 < 1.0e4_wp * rtol) return
+    per = scene%w0 / (2 * pi)
+    n = 4 * per * tend
+    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
+    if (msep >= 1) return
+    tres = tend
+    if (scene%gamma > 0) tres = min(tend, log(1 / min(rtol, 0.5_wp)) / scene%gamma)
+    n = n + max(0.0_wp, 12 * (1.0e-3_wp / rtol)**(1.0_wp / 12) - 4) * per * tres
+  end function cvode_min_steps
 
   !> Rounding floor of an integration that the comparison of two runs cannot
   !> see: each of n steps rounds theta by ~eps |theta|, a random walk ~ sqrt(n)
