@@ -148,9 +148,9 @@ contains
         (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))) then
       model = SCENE_MODEL_CVODE
       why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
-          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad), so CVODE (' // &
+          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad): CVODE (' // &
           trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
-          ') with tolerances from tol and the window, verified by a run 10x tighter'
+          '), rtol from tol and the window, verified by a run 10x tighter'
     else
       why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad: RK4 with h from ' // &
           'tol and the window (C h^4 T), verified by a run at 2h'
