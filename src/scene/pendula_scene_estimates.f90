@@ -103,8 +103,14 @@ contains
       call model_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
       call model_estimate(scene, SCENE_MODEL_EXACT, e_ex, status)
       if (status%code /= PENDULA_OK) return
-      if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_ENERGY) then
-        ! K (or the energy) comes with the motion's set-up: nothing cheaper exists.
+      if (scene%want == SCENE_WANT_PERIOD .and. e_sa <= scene%tol) then
+        model = SCENE_MODEL_SMALL_ANGLE
+        est = e_sa
+        why = 'gamma = 0, want = period and the small-angle period 2 pi/w0 is off by w0 |T - T0| = ' // &
+            format_sci(e_sa, 4) // ' rad <= tol'
+      else if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_ENERGY) then
+        ! K (or the conserved energy, one evaluation) comes with the motion's
+        ! set-up: nothing cheaper exists.
         model = SCENE_MODEL_EXACT
         est = e_ex
         why = 'gamma = 0 and want = ' // scene_want_name(scene%want) // &
@@ -164,13 +170,16 @@ contains
     e = 4 * eps * ((omega / w0)**2 / 2 + (1 - cos(theta)) + eps)
   end function energy_rounding
 
-  ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad].
+  ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad],
+  ! from the exact period (itself good to ~8 eps (1 + |ln mc|) relative) and
+  ! the rounding of 2 pi/w0 (a few eps).
   pure real(wp) function period_small_angle_error(motion) result(e)
     type(undamped_motion_t), intent(in) :: motion
     if (motion%regime /= REGIME_LIBRATION) then
       e = ieee_value(1.0_wp, ieee_positive_inf)
     else
-      e = abs(motion%w0 * motion%period - 2 * pi)
+      e = abs(motion%w0 * motion%period - 2 * pi) + 2 * pi * eps * (12 + 8 * abs(log(max(abs(motion%mc), &
+          tiny(1.0_wp)))))
     end if
   end function period_small_angle_error
 

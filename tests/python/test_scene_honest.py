@@ -92,3 +92,16 @@ def test_the_other_integrator_is_tried_when_the_first_does_not_verify():
     err = max(max(abs(float(f(ti)[0]) - th), abs(float(f(ti)[1]) - om))
               for ti, th, om in zip(s.t, r.theta, r.omega))
     assert err <= r.error_estimate <= tol
+
+
+@pytest.mark.parametrize("theta0, tol, model", [(1e-4, 1e-8, "small_angle"), (1e-2, 1e-8, "exact"),
+                                                (0.0, 1e-12, "small_angle")])
+def test_period_prefers_small_angle_when_its_error_fits(theta0, tol, model):
+    """want = period: 2 pi/w0 is answered whenever its phase error w0 |T - T0| fits tol (mpmath
+    K at 40 digits: T = 4 K(m)/w0, m = sin^2(theta0/2)); the exact period otherwise."""
+    s = pendula.Scene(theta0=theta0, want="period", g=9.8, length=9.8, tol=tol)
+    r = pendula.solve(s)
+    assert r.model == model and r.tol_met, r.reason
+    mp.mp.dps = 40
+    true = abs(float(4 * mp.ellipk(mp.sin(mp.mpf(theta0) / 2) ** 2) - mp.mpf(r.period)))
+    assert true <= r.error_estimate <= tol
