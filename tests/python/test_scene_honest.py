@@ -105,3 +105,19 @@ def test_period_prefers_small_angle_when_its_error_fits(theta0, tol, model):
     mp.mp.dps = 40
     true = abs(float(4 * mp.ellipk(mp.sin(mp.mpf(theta0) / 2) ** 2) - mp.mpf(r.period)))
     assert true <= r.error_estimate <= tol
+
+
+@pytest.mark.parametrize("theta0, omega0", [(1.0, 0.0), (3.0, 0.0), (np.pi - 1e-6, 0.0), (0.0, 3.0)])
+def test_period_estimate_is_a_phase(theta0, omega0):
+    """The exact period's estimate is w0 |dT| [rad] over one period (T = 4 K(m)/w0 for a swing,
+    2 K(1/m)/(w0 sqrt(m)) per turn of a rotation; mpmath at 40 digits, g/l = 2.3 so that w0 is
+    rounded), not a relative error: it bounds the true phase error."""
+    s = pendula.Scene(theta0=theta0, omega0=omega0, want="period", g=2.3, length=1.0, tol=1e-30)
+    r = pendula.solve(s)
+    assert r.model == "exact"
+    mp.mp.dps = 40
+    w0 = mp.sqrt(mp.mpf(2.3))
+    m = mp.sin(mp.mpf(theta0) / 2) ** 2 + (mp.mpf(omega0) / (2 * w0)) ** 2
+    true_t = 4 * mp.ellipk(m) / w0 if m < 1 else 2 * mp.ellipk(1 / m) / (w0 * mp.sqrt(m))
+    assert float(w0 * abs(mp.mpf(r.period) - true_t)) <= r.error_estimate <= 1e-11
+    assert r.error_estimate >= 16 * np.finfo(float).eps * float(w0 * true_t)
