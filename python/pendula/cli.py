@@ -340,7 +340,7 @@ def cmd_solve(args, out):
         rows = [[f"{args.t_end:.17g}", f"{float(res.theta):.17g}", f"{float(res.omega):.17g}"]]
     elif args.want == "events":
         ev = res.events
-        kinds = {EVENT_TURNING: "turning point (Omega = 0)", EVENT_ZERO: "zero crossing (theta = 0 mod 2 pi)"}
+        kinds = {EVENT_TURNING: "turning point (Omega = 0)", EVENT_ZERO: "zero crossing (theta = 0)"}
         header = ["t_s", "kind", "theta_rad", "omega_rad_per_s"]
         rows = [[f"{a:.17g}", kinds.get(int(k), str(k)), f"{b:.17g}", f"{c:.17g}"]
                 for a, k, b, c in zip(ev.t, ev.kind, ev.theta, ev.omega)]
