@@ -32,7 +32,7 @@ module pendula
       linear_damped_init, linear_damped_state, linear_damped_theta, linear_damped_omega, &
       linear_damped_envelope, linear_damped_eval, linear_damped_arrays
   use pendula_integrators, only: ode_stats_t, linear_eigenvalues, &
-      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, &
+      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign, &
       rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function, &
       rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES, &
       cvode_solve, cvode_solve_events, cvode_available, cvode_batch_solve

@@ -43,7 +43,7 @@ from ._errors import raise_for_status
 TURNING_POINT = EVENT_TURNING
 """Event kind: Omega = 0 (theta at an extremum; the amplitude is abs(theta) there)."""
 ZERO_CROSSING = EVENT_ZERO
-"""Event kind: theta = 0 (the pendulum passes the vertical)."""
+"""Event kind: theta = 0 mod 2 pi (the pendulum passes the bottom; a rotation once per turn)."""
 
 _STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters", "nonlin_fails",
                "root_evals")
@@ -61,8 +61,8 @@ class Events:
     t : numpy.ndarray
         Event times [s].
     kind : numpy.ndarray
-        ``TURNING_POINT`` (Omega = 0) or ``ZERO_CROSSING`` (theta = 0; for
-        scenes, a pass through the bottom, theta = 0 mod 2 pi) per event.
+        ``TURNING_POINT`` (Omega = 0) or ``ZERO_CROSSING`` (a pass through
+        the bottom, theta = 0 mod 2 pi; a rotation gives one per turn) per event.
     theta, omega : numpy.ndarray
         The state at each event [rad], [rad/s].
     truncated : bool
@@ -72,7 +72,8 @@ class Events:
     Notes
     -----
     Successive abs(theta) at turning points give the decrement; every
-    second zero crossing is a full period.
+    second zero crossing of a swing is a full period, each one of a
+    rotation a full turn.
 
     Examples
     --------
@@ -109,13 +110,13 @@ class Events:
 
     @property
     def zero_crossings(self):
-        """(t [s], omega [rad/s]) at the zero crossings (theta = 0).
+        """(t [s], omega [rad/s]) at the zero crossings (theta = 0 mod 2 pi).
 
         Returns
         -------
         tuple of numpy.ndarray
             Times and angular velocities of the zero crossings; every second
-            one is a full period later.
+            one of a swing is a full period later, each one of a rotation a turn.
 
         Examples
         --------
@@ -448,8 +449,8 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     max_steps : int
         Total step budget of the run, >= 1.
     events : bool
-        Also locate turning points (Omega = 0) and zero crossings
-        (theta = 0) after t[0].
+        Also locate turning points (Omega = 0) and zero crossings (passes
+        through the bottom, theta = 0 mod 2 pi, as scenes count them) after t[0].
     max_events : int
         Events kept, 1 ... 10**7 (``result.events.truncated`` tells if
         more occurred).

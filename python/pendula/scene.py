@@ -234,7 +234,8 @@ class SceneResult(_tables.Tabular):
         Why it was chosen.
     error_estimate : float
         Estimated sup over the window of max(abs(d theta) [rad],
-        abs(d Omega)/w0).
+        abs(d Omega)/w0); for want "events" the larger of that and
+        event_time_error [s].
     tol_met : bool
         error_estimate <= the scene's tol.
     setting : float or None

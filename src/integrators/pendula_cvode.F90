@@ -3,7 +3,7 @@
 !> (text eq. 2.2): variable-step, variable-order Adams (non-stiff) or BDF
 !> (stiff), Newton iteration with a dense linear solver and the analytic
 !> Jacobian, scalar relative/absolute tolerances, output at requested times and
-!> root finding for turning points (Omega = 0) and zero crossings (theta = 0).
+!> root finding for turning points (Omega = 0) and zero crossings (theta = 0 mod 2 pi).
 !>
 !> Built only when the build found the SUNDIALS Fortran 2003 modules (meson and
 !> CMake define PENDULA_WITH_SUNDIALS then; fpm users pass it in their flags);
@@ -107,7 +107,7 @@ contains
   end subroutine cvode_solve
 
   !> As cvode_solve, and also locate the events: turning points (Omega = 0,
-  !> kind PENDULA_EVENT_TURNING) and zero crossings (theta = 0, kind
+  !> kind PENDULA_EVENT_TURNING) and zero crossings (theta = 0 mod 2 pi, kind
   !> PENDULA_EVENT_ZERO) in (t(1), t(n)], in time order, with the state there
   !> (event_theta, event_omega).  A root exactly at t(1) (e.g. theta0 = 0) is
   !> not reported.  The event arrays (all of one size, the maximum number of

@@ -12,7 +12,7 @@ module pendula_cvode_glue
   use pendula_format, only: format_int, code_text
   use pendula_status, only: status_t, set_error, PENDULA_ERR_SOLVER
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: ode_stats_t
+  use pendula_ode, only: ode_stats_t, bottom_sign
   use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer
   use fsundials_matrix_mod, only: SUNMatrix
   use fsunmatrix_dense_mod, only: FSUNDenseMatrix_Data
@@ -193,7 +193,8 @@ contains
     ierr = 0
   end function relative_weights
 
-  !> Event functions: g1 = Omega (turning point), g2 = theta (zero crossing).
+  !> Event functions: g1 = Omega (turning point), g2 = bottom_sign(theta) (zero
+  !> crossing: a pass through the bottom, theta = 0 mod 2 pi).
   integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C, name='')
     real(c_double), value :: tt
     type(N_Vector) :: sunvec_y
@@ -202,7 +203,7 @@ contains
     real(c_double), pointer :: yy(:)
     yy => FN_VGetArrayPointer(sunvec_y)
     gout(1) = yy(2)
-    gout(2) = yy(1)
+    gout(2) = bottom_sign(yy(1))
     ierr = 0
   end function root_functions
 

@@ -4,7 +4,7 @@
 !> not built), with the shared definitions of pendula_ode.
 module pendula_integrators
   use pendula_ode, only: ode_stats_t, linear_eigenvalues, &
-      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
   use pendula_rk4, only: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
   use pendula_rk4_batch, only: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
   use pendula_cvode, only: cvode_solve, cvode_solve_events, cvode_available
@@ -12,7 +12,7 @@ module pendula_integrators
   implicit none
   private
   public :: ode_stats_t, linear_eigenvalues
-  public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
   public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
   public :: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
   public :: cvode_solve, cvode_solve_events, cvode_available, cvode_batch_solve

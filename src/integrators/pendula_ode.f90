@@ -18,13 +18,14 @@ module pendula_ode
   ! for the f2py glue: counters and budgets as the doubles Python passes
   public :: ode_stats_values, step_budget
   public :: PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  public :: bottom_sign
 
   !> CVODE linear multistep families: Adams-Moulton (non-stiff, orders 1-12)
   !> and BDF (stiff, orders 1-5).
   integer, parameter :: PENDULA_CVODE_ADAMS = 1
   integer, parameter :: PENDULA_CVODE_BDF = 2
   !> Event kinds: a turning point (Omega = 0, theta at an extremum) and a zero
-  !> crossing (theta = 0, the pendulum passes the vertical).
+  !> crossing (theta = 0 mod 2 pi, the pendulum passes the bottom; see bottom_sign).
   integer, parameter :: PENDULA_EVENT_TURNING = 1
   integer, parameter :: PENDULA_EVENT_ZERO = 2
 
@@ -41,6 +42,16 @@ module pendula_ode
   end type ode_stats_t
 
 contains
+
+  !> The event function of a zero crossing, for every event finder (CVODE's
+  !> root function, the scenes' closed forms and sampled trajectories):
+  !> sin(theta/2), zero exactly at theta = 2 pi k and of one sign between, so
+  !> that a pass through the bottom counts whatever the unwrapped angle (a
+  !> rotation counts one per turn).
+  elemental real(wp) function bottom_sign(theta) result(f)
+    real(wp), intent(in) :: theta
+    f = sin(theta / 2)
+  end function bottom_sign
 
   !> Right-hand side of eq. 2.2 as a system: theta' = Omega,
   !> Omega' = -gamma Omega - w0**2 sin(theta); w0sq = w0**2 [1/s^2], gamma [1/s].

@@ -42,20 +42,20 @@ module pendula_scene
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SOLVER
-  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
+  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, cvode_available
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
       scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
       SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
-      SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
+      SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats
   use pendula_scene_setup, only: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, &
       get_budget, alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model
+  use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model, integrator_rounding
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed, integrate
-  use pendula_scene_handover, only: solve_integrated
+  use pendula_scene_handover, only: solve_integrated, add_cost
   use pendula_scene_events, only: scene_event_bound
   implicit none
   private
@@ -112,14 +112,18 @@ contains
       call solve_closed(scene, model, est, result, status)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call solve_integrated(scene, model, tend, budget, why, result, status, control)
+      call fold_event_time(scene, result)
+      if (scene%model == SCENE_MODEL_AUTO) call second_try(scene, tend, budget, model, why, result, status, control)
     end select
     call check_event_count(scene, tend, result, status)
     if (status%code /= PENDULA_OK) return
     result%model = model
     result%want = scene%want
+    call fold_event_time(scene, result)
     result%tol_met = result%error_estimate <= scene%tol
     if (.not. result%tol_met) then
-      why = why // '; tol NOT met: error estimate ' // format_sci(result%error_estimate, 4) // ' > tol'
+      ! first, so that a long reason cut to a message's length keeps it
+      why = 'tol NOT met, error estimate ' // format_sci(result%error_estimate, 4) // ' > tol: ' // why
     end if
     result%reason = why
     call system_clock(c1)
@@ -184,6 +188,56 @@ contains
     call system_clock(c1)
     result%cost%wall_time = real(c1 - c0, wp) / real(max(rate, 1_i8), wp)
   end subroutine scene_run_model
+
+  ! Events: tol bounds the event times [s] too (the state estimate only
+  ! places them), so the reported estimate is the larger of the two.
+  pure subroutine fold_event_time(scene, result)
+    type(scene_t), intent(in) :: scene
+    type(scene_result_t), intent(inout) :: result
+    if (scene%want == SCENE_WANT_EVENTS) result%error_estimate = max(result%error_estimate, &
+        result%event_time_error)
+  end subroutine fold_event_time
+
+  ! The integrator chosen first did not verify tol (its estimate is over
+  ! it): the other one (RK4 after CVODE, CVODE after RK4, each refining its
+  ! own setting) with the budget that is left, and the answer with the smaller
+  ! estimate is kept (costs of both).  Not tried where the rounding floor that
+  ! both share (a start near the top) already exceeds tol, nor without CVODE;
+  ! the second integrator failing or refusing leaves the first answer.
+  subroutine second_try(scene, tend, budget, model, why, result, status, control)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend, budget
+    integer, intent(inout) :: model
+    character(len=:), allocatable, intent(inout) :: why
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_result_t) :: alt
+    type(status_t) :: st
+    character(len=:), allocatable :: why2
+    integer :: other
+    real(wp) :: used, floor(0)
+    if (status%code /= PENDULA_OK .or. .not. result%error_estimate > scene%tol) return
+    if (.not. cvode_available() .or. integrator_rounding(scene, floor, 1.0_wp) > scene%tol / 2) return
+    other = merge(SCENE_MODEL_CVODE, SCENE_MODEL_RK4, model == SCENE_MODEL_RK4)
+    used = real(result%cost%steps, wp) * merge(SCENE_CVODE_STEP_COST, 1.0_wp, model == SCENE_MODEL_CVODE)
+    if (used >= budget) return
+    why2 = ''
+    call solve_integrated(scene, other, tend, budget - used, why2, alt, st, control)
+    if (st%code == PENDULA_ERR_CANCELLED) status = st
+    if (st%code /= PENDULA_OK) return
+    call fold_event_time(scene, alt)
+    call add_cost(alt%cost, result%cost)
+    why = why // '; ' // scene_model_name(model) // ' did not verify tol (estimate ' // &
+        format_sci(result%error_estimate, 4) // '): ' // scene_model_name(other) // ' ' // &
+        trim(merge('did better ', 'did no good', alt%error_estimate < result%error_estimate)) // why2
+    if (alt%error_estimate < result%error_estimate) then
+      result = alt
+      model = other
+    else
+      result%cost = alt%cost
+    end if
+  end subroutine second_try
 
   ! More events than the motion can have (scene_event_bound) means the
   ! sampled trajectory was not resolved: an error, never a silent answer.

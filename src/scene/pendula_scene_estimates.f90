@@ -4,7 +4,7 @@
 !> rounding floor of an integration, and the choice of the cheapest model
 !> whose estimate meets tol.
 module pendula_scene_estimates
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_DOMAIN
@@ -24,6 +24,7 @@ module pendula_scene_estimates
   private
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
+  public :: cvode_min_steps
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
   !> Safety factor on the a priori nonlinearity estimate of the linear model
@@ -75,8 +76,15 @@ contains
         estimate = energy_rounding(scene%theta0, scene%omega0, scene%w0)
       else
         estimate = exact_estimate(motion, tend)
-        if (scene%want == SCENE_WANT_PERIOD) estimate = 8 * eps * (1 + abs(log(max(abs(motion%mc), &
-            tiny(1.0_wp)))))
+        ! the period's error as a phase w0 |dT| [rad] (as the small-angle
+        ! period's): 16 eps (1 + |ln mc|) relative (K near the separatrix and
+        ! the rounding of w0; the benchmark grid's periods are off by up to
+        ! ~11 eps), times w0 T (an infinite period, the separatrix, is exact)
+        if (scene%want == SCENE_WANT_PERIOD) then
+          dth = 1
+          if (ieee_is_finite(motion%period)) dth = max(1.0_wp, motion%w0 * motion%period)
+          estimate = 16 * eps * (1 + abs(log(max(abs(motion%mc), tiny(1.0_wp))))) * dth
+        end if
       end if
     case (SCENE_MODEL_LINEAR)
       estimate = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend)
@@ -102,8 +110,14 @@ contains
       call model_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
       call model_estimate(scene, SCENE_MODEL_EXACT, e_ex, status)
       if (status%code /= PENDULA_OK) return
-      if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_ENERGY) then
-        ! K (or the energy) comes with the motion's set-up: nothing cheaper exists.
+      if (scene%want == SCENE_WANT_PERIOD .and. e_sa <= scene%tol) then
+        model = SCENE_MODEL_SMALL_ANGLE
+        est = e_sa
+        why = 'gamma = 0, want = period and the small-angle period 2 pi/w0 is off by w0 |T - T0| = ' // &
+            format_sci(e_sa, 4) // ' rad <= tol'
+      else if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_ENERGY) then
+        ! K (or the conserved energy, one evaluation) comes with the motion's
+        ! set-up: nothing cheaper exists.
         model = SCENE_MODEL_EXACT
         est = e_ex
         why = 'gamma = 0 and want = ' // scene_want_name(scene%want) // &
@@ -147,9 +161,9 @@ contains
         (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))) then
       model = SCENE_MODEL_CVODE
       why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
-          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad), so CVODE (' // &
+          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad): CVODE (' // &
           trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
-          ') with tolerances from tol and the window, verified by a run 10x tighter'
+          '), rtol from tol and the window, verified by a run 10x tighter'
     else
       why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad: RK4 with h from ' // &
           'tol and the window (C h^4 T), verified by a run at 2h'
@@ -163,13 +177,16 @@ contains
     e = 4 * eps * ((omega / w0)**2 / 2 + (1 - cos(theta)) + eps)
   end function energy_rounding
 
-  ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad].
+  ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad],
+  ! from the exact period (itself good to 16 eps (1 + |ln mc|) relative) and
+  ! the rounding of 2 pi/w0 (a few eps).
   pure real(wp) function period_small_angle_error(motion) result(e)
     type(undamped_motion_t), intent(in) :: motion
     if (motion%regime /= REGIME_LIBRATION) then
       e = ieee_value(1.0_wp, ieee_positive_inf)
     else
-      e = abs(motion%w0 * motion%period - 2 * pi)
+      e = abs(motion%w0 * motion%period - 2 * pi) + 2 * pi * eps * (20 + 16 * abs(log(max(abs(motion%mc), &
+          tiny(1.0_wp)))))
     end if
   end function period_small_angle_error
 
@@ -343,6 +360,35 @@ contains
     h = min(h, 0.5_wp / scene%w0)
   end function rk4_apriori_step
 
+  !> Lower bound on the steps of one CVODE (Adams) run of an underdamped,
+  !> non-stiff scene over [0, tend] at rtol (atol = rtol/100 times the state's
+  !> size, as pendula_scene_integrated sets it), for refusing work beyond the
+  !> budget up front.  Adams takes at least 4 steps per small-angle period
+  !> 2 pi/w0 however decayed the motion, and while a swing is resolved to rtol
+  !> (until its amplitude has decayed to ~sqrt(rtol) of its start, t = ln(1/rtol)/gamma)
+  !> at least 12 (1e-3/rtol)^(1/12) (measured, rtol 1e-3 .. 1e-14, swings from
+  !> 1e-3 rad to pi - 1e-6 and gamma/w0 from 1e-6 to 1.9: 20 .. 270 steps per
+  !> period, never below this bound).  A start within 1e4 rtol of the top is
+  !> not resolved at all (CVODE may stay there: no bound), and a rotation only
+  !> by the first part.  0 for stiff or over-damped scenes (BDF, few steps).
+  pure real(wp) function cvode_min_steps(scene, tend, rtol) result(n)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend, rtol
+    real(wp) :: xr, d0, msep, per, tres
+    n = 0
+    if (is_stiff(scene) .or. scene%gamma >= 2 * scene%w0 .or. .not. rtol > 0) return
+    xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)
+    d0 = hypot(pi - xr, scene%omega0 / scene%w0)
+    if (d0 < 1.0e4_wp * rtol) return
+    per = scene%w0 / (2 * pi)
+    n = 4 * per * tend
+    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
+    if (msep >= 1) return
+    tres = tend
+    if (scene%gamma > 0) tres = min(tend, log(1 / min(rtol, 0.5_wp)) / scene%gamma)
+    n = n + max(0.0_wp, 12 * (1.0e-3_wp / rtol)**(1.0_wp / 12) - 4) * per * tres
+  end function cvode_min_steps
+
   !> Rounding floor of an integration that the comparison of two runs cannot
   !> see: each of n steps rounds theta by ~eps |theta|, a random walk ~ sqrt(n)
   !> while it swings, a biased sum ~ n for the unwrapped angle of a rotation
@@ -350,6 +396,10 @@ contains
   !> equilibrium (pi, 0) amplifies any perturbation by ~1/d0 while the
   !> pendulum hangs there (growth e^(w0 t) until it leaves, t ~ ln(1/d0)/w0),
   !> d0 the distance of the initial state from the top in (theta, Omega/w0).
+  !> The near-top term's factor 16: RK4 runs in double against the same runs
+  !> in 80-bit long double (so the difference is rounding only) from d0 = 1e-2
+  !> to 1e-7, gamma/w0 = 0.05 to 1, h w0 = 2e-3 and 5e-3, over 15/w0 lost up to
+  !> 3.6x what 4 eps pi/d0 (with the swing term) predicted.
   pure real(wp) function integrator_rounding(scene, theta, nsteps) result(r)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: theta(:), nsteps
@@ -362,7 +412,7 @@ contains
     ! a rotation's unwrapped angle (beyond a swing) grows steadily: adding nearly
     ! equal increments to it rounds with a bias, so that part grows like n
     r = 4 * eps * swing * sqrt(max(nsteps, 1.0_wp)) &
-        + eps * (big - swing) * max(nsteps, 1.0_wp) / 2 + 4 * eps * pi / max(d0, eps)
+        + eps * (big - swing) * max(nsteps, 1.0_wp) / 2 + 16 * eps * pi / max(d0, eps)
   end function integrator_rounding
 
   ! e^x - 1 without cancellation for small |x| (accurate to ~1e-11 relative,

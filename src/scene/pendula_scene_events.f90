@@ -1,5 +1,6 @@
 !> Events of a scene (turning points, Omega = 0, and zero crossings, passes
-!> through the bottom theta = 0 mod 2 pi, in (0, t(n)]): the rigorous bound on their number, the event
+!> through the bottom theta = 0 mod 2 pi, bottom_sign of pendula_ode, the one
+!> definition the integrators' root finding uses too, in (0, t(n)]): the rigorous bound on their number, the event
 !> list of a result, the event-time error, and the events of an integrated
 !> trajectory (a sample grid fine enough for cubic Hermite interpolation,
 !> sign changes refined on the interpolant).
@@ -25,7 +26,7 @@ module pendula_scene_events
   use pendula_kinds, only: wp, i8
   use pendula_constants, only: pi
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_BISECT
-  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
   use pendula_scene_types, only: scene_t, scene_result_t
   implicit none
   private
@@ -53,13 +54,6 @@ contains
       n = huge(1_i8)
     end if
   end function scene_event_bound
-
-  !> The function whose sign changes mark a pass through the bottom:
-  !> sin(theta/2), zero exactly at theta = 2 pi k and of one sign between.
-  elemental real(wp) function bottom_sign(theta) result(f)
-    real(wp), intent(in) :: theta
-    f = sin(theta / 2)
-  end function bottom_sign
 
   !> The multiple of 2 pi [rad] passed between two angles a and b (less than
   !> 2 pi apart) whose bottom_sign differs: it is within (b - a)/2 < pi of

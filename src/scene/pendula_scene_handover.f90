@@ -30,7 +30,7 @@ module pendula_scene_handover
   implicit none
   private
 
-  public :: solve_integrated
+  public :: solve_integrated, add_cost
 
   !> A hand-over is tried only when it spares at least this part of the window.
   real(wp), parameter :: MAX_PART = 0.75_wp

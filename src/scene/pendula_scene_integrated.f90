@@ -16,7 +16,7 @@ module pendula_scene_integrated
       SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding
+  use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding, cvode_min_steps
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error
   implicit none
   private
@@ -25,10 +25,6 @@ module pendula_scene_integrated
 
   !> Richardson: |y_h - y_2h| / 15 estimates the error of y_h; doubled for safety.
   real(wp), parameter :: RK4_SAFETY = 2.0_wp
-  !> Fewest CVODE (Adams) steps per small-angle period of an underdamped
-  !> scene, decayed or not (measured ~7 at tol 1e-10 over 1e5 s): the lower
-  !> bound of the up-front CVODE cost prediction.
-  real(wp), parameter :: CVODE_MIN_STEPS_PER_PERIOD = 4
   !> A posteriori refinements before giving up on meeting tol.
   integer, parameter :: MAX_REFINE = 4
 
@@ -228,22 +224,19 @@ contains
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
     allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)))
     periods = 1 + scene%w0 * tend / (2 * pi)
-    ! Up front: an underdamped, non-stiff scene costs CVODE (Adams) at least a
-    ! few steps per period however loose tol (or decayed the swing), in each of
-    ! the two runs.
-    if (.not. is_stiff(scene) .and. scene%gamma < 2 * scene%w0) then
-      predicted = 2 * CVODE_MIN_STEPS_PER_PERIOD * periods * SCENE_CVODE_STEP_COST
-      if (predicted > budget) then
-        call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // format_sci(tend, 4) // ' spans ~' // &
-            format_sci(periods, 4) // ' periods: CVODE needs > ~' // format_sci(predicted / SCENE_CVODE_STEP_COST, 4) // &
-            ' steps, over the budget max_steps = ' // format_sci(budget, 4) // ' (RK4 steps, a CVODE step counts' // &
-            ' ' // format_int(nint(SCENE_CVODE_STEP_COST)) // '; ' // format_sci(SCENE_STEP_CAP, 4) // &
-            ' ~ 1 min): shorten the window or raise max_steps')
-        return
-      end if
-    end if
     scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
     rtol = max(0.1_wp * scene%tol / (periods * scale), 1.0e-14_wp)
+    ! Up front: the two runs (rtol and rtol/10) need at least cvode_min_steps
+    ! each (an underdamped, non-stiff scene; 0 otherwise)
+    predicted = (cvode_min_steps(scene, tend, rtol) + cvode_min_steps(scene, tend, rtol / 10)) * SCENE_CVODE_STEP_COST
+    if (predicted > budget) then
+      call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // format_sci(tend, 4) // ' spans ~' // &
+          format_sci(periods, 4) // ' periods: CVODE needs > ~' // format_sci(predicted / SCENE_CVODE_STEP_COST, 4) // &
+          ' steps for tol = ' // format_sci(scene%tol, 4) // ', over the budget max_steps = ' // &
+          format_sci(budget, 4) // ' (RK4 steps, a CVODE step counts ' // format_int(nint(SCENE_CVODE_STEP_COST)) // &
+          '; ' // format_sci(SCENE_STEP_CAP, 4) // ' ~ 1 min): use a larger tol, shorten the window or raise max_steps')
+      return
+    end if
     est = ieee_value(1.0_wp, ieee_positive_inf)
     do it = 1, MAX_REFINE
       call integrate(scene, SCENE_MODEL_CVODE, rtol, budget, tgrid, th1, om1, stats, status, control)
