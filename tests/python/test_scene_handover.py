@@ -64,7 +64,8 @@ def test_handover_is_honest(theta0, omega0, gamma, periods, tol, want):
     if want != "theta":
         err = max(err, np.max(np.abs(np.atleast_1d(res.omega) - om)) / W0)
     assert err <= tol, (err, res.error_estimate)
-    assert err <= res.error_estimate, (err, res.error_estimate)
+    # below the reference's own error (~1e-13 at |theta| ~ 4 pi) the grade cannot tell
+    assert err <= res.error_estimate + ref_err, (err, res.error_estimate, ref_err)
     assert res.tol_met
 
 
@@ -83,13 +84,13 @@ def _cheapest_fixed_rk4(scene, th, om, tol):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="economy target not met yet: the plan takes ~17000 RK4 steps where "
-                   "one fixed-step run of 142 steps meets tol (the state has decayed to ~0)")
 @pytest.mark.parametrize("theta0,omega0,gamma,periods,tol,want", [CASES[1]])
 def test_handover_costs_within_3x_one_fixed_step_run(theta0, omega0, gamma, periods, tol, want):
     """The plan (verification runs included) takes at most 3x the integrator steps of
     the single cheapest fixed-step RK4 run over the whole window that meets tol (a
-    run nobody can pick without the reference: it is the lower bound)."""
+    run nobody can pick without the reference: it is the lower bound).  Only the
+    final state is wanted and the error at the hand-over decays by ~e^-33 before
+    it: the integrated part runs at a tolerance loosened by that decay."""
     t = _times(periods, want)
     scene = pendula.Scene(theta0=theta0, omega0=omega0, t=t, gamma=gamma, tol=tol, want=want)
     res = pendula.solve(scene)
