@@ -222,18 +222,25 @@ contains
   ! Predicted time [s] after which the linear model's nonlinearity over the
   ! rest of a window of length span fits tol/4, for a motion from (x0, v0):
   ! a rotation first loses its excess energy (m decays at least like
-  ! e^(-gamma t) while it goes over the top), then the swing A decays at the
+  ! e^(-gamma t) while it goes over the top), a start at distance d0 from the
+  ! top first hangs there for ~ln(pi/d0)/lambda (lambda = sqrt(gamma^2/4 +
+  ! w0^2) - gamma/2, the growth rate of the linearization about the top:
+  ! without it a start 1e-6 rad below the top was predicted to have decayed
+  ! while still up, and every try failed), then the swing A decays at the
   ! slowest rate of the linear modes down to the amplitude A_h where
   ! linear_estimate (which grows like A^3) is tol/4.  A prediction only: the
   ! integrated state at that time decides.
   pure real(wp) function handover_time(x0, v0, w0, gamma, tol, span) result(ts)
     real(wp), intent(in) :: x0, v0, w0, gamma, tol, span
     real(wp), parameter :: AREF = 0.1_wp
-    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot
+    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot, thang, d0
     xr = abs(modulo(x0 + pi, 2 * pi) - pi)
     msep = sin(xr / 2)**2 + (v0 / (2 * w0))**2
     trot = 0
     if (msep >= 1) trot = (1 + log(msep)) / gamma
+    d0 = hypot(pi - xr, v0 / w0)
+    thang = 0
+    if (msep < 1 .and. d0 < pi) thang = log(pi / max(d0, epsilon(1.0_wp))) / (hypot(gamma / 2, w0) - gamma / 2)
     a0 = min(xr + abs(v0) / w0, pi)
     if (msep >= 1) a0 = pi
     half = gamma / 2
@@ -248,7 +255,7 @@ contains
       return
     end if
     ah = 0.8_wp * AREF * (0.25_wp * tol / eref)**(1.0_wp / 3)
-    ts = trot + max(0.0_wp, log(a0 / ah)) / rate
+    ts = trot + thang + max(0.0_wp, log(a0 / ah)) / rate
     ts = max(ts, 1 / max(w0, gamma))
   end function handover_time
 
