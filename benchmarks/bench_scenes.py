@@ -9,8 +9,9 @@ For each scene of the grid (benchmarks/scene_grid_draw.py: 432 scenes; --quick:
   and once with pendula's rounded w0 = fl(sqrt(g/l)) (for Taylor references only
   where the energy parameter is within 1e-3 of the separatrix; elsewhere the
   rounded grade is the exact one); a scene whose Taylor reference needs more
-  than --max-steps steps (predicted from its first 100) is left out and counted;
-  references are cached on disk (--cache, default out/scene-refs) keyed by the scene;
+  than --max-steps steps (predicted from its first 100) or --ref-seconds of wall
+  time is left out and counted; references are cached on disk (--cache, default
+  out/scene-refs) keyed by the scene, with the seconds their build took;
 - grades solve(scene): the true error in the Scene error measure (sup over the
   output times of max(|d theta|, |d Omega|/w0); energy: |dE|/w0^2; period:
   w0 |dT|; events: the largest event-time error [s], infinite when the number
@@ -20,8 +21,9 @@ For each scene of the grid (benchmarks/scene_grid_draw.py: 432 scenes; --quick:
   rtol 1e-2 ... 1e-13, the closed forms once) and keeps the cheapest whose true
   error over the whole window is <= tol; the wall-time ratio solve / cheapest
   adequate is the best of 3 calls each.
-Prints the table, the worst scenes with reproducers (--scene ID re-runs one
-verbosely); --out DIR writes scenes-benchmark.md and .csv.
+Prints the runtime and the slowest scenes (reference build and grading), the
+table, the worst scenes with reproducers (--scene ID re-runs one verbosely;
+--ids A:B grades a slice of the grid); --out DIR writes scenes-benchmark.md and .csv.
 """
 import hashlib
 import json
@@ -40,7 +42,7 @@ import scene_reference as ref
 import pendula
 from pendula.integrate import TURNING_POINT, ZERO_CROSSING, rk4_max_stable_step
 
-REF_VERSION = 2   # 2: zero crossings are theta = 0 mod 2 pi
+REF_VERSION = 3   # 2: zero crossings are theta = 0 mod 2 pi; 3: settled events in closed form
 HAVE_CVODE = pendula.scene.HAVE_CVODE
 
 
@@ -51,7 +53,7 @@ def _key(sc):
     return hashlib.sha1(blob.encode()).hexdigest()
 
 
-def _reference_for(sc, w0, max_steps):
+def _reference_for(sc, w0, max_steps, max_seconds):
     t = [float(x) for x in np.atleast_1d(sc["t"])]
     events = sc["want"] == "events"
     out = {}
@@ -59,7 +61,7 @@ def _reference_for(sc, w0, max_steps):
         th, om, period = ref.undamped(t, sc["theta0"], sc["omega0"], w0)
         out["period"] = str(period)
     else:
-        tay = ref.Taylor(w0, sc["gamma"], max_steps=max_steps, relative=events)
+        tay = ref.Taylor(w0, sc["gamma"], max_steps=max_steps, relative=events, max_seconds=max_seconds)
         res = tay.solve(t, sc["theta0"], sc["omega0"], events=events)
         th, om = res[:2]
         if events:
@@ -71,8 +73,9 @@ def _reference_for(sc, w0, max_steps):
     return out
 
 
-def reference(sc, cache, max_steps):
-    """{'exact': ..., 'rounded': ...} for scene sc (cached), or None beyond the Taylor budget."""
+def reference(sc, cache, max_steps, max_seconds=math.inf):
+    """{'exact': ..., 'rounded': ..., 'seconds': build time} for scene sc (cached), or None
+    beyond the Taylor budget (steps, or seconds per reference run)."""
     path = pathlib.Path(cache) / f"{_key(sc)}.json"
     if path.exists():
         return json.loads(path.read_text())
@@ -80,12 +83,12 @@ def reference(sc, cache, max_steps):
     w_round = float(np.sqrt(sc["g"] / sc["length"]))
     t0 = time.perf_counter()
     try:
-        data = {"exact": _reference_for(sc, w_exact, max_steps)}
+        data = {"exact": _reference_for(sc, w_exact, max_steps, max_seconds)}
         # the rounding of w0 (relative 1e-16) matters where the energy parameter is near 1;
         # elsewhere a damped (Taylor) reference is graded with the exact data only
         near = abs(ref.energy_parameter(sc["theta0"], sc["omega0"], w_exact) - 1) < 1e-3
         if sc["gamma"] == 0 and sc["want"] != "events" or near:
-            data["rounded"] = _reference_for(sc, mp.mpf(w_round), max_steps)
+            data["rounded"] = _reference_for(sc, mp.mpf(w_round), max_steps, max_seconds)
         else:
             data["rounded"] = data["exact"]
     except ref.BudgetExceeded:
@@ -153,6 +156,13 @@ def _ladder(sc, scene):
     return out, rk4, cv
 
 
+def _timed(fn, t_first, repeat):
+    """Best of the first call's time t_first and `repeat` more calls, but no more
+    calls after a first one over a second (long calls vary little; the grid has
+    solves of up to ~1 min)."""
+    return min(t_first, harness.best_time(fn, repeat if t_first < 1 else 0, warm_up=False))
+
+
 def cheapest_adequate(sc, scene, r, w0, repeat):
     """(model, setting, wall time, cost) of the cheapest run_model whose true error <= tol."""
     closed, rk4, cv = _ladder(sc, scene)
@@ -161,13 +171,15 @@ def cheapest_adequate(sc, scene, r, w0, repeat):
         for ladder in group:
             for model, setting in ladder:
                 try:
+                    t0 = time.perf_counter()
                     res = pendula.run_model(scene, model, setting, max_steps=2_000_000)
+                    t_first = time.perf_counter() - t0
                     err = true_error(sc, res, r, w0)
                 except Exception:       # noqa: BLE001 -- a model that refuses or fails is not adequate
                     continue
                 if err <= sc["tol"]:
-                    wall = harness.best_time(lambda: pendula.run_model(scene, model, setting, max_steps=2_000_000),
-                                             repeat, warm_up=False)
+                    wall = _timed(lambda: pendula.run_model(scene, model, setting, max_steps=2_000_000),
+                                  t_first, repeat)
                     found.append((wall, model, setting, res.cost["rhs_evals"] + res.cost["closed_form_evals"]))
                     break
     if not found:
@@ -176,17 +188,19 @@ def cheapest_adequate(sc, scene, r, w0, repeat):
     return model, setting, wall, cost
 
 
-def grade(sc, cache, max_steps, repeat=3, economy=True):
+def grade(sc, cache, max_steps, repeat=3, economy=True, max_seconds=math.inf):
     """One row of results for scene sc (a dict), or None without a reference."""
-    r = reference(sc, cache, max_steps)
+    r = reference(sc, cache, max_steps, max_seconds)
     if r is None:
         return None
     scene = make_scene(sc)
     w_exact = float(ref.exact_w0(sc["g"], sc["length"]))
     row = dict(id=sc["id"], want=sc["want"], damping=sc["damping"], start=sc["start"], grid=sc["grid"],
-               periods=sc["periods"], tol=sc["tol"])
+               periods=sc["periods"], tol=sc["tol"], t_ref=r.get("seconds", math.nan))
     try:
+        t0 = time.perf_counter()
         res = pendula.solve(scene)
+        t_first = time.perf_counter() - t0
     except Exception as exc:     # noqa: BLE001 -- a crash is a result to report
         row.update(model="CRASH", reason=f"{type(exc).__name__}: {exc}", err=math.inf, err_r=math.inf,
                    estimate=math.nan, tol_met=False, t_solve=math.nan, cheapest="", t_cheapest=math.nan)
@@ -195,7 +209,7 @@ def grade(sc, cache, max_steps, repeat=3, economy=True):
     row.update(model=res.model, reason=res.reason, estimate=est, tol_met=res.tol_met,
                err=true_error(sc, res, r["exact"], w_exact),
                err_r=true_error(sc, res, r["rounded"], scene.w0))
-    row["t_solve"] = harness.best_time(lambda: pendula.solve(scene), repeat, warm_up=False) if economy else math.nan
+    row["t_solve"] = _timed(lambda: pendula.solve(scene), t_first, repeat) if economy else math.nan
     best = cheapest_adequate(sc, scene, r["exact"], w_exact, repeat) if economy else None
     row["cheapest"] = "" if best is None else f"{best[0]}" + ("" if best[1] is None else f"@{best[1]:.3g}")
     row["t_cheapest"] = math.nan if best is None else best[2]
@@ -246,24 +260,36 @@ def main():
     ap.add_argument("--max-steps", type=int, default=None,
                     help="Taylor-step budget of one reference (default 3000 quick, 4000 full)")
     ap.add_argument("--scene", type=int, default=None, help="grade only this scene id, verbosely")
+    ap.add_argument("--ids", default=None, metavar="A:B", help="grade only scenes A .. B-1 of the grid (a slice)")
+    ap.add_argument("--ref-seconds", type=float, default=120.0,
+                    help="wall-time budget [s] of one Taylor reference run (beyond it the scene is left out)")
     ap.add_argument("--no-economy", action="store_true", help="honesty only (no timing, no model ladder)")
     args = ap.parse_args()
     grid = scene_grid_draw.draw()
     max_steps = args.max_steps or (3000 if args.quick else 4000)
     if args.scene is not None:
         grid = [grid[args.scene]]
+    elif args.ids is not None:
+        a, b = (int(x) if x else None for x in args.ids.split(":"))
+        grid = grid[a:b]
     elif args.quick:
         grid = [s for s in grid if s["periods"] <= 20][:24]
     rows, skipped = [], []
     start = time.perf_counter()
     for k, sc in enumerate(grid):
-        row = grade(sc, args.cache, max_steps, economy=not args.no_economy)
+        t0 = time.perf_counter()
+        row = grade(sc, args.cache, max_steps, economy=not args.no_economy, max_seconds=args.ref_seconds)
         if row is None:
             skipped.append(sc)
         else:
+            row["t_scene"] = time.perf_counter() - t0
             rows.append(row)
+            if row["t_scene"] > 10:
+                print(f"  scene {sc['id']}: {row['t_scene']:.0f} s (reference {row['t_ref']:.1f} s, solve "
+                      f"{row['t_solve']:.2g} s, {row['model']})", file=sys.stderr)
         if args.scene is not None or (k + 1) % 20 == 0:
             print(f"[{k + 1}/{len(grid)} scenes, {time.perf_counter() - start:.0f} s]", file=sys.stderr)
+    runtime = time.perf_counter() - start
     if args.scene is not None:
         print(reproducer(grid[0]))
         print(json.dumps(rows[0] if rows else "no reference within the Taylor budget", indent=1, default=str))
@@ -273,9 +299,16 @@ def main():
     worst = sorted(rows, key=lambda r: -(r["err"] / r["tol"]))[:10]
     costly = sorted((r for r in rows if math.isfinite(r["t_cheapest"])),
                     key=lambda r: -(r["t_solve"] / r["t_cheapest"]))[:5]
+    which = "--quick subset" if args.quick else (f"scenes {args.ids}" if args.ids else "full grid")
+    t_ref = [r["t_ref"] for r in rows if math.isfinite(r["t_ref"])]
+    slow = sorted(rows, key=lambda r: -r["t_scene"])[:5]
     lines = ["# Scenes benchmark: honesty and economy", "",
-             f"{len(grid)} seeded scenes ({'--quick subset' if args.quick else 'full grid'}), "
+             f"{len(grid)} seeded scenes ({which}), "
              f"references without pendula code; generated by benchmarks/bench_scenes.py.", "",
+             f"Runtime {runtime:.0f} s ({len(grid)} scenes; building their references took (when not "
+             f"cached) {sum(t_ref):.0f} s in all, at most {max(t_ref, default=0):.1f} s for one scene; cached ones cost "
+             f"nothing here). Slowest scenes (reference build + grading): "
+             + ", ".join(f"{r['id']} ({r['t_scene']:.1f} s, reference {r['t_ref']:.1f} s)" for r in slow) + ".", "",
              harness.markdown_table(header, table, "lrr"), "",
              "## Worst scenes (true error / tol)", ""]
     for r in worst:
@@ -286,12 +319,12 @@ def main():
         lines.append(f"- {r['t_solve'] / r['t_cheapest']:.3g}x ({r['model']} {r['t_solve'] * 1e3:.3g} ms vs "
                      f"{r['cheapest']} {r['t_cheapest'] * 1e3:.3g} ms): `{reproducer(by_id[r['id']])}`")
     if skipped:
-        lines += ["", f"Without reference (more than {max_steps} Taylor steps): scenes "
+        lines += ["", f"Without reference (more than {max_steps} Taylor steps or {args.ref_seconds:g} s): scenes "
                   + ", ".join(str(s["id"]) for s in skipped)]
     text = "\n".join(lines)
     print(text)
     cols = ["id", "want", "damping", "start", "grid", "periods", "tol", "model", "estimate", "tol_met",
-            "err", "err_r", "t_solve", "cheapest", "t_cheapest"]
+            "err", "err_r", "t_solve", "cheapest", "t_cheapest", "t_ref", "t_scene"]
     csv_rows = [[f"{r[c]:.3g}" if isinstance(r[c], float) else r[c] for c in cols] for r in rows]
     harness.write_outputs(args.out, "scenes-benchmark", text, [(header, table), (cols, csv_rows)])
 

@@ -14,12 +14,16 @@ theta'' + gamma theta' + w0^2 sin(theta) = 0, theta(0) = theta0, theta'(0) = ome
   step's polynomial (dense output at full order), events are roots of the theta
   or theta' polynomial refined by bisection.  A state scene whose motion has
   settled within 1e-12 rad of a multiple of 2 pi hands over to the linear
-  damped solution in mpmath (the dropped term sin(x) - x is ~ x^3/6, 1e-37).
+  damped solution in mpmath (the dropped term sin(x) - x is ~ x^3/6, 1e-37),
+  and so do the events, whose times then follow in closed form (without it a
+  decaying motion under the fixed-point resolution made the step's polynomial
+  noise and its root search sweep ~1e20 multiples of 2 pi).
 
 Every function takes plain floats (the scene's data) and returns floats or
 mpmath numbers; nothing here imports pendula.
 """
 import math
+import time
 
 import mpmath as mp
 
@@ -152,7 +156,7 @@ class Taylor:
     BudgetExceeded beyond it.  relative: scale the tail bound by the state's
     size (events of a decaying motion keep their relative accuracy)."""
 
-    def __init__(self, w0, gamma, order=ORDER, eps=EPS, max_steps=10**9, relative=False):
+    def __init__(self, w0, gamma, order=ORDER, eps=EPS, max_steps=10**9, relative=False, max_seconds=math.inf):
         with mp.workprec(PREC + 40):
             self.w0 = mp.mpf(w0)
             self.gamma = mp.mpf(gamma)
@@ -160,6 +164,7 @@ class Taylor:
             self.W2 = _fix(self.w0 ** 2)
             self.two_pi = _fix(2 * mp.pi)
         self.order, self.eps, self.max_steps, self.relative = order, eps, max_steps, relative
+        self.max_seconds = max_seconds
         self.steps = 0
 
     def _step(self, th, om):
@@ -188,6 +193,7 @@ class Taylor:
         also (times, kinds) of the turning points (kind 1, omega = 0) and the zero
         crossings (kind 2, theta = 0 mod 2 pi: passes through the bottom, as pendula's
         scenes count them) in (0, t[-1]]."""
+        deadline = time.perf_counter() + self.max_seconds
         th, om = _fix(theta0), _fix(omega0)
         t_now = 0
         targets = [_fix(x) for x in t]
@@ -199,14 +205,18 @@ class Taylor:
             i += 1
         while t_now < t_end:
             settled, n = self._settled(th, om)
-            if handover and not events and settled:
+            if handover and settled:
                 rest = _linear(self, th, om, n, t_now, targets[i:])
                 out_th.extend(rest[0]), out_om.extend(rest[1])
+                if events:
+                    ev.extend(_linear_events(self, th, om, n, t_now, t_end))
                 break
             self.steps += 1
             if self.steps > self.max_steps or (self.steps == 100 and 100 * t_end > self.max_steps * t_now):
                 # over budget, or predicted to be from the first 100 steps
                 raise BudgetExceeded(f"more than {self.max_steps} Taylor steps")
+            if time.perf_counter() > deadline:
+                raise BudgetExceeded(f"more than {self.max_seconds} s")
             a, h = self._step(th, om)
             H = min(_fix(min(h, 1e300)) if h < math.inf else t_end - t_now, t_end - t_now)
             H = max(H, 1)
@@ -219,7 +229,10 @@ class Taylor:
                 # zero crossings are passes through the bottom, theta = 0 mod 2 pi: the
                 # roots of theta - 2 pi k for every k the step's samples span
                 vals = [_horner(a, H * j // 16) for j in range(17)]
-                for k in range(min(vals) // self.two_pi, max(vals) // self.two_pi + 2):
+                ks = range(min(vals) // self.two_pi, max(vals) // self.two_pi + 2)
+                if len(ks) > 64:     # the step's polynomial cannot sweep that far: a broken step
+                    raise BudgetExceeded(f"a step spans {len(ks)} multiples of 2 pi at t = {float(_mpf(t_now))}")
+                for k in ks:
                     ev.extend(_roots([a[0] - k * self.two_pi] + list(a[1:]), H, t_now, 2))
             th, om = _horner(a, H), _horner(_deriv(a), H)
             t_now += H
@@ -277,3 +290,42 @@ def _linear(tay, th, om, n, t_now, targets):
             v = mp.re(-g2 * x + e * (x0 * msh + b * ch))
             tt.append(_fix(base + x)), oo.append(_fix(v))
         return tt, oo
+
+
+def _linear_events(tay, th, om, n, t_now, t_end):
+    # the events in (t_now, t_end] of the linear motion from (x, v) at t_now, x = theta - 2 pi n:
+    # zero crossings are the roots of x, turning points those of v = x', which obeys the same
+    # equation from (v, -gamma v - w0^2 x); both have the form e^{-gamma tau/2} (y0 C + b S)
+    # with b = y'(0) + gamma y0/2 (C, S = cos, sin/w; cosh, sinh/mu; or 1, tau)
+    out = []
+    with mp.workprec(PREC + 40):
+        x0, v0 = _mpf(th - n * tay.two_pi), _mpf(om)
+        g2 = tay.gamma / 2
+        d2 = tay.w0 ** 2 - g2 ** 2
+        t0, span = _mpf(t_now), _mpf(t_end - t_now)
+        for kind, y0, y1 in ((2, x0, v0), (1, v0, -tay.gamma * v0 - tay.w0 ** 2 * x0)):
+            b = y1 + g2 * y0
+            if y0 == 0 and b == 0:
+                continue
+            if d2 > 0:                  # y0 cos(w tau) + (b/w) sin(w tau) = R cos(w tau - phi)
+                w = mp.sqrt(d2)
+                phi = mp.atan2(b / w, y0)
+                j = mp.ceil((-phi - mp.pi / 2) / mp.pi)
+                while True:
+                    tau = (phi + mp.pi / 2 + j * mp.pi) / w
+                    if tau > span:
+                        break
+                    if tau > 0:
+                        out.append((_fix(t0 + tau), kind))
+                    j += 1
+                continue
+            if d2 == 0:
+                tau = -y0 / b if b != 0 else mp.mpf(-1)
+            else:
+                mu = mp.sqrt(-d2)
+                r = -y0 * mu / b if b != 0 else mp.mpf(2)
+                tau = mp.atanh(r) / mu if -1 < r < 1 else mp.mpf(-1)
+            if 0 < tau <= span:
+                out.append((_fix(t0 + tau), kind))
+    return out
+

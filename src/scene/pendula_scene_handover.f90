@@ -13,7 +13,14 @@
 !> the linear equation.  That equation does not amplify: its energy
 !> Omega^2 + w0^2 theta^2 never grows (d/dt = -2 gamma Omega^2), so the
 !> carried error is at most sqrt(2) times the integrator's estimate (in
-!> max(|d theta|, |d Omega|/w0)).  Both are inside the reported estimate.
+!> max(|d theta|, |d Omega|/w0)); at the outputs after ts it is at most the
+!> gain of the linear propagator from ts to them (carry_gain), which decays
+!> like e^(-gamma (t - ts)/2).  Both are inside the reported estimate.  When
+!> no output precedes ts (want = final, or a grid that starts late) the state
+!> at ts is needed only to tol / gain: the integrator's part then runs at that
+!> looser tolerance (at most SUB_TOL_REL of the motion's size, where its own
+!> estimate is still in the asymptotic regime), so a long decayed window
+!> costs a coarse run.
 module pendula_scene_handover
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
@@ -36,6 +43,11 @@ module pendula_scene_handover
   real(wp), parameter :: MAX_PART = 0.75_wp
   !> Hand-over points tried before integrating the whole window.
   integer, parameter :: MAX_TRIES = 3
+  !> Loosest tolerance of the integrated part, relative to the motion's size
+  !> (the swing modulo 2 pi, at most pi), when the carried error decays
+  !> before the first output: the integrators' a posteriori estimates
+  !> (Richardson, two CVODE tolerances) assume errors well below the motion.
+  real(wp), parameter :: SUB_TOL_REL = 1.0e-2_wp
 
 contains
 
@@ -54,14 +66,17 @@ contains
     type(scene_t) :: sub
     type(scene_result_t) :: part, fresh
     type(scene_cost_t) :: spent
-    real(wp) :: ts, xs, vs, e1, elin, est, center
+    real(wp) :: ts, xs, vs, e1, elin, est, center, gain, swing
     integer :: it, k, sub_model
     if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
         scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
       ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
+      swing = min(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, pi)
       do it = 1, MAX_TRIES
         if (.not. ts < MAX_PART * tend) exit
         call sub_scene(scene, ts, sub, k)
+        gain = carry_gain(scene, ts, k)
+        if (k == 0) sub%tol = max(sub%tol, min(sub%tol / max(gain, tiny(1.0_wp)), SUB_TOL_REL * swing))
         part = fresh
         sub_model = model
         if (scene%model == SCENE_MODEL_AUTO) call pick_integrator(sub, ts, model, sub_model, status)
@@ -76,7 +91,9 @@ contains
         vs = part%omega(size(part%omega))
         e1 = part%error_estimate
         elin = linear_estimate(xs, vs, scene%w0, scene%gamma, tend - ts) + 2 * epsilon(1.0_wp) * abs(center)
-        est = max(e1, elin + sqrt(2.0_wp) * e1)
+        ! e1 bounds the outputs before ts too (when there are any)
+        est = elin + gain * e1
+        if (k > 0) est = max(e1, est)
         if (est <= scene%tol) then
           call assemble(scene, part, k, ts, center, xs, vs, est, result)
           call add_cost(spent, result%cost)
@@ -87,7 +104,7 @@ contains
           why = why // '; the motion has decayed by t = ' // format_sci(ts, 4) // ' s: ' // &
               trim(merge('RK4  ', 'CVODE', sub_model == SCENE_MODEL_RK4)) // ' up to there, then the linear ' // &
               'closed form from that state (nonlinearity ~' // format_sci(elin, 4) // ' rad, carried error ~' // &
-              format_sci(sqrt(2.0_wp) * e1, 4) // ' rad)'
+              format_sci(gain * e1, 4) // ' rad)'
           return
         end if
         if (elin <= scene%tol / 4) exit   ! the integrator's part is what fails: no later ts helps
@@ -124,6 +141,35 @@ contains
     sub%t = [scene%t(1:k), ts]
     if (scene%want /= SCENE_WANT_FINAL) sub%want = SCENE_WANT_STATE
   end subroutine sub_scene
+
+  ! Gain of the linear propagator from ts to the outputs after it: the largest,
+  ! over those outputs, of its induced norm in max(|theta|, |Omega|/w0)
+  ! (from the states (1, 0) and (0, w0) it maps), and never above sqrt(2)
+  ! (its energy does not grow).  k outputs precede ts (final: only t(n) follows).
+  pure real(wp) function carry_gain(scene, ts, k) result(gain)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: ts
+    integer, intent(in) :: k
+    type(linear_damped_t) :: ua, ub
+    type(status_t) :: st
+    real(wp), allocatable :: tau(:), xa(:), va(:), xb(:), vb(:)
+    integer :: n
+    n = size(scene%t)
+    if (scene%want == SCENE_WANT_FINAL) then
+      tau = [scene%t(n) - ts]
+    else
+      tau = scene%t(k+1:n) - ts
+    end if
+    allocate (xa(size(tau)), va(size(tau)), xb(size(tau)), vb(size(tau)))
+    call linear_damped_init(ua, 1.0_wp, 0.0_wp, scene%w0, scene%gamma, st)
+    call linear_damped_init(ub, 0.0_wp, scene%w0, scene%w0, scene%gamma, st)
+    call linear_damped_state(ua, tau, xa, va)
+    call linear_damped_state(ub, tau, xb, vb)
+    gain = 0
+    if (size(tau) > 0) gain = max(maxval(abs(xa) + abs(xb)), maxval(abs(va) + abs(vb)) / scene%w0)
+    ! a few ulps of the evaluation
+    gain = min(sqrt(2.0_wp), gain * (1 + 64 * epsilon(1.0_wp)))
+  end function carry_gain
 
   ! The integrator for the part [0, ts] (the choice for the whole window may
   ! have taken CVODE for a length RK4 now need not cover); a closed form is
@@ -176,18 +222,25 @@ contains
   ! Predicted time [s] after which the linear model's nonlinearity over the
   ! rest of a window of length span fits tol/4, for a motion from (x0, v0):
   ! a rotation first loses its excess energy (m decays at least like
-  ! e^(-gamma t) while it goes over the top), then the swing A decays at the
+  ! e^(-gamma t) while it goes over the top), a start at distance d0 from the
+  ! top first hangs there for ~ln(pi/d0)/lambda (lambda = sqrt(gamma^2/4 +
+  ! w0^2) - gamma/2, the growth rate of the linearization about the top:
+  ! without it a start 1e-6 rad below the top was predicted to have decayed
+  ! while still up, and every try failed), then the swing A decays at the
   ! slowest rate of the linear modes down to the amplitude A_h where
   ! linear_estimate (which grows like A^3) is tol/4.  A prediction only: the
   ! integrated state at that time decides.
   pure real(wp) function handover_time(x0, v0, w0, gamma, tol, span) result(ts)
     real(wp), intent(in) :: x0, v0, w0, gamma, tol, span
     real(wp), parameter :: AREF = 0.1_wp
-    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot
+    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot, thang, d0
     xr = abs(modulo(x0 + pi, 2 * pi) - pi)
     msep = sin(xr / 2)**2 + (v0 / (2 * w0))**2
     trot = 0
     if (msep >= 1) trot = (1 + log(msep)) / gamma
+    d0 = hypot(pi - xr, v0 / w0)
+    thang = 0
+    if (msep < 1 .and. d0 < pi) thang = log(pi / max(d0, epsilon(1.0_wp))) / (hypot(gamma / 2, w0) - gamma / 2)
     a0 = min(xr + abs(v0) / w0, pi)
     if (msep >= 1) a0 = pi
     half = gamma / 2
@@ -202,7 +255,7 @@ contains
       return
     end if
     ah = 0.8_wp * AREF * (0.25_wp * tol / eref)**(1.0_wp / 3)
-    ts = trot + max(0.0_wp, log(a0 / ah)) / rate
+    ts = trot + thang + max(0.0_wp, log(a0 / ah)) / rate
     ts = max(ts, 1 / max(w0, gamma))
   end function handover_time
 

@@ -26,6 +26,8 @@ CASES = [
     (0.0, 5.0, 0.1, 60, 1e-9, "state"),
     (2.5, 0.0, 0.2, 40, 1e-7, "energy"),
     (-2.0, 1.0, 0.2, 40, 1e-8, "theta"),
+    # hangs ~10 s at the top before it falls: the hand-over time counts that
+    (np.pi - 1e-6, 0.0, 3.0, 60, 1e-6, "final"),
 ]
 
 
@@ -64,7 +66,8 @@ def test_handover_is_honest(theta0, omega0, gamma, periods, tol, want):
     if want != "theta":
         err = max(err, np.max(np.abs(np.atleast_1d(res.omega) - om)) / W0)
     assert err <= tol, (err, res.error_estimate)
-    assert err <= res.error_estimate, (err, res.error_estimate)
+    # below the reference's own error (~1e-13 at |theta| ~ 4 pi) the grade cannot tell
+    assert err <= res.error_estimate + ref_err, (err, res.error_estimate, ref_err)
     assert res.tol_met
 
 
@@ -83,13 +86,13 @@ def _cheapest_fixed_rk4(scene, th, om, tol):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="economy target not met yet: the plan takes ~17000 RK4 steps where "
-                   "one fixed-step run of 142 steps meets tol (the state has decayed to ~0)")
 @pytest.mark.parametrize("theta0,omega0,gamma,periods,tol,want", [CASES[1]])
 def test_handover_costs_within_3x_one_fixed_step_run(theta0, omega0, gamma, periods, tol, want):
     """The plan (verification runs included) takes at most 3x the integrator steps of
     the single cheapest fixed-step RK4 run over the whole window that meets tol (a
-    run nobody can pick without the reference: it is the lower bound)."""
+    run nobody can pick without the reference: it is the lower bound).  Only the
+    final state is wanted and the error at the hand-over decays by ~e^-33 before
+    it: the integrated part runs at a tolerance loosened by that decay."""
     t = _times(periods, want)
     scene = pendula.Scene(theta0=theta0, omega0=omega0, t=t, gamma=gamma, tol=tol, want=want)
     res = pendula.solve(scene)
