@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import numbers
+import warnings
 
 import numpy as np
 
@@ -418,4 +419,7 @@ def _call(fname, kwargs):
     for k, v in list(kwargs.items()):
         if isinstance(v, str) and v in _PLACEHOLDERS:
             kwargs[k] = _PLACEHOLDERS[v]()
-    return getattr(pendula, fname)(**kwargs)
+    with warnings.catch_warnings():
+        # the extreme angles here are meant (tests/python/test_angle_warning.py tests the warning)
+        warnings.simplefilter("ignore", pendula.AngleWarning)
+        return getattr(pendula, fname)(**kwargs)
