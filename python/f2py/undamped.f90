@@ -74,13 +74,14 @@ subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, c
 end subroutine small_angle_bound_f2py
 
 subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0, n1, n2)
-  ! which = 1: the period [s] of each of n states, 2: its amplitude [rad]; the
-  ! property routines take inputs of size n or 1.
+  ! which = GLUE_PERIOD: the period [s] of each of n states, GLUE_AMPLITUDE: its
+  ! amplitude [rad]; the property routines take inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_properties
   implicit none
   include 'pendula_msg_len.inc'
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, which, n0, n1, n2
   real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
@@ -88,7 +89,7 @@ subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0,
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
-  if (which == 1) then
+  if (which == GLUE_PERIOD) then
     call undamped_properties(theta0, omega0, w0, st, period=x)
   else
     call undamped_properties(theta0, omega0, w0, st, amplitude=x)

@@ -25,12 +25,20 @@ import numpy as np
 from . import _fortran as _undamped
 from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
 from ._angle_warning import AngleWarning, warn_if_degrees
+from ._codes import GLUE_AMPLITUDE, GLUE_PERIOD
 from ._errors import raise_for_status
 from .physics import documented, pendulum_w0
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
-_PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
+
+# The state parameters of a function whose theta0 may warn, "{swing_state}".
+_SWING_STATE = """theta0 : float or array_like
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
+        warns (:class:`AngleWarning`).
+    omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}"""
 #: Largest abs(n) accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
 
@@ -144,13 +152,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
         Angle [rad] and angular velocity [rad/s] of the model at t, of the
         broadcast shape.
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -169,7 +171,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
                         w0=pendulum_w0(w0, g, length))
 
 
-@documented
+@documented(swing_state=_SWING_STATE)
 def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Rigorous bounds on the small-angle model's error over all abs(t) <= abs(tmax).
 
@@ -182,12 +184,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
     ----------
     tmax : float or array_like
         Half-width of the window [s], any real value (abs(tmax) is used).
-    theta0 : float or array_like
-        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
-        warns (:class:`AngleWarning`).
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {swing_state}
 
     Returns
     -------
@@ -196,13 +193,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
         [rad/s] over the window, of the broadcast shape; +inf for the
         separatrix and rotations (the model cannot go over the top).
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -259,13 +250,7 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     float or ndarray
         Period [s], of the broadcast shape; +inf on the separatrix.
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -283,12 +268,12 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> round(pendula.period(1.0, g=9.8, length=1.0), 6)
     2.140229
     """
-    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD,
+    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_PERIOD,
                                             g=g, length=length, amplitude=True)
     return restore(per, shape, scalar)
 
 
-@documented
+@documented(swing_state=_SWING_STATE)
 def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Amplitude of the swing from the state (theta0, omega0).
 
@@ -297,25 +282,14 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Parameters
     ----------
-    theta0 : float or array_like
-        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
-        warns (:class:`AngleWarning`).
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {swing_state}
 
     Returns
     -------
     float or ndarray
         Amplitude [rad], of the broadcast shape.
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -330,7 +304,7 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> pendula.amplitude(0.0, omega0=5.0, w0=1.0)      # rotation
     inf
     """
-    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE,
+    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_AMPLITUDE,
                                             g=g, length=length, amplitude=True)
     return restore(amp, shape, scalar)
 
