@@ -56,6 +56,8 @@ program gen_codes
   call int_line('GLUE_PARAM_P', GLUE_PARAM_P)
   call int_line('GLUE_JACOBI_AUTO', GLUE_JACOBI_AUTO)
   call int_line('GLUE_JACOBI_PLAN', GLUE_JACOBI_PLAN)
+  call int_line('GLUE_SMALL_ANGLE_MOTION', GLUE_SMALL_ANGLE_MOTION)
+  call int_line('GLUE_SMALL_ANGLE_BOUND', GLUE_SMALL_ANGLE_BOUND)
   call int_line('GLUE_PERIOD', GLUE_PERIOD)
   call int_line('GLUE_AMPLITUDE', GLUE_AMPLITUDE)
   call int_line('GLUE_W0', GLUE_W0)
