@@ -36,7 +36,7 @@ def _worst(rows, path):
         if path == "elementwise":
             got = (pendula.ellipjm1 if comp[i] else pendula.ellipj)(u[i], p[i])
         else:
-            fn = T._elliptic.ellipjm1_plan_into_f2py if comp[i] else T._elliptic.ellipj_plan_into_f2py
+            fn = T._plan_into(comp[i])
             got = [g[0] for g in T._into(fn, np.array([u[i]]), p[i])]
         worst = max(worst, float((T._rel(got, ref[i]) / cond[i]).max()))
     return worst

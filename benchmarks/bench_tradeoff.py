@@ -34,6 +34,7 @@ from scipy.integrate import solve_ivp
 
 import harness
 import pendula
+from pendula._scipy_rows import rhs_and_jacobian
 
 W0 = math.sqrt(9.8 / 4.9)
 T0 = 2 * math.pi / W0
@@ -61,13 +62,7 @@ def scipy_rows(scene, ref, quick, repeat):
     rtols = [10.0 ** -k for k in range(3, 13, 3 if quick else 1)]
     budget = 0.5 if quick else 8.0     # seconds per run before tighter settings are skipped
     t = scene.t
-
-    def rhs(_, y):
-        return [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])]
-
-    def jac(_, y):
-        return [[0.0, 1.0], [-w0 * w0 * math.cos(y[0]), -gamma]]
-
+    rhs, jac = rhs_and_jacobian(w0, gamma)   # the same right-hand side as pendula.tradeoff's SciPy rows
     rows = []
     for m in methods:
         for r in rtols:

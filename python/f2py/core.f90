@@ -2,37 +2,29 @@
 ! c_double/c_int arguments, explicit-shape arrays, and a status code + message
 ! that the Python side turns into an exception.  No numerics here.
 
-subroutine natural_frequency_f2py(g, length, w0, code, msg)
+subroutine physics_rate_f2py(which, a, b, x, code, msg)
+  ! which = GLUE_W0: x = w0 from (a, b) = (g, length); GLUE_GAMMA: x = gamma from
+  ! (a, b) = (b, mass).
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
-  use pendula_physics, only: natural_frequency
+  use pendula_physics, only: natural_frequency, damping_rate
   implicit none
   include 'pendula_msg_len.inc'
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
-  real(c_double), intent(in) :: g, length
-  real(c_double), intent(out) :: w0
+  integer(c_int), intent(in) :: which
+  real(c_double), intent(in) :: a, b
+  real(c_double), intent(out) :: x
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
-  call natural_frequency(g, length, w0, st)
+  if (which == GLUE_W0) then
+    call natural_frequency(a, b, x, st)
+  else
+    call damping_rate(a, b, x, st)
+  end if
   call status_unpack(st, code, msg)
-end subroutine natural_frequency_f2py
-
-subroutine damping_rate_f2py(b, mass, gamma, code, msg)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, status_unpack
-  use pendula_physics, only: damping_rate
-  implicit none
-  include 'pendula_msg_len.inc'
-  !f2py threadsafe
-  real(c_double), intent(in) :: b, mass
-  real(c_double), intent(out) :: gamma
-  integer(c_int), intent(out) :: code
-  character(len=PENDULA_MSG_LEN), intent(out) :: msg
-  type(status_t) :: st
-  call damping_rate(b, mass, gamma, st)
-  call status_unpack(st, code, msg)
-end subroutine damping_rate_f2py
+end subroutine physics_rate_f2py
 
 subroutine period_series_f2py(n, m, w0, t, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int

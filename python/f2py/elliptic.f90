@@ -4,164 +4,97 @@
 ! ValueError.  No numerics here.  The array routines' size check (status) cannot
 ! fail here: every array is declared with the same n, so their status is not read.
 
-subroutine ellipk_f2py(n, m, k)
+subroutine ellip_ke_f2py(which, n, x, y)
+  ! which = GLUE_ELLIPK: y = K(x = m); GLUE_ELLIPKM1: K(1 - x), x = p; GLUE_ELLIPE,
+  ! GLUE_ELLIPEM1: the same for E.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipk_array
+  use pendula_elliptic, only: ellipk_array, ellipkm1, ellipe_array, ellipem1
   use pendula_status, only: status_t
   implicit none
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: m(n)
-  real(c_double), intent(out) :: k(n)
+  integer(c_int), intent(in) :: which, n
+  real(c_double), intent(in) :: x(n)
+  real(c_double), intent(out) :: y(n)
   type(status_t) :: status
-  call ellipk_array(m, k, status)
-end subroutine ellipk_f2py
+  select case (which)
+  case (GLUE_ELLIPK)
+    call ellipk_array(x, y, status)
+  case (GLUE_ELLIPKM1)
+    y = ellipkm1(x)
+  case (GLUE_ELLIPE)
+    call ellipe_array(x, y, status)
+  case default
+    y = ellipem1(x)
+  end select
+end subroutine ellip_ke_f2py
 
-subroutine ellipkm1_f2py(n, mc, k)
+subroutine ellipf_f2py(which, n, phi, x, f)
+  ! F(phi | x) for which = GLUE_PARAM_M, F(phi | 1 - x) for GLUE_PARAM_P.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipkm1
+  use pendula_elliptic, only: ellipf, ellipfm1
   implicit none
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: mc(n)
-  real(c_double), intent(out) :: k(n)
-  k = ellipkm1(mc)
-end subroutine ellipkm1_f2py
-
-subroutine ellipe_f2py(n, m, e)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipe_array
-  use pendula_status, only: status_t
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: m(n)
-  real(c_double), intent(out) :: e(n)
-  type(status_t) :: status
-  call ellipe_array(m, e, status)
-end subroutine ellipe_f2py
-
-subroutine ellipem1_f2py(n, mc, e)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipem1
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: mc(n)
-  real(c_double), intent(out) :: e(n)
-  e = ellipem1(mc)
-end subroutine ellipem1_f2py
-
-subroutine ellipf_f2py(n, phi, m, f)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipf
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: phi(n), m(n)
+  integer(c_int), intent(in) :: which, n
+  real(c_double), intent(in) :: phi(n), x(n)
   real(c_double), intent(out) :: f(n)
-  f = ellipf(phi, m)
+  if (which == GLUE_PARAM_M) then
+    f = ellipf(phi, x)
+  else
+    f = ellipfm1(phi, x)
+  end if
 end subroutine ellipf_f2py
-
-subroutine ellipfm1_f2py(n, phi, mc, f)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipfm1
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: phi(n), mc(n)
-  real(c_double), intent(out) :: f(n)
-  f = ellipfm1(phi, mc)
-end subroutine ellipfm1_f2py
 
 ! Jacobi functions written into arrays the caller allocated (numpy.empty): f2py fills
 ! the arrays it allocates for intent(out) with zeros first, a wasted pass over 4 n
-! doubles.  The *_one_m_* forms take one parameter for many u and let the library
-! decide whether a plan pays off; the *_plan_* forms always use one (for the tests).
-subroutine ellipj_into_f2py(n, u, m, sn, cn, dn, ph)
+! doubles.  which = GLUE_PARAM_M: x is m, GLUE_PARAM_P: x is p = 1 - m.
+subroutine ellipj_into_f2py(which, n, u, x, sn, cn, dn, ph)
+  ! One parameter per u.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_array
+  use pendula_elliptic, only: ellipj_array, ellipjm1_array
   use pendula_status, only: status_t
   implicit none
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), m(n)
+  integer(c_int), intent(in) :: which, n
+  real(c_double), intent(in) :: u(n), x(n)
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
   type(status_t) :: status
-  call ellipj_array(u, m, sn, cn, dn, status, ph)
+  if (which == GLUE_PARAM_M) then
+    call ellipj_array(u, x, sn, cn, dn, status, ph)
+  else
+    call ellipjm1_array(u, x, sn, cn, dn, status, ph)
+  end if
 end subroutine ellipj_into_f2py
 
-subroutine ellipjm1_into_f2py(n, u, mc, sn, cn, dn, ph)
+subroutine ellipj_one_into_f2py(which, how, n, u, x, sn, cn, dn, ph)
+  ! One parameter for all u: how = GLUE_JACOBI_AUTO lets the library decide whether a
+  ! plan pays off, GLUE_JACOBI_PLAN always uses one.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipjm1_array
+  use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval_array, &
+      ellipj_one_m_array, ellipjm1_one_m_array
   use pendula_status, only: status_t
   implicit none
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), mc(n)
-  real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
-  !f2py intent(inplace) :: sn, cn, dn, ph
-  type(status_t) :: status
-  call ellipjm1_array(u, mc, sn, cn, dn, status, ph)
-end subroutine ellipjm1_into_f2py
-
-subroutine ellipj_plan_into_f2py(n, u, m, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_eval_array
-  use pendula_status, only: status_t
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), m
+  integer(c_int), intent(in) :: which, how, n
+  real(c_double), intent(in) :: u(n), x
   real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
   !f2py intent(inplace) :: sn, cn, dn, ph
   type(ellipj_plan_t) :: plan
   type(status_t) :: status
-  plan = ellipj_plan(m)
-  call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
-end subroutine ellipj_plan_into_f2py
-
-subroutine ellipjm1_plan_into_f2py(n, u, mc, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_plan_t, ellipj_planm1, ellipj_eval_array
-  use pendula_status, only: status_t
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), mc
-  real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
-  !f2py intent(inplace) :: sn, cn, dn, ph
-  type(ellipj_plan_t) :: plan
-  type(status_t) :: status
-  plan = ellipj_planm1(mc)
-  call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
-end subroutine ellipjm1_plan_into_f2py
-
-subroutine ellipj_one_m_into_f2py(n, u, m, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipj_one_m_array
-  use pendula_status, only: status_t
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), m
-  real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
-  !f2py intent(inplace) :: sn, cn, dn, ph
-  type(status_t) :: status
-  call ellipj_one_m_array(u, m, sn, cn, dn, status, ph)
-end subroutine ellipj_one_m_into_f2py
-
-subroutine ellipjm1_one_m_into_f2py(n, u, mc, sn, cn, dn, ph)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipjm1_one_m_array
-  use pendula_status, only: status_t
-  implicit none
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: u(n), mc
-  real(c_double), intent(inout) :: sn(n), cn(n), dn(n), ph(n)
-  !f2py intent(inplace) :: sn, cn, dn, ph
-  type(status_t) :: status
-  call ellipjm1_one_m_array(u, mc, sn, cn, dn, status, ph)
-end subroutine ellipjm1_one_m_into_f2py
+  if (how == GLUE_JACOBI_PLAN) then
+    if (which == GLUE_PARAM_M) then
+      plan = ellipj_plan(x)
+    else
+      plan = ellipj_planm1(x)
+    end if
+    call ellipj_eval_array(plan, u, sn, cn, dn, status, ph)
+  else if (which == GLUE_PARAM_M) then
+    call ellipj_one_m_array(u, x, sn, cn, dn, status, ph)
+  else
+    call ellipjm1_one_m_array(u, x, sn, cn, dn, status, ph)
+  end if
+end subroutine ellipj_one_into_f2py

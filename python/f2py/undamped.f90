@@ -22,65 +22,55 @@ subroutine undamped_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg, nt, 
   call status_unpack(st, code, msg)
 end subroutine undamped_f2py
 
-subroutine small_angle_f2py(n, t, theta0, omega0, w0, theta, omega, code, msg)
-  use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, status_unpack, PENDULA_OK
-  use pendula_small_angle, only: small_angle_solve
-  implicit none
-  include 'pendula_msg_len.inc'
-  !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: t(n), theta0(n), omega0(n), w0(n)
-  real(c_double), intent(out) :: theta(n), omega(n)
-  integer(c_int), intent(out) :: code
-  character(len=PENDULA_MSG_LEN), intent(out) :: msg
-  type(status_t) :: st
-  integer :: i
-  theta = 0
-  omega = 0
-  do i = 1, n
-    call small_angle_solve(t(i:i), theta0(i), omega0(i), w0(i), theta(i:i), omega(i:i), st)
-    if (st%code /= PENDULA_OK) exit
-  end do
-  call status_unpack(st, code, msg)
-end subroutine small_angle_f2py
-
-subroutine small_angle_bound_f2py(n, tmax, theta0, omega0, w0, dtheta, domega, code, msg)
+subroutine small_angle_f2py(which, n, x, theta0, omega0, w0, a, b, code, msg)
+  ! Element i of the small-angle model of the state (theta0, omega0, w0)(i):
+  ! which = GLUE_SMALL_ANGLE_MOTION: (a, b) = (theta, omega) at time x(i) [s];
+  ! GLUE_SMALL_ANGLE_BOUND: (a, b) = bounds on its error in theta and omega over
+  ! abs(t) <= abs(x(i)).
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack, check_finite, PENDULA_OK
   use pendula_undamped, only: undamped_motion_t, undamped_init
-  use pendula_small_angle, only: small_angle_bound
+  use pendula_small_angle, only: small_angle_solve, small_angle_bound
   implicit none
   include 'pendula_msg_len.inc'
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n
-  real(c_double), intent(in) :: tmax(n), theta0(n), omega0(n), w0(n)
-  real(c_double), intent(out) :: dtheta(n), domega(n)
+  integer(c_int), intent(in) :: which, n
+  real(c_double), intent(in) :: x(n), theta0(n), omega0(n), w0(n)
+  real(c_double), intent(out) :: a(n), b(n)
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(undamped_motion_t) :: motion
   type(status_t) :: st
   integer :: i
-  dtheta = 0
-  domega = 0
-  do i = 1, n
-    call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=.false.)
-    if (st%code /= PENDULA_OK) exit
-    call check_finite('tmax', tmax(i), st)
-    if (st%code /= PENDULA_OK) exit
-    call small_angle_bound(motion, tmax(i), dtheta(i), domega(i))
-  end do
+  a = 0
+  b = 0
+  if (which == GLUE_SMALL_ANGLE_MOTION) then
+    do i = 1, n
+      call small_angle_solve(x(i:i), theta0(i), omega0(i), w0(i), a(i:i), b(i:i), st)
+      if (st%code /= PENDULA_OK) exit
+    end do
+  else
+    do i = 1, n
+      call undamped_init(motion, theta0(i), omega0(i), w0(i), st, plan=.false.)
+      if (st%code /= PENDULA_OK) exit
+      call check_finite('tmax', x(i), st)
+      if (st%code /= PENDULA_OK) exit
+      call small_angle_bound(motion, x(i), a(i), b(i))
+    end do
+  end if
   call status_unpack(st, code, msg)
-end subroutine small_angle_bound_f2py
+end subroutine small_angle_f2py
 
 subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0, n1, n2)
-  ! which = 1: the period [s] of each of n states, 2: its amplitude [rad]; the
-  ! property routines take inputs of size n or 1.
+  ! which = GLUE_PERIOD: the period [s] of each of n states, GLUE_AMPLITUDE: its
+  ! amplitude [rad]; the property routines take inputs of size n or 1.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_undamped, only: undamped_properties
   implicit none
   include 'pendula_msg_len.inc'
+  include 'pendula_glue_codes.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, which, n0, n1, n2
   real(c_double), intent(in) :: theta0(n0), omega0(n1), w0(n2)
@@ -88,7 +78,7 @@ subroutine period_amplitude_f2py(n, which, theta0, omega0, w0, x, code, msg, n0,
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
-  if (which == 1) then
+  if (which == GLUE_PERIOD) then
     call undamped_properties(theta0, omega0, w0, st, period=x)
   else
     call undamped_properties(theta0, omega0, w0, st, amplitude=x)

@@ -36,6 +36,17 @@ def methods(scipy, default_all):
     return list(scipy)
 
 
+def rhs_and_jacobian(w0, gamma):
+    """solve_ivp's fun(t, y) and jac(t, y) for theta'' = -gamma theta' - w0^2 sin(theta),
+    y = (theta [rad], omega [rad/s]); w0, gamma [1/s]."""
+    def rhs(_, y):
+        return [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])]
+
+    def jac(_, y):
+        return [[0.0, 1.0], [-w0 * w0 * math.cos(y[0]), -gamma]]
+    return rhs, jac
+
+
 def rows(st, method, rtols, ref, repeat, max_steps):
     """TradeoffTable rows of solve_ivp(method) on the state scene st at each rtol."""
     tend = float(st.t[-1])
@@ -43,15 +54,9 @@ def rows(st, method, rtols, ref, repeat, max_steps):
     if tend <= 0 or (method not in _IMPLICIT and tend / rk4_max_stable_step(st.w0, st.gamma) > max_steps):
         return []
     solve_ivp = optional("scipy").integrate.solve_ivp
-    w0, gamma = st.w0, st.gamma
+    w0 = st.w0
     scale = max(abs(st.theta0), abs(st.omega0) / w0) or 1.0
-
-    def rhs(_, y):
-        return [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])]
-
-    def jac(_, y):
-        return [[0.0, 1.0], [-w0 * w0 * math.cos(y[0]), -gamma]]
-
+    rhs, jac = rhs_and_jacobian(w0, st.gamma)
     out = []
     for r in rtols:
         kw = {"jac": jac} if method in _IMPLICIT else {}

@@ -33,6 +33,8 @@ Where they differ from ``scipy.special`` (docs/guide/elliptic.md lists it all):
 import numpy as np
 
 from . import _fortran as _elliptic
+from ._codes import (GLUE_ELLIPE, GLUE_ELLIPEM1, GLUE_ELLIPK, GLUE_ELLIPKM1, GLUE_JACOBI_AUTO,
+                     GLUE_PARAM_M, GLUE_PARAM_P)
 from ._arrays import as_array, broadcast_real, check_size, real_scalar, restore
 from .physics import documented
 
@@ -84,16 +86,16 @@ def _raise_on_domain(errors):
     return errors == "raise"
 
 
-def _one_output(kernel, message, errors, **named):
-    """Broadcast the named inputs, call the one-output f2py kernel on them (in
-    that order); the Fortran elemental functions give a quiet NaN outside their
+def _one_output(kernel, which, message, errors, **named):
+    """Broadcast the named inputs, call the one-output f2py kernel with selector
+    code which on them (in that order); the Fortran elemental functions give a quiet NaN outside their
     domain, which with errors="raise" becomes ValueError (message) where the
     input was not NaN.  The result has the inputs' shape."""
     check = _raise_on_domain(errors)
     shape, scalar, f = _prepare(**named)
     if next(iter(f.values())).size == 0:
         return _empty(shape, 1)
-    out = kernel(*f.values())
+    out = kernel(which, *f.values())
     if check:
         _check_nan_domain(out, message, **f)
     return restore(out, shape, scalar)
@@ -158,7 +160,7 @@ def ellipk(m, *, errors="raise"):
     >>> pendula.ellipk([0.0, 1.0, 2.0], errors="nan").round(6)
     array([1.570796,      inf,      nan])
     """
-    return _one_output(_elliptic.ellipk_f2py, "ellipk: m must be <= 1", errors, m=m)
+    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPK, "ellipk: m must be <= 1", errors, m=m)
 
 
 @_elliptic_doc
@@ -197,7 +199,8 @@ def ellipkm1(p, *, errors="raise"):
     >>> round(pendula.ellipkm1(1e-300), 6)          # ln(4/sqrt(p)) + O(p ln p)
     346.774058
     """
-    return _one_output(_elliptic.ellipkm1_f2py, "ellipkm1: p = 1 - m must be >= 0", errors, p=p)
+    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPKM1,
+                        "ellipkm1: p = 1 - m must be >= 0", errors, p=p)
 
 
 @_elliptic_doc
@@ -235,7 +238,7 @@ def ellipe(m, *, errors="raise"):
     >>> pendula.ellipe(1.0)
     1.0
     """
-    return _one_output(_elliptic.ellipe_f2py, "ellipe: m must be <= 1", errors, m=m)
+    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPE, "ellipe: m must be <= 1", errors, m=m)
 
 
 @_elliptic_doc
@@ -270,7 +273,8 @@ def ellipem1(p, *, errors="raise"):
     >>> round(pendula.ellipem1(0.5), 12)
     1.350643881048
     """
-    return _one_output(_elliptic.ellipem1_f2py, "ellipem1: p = 1 - m must be >= 0", errors, p=p)
+    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPEM1,
+                        "ellipem1: p = 1 - m must be >= 0", errors, p=p)
 
 
 @_elliptic_doc
@@ -317,7 +321,8 @@ def ellipf(phi, m, *, errors="raise"):
     >>> pendula.ellipf([0.5, 1.5], 2.0, errors="nan").round(6)
     array([0.551359,      nan])
     """
-    return _one_output(_elliptic.ellipf_f2py, "ellipf: need m*sin(phi)**2 <= 1", errors, phi=phi, m=m)
+    return _one_output(_elliptic.ellipf_f2py, GLUE_PARAM_M,
+                        "ellipf: need m*sin(phi)**2 <= 1", errors, phi=phi, m=m)
 
 
 ellipkinc = ellipf
@@ -357,7 +362,8 @@ def ellipfm1(phi, p, *, errors="raise"):
     >>> round(pendula.ellipfm1(1.0, 0.5), 12) == round(pendula.ellipf(1.0, 0.5), 12)
     True
     """
-    return _one_output(_elliptic.ellipfm1_f2py, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", errors, phi=phi, p=p)
+    return _one_output(_elliptic.ellipf_f2py, GLUE_PARAM_P,
+                        "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", errors, phi=phi, p=p)
 
 
 def _check_finite_jacobi(sn, u, m, name):
@@ -382,7 +388,8 @@ def _outputs(n):
     return out[0], out[1], out[2], out[3]
 
 
-def _jacobi(u, m, name, vec, one_m, errors):
+def _jacobi(u, m, name, which, errors):
+    # which: the glue's GLUE_PARAM_M (m is m) or GLUE_PARAM_P (m is p = 1 - m)
     check = _raise_on_domain(errors)
     # ragged or non-numeric input fails here, by name, before its shape is asked
     u = u if isinstance(u, np.ndarray) else as_array(u, "u")
@@ -394,7 +401,7 @@ def _jacobi(u, m, name, vec, one_m, errors):
         if f["u"].size == 0:
             return _empty(shape, 4)
         res = _outputs(f["u"].size)
-        one_m(f["u"], mval, *res)
+        _elliptic.ellipj_one_into_f2py(which, GLUE_JACOBI_AUTO, f["u"], mval, *res)
         if check:
             _check_finite_jacobi(res[0], f["u"], np.broadcast_to(mval, f["u"].shape), name)
         return tuple(r.reshape(shape) for r in res)
@@ -402,7 +409,7 @@ def _jacobi(u, m, name, vec, one_m, errors):
     if f["u"].size == 0:
         return _empty(shape, 4)
     res = _outputs(f["u"].size)
-    vec(f["u"], f[name], *res)
+    _elliptic.ellipj_into_f2py(which, f["u"], f[name], *res)
     if check:
         _check_finite_jacobi(res[0], f["u"], f[name], name)
     return tuple(restore(r, shape, scalar) for r in res)
@@ -460,7 +467,7 @@ def ellipj(u, m, *, errors="raise"):
     >>> sn.round(6)
     array([0.47075,     nan])
     """
-    return _jacobi(u, m, "m", _elliptic.ellipj_into_f2py, _elliptic.ellipj_one_m_into_f2py, errors)
+    return _jacobi(u, m, "m", GLUE_PARAM_M, errors)
 
 
 @_elliptic_doc
@@ -504,4 +511,4 @@ def ellipjm1(u, p, *, errors="raise"):
     >>> round(sn, 12), round(dn, 12)
     (0.761594155956, 0.648054273664)
     """
-    return _jacobi(u, p, "p", _elliptic.ellipjm1_into_f2py, _elliptic.ellipjm1_one_m_into_f2py, errors)
+    return _jacobi(u, p, "p", GLUE_PARAM_P, errors)

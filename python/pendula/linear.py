@@ -29,7 +29,9 @@ _START = """t : float or array_like
     theta0 : float or array_like
         Initial angle [rad], finite.
     omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0."""
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}
+    {damping}"""
 
 
 def _params(w0, gamma, g, length, b, mass):
@@ -49,8 +51,6 @@ def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=
     Parameters
     ----------
     {start}
-    {pendulum}
-    {damping}
 
     Returns
     -------
@@ -118,8 +118,6 @@ def linear_damped_envelope(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None
     Parameters
     ----------
     {start}
-    {pendulum}
-    {damping}
 
     Returns
     -------

@@ -11,7 +11,7 @@ import numpy as np
 
 from . import _fortran
 from ._arrays import as_real, broadcast_real, real_scalar, restore
-from ._codes import G_DEFAULT, LENGTH_DEFAULT, PARAM_RTOL
+from ._codes import G_DEFAULT, GLUE_GAMMA, GLUE_W0, LENGTH_DEFAULT, PARAM_RTOL
 from ._errors import raise_for_status
 
 
@@ -56,7 +56,7 @@ def natural_frequency(g=G_DEFAULT, length=LENGTH_DEFAULT):
     >>> pendula.natural_frequency(g=9.8, length=9.8)
     1.0
     """
-    w0, code, msg = _fortran.natural_frequency_f2py(real_scalar(g, "g"), real_scalar(length, "length"))
+    w0, code, msg = _fortran.physics_rate_f2py(GLUE_W0, real_scalar(g, "g"), real_scalar(length, "length"))
     raise_for_status(code, msg)
     return float(w0)
 
@@ -96,7 +96,7 @@ def damping_rate(b, mass):
     >>> round(pendula.damping_rate(0.05, 0.1), 12)
     0.5
     """
-    gamma, code, msg = _fortran.damping_rate_f2py(real_scalar(b, "b"), real_scalar(mass, "mass"))
+    gamma, code, msg = _fortran.physics_rate_f2py(GLUE_GAMMA, real_scalar(b, "b"), real_scalar(mass, "mass"))
     raise_for_status(code, msg)
     return float(gamma)
 
@@ -104,7 +104,7 @@ def damping_rate(b, mass):
 _W0_DEFAULT = natural_frequency()
 
 # Docstring parts shared by the functions that take a pendulum, substituted for
-# "{pendulum}", "{damping}", "{raises}" and "{swing}" (see ``documented``), so that
+# "{pendulum}", "{damping}", "{raises}", "{swing}" and "{checks}" (see ``documented``), so that
 # the convention is written once.
 DOC_PARTS = {
     "pendulum": """w0 : float or array_like, optional
@@ -127,14 +127,23 @@ DOC_PARTS = {
     "swing": """AngleWarning
         abs(theta0) > 2 pi while the pendulum swings (degrees given as radians?).""",
 }
+# The Raises and Warns sections of the functions of a swinging state, "{checks}".
+DOC_PARTS["checks"] = f"""Raises
+    ------
+    {DOC_PARTS["raises"]}
+
+    Warns
+    -----
+    {DOC_PARTS["swing"]}"""
 
 
 def documented(f=None, **parts):
-    """Decorator: put DOC_PARTS (and ``parts``, for one module's own) into the
-    docstring; ``@documented`` or ``@documented(name=text)``."""
+    """Decorator: put ``parts`` (one module's own) and then DOC_PARTS into the
+    docstring, so a module's part may itself hold "{pendulum}" and the like;
+    ``@documented`` or ``@documented(name=text)``."""
     if f is None:
         return lambda g: documented(g, **parts)
-    for key, text in {**DOC_PARTS, **parts}.items():
+    for key, text in [*parts.items(), *DOC_PARTS.items()]:
         f.__doc__ = f.__doc__.replace("{" + key + "}", text)
     return f
 

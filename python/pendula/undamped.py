@@ -25,17 +25,29 @@ import numpy as np
 from . import _fortran as _undamped
 from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
 from ._angle_warning import AngleWarning, warn_if_degrees
+from ._codes import GLUE_AMPLITUDE, GLUE_PERIOD, GLUE_SMALL_ANGLE_BOUND, GLUE_SMALL_ANGLE_MOTION
 from ._errors import raise_for_status
 from .physics import documented, pendulum_w0
 
 REGIMES = {1: "libration", 2: "separatrix", 3: "rotation"}
-_PERIOD, _AMPLITUDE = 1, 2     # which property period_amplitude_f2py returns
 EQUILIBRIUM_TYPES = {1: "centre", 2: "saddle"}
+
+# Docstring parts of this module (see physics.documented): omega0 and the
+# pendulum, "{omega0}"; the state parameters of a function whose theta0 may
+# warn, "{swing_state}".
+_OMEGA0 = """omega0 : float or array_like, optional
+        Initial angular velocity [rad/s], finite.  Default 0.
+    {pendulum}"""
+_SWING_STATE = """theta0 : float or array_like
+        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
+        warns (:class:`AngleWarning`).
+    {omega0}"""
+_documented = documented(swing_state=_SWING_STATE, omega0=_OMEGA0)
 #: Largest abs(n) accepted by ``equilibria`` (the Fortran index is a default integer).
 N_MAX = 2**31 - 1
 
 
-@documented
+@_documented
 def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Exact motion (theta(t), omega(t)) of the undamped pendulum from any state.
 
@@ -56,9 +68,7 @@ def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
         Times [s], any real values (negative, unsorted).
     theta0 : float or array_like
         Initial angle [rad], finite.
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {omega0}
 
     Returns
     -------
@@ -105,20 +115,20 @@ def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
 
-def _two_outputs(kernel, **named):
+def _small_angle(which, **named):
     """Broadcast the named inputs, warn for amplitudes that look like degrees,
-    call the two-output f2py kernel on them (in that order) and raise for its
-    status; both results have the inputs' shape."""
+    call the small-angle glue with selector code which on them (in that order)
+    and raise for its status; both results have the inputs' shape."""
     shape, scalar, f = broadcast_real(**named)
     if next(iter(f.values())).size == 0:
         return np.empty(shape), np.empty(shape)
     warn_if_degrees(f["theta0"], f["omega0"], f["w0"])
-    a, b, code, msg = kernel(*f.values())
+    a, b, code, msg = _undamped.small_angle_f2py(which, *f.values())
     raise_for_status(code, msg)
     return restore(a, shape, scalar), restore(b, shape, scalar)
 
 
-@documented
+@_documented
 def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t).
 
@@ -134,9 +144,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     theta0 : float or array_like
         Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
         warns (:class:`AngleWarning`: degrees given as radians?).
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {omega0}
 
     Returns
     -------
@@ -144,13 +152,7 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
         Angle [rad] and angular velocity [rad/s] of the model at t, of the
         broadcast shape.
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -165,11 +167,11 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> theta.round(6), omega.round(6)
     (array([0.1    , 0.05403]), array([ 0.      , -0.084147]))
     """
-    return _two_outputs(_undamped.small_angle_f2py, t=t, theta0=theta0, omega0=omega0,
+    return _small_angle(GLUE_SMALL_ANGLE_MOTION, t=t, theta0=theta0, omega0=omega0,
                         w0=pendulum_w0(w0, g, length))
 
 
-@documented
+@_documented
 def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Rigorous bounds on the small-angle model's error over all abs(t) <= abs(tmax).
 
@@ -182,12 +184,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
     ----------
     tmax : float or array_like
         Half-width of the window [s], any real value (abs(tmax) is used).
-    theta0 : float or array_like
-        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
-        warns (:class:`AngleWarning`).
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {swing_state}
 
     Returns
     -------
@@ -196,13 +193,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
         [rad/s] over the window, of the broadcast shape; +inf for the
         separatrix and rotations (the model cannot go over the top).
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -217,7 +208,7 @@ def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None)
     >>> bool(dtheta < 2e-3), bool(domega < 3e-3)
     (True, True)
     """
-    return _two_outputs(_undamped.small_angle_bound_f2py, tmax=tmax, theta0=theta0, omega0=omega0,
+    return _small_angle(GLUE_SMALL_ANGLE_BOUND, tmax=tmax, theta0=theta0, omega0=omega0,
                         w0=pendulum_w0(w0, g, length))
 
 
@@ -236,7 +227,7 @@ def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=N
     return shape, scalar, values
 
 
-@documented
+@_documented
 def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Exact period of the undamped pendulum from the state (theta0, omega0).
 
@@ -250,22 +241,14 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     theta0 : float or array_like
         Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
         warns (:class:`AngleWarning`: ``period(90)`` is 90 rad, not 90 deg).
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {omega0}
 
     Returns
     -------
     float or ndarray
         Period [s], of the broadcast shape; +inf on the separatrix.
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -283,12 +266,12 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> round(pendula.period(1.0, g=9.8, length=1.0), 6)
     2.140229
     """
-    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _PERIOD,
+    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_PERIOD,
                                             g=g, length=length, amplitude=True)
     return restore(per, shape, scalar)
 
 
-@documented
+@_documented
 def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Amplitude of the swing from the state (theta0, omega0).
 
@@ -297,25 +280,14 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
     Parameters
     ----------
-    theta0 : float or array_like
-        Initial angle [rad], finite; abs(theta0) > 2 pi on a swinging state
-        warns (:class:`AngleWarning`).
-    omega0 : float or array_like, optional
-        Initial angular velocity [rad/s], finite.  Default 0.
-    {pendulum}
+    {swing_state}
 
     Returns
     -------
     float or ndarray
         Amplitude [rad], of the broadcast shape.
 
-    Raises
-    ------
-    {raises}
-
-    Warns
-    -----
-    {swing}
+    {checks}
 
     Notes
     -----
@@ -330,12 +302,12 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     >>> pendula.amplitude(0.0, omega0=5.0, w0=1.0)      # rotation
     inf
     """
-    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, _AMPLITUDE,
+    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_AMPLITUDE,
                                             g=g, length=length, amplitude=True)
     return restore(amp, shape, scalar)
 
 
-@documented
+@_documented
 def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Elliptic parameter m = E / E_separatrix of a state, and 1 - m.
 
@@ -378,7 +350,7 @@ def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     return restore(m, shape, scalar), restore(mc, shape, scalar)
 
 
-@documented
+@_documented
 def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     """Kind of motion from a state: 'libration', 'separatrix' or 'rotation'.
 
@@ -424,7 +396,7 @@ def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
     return names.take(codes).reshape(shape)
 
 
-@documented
+@_documented
 def energy(theta, omega, w0=None, *, g=None, length=None):
     """Energy per unit m l^2, omega^2/2 + w0^2 (1 - cos theta).
 
@@ -471,7 +443,7 @@ def energy(theta, omega, w0=None, *, g=None, length=None):
     return restore(e, shape, scalar)
 
 
-@documented
+@_documented
 def equilibria(n, w0=None, *, g=None, length=None):
     """Equilibria (n pi, 0) of the pendulum and their linearisation (text §1.1).
 

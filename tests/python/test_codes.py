@@ -48,6 +48,18 @@ def _fortran_real(file, name):
 CODES_F90 = "src/scene/pendula_scene_codes.f90"
 
 
+def test_glue_selector_codes_match_the_fortran_include():
+    glue = _fortran_int_parameters("python/f2py/pendula_glue_codes.inc")
+    assert len(glue) >= 14
+    for name, value in glue.items():
+        assert getattr(_codes, name) == value, name
+    # the selectors of one glue routine are distinct (the routine tells them apart)
+    for group in (("GLUE_ELLIPK", "GLUE_ELLIPKM1", "GLUE_ELLIPE", "GLUE_ELLIPEM1"),
+                  ("GLUE_PARAM_M", "GLUE_PARAM_P"), ("GLUE_JACOBI_AUTO", "GLUE_JACOBI_PLAN"),
+                  ("GLUE_SMALL_ANGLE_MOTION", "GLUE_SMALL_ANGLE_BOUND"), ("GLUE_PERIOD", "GLUE_AMPLITUDE"), ("GLUE_W0", "GLUE_GAMMA")):
+        assert len({glue[n] for n in group}) == len(group), group
+
+
 def test_status_event_and_method_codes_match_the_fortran():
     status = _fortran_int_parameters("src/core/pendula_status.f90")
     ode = _fortran_int_parameters("src/integrators/pendula_ode.f90")

@@ -5,6 +5,7 @@ with mpmath at >= 60 digits (340 for the complement forms, so that 1 - mc is
 exact) at the EXACT double inputs, with the condition number of each problem.
 Errors are reported as relative error / (eps * cond).
 """
+import functools
 import importlib
 import os
 
@@ -15,6 +16,7 @@ import scipy.special as sc
 import pendula
 # the f2py extension (all the glue is one module, pendula._fortran)
 _elliptic = importlib.import_module("pendula._fortran")
+_codes = importlib.import_module("pendula._codes")
 
 EPS = np.finfo(float).eps
 DATA = np.load(os.path.join(os.path.dirname(__file__), "..", "data", "elliptic_refs.npz"))
@@ -40,6 +42,16 @@ def _into(fn, u, p):
     return out
 
 
+def _plan_into(complement):
+    """The glue's scalar-parameter Jacobi routine, always with a plan (table of Taylor
+    polynomials), for p = 1 - m (complement) or m; called like the other *_into_ routines."""
+    which = _codes.GLUE_PARAM_P if complement else _codes.GLUE_PARAM_M
+    return functools.partial(_elliptic.ellipj_one_into_f2py, which, _codes.GLUE_JACOBI_PLAN)
+
+
+_ELLIPJ_INTO = functools.partial(_elliptic.ellipj_into_f2py, _codes.GLUE_PARAM_M)
+
+
 @pytest.mark.parametrize("region", ["generic", "mneg", "near1", "near1m", "mgt1", "largeu", "m0", "m1"])
 @pytest.mark.parametrize("path", ["elementwise", "plan"])
 def test_jacobi_against_mpmath(region, path):
@@ -51,7 +63,7 @@ def test_jacobi_against_mpmath(region, path):
         if path == "elementwise":
             got = (pendula.ellipjm1 if comp[i] else pendula.ellipj)(u[i], p[i])
         else:  # the scalar-parameter (plan) routine, fed a one-element array
-            fn = _elliptic.ellipjm1_plan_into_f2py if comp[i] else _elliptic.ellipj_plan_into_f2py
+            fn = _plan_into(comp[i])
             got = [g[0] for g in _into(fn, np.array([u[i]]), p[i])]
         e = _rel(got, ref[i]) / cond[i]
         worst = max(worst, float(e.max()))
@@ -191,11 +203,11 @@ def test_extreme_arguments_stay_bounded():
     # the plan (table) path and the elementwise path at astronomically large u
     big = np.array([1e15, 1e17, 3e19, 1e25, 7e27, 1e30, 1e100, 1.7e308, -1e25])
     for m in [0.0, 0.5, 1 - 1e-12, -1e10, 2.0]:
-        for res in (_into(_elliptic.ellipj_plan_into_f2py, big, m),
-                    _into(_elliptic.ellipj_into_f2py, big, np.full_like(big, m))):
+        for res in (_into(_plan_into(False), big, m),
+                    _into(_ELLIPJ_INTO, big, np.full_like(big, m))):
             assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
     for p in [5e-324, 1e-5]:
-        res = _into(_elliptic.ellipjm1_plan_into_f2py, big, p)
+        res = _into(_plan_into(True), big, p)
         assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
     # no limit at infinity: ValueError naming the argument (the Fortran core gives NaN)
     with pytest.raises(ValueError, match="u = inf"):

@@ -22,6 +22,7 @@ import pytest
 import pendula
 
 _elliptic = importlib.import_module("pendula._fortran")   # the f2py extension (plan routines)
+_codes = importlib.import_module("pendula._codes")        # its selector codes
 
 EPS = 2.0 ** -52
 TOL = 16.0
@@ -62,13 +63,13 @@ def _evaluate(name, x, path="elementwise"):
         return fn(x[:, 0], x[:, 1])[JACOBI[comp]]
     # plan path: the one-parameter routine (table of Taylor polynomials) that pendula
     # picks for many u at one m, called directly so that every row goes through it
-    plan = _elliptic.ellipjm1_plan_into_f2py if base == "ellipjm1" else _elliptic.ellipj_plan_into_f2py
+    which = _codes.GLUE_PARAM_P if base == "ellipjm1" else _codes.GLUE_PARAM_M
     out = np.empty(len(x))
     for p in np.unique(x[:, 1]):
         sel = np.flatnonzero(x[:, 1] == p)
         u = np.ascontiguousarray(x[sel, 0])
         res = tuple(np.empty(len(sel)) for _ in range(4))
-        plan(u, p, *res)
+        _elliptic.ellipj_one_into_f2py(which, _codes.GLUE_JACOBI_PLAN, u, p, *res)
         out[sel] = res[JACOBI[comp]]
     return out
 

@@ -101,6 +101,7 @@ def _glue_error_calls():
     public API about 4 forks in 1,000 hung on the old code, through the glue
     about 18 in 1,000)."""
     glue = importlib.import_module("pendula._fortran")
+    _codes = importlib.import_module("pendula._codes")
     t, one = T, np.array([0.0, 1.0])
     ctl = np.zeros(2, dtype=np.int64)     # the cancel/progress array (pendula_control), never set
     calls = [
@@ -108,7 +109,7 @@ def _glue_error_calls():
         lambda: glue.linear_damped_one_f2py(one, 0.5, 0.0, -2.0, 0.1),
         lambda: glue.scene_physics_f2py(9.8, 4.9, 0.1, 1.0, 0.5, 1, 1, 1),
         lambda: glue.scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0),
-        lambda: glue.ellipk_f2py(np.array([2.0, 3.0])),
+        lambda: glue.ellip_ke_f2py(_codes.GLUE_ELLIPK, np.array([2.0, 3.0])),
     ]
     if HAVE_CVODE:
         calls += [

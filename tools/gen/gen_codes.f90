@@ -1,8 +1,9 @@
 !> Writes pendula/_codes.py to standard output at build time (meson runs it
 !> and captures the output): the status codes, scene models and wants with
-!> their names and aliases, event kinds, CVODE methods, the limits of a solve
-!> and the layout of a solved scene's number array, each taken from the
-!> Fortran module that defines it, so that Python never holds a second copy.
+!> their names and aliases, event kinds, CVODE methods, the limits of a solve,
+!> the layout of a solved scene's number array and the f2py glue's selector
+!> codes, each taken from the Fortran module (or include) that defines it, so
+!> that Python never holds a second copy.
 program gen_codes
   use pendula_kinds, only: wp, i8
   use pendula_status, only: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
@@ -15,14 +16,16 @@ program gen_codes
       SCENE_CVODE_STEP_COST, SCENE_STIFF_RATIO, SCENE_STIFF_RK4_STEPS
   use pendula_physics, only: PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
   implicit none
+  include 'pendula_glue_codes.inc'
   integer :: i
 
   call put('"""Codes, names and limits of the Fortran core, for the Python layer.')
   call put('')
   call put('GENERATED at build time by tools/gen/gen_codes.f90 from the Fortran modules')
-  call put('(pendula_status, pendula_ode, pendula_scene_codes, pendula_physics): do not edit, change the')
-  call put('Fortran.  Index names of INFO are 0-based positions in the number array of')
-  call put('a solved scene (python/f2py/scene.f90).')
+  call put('(pendula_status, pendula_ode, pendula_scene_codes, pendula_physics and the glue''s')
+  call put('python/f2py/pendula_glue_codes.inc): do not edit, change the Fortran.  Index names')
+  call put('of INFO are 0-based positions in the number array of a solved scene')
+  call put('(python/f2py/scene.f90).')
   call put('"""')
   call put('')
   call put('# status codes (pendula_status)')
@@ -43,6 +46,22 @@ program gen_codes
   call int_line('EVENT_ZERO', PENDULA_EVENT_ZERO)
   call int_line('CVODE_ADAMS', PENDULA_CVODE_ADAMS)
   call int_line('CVODE_BDF', PENDULA_CVODE_BDF)
+  call put('')
+  call put('# selector codes of the f2py glue (python/f2py/pendula_glue_codes.inc)')
+  call int_line('GLUE_ELLIPK', GLUE_ELLIPK)
+  call int_line('GLUE_ELLIPKM1', GLUE_ELLIPKM1)
+  call int_line('GLUE_ELLIPE', GLUE_ELLIPE)
+  call int_line('GLUE_ELLIPEM1', GLUE_ELLIPEM1)
+  call int_line('GLUE_PARAM_M', GLUE_PARAM_M)
+  call int_line('GLUE_PARAM_P', GLUE_PARAM_P)
+  call int_line('GLUE_JACOBI_AUTO', GLUE_JACOBI_AUTO)
+  call int_line('GLUE_JACOBI_PLAN', GLUE_JACOBI_PLAN)
+  call int_line('GLUE_SMALL_ANGLE_MOTION', GLUE_SMALL_ANGLE_MOTION)
+  call int_line('GLUE_SMALL_ANGLE_BOUND', GLUE_SMALL_ANGLE_BOUND)
+  call int_line('GLUE_PERIOD', GLUE_PERIOD)
+  call int_line('GLUE_AMPLITUDE', GLUE_AMPLITUDE)
+  call int_line('GLUE_W0', GLUE_W0)
+  call int_line('GLUE_GAMMA', GLUE_GAMMA)
   call put('')
   call put('# the default pendulum, the text''s: g [m/s^2], length [m] (pendula_physics); relative')
   call put('# tolerance within which w0 and sqrt(g/length), or gamma and b/mass, must agree')
