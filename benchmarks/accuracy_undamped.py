@@ -6,7 +6,8 @@ inputs, with cond = sum |x d theta/dx| over x in theta0, Omega0, w0, t): per reg
 worst and median |error| / (eps (cond + |value|)) of theta and Omega, through the light
 path (one state per call: ``undamped`` at one time) and the planned path (one state at
 >= 32 times: Jacobi plan, blocks); then the worst |d theta| in rad per band of |1 - m|
-over +-100 periods.  Lives in benchmarks/ beside the speed tables (it shares their
+over +-100 periods; then the small-angle error bound (``small_angle_error``) against the
+true worst |small_angle - undamped| on seeded random librating states.  Lives in benchmarks/ beside the speed tables (it shares their
 command line and --out files, harness.py); it takes a few seconds.
 
     python benchmarks/accuracy_undamped.py [--out DIR]     (writes DIR/accuracy_undamped.md)
@@ -60,20 +61,48 @@ def tables(d):
     return regime_rows, band_rows
 
 
+def bound_rows(n_states=150, seed=21, n_t=4001):
+    """Random librating states (m from 1e-8 to 0.9, w0 from 0.1 to 10, windows of 0.1 to 300
+    small-angle periods): how often the bound holds, and bound / true worst error."""
+    rng = np.random.default_rng(seed)
+    m = 10.0 ** rng.uniform(-8, -0.05, n_states)
+    share = rng.uniform(size=n_states)            # share of the energy in the angle
+    sign = rng.choice([-1.0, 1.0], size=(2, n_states))
+    w0 = 10.0 ** rng.uniform(-1, 1, n_states)
+    theta0 = sign[0] * 2 * np.arcsin(np.sqrt(share * m))
+    omega0 = sign[1] * 2 * w0 * np.sqrt((1 - share) * m)
+    tmax = 2 * np.pi / w0 * 10.0 ** rng.uniform(-1, 2.5, n_states)
+    held, ratio = np.zeros((2, n_states), bool), np.zeros((2, n_states))
+    for i in range(n_states):
+        t = np.linspace(-tmax[i], tmax[i], n_t)
+        exact = pendula.undamped(t, theta0[i], omega0[i], w0[i])
+        model = pendula.small_angle(t, theta0[i], omega0[i], w0[i])
+        bound = pendula.small_angle_error(tmax[i], theta0[i], omega0[i], w0[i])
+        for j in range(2):
+            true = np.max(np.abs(model[j] - exact[j]))
+            held[j, i], ratio[j, i] = true <= bound[j], bound[j] / true
+    return [[name, n_states, f"{int(held[j].sum())}/{n_states}", f"{np.median(ratio[j]):.3g}",
+             f"{ratio[j].max():.3g}"] for j, name in enumerate(["θ (rad)", "Ω (rad/s)"])]
+
+
 def main():
     args = harness.parser(__doc__, "(no effect: the measurement is quick)", "write accuracy_undamped.md into DIR").parse_args()
     d = REF.read_table()
     regime_rows, band_rows = tables(d)
+    bounds = bound_rows()
     head = ["regime", "rows", "worst θ error (light / planned)", "median θ", "worst Ω error (light / planned)",
             "median Ω"]
     md = "\n\n".join([
         "Errors in eps·(cond + \\|value\\|):",
         harness.markdown_table(head, regime_rows),
-        harness.markdown_table(["\\|1 − m\\|", "rows", "max \\|Δθ\\| (rad), both paths"], band_rows)])
+        harness.markdown_table(["\\|1 − m\\|", "rows", "max \\|Δθ\\| (rad), both paths"], band_rows),
+        harness.markdown_table(["small-angle bound on", "states", "bound held", "median bound / true",
+                                "worst bound / true"], bounds)])
     print(md)
     harness.write_outputs(args.out, "accuracy_undamped", md,
                           [(["regime", "rows", "theta worst", "theta median", "omega worst", "omega median"],
-                            regime_rows), (["band", "rows", "max abs dtheta"], band_rows)])
+                            regime_rows), (["band", "rows", "max abs dtheta"], band_rows),
+                           (["quantity", "states", "held", "median ratio", "worst ratio"], bounds)])
 
 
 if __name__ == "__main__":

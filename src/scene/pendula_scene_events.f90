@@ -132,12 +132,12 @@ contains
     end do
   end function event_time_error
 
-  ! Sample grid for events found from an integrated trajectory: spacing d
-  ! with interp_bound(d) <= tol/10, so that the cubic Hermite interpolant
-  ! used to place the events is ten times more accurate than tol; at least
-  ! 64 samples per small-angle period, and the fast time scale 1/gamma
-  ! resolved when over-damped (capped at 4e6 samples; event_interp_error
-  ! says what the grid achieves).
+  !> Sample grid for events found from an integrated trajectory: spacing d
+  !> with interp_bound(d) <= tol/10, so that the cubic Hermite interpolant
+  !> used to place the events is ten times more accurate than tol; at least
+  !> 64 samples per small-angle period, and the fast time scale 1/gamma
+  !> resolved when over-damped (capped at 4e6 samples; event_interp_error
+  !> says what the grid achieves).
   pure subroutine event_grid(scene, tend, tg)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
@@ -181,10 +181,10 @@ contains
     e = (w * h)**4 / 384 * a * max(1.0_wp, a) * (w / scene%w0)
   end function interp_bound
 
-  ! Events from samples of an integrated trajectory: a sign change of theta
-  ! or Omega between samples is refined on the cubic Hermite interpolant,
-  ! built from (theta, Omega) and (Omega, Omega') at both ends, whose error
-  ! (h^4/384 max|theta''''|) is below tol/10 on the grid of event_grid.
+  !> Events from samples of an integrated trajectory: a sign change of theta
+  !> or Omega between samples is refined on the cubic Hermite interpolant,
+  !> built from (theta, Omega) and (Omega, Omega') at both ends, whose error
+  !> (h^4/384 max|theta''''|) is below tol/10 on the grid of event_grid.
   pure subroutine grid_events(scene, tg, th, om, result)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tg(:), th(:), om(:)

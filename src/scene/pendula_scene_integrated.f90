@@ -37,11 +37,11 @@ module pendula_scene_integrated
 
 contains
 
-  ! One integrator run over the scene's window, output at tout (the times of
-  ! the result, which may be only t(n)).  The integrators start at tout(1),
-  ! so 0 is prepended when the first output time is later.  setting: h (RK4)
-  ! or rtol (CVODE; atol = rtol * scale / 100 with scale the state's size).
-  ! budget: RK4 steps allowed (CVODE: budget / SCENE_CVODE_STEP_COST steps).
+  !> One integrator run over the scene's window, output at tout (the times of
+  !> the result, which may be only t(n)).  The integrators start at tout(1),
+  !> so 0 is prepended when the first output time is later.  setting: h (RK4)
+  !> or rtol (CVODE; atol = rtol * scale / 100 with scale the state's size).
+  !> budget: RK4 steps allowed (CVODE: budget / SCENE_CVODE_STEP_COST steps).
   subroutine integrate(scene, model, setting, budget, tout, theta, omega, stats, status, control)
     type(scene_t), intent(in) :: scene
     integer, intent(in) :: model
@@ -85,8 +85,8 @@ contains
     if (size(th1) > 0) d = max(maxval(abs(th1 - th2)), maxval(abs(om1 - om2)) / w0)
   end function state_diff
 
-  ! RK4 with h from tol and the window, verified by a run at 2h; refined
-  ! from the observed error (which scales like h^4) until it meets tol.
+  !> RK4 with h from tol and the window, verified by a run at 2h; refined
+  !> from the observed error (which scales like h^4) until it meets tol.
   subroutine solve_rk4(scene, tend, budget, result, status, control)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend, budget
@@ -233,10 +233,10 @@ contains
     end function substeps
   end subroutine rk4_run
 
-  ! CVODE with rtol from tol and the number of periods in the window, checked
-  ! by a run 10x tighter; the tighter run is returned, and the difference of
-  ! the two (an estimate of the looser run's error, which bounds the tighter
-  ! one's) is its error estimate.
+  !> CVODE with rtol from tol and the number of periods in the window, checked
+  !> by a run 10x tighter; the tighter run is returned, and the difference of
+  !> the two (an estimate of the looser run's error, which bounds the tighter
+  !> one's) is its error estimate.
   subroutine solve_cvode(scene, tend, budget, result, status, control)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend, budget
