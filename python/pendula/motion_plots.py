@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ._arrays import as_real, integer_arg, real_scalar
+from .physics import pendulum_w0
 
 KINDS = ("time", "phase", "both")
 EXTRA = "examples"   # the pyproject extra that brings matplotlib
@@ -252,7 +253,7 @@ _STYLE = {"libration": ("#8fb3d9", 1.1, "librations (E < E_sep)"),
           "rotation": ("#93c993", 1.1, "rotations (E > E_sep)")}
 
 
-def plot_phase_portrait(*, w0, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
+def plot_phase_portrait(*, w0=None, g=None, length=None, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
                         theta_range=(-3 * math.pi, 3 * math.pi), omega_max=None, n=400, ax=None):
     """Phase portrait of the undamped pendulum: the separatrix and level curves of the energy.
 
@@ -264,8 +265,13 @@ def plot_phase_portrait(*, w0, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
 
     Parameters
     ----------
-    w0 : float, keyword-only
-        Natural angular frequency sqrt(g/l) [1/s] (``pendula.natural_frequency(g, length)``).
+    w0 : float, optional, keyword-only
+        Natural angular frequency sqrt(g/l) [1/s]; or give ``g`` and ``length``.
+        Given none, the text's pendulum (w0 = sqrt(2) 1/s), as everywhere in pendula.
+    g : float, optional, keyword-only
+        Gravitational acceleration [m/s^2] (default 9.8), with ``length``.
+    length : float, optional, keyword-only
+        Pendulum length [m] (default 4.9), with ``g``.
     levels : float or sequence of float, keyword-only
         Energies of the level curves as E/E_sep (dimensionless, > 0, at most
         100; 1, the separatrix, is always drawn).
@@ -292,7 +298,8 @@ def plot_phase_portrait(*, w0, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
     TypeError
         An argument is not a real number (or ``n`` an integer, ``ax`` Axes).
     ValueError
-        ``w0`` or ``omega_max`` not finite and > 0; a level not finite and > 0;
+        ``w0``, ``g``, ``length`` or ``omega_max`` not finite and > 0, or ``w0``
+        disagreeing with sqrt(g/length); a level not finite and > 0;
         ``theta_range`` not finite with hi > lo, or wider than 100 wells;
         ``n`` outside [16, 100000].
 
@@ -311,7 +318,7 @@ def plot_phase_portrait(*, w0, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
     >>> fig = pendula.plot_motion(r, kind="phase", ax=ax)   # the damped motion over the portrait
     """
     Figure, Axes = _matplotlib("plot_phase_portrait")
-    w0 = _positive(w0, "w0")
+    w0 = pendulum_w0(None if w0 is None else _positive(w0, "w0"), g, length)
     levels = _levels(levels)
     lo, hi = _pair_range(theta_range)
     n = integer_arg(n, "n", 16, 100_000, scalar=True)

@@ -207,10 +207,27 @@ def test_portrait_libration_closes_on_its_amplitude():
     (dict(w0=1.0, n=15), ValueError, r"n = 15 is out of range"),
     (dict(w0=1.0, n=100.0), TypeError, "n must be an integer"),
     (dict(w0=1.0, ax=[1, 2]), TypeError, "ax"),
+    (dict(g=-9.8), ValueError, "g"),
+    (dict(length=0.0), ValueError, "length"),
+    (dict(w0=1.0, g=9.8, length=4.9), ValueError, "w0"),
 ])
 def test_portrait_bad_input(kwargs, exc, words):
     with pytest.raises(exc, match=words):
         pendula.plot_phase_portrait(**kwargs)
+
+
+def _curve_data(fig):
+    return [(ln.get_gid(), ln.get_xdata().tolist(), ln.get_ydata().tolist()) for ln in fig.axes[0].get_lines()]
+
+
+def test_portrait_takes_the_pendulum_as_everywhere():
+    """No w0: the text's pendulum (w0 = sqrt(g/length) with g = 9.8, length = 4.9), as every
+    function of pendula; g and length give the same curves as the w0 they make."""
+    ref = _curve_data(pendula.plot_phase_portrait(w0=pendula.natural_frequency(), levels=[0.5, 2.0], n=16))
+    assert _curve_data(pendula.plot_phase_portrait(levels=[0.5, 2.0], n=16)) == ref
+    assert _curve_data(pendula.plot_phase_portrait(g=9.8, length=4.9, levels=[0.5, 2.0], n=16)) == ref
+    other = _curve_data(pendula.plot_phase_portrait(g=1.0, length=1.0, levels=[0.5, 2.0], n=16))
+    assert other == _curve_data(pendula.plot_phase_portrait(w0=1.0, levels=[0.5, 2.0], n=16))
 
 
 def test_portrait_options_are_keyword_only():
