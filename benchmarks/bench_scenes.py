@@ -23,8 +23,12 @@ For each scene of the grid (benchmarks/scene_grid_draw.py: 432 scenes; --quick:
   adequate is the best of 3 calls each.
 Prints the runtime and the slowest scenes (reference build and grading), the
 table, the worst scenes with reproducers (--scene ID re-runs one verbosely;
---ids A:B grades a slice of the grid); --out DIR writes scenes-benchmark.md and .csv.
+--ids A:B grades a slice of the grid); --out DIR writes scenes-benchmark.md and .csv (the
+table) and scenes-benchmark-scenes.csv (one row per graded scene: its data, model, tol,
+estimate, true errors, tol_met, wall time, cheapest adequate model, its time, the ratio,
+the reference's build time).
 """
+import csv
 import hashlib
 import json
 import math
@@ -216,11 +220,31 @@ def grade(sc, cache, max_steps, repeat=3, economy=True, max_seconds=math.inf):
     return row
 
 
-def reproducer(sc):
+def describe(sc):
+    """The scene's data in one line (the output times as grid kind, count and end)."""
     t = np.atleast_1d(sc["t"])
-    return (f"python benchmarks/bench_scenes.py --scene {sc['id']}  # Scene(theta0={sc['theta0']!r}, "
-            f"omega0={sc['omega0']!r}, g={sc['g']!r}, length={sc['length']!r}, gamma={sc['gamma']!r}, "
-            f"t={sc['grid']}[{t.size}] to {float(t[-1])!r}, tol={sc['tol']:.3g}, want={sc['want']!r})")
+    return (f"Scene(theta0={sc['theta0']!r}, omega0={sc['omega0']!r}, g={sc['g']!r}, length={sc['length']!r}, "
+            f"gamma={sc['gamma']!r}, t={sc['grid']}[{t.size}] to {float(t[-1])!r}, tol={sc['tol']:.3g}, "
+            f"want={sc['want']!r})")
+
+
+def reproducer(sc):
+    return f"python benchmarks/bench_scenes.py --scene {sc['id']}  # {describe(sc)}"
+
+
+SCENE_COLUMNS = ["id", "scene", "want", "model", "reason", "tol", "estimate", "err", "err_r", "tol_met",
+                 "t_solve", "cheapest", "t_cheapest", "ratio", "t_ref"]
+
+
+def scene_rows(rows, by_id):
+    """Per-scene CSV rows (SCENE_COLUMNS): every number behind the summary table, floats
+    in full (repr) so a claim can be re-checked; err / err_r are the true errors graded
+    with the exact and the rounded w0, ratio = t_solve / t_cheapest (times in s)."""
+    out = []
+    for r in rows:
+        d = dict(r, scene=describe(by_id[r["id"]]), ratio=r["t_solve"] / r["t_cheapest"])
+        out.append([repr(float(d[c])) if isinstance(d[c], float) else d[c] for c in SCENE_COLUMNS])
+    return out
 
 
 def _pct(x):
@@ -254,7 +278,7 @@ def summary(rows, skipped, total):
 
 
 def main():
-    ap = harness.parser(__doc__, "24 short scenes (about a minute)", "write scenes-benchmark.md and .csv here")
+    ap = harness.parser(__doc__, "24 short scenes (about a minute)", "write scenes-benchmark.md, .csv and -scenes.csv here")
     ap.add_argument("--cache", type=pathlib.Path, default=harness.ROOT / "out" / "scene-refs",
                     help="reference cache directory (never committed)")
     ap.add_argument("--max-steps", type=int, default=None,
@@ -327,6 +351,11 @@ def main():
             "err", "err_r", "t_solve", "cheapest", "t_cheapest", "t_ref", "t_scene"]
     csv_rows = [[f"{r[c]:.3g}" if isinstance(r[c], float) else r[c] for c in cols] for r in rows]
     harness.write_outputs(args.out, "scenes-benchmark", text, [(header, table), (cols, csv_rows)])
+    if args.out is not None:
+        with open(pathlib.Path(args.out) / "scenes-benchmark-scenes.csv", "w", newline="") as fh:
+            w = csv.writer(fh, lineterminator="\n")
+            w.writerow(SCENE_COLUMNS)
+            w.writerows(scene_rows(rows, by_id))
 
 
 if __name__ == "__main__":

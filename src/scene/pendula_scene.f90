@@ -110,6 +110,7 @@ contains
     select case (model)
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)
       call solve_closed(scene, model, est, result, status)
+      if (scene%model == SCENE_MODEL_AUTO) call exact_after_small_angle(scene, model, why, result, status)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call solve_integrated(scene, model, tend, budget, why, result, status, control)
       call fold_event_time(scene, result)
@@ -197,6 +198,39 @@ contains
     if (scene%want == SCENE_WANT_EVENTS) result%error_estimate = max(result%error_estimate, &
         result%event_time_error)
   end subroutine fold_event_time
+
+  ! The small-angle closed form was chosen from its state bound, but its
+  ! answer does not verify tol: for want = events the event times' error is
+  ! that bound over the rate at each event (slow turning points magnify it),
+  ! which is known only once the events are found.  The exact elliptic
+  ! solution (off by rounding only) answers instead when its estimate is the
+  ! smaller; the costs of both are counted.
+  subroutine exact_after_small_angle(scene, model, why, result, status)
+    type(scene_t), intent(in) :: scene
+    integer, intent(inout) :: model
+    character(len=:), allocatable, intent(inout) :: why
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    type(scene_result_t) :: alt
+    type(status_t) :: st
+    real(wp) :: est
+    if (model /= SCENE_MODEL_SMALL_ANGLE .or. status%code /= PENDULA_OK) return
+    call fold_event_time(scene, result)
+    if (.not. result%error_estimate > scene%tol) return
+    call model_estimate(scene, SCENE_MODEL_EXACT, est, st)
+    if (st%code == PENDULA_OK) call solve_closed(scene, SCENE_MODEL_EXACT, est, alt, st)
+    if (st%code /= PENDULA_OK) return
+    call fold_event_time(scene, alt)
+    call add_cost(alt%cost, result%cost)
+    if (alt%error_estimate < result%error_estimate) then
+      why = why // '; but its answer is off by up to ' // format_sci(result%error_estimate, 4) // &
+          ' (event times from the bound over the rates) > tol: exact elliptic solution instead'
+      result = alt
+      model = SCENE_MODEL_EXACT
+    else
+      result%cost = alt%cost
+    end if
+  end subroutine exact_after_small_angle
 
   ! The integrator chosen first did not verify tol (its estimate is over
   ! it): the other one (RK4 after CVODE, CVODE after RK4, each refining its

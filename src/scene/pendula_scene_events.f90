@@ -23,6 +23,7 @@
 !> damped equations have the same form with cos(theta) replaced by 1, and
 !> do not go over the top).
 module pendula_scene_events
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp, i8
   use pendula_constants, only: pi
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_BISECT
@@ -115,7 +116,8 @@ contains
   !> Event time error from the state error est (the sup of |d theta| and
   !> |d Omega|/w0 where the events were placed, interpolation included):
   !> dt = d theta/|Omega| at a zero crossing, d Omega/|Omega'| =
-  !> w0 d/(w0^2 |sin theta|) at a turning point.
+  !> w0 d/(w0^2 |sin theta|) at a turning point.  +inf when it exceeds half
+  !> the gap between two neighbouring events (the count is then unverified).
   pure real(wp) function event_time_error(result, est, w0) result(e)
     type(scene_result_t), intent(in) :: result
     real(wp), intent(in) :: est, w0
@@ -129,6 +131,11 @@ contains
         rate = w0 * abs(sin(result%event_theta(i)))
       end if
       e = max(e, est / max(rate, tiny(1.0_wp)))
+    end do
+    ! Times this uncertain could swap or merge neighbouring events: their
+    ! number and kinds are then unverified (a count off is an infinite error)
+    do i = 2, size(result%event_t)
+      if (e > (result%event_t(i) - result%event_t(i-1)) / 2) e = ieee_value(1.0_wp, ieee_positive_inf)
     end do
   end function event_time_error
 

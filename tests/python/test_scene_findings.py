@@ -128,3 +128,33 @@ def test_zero_crossings_are_passes_through_the_bottom():
     expect = [j * turn for j in range(1, 100) if j * turn <= 20.0]
     assert list(r.events.kind) == [EVENT_ZERO] * len(expect) and len(expect) >= 5
     assert np.max(np.abs(r.events.t - expect)) <= max(r.event_time_error, 1e-12)
+
+
+@pytest.mark.parametrize("turns, swing, g, length, tend, tol", [
+    (0, 0.000893261630311742, 1.242, 0.597, 468.98, 2.2e-7),      # grid scene 288's data
+    (2, 8.1e-8, 19.263, 1.817, 2.0, 4.3e-7),                        # a swing of 1e-7 rad about 4 pi (scene 97)
+])
+def test_small_swing_events_meet_tol_when_the_small_angle_times_do_not(turns, swing, g, length, tend, tol):
+    """The small-angle state bound meets tol, but an event time's error is that bound over the
+    rate w0 |sin theta| ~ w0 swing at a turning point: the solve answers with the exact elliptic
+    solution instead.  Reference: from rest, bottom passes at (2j+1) K/w0 and turning points at
+    2j K/w0 (mpmath K at 40 digits of the swing as stored)."""
+    theta0 = 2 * np.pi * turns + swing
+    s = pendula.Scene(theta0=theta0, t=[tend], g=g, length=length, want="events", tol=tol)
+    r = pendula.solve(s)
+    assert r.model == "exact" and r.tol_met, r.reason
+    sa = pendula.run_model(s, "small_angle", None)
+    assert sa.event_time_error > tol          # the case this guards: small-angle times miss tol
+    mp.mp.dps = 40
+    w0 = mp.sqrt(mp.mpf(g) / mp.mpf(length))
+    q = _libration_quarter(mp.mpf(theta0) - 2 * turns * mp.pi, w0)   # the swing about the true 2 pi k
+    expect_t, expect_k = [], []
+    for j in range(1, 100000):
+        if j * q > tend:
+            break
+        expect_t.append(j * q)
+        expect_k.append(EVENT_ZERO if j % 2 else EVENT_TURNING)
+    assert len(expect_t) >= 3
+    np.testing.assert_array_equal(r.events.kind, expect_k)
+    err = max(float(abs(mp.mpf(a) - b)) for a, b in zip(r.events.t, expect_t))
+    assert err <= r.event_time_error <= tol       # seconds

@@ -1,0 +1,80 @@
+"""Scenes of the benchmark grid (benchmarks/scene_grid_draw.py) whose reported estimate was
+short of the true error: RK4's Richardson estimate (d / 15 times a safety factor) and event
+times whose count was wrong under a finite estimate.
+
+References: benchmarks/scene_reference.py's fixed-point Taylor integrator (order 30,
+~60 digits; itself checked against mpmath in test_scene_bench.py), with the data exactly
+as given (w0 = sqrt(g/l) in mpmath).  Error measure: the Scene's, sup over the outputs of
+max(|d theta|, |d Omega|/w0) [rad]; the final state for want = final.
+"""
+import importlib.util
+import pathlib
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import pendula
+
+_BENCH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, _BENCH / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+ref = _load("scene_reference")
+grid = _load("scene_grid_draw")
+
+
+@pytest.mark.parametrize("scene_id, ratio", [
+    (78, 2.07),     # 0.25 rad swing over ~170 periods, h w0 = 0.19: e_2h / e_h = 8.2
+    (163, 2.8),     # a rotation decaying to rest, h w0 = 0.09: e_2h / e_h = 4.3, errors not aligned
+])
+def test_rk4_estimate_bounds_the_error_where_richardson_falls_short(scene_id, ratio):
+    sc = grid.draw()[scene_id]
+    s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"], length=sc["length"],
+                      gamma=sc["gamma"], tol=sc["tol"], want=sc["want"])
+    r = pendula.solve(s)
+    assert r.model == "rk4" and r.tol_met, r.reason
+    t = [float(x) for x in np.atleast_1d(sc["t"])]
+    w0 = ref.exact_w0(sc["g"], sc["length"])
+    th, om = ref.Taylor(w0, sc["gamma"]).solve(t, sc["theta0"], sc["omega0"])[:2]
+    with mp.workdps(40):
+        if sc["want"] == "final":
+            pairs = [(r.theta[-1], r.omega[-1], th[-1], om[-1])]
+        else:
+            pairs = zip(np.atleast_1d(r.theta), np.atleast_1d(r.omega), th, om)
+        err = max(max(abs(mp.mpf(a) - x), abs(mp.mpf(b) - y) / w0) for a, b, x, y in pairs)
+    # the case this guards: the plain Richardson estimate d/15 (the estimate over the
+    # safety factor, less rounding) is short of the true error by about `ratio`
+    assert float(err) <= r.error_estimate <= sc["tol"]
+    assert float(err) > r.error_estimate / 3 * (ratio / 1.5)
+
+
+@pytest.mark.parametrize("scene_id", [222, 298])
+def test_event_time_error_covers_the_event_count(scene_id):
+    """A long decay (222: 324 s at gamma = 0.19, the swing down by e^-31) or a start near the
+    top: late event times carry state errors over tiny rates.  When such an error exceeds half
+    the gap between neighbouring events the count is unverified and the reported error is
+    +inf; finite, it bounds the true times (Taylor reference with its events, kinds 1 turning,
+    2 zero crossing)."""
+    sc = grid.draw()[scene_id]
+    s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"], length=sc["length"],
+                      gamma=sc["gamma"], tol=sc["tol"], want="events")
+    r = pendula.solve(s)
+    w0 = ref.exact_w0(sc["g"], sc["length"])
+    t = [float(x) for x in np.atleast_1d(sc["t"])]
+    res = ref.Taylor(w0, sc["gamma"], relative=True).solve(t, sc["theta0"], sc["omega0"], events=True)
+    ev_t, ev_k = res[2], res[3]
+    kinds = [pendula.integrate.TURNING_POINT if k == 1 else pendula.integrate.ZERO_CROSSING for k in ev_k]
+    if len(r.events.t) != len(kinds) or list(r.events.kind) != kinds:
+        assert r.event_time_error == np.inf and not r.tol_met
+    else:
+        err = max(float(abs(mp.mpf(a) - b)) for a, b in zip(r.events.t, ev_t))
+        assert err <= r.event_time_error
+    gaps = np.diff(r.events.t)
+    assert r.event_time_error == np.inf or r.event_time_error <= gaps.min() / 2
