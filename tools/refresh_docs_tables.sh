@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Rewrite docs/_generated/*.md, the tables of the accuracy and performance pages, by running
-# every benchmarks/bench_*.py (speed) and benchmarks/accuracy_*.py (error vs mpmath) with --out
+# every benchmarks/bench_*.py (speed) and benchmarks/accuracy_*.py (error vs the tests' references) with --out
 # (quick mode unless --full is given) and keeping the Markdown tables they write (their CSV
 # files and plots stay in a scratch folder).
 #   tools/refresh_docs_tables.sh [--full]      (python: $PYTHON, else python3 on PATH)
