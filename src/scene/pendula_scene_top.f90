@@ -30,8 +30,8 @@ module pendula_scene_top
   use pendula_constants, only: pi, pi_lo, pi_lo2
   use pendula_double_double, only: two_prod
   use pendula_control, only: CONTROL_SIZE, cancel_requested
-  use pendula_scene_codes, only: scene_model_name, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_LINEAR, SCENE_MODEL_AUTO, &
-      SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
+  use pendula_scene_codes, only: scene_model_name, SCENE_MODEL_LINEAR, SCENE_MODEL_AUTO, SCENE_WANT_PERIOD, &
+      SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model
@@ -137,10 +137,10 @@ contains
     near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
     gain = TOP_SAFETY * max(2 * scene%w0, 2 * scene%gamma + scene%w0) / (lp * PHI_EXIT) * (1 + 2 / near)
     target = scene%tol / (4 * gain)
-    ! the outputs in the hang (nk of the result's), then tx
+    ! the outputs in the hang (nk of the result's, up to tx), then tx
     call alloc_outputs(scene, result)
     n = size(result%t)
-    nk = count(result%t < tx)
+    nk = count(result%t <= tx)
     if (scene%want == SCENE_WANT_EVENTS) then
       tg = [tx]
     else if (nk == n) then
