@@ -36,7 +36,8 @@
 !> pendula_scene_integrated (RK4/CVODE runs and their verification),
 !> pendula_scene_events (event bound, Hermite events), pendula_scene_handover
 !> (an integrator only until a damped motion has decayed, then the linear
-!> closed form); this module is the
+!> closed form), pendula_scene_top (a damped start at the top: the hang in
+!> top-centred coordinates); this module is the
 !> public face and the two entry points that run a scene.
 module pendula_scene
   use pendula_kinds, only: wp, i8
@@ -57,6 +58,7 @@ module pendula_scene
   use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed, integrate
   use pendula_scene_handover, only: solve_integrated, add_cost
   use pendula_scene_events, only: scene_event_bound
+  use pendula_scene_top, only: top_start, solve_top
   implicit none
   private
 
@@ -91,7 +93,8 @@ contains
     integer(i8), intent(in), optional :: max_steps
     integer(i8) :: c0, c1, rate
     integer :: model
-    real(wp) :: est, tend, budget
+    real(wp) :: est, tend, budget, k, phi0, v0
+    logical :: is_top, done
     character(len=:), allocatable :: why
     call system_clock(c0, rate)
     call check_scene(scene, status)
@@ -112,9 +115,19 @@ contains
       call solve_closed(scene, model, est, result, status)
       if (scene%model == SCENE_MODEL_AUTO) call exact_after_small_angle(scene, model, why, result, status)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
-      call solve_integrated(scene, model, tend, budget, why, result, status, control)
-      call fold_event_time(scene, result)
-      if (scene%model == SCENE_MODEL_AUTO) call second_try(scene, tend, budget, model, why, result, status, control)
+      call top_start(scene, is_top, k, phi0, v0)
+      done = .false.
+      ! the hang at the top in top-centred coordinates (pendula_scene_top)
+      if (scene%model == SCENE_MODEL_AUTO .and. is_top) call solve_top(scene, tend, budget, why, result, done, &
+          status, control)
+      if (done) then
+        model = SCENE_MODEL_RK4
+      else if (status%code == PENDULA_OK) then
+        call solve_integrated(scene, model, tend, budget, why, result, status, control)
+        call fold_event_time(scene, result)
+        if (scene%model == SCENE_MODEL_AUTO) call second_try(scene, tend, budget, model, why, result, status, &
+            control)
+      end if
     end select
     call check_event_count(scene, tend, result, status)
     if (status%code /= PENDULA_OK) return

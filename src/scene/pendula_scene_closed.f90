@@ -17,6 +17,7 @@ module pendula_scene_closed
       SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_estimates, only: exact_time_error
   use pendula_scene_events, only: append_events, trim_events, event_time_error, sign_change, bottom_sign
   implicit none
   private
@@ -105,6 +106,10 @@ contains
       call closed_events(cf, window_end(scene), result)
       allocate (result%t(0), result%theta(0), result%omega(0))
       result%event_time_error = event_time_error(result, est, scene%w0)
+      ! the exact solution's events sit at known phases: their times are
+      ! off by its phase error, also at a turning point at the top
+      if (model == SCENE_MODEL_EXACT) result%event_time_error = min(result%event_time_error, &
+          exact_time_error(cf%motion, window_end(scene)))
     case default
       call alloc_outputs(scene, result)
       call closed_eval(cf, result%t, result%theta, result%omega)

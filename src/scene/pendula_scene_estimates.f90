@@ -24,7 +24,7 @@ module pendula_scene_estimates
   private
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
-  public :: cvode_min_steps
+  public :: cvode_min_steps, exact_time_error
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
   !> Safety factor on the a priori nonlinearity estimate of the linear model
@@ -198,26 +198,57 @@ contains
   pure real(wp) function exact_estimate(motion, tend) result(e)
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: tend
-    real(wp) :: omax, dm, mc, dlnt, h
+    real(wp) :: omax
     if (motion%m == 0) then
       e = 0
       return
     end if
     omax = 2 * sqrt(motion%m) * motion%w0          ! max |Omega| (libration and rotation)
+    e = 4 * eps * (abs(motion%theta0) + 2 * pi + omax / motion%w0) &
+        + 4 * omax * tend * frequency_error(motion)
+    e = min(e, 2 * (omax / motion%w0 + 2 * pi))
+  end function exact_estimate
+
+  !> Error [s] of the event times of the exact elliptic solution over
+  !> [0, tend]: the event times are where its phase w0 t + u0 takes known
+  !> values (multiples of K), so they move by the phase error over w0, not
+  !> by the state error over the speed (which vanishes at a turning point at
+  !> the top, where a start at fl(pi) turns): the frequency error over the
+  !> window (exact_estimate), the rounding of the initial phase u0 (a few eps
+  !> of K, and eps pi/2 through F's slope 1/cos(theta_r/2) when a libration
+  !> starts with Omega0 /= 0 near the top), and the root finding (4 eps t).
+  pure real(wp) function exact_time_error(motion, tend) result(dt)
+    type(undamped_motion_t), intent(in) :: motion
+    real(wp), intent(in) :: tend
+    real(wp) :: du
+    du = 8 * eps * (1 + motion%rate * tend)
+    if (motion%regime == REGIME_LIBRATION .and. motion%q /= 0) du = du + 2 * eps / max(abs(motion%ch), eps)
+    dt = du / motion%rate + 4 * tend * frequency_error(motion) + 8 * eps * tend
+  end function exact_time_error
+
+  ! Relative error of the exact solution's frequency: the rounding of w0 t
+  ! (eps) and the error delta_m of the energy parameter times |d ln T/d m|.
+  ! pendula_undamped forms 1 - m as (c - q)(c + q) with c = cos(theta_r/2)
+  ! and q carried to ~2 doubles, so mc is known to a few eps RELATIVE to
+  ! itself plus what c and q carry absolutely: the double-double sum and
+  ! cos_dd (~eps^2 c) and the reduction theta_r = theta0 - 2 pi N (2^-100
+  ! |2 pi N|; ~1 ulp of pi beyond 2^40), each times c + |q|.  At a start
+  ! fl(pi) c is pi_lo/2 ~ 6e-17 and mc ~ 4e-33 is still known to a few eps.
+  pure real(wp) function frequency_error(motion) result(f)
+    type(undamped_motion_t), intent(in) :: motion
+    real(wp) :: dm, mc, dlnt, h, big, dr
     mc = motion%mc
-    ! pendula_undamped forms 1 - m as (c - q)(c + q) with c, q carried to ~2
-    ! doubles, so mc is known to a few eps RELATIVE to itself: near the
-    ! separatrix the energy error is that small, not eps * m
-    dm = 4 * eps * abs(mc) + eps**2 * (1 + abs(motion%center))
+    big = max(abs(motion%ch), abs(motion%q))
+    dr = 2.0_wp**(-98) * abs(motion%center)
+    if (abs(motion%theta0) > 2.0_wp**40) dr = 4 * eps * pi
+    dm = 4 * eps * abs(mc) + 2 * big * (8 * eps**2 * big + dr)
     if (motion%regime == REGIME_SEPARATRIX .or. mc == 0) then
       dlnt = 1 / max(abs(mc), dm)
     else
       h = 1.0e-4_wp * abs(mc)
       dlnt = abs(log(turn_time(mc + h) / turn_time(mc - h))) / (2 * h)
     end if
-    e = 4 * eps * (abs(motion%theta0) + 2 * pi + omax / motion%w0) &
-        + 4 * omax * tend * (eps + min(dlnt * dm, 1.0_wp))
-    e = min(e, 2 * (omax / motion%w0 + 2 * pi))
+    f = eps + min(dlnt * dm, 1.0_wp)
   contains
     pure real(wp) function turn_time(c)
       real(wp), intent(in) :: c
@@ -227,7 +258,7 @@ contains
         turn_time = 2 * ellipkm1(-c / (1 - c)) / sqrt(1 - c)
       end if
     end function turn_time
-  end function exact_estimate
+  end function frequency_error
 
   !> Nonlinearity error of the linear model theta'' + gamma theta' + w0^2 theta
   !> = 0 against eq. 2.2 over [0, tend], as sup max(|d theta|, |d Omega|/w0).

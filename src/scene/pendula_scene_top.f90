@@ -1,0 +1,279 @@
+!> Damped scenes that start at or near an unstable equilibrium theta = k pi
+!> (k odd): the hang there integrated in top-centred coordinates.
+!>
+!> The data as given is exact: theta0 = fl(pi) is pi - 1.2246e-16, and its
+!> distance to the top phi0 = k pi - theta0 is known to eps relative with pi
+!> carried in three doubles (pendula_constants).  In theta the integrators
+!> store that distance as a difference of numbers near k pi, so each step
+!> rounds it by eps k pi: relative to phi0 = 1e-16 that is everything, and
+!> the hang amplifies it by ~1/phi0 (estimates of radians, or CVODE at
+!> hundreds of times the cost).  Here phi = k pi - theta obeys
+!>     phi'' = -gamma phi' + w0^2 sin(phi)
+!> (sin(k pi - phi) = sin(phi) for odd k), integrated by RK4 in phi from phi0
+!> until the motion has left the top (|phi| ~ PHI_EXIT, predicted from the
+!> saddle's unstable rate lambda = sqrt(w0^2 + gamma^2/4) - gamma/2), with
+!> the step from the error target and a Richardson check at 2h.  From there
+!> the ordinary path (pendula_scene_handover: RK4 or CVODE, then the linear
+!> form about the bottom) answers the rest of the window at tol/2.
+!>
+!> Error: outputs during the hang carry the RK4 estimate of phi; the state
+!> handed over carries that estimate and the rounding of theta = k pi - phi
+!> (eps |theta|), which the later motion amplifies at most by the gain of a
+!> shift along it (max speed / speed at the hand-over, in (theta, Omega/w0))
+!> times the sensitivity of the next approach to the top (small damping
+!> brings it back near -pi, at a distance ~ sqrt(4 gamma/w0) of the
+!> separatrix energy): an a priori bound, TOP_SAFETY on top.
+module pendula_scene_top
+  use pendula_kinds, only: wp, i8
+  use pendula_format, only: format_sci
+  use pendula_status, only: status_t, PENDULA_OK, set_error, PENDULA_ERR_CANCELLED
+  use pendula_constants, only: pi, pi_lo, pi_lo2
+  use pendula_double_double, only: two_prod
+  use pendula_control, only: CONTROL_SIZE, cancel_requested
+  use pendula_scene_codes, only: scene_model_name, SCENE_MODEL_LINEAR, SCENE_MODEL_AUTO, SCENE_WANT_PERIOD, &
+      SCENE_WANT_EVENTS
+  use pendula_scene_types, only: scene_t, scene_result_t
+  use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_estimates, only: choose_model
+  use pendula_scene_closed, only: solve_closed
+  use pendula_scene_handover, only: solve_integrated, add_cost
+  implicit none
+  private
+
+  public :: top_start, solve_top
+
+  !> A start within this distance of k pi (in (theta, Omega/w0)) hangs.
+  real(wp), parameter :: TOP_NEAR = 0.05_wp
+  !> |phi| at which the motion has left the top (the hand-over).
+  real(wp), parameter :: PHI_EXIT = 0.5_wp
+  !> Safety on the a priori gain of the motion after the hand-over.
+  real(wp), parameter :: TOP_SAFETY = 4
+  !> Refinements of the RK4 step in phi.
+  integer, parameter :: MAX_REFINE = 4
+  real(wp), parameter :: eps = epsilon(1.0_wp)
+
+contains
+
+  !> is_top: whether a checked scene starts near an unstable equilibrium k pi (k odd)
+  !> with damping (gamma > 0) and wants state, theta, final or energy: then
+  !> solve_top answers it.  k: the odd integer (as a real); phi0, v0: the
+  !> top-centred start k pi - theta0 (to eps relative) and -Omega0.
+  pure subroutine top_start(scene, is_top, k, phi0, v0)
+    type(scene_t), intent(in) :: scene
+    logical, intent(out) :: is_top
+    real(wp), intent(out) :: k, phi0, v0
+    real(wp) :: p, e
+    is_top = .false.
+    k = 0
+    phi0 = 0
+    v0 = -scene%omega0
+    if (.not. scene%gamma > 0 .or. abs(scene%theta0) > 2.0_wp**40) return
+    if (scene%want == SCENE_WANT_PERIOD) return
+    k = anint(scene%theta0 / pi)
+    if (modulo(k, 2.0_wp) /= 1) return
+    ! k pi = p + e + k pi_lo + k pi_lo2 exactly to ~1e-32 |k pi|; p - theta0 is exact
+    call two_prod(k, pi, p, e)
+    phi0 = (p - scene%theta0) + (e + (k * pi_lo + k * pi_lo2))
+    is_top = hypot(phi0, v0 / scene%w0) < TOP_NEAR
+    ! events: a turning point in the hang (a start towards the top that falls
+    ! back, phi' = lp a e^(lp t) + lm b e^(lm t) = 0) is left to the ordinary path
+    if (is_top .and. scene%want == SCENE_WANT_EVENTS) is_top = no_turn(scene, phi0, v0)
+  end subroutine top_start
+
+  ! The saddle's rates (lp > 0 > lm) and the modes phi = a e^(lp t) + b e^(lm t).
+  pure subroutine saddle(scene, phi0, v0, lp, lm, a, b)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, v0
+    real(wp), intent(out) :: lp, lm, a, b
+    lm = -(scene%gamma / 2 + hypot(scene%gamma / 2, scene%w0))
+    lp = scene%w0**2 / (-lm)
+    a = (v0 - lm * phi0) / (lp - lm)
+    b = phi0 - a
+  end subroutine saddle
+
+  ! No sign change of phi' = lp a e^(lp t) + lm b e^(lm t) for t > 0 in the
+  ! linear motion about the top (e^((lp - lm) t) = -lm b/(lp a) has no root t > 0).
+  pure logical function no_turn(scene, phi0, v0)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, v0
+    real(wp) :: lp, lm, a, b
+    call saddle(scene, phi0, v0, lp, lm, a, b)
+    ! phi' = 0 at e^((lp - lm) t) = -lm b/(lp a): a root t > 0 needs the ratio > 1
+    ! a start at rest turns at t = 0 only (no event); otherwise a root exists
+    ! when a b > 0 and |lm b| > lp |a| (taken from half of that, a margin)
+    no_turn = v0 == 0 .or. .not. (a * b > 0 .and. abs(lm * b) >= 0.5_wp * lp * abs(a))
+  end function no_turn
+
+  !> Answer a damped scene that starts near the top (top_start): RK4 in phi
+  !> over the hang, then `model`'s ordinary path from the state where the
+  !> motion has left the top.  why is replaced.  done is false (nothing
+  !> computed) when the hang alone would exceed the budget; status carries
+  !> any error of the parts (budget, cancel).
+  subroutine solve_top(scene, tend, budget, why, result, done, status, control)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: tend, budget
+    logical, intent(out) :: done
+    character(len=:), allocatable, intent(inout) :: why
+    type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    real(wp) :: k, phi0, v0, lp, lm, a, b, tx, tshift, gain, target, h, est, d, p, e, thx, omx, near, eround
+    real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
+    type(scene_t) :: sub
+    type(scene_result_t) :: rest, fresh
+    character(len=:), allocatable :: why2
+    integer :: nk, n, it, sub_model
+    integer(i8) :: steps
+    real(wp) :: sub_est
+    logical :: is_top
+    done = .false.
+    call top_start(scene, is_top, k, phi0, v0)
+    if (.not. is_top) return
+    ! the saddle's rates, and the growing mode's amplitude a
+    call saddle(scene, phi0, v0, lp, lm, a, b)
+    tx = tend
+    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
+    ! the gain of the motion after tx on an error of the state handed over
+    near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
+    gain = TOP_SAFETY * max(2 * scene%w0, 2 * scene%gamma + scene%w0) / (lp * PHI_EXIT) * (1 + 2 / near)
+    target = scene%tol / (4 * gain)
+    ! the outputs in the hang (nk of the result's, up to tx), then tx
+    call alloc_outputs(scene, result)
+    n = size(result%t)
+    nk = count(result%t <= tx)
+    if (scene%want == SCENE_WANT_EVENTS) then
+      tg = [tx]
+    else if (nk == n) then
+      tg = result%t
+      target = scene%tol / 2
+    else
+      tg = [result%t(1:nk), tx]
+      target = min(target, scene%tol / 2)
+    end if
+    allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)))
+    ! RK4: relative error ~ (lambda h)^4/120 per unit lambda t, doubled
+    h = min((120 * target / (2 * PHI_EXIT * max(1.0_wp, lp * tg(size(tg)))))**0.25_wp, 0.5_wp) / max(-lm, scene%w0)
+    steps = 0
+    est = huge(1.0_wp)
+    do it = 1, MAX_REFINE
+      if (1.5_wp * tg(size(tg)) / h > budget) exit
+      call run(h, ph, vp)
+      call run(2 * h, ph2, vp2)
+      if (status%code /= PENDULA_OK) return
+      d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2)) / scene%w0)
+      est = 2 * d / 15 + 4 * eps * maxval(abs(ph))
+      if (est <= target) exit
+      h = h * max(1.0_wp / 16, 0.9_wp * (target / est)**0.25_wp)
+    end do
+    if (est == huge(1.0_wp)) return   ! over the budget: the ordinary path
+    done = .true.
+    ! theta = k pi - phi (rounded once), Omega = -phi'
+    call two_prod(k, pi, p, e)
+    result%theta(1:nk) = p - (ph(1:nk) - (e + k * pi_lo))
+    result%omega(1:nk) = -vp(1:nk)
+    result%error_estimate = est + eps * abs(p)
+    result%cost%steps = steps
+    result%cost%rhs_evals = 4 * steps
+    result%cost%runs = 2 * it
+    result%step = h
+    result%setting = h
+    why = 'gamma > 0, start ' // format_sci(hypot(phi0, v0 / scene%w0), 3) // ' rad from a top: RK4 in ' // &
+        'phi = k pi - theta'
+    if (nk < size(result%t) .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)) then
+      thx = p - (ph(size(ph)) - (e + k * pi_lo))
+      omx = -vp(size(vp))
+      eround = eps * abs(thx)
+      sub = scene
+      sub%theta0 = thx
+      sub%omega0 = omx
+      sub%tol = scene%tol / 2
+      sub%model = SCENE_MODEL_AUTO
+      if (scene%want == SCENE_WANT_EVENTS) then
+        sub%t = [tend - tx]
+      else
+        sub%t = max(0.0_wp, result%t(nk+1:n) - tx)
+      end if
+      call choose_model(sub, sub%t(size(sub%t)), sub_model, sub_est, why2, status)
+      if (status%code /= PENDULA_OK) return
+      why2 = scene_model_name(sub_model)
+      do it = 1, 2
+        rest = fresh
+        if (sub_model == SCENE_MODEL_LINEAR) then
+          call solve_closed(sub, sub_model, sub_est, rest, status)
+        else
+          call solve_integrated(sub, sub_model, sub%t(size(sub%t)), budget - 1.5_wp * steps, why2, rest, &
+              status, control)
+        end if
+        if (status%code /= PENDULA_OK) return
+        ! events: the times' error is the state's over the speed there, which
+        ! the state's tol does not bound: once more with tol scaled to it
+        if (scene%want /= SCENE_WANT_EVENTS .or. .not. rest%event_time_error > sub%tol) exit
+        if (it == 1) call add_cost(result%cost, rest%cost)
+        sub%tol = sub%tol * max(1.0e-3_wp, 0.5_wp * sub%tol / rest%event_time_error)
+      end do
+      if (scene%want == SCENE_WANT_EVENTS) then
+        ! the handed-over error shifts the later motion in time by at most
+        ! its size over the speed at tx (gain without the max speed)
+        tshift = gain / max(2 * scene%w0, 2 * scene%gamma + scene%w0) * (est + eround)
+        result%event_t = rest%event_t + tx
+        result%event_kind = rest%event_kind
+        result%event_theta = rest%event_theta
+        result%event_omega = rest%event_omega
+        result%event_time_error = rest%event_time_error + tshift + 4 * eps * tend
+      else
+        result%theta(nk+1:) = rest%theta
+        result%omega(nk+1:) = rest%omega
+      end if
+      result%error_estimate = max(result%error_estimate, rest%error_estimate + gain * (est + eround) + &
+          4 * eps * tend * (scene%w0 + scene%gamma))
+      call add_cost(result%cost, rest%cost)
+      result%rtol = rest%rtol
+      why = why // ' to t = ' // format_sci(tx, 4) // ' s, then ' // why2
+    end if
+    call finish_outputs(scene, result)
+  contains
+    ! RK4 in (phi, v = phi') from (phi0, v0) at 0 through the times tg,
+    ! ceil(dt/hh) equal substeps on each interval
+    subroutine run(hh, x, y)
+      real(wp), intent(in) :: hh
+      real(wp), intent(out) :: x(:), y(:)
+      real(wp) :: t0, u, w, dt, k1u, k1w, k2u, k2w, k3u, k3w, k4u, k4w
+      integer :: i
+      integer(i8) :: j, ns
+      t0 = 0
+      u = phi0
+      w = v0
+      do i = 1, size(tg)
+        if (present(control)) then
+          if (cancel_requested(control)) then
+            call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled by the caller')
+            return
+          end if
+        end if
+        ns = max(1_i8, ceiling((tg(i) - t0) / hh, i8))
+        dt = (tg(i) - t0) / real(ns, wp)
+        do j = 1, ns
+          k1u = w
+          k1w = f(u, w)
+          k2u = w + dt / 2 * k1w
+          k2w = f(u + dt / 2 * k1u, k2u)
+          k3u = w + dt / 2 * k2w
+          k3w = f(u + dt / 2 * k2u, k3u)
+          k4u = w + dt * k3w
+          k4w = f(u + dt * k3u, k4u)
+          u = u + dt / 6 * (k1u + 2 * k2u + 2 * k3u + k4u)
+          w = w + dt / 6 * (k1w + 2 * k2w + 2 * k3w + k4w)
+        end do
+        if (tg(i) > t0) steps = steps + ns
+        t0 = tg(i)
+        x(i) = u
+        y(i) = w
+      end do
+    end subroutine run
+    pure real(wp) function f(u, w)
+      real(wp), intent(in) :: u, w
+      f = -scene%gamma * w + scene%w0**2 * sin(u)
+    end function f
+  end subroutine solve_top
+
+end module pendula_scene_top
