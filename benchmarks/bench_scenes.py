@@ -3,8 +3,8 @@
 For each scene of the grid (benchmarks/scene_grid_draw.py: 432 scenes; --quick:
 24 short ones) this script
 - builds a reference that shares no code with pendula (benchmarks/scene_reference.py):
-  undamped states and periods from mpmath elliptic functions at 40 digits, damped
-  states and all events from a fixed-point Taylor integrator of order 30 (~60
+  undamped states, periods and events from mpmath elliptic functions at 40 digits,
+  damped states and events from a fixed-point Taylor integrator of order 30 (~60
   digits), both once from the data exactly as given (w0 = sqrt(g/l) in mpmath)
   and once with pendula's rounded w0 = fl(sqrt(g/l)) (for Taylor references only
   where the energy parameter is within 1e-3 of the separatrix; elsewhere the
@@ -46,7 +46,8 @@ import scene_reference as ref
 import pendula
 from pendula.integrate import TURNING_POINT, ZERO_CROSSING, rk4_max_stable_step
 
-REF_VERSION = 3   # 2: zero crossings are theta = 0 mod 2 pi; 3: settled events in closed form
+REF_VERSION = 4   # 2: zero crossings are theta = 0 mod 2 pi; 3: settled events in closed form;
+#                   4: undamped events from the elliptic solution
 HAVE_CVODE = pendula.scene.HAVE_CVODE
 
 
@@ -61,9 +62,14 @@ def _reference_for(sc, w0, max_steps, max_seconds):
     t = [float(x) for x in np.atleast_1d(sc["t"])]
     events = sc["want"] == "events"
     out = {}
-    if sc["gamma"] == 0 and not events:
+    closed_events = (ref.undamped_events(t[-1], sc["theta0"], sc["omega0"], w0)
+                     if sc["gamma"] == 0 and events else None)
+    if sc["gamma"] == 0 and (not events or closed_events is not None):
         th, om, period = ref.undamped(t, sc["theta0"], sc["omega0"], w0)
         out["period"] = str(period)
+        if events:
+            out["ev_t"] = [mp.nstr(x, 40) for x in closed_events[0]]
+            out["ev_k"] = closed_events[1]
     else:
         tay = ref.Taylor(w0, sc["gamma"], max_steps=max_steps, relative=events, max_seconds=max_seconds)
         res = tay.solve(t, sc["theta0"], sc["omega0"], events=events)

@@ -108,6 +108,44 @@ def undamped(t, theta0, omega0, w0, dps=40):
         return th, om, 2 * K1 / (mp.sqrt(m) * w0)
 
 
+def undamped_events(t_end, theta0, omega0, w0, dps=40):
+    """(times, kinds) of the events in (0, t_end] of the undamped pendulum, from the
+    elliptic solution above: a libration theta = 2 pi n + 2 asin(k sn u), u = u0 + w0 t,
+    passes the bottom where sn u = 0 (u = 2 j K, kind 2) and turns where cn u = 0
+    (u = (2 j + 1) K, kind 1); a rotation, 2 am(v) with v = v0 + rate t, passes the bottom
+    where v = 2 j K(1/m) and never turns.  None at rest, on the separatrix or at rest on
+    top (the Taylor integrator answers those)."""
+    with mp.workdps(dps + 10):
+        w0, th0, om0, t_end = mp.mpf(w0), mp.mpf(theta0), mp.mpf(omega0), mp.mpf(t_end)
+        r = th0 - 2 * mp.pi * mp.nint(th0 / (2 * mp.pi))
+        m = energy_parameter(theta0, omega0, w0)
+        if m == 0 or abs(m - 1) < mp.mpf(10) ** (-(dps + 5)):
+            return None
+        if m < 1:
+            k = mp.sqrt(m)
+            K = mp.ellipk(m)
+            u0 = _ellipf_any(mp.atan2(mp.sin(r / 2) / k, om0 / (2 * k * w0)), m, K)
+            step, rate, first, kinds = K, w0, u0, (2, 1)      # u = j K: j even a crossing, odd a turn
+        else:
+            q = 1 / m
+            K = mp.ellipk(q)
+            step, rate = 2 * K, (1 if om0 > 0 else -1) * mp.sqrt(m) * w0
+            first, kinds = _ellipf_any(r / 2, q, K), (2, 2)
+        # a start at rest is itself a turning point at t = 0, not an event after t[0]: u0 = +-K
+        # only to the working precision, so events within 1e-20 of a quarter period count as t = 0
+        floor = mp.mpf(10) ** -20 * abs(step / rate)
+        times, out_kinds = [], []
+        j = mp.floor(first / step) + (-1 if rate > 0 else 1)   # the first step lands on floor(first/step)
+        while True:
+            j += 1 if rate > 0 else -1
+            t = (j * step - first) / rate
+            if t > t_end:
+                break
+            if t > floor:
+                times.append(t), out_kinds.append(kinds[int(j) % 2])
+        return times, out_kinds
+
+
 # ---------------------------------------------------------------------------
 # damped (and events): Taylor series in fixed point
 # ---------------------------------------------------------------------------
