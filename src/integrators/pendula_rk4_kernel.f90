@@ -148,9 +148,9 @@ contains
   !> ~1e-18 absolute (|rho| <= pi/256 + 1e-16).  For |x| > stage_xmax, or x
   !> not finite, k = 0 and rho = x (callers then see |rho| > stage_rmax).
   elemental subroutine node_reduce(x, k, rho)
-    real(wp), intent(in) :: x
-    integer, intent(out) :: k
-    real(wp), intent(out) :: rho
+    real(wp), intent(in) :: x  !< angle [rad]
+    integer, intent(out) :: k  !< node index (x_k = 2 pi k / 256)
+    real(wp), intent(out) :: rho  !< x - x_k [rad]
     real(wp) :: kf
     if (abs(x) <= stage_xmax) then
       kf = anint(x * nodes_per_radian)
@@ -164,8 +164,8 @@ contains
 
   !> sin(2 pi k / 256 + r) for |r| <= stage_rmax; absolute error <= 2 eps.
   elemental real(wp) function sin_node(k, r) result(s)
-    integer, intent(in) :: k
-    real(wp), intent(in) :: r
+    integer, intent(in) :: k  !< node index (x_k = 2 pi k / 256)
+    real(wp), intent(in) :: r  !< offset from the node [rad], |r| <= stage_rmax
     integer :: i
     i = iand(k, nnodes - 1)
     s = sin_taylor(node_sin(i), node_cos(i), taylor(2, i), taylor(3, i), taylor(4, i), taylor(5, i), &
@@ -176,7 +176,7 @@ contains
   !> node_reduce and sin_node; libm sin(x + d) (rounded sum) when |x| >
   !> stage_xmax or the offset leaves the polynomials' range.  For tests.
   elemental real(wp) function sin_shift(x, d) result(s)
-    real(wp), intent(in) :: x, d
+    real(wp), intent(in) :: x, d  !< x: angle [rad]; d: offset added exactly to x [rad]
     integer :: k
     real(wp) :: rho, r
     call node_reduce(x, k, rho)
@@ -204,7 +204,7 @@ contains
   !> that dt/h within 1e-9 of an integer counts as that integer (output grids
   !> like 0.05*k are multiples of h only up to rounding).
   pure integer(i8) function substeps(dt, h) result(n)
-    real(wp), intent(in) :: dt, h
+    real(wp), intent(in) :: dt, h  !< dt: interval to cover [s], > 0; h: largest step [s], > 0
     real(wp) :: r, nr
     ! The common case first and without a division: dt <= h or dt exceeding h
     ! by rounding only (dt/h <= 1 + 1e-9: one step).  One test for both keeps
@@ -230,7 +230,16 @@ contains
   !> path where the stage offsets leave the table's range, and the batch lanes'.
   pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
     real(wp), intent(in) :: y, u, w0sq, gamma, hs, half, sixth, c6
+    !< y: theta at the start of the step [rad];
+    !< u: Omega at the start of the step [rad/s];
+    !< w0sq: w0**2 [1/s^2];
+    !< gamma: damping rate [1/s];
+    !< hs: substep [s];
+    !< half: hs/2 from step_constants;
+    !< sixth: hs/6 from step_constants;
+    !< c6: c6 from step_constants
     real(wp), intent(out) :: yn, un
+    !< yn: theta after the step [rad]; un: Omega after the step [rad/s]
     real(wp) :: k1, k2, k3, k4, p2
     p2 = half * u
     k1 = -gamma * u - w0sq * sin(y)
@@ -247,7 +256,21 @@ contains
   !> gamma factors of the stage updates.
   elemental subroutine step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
     real(wp), intent(in) :: hs, w0sq, gamma
+    !< hs: substep [s]; w0sq: w0**2 [1/s^2]; gamma: damping rate [1/s]
     real(wp), intent(out) :: half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1
+    !< half: hs/2 [s];
+    !< sixth: hs/6 [s];
+    !< h2q: stage constant (products of hs/2, hs/6 and w0sq);
+    !< hh: stage constant;
+    !< c6: stage constant;
+    !< w1: w0sq stage factor;
+    !< w2: w0sq stage factor;
+    !< cy: stage constant;
+    !< g2: gamma stage factor;
+    !< wa: w0sq stage factor;
+    !< wb: w0sq stage factor;
+    !< bu0: gamma stage factor;
+    !< bu1: gamma stage factor
     half = hs / 2
     sixth = hs / 6
     h2q = half * half
@@ -278,10 +301,19 @@ contains
   !> poll splits an interval's steps into blocks without touching the state.
   subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad, control)
     real(wp), intent(in) :: t(:), w0sq, gamma, h
+    !< t: output times [s], strictly increasing (not checked);
+    !< w0sq: w0**2 [1/s^2];
+    !< gamma: damping rate [1/s];
+    !< h: largest step [s], > 0
     real(wp), intent(inout) :: theta(:), omega(:)
+    !< theta: theta(1) [rad] on entry; theta(t(i)) on exit;
+    !< omega: Omega(1) [rad/s] on entry; Omega(t(i)) on exit
     integer(i8), intent(out) :: steps, fast
+    !< steps: substeps taken; fast: substeps on the table path
     integer, intent(out) :: bad
+    !< 0, the first non-finite index, -j when cancelled in interval j, or huge(bad) for bad sizes
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every RK4_POLL_STEPS steps) and progress counter in steps
     real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bu0, bu1
     real(wp) :: c2, c3, c4, c5, c6t, c7, c8, c9
     real(wp) :: r2, r3, r4, k1, k2, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy

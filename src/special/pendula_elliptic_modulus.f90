@@ -38,7 +38,10 @@ contains
   !> (accurate) one, else m is; full: K of the core in double-double (else double).
   pure function jacobi_param(m, mc, usemc, full) result(plan)
     real(wp), intent(in) :: m, mc
+    !< m: parameter m (any real); mc: complementary parameter mc = 1 - m
     logical, intent(in) :: usemc, full
+    !< usemc: true: mc is the accurate one, else m;
+    !< full: true: K of the core parameter in double-double
     type(jacobi_param_t) :: plan
     real(wp) :: mm, wh, wl, ah, al, qh, ql
     if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then

@@ -23,8 +23,14 @@ contains
   !> undamped_eval, exactly as undamped_states evaluates the same state.
   pure subroutine undamped_solve(t, theta0, omega0, w0, theta, omega, status)
     real(wp), intent(in) :: t(:), theta0, omega0, w0
+    !< t: times [s], finite, any order;
+    !< theta0: initial angle [rad], finite;
+    !< omega0: initial angular velocity [rad/s], finite;
+    !< w0: small-angle angular frequency [1/s], > 0
     real(wp), intent(out) :: theta(:), omega(:)
+    !< theta: theta(t(i)) [rad], size(t) elements; omega: Omega(t(i)) [rad/s], size(t) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     type(undamped_motion_t) :: motion
     theta = 0
     omega = 0
@@ -51,8 +57,15 @@ contains
   !> order theta0, omega0, w0, t) theta and omega are 0.
   pure subroutine undamped_states(t, theta0, omega0, w0, theta, omega, status)
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
+    !< t: times [s], finite, any order;
+    !< theta0: initial angles [rad], finite, n elements or one;
+    !< omega0: initial angular velocities [rad/s], finite, n elements or one;
+    !< w0: angular frequencies [1/s], > 0, n elements or one
     real(wp), intent(out) :: theta(:), omega(:)
+    !< theta: theta [rad] of each state at its time;
+    !< omega: Omega [rad/s] of each state at its time
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     type(undamped_motion_t) :: motion
     integer :: i, j, n, run
     n = size(theta)
@@ -139,9 +152,17 @@ contains
   !> state and the outputs are 0.
   pure subroutine undamped_properties(theta0, omega0, w0, status, period, amplitude, m, mc, regime)
     real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    !< theta0: initial angles [rad], finite, n elements or one;
+    !< omega0: initial angular velocities [rad/s], finite, n elements or one;
+    !< w0: angular frequencies [1/s], > 0, n elements or one
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: period(:), amplitude(:), m(:), mc(:)
-    integer, intent(out), optional :: regime(:)
+    !< period: optional periods [s] (+inf on the separatrix);
+    !< amplitude: optional amplitudes [rad] (+inf for rotation);
+    !< m: optional elliptic parameters m;
+    !< mc: optional 1 - m
+    integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
     type(undamped_motion_t) :: motion
     real(wp) :: th, om, w
     integer :: i, n
