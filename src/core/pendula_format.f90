@@ -93,9 +93,10 @@ contains
   !> dropped) where codes(i) == code, else `fallback`.  The one home of the
   !> library's code -> name lookups (status codes, regimes, solver flags).
   pure function code_text(code, codes, names, fallback) result(s)
-    integer, intent(in) :: code, codes(:)  !< code: code to look up; codes: table of codes
-    character(len=*), intent(in) :: names(:), fallback
-    !< names: names(i) is the name of codes(i); fallback: text returned when code is not in codes
+    integer, intent(in) :: code  !< code to look up
+    integer, intent(in) :: codes(:)  !< table of codes
+    character(len=*), intent(in) :: names(:)  !< names(i) is the name of codes(i)
+    character(len=*), intent(in) :: fallback  !< text returned when code is not in codes
     character(len=:), allocatable :: s
     integer :: i
     do i = 1, min(size(codes), size(names))

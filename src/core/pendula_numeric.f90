@@ -47,15 +47,14 @@ contains
   pure subroutine bracket_start(br, a, b, fa, fb, method, maxit, atol, rtol)
     type(bracket_t), intent(out) :: br
     !< bracket state (current interval, next point br%c, br%root and br%done when finished)
-    real(wp), intent(in) :: a, b, fa, fb, atol, rtol
-    !< a: left end of the bracket;
-    !< b: right end of the bracket, > a;
-    !< fa: f(a);
-    !< fb: f(b), sign opposite to fa or 0;
-    !< atol: absolute width tolerance, >= 0 (same units as a, b);
-    !< rtol: relative width tolerance, >= 0
-    integer, intent(in) :: method, maxit
-    !< method: ROOT_BISECT or ROOT_ILLINOIS; maxit: most function evaluations
+    real(wp), intent(in) :: a  !< left end of the bracket
+    real(wp), intent(in) :: b  !< right end of the bracket, > a
+    real(wp), intent(in) :: fa  !< f(a)
+    real(wp), intent(in) :: fb  !< f(b), sign opposite to fa or 0
+    real(wp), intent(in) :: atol  !< absolute width tolerance, >= 0 (same units as a, b)
+    real(wp), intent(in) :: rtol  !< relative width tolerance, >= 0
+    integer, intent(in) :: method  !< ROOT_BISECT or ROOT_ILLINOIS
+    integer, intent(in) :: maxit  !< most function evaluations
     br = bracket_t(a=a, b=b, fa=fa, fb=fb, root=b, atol=atol, rtol=rtol, method=method, maxit=maxit, &
         done=fb == 0)
     if (.not. br%done) call next_point(br)

@@ -28,9 +28,8 @@ contains
   !> the double range: it is never formed then); status is set where
   !> w0 would exceed the largest double (g/l > about 3e616).
   pure subroutine natural_frequency(g, length, w0, status)
-    real(wp), intent(in) :: g, length
-    !< g: gravitational acceleration [m/s^2], finite, > 0;
-    !< length: pendulum length [m], finite, > 0
+    real(wp), intent(in) :: g  !< gravitational acceleration [m/s^2], finite, > 0
+    real(wp), intent(in) :: length  !< pendulum length [m], finite, > 0
     real(wp), intent(out) :: w0  !< sqrt(g/length) [1/s] (0 on error)
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
@@ -64,9 +63,8 @@ contains
   !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite, with
   !> b/m finite; otherwise status is set and gamma = 0.
   pure subroutine damping_rate(b, mass, gamma, status)
-    real(wp), intent(in) :: b, mass
-    !< b: damping coefficient b [kg/s] (gamma = b/mass), finite, >= 0;
-    !< mass: mass [kg], finite, > 0
+    real(wp), intent(in) :: b  !< damping coefficient b [kg/s] (gamma = b/mass), finite, >= 0
+    real(wp), intent(in) :: mass  !< mass [kg], finite, > 0
     real(wp), intent(out) :: gamma  !< damping rate b/mass [1/s] (0 on error)
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
@@ -109,9 +107,8 @@ contains
   !> as for small_angle_period; otherwise status is set and t = 0.  The one
   !> home of this series (examples, figures and the command line call it).
   pure subroutine period_series(m, w0, t, status)
-    real(wp), intent(in) :: m, w0
-    !< m: elliptic parameter m = sin^2(theta0/2), in [0, 1];
-    !< w0: small-angle angular frequency [1/s], finite, >= 2 pi / huge
+    real(wp), intent(in) :: m  !< elliptic parameter m = sin^2(theta0/2), in [0, 1]
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, >= 2 pi / huge
     real(wp), intent(out) :: t  !< series period T0 (1 + m/4 + 9 m^2/64) [s] (0 on error)
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)

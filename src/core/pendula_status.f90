@@ -57,11 +57,9 @@ contains
 
   !> Record an error (only the first error of a call is kept).
   pure subroutine set_error(status, code, message)
-    type(status_t), intent(inout) :: status
-    !< receives code and message unless an error is already set
+    type(status_t), intent(inout) :: status  !< receives code and message unless an error is already set
     integer, intent(in) :: code  !< status code (PENDULA_OK or a PENDULA_ERR_* constant)
-    character(len=*), intent(in) :: message
-    !< error message (names the argument and the valid range)
+    character(len=*), intent(in) :: message  !< error message (names the argument and the valid range)
     if (status%code /= PENDULA_OK) return
     status%code = code
     status%message = message
@@ -149,11 +147,11 @@ contains
   !> Require lo <= x <= hi (x finite). `range_text` describes the range for the
   !> message, e.g. '[0, 1]'.
   pure subroutine check_range(name, x, lo, hi, range_text, status)
-    character(len=*), intent(in) :: name, range_text
-    !< name: argument name used in the error message;
-    !< range_text: the valid range for the message, e.g. '[0, 1]'
-    real(wp), intent(in) :: x, lo, hi
-    !< x: value that must lie in [lo, hi]; lo: lower bound of x; hi: upper bound of x, >= lo
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    character(len=*), intent(in) :: range_text  !< the valid range for the message, e.g. '[0, 1]'
+    real(wp), intent(in) :: x  !< value that must lie in [lo, hi]
+    real(wp), intent(in) :: lo  !< lower bound of x
+    real(wp), intent(in) :: hi  !< upper bound of x, >= lo
     type(status_t), intent(inout) :: status
     !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
@@ -206,8 +204,8 @@ contains
   !> Require size(x) >= min_size.
   pure subroutine check_size(name, n, min_size, status)
     character(len=*), intent(in) :: name  !< argument name used in the error message
-    integer, intent(in) :: n, min_size
-    !< n: size of the array name; min_size: smallest allowed size
+    integer, intent(in) :: n  !< size of the array name
+    integer, intent(in) :: min_size  !< smallest allowed size
     type(status_t), intent(inout) :: status
     !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
@@ -222,10 +220,10 @@ contains
   !> exact-size check of the library: every procedure uses it, so every size
   !> message reads alike.
   pure subroutine check_same_size(name, n, like, n_like, status)
-    character(len=*), intent(in) :: name, like
-    !< name: argument name used in the error message;
-    !< like: name of the array whose size n_like is
-    integer, intent(in) :: n, n_like  !< n: size of the array checked; n_like: size it must equal
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    character(len=*), intent(in) :: like  !< name of the array whose size n_like is
+    integer, intent(in) :: n  !< size of the array checked
+    integer, intent(in) :: n_like  !< size it must equal
     type(status_t), intent(inout) :: status
     !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return

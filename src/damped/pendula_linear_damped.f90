@@ -133,9 +133,8 @@ contains
   !> exactly; nearness to it is damping_ratio - 1.  Every number is within a
   !> few ulps of its exact value at the given inputs.
   pure subroutine damping_regime(w0, gamma, info, status)
-    real(wp), intent(in) :: w0, gamma
-    !< w0: small-angle angular frequency sqrt(g/l) [1/s], finite, > 0;
-    !< gamma: damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
     type(damping_regime_t), intent(out) :: info
     !< regime code, damping ratio, eigenvalues and time scales (defaults on error)
     type(status_t), intent(out) :: status
@@ -209,11 +208,10 @@ contains
   !> status names the argument and sol is left at its defaults.
   pure subroutine linear_damped_init(sol, theta0_in, omega0_in, w0, gamma, status)
     type(linear_damped_t), intent(out) :: sol  !< the trajectory (defaults on error)
-    real(wp), intent(in) :: theta0_in, omega0_in, w0, gamma
-    !< theta0_in: initial angle theta(0) [rad], finite;
-    !< omega0_in: initial angular velocity Omega(0) [rad/s], finite;
-    !< w0: small-angle angular frequency sqrt(g/l) [1/s], finite, > 0;
-    !< gamma: damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: theta0_in  !< initial angle theta(0) [rad], finite
+    real(wp), intent(in) :: omega0_in  !< initial angular velocity Omega(0) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp) :: a, k, inv2k, theta0, omega0
@@ -345,10 +343,10 @@ contains
   !> gamma) + condition of the problem); never overflows for t >= 0 (values
   !> below the double range come out as 0).  t < 0 is outside the contract.
   elemental subroutine linear_damped_state(sol, t, theta, omega)
-    class(linear_damped_t), intent(in) :: sol
-    !< linear damped trajectory set up by linear_damped_init
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
     real(wp), intent(in) :: t  !< time [s], >= 0
-    real(wp), intent(out) :: theta, omega  !< theta: theta(t) [rad]; omega: Omega(t) [rad/s]
+    real(wp), intent(out) :: theta  !< theta(t) [rad]
+    real(wp), intent(out) :: omega  !< Omega(t) [rad/s]
     real(wp) :: x, z, xe, e, et, s, c, p, q, m1, m2
     integer :: n1, n2
     theta = 0
@@ -426,8 +424,7 @@ contains
 
   !> theta(t) [rad] at t >= 0 [s]; see linear_damped_state.
   elemental real(wp) function linear_damped_theta(sol, t) result(theta)
-    class(linear_damped_t), intent(in) :: sol
-    !< linear damped trajectory set up by linear_damped_init
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
     real(wp), intent(in) :: t  !< time [s], >= 0
     real(wp) :: omega
     call linear_damped_state(sol, t, theta, omega)
@@ -435,8 +432,7 @@ contains
 
   !> Omega(t) = theta'(t) [rad/s] at t >= 0 [s]; see linear_damped_state.
   elemental real(wp) function linear_damped_omega(sol, t) result(omega)
-    class(linear_damped_t), intent(in) :: sol
-    !< linear damped trajectory set up by linear_damped_init
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
     real(wp), intent(in) :: t  !< time [s], >= 0
     real(wp) :: theta
     call linear_damped_state(sol, t, theta, omega)
@@ -445,8 +441,7 @@ contains
   !> Under-damped envelope R e^{-gamma t/2} [rad] (|theta(t)| <= envelope,
   !> touching it once per half period, §2.1.3); 0 for the other regimes.
   elemental real(wp) function linear_damped_envelope(sol, t) result(env)
-    class(linear_damped_t), intent(in) :: sol
-    !< linear damped trajectory set up by linear_damped_init
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
     real(wp), intent(in) :: t  !< time [s], >= 0
     real(wp) :: m
     integer :: n
@@ -464,11 +459,10 @@ contains
   !> theta(:), omega(:) of the same size.  Non-finite or negative t, or a size
   !> mismatch, sets status (outputs are then 0).
   pure subroutine linear_damped_eval(sol, t, theta, omega, status)
-    type(linear_damped_t), intent(in) :: sol
-    !< linear damped trajectory set up by linear_damped_init
+    type(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
     real(wp), intent(in) :: t(:)  !< times [s], finite, >= 0, any order
-    real(wp), intent(out) :: theta(:), omega(:)
-    !< theta: theta(t(i)) [rad], size(t) elements; omega: Omega(t(i)) [rad/s], size(t) elements
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     theta = 0
@@ -485,14 +479,13 @@ contains
   !> parameter sets share one set-up.  The first bad element sets status with
   !> its (0-based) index; outputs are then 0.
   pure subroutine linear_damped_arrays(t, theta0, omega0, w0, gamma, theta, omega, status)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:)
-    !< t: times [s], finite, >= 0;
-    !< theta0: initial angles [rad], size(t);
-    !< omega0: initial angular velocities [rad/s], size(t);
-    !< w0: angular frequencies [1/s], > 0, size(t);
-    !< gamma: damping rates [1/s], >= 0, size(t)
-    real(wp), intent(out) :: theta(:), omega(:)
-    !< theta: theta(t(i)) [rad], size(t); omega: Omega(t(i)) [rad/s], size(t)
+    real(wp), intent(in) :: t(:)  !< times [s], finite, >= 0
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], size(t)
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], size(t)
+    real(wp), intent(in) :: w0(:)  !< angular frequencies [1/s], > 0, size(t)
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], >= 0, size(t)
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t)
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t)
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     type(linear_damped_t) :: sol

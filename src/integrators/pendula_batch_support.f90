@@ -31,8 +31,8 @@ contains
   pure subroutine set_batch_error(status, codes, first, message)
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
-    integer, intent(in) :: codes(:), first
-    !< codes: status code of each state; first: 1-based index of the first failed state
+    integer, intent(in) :: codes(:)  !< status code of each state
+    integer, intent(in) :: first  !< 1-based index of the first failed state
     character(len=*), intent(in) :: message  !< message of that state
     integer :: n, nfail, ncancel
     n = size(codes)

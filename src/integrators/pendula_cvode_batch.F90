@@ -61,19 +61,17 @@ contains
   !> and PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS) counts finished states.
   subroutine cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
       theta, omega, codes, stats, status, threads, control, first_failed)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:)
-    !< t: shared output times [s]: finite, strictly increasing, size >= 1;
-    !< theta0: initial angles [rad], one per state (n = size(theta0));
-    !< omega0: initial angular velocities [rad/s], n elements or one;
-    !< w0: small-angle angular frequencies [1/s], > 0, n elements or one;
-    !< gamma: damping rates [1/s], >= 0, n elements or one;
-    !< rtol: relative tolerances, > 0 (n elements or one);
-    !< atol: absolute tolerances [rad, rad/s], >= 0 (n elements or one)
+    real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
+    real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n elements or one
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], >= 0, n elements or one
+    real(wp), intent(in) :: rtol(:)  !< relative tolerances, > 0 (n elements or one)
+    real(wp), intent(in) :: atol(:)  !< absolute tolerances [rad, rad/s], >= 0 (n elements or one)
     integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS (non-stiff) or PENDULA_CVODE_BDF (stiff)
     integer(i8), intent(in) :: max_steps  !< step budget per state, >= 1
-    real(wp), intent(out) :: theta(:, :), omega(:, :)
-    !< theta: theta(:, i) of state i [rad], shape (size(t), n);
-    !< omega: Omega(:, i) of state i [rad/s], shape (size(t), n)
+    real(wp), intent(out) :: theta(:, :)  !< theta(:, i) of state i [rad], shape (size(t), n)
+    real(wp), intent(out) :: omega(:, :)  !< Omega(:, i) of state i [rad/s], shape (size(t), n)
     integer, intent(out) :: codes(:)  !< status code of each state, n elements
     type(ode_stats_t), intent(out) :: stats(:)  !< solver counters of each state, n elements
     type(status_t), intent(out) :: status

@@ -58,9 +58,8 @@ contains
   !> (errmsg: the last error CVODE reported, if any).
   logical function failed(flag, what, errmsg, status)
     integer(c_int), intent(in) :: flag  !< return flag of the SUNDIALS call, < 0
-    character(len=*), intent(in) :: what, errmsg
-    !< what: name of the failed SUNDIALS call;
-    !< errmsg: the last error message CVODE reported (may be blank)
+    character(len=*), intent(in) :: what  !< name of the failed SUNDIALS call
+    character(len=*), intent(in) :: errmsg  !< the last error message CVODE reported (may be blank)
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
     character(len=:), allocatable :: why
@@ -114,11 +113,9 @@ contains
   !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
   integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C, name='')
     real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
-    type(N_Vector) :: sunvec_y, sunvec_f
-    !< sunvec_y: the state (theta, Omega) as a SUNDIALS vector;
-    !< sunvec_f: output: the derivative (theta', Omega')
-    type(c_ptr), value :: user_data
-    !< address of the call's cv_data_t (w0, gamma, control, counters)
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     type(pair_t), pointer :: yy, ff
     call c_f_pointer(user_data, p)
@@ -158,15 +155,13 @@ contains
   integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
       result(ierr) bind(C, name='')
     real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
-    type(N_Vector) :: sunvec_y, sunvec_f, tmp1, tmp2, tmp3
-    !< sunvec_y: the state (theta, Omega) as a SUNDIALS vector;
-    !< sunvec_f: output: the derivative (theta', Omega');
-    !< tmp1: CVODE work vector (unused);
-    !< tmp2: CVODE work vector (unused);
-    !< tmp3: CVODE work vector (unused)
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
+    type(N_Vector) :: tmp1  !< CVODE work vector (unused)
+    type(N_Vector) :: tmp2  !< CVODE work vector (unused)
+    type(N_Vector) :: tmp3  !< CVODE work vector (unused)
     type(SUNMatrix) :: sunmat_j  !< output: the 2x2 dense Jacobian
-    type(c_ptr), value :: user_data
-    !< address of the call's cv_data_t (w0, gamma, control, counters)
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     real(c_double), pointer :: yy(:), first(:), jd(:)
     call c_f_pointer(user_data, p)
@@ -192,11 +187,9 @@ contains
   !> at theta = 0, where the solution is exactly zero; the weights are kept
   !> finite and positive there.
   integer(c_int) function relative_weights(sunvec_y, sunvec_w, user_data) result(ierr) bind(C, name='')
-    type(N_Vector) :: sunvec_y, sunvec_w
-    !< sunvec_y: the state (theta, Omega) as a SUNDIALS vector;
-    !< sunvec_w: output: the error weights
-    type(c_ptr), value :: user_data
-    !< address of the call's cv_data_t (w0, gamma, control, counters)
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    type(N_Vector) :: sunvec_w  !< output: the error weights
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     type(pair_t), pointer :: yy, ww
     real(c_double) :: tol(2)
@@ -215,8 +208,7 @@ contains
     real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
     type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
     real(c_double) :: gout(2)  !< output: g1 = Omega, g2 = bottom_sign(theta)
-    type(c_ptr), value :: user_data
-    !< address of the call's cv_data_t (w0, gamma, control, counters)
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     real(c_double), pointer :: yy(:)
     yy => FN_VGetArrayPointer(sunvec_y)
     gout(1) = yy(2)
@@ -228,11 +220,10 @@ contains
   !> instead of printing it; warnings are dropped.
   subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C, name='')
     integer(c_int), value :: error_code  !< CVODE's error code (< 0 error, > 0 warning)
-    type(c_ptr), value :: module_name, function_name, msg, eh_data
-    !< module_name: C string: SUNDIALS module;
-    !< function_name: C string: SUNDIALS function;
-    !< msg: C string: the message;
-    !< eh_data: address of the call's cv_data_t
+    type(c_ptr), value :: module_name  !< C string: SUNDIALS module
+    type(c_ptr), value :: function_name  !< C string: SUNDIALS function
+    type(c_ptr), value :: msg  !< C string: the message
+    type(c_ptr), value :: eh_data  !< address of the call's cv_data_t
     type(cv_data_t), pointer :: p
     character(kind=c_char), pointer :: chars(:)
     integer :: j, nmax

@@ -56,21 +56,21 @@ contains
   !> Right-hand side of eq. 2.2 as a system: theta' = Omega,
   !> Omega' = -gamma Omega - w0**2 sin(theta); w0sq = w0**2 [1/s^2], gamma [1/s].
   elemental subroutine pendulum_rhs(theta, omega, w0sq, gamma, dtheta, domega)
-    real(wp), intent(in) :: theta, omega, w0sq, gamma
-    !< theta: angle [rad];
-    !< omega: angular velocity [rad/s];
-    !< w0sq: w0**2 [1/s^2];
-    !< gamma: damping rate [1/s]
-    real(wp), intent(out) :: dtheta, domega
-    !< dtheta: theta' = Omega [rad/s]; domega: Omega' [rad/s^2]
+    real(wp), intent(in) :: theta  !< angle [rad]
+    real(wp), intent(in) :: omega  !< angular velocity [rad/s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(out) :: dtheta  !< theta' = Omega [rad/s]
+    real(wp), intent(out) :: domega  !< Omega' [rad/s^2]
     dtheta = omega
     domega = -gamma * omega - w0sq * sin(theta)
   end subroutine pendulum_rhs
 
   !> Jacobian d(theta', Omega')/d(theta, Omega) = [[0, 1], [-w0**2 cos(theta), -gamma]].
   pure subroutine pendulum_jacobian(theta, w0sq, gamma, jac)
-    real(wp), intent(in) :: theta, w0sq, gamma
-    !< theta: angle [rad]; w0sq: w0**2 [1/s^2]; gamma: damping rate [1/s]
+    real(wp), intent(in) :: theta  !< angle [rad]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
     real(wp), intent(out) :: jac(2, 2)  !< the Jacobian [[0, 1], [-w0sq cos(theta), -gamma]]
     jac(1, 1) = 0
     jac(1, 2) = 1
@@ -83,10 +83,10 @@ contains
   !> has the larger modulus.  Written without gamma**2 so that it neither
   !> overflows nor cancels (the small real root comes from lambda1 lambda2 = w0**2).
   pure subroutine linear_eigenvalues(w0, gamma, lam1, lam2)
-    real(wp), intent(in) :: w0, gamma
-    !< w0: angular frequency [1/s], > 0; gamma: damping rate [1/s], >= 0
-    complex(wp), intent(out) :: lam1, lam2
-    !< lam1: eigenvalue of the larger modulus [1/s]; lam2: the other eigenvalue [1/s]
+    real(wp), intent(in) :: w0  !< angular frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    complex(wp), intent(out) :: lam1  !< eigenvalue of the larger modulus [1/s]
+    complex(wp), intent(out) :: lam2  !< the other eigenvalue [1/s]
     real(wp) :: half, s
     half = gamma / 2
     if (half >= w0) then
@@ -104,12 +104,11 @@ contains
   !> one element (t(1) is the initial time); finite theta0, omega0; w0 > 0;
   !> gamma >= 0.
   pure subroutine check_problem(t, theta0, omega0, w0, gamma, status)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma
-    !< t: output times [s]: finite, strictly increasing, size >= 1;
-    !< theta0: initial angle theta(t(1)) [rad], finite;
-    !< omega0: initial angular velocity Omega(t(1)) [rad/s], finite;
-    !< w0: small-angle angular frequency sqrt(g/l) [1/s], finite, > 0;
-    !< gamma: damping rate [1/s]
+    real(wp), intent(in) :: t(:)  !< output times [s]: finite, strictly increasing, size >= 1
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
     call check_size('t', size(t), 1, status)
@@ -155,17 +154,15 @@ contains
   !> counts) equal to n, threads >= 0.  The first failed check sets status.
   pure subroutine check_batch_shapes(nt, n, params_ok, params, theta, omega, n_codes, n_counts, counts, &
       threads, status)
-    integer, intent(in) :: nt, n, n_codes, n_counts
-    !< nt: number of output times;
-    !< n: number of states;
-    !< n_codes: size of the codes array;
-    !< n_counts: size of the array named counts
+    integer, intent(in) :: nt  !< number of output times
+    integer, intent(in) :: n  !< number of states
+    integer, intent(in) :: n_codes  !< size of the codes array
+    integer, intent(in) :: n_counts  !< size of the array named counts
     logical, intent(in) :: params_ok  !< whether every per-state parameter has one element or n
-    character(len=*), intent(in) :: params, counts
-    !< params: names of the per-state parameters, for the message;
-    !< counts: name of the per-state counter array, for the message
-    real(wp), intent(in) :: theta(:, :), omega(:, :)
-    !< theta: output angles, shape (nt, n); omega: output angular velocities, shape (nt, n)
+    character(len=*), intent(in) :: params  !< names of the per-state parameters, for the message
+    character(len=*), intent(in) :: counts  !< name of the per-state counter array, for the message
+    real(wp), intent(in) :: theta(:, :)  !< output angles, shape (nt, n)
+    real(wp), intent(in) :: omega(:, :)  !< output angular velocities, shape (nt, n)
     integer, intent(in), optional :: threads  !< optional thread count, >= 0
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before

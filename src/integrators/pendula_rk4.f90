@@ -46,9 +46,8 @@ contains
   !> imaginary axis h w0 = 2 sqrt(2) (gamma = 0).  Relative accuracy ~1e-14
   !> (bisection along the ray).  w0 > 0 [1/s], gamma >= 0 [1/s], both finite.
   pure subroutine rk4_max_stable_step(w0, gamma, h_max, status)
-    real(wp), intent(in) :: w0, gamma
-    !< w0: small-angle angular frequency [1/s], finite, > 0;
-    !< gamma: damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
     real(wp), intent(out) :: h_max  !< largest stable step [s]
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
@@ -116,12 +115,11 @@ contains
   !> Validate h against the window t(1)..t(n): positive, not so small that the
   !> run needs more than max_total_steps steps, and stable (see rk4_max_stable_step).
   pure subroutine check_step(t, w0, gamma, h, max_total_steps, status)
-    real(wp), intent(in) :: t(:), w0, gamma, h, max_total_steps
-    !< t: output times [s] (already checked);
-    !< w0: small-angle angular frequency [1/s], finite, > 0;
-    !< gamma: damping rate [1/s], >= 0;
-    !< h: largest step [s], > 0 (the substeps are equal and at most h);
-    !< max_total_steps: most steps the run may take
+    real(wp), intent(in) :: t(:)  !< output times [s] (already checked)
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0 (the substeps are equal and at most h)
+    real(wp), intent(in) :: max_total_steps  !< most steps the run may take
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
     real(wp) :: total, h_used, h_max, dt, hinv
@@ -194,16 +192,15 @@ contains
   !> Global error O(h**4): about 2.5e-6 rad for the text's scenario (b = 0.01,
   !> t <= 30 s, h = 0.05 s).
   subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status, control, max_steps)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h
-    !< t: output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time;
-    !< theta0: initial angle theta(t(1)) [rad], finite;
-    !< omega0: initial angular velocity Omega(t(1)) [rad/s], finite;
-    !< w0: small-angle angular frequency [1/s], finite, > 0;
-    !< gamma: damping rate b/m [1/s], finite, >= 0;
-    !< h: largest step [s], > 0 (the substeps are equal and at most h)
-    real(wp), intent(out) :: theta(:), omega(:)
-    !< theta: angle theta(t(i)) [rad], size(t) elements;
-    !< omega: angular velocity Omega(t(i)) [rad/s], size(t) elements
+    real(wp), intent(in) :: t(:)
+    !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0 (the substeps are equal and at most h)
+    real(wp), intent(out) :: theta(:)  !< angle theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< angular velocity Omega(t(i)) [rad/s], size(t) elements
     type(ode_stats_t), intent(out) :: stats  !< steps and rhs_evals (4 per step)
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
@@ -255,16 +252,15 @@ contains
   !> max_steps as rk4_solve.
   subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
       stats, status, control, max_steps)
-    real(wp), intent(in) :: t0, t_end, theta0, omega0, w0, gamma, h
-    !< t0: initial time [s], finite;
-    !< t_end: final time [s], >= t0;
-    !< theta0: initial angle theta(t(1)) [rad], finite;
-    !< omega0: initial angular velocity Omega(t(1)) [rad/s], finite;
-    !< w0: small-angle angular frequency [1/s], finite, > 0;
-    !< gamma: damping rate b/m [1/s], finite, >= 0;
-    !< h: largest step [s], > 0 (the substeps are equal and at most h)
-    real(wp), intent(out) :: theta_end, omega_end
-    !< theta_end: theta(t_end) [rad]; omega_end: Omega(t_end) [rad/s]
+    real(wp), intent(in) :: t0  !< initial time [s], finite
+    real(wp), intent(in) :: t_end  !< final time [s], >= t0
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0 (the substeps are equal and at most h)
+    real(wp), intent(out) :: theta_end  !< theta(t_end) [rad]
+    real(wp), intent(out) :: omega_end  !< Omega(t_end) [rad/s]
     type(ode_stats_t), intent(out) :: stats  !< steps and rhs_evals (4 per step)
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)

@@ -78,16 +78,14 @@ contains
   !> more is refused before any work, with rk4_solve's code.
   subroutine rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, steps, status, &
       threads, control, first_failed, max_steps)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), h(:)
-    !< t: shared output times [s]: finite, strictly increasing, size >= 1;
-    !< theta0: initial angles [rad], one per state (n = size(theta0));
-    !< omega0: initial angular velocities [rad/s], n elements or one;
-    !< w0: small-angle angular frequencies [1/s], > 0, n elements or one;
-    !< gamma: damping rates [1/s], >= 0, n elements or one;
-    !< h: RK4 step bounds [s], > 0, n elements or one
-    real(wp), intent(out) :: theta(:, :), omega(:, :)
-    !< theta: theta(:, i) of state i [rad], shape (size(t), n);
-    !< omega: Omega(:, i) of state i [rad/s], shape (size(t), n)
+    real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
+    real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n elements or one
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], >= 0, n elements or one
+    real(wp), intent(in) :: h(:)  !< RK4 step bounds [s], > 0, n elements or one
+    real(wp), intent(out) :: theta(:, :)  !< theta(:, i) of state i [rad], shape (size(t), n)
+    real(wp), intent(out) :: omega(:, :)  !< Omega(:, i) of state i [rad/s], shape (size(t), n)
     integer, intent(out) :: codes(:)  !< status code of each state, n elements
     integer(i8), intent(out) :: steps(:)  !< RK4 steps taken by each state, n elements
     type(status_t), intent(out) :: status

@@ -176,7 +176,8 @@ contains
   !> node_reduce and sin_node; libm sin(x + d) (rounded sum) when |x| >
   !> stage_xmax or the offset leaves the polynomials' range.  For tests.
   elemental real(wp) function sin_shift(x, d) result(s)
-    real(wp), intent(in) :: x, d  !< x: angle [rad]; d: offset added exactly to x [rad]
+    real(wp), intent(in) :: x  !< angle [rad]
+    real(wp), intent(in) :: d  !< offset added exactly to x [rad]
     integer :: k
     real(wp) :: rho, r
     call node_reduce(x, k, rho)
@@ -204,7 +205,8 @@ contains
   !> that dt/h within 1e-9 of an integer counts as that integer (output grids
   !> like 0.05*k are multiples of h only up to rounding).
   pure integer(i8) function substeps(dt, h) result(n)
-    real(wp), intent(in) :: dt, h  !< dt: interval to cover [s], > 0; h: largest step [s], > 0
+    real(wp), intent(in) :: dt  !< interval to cover [s], > 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0
     real(wp) :: r, nr
     ! The common case first and without a division: dt <= h or dt exceeding h
     ! by rounding only (dt/h <= 1 + 1e-9: one step).  One test for both keeps
@@ -229,17 +231,16 @@ contains
   !> (y, u) = (theta, Omega) with step_constants' half, sixth and c6: rk4_grid's
   !> path where the stage offsets leave the table's range, and the batch lanes'.
   pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
-    real(wp), intent(in) :: y, u, w0sq, gamma, hs, half, sixth, c6
-    !< y: theta at the start of the step [rad];
-    !< u: Omega at the start of the step [rad/s];
-    !< w0sq: w0**2 [1/s^2];
-    !< gamma: damping rate [1/s];
-    !< hs: substep [s];
-    !< half: hs/2 from step_constants;
-    !< sixth: hs/6 from step_constants;
-    !< c6: c6 from step_constants
-    real(wp), intent(out) :: yn, un
-    !< yn: theta after the step [rad]; un: Omega after the step [rad/s]
+    real(wp), intent(in) :: y  !< theta at the start of the step [rad]
+    real(wp), intent(in) :: u  !< Omega at the start of the step [rad/s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(in) :: hs  !< substep [s]
+    real(wp), intent(in) :: half  !< hs/2 from step_constants
+    real(wp), intent(in) :: sixth  !< hs/6 from step_constants
+    real(wp), intent(in) :: c6  !< c6 from step_constants
+    real(wp), intent(out) :: yn  !< theta after the step [rad]
+    real(wp), intent(out) :: un  !< Omega after the step [rad/s]
     real(wp) :: k1, k2, k3, k4, p2
     p2 = half * u
     k1 = -gamma * u - w0sq * sin(y)
@@ -255,22 +256,22 @@ contains
   !> every step of an interval: hs/2, hs/6, their products, and the w0sq and
   !> gamma factors of the stage updates.
   elemental subroutine step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
-    real(wp), intent(in) :: hs, w0sq, gamma
-    !< hs: substep [s]; w0sq: w0**2 [1/s^2]; gamma: damping rate [1/s]
-    real(wp), intent(out) :: half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1
-    !< half: hs/2 [s];
-    !< sixth: hs/6 [s];
-    !< h2q: stage constant (products of hs/2, hs/6 and w0sq);
-    !< hh: stage constant;
-    !< c6: stage constant;
-    !< w1: w0sq stage factor;
-    !< w2: w0sq stage factor;
-    !< cy: stage constant;
-    !< g2: gamma stage factor;
-    !< wa: w0sq stage factor;
-    !< wb: w0sq stage factor;
-    !< bu0: gamma stage factor;
-    !< bu1: gamma stage factor
+    real(wp), intent(in) :: hs  !< substep [s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(out) :: half  !< hs/2 [s]
+    real(wp), intent(out) :: sixth  !< hs/6 [s]
+    real(wp), intent(out) :: h2q  !< stage constant (products of hs/2, hs/6 and w0sq)
+    real(wp), intent(out) :: hh  !< stage constant
+    real(wp), intent(out) :: c6  !< stage constant
+    real(wp), intent(out) :: w1  !< w0sq stage factor
+    real(wp), intent(out) :: w2  !< w0sq stage factor
+    real(wp), intent(out) :: cy  !< stage constant
+    real(wp), intent(out) :: g2  !< gamma stage factor
+    real(wp), intent(out) :: wa  !< w0sq stage factor
+    real(wp), intent(out) :: wb  !< w0sq stage factor
+    real(wp), intent(out) :: bu0  !< gamma stage factor
+    real(wp), intent(out) :: bu1  !< gamma stage factor
     half = hs / 2
     sixth = hs / 6
     h2q = half * half
@@ -300,16 +301,14 @@ contains
   !> outputs, so the recurrence never leaves registers between outputs; the
   !> poll splits an interval's steps into blocks without touching the state.
   subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad, control)
-    real(wp), intent(in) :: t(:), w0sq, gamma, h
-    !< t: output times [s], strictly increasing (not checked);
-    !< w0sq: w0**2 [1/s^2];
-    !< gamma: damping rate [1/s];
-    !< h: largest step [s], > 0
-    real(wp), intent(inout) :: theta(:), omega(:)
-    !< theta: theta(1) [rad] on entry; theta(t(i)) on exit;
-    !< omega: Omega(1) [rad/s] on entry; Omega(t(i)) on exit
-    integer(i8), intent(out) :: steps, fast
-    !< steps: substeps taken; fast: substeps on the table path
+    real(wp), intent(in) :: t(:)  !< output times [s], strictly increasing (not checked)
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(in) :: h  !< largest step [s], > 0
+    real(wp), intent(inout) :: theta(:)  !< theta(1) [rad] on entry; theta(t(i)) on exit
+    real(wp), intent(inout) :: omega(:)  !< Omega(1) [rad/s] on entry; Omega(t(i)) on exit
+    integer(i8), intent(out) :: steps  !< substeps taken
+    integer(i8), intent(out) :: fast  !< substeps on the table path
     integer, intent(out) :: bad
     !< 0, the first non-finite index, -j when cancelled in interval j, or huge(bad) for bad sizes
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)

@@ -35,8 +35,10 @@ contains
   !> AGM(1 + t, 1 - t) = 1 - t^2/4 - 5 t^4/64 - O(t^6): the t^2 term (~1e-17) is then
   !> needed only to a few digits, so its rounding stays ~1e-32 (at t ~ 2**-16 it was 1e-26).
   pure subroutine k_double_double(mch, mcl, khi, klo)
-    real(wp), intent(in) :: mch, mcl  !< mch: high part of mc = 1 - m, > 0; mcl: low part of mc
-    real(wp), intent(out) :: khi, klo  !< khi: high part of K; klo: low part of K
+    real(wp), intent(in) :: mch  !< high part of mc = 1 - m, > 0
+    real(wp), intent(in) :: mcl  !< low part of mc
+    real(wp), intent(out) :: khi  !< high part of K
+    real(wp), intent(out) :: klo  !< low part of K
     real(wp), parameter :: tiny_mc = 2.0_wp**(-900), up = 2.0_wp**1000, down = 2.0_wp**(-500)
     real(wp) :: ah, al, bh, bl, x, xl, s, se, p, t, corr
     integer :: i
@@ -131,7 +133,8 @@ contains
 
   !> K(m) for 0 <= m < 1 given m and mc = 1 - m (mc accurate when m > 0.85).
   pure elemental real(wp) function k_unit(m, mc) result(k)
-    real(wp), intent(in) :: m, mc  !< m: parameter m in [0, 1); mc: 1 - m (accurate when m > 0.85)
+    real(wp), intent(in) :: m  !< parameter m in [0, 1)
+    real(wp), intent(in) :: mc  !< 1 - m (accurate when m > 0.85)
     integer :: i
     if (mc <= 0.15_wp) then
       k = estrin12(ke_log_poly(:, 0), mc) - log(mc) * estrin12(ke_log_poly(:, 1), mc)

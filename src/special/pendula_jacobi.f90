@@ -78,7 +78,9 @@ contains
   elemental subroutine ellipj_eval(plan, u, sn, cn, dn, am)
     type(ellipj_plan_t), intent(in) :: plan  !< Jacobi plan from ellipj_plan or ellipj_planm1
     real(wp), intent(in) :: u  !< argument u (real, any value)
-    real(wp), intent(out) :: sn, cn, dn  !< sn: sn(u|m); cn: cn(u|m); dn: dn(u|m)
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
     if (allocated(plan%tab)) then
@@ -95,10 +97,9 @@ contains
   pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, status, am)
     type(ellipj_plan_t), intent(in) :: plan  !< Jacobi plan from ellipj_plan or ellipj_planm1
     real(wp), intent(in) :: u(:)  !< arguments u (any real values)
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
-    !< sn: sn(u|m), size(u) elements;
-    !< cn: cn(u|m), size(u) elements;
-    !< dn: dn(u|m), size(u) elements
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
@@ -152,9 +153,11 @@ contains
   !> NaN out.  Accuracy: a few eps times the condition number; u is reduced
   !> modulo 2K with K in double-double, so large |u| does not lose u*eps.
   elemental subroutine ellipj(u, m, sn, cn, dn, am)
-    real(wp), intent(in) :: u, m
-    !< u: argument u (real, any value); m: parameter m = k**2 (any real)
-    real(wp), intent(out) :: sn, cn, dn  !< sn: sn(u|m); cn: cn(u|m); dn: dn(u|m)
+    real(wp), intent(in) :: u  !< argument u (real, any value)
+    real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
     call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., present(am), sn, cn, dn, a)
@@ -165,12 +168,11 @@ contains
   !> elemental form, in one loop inside this module.  A size mismatch sets status
   !> (PENDULA_ERR_SIZE) and the outputs to NaN.
   pure subroutine ellipj_array(u, m, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), m(:)
-    !< u: arguments u (any real values); m: parameters m, size(u) elements
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
-    !< sn: sn(u|m), size(u) elements;
-    !< cn: cn(u|m), size(u) elements;
-    !< dn: dn(u|m), size(u) elements
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: m(:)  !< parameters m, size(u) elements
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
@@ -186,13 +188,11 @@ contains
 
   !> ellipjm1 over rank-1 arrays (same numbers as the elemental form); sizes as ellipj_array.
   pure subroutine ellipjm1_array(u, mc, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), mc(:)
-    !< u: arguments u (any real values);
-    !< mc: complementary parameters mc = 1 - m, size(u) elements
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
-    !< sn: sn(u|m), size(u) elements;
-    !< cn: cn(u|m), size(u) elements;
-    !< dn: dn(u|m), size(u) elements
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: mc(:)  !< complementary parameters mc = 1 - m, size(u) elements
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
@@ -211,9 +211,11 @@ contains
   !> Jacobi functions with the complementary parameter mc = 1 - m (any real mc;
   !> accurate near m = 1 including the smallest subnormal mc; mc = 0 gives tanh/sech).
   elemental subroutine ellipjm1(u, mc, sn, cn, dn, am)
-    real(wp), intent(in) :: u, mc
-    !< u: argument u (real, any value); mc: complementary parameter mc = 1 - m (any real)
-    real(wp), intent(out) :: sn, cn, dn  !< sn: sn(u|m); cn: cn(u|m); dn: dn(u|m)
+    real(wp), intent(in) :: u  !< argument u (real, any value)
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
     call eval_at_param(jacobi_param(1 - mc, mc, .true., .false.), u, .false., present(am), sn, cn, dn, a)
@@ -271,12 +273,11 @@ contains
   !> ellipj_plan_pays says so, else point by point; the same numbers as ellipj_eval_array
   !> with ellipj_plan(m), or as ellipj_array.  Sizes as ellipj_array.
   pure subroutine ellipj_one_m_array(u, m, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), m
-    !< u: arguments u (any real values); m: parameter m = k**2 (any real)
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
-    !< sn: sn(u|m), size(u) elements;
-    !< cn: cn(u|m), size(u) elements;
-    !< dn: dn(u|m), size(u) elements
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
@@ -289,12 +290,11 @@ contains
 
   !> ellipj_one_m_array for the complementary parameter mc = 1 - m.
   pure subroutine ellipjm1_one_m_array(u, mc, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), mc
-    !< u: arguments u (any real values); mc: complementary parameter mc = 1 - m (any real)
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
-    !< sn: sn(u|m), size(u) elements;
-    !< cn: cn(u|m), size(u) elements;
-    !< dn: dn(u|m), size(u) elements
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements

@@ -268,10 +268,12 @@ contains
     real(wp), intent(in), optional :: tab(0:, :, 0:)  !< Taylor table of the plan
     integer, intent(in), optional :: ntab  !< last row of the table
     real(wp), intent(in) :: u  !< argument u (real, any value)
-    logical, intent(in) :: exact_k, want_am
-    !< exact_k: true: K in double-double for the reduction; want_am: whether am is computed
-    real(wp), intent(out) :: sn, cn, dn, am
-    !< sn: sn(u|m); cn: cn(u|m); dn: dn(u|m); am: am(u|m) [rad] (when want_am)
+    logical, intent(in) :: exact_k  !< true: K in double-double for the reduction
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am)
     real(wp) :: v, vl, n, khi, klo, p, e, r, t, ex, fs, fc, fd, fa, del
     integer :: j, parity
     if (plan%kind == MODULUS_INVALID .or. ieee_is_nan(u)) then
@@ -380,10 +382,12 @@ contains
   !> short path): sn, cn, dn and, if want_am, am at the points (u(i), m(i)).
   pure subroutine ellipj_points(n, u, m, want_am, sn, cn, dn, am)
     integer, intent(in) :: n  !< number of points
-    real(wp), intent(in) :: u(n), m(n)  !< u: arguments u, n elements; m: parameters m, n elements
+    real(wp), intent(in) :: u(n)  !< arguments u, n elements
+    real(wp), intent(in) :: m(n)  !< parameters m, n elements
     logical, intent(in) :: want_am  !< whether am is computed
-    real(wp), intent(out) :: sn(n), cn(n), dn(n)
-    !< sn: sn at each point; cn: cn at each point; dn: dn at each point
+    real(wp), intent(out) :: sn(n)  !< sn at each point
+    real(wp), intent(out) :: cn(n)  !< cn at each point
+    real(wp), intent(out) :: dn(n)  !< dn at each point
     real(wp), intent(inout) :: am(*)  !< am [rad] at each point (written when want_am)
     real(wp) :: a
     integer :: i
@@ -482,12 +486,14 @@ contains
   !> cannot take (NaN, Inf, n >= 2**26 half periods) go through eval_at_param.
   pure subroutine eval_table_array(par, tab, ntab, n, u, want_am, sn, cn, dn, am)
     type(jacobi_param_t), intent(in) :: par  !< transformed parameter (jacobi_param)
-    integer, intent(in) :: ntab, n  !< ntab: last row of the table; n: number of points
-    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab), u(n)
-    !< tab: Taylor table of the plan; u: arguments u, n elements
+    integer, intent(in) :: ntab  !< last row of the table
+    integer, intent(in) :: n  !< number of points
+    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab)  !< Taylor table of the plan
+    real(wp), intent(in) :: u(n)  !< arguments u, n elements
     logical, intent(in) :: want_am  !< whether am is computed
-    real(wp), intent(out) :: sn(n), cn(n), dn(n)
-    !< sn: sn at each point; cn: cn at each point; dn: dn at each point
+    real(wp), intent(out) :: sn(n)  !< sn at each point
+    real(wp), intent(out) :: cn(n)  !< cn at each point
+    real(wp), intent(out) :: dn(n)  !< dn at each point
     real(wp), intent(inout) :: am(*)  !< am [rad] at each point (written when want_am)
     real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
     integer :: i, j, parity

@@ -45,8 +45,8 @@ contains
   elemental subroutine equilibrium_eigenvalues(n, w0, lambda1, lambda2)
     integer, intent(in) :: n  !< equilibrium index: theta = n pi
     real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
-    complex(wp), intent(out) :: lambda1, lambda2
-    !< lambda1: first eigenvalue [1/s]; lambda2: second eigenvalue [1/s]
+    complex(wp), intent(out) :: lambda1  !< first eigenvalue [1/s]
+    complex(wp), intent(out) :: lambda2  !< second eigenvalue [1/s]
     if (modulo(n, 2) == 0) then
       lambda1 = cmplx(0.0_wp, w0, wp)
     else
@@ -61,8 +61,8 @@ contains
     integer, intent(in) :: n  !< equilibrium index: theta = n pi
     real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
     real(wp), intent(out) :: theta  !< equilibrium angle n pi [rad]
-    complex(wp), intent(out) :: lambda1, lambda2
-    !< lambda1: first eigenvalue [1/s]; lambda2: second eigenvalue [1/s]
+    complex(wp), intent(out) :: lambda1  !< first eigenvalue [1/s]
+    complex(wp), intent(out) :: lambda2  !< second eigenvalue [1/s]
     integer, intent(out) :: kind  !< EQUILIBRIUM_CENTRE or EQUILIBRIUM_SADDLE
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)

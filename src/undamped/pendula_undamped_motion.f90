@@ -72,10 +72,9 @@ contains
   !> Cost: one K, one F and one Jacobi plan (~ a few hundred ns).
   pure subroutine undamped_init(motion, theta0, omega0, w0, status, plan, w0lo)
     type(undamped_motion_t), intent(out) :: motion  !< the motion (the resting pendulum on error)
-    real(wp), intent(in) :: theta0, omega0, w0
-    !< theta0: initial angle [rad], finite;
-    !< omega0: initial angular velocity [rad/s], finite;
-    !< w0: small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     !> Build a Jacobi plan (default .true.): ~13 us once, then ~40 ns per time;
@@ -117,10 +116,9 @@ contains
 
   !> The checks of undamped_init: theta0, Omega0 finite, w0 finite and > 0.
   pure subroutine check_state(theta0, omega0, w0, status)
-    real(wp), intent(in) :: theta0, omega0, w0
-    !< theta0: initial angle [rad], finite;
-    !< omega0: initial angular velocity [rad/s], finite;
-    !< w0: small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     call check_finite('theta0', theta0, status)
@@ -136,10 +134,9 @@ contains
   !> the period only beyond |rate t| ~ 5e11).
   pure subroutine set_geometry(motion, theta0, omega0, w0, w0lo)
     type(undamped_motion_t), intent(out) :: motion  !< the motion (the resting pendulum on error)
-    real(wp), intent(in) :: theta0, omega0, w0
-    !< theta0: initial angle [rad], finite;
-    !< omega0: initial angular velocity [rad/s], finite;
-    !< w0: small-angle angular frequency [1/s], > 0 (checked)
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0 (checked)
     real(wp), intent(in), optional :: w0lo   ! see undamped_init
     !< optional low part of w0 when w0 is a double-double
     real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
@@ -261,8 +258,7 @@ contains
 
   !> Amplitude [rad] of a motion with its geometry set (see undamped_amplitude).
   elemental real(wp) function motion_amplitude(motion) result(amplitude)
-    type(undamped_motion_t), intent(in) :: motion
-    !< a motion built by undamped_init (or set_geometry)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     select case (motion%regime)
     case (REGIME_LIBRATION)
       amplitude = 2 * atan2(motion%k, sqrt(motion%mc))
@@ -275,8 +271,7 @@ contains
 
   !> Whether undamped_eval at t takes whole periods out (and so needs the period).
   elemental logical function period_needed(motion, t) result(needed)
-    type(undamped_motion_t), intent(in) :: motion
-    !< a motion built by undamped_init (or set_geometry)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     real(wp), intent(in) :: t  !< time [s]
     needed = .not. motion%free .and. motion%regime /= REGIME_SEPARATRIX &
         .and. exponent(t) > 40 - exponent(motion%rate)
@@ -286,8 +281,7 @@ contains
   !> the time of one full turn 2 K(1/m)/(k w0) for rotation (the period of
   !> Omega), +inf on the separatrix.
   elemental real(wp) function undamped_period(motion) result(period)
-    type(undamped_motion_t), intent(in) :: motion
-    !< a motion built by undamped_init (or set_geometry)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     period = motion%period
   end function undamped_period
 
@@ -295,23 +289,20 @@ contains
   !> as 2 atan2(k, sqrt(1-m)), accurate up to the separatrix), pi on the
   !> separatrix (approached, never reached), +inf for rotation.
   elemental real(wp) function undamped_amplitude(motion) result(amplitude)
-    type(undamped_motion_t), intent(in) :: motion
-    !< a motion built by undamped_init (or set_geometry)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     amplitude = motion%amplitude
   end function undamped_amplitude
 
   !> Energy per unit m l^2 [1/s^2]: Omega^2/2 + w0^2 (1 - cos theta) = 2 w0^2 m
   !> (zero at the bottom, 2 w0^2 on the separatrix); constant along the motion.
   elemental real(wp) function undamped_energy(motion) result(energy)
-    type(undamped_motion_t), intent(in) :: motion
-    !< a motion built by undamped_init (or set_geometry)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     energy = motion%energy
   end function undamped_energy
 
   !> Regime code: REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION.
   elemental integer function undamped_regime(motion) result(regime)
-    type(undamped_motion_t), intent(in) :: motion
-    !< a motion built by undamped_init (or set_geometry)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     regime = motion%regime
   end function undamped_regime
 
@@ -319,10 +310,9 @@ contains
   !> (= Omega^2/2 + w0^2 (1 - cos theta), eq. 1.2, without the cancellation of
   !> 1 - cos near theta = 0).  Relative accuracy a few eps.
   elemental real(wp) function pendulum_energy(theta, omega, w0) result(energy)
-    real(wp), intent(in) :: theta, omega, w0
-    !< theta: angle [rad];
-    !< omega: angular velocity [rad/s];
-    !< w0: small-angle angular frequency [1/s]
+    real(wp), intent(in) :: theta  !< angle [rad]
+    real(wp), intent(in) :: omega  !< angular velocity [rad/s]
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s]
     real(wp) :: sh
     sh = sin(0.5_wp * theta)
     energy = 0.5_wp * omega * omega + 2 * (w0 * sh) * (w0 * sh)

@@ -7,8 +7,9 @@ Public procedures are the names in the modules' `public` statements and the
 specific procedures of public generic interfaces; files pulled in by
 `include`/`#include` are read as part of their module (the FORD site is built
 from the preprocessed source, so the no-CVODE stand-ins are what it shows).
-A declaration of several arguments on one line needs one comment naming each
-of them, since FORD shows that one comment for every one of them.
+A declaration of several arguments needs one comment naming each of them, on
+the declaration's own line: FORD shows that one comment for every one of them,
+and drops comment lines that follow such a declaration.
 
 src/scene is checked too, but its arguments are still being written; the ones
 without a comment are listed in SCENE_UNDOCUMENTED, exactly: the test fails
@@ -234,9 +235,15 @@ def _names(text):
     return [re.match(r"\s*(\w*)", n).group(1).lower() for n in out if n.strip()]
 
 
-def _documented(lines, first, last):
-    """The doc comment of the statement on lines first..last ('' if none)."""
+def _documented(lines, first, last, single=True):
+    """The doc comment of the statement on lines first..last ('' if none).
+    FORD drops the comment lines after a declaration of several names (their
+    one comment must stand on the declaration's line), and reads `!>` above
+    a declaration only for one name too."""
     doc = []
+    if not single:
+        m = re.search(r"!<.*", lines[last])
+        return m.group(0) if m else ""
     j = first - 1
     while j >= 0 and lines[j].lstrip().startswith("!>"):
         doc.append(lines[j])
@@ -304,8 +311,9 @@ def _scan(path):
             continue
         if stack and "::" in low:
             proc = stack[-1]
-            decl = [n for n in _names(low.split("::", 1)[1]) if n in proc[1]]
-            doc = _documented(lines, first, last) if decl else ""
+            names = _names(low.split("::", 1)[1])
+            decl = [n for n in names if n in proc[1]]
+            doc = _documented(lines, first, last, len(names) == 1) if decl else ""
             for arg in decl:
                 if arg in proc[2]:
                     continue
