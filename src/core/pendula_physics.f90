@@ -107,7 +107,7 @@ contains
   !> as for small_angle_period; otherwise status is set and t = 0.  The one
   !> home of this series (examples, figures and the command line call it).
   pure subroutine period_series(m, w0, t, status)
-    real(wp), intent(in) :: m  !< elliptic parameter m = sin^2(theta0/2), in [0, 1]
+    real(wp), intent(in) :: m  !< elliptic parameter m = k**2, in [0, 1] (sin^2(theta0/2) from rest)
     real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, >= 2 pi / huge
     real(wp), intent(out) :: t  !< series period T0 (1 + m/4 + 9 m^2/64) [s] (0 on error)
     type(status_t), intent(out) :: status

@@ -123,7 +123,7 @@ contains
   !> PENDULA_CVODE_BDF, step budget max_steps >= 1.
   pure subroutine check_cvode_options(method, max_steps, status)
     integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS (non-stiff) or PENDULA_CVODE_BDF (stiff)
-    integer(i8), intent(in) :: max_steps  !< step budget as a double (any size)
+    integer(i8), intent(in) :: max_steps  !< per-state step budget, >= 1
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
     if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &

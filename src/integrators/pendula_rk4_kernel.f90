@@ -261,17 +261,17 @@ contains
     real(wp), intent(in) :: gamma  !< damping rate [1/s]
     real(wp), intent(out) :: half  !< hs/2 [s]
     real(wp), intent(out) :: sixth  !< hs/6 [s]
-    real(wp), intent(out) :: h2q  !< stage constant (products of hs/2, hs/6 and w0sq)
-    real(wp), intent(out) :: hh  !< stage constant
-    real(wp), intent(out) :: c6  !< stage constant
-    real(wp), intent(out) :: w1  !< w0sq stage factor
-    real(wp), intent(out) :: w2  !< w0sq stage factor
-    real(wp), intent(out) :: cy  !< stage constant
-    real(wp), intent(out) :: g2  !< gamma stage factor
-    real(wp), intent(out) :: wa  !< w0sq stage factor
-    real(wp), intent(out) :: wb  !< w0sq stage factor
-    real(wp), intent(out) :: bu0  !< gamma stage factor
-    real(wp), intent(out) :: bu1  !< gamma stage factor
+    real(wp), intent(out) :: h2q  !< half**2 [s^2]
+    real(wp), intent(out) :: hh  !< hs*half [s^2]
+    real(wp), intent(out) :: c6  !< hs*sixth [s^2]
+    real(wp), intent(out) :: w1  !< h2q*w0sq
+    real(wp), intent(out) :: w2  !< hh*w0sq
+    real(wp), intent(out) :: cy  !< c6*w0sq
+    real(wp), intent(out) :: g2  !< (2 - gamma hs) gamma [1/s]
+    real(wp), intent(out) :: wa  !< sixth (2 - gamma hs) w0sq [1/s]
+    real(wp), intent(out) :: wb  !< sixth*w0sq [1/s]
+    real(wp), intent(out) :: bu0  !< hh w0sq (gamma hh + 2)
+    real(wp), intent(out) :: bu1  !< hs + hh (2 gamma + gamma**2 hh)
     half = hs / 2
     sixth = hs / 6
     h2q = half * half
