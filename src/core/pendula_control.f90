@@ -25,13 +25,15 @@ contains
   !> True when another thread has asked the call holding `control` to stop.
   logical function cancel_requested(control)
     integer(int64), intent(inout), volatile :: control(:)  ! size CONTROL_SIZE; VOLATILE excludes intent(in)
+    !< control array of CONTROL_SIZE elements: cancel flag and progress counter (see module doc)
     cancel_requested = control(CONTROL_CANCEL) /= 0
   end function cancel_requested
 
   !> Add `n` work units to the progress counter (atomic under OpenMP).
   subroutine add_progress(control, n)
     integer(int64), intent(inout), volatile :: control(:)  ! size CONTROL_SIZE
-    integer(int64), intent(in) :: n
+    !< control array of CONTROL_SIZE elements: cancel flag and progress counter (see module doc)
+    integer(int64), intent(in) :: n  !< work units to add to the progress counter, >= 0
     !$omp atomic update
     control(CONTROL_PROGRESS) = control(CONTROL_PROGRESS) + n
   end subroutine add_progress

@@ -14,8 +14,10 @@ contains
 
   !> Error-free sum a + b = s + e with s = fl(a + b) (Knuth; any order of magnitude).
   pure elemental subroutine two_sum(a, b, s, e)
-    real(wp), intent(in) :: a, b
-    real(wp), intent(out) :: s, e
+    real(wp), intent(in) :: a  !< first summand
+    real(wp), intent(in) :: b  !< second summand
+    real(wp), intent(out) :: s  !< fl(a + b)
+    real(wp), intent(out) :: e  !< exact error a + b - s
     real(wp) :: bb
     s = a + b
     bb = s - a
@@ -28,8 +30,10 @@ contains
   !> is scaled by 2**-28 first, which scales p and e exactly; without this the split gives
   !> Inf - Inf = NaN for |a| >= 1.3e300.
   pure elemental subroutine two_prod(a, b, p, e)
-    real(wp), intent(in) :: a, b
-    real(wp), intent(out) :: p, e
+    real(wp), intent(in) :: a  !< first factor
+    real(wp), intent(in) :: b  !< second factor
+    real(wp), intent(out) :: p  !< fl(a*b)
+    real(wp), intent(out) :: e  !< exact error a*b - p
     real(wp), parameter :: big = 2.0_wp**996
     real(wp) :: ps
     p = a * b
@@ -60,8 +64,9 @@ contains
   !> Veltkamp split a = hi + lo, each with at most 26 significant bits, so that products
   !> of a head by a small integer are exact (|a| <= 2**996, where split*a cannot overflow).
   pure elemental subroutine veltkamp_split(a, hi, lo)
-    real(wp), intent(in) :: a
-    real(wp), intent(out) :: hi, lo
+    real(wp), intent(in) :: a  !< value to split, |a| <= 2**996
+    real(wp), intent(out) :: hi  !< head (26 significant bits)
+    real(wp), intent(out) :: lo  !< tail a - hi
     real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
     real(wp) :: t
     t = split * a
@@ -72,8 +77,9 @@ contains
   !> Double-double sum (ah + al) + (bh + bl) = ch + cl, accurate also under cancellation
   !> (both low parts summed error-free: the "IEEE" addition of Bailey's QD library).
   pure elemental subroutine dd_add(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: ah, al  !< ah, al: high and low parts of the first summand
+    real(wp), intent(in) :: bh, bl  !< bh, bl: high and low parts of the second summand
+    real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the sum
     real(wp) :: s, e, t, f, f2
     call two_sum(ah, bh, s, e)
     call two_sum(al, bl, t, f)
@@ -88,8 +94,9 @@ contains
   !> pendula_undamped's separatrix distance was calibrated with this form; the two
   !> forms differ in the last bits of cl, so callers keep the one they were measured with.
   pure elemental subroutine dd_add_fast(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: ah, al  !< ah, al: high and low parts of the first summand
+    real(wp), intent(in) :: bh, bl  !< bh, bl: high and low parts of the second summand
+    real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the sum
     real(wp) :: s, e
     call two_sum(ah, bh, s, e)
     e = e + (al + bl)
@@ -99,8 +106,9 @@ contains
 
   !> Double-double product (ah + al)(bh + bl) = ch + cl (relative error ~1e-32).
   pure elemental subroutine dd_mul(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: ah, al  !< ah, al: high and low parts of the first factor
+    real(wp), intent(in) :: bh, bl  !< bh, bl: high and low parts of the second factor
+    real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the product
     real(wp) :: p, e
     call two_prod(ah, bh, p, e)
     e = e + (ah * bl + al * bh)
@@ -109,8 +117,9 @@ contains
 
   !> Double-double quotient (ah + al) / (bh + bl), bh /= 0 (one Newton correction).
   pure elemental subroutine dd_div(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: ah, al  !< ah, al: high and low parts of the dividend
+    real(wp), intent(in) :: bh, bl  !< bh, bl: high and low parts of the divisor (bh /= 0)
+    real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the quotient
     real(wp) :: q1, q2, ph, pl, rh, rl
     q1 = ah / bh
     call dd_mul(q1, 0.0_wp, bh, bl, ph, pl)
@@ -121,8 +130,9 @@ contains
 
   !> Double-double quotient (ah + al) / b by a double b /= 0 (|q1 b| <= 2**996).
   pure elemental subroutine dd_div_d(ah, al, b, ch, cl)
-    real(wp), intent(in) :: ah, al, b
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: ah, al  !< ah, al: high and low parts of the dividend
+    real(wp), intent(in) :: b  !< double divisor, /= 0
+    real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the quotient
     real(wp) :: q1, p, e, q2
     q1 = ah / b
     call two_prod(q1, b, p, e)
@@ -133,8 +143,8 @@ contains
 
   !> Double-double square root of ah + al (0 for ah <= 0), one Newton correction.
   pure elemental subroutine dd_sqrt(ah, al, ch, cl)
-    real(wp), intent(in) :: ah, al
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: ah, al  !< ah, al: high and low parts of the radicand (0 result for ah <= 0)
+    real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the square root
     real(wp) :: s, p, e, r, xh, xl
     integer :: sh
     if (ah <= 0) then

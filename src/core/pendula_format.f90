@@ -41,8 +41,8 @@ contains
   !> descriptor: '-1.235E+00', '5.000E-324' (two exponent digits, three when
   !> needed).  sig is clamped to [1, FORMAT_MAX_DIGITS]; sig = 1 gives '5E-01'.
   pure function format_sci(x, sig) result(s)
-    real(wp), intent(in) :: x
-    integer, intent(in) :: sig
+    real(wp), intent(in) :: x  !< value to format
+    integer, intent(in) :: sig  !< significant digits, clamped to [1, FORMAT_MAX_DIGITS]
     character(len=:), allocatable :: s
     s = text_of(x, STYLE_SCI, sig)
   end function format_sci
@@ -51,8 +51,8 @@ contains
   !> but always with a digit before the point: '0.500000', '-12.000000'.
   !> decimals is clamped to [0, FORMAT_MAX_DIGITS].
   pure function format_fixed(x, decimals) result(s)
-    real(wp), intent(in) :: x
-    integer, intent(in) :: decimals
+    real(wp), intent(in) :: x  !< value to format
+    integer, intent(in) :: decimals  !< digits after the point, clamped to [0, FORMAT_MAX_DIGITS]
     character(len=:), allocatable :: s
     s = text_of(x, STYLE_FIXED, decimals)
   end function format_fixed
@@ -61,8 +61,8 @@ contains
   !> "%.<sig>g" without trailing zeros: 0.1 -> '0.1', -1 -> '-1',
   !> 1e300 -> '1e+300', 1.5e-7 -> '1.5e-7' (fixed when -4 <= exponent < sig).
   pure function format_general(x, sig) result(s)
-    real(wp), intent(in) :: x
-    integer, intent(in) :: sig
+    real(wp), intent(in) :: x  !< value to format
+    integer, intent(in) :: sig  !< significant digits, clamped to [1, FORMAT_MAX_DIGITS]
     character(len=:), allocatable :: s
     s = text_of(x, STYLE_GENERAL, sig)
   end function format_general
@@ -71,7 +71,7 @@ contains
   !> trailing zeros for 1e-3 <= |x| < 1e6 ('1.437464', '2.5'); otherwise six
   !> significant digits in scientific form ('1.23457E-05').
   pure function format_short(x) result(s)
-    real(wp), intent(in) :: x
+    real(wp), intent(in) :: x  !< value to format
     character(len=:), allocatable :: s
     integer :: last
     if (x == 0) then
@@ -93,8 +93,10 @@ contains
   !> dropped) where codes(i) == code, else `fallback`.  The one home of the
   !> library's code -> name lookups (status codes, regimes, solver flags).
   pure function code_text(code, codes, names, fallback) result(s)
-    integer, intent(in) :: code, codes(:)
-    character(len=*), intent(in) :: names(:), fallback
+    integer, intent(in) :: code  !< code to look up
+    integer, intent(in) :: codes(:)  !< table of codes
+    character(len=*), intent(in) :: names(:)  !< names(i) is the name of codes(i)
+    character(len=*), intent(in) :: fallback  !< text returned when code is not in codes
     character(len=:), allocatable :: s
     integer :: i
     do i = 1, min(size(codes), size(names))
@@ -187,13 +189,13 @@ contains
 
 
   pure function format_int_default(n) result(s)
-    integer, intent(in) :: n
+    integer, intent(in) :: n  !< integer to format
     character(len=:), allocatable :: s
     s = format_int_i8(int(n, i8))
   end function format_int_default
 
   pure function format_int_i8(n) result(s)
-    integer(i8), intent(in) :: n
+    integer(i8), intent(in) :: n  !< integer to format
     character(len=:), allocatable :: s
     character(len=20) :: buf
     integer(i8) :: v

@@ -46,8 +46,15 @@ contains
   !> rtol |b|).  The caller checks the bracket: this helper trusts it.
   pure subroutine bracket_start(br, a, b, fa, fb, method, maxit, atol, rtol)
     type(bracket_t), intent(out) :: br
-    real(wp), intent(in) :: a, b, fa, fb, atol, rtol
-    integer, intent(in) :: method, maxit
+    !< bracket state (current interval, next point br%c, br%root and br%done when finished)
+    real(wp), intent(in) :: a  !< left end of the bracket
+    real(wp), intent(in) :: b  !< right end of the bracket, > a
+    real(wp), intent(in) :: fa  !< f(a)
+    real(wp), intent(in) :: fb  !< f(b), sign opposite to fa or 0
+    real(wp), intent(in) :: atol  !< absolute width tolerance, >= 0 (same units as a, b)
+    real(wp), intent(in) :: rtol  !< relative width tolerance, >= 0
+    integer, intent(in) :: method  !< ROOT_BISECT or ROOT_ILLINOIS
+    integer, intent(in) :: maxit  !< most function evaluations
     br = bracket_t(a=a, b=b, fa=fa, fb=fb, root=b, atol=atol, rtol=rtol, method=method, maxit=maxit, &
         done=fb == 0)
     if (.not. br%done) call next_point(br)
@@ -57,7 +64,8 @@ contains
   !> br%done or the next br%c.
   pure subroutine bracket_update(br, fc)
     type(bracket_t), intent(inout) :: br
-    real(wp), intent(in) :: fc
+    !< bracket state (current interval, next point br%c, br%root and br%done when finished)
+    real(wp), intent(in) :: fc  !< f(br%c), the value at the point last asked for
     logical :: illinois
     br%evals = br%evals + 1
     if (fc == 0) then

@@ -28,9 +28,11 @@ contains
   !> the double range: it is never formed then); status is set where
   !> w0 would exceed the largest double (g/l > about 3e616).
   pure subroutine natural_frequency(g, length, w0, status)
-    real(wp), intent(in) :: g, length
-    real(wp), intent(out) :: w0
+    real(wp), intent(in) :: g  !< gravitational acceleration [m/s^2], finite, > 0
+    real(wp), intent(in) :: length  !< pendulum length [m], finite, > 0
+    real(wp), intent(out) :: w0  !< sqrt(g/length) [1/s] (0 on error)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp) :: fq
     integer :: e
     w0 = 0
@@ -61,9 +63,11 @@ contains
   !> Damping rate gamma = b/m [1/s] (eq. 2.1). b >= 0 and m > 0, finite, with
   !> b/m finite; otherwise status is set and gamma = 0.
   pure subroutine damping_rate(b, mass, gamma, status)
-    real(wp), intent(in) :: b, mass
-    real(wp), intent(out) :: gamma
+    real(wp), intent(in) :: b  !< damping coefficient b [kg/s] (gamma = b/mass), finite, >= 0
+    real(wp), intent(in) :: mass  !< mass [kg], finite, > 0
+    real(wp), intent(out) :: gamma  !< damping rate b/mass [1/s] (0 on error)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     gamma = 0
     call check_nonnegative('b', b, status)
     call check_positive('mass', mass, status)
@@ -84,9 +88,10 @@ contains
   !> 2 pi / DBL_MAX (3.5e-308), below which T0 overflows; otherwise status is
   !> set and T0 = 0.  Correctly rounded up to the division: 1 ulp.
   pure subroutine small_angle_period(w0, t0, status)
-    real(wp), intent(in) :: w0
-    real(wp), intent(out) :: t0
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, >= 2 pi / huge
+    real(wp), intent(out) :: t0  !< small-angle period 2 pi/w0 [s] (0 on error)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     t0 = 0
     call check_range('w0', w0, 2 * pi / huge(w0), huge(w0), &
         '[3.5e-308, 1.8e308] (T0 = 2 pi/w0 exceeds the largest double below)', status)
@@ -102,9 +107,11 @@ contains
   !> as for small_angle_period; otherwise status is set and t = 0.  The one
   !> home of this series (examples, figures and the command line call it).
   pure subroutine period_series(m, w0, t, status)
-    real(wp), intent(in) :: m, w0
-    real(wp), intent(out) :: t
+    real(wp), intent(in) :: m  !< elliptic parameter m = k**2, in [0, 1] (sin^2(theta0/2) from rest)
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, >= 2 pi / huge
+    real(wp), intent(out) :: t  !< series period T0 (1 + m/4 + 9 m^2/64) [s] (0 on error)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     t = 0
     call check_range('m', m, 0.0_wp, 1.0_wp, '[0, 1]', status)
     if (status%code /= PENDULA_OK) return

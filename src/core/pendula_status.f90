@@ -51,15 +51,15 @@ contains
 
   !> True when `status` holds no error.
   elemental logical function status_ok(status)
-    type(status_t), intent(in) :: status
+    type(status_t), intent(in) :: status  !< the status to read
     status_ok = status%code == PENDULA_OK
   end function status_ok
 
   !> Record an error (only the first error of a call is kept).
   pure subroutine set_error(status, code, message)
-    type(status_t), intent(inout) :: status
-    integer, intent(in) :: code
-    character(len=*), intent(in) :: message
+    type(status_t), intent(inout) :: status  !< receives code and message unless an error is already set
+    integer, intent(in) :: code  !< status code (PENDULA_OK or a PENDULA_ERR_* constant)
+    character(len=*), intent(in) :: message  !< error message (names the argument and the valid range)
     if (status%code /= PENDULA_OK) return
     status%code = code
     status%message = message
@@ -68,16 +68,16 @@ contains
   !> The code and message of `status` as plain variables (for the f2py glue,
   !> which hands them to Python).
   pure subroutine status_unpack(status, code, message)
-    type(status_t), intent(in) :: status
-    integer, intent(out) :: code
-    character(len=*), intent(out) :: message
+    type(status_t), intent(in) :: status  !< the status to read
+    integer, intent(out) :: code  !< status%code
+    character(len=*), intent(out) :: message  !< status%message (truncated to the length of message)
     code = status%code
     message = status%message
   end subroutine status_unpack
 
   !> Short name of a status code, for messages and logs.
   pure function code_name(code) result(name)
-    integer, intent(in) :: code
+    integer, intent(in) :: code  !< status code (PENDULA_OK or a PENDULA_ERR_* constant)
     character(len=:), allocatable :: name
     name = code_text(code, [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
         PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, PENDULA_ERR_UNAVAILABLE, &
@@ -96,9 +96,10 @@ contains
 
   !> Require `x` finite.
   pure subroutine check_finite(name, x, status)
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: x
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    real(wp), intent(in) :: x  !< value that must be finite
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (.not. ieee_is_finite(x)) call set_error(status, PENDULA_ERR_NONFINITE, &
         name // ' = ' // fmt(x) // ' is invalid: it must be a finite real number')
@@ -106,17 +107,19 @@ contains
 
   !> Require `x` finite and > 0.
   pure subroutine check_positive(name, x, status)
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: x
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    real(wp), intent(in) :: x  !< value that must be finite and > 0
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     call check_sign(name, x, .true., status)
   end subroutine check_positive
 
   !> Require `x` finite and >= 0.
   pure subroutine check_nonnegative(name, x, status)
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: x
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    real(wp), intent(in) :: x  !< value that must be finite and >= 0
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     call check_sign(name, x, .false., status)
   end subroutine check_nonnegative
 
@@ -144,9 +147,13 @@ contains
   !> Require lo <= x <= hi (x finite). `range_text` describes the range for the
   !> message, e.g. '[0, 1]'.
   pure subroutine check_range(name, x, lo, hi, range_text, status)
-    character(len=*), intent(in) :: name, range_text
-    real(wp), intent(in) :: x, lo, hi
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    character(len=*), intent(in) :: range_text  !< the valid range for the message, e.g. '[0, 1]'
+    real(wp), intent(in) :: x  !< value that must lie in [lo, hi]
+    real(wp), intent(in) :: lo  !< lower bound of x
+    real(wp), intent(in) :: hi  !< upper bound of x, >= lo
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (.not. ieee_is_finite(x)) then
       call set_error(status, PENDULA_ERR_NONFINITE, &
@@ -159,9 +166,10 @@ contains
 
   !> Require every element of `x` finite; the message names the first bad index.
   pure subroutine check_all_finite(name, x, status)
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: x(:)
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    real(wp), intent(in) :: x(:)  !< array whose elements must be finite
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     integer :: i
     if (status%code /= PENDULA_OK) return
     do i = 1, size(x)
@@ -176,9 +184,10 @@ contains
   !> Require `x` strictly increasing (and finite); the message names the first
   !> offending index (0-based, as Python users see it).
   pure subroutine check_increasing(name, x, status)
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: x(:)
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    real(wp), intent(in) :: x(:)  !< array that must be finite and strictly increasing
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     integer :: i
     call check_all_finite(name, x, status)
     if (status%code /= PENDULA_OK) return
@@ -194,9 +203,11 @@ contains
 
   !> Require size(x) >= min_size.
   pure subroutine check_size(name, n, min_size, status)
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: n, min_size
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    integer, intent(in) :: n  !< size of the array name
+    integer, intent(in) :: min_size  !< smallest allowed size
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (n < min_size) then
       call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
@@ -209,9 +220,12 @@ contains
   !> exact-size check of the library: every procedure uses it, so every size
   !> message reads alike.
   pure subroutine check_same_size(name, n, like, n_like, status)
-    character(len=*), intent(in) :: name, like
-    integer, intent(in) :: n, n_like
+    character(len=*), intent(in) :: name  !< argument name used in the error message
+    character(len=*), intent(in) :: like  !< name of the array whose size n_like is
+    integer, intent(in) :: n  !< size of the array checked
+    integer, intent(in) :: n_like  !< size it must equal
     type(status_t), intent(inout) :: status
+    !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (n /= n_like) then
       call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &

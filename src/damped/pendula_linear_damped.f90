@@ -133,9 +133,12 @@ contains
   !> exactly; nearness to it is damping_ratio - 1.  Every number is within a
   !> few ulps of its exact value at the given inputs.
   pure subroutine damping_regime(w0, gamma, info, status)
-    real(wp), intent(in) :: w0, gamma
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
     type(damping_regime_t), intent(out) :: info
+    !< regime code, damping ratio, eigenvalues and time scales (defaults on error)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp) :: a, inf, kappa
     call check_positive('w0', w0, status)
     call check_nonnegative('gamma', gamma, status)
@@ -194,7 +197,7 @@ contains
 
   !> 'underdamped', 'critical' or 'overdamped' (or 'unknown').
   pure function regime_name(regime) result(name)
-    integer, intent(in) :: regime
+    integer, intent(in) :: regime  !< DAMPING_UNDERDAMPED, DAMPING_CRITICAL or DAMPING_OVERDAMPED
     character(len=:), allocatable :: name
     name = code_text(regime, [DAMPING_UNDERDAMPED, DAMPING_CRITICAL, DAMPING_OVERDAMPED], &
         [character(len=11) :: 'underdamped', 'critical', 'overdamped'], 'unknown')
@@ -204,9 +207,13 @@ contains
   !> [rad/s] (finite), w0 > 0 and gamma >= 0 [1/s] (finite).  On bad input
   !> status names the argument and sol is left at its defaults.
   pure subroutine linear_damped_init(sol, theta0_in, omega0_in, w0, gamma, status)
-    type(linear_damped_t), intent(out) :: sol
-    real(wp), intent(in) :: theta0_in, omega0_in, w0, gamma
+    type(linear_damped_t), intent(out) :: sol  !< the trajectory (defaults on error)
+    real(wp), intent(in) :: theta0_in  !< initial angle theta(0) [rad], finite
+    real(wp), intent(in) :: omega0_in  !< initial angular velocity Omega(0) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp) :: a, k, inv2k, theta0, omega0
     call check_finite('theta0', theta0_in, status)
     call check_finite('omega0', omega0_in, status)
@@ -336,9 +343,10 @@ contains
   !> gamma) + condition of the problem); never overflows for t >= 0 (values
   !> below the double range come out as 0).  t < 0 is outside the contract.
   elemental subroutine linear_damped_state(sol, t, theta, omega)
-    class(linear_damped_t), intent(in) :: sol
-    real(wp), intent(in) :: t
-    real(wp), intent(out) :: theta, omega
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
+    real(wp), intent(in) :: t  !< time [s], >= 0
+    real(wp), intent(out) :: theta  !< theta(t) [rad]
+    real(wp), intent(out) :: omega  !< Omega(t) [rad/s]
     real(wp) :: x, z, xe, e, et, s, c, p, q, m1, m2
     integer :: n1, n2
     theta = 0
@@ -416,16 +424,16 @@ contains
 
   !> theta(t) [rad] at t >= 0 [s]; see linear_damped_state.
   elemental real(wp) function linear_damped_theta(sol, t) result(theta)
-    class(linear_damped_t), intent(in) :: sol
-    real(wp), intent(in) :: t
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
+    real(wp), intent(in) :: t  !< time [s], >= 0
     real(wp) :: omega
     call linear_damped_state(sol, t, theta, omega)
   end function linear_damped_theta
 
   !> Omega(t) = theta'(t) [rad/s] at t >= 0 [s]; see linear_damped_state.
   elemental real(wp) function linear_damped_omega(sol, t) result(omega)
-    class(linear_damped_t), intent(in) :: sol
-    real(wp), intent(in) :: t
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
+    real(wp), intent(in) :: t  !< time [s], >= 0
     real(wp) :: theta
     call linear_damped_state(sol, t, theta, omega)
   end function linear_damped_omega
@@ -433,8 +441,8 @@ contains
   !> Under-damped envelope R e^{-gamma t/2} [rad] (|theta(t)| <= envelope,
   !> touching it once per half period, §2.1.3); 0 for the other regimes.
   elemental real(wp) function linear_damped_envelope(sol, t) result(env)
-    class(linear_damped_t), intent(in) :: sol
-    real(wp), intent(in) :: t
+    class(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
+    real(wp), intent(in) :: t  !< time [s], >= 0
     real(wp) :: m
     integer :: n
     env = 0
@@ -451,10 +459,12 @@ contains
   !> theta(:), omega(:) of the same size.  Non-finite or negative t, or a size
   !> mismatch, sets status (outputs are then 0).
   pure subroutine linear_damped_eval(sol, t, theta, omega, status)
-    type(linear_damped_t), intent(in) :: sol
-    real(wp), intent(in) :: t(:)
-    real(wp), intent(out) :: theta(:), omega(:)
+    type(linear_damped_t), intent(in) :: sol  !< linear damped trajectory set up by linear_damped_init
+    real(wp), intent(in) :: t(:)  !< times [s], finite, >= 0, any order
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     theta = 0
     omega = 0
     call check_same_size('theta', size(theta), 't', size(t), status)
@@ -469,9 +479,15 @@ contains
   !> parameter sets share one set-up.  The first bad element sets status with
   !> its (0-based) index; outputs are then 0.
   pure subroutine linear_damped_arrays(t, theta0, omega0, w0, gamma, theta, omega, status)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:)
-    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(in) :: t(:)  !< times [s], finite, >= 0
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], size(t)
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], size(t)
+    real(wp), intent(in) :: w0(:)  !< angular frequencies [1/s], > 0, size(t)
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], >= 0, size(t)
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t)
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     type(linear_damped_t) :: sol
     integer :: i, n
     logical :: fresh

@@ -16,7 +16,7 @@ contains
   !> OpenMP threads for a batch call: `threads` when present and > 0, else the
   !> OpenMP default (which honours OMP_NUM_THREADS); 1 without OpenMP.
   integer function batch_threads(threads) result(nthreads)
-    integer, intent(in), optional :: threads
+    integer, intent(in), optional :: threads  !< optional requested thread count (> 0 to use it)
     nthreads = 1
     !$ nthreads = omp_get_max_threads()
     if (present(threads)) then
@@ -30,8 +30,10 @@ contains
   !> failed one; not read when states were cancelled), its code and `message`.
   pure subroutine set_batch_error(status, codes, first, message)
     type(status_t), intent(inout) :: status
-    integer, intent(in) :: codes(:), first
-    character(len=*), intent(in) :: message
+    !< the first error of the call is kept: set here only if nothing failed before
+    integer, intent(in) :: codes(:)  !< status code of each state
+    integer, intent(in) :: first  !< 1-based index of the first failed state
+    character(len=*), intent(in) :: message  !< message of that state
     integer :: n, nfail, ncancel
     n = size(codes)
     nfail = count(codes /= PENDULA_OK)

@@ -92,13 +92,24 @@ contains
   !> solver memory freed).  Progress counts right-hand-side evaluations.
   subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
       theta, omega, stats, status, control)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
-    integer, intent(in) :: method
-    integer(i8), intent(in) :: max_steps
-    real(wp), intent(out) :: theta(:), omega(:)
-    type(ode_stats_t), intent(out) :: stats
+    real(wp), intent(in) :: t(:)
+    !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: rtol  !< relative tolerance, > 0
+    real(wp), intent(in) :: atol  !< absolute tolerance [rad, rad/s], >= 0 (0: pure relative control)
+    integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS (non-stiff) or PENDULA_CVODE_BDF (stiff)
+    integer(i8), intent(in) :: max_steps  !< step budget for the whole run, >= 1
+    real(wp), intent(out) :: theta(:)  !< angle theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< angular velocity Omega(t(i)) [rad/s], size(t) elements
+    type(ode_stats_t), intent(out) :: stats  !< solver counters of the run (ode_stats_t)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
+    !< pendula_control)
     real(wp) :: et(0), eth(0), eom(0)
     integer :: ek(0), n_events
     logical :: truncated
@@ -116,17 +127,29 @@ contains
   !> control: as for cvode_solve.
   subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
       theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
-    integer, intent(in) :: method
-    integer(i8), intent(in) :: max_steps
-    real(wp), intent(out) :: theta(:), omega(:)
-    real(wp), intent(out) :: event_t(:), event_theta(:), event_omega(:)
-    integer, intent(out) :: event_kind(:)
-    integer, intent(out) :: n_events
-    logical, intent(out) :: truncated
-    type(ode_stats_t), intent(out) :: stats
+    real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    real(wp), intent(in) :: rtol  !< relative tolerance, > 0
+    real(wp), intent(in) :: atol  !< absolute tolerance, >= 0
+    integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS (non-stiff) or PENDULA_CVODE_BDF (stiff)
+    integer(i8), intent(in) :: max_steps  !< step budget for the whole run, >= 1
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t)
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t)
+    real(wp), intent(out) :: event_t(:)  !< event times [s] (the first n_events are set)
+    real(wp), intent(out) :: event_theta(:)  !< theta at each event [rad]
+    real(wp), intent(out) :: event_omega(:)  !< Omega at each event [rad/s]
+    integer, intent(out) :: event_kind(:)  !< PENDULA_EVENT_TURNING or PENDULA_EVENT_ZERO per event
+    integer, intent(out) :: n_events  !< number of events stored
+    logical, intent(out) :: truncated  !< true when more events occurred than the arrays hold
+    type(ode_stats_t), intent(out) :: stats  !< solver counters of the run (ode_stats_t)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
+    !< pendula_control)
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .true., &
         theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
   end subroutine cvode_solve_events
@@ -199,8 +222,10 @@ contains
   !> failure (PENDULA_ERR_SOLVER).
   subroutine cvode_work_open(work, method, status)
     type(cvode_work_t), intent(inout) :: work
-    integer, intent(in) :: method
+    !< the work to open (must not be open; cvode_work_close releases it)
+    integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS or PENDULA_CVODE_BDF, fixed for the work
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     real(c_double), pointer :: yv(:)
     integer(c_int) :: ierr, lmm
     logical :: ok
@@ -275,8 +300,8 @@ contains
   !> already closed); a SUNDIALS failure to free is recorded in status unless
   !> it already holds an error.
   subroutine cvode_work_close(work, status)
-    type(cvode_work_t), intent(inout) :: work
-    type(status_t), intent(inout) :: status
+    type(cvode_work_t), intent(inout) :: work  !< reusable CVODE solver state (opened by cvode_work_open)
+    type(status_t), intent(inout) :: status  !< receives an error if freeing fails; left as it is otherwise
     integer(c_int) :: ierr
     if (c_associated(work%mem)) call FCVodeFree(work%mem)
     work%mem = c_null_ptr
@@ -308,13 +333,20 @@ contains
   !> (after the argument checks, which need no solver).
   subroutine cvode_work_solve(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
       theta, omega, stats, status, control)
-    type(cvode_work_t), intent(inout) :: work
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
-    integer(i8), intent(in) :: max_steps
-    real(wp), intent(out) :: theta(:), omega(:)
-    type(ode_stats_t), intent(out) :: stats
+    type(cvode_work_t), intent(inout) :: work  !< reusable CVODE solver state (opened by cvode_work_open)
+    real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
+    real(wp), intent(in) :: theta0, omega0  !< theta0, omega0: initial state [rad], [rad/s], finite
+    real(wp), intent(in) :: w0, gamma  !< w0, gamma: frequency > 0 and damping rate >= 0 [1/s]
+    real(wp), intent(in) :: rtol, atol  !< rtol, atol: tolerances as for cvode_solve (rtol > 0, atol >= 0)
+    integer(i8), intent(in) :: max_steps  !< step budget for the whole run, >= 1
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t)
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t)
+    type(ode_stats_t), intent(out) :: stats  !< solver counters of the run (ode_stats_t)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
+    !< pendula_control)
     real(wp) :: et(0), eth(0), eom(0)
     integer :: ek(0), n_events
     logical :: truncated

@@ -61,16 +61,27 @@ contains
   !> and PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS) counts finished states.
   subroutine cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
       theta, omega, codes, stats, status, threads, control, first_failed)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:)
-    integer, intent(in) :: method
-    integer(i8), intent(in) :: max_steps
-    real(wp), intent(out) :: theta(:, :), omega(:, :)
-    integer, intent(out) :: codes(:)
-    type(ode_stats_t), intent(out) :: stats(:)
+    real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
+    real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n elements or one
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], >= 0, n elements or one
+    real(wp), intent(in) :: rtol(:)  !< relative tolerances, > 0 (n elements or one)
+    real(wp), intent(in) :: atol(:)  !< absolute tolerances [rad, rad/s], >= 0 (n elements or one)
+    integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS (non-stiff) or PENDULA_CVODE_BDF (stiff)
+    integer(i8), intent(in) :: max_steps  !< step budget per state, >= 1
+    real(wp), intent(out) :: theta(:, :)  !< theta(:, i) of state i [rad], shape (size(t), n)
+    real(wp), intent(out) :: omega(:, :)  !< Omega(:, i) of state i [rad/s], shape (size(t), n)
+    integer, intent(out) :: codes(:)  !< status code of each state, n elements
+    type(ode_stats_t), intent(out) :: stats(:)  !< solver counters of each state, n elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer, intent(in), optional :: threads
+    !< optional OpenMP thread count (0 or absent: the OpenMP default)
     integer(int64), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    !< optional cancel flag and progress counter (finished states) shared with another thread
     integer, intent(out), optional :: first_failed
+    !< optional: 1-based index of the first failed state (0: none)
     type(cvode_work_t) :: probe
     character(len=PENDULA_MSG_LEN) :: first_msg
     integer :: n, i, nthreads, first

@@ -57,9 +57,11 @@ contains
   !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation
   !> (errmsg: the last error CVODE reported, if any).
   logical function failed(flag, what, errmsg, status)
-    integer(c_int), intent(in) :: flag
-    character(len=*), intent(in) :: what, errmsg
+    integer(c_int), intent(in) :: flag  !< return flag of the SUNDIALS call, < 0
+    character(len=*), intent(in) :: what  !< name of the failed SUNDIALS call
+    character(len=*), intent(in) :: errmsg  !< the last error message CVODE reported (may be blank)
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     character(len=:), allocatable :: why
     failed = flag < 0
     if (.not. failed) return
@@ -72,10 +74,11 @@ contains
 
   !> Copy CVODE's counters into stats; a failing getter is itself an error.
   subroutine collect_stats(mem, with_events, stats, status)
-    type(c_ptr), intent(in) :: mem
-    logical, intent(in) :: with_events
-    type(ode_stats_t), intent(inout) :: stats
+    type(c_ptr), intent(in) :: mem  !< CVODE memory
+    logical, intent(in) :: with_events  !< whether the root counters are read too
+    type(ode_stats_t), intent(inout) :: stats  !< receives the counters
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     integer(c_long) :: v(1)
     integer(c_int) :: ierr
     ierr = FCVodeGetNumSteps(mem, v);            call take(ierr, 'CVodeGetNumSteps', stats%steps)
@@ -109,9 +112,10 @@ contains
 
   !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
   integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C, name='')
-    real(c_double), value :: tt
-    type(N_Vector) :: sunvec_y, sunvec_f
-    type(c_ptr), value :: user_data
+    real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     type(pair_t), pointer :: yy, ff
     call c_f_pointer(user_data, p)
@@ -138,9 +142,9 @@ contains
   !> Add n to the progress of the control array at address `control`;
   !> cancelled: whether its cancel flag is set.
   subroutine poll(control, n, cancelled)
-    type(c_ptr), intent(in) :: control
-    integer(i8), intent(in) :: n
-    logical, intent(out) :: cancelled
+    type(c_ptr), intent(in) :: control  !< address of the control array (may be null)
+    integer(i8), intent(in) :: n  !< progress units to add
+    logical, intent(out) :: cancelled  !< whether the cancel flag is set
     integer(i8), pointer, volatile :: ctl(:)
     call c_f_pointer(control, ctl, [CONTROL_SIZE])
     call add_progress(ctl, n)
@@ -150,10 +154,14 @@ contains
   !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
   integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
       result(ierr) bind(C, name='')
-    real(c_double), value :: tt
-    type(N_Vector) :: sunvec_y, sunvec_f, tmp1, tmp2, tmp3
-    type(SUNMatrix) :: sunmat_j
-    type(c_ptr), value :: user_data
+    real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
+    type(N_Vector) :: tmp1  !< CVODE work vector (unused)
+    type(N_Vector) :: tmp2  !< CVODE work vector (unused)
+    type(N_Vector) :: tmp3  !< CVODE work vector (unused)
+    type(SUNMatrix) :: sunmat_j  !< output: the 2x2 dense Jacobian
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     real(c_double), pointer :: yy(:), first(:), jd(:)
     call c_f_pointer(user_data, p)
@@ -179,8 +187,9 @@ contains
   !> at theta = 0, where the solution is exactly zero; the weights are kept
   !> finite and positive there.
   integer(c_int) function relative_weights(sunvec_y, sunvec_w, user_data) result(ierr) bind(C, name='')
-    type(N_Vector) :: sunvec_y, sunvec_w
-    type(c_ptr), value :: user_data
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    type(N_Vector) :: sunvec_w  !< output: the error weights
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     type(pair_t), pointer :: yy, ww
     real(c_double) :: tol(2)
@@ -196,10 +205,10 @@ contains
   !> Event functions: g1 = Omega (turning point), g2 = bottom_sign(theta) (zero
   !> crossing: a pass through the bottom, theta = 0 mod 2 pi).
   integer(c_int) function root_functions(tt, sunvec_y, gout, user_data) result(ierr) bind(C, name='')
-    real(c_double), value :: tt
-    type(N_Vector) :: sunvec_y
-    real(c_double) :: gout(2)
-    type(c_ptr), value :: user_data
+    real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
+    type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
+    real(c_double) :: gout(2)  !< output: g1 = Omega, g2 = bottom_sign(theta)
+    type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     real(c_double), pointer :: yy(:)
     yy => FN_VGetArrayPointer(sunvec_y)
     gout(1) = yy(2)
@@ -210,8 +219,11 @@ contains
   !> CVODE error handler: keep the message of errors (flag < 0) in user data
   !> instead of printing it; warnings are dropped.
   subroutine capture_error(error_code, module_name, function_name, msg, eh_data) bind(C, name='')
-    integer(c_int), value :: error_code
-    type(c_ptr), value :: module_name, function_name, msg, eh_data
+    integer(c_int), value :: error_code  !< CVODE's error code (< 0 error, > 0 warning)
+    type(c_ptr), value :: module_name  !< C string: SUNDIALS module
+    type(c_ptr), value :: function_name  !< C string: SUNDIALS function
+    type(c_ptr), value :: msg  !< C string: the message
+    type(c_ptr), value :: eh_data  !< address of the call's cv_data_t
     type(cv_data_t), pointer :: p
     character(kind=c_char), pointer :: chars(:)
     integer :: j, nmax

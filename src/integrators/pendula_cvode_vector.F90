@@ -61,8 +61,8 @@ contains
   subroutine specialise_pair_ops(y, ok)
     ! inout: the operations table y points to is rewritten (and the SUNDIALS
     ! wrapper FN_VGetVectorID takes inout).
-    type(N_Vector), intent(inout) :: y
-    logical, intent(out) :: ok
+    type(N_Vector), intent(inout) :: y  !< serial SUNDIALS vector of length 2
+    logical, intent(out) :: ok  !< whether the kernels were installed
     type(serial_content_t), pointer :: content
     type(N_Vector_Ops), pointer :: ops
     ok = .false.
@@ -104,7 +104,7 @@ contains
   !> right-hand side, where FN_VGetArrayPointer would go through the SUNDIALS
   !> wrapper and build an array descriptor on every call.
   function pair_of(x) result(p)
-    type(N_Vector), intent(in) :: x
+    type(N_Vector), intent(in) :: x  !< serial SUNDIALS vector of length 2
     type(pair_t), pointer :: p
     p => pair(x)
   end function pair_of

@@ -49,23 +49,29 @@ contains
   !> that a pass through the bottom counts whatever the unwrapped angle (a
   !> rotation counts one per turn).
   elemental real(wp) function bottom_sign(theta) result(f)
-    real(wp), intent(in) :: theta
+    real(wp), intent(in) :: theta  !< angle [rad]
     f = sin(theta / 2)
   end function bottom_sign
 
   !> Right-hand side of eq. 2.2 as a system: theta' = Omega,
   !> Omega' = -gamma Omega - w0**2 sin(theta); w0sq = w0**2 [1/s^2], gamma [1/s].
   elemental subroutine pendulum_rhs(theta, omega, w0sq, gamma, dtheta, domega)
-    real(wp), intent(in) :: theta, omega, w0sq, gamma
-    real(wp), intent(out) :: dtheta, domega
+    real(wp), intent(in) :: theta  !< angle [rad]
+    real(wp), intent(in) :: omega  !< angular velocity [rad/s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(out) :: dtheta  !< theta' = Omega [rad/s]
+    real(wp), intent(out) :: domega  !< Omega' [rad/s^2]
     dtheta = omega
     domega = -gamma * omega - w0sq * sin(theta)
   end subroutine pendulum_rhs
 
   !> Jacobian d(theta', Omega')/d(theta, Omega) = [[0, 1], [-w0**2 cos(theta), -gamma]].
   pure subroutine pendulum_jacobian(theta, w0sq, gamma, jac)
-    real(wp), intent(in) :: theta, w0sq, gamma
-    real(wp), intent(out) :: jac(2, 2)
+    real(wp), intent(in) :: theta  !< angle [rad]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(out) :: jac(2, 2)  !< the Jacobian [[0, 1], [-w0sq cos(theta), -gamma]]
     jac(1, 1) = 0
     jac(1, 2) = 1
     jac(2, 1) = -w0sq * cos(theta)
@@ -77,8 +83,10 @@ contains
   !> has the larger modulus.  Written without gamma**2 so that it neither
   !> overflows nor cancels (the small real root comes from lambda1 lambda2 = w0**2).
   pure subroutine linear_eigenvalues(w0, gamma, lam1, lam2)
-    real(wp), intent(in) :: w0, gamma
-    complex(wp), intent(out) :: lam1, lam2
+    real(wp), intent(in) :: w0  !< angular frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    complex(wp), intent(out) :: lam1  !< eigenvalue of the larger modulus [1/s]
+    complex(wp), intent(out) :: lam2  !< the other eigenvalue [1/s]
     real(wp) :: half, s
     half = gamma / 2
     if (half >= w0) then
@@ -96,8 +104,13 @@ contains
   !> one element (t(1) is the initial time); finite theta0, omega0; w0 > 0;
   !> gamma >= 0.
   pure subroutine check_problem(t, theta0, omega0, w0, gamma, status)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma
+    real(wp), intent(in) :: t(:)  !< output times [s]: finite, strictly increasing, size >= 1
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     call check_size('t', size(t), 1, status)
     call check_increasing('t', t, status)
     call check_finite('theta0', theta0, status)
@@ -109,9 +122,10 @@ contains
   !> CVODE's settings that a batch shares: method PENDULA_CVODE_ADAMS or
   !> PENDULA_CVODE_BDF, step budget max_steps >= 1.
   pure subroutine check_cvode_options(method, max_steps, status)
-    integer, intent(in) :: method
-    integer(i8), intent(in) :: max_steps
+    integer, intent(in) :: method  !< PENDULA_CVODE_ADAMS (non-stiff) or PENDULA_CVODE_BDF (stiff)
+    integer(i8), intent(in) :: max_steps  !< per-state step budget, >= 1
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
         call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // format_int(method) // &
             ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
@@ -122,8 +136,9 @@ contains
 
   !> Require t(n) - t(1) to be finite (t already checked by check_problem).
   pure subroutine check_span(t, status)
-    real(wp), intent(in) :: t(:)
+    real(wp), intent(in) :: t(:)  !< output times [s] to check
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     if (status%code /= PENDULA_OK) return
     ! t(n) - t(1) overflows only for t(1) < 0 < t(n); decided without
     ! forming it (the overflow would trap in the checked build)
@@ -139,12 +154,18 @@ contains
   !> counts) equal to n, threads >= 0.  The first failed check sets status.
   pure subroutine check_batch_shapes(nt, n, params_ok, params, theta, omega, n_codes, n_counts, counts, &
       threads, status)
-    integer, intent(in) :: nt, n, n_codes, n_counts
-    logical, intent(in) :: params_ok
-    character(len=*), intent(in) :: params, counts
-    real(wp), intent(in) :: theta(:, :), omega(:, :)
-    integer, intent(in), optional :: threads
+    integer, intent(in) :: nt  !< number of output times
+    integer, intent(in) :: n  !< number of states
+    integer, intent(in) :: n_codes  !< size of the codes array
+    integer, intent(in) :: n_counts  !< size of the array named counts
+    logical, intent(in) :: params_ok  !< whether every per-state parameter has one element or n
+    character(len=*), intent(in) :: params  !< names of the per-state parameters, for the message
+    character(len=*), intent(in) :: counts  !< name of the per-state counter array, for the message
+    real(wp), intent(in) :: theta(:, :)  !< output angles, shape (nt, n)
+    real(wp), intent(in) :: omega(:, :)  !< output angular velocities, shape (nt, n)
+    integer, intent(in), optional :: threads  !< optional thread count, >= 0
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     if (.not. params_ok) then
       call set_error(status, PENDULA_ERR_SIZE, params // ' must each have one ' // &
           'element or one per state (size(theta0) = ' // format_int(n) // ')')
@@ -162,15 +183,15 @@ contains
 
   !> Index of state i's value in a batch parameter array of one element or n.
   pure integer function batch_index(a, i) result(at)
-    real(wp), intent(in) :: a(:)
-    integer, intent(in) :: i
+    real(wp), intent(in) :: a(:)  !< a batch parameter array of one element or n
+    integer, intent(in) :: i  !< state index, 1..n
     at = merge(i, 1, size(a) > 1)
   end function batch_index
 
   !> The counters of `stats` as doubles (exact up to 2**53), in the order steps,
   !> rhs_evals, jac_evals, err_test_fails, nonlin_iters, nonlin_fails, root_evals.
   pure function ode_stats_values(stats) result(v)
-    type(ode_stats_t), intent(in) :: stats
+    type(ode_stats_t), intent(in) :: stats  !< the counters
     real(wp) :: v(7)
     v = [real(stats%steps, wp), real(stats%rhs_evals, wp), real(stats%jac_evals, wp), &
         real(stats%err_test_fails, wp), real(stats%nonlin_iters, wp), real(stats%nonlin_fails, wp), &
@@ -180,7 +201,7 @@ contains
   !> A step budget given as a double (a Python int of any size) as int64,
   !> clamped to +-9e18 (inside the int64 range).
   elemental integer(i8) function step_budget(max_steps) result(budget)
-    real(wp), intent(in) :: max_steps
+    real(wp), intent(in) :: max_steps  !< step budget as a double (any size)
     budget = int(min(max(max_steps, -9.0e18_wp), 9.0e18_wp), i8)
   end function step_budget
 

@@ -35,7 +35,7 @@ contains
   !> RK4 stability function R(z) = 1 + z + z**2/2 + z**3/6 + z**4/24: one step
   !> multiplies a mode of y' = lambda y by R(h lambda).
   elemental complex(wp) function rk4_stability_function(z) result(r)
-    complex(wp), intent(in) :: z
+    complex(wp), intent(in) :: z  !< h lambda (step times eigenvalue)
     r = 1 + z * (1 + z * (0.5_wp + z * (1.0_wp / 6 + z / 24)))
   end function rk4_stability_function
 
@@ -46,9 +46,11 @@ contains
   !> imaginary axis h w0 = 2 sqrt(2) (gamma = 0).  Relative accuracy ~1e-14
   !> (bisection along the ray).  w0 > 0 [1/s], gamma >= 0 [1/s], both finite.
   pure subroutine rk4_max_stable_step(w0, gamma, h_max, status)
-    real(wp), intent(in) :: w0, gamma
-    real(wp), intent(out) :: h_max
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(out) :: h_max  !< largest stable step [s]
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     complex(wp) :: lam1, lam2
     h_max = 0
     call check_positive('w0', w0, status)
@@ -113,8 +115,13 @@ contains
   !> Validate h against the window t(1)..t(n): positive, not so small that the
   !> run needs more than max_total_steps steps, and stable (see rk4_max_stable_step).
   pure subroutine check_step(t, w0, gamma, h, max_total_steps, status)
-    real(wp), intent(in) :: t(:), w0, gamma, h, max_total_steps
+    real(wp), intent(in) :: t(:)  !< output times [s] (already checked)
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0 (the substeps are equal and at most h)
+    real(wp), intent(in) :: max_total_steps  !< most steps the run may take
     type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
     real(wp) :: total, h_used, h_max, dt, hinv
     complex(wp) :: lam1, lam2
     type(status_t) :: st2
@@ -185,12 +192,23 @@ contains
   !> Global error O(h**4): about 2.5e-6 rad for the text's scenario (b = 0.01,
   !> t <= 30 s, h = 0.05 s).
   subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status, control, max_steps)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h
-    real(wp), intent(out) :: theta(:), omega(:)
-    type(ode_stats_t), intent(out) :: stats
+    real(wp), intent(in) :: t(:)
+    !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0 (the substeps are equal and at most h)
+    real(wp), intent(out) :: theta(:)  !< angle theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< angular velocity Omega(t(i)) [rad/s], size(t) elements
+    type(ode_stats_t), intent(out) :: stats  !< steps and rhs_evals (4 per step)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every 4096 steps) and progress counter in steps (see
+    !< pendula_control)
     integer(i8), intent(in), optional :: max_steps
+    !< optional step budget, >= 1 (default RK4_DEFAULT_MAX_STEPS)
     integer(i8) :: steps, fast
     integer :: bad
     real(wp) :: budget
@@ -234,12 +252,23 @@ contains
   !> max_steps as rk4_solve.
   subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
       stats, status, control, max_steps)
-    real(wp), intent(in) :: t0, t_end, theta0, omega0, w0, gamma, h
-    real(wp), intent(out) :: theta_end, omega_end
-    type(ode_stats_t), intent(out) :: stats
+    real(wp), intent(in) :: t0  !< initial time [s], finite
+    real(wp), intent(in) :: t_end  !< final time [s], >= t0
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], finite, >= 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0 (the substeps are equal and at most h)
+    real(wp), intent(out) :: theta_end  !< theta(t_end) [rad]
+    real(wp), intent(out) :: omega_end  !< Omega(t_end) [rad/s]
+    type(ode_stats_t), intent(out) :: stats  !< steps and rhs_evals (4 per step)
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every 4096 steps) and progress counter in steps (see
+    !< pendula_control)
     integer(i8), intent(in), optional :: max_steps
+    !< optional step budget, >= 1 (default RK4_DEFAULT_MAX_STEPS)
     real(wp) :: th(2), om(2)
     theta_end = 0
     omega_end = 0

@@ -78,15 +78,25 @@ contains
   !> more is refused before any work, with rk4_solve's code.
   subroutine rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, steps, status, &
       threads, control, first_failed, max_steps)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), h(:)
-    real(wp), intent(out) :: theta(:, :), omega(:, :)
-    integer, intent(out) :: codes(:)
-    integer(i8), intent(out) :: steps(:)
+    real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
+    real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n elements or one
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], >= 0, n elements or one
+    real(wp), intent(in) :: h(:)  !< RK4 step bounds [s], > 0, n elements or one
+    real(wp), intent(out) :: theta(:, :)  !< theta(:, i) of state i [rad], shape (size(t), n)
+    real(wp), intent(out) :: omega(:, :)  !< Omega(:, i) of state i [rad/s], shape (size(t), n)
+    integer, intent(out) :: codes(:)  !< status code of each state, n elements
+    integer(i8), intent(out) :: steps(:)  !< RK4 steps taken by each state, n elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer, intent(in), optional :: threads
+    !< optional OpenMP thread count (0 or absent: the OpenMP default)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    !< optional cancel flag and progress counter (finished states) shared with another thread
     integer, intent(out), optional :: first_failed
-    integer(i8), intent(in), optional :: max_steps
+    !< optional: 1-based index of the first failed state (0: none)
+    integer(i8), intent(in), optional :: max_steps  !< step budget per state, >= 1
     integer, allocatable :: live(:)
     integer :: n, i, nlive, nblocks, b, nthreads, first, ncancel
     integer(i8) :: budget

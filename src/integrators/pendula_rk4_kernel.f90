@@ -148,9 +148,9 @@ contains
   !> ~1e-18 absolute (|rho| <= pi/256 + 1e-16).  For |x| > stage_xmax, or x
   !> not finite, k = 0 and rho = x (callers then see |rho| > stage_rmax).
   elemental subroutine node_reduce(x, k, rho)
-    real(wp), intent(in) :: x
-    integer, intent(out) :: k
-    real(wp), intent(out) :: rho
+    real(wp), intent(in) :: x  !< angle [rad]
+    integer, intent(out) :: k  !< node index (x_k = 2 pi k / 256)
+    real(wp), intent(out) :: rho  !< x - x_k [rad]
     real(wp) :: kf
     if (abs(x) <= stage_xmax) then
       kf = anint(x * nodes_per_radian)
@@ -164,8 +164,8 @@ contains
 
   !> sin(2 pi k / 256 + r) for |r| <= stage_rmax; absolute error <= 2 eps.
   elemental real(wp) function sin_node(k, r) result(s)
-    integer, intent(in) :: k
-    real(wp), intent(in) :: r
+    integer, intent(in) :: k  !< node index (x_k = 2 pi k / 256)
+    real(wp), intent(in) :: r  !< offset from the node [rad], |r| <= stage_rmax
     integer :: i
     i = iand(k, nnodes - 1)
     s = sin_taylor(node_sin(i), node_cos(i), taylor(2, i), taylor(3, i), taylor(4, i), taylor(5, i), &
@@ -176,7 +176,8 @@ contains
   !> node_reduce and sin_node; libm sin(x + d) (rounded sum) when |x| >
   !> stage_xmax or the offset leaves the polynomials' range.  For tests.
   elemental real(wp) function sin_shift(x, d) result(s)
-    real(wp), intent(in) :: x, d
+    real(wp), intent(in) :: x  !< angle [rad]
+    real(wp), intent(in) :: d  !< offset added exactly to x [rad]
     integer :: k
     real(wp) :: rho, r
     call node_reduce(x, k, rho)
@@ -204,7 +205,8 @@ contains
   !> that dt/h within 1e-9 of an integer counts as that integer (output grids
   !> like 0.05*k are multiples of h only up to rounding).
   pure integer(i8) function substeps(dt, h) result(n)
-    real(wp), intent(in) :: dt, h
+    real(wp), intent(in) :: dt  !< interval to cover [s], > 0
+    real(wp), intent(in) :: h  !< largest step [s], > 0
     real(wp) :: r, nr
     ! The common case first and without a division: dt <= h or dt exceeding h
     ! by rounding only (dt/h <= 1 + 1e-9: one step).  One test for both keeps
@@ -229,8 +231,16 @@ contains
   !> (y, u) = (theta, Omega) with step_constants' half, sixth and c6: rk4_grid's
   !> path where the stage offsets leave the table's range, and the batch lanes'.
   pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
-    real(wp), intent(in) :: y, u, w0sq, gamma, hs, half, sixth, c6
-    real(wp), intent(out) :: yn, un
+    real(wp), intent(in) :: y  !< theta at the start of the step [rad]
+    real(wp), intent(in) :: u  !< Omega at the start of the step [rad/s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(in) :: hs  !< substep [s]
+    real(wp), intent(in) :: half  !< hs/2 from step_constants
+    real(wp), intent(in) :: sixth  !< hs/6 from step_constants
+    real(wp), intent(in) :: c6  !< c6 from step_constants
+    real(wp), intent(out) :: yn  !< theta after the step [rad]
+    real(wp), intent(out) :: un  !< Omega after the step [rad/s]
     real(wp) :: k1, k2, k3, k4, p2
     p2 = half * u
     k1 = -gamma * u - w0sq * sin(y)
@@ -246,8 +256,22 @@ contains
   !> every step of an interval: hs/2, hs/6, their products, and the w0sq and
   !> gamma factors of the stage updates.
   elemental subroutine step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
-    real(wp), intent(in) :: hs, w0sq, gamma
-    real(wp), intent(out) :: half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1
+    real(wp), intent(in) :: hs  !< substep [s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(out) :: half  !< hs/2 [s]
+    real(wp), intent(out) :: sixth  !< hs/6 [s]
+    real(wp), intent(out) :: h2q  !< half**2 [s^2]
+    real(wp), intent(out) :: hh  !< hs*half [s^2]
+    real(wp), intent(out) :: c6  !< hs*sixth [s^2]
+    real(wp), intent(out) :: w1  !< h2q*w0sq
+    real(wp), intent(out) :: w2  !< hh*w0sq
+    real(wp), intent(out) :: cy  !< c6*w0sq
+    real(wp), intent(out) :: g2  !< (2 - gamma hs) gamma [1/s]
+    real(wp), intent(out) :: wa  !< sixth (2 - gamma hs) w0sq [1/s]
+    real(wp), intent(out) :: wb  !< sixth*w0sq [1/s]
+    real(wp), intent(out) :: bu0  !< hh w0sq (gamma hh + 2)
+    real(wp), intent(out) :: bu1  !< hs + hh (2 gamma + gamma**2 hh)
     half = hs / 2
     sixth = hs / 6
     h2q = half * half
@@ -277,11 +301,18 @@ contains
   !> outputs, so the recurrence never leaves registers between outputs; the
   !> poll splits an interval's steps into blocks without touching the state.
   subroutine rk4_grid(t, w0sq, gamma, h, theta, omega, steps, fast, bad, control)
-    real(wp), intent(in) :: t(:), w0sq, gamma, h
-    real(wp), intent(inout) :: theta(:), omega(:)
-    integer(i8), intent(out) :: steps, fast
+    real(wp), intent(in) :: t(:)  !< output times [s], strictly increasing (not checked)
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(in) :: h  !< largest step [s], > 0
+    real(wp), intent(inout) :: theta(:)  !< theta(1) [rad] on entry; theta(t(i)) on exit
+    real(wp), intent(inout) :: omega(:)  !< Omega(1) [rad/s] on entry; Omega(t(i)) on exit
+    integer(i8), intent(out) :: steps  !< substeps taken
+    integer(i8), intent(out) :: fast  !< substeps on the table path
     integer, intent(out) :: bad
+    !< 0, the first non-finite index, -j when cancelled in interval j, or huge(bad) for bad sizes
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    !< optional cancel flag (polled every RK4_POLL_STEPS steps) and progress counter in steps
     real(wp) :: y, u, rh, hs, half, sixth, h2q, hh, c6, sk, ck, p2, p4, a4, kfn, kp23, bu0, bu1
     real(wp) :: c2, c3, c4, c5, c6t, c7, c8, c9
     real(wp) :: r2, r3, r4, k1, k2, yn, un, rn, s1, s2, s3, s4, m2, m3, w1, w2, cy, g2, wa, wb, dy

@@ -18,7 +18,9 @@ contains
   !> Carlson's symmetric integral R_F(x, y, z), x, y, z >= 0, at most one zero
   !> (DLMF 19.36.1 with the 7th-order series of Carlson 1995).
   pure elemental real(wp) function carlson_rf(x0, y0, z0) result(rf)
-    real(wp), intent(in) :: x0, y0, z0
+    real(wp), intent(in) :: x0  !< first argument of R_F, >= 0
+    real(wp), intent(in) :: y0  !< second argument of R_F, >= 0
+    real(wp), intent(in) :: z0  !< third argument of R_F, >= 0 (at most one of them zero)
     real(wp) :: x, y, z, a, lam, sx, sy, sz, dx, dy, dz, e2, e3, f
     integer :: i
     x = x0; y = y0; z = z0
@@ -94,13 +96,15 @@ contains
   !> quasi-period uses Re K(m) = K(1/m)/sqrt(m)); NaN outside or for NaN input.
   !> F(phi + n pi) = F(phi) + 2 n K(m).  A few ulps (Carlson R_F).
   elemental real(wp) function ellipf(phi, m) result(f)
-    real(wp), intent(in) :: phi, m
+    real(wp), intent(in) :: phi  !< amplitude phi [rad], any real
+    real(wp), intent(in) :: m  !< parameter m = k**2, m sin^2(phi) <= 1
     f = ellipf_general(phi, m, 1 - m, .false.)
   end function ellipf
 
   !> F(phi|m) with the complementary parameter mc = 1 - m (accurate near m = 1).
   elemental real(wp) function ellipfm1(phi, mc) result(f)
-    real(wp), intent(in) :: phi, mc
+    real(wp), intent(in) :: phi  !< amplitude phi [rad], any real
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m
     f = ellipf_general(phi, 1 - mc, mc, .true.)
   end function ellipfm1
 

@@ -35,8 +35,10 @@ contains
   !> AGM(1 + t, 1 - t) = 1 - t^2/4 - 5 t^4/64 - O(t^6): the t^2 term (~1e-17) is then
   !> needed only to a few digits, so its rounding stays ~1e-32 (at t ~ 2**-16 it was 1e-26).
   pure subroutine k_double_double(mch, mcl, khi, klo)
-    real(wp), intent(in) :: mch, mcl
-    real(wp), intent(out) :: khi, klo
+    real(wp), intent(in) :: mch  !< high part of mc = 1 - m, > 0
+    real(wp), intent(in) :: mcl  !< low part of mc
+    real(wp), intent(out) :: khi  !< high part of K
+    real(wp), intent(out) :: klo  !< low part of K
     real(wp), parameter :: tiny_mc = 2.0_wp**(-900), up = 2.0_wp**1000, down = 2.0_wp**(-500)
     real(wp) :: ah, al, bh, bl, x, xl, s, se, p, t, corr
     integer :: i
@@ -131,7 +133,8 @@ contains
 
   !> K(m) for 0 <= m < 1 given m and mc = 1 - m (mc accurate when m > 0.85).
   pure elemental real(wp) function k_unit(m, mc) result(k)
-    real(wp), intent(in) :: m, mc
+    real(wp), intent(in) :: m  !< parameter m in [0, 1)
+    real(wp), intent(in) :: mc  !< 1 - m (accurate when m > 0.85)
     integer :: i
     if (mc <= 0.15_wp) then
       k = estrin12(ke_log_poly(:, 0), mc) - log(mc) * estrin12(ke_log_poly(:, 1), mc)
@@ -156,7 +159,7 @@ contains
   !> Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
   !> K(1) = +Inf, K(-Inf) = 0; NaN for m > 1 or NaN.  Accuracy: <= 2.4 ulps measured.
   elemental real(wp) function ellipk(m) result(k)
-    real(wp), intent(in) :: m
+    real(wp), intent(in) :: m  !< parameter m = k**2, <= 1 (NaN above)
     if (ieee_is_nan(m)) then     ! before any ordered comparison (quiet under -ffpe-trap)
       k = m
     else if (m >= 0 .and. m < 1) then
@@ -173,7 +176,7 @@ contains
   !> K as a function of the complementary parameter mc = 1 - m >= 0 (mc = 0 gives +Inf,
   !> NaN for mc < 0).  Exact to a few ulps down to the smallest subnormal mc.
   elemental real(wp) function ellipkm1(mc) result(k)
-    real(wp), intent(in) :: mc
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m, >= 0
     if (ieee_is_nan(mc)) then
       k = mc
     else if (mc > 0) then
@@ -187,7 +190,7 @@ contains
 
   !> K from mc = 1 - m > 0 alone (m < 0 when mc > 1, by DLMF 19.7.5).
   pure elemental real(wp) function k_from_mc(mc) result(k)
-    real(wp), intent(in) :: mc
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m, > 0
     if (mc <= 1) then
       k = k_unit(1 - mc, mc)
     else if (mc > huge(1.0_wp)) then   ! m = -Inf
@@ -202,18 +205,20 @@ contains
   !> elemental function, with the polynomial evaluation inlined in one loop.
   !> A size mismatch sets status (PENDULA_ERR_SIZE) and k = NaN; nothing else is written.
   pure subroutine ellipk_array(m, k, status)
-    real(wp), intent(in) :: m(:)
-    real(wp), intent(out) :: k(:)
+    real(wp), intent(in) :: m(:)  !< parameters m = k**2
+    real(wp), intent(out) :: k(:)  !< K(m(i)), size(m) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     call ke_array(m, k, .false., 'ellipk_array: k', status)
   end subroutine ellipk_array
 
   !> ellipe over a rank-1 array (same numbers as the elemental function); e must have
   !> the size of m (status PENDULA_ERR_SIZE and e = NaN otherwise).
   pure subroutine ellipe_array(m, e, status)
-    real(wp), intent(in) :: m(:)
-    real(wp), intent(out) :: e(:)
+    real(wp), intent(in) :: m(:)  !< parameters m = k**2
+    real(wp), intent(out) :: e(:)  !< E(m(i)), size(m) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     call ke_array(m, e, .true., 'ellipe_array: e', status)
   end subroutine ellipe_array
 
@@ -252,7 +257,7 @@ contains
   !> Complete elliptic integral of the second kind E(m), m <= 1 (E(1) = 1,
   !> E(-Inf) = +Inf); NaN for m > 1 or NaN.  A few ulps.
   elemental real(wp) function ellipe(m) result(e)
-    real(wp), intent(in) :: m
+    real(wp), intent(in) :: m  !< parameter m = k**2, <= 1 (NaN above)
     if (ieee_is_nan(m)) then
       e = m
     else if (m <= 1) then
@@ -264,7 +269,7 @@ contains
 
   !> E as a function of mc = 1 - m >= 0 (mc = 0 gives 1); NaN for mc < 0 or NaN.
   elemental real(wp) function ellipem1(mc) result(e)
-    real(wp), intent(in) :: mc
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m, >= 0
     if (ieee_is_nan(mc)) then
       e = mc
     else if (mc >= 0) then

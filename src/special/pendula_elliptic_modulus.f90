@@ -37,8 +37,10 @@ contains
   !> The transformation of (m, mc = 1 - m) to the core parameter; usemc: mc is the given
   !> (accurate) one, else m is; full: K of the core in double-double (else double).
   pure function jacobi_param(m, mc, usemc, full) result(plan)
-    real(wp), intent(in) :: m, mc
-    logical, intent(in) :: usemc, full
+    real(wp), intent(in) :: m  !< parameter m (any real)
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m
+    logical, intent(in) :: usemc  !< true: mc is the accurate one, else m
+    logical, intent(in) :: full  !< true: K of the core parameter in double-double
     type(jacobi_param_t) :: plan
     real(wp) :: mm, wh, wl, ah, al, qh, ql
     if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then

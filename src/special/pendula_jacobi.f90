@@ -41,14 +41,14 @@ contains
   !> Does the m-dependent work once: the transformation to a core parameter in [0,1],
   !> K in double-double for the period reduction, the series coefficients.
   pure function ellipj_plan(m) result(plan)
-    real(wp), intent(in) :: m
+    real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
     type(ellipj_plan_t) :: plan
     plan = build_plan(m, 1 - m, .false.)
   end function ellipj_plan
 
   !> Plan from the complementary parameter mc = 1 - m (mc >= 0, accurate near m = 1).
   pure function ellipj_planm1(mc) result(plan)
-    real(wp), intent(in) :: mc
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m, >= 0
     type(ellipj_plan_t) :: plan
     plan = build_plan(1 - mc, mc, .true.)
   end function ellipj_planm1
@@ -76,10 +76,12 @@ contains
   !> With a tabulated plan (the default) a point costs one table look-up and four
   !> short polynomials, no division and no transcendental call.
   elemental subroutine ellipj_eval(plan, u, sn, cn, dn, am)
-    type(ellipj_plan_t), intent(in) :: plan
-    real(wp), intent(in) :: u
-    real(wp), intent(out) :: sn, cn, dn
-    real(wp), intent(out), optional :: am
+    type(ellipj_plan_t), intent(in) :: plan  !< Jacobi plan from ellipj_plan or ellipj_planm1
+    real(wp), intent(in) :: u  !< argument u (real, any value)
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
     if (allocated(plan%tab)) then
       call eval_at_param(plan%par, u, .true., present(am), sn, cn, dn, a, plan%tab, plan%ntab)
@@ -93,11 +95,14 @@ contains
   !> the same numbers as the elemental form, with the table look-up inlined in one loop.
   !> A size mismatch sets status (PENDULA_ERR_SIZE) and the outputs to NaN.
   pure subroutine ellipj_eval_array(plan, u, sn, cn, dn, status, am)
-    type(ellipj_plan_t), intent(in) :: plan
-    real(wp), intent(in) :: u(:)
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(ellipj_plan_t), intent(in) :: plan  !< Jacobi plan from ellipj_plan or ellipj_planm1
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
-    real(wp), intent(out), optional :: am(:)
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
     real(wp) :: a
     integer :: i
     logical :: bad
@@ -148,9 +153,12 @@ contains
   !> NaN out.  Accuracy: a few eps times the condition number; u is reduced
   !> modulo 2K with K in double-double, so large |u| does not lose u*eps.
   elemental subroutine ellipj(u, m, sn, cn, dn, am)
-    real(wp), intent(in) :: u, m
-    real(wp), intent(out) :: sn, cn, dn
-    real(wp), intent(out), optional :: am
+    real(wp), intent(in) :: u  !< argument u (real, any value)
+    real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
     call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
@@ -160,10 +168,14 @@ contains
   !> elemental form, in one loop inside this module.  A size mismatch sets status
   !> (PENDULA_ERR_SIZE) and the outputs to NaN.
   pure subroutine ellipj_array(u, m, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), m(:)
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: m(:)  !< parameters m, size(u) elements
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
-    real(wp), intent(out), optional :: am(:)
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
     logical :: bad
     call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am, 'm', size(m))
     if (bad) return
@@ -176,10 +188,14 @@ contains
 
   !> ellipjm1 over rank-1 arrays (same numbers as the elemental form); sizes as ellipj_array.
   pure subroutine ellipjm1_array(u, mc, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), mc(:)
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: mc(:)  !< complementary parameters mc = 1 - m, size(u) elements
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
-    real(wp), intent(out), optional :: am(:)
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
     real(wp) :: a
     integer :: i
     logical :: bad
@@ -195,9 +211,12 @@ contains
   !> Jacobi functions with the complementary parameter mc = 1 - m (any real mc;
   !> accurate near m = 1 including the smallest subnormal mc; mc = 0 gives tanh/sech).
   elemental subroutine ellipjm1(u, mc, sn, cn, dn, am)
-    real(wp), intent(in) :: u, mc
-    real(wp), intent(out) :: sn, cn, dn
-    real(wp), intent(out), optional :: am
+    real(wp), intent(in) :: u  !< argument u (real, any value)
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
     call eval_at_param(jacobi_param(1 - mc, mc, .true., .false.), u, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
@@ -208,8 +227,8 @@ contains
   !> of the core parameter), and never below 32 points.  NaN, infinite m and m = 1 take
   !> a plan without a table (K = 0 here).
   pure logical function ellipj_plan_pays(m, n) result(pays)
-    real(wp), intent(in) :: m
-    integer, intent(in) :: n
+    real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
+    integer, intent(in) :: n  !< number of points to evaluate
     real(wp) :: core_k
     if (n < 32) then
       pays = .false.
@@ -230,8 +249,8 @@ contains
 
   !> ellipj_plan_pays for the complementary parameter mc = 1 - m.
   pure logical function ellipjm1_plan_pays(mc, n) result(pays)
-    real(wp), intent(in) :: mc
-    integer, intent(in) :: n
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    integer, intent(in) :: n  !< number of points to evaluate
     real(wp) :: core_k
     if (n < 32) then
       pays = .false.
@@ -254,10 +273,14 @@ contains
   !> ellipj_plan_pays says so, else point by point; the same numbers as ellipj_eval_array
   !> with ellipj_plan(m), or as ellipj_array.  Sizes as ellipj_array.
   pure subroutine ellipj_one_m_array(u, m, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), m
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
-    real(wp), intent(out), optional :: am(:)
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
     if (ellipj_plan_pays(m, size(u))) then
       call ellipj_eval_array(ellipj_plan(m), u, sn, cn, dn, status, am)
     else
@@ -267,10 +290,14 @@ contains
 
   !> ellipj_one_m_array for the complementary parameter mc = 1 - m.
   pure subroutine ellipjm1_one_m_array(u, mc, sn, cn, dn, status, am)
-    real(wp), intent(in) :: u(:), mc
-    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    real(wp), intent(in) :: u(:)  !< arguments u (any real values)
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    real(wp), intent(out) :: sn(:)  !< sn(u|m), size(u) elements
+    real(wp), intent(out) :: cn(:)  !< cn(u|m), size(u) elements
+    real(wp), intent(out) :: dn(:)  !< dn(u|m), size(u) elements
     type(status_t), intent(out) :: status
-    real(wp), intent(out), optional :: am(:)
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
     if (ellipjm1_plan_pays(mc, size(u))) then
       call ellipj_eval_array(ellipj_planm1(mc), u, sn, cn, dn, status, am)
     else

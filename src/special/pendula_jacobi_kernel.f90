@@ -206,9 +206,9 @@ contains
   !> Taylor coefficients (degree ntay) of the final sn, cn, dn, am about t, from the
   !> ODEs sn' = cn dn, cn' = -sn dn, dn' = -m sn cn of the core (DLMF 22.13).
   pure subroutine taylor_row_at(plan, t, tab)
-    type(jacobi_param_t), intent(in) :: plan
-    real(wp), intent(in) :: t
-    real(wp), intent(out) :: tab(0:ntay, 4)
+    type(jacobi_param_t), intent(in) :: plan  !< transformed parameter (jacobi_param)
+    real(wp), intent(in) :: t  !< expansion point (core argument)
+    real(wp), intent(out) :: tab(0:ntay, 4)  !< Taylor coefficients of sn, cn, dn, am
     real(wp) :: s(0:ntay), c(0:ntay), d(0:ntay), r(0:ntay), fs, fc, fd, fa, acc1, acc2, acc3
     integer :: k, i
     call core_sncndn_at(plan, t, s(0), c(0), d(0))
@@ -264,12 +264,16 @@ contains
   !> double-double when exact_k, else refined to it for |u| > 9 K), then the table
   !> (if given) or the duplication kernel, then the modulus transformation.
   pure subroutine eval_at_param(plan, u, exact_k, want_am, sn, cn, dn, am, tab, ntab)
-    type(jacobi_param_t), intent(in) :: plan
-    real(wp), intent(in), optional :: tab(0:, :, 0:)
-    integer, intent(in), optional :: ntab
-    real(wp), intent(in) :: u
-    logical, intent(in) :: exact_k, want_am
-    real(wp), intent(out) :: sn, cn, dn, am
+    type(jacobi_param_t), intent(in) :: plan  !< transformed parameter (jacobi_param)
+    real(wp), intent(in), optional :: tab(0:, :, 0:)  !< Taylor table of the plan
+    integer, intent(in), optional :: ntab  !< last row of the table
+    real(wp), intent(in) :: u  !< argument u (real, any value)
+    logical, intent(in) :: exact_k  !< true: K in double-double for the reduction
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am)
     real(wp) :: v, vl, n, khi, klo, p, e, r, t, ex, fs, fc, fd, fa, del
     integer :: j, parity
     if (plan%kind == MODULUS_INVALID .or. ieee_is_nan(u)) then
@@ -377,11 +381,14 @@ contains
   !> The loop of ellipj_array (here, next to the kernel, so that the compiler inlines the
   !> short path): sn, cn, dn and, if want_am, am at the points (u(i), m(i)).
   pure subroutine ellipj_points(n, u, m, want_am, sn, cn, dn, am)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: u(n), m(n)
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn(n), cn(n), dn(n)
-    real(wp), intent(inout) :: am(*)
+    integer, intent(in) :: n  !< number of points
+    real(wp), intent(in) :: u(n)  !< arguments u, n elements
+    real(wp), intent(in) :: m(n)  !< parameters m, n elements
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn(n)  !< sn at each point
+    real(wp), intent(out) :: cn(n)  !< cn at each point
+    real(wp), intent(out) :: dn(n)  !< dn at each point
+    real(wp), intent(inout) :: am(*)  !< am [rad] at each point (written when want_am)
     real(wp) :: a
     integer :: i
     do i = 1, n
@@ -478,12 +485,16 @@ contains
   !> index helpers, so that the compiler inlines them).  Points the fast reduction
   !> cannot take (NaN, Inf, n >= 2**26 half periods) go through eval_at_param.
   pure subroutine eval_table_array(par, tab, ntab, n, u, want_am, sn, cn, dn, am)
-    type(jacobi_param_t), intent(in) :: par
-    integer, intent(in) :: ntab, n
-    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab), u(n)
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn(n), cn(n), dn(n)
-    real(wp), intent(inout) :: am(*)
+    type(jacobi_param_t), intent(in) :: par  !< transformed parameter (jacobi_param)
+    integer, intent(in) :: ntab  !< last row of the table
+    integer, intent(in) :: n  !< number of points
+    real(wp), intent(in) :: tab(0:ntay, 4, 0:ntab)  !< Taylor table of the plan
+    real(wp), intent(in) :: u(n)  !< arguments u, n elements
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn(n)  !< sn at each point
+    real(wp), intent(out) :: cn(n)  !< cn at each point
+    real(wp), intent(out) :: dn(n)  !< dn at each point
+    real(wp), intent(inout) :: am(*)  !< am [rad] at each point (written when want_am)
     real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
     integer :: i, j, parity
     logical :: big

@@ -20,8 +20,10 @@ contains
   !> with the coefficients 1/(2j)! (1/(2j+1)!) as double-double constants
   !> (mpmath; 1/n! = hi + lo), so no division.
   elemental subroutine cos_dd(xh, xl, ch, cl)
-    real(wp), intent(in) :: xh, xl
-    real(wp), intent(out) :: ch, cl
+    real(wp), intent(in) :: xh  !< high part of x [rad], |x| <= pi/2
+    real(wp), intent(in) :: xl  !< low part of x [rad]
+    real(wp), intent(out) :: ch  !< high part of cos(x)
+    real(wp), intent(out) :: cl  !< low part of cos(x)
     integer :: j
     real(wp), parameter :: cos_hi(0:8) = [1.0_wp, 0.5_wp, 0.041666666666666664_wp, 0.001388888888888889_wp, &
         2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
@@ -84,8 +86,10 @@ contains
   !> (error ~2^-100 |2 pi n|) for |x| <= 2^40; beyond, r_hi = atan2(sin x, cos x)
   !> (libm's exact reduction, ~1 ulp of pi) and r_lo = 0.  Returns n as a real.
   elemental subroutine reduce_angle_2pi(x, n, r_hi, r_lo)
-    real(wp), intent(in) :: x
-    real(wp), intent(out) :: n, r_hi, r_lo
+    real(wp), intent(in) :: x  !< angle [rad]
+    real(wp), intent(out) :: n  !< index of the nearest stable equilibrium 2 pi n (as a real)
+    real(wp), intent(out) :: r_hi  !< high part of x - 2 pi n [rad], |r_hi| <= pi
+    real(wp), intent(out) :: r_lo  !< low part of x - 2 pi n [rad]
     if (abs(x) < pi) then
       ! already reduced (what the general path below returns for these x)
       n = 0

@@ -24,7 +24,7 @@ contains
   !> theta = n pi [rad] of the n-th equilibrium, the double nearest n pi
   !> (pi carried in two doubles, so large |n| stays correctly rounded-ish).
   elemental real(wp) function equilibrium_angle(n) result(theta)
-    integer, intent(in) :: n
+    integer, intent(in) :: n  !< equilibrium index: theta = n pi
     real(wp) :: x
     x = real(n, wp)
     theta = x * pi + x * pi_lo
@@ -32,7 +32,7 @@ contains
 
   !> EQUILIBRIUM_CENTRE for even n, EQUILIBRIUM_SADDLE for odd n.
   elemental integer function equilibrium_type(n) result(kind)
-    integer, intent(in) :: n
+    integer, intent(in) :: n  !< equilibrium index: theta = n pi
     if (modulo(n, 2) == 0) then
       kind = EQUILIBRIUM_CENTRE
     else
@@ -43,9 +43,10 @@ contains
   !> Linearised eigenvalues [1/s] at the n-th equilibrium for w0 > 0 [1/s]:
   !> (+i w0, -i w0) for even n, (+w0, -w0) for odd n (exact).
   elemental subroutine equilibrium_eigenvalues(n, w0, lambda1, lambda2)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: w0
-    complex(wp), intent(out) :: lambda1, lambda2
+    integer, intent(in) :: n  !< equilibrium index: theta = n pi
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    complex(wp), intent(out) :: lambda1  !< first eigenvalue [1/s]
+    complex(wp), intent(out) :: lambda2  !< second eigenvalue [1/s]
     if (modulo(n, 2) == 0) then
       lambda1 = cmplx(0.0_wp, w0, wp)
     else
@@ -57,12 +58,14 @@ contains
   !> Checked form: angle [rad], eigenvalues [1/s] and type of the n-th
   !> equilibrium; w0 finite and > 0 (status names it otherwise).
   pure subroutine equilibrium(n, w0, theta, lambda1, lambda2, kind, status)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: w0
-    real(wp), intent(out) :: theta
-    complex(wp), intent(out) :: lambda1, lambda2
-    integer, intent(out) :: kind
+    integer, intent(in) :: n  !< equilibrium index: theta = n pi
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
+    real(wp), intent(out) :: theta  !< equilibrium angle n pi [rad]
+    complex(wp), intent(out) :: lambda1  !< first eigenvalue [1/s]
+    complex(wp), intent(out) :: lambda2  !< second eigenvalue [1/s]
+    integer, intent(out) :: kind  !< EQUILIBRIUM_CENTRE or EQUILIBRIUM_SADDLE
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     theta = equilibrium_angle(n)
     kind = equilibrium_type(n)
     lambda1 = 0
@@ -74,7 +77,7 @@ contains
 
   !> 'centre' or 'saddle' for a type code ('unknown' otherwise).
   pure function equilibrium_type_name(kind) result(name)
-    integer, intent(in) :: kind
+    integer, intent(in) :: kind  !< EQUILIBRIUM_CENTRE or EQUILIBRIUM_SADDLE
     character(len=:), allocatable :: name
     name = code_text(kind, [EQUILIBRIUM_CENTRE, EQUILIBRIUM_SADDLE], ['centre', 'saddle'], 'unknown')
   end function equilibrium_type_name

@@ -41,8 +41,12 @@ contains
   !> use the motion form).  theta [rad], omega [rad/s] to a few ulps of the
   !> model (arguments w0 t rounded once).
   elemental subroutine small_angle(t, theta0, omega0, w0, theta, omega)
-    real(wp), intent(in) :: t, theta0, omega0, w0
-    real(wp), intent(out) :: theta, omega
+    real(wp), intent(in) :: t  !< time [s]
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0 (not checked)
+    real(wp), intent(out) :: theta  !< model angle [rad]
+    real(wp), intent(out) :: omega  !< model angular velocity [rad/s]
     real(wp) :: n, r_hi, r_lo, center
     call reduce_angle_2pi(theta0, n, r_hi, r_lo)
     center = theta0 - r_hi   ! 2 pi n to the rounding of theta0 (exact when n = 0)
@@ -56,8 +60,13 @@ contains
   !> those inputs take sin(w0 t)/w0 -> t and r (w0 sin) instead; the usual
   !> inputs take the plain formula (a few ulps).
   elemental subroutine harmonic_state(center, r, omega0, w0, t, theta, omega)
-    real(wp), intent(in) :: center, r, omega0, w0, t
-    real(wp), intent(out) :: theta, omega
+    real(wp), intent(in) :: center  !< equilibrium angle the motion is about [rad]
+    real(wp), intent(in) :: r  !< initial offset from center [rad]
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< angular frequency [1/s], > 0
+    real(wp), intent(in) :: t  !< time [s]
+    real(wp), intent(out) :: theta  !< model angle [rad]
+    real(wp), intent(out) :: omega  !< model angular velocity [rad/s]
     real(wp) :: c, s, x, sw
     x = phase(w0, t)
     c = cos(x)
@@ -82,9 +91,15 @@ contains
   !> initial state; theta0, Omega0 and every t finite, w0 finite and > 0,
   !> equal sizes (status names the argument otherwise).
   pure subroutine small_angle_solve(t, theta0, omega0, w0, theta, omega, status)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0
-    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(in) :: t(:)
+    !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
+    real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity Omega(t(1)) [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
+    real(wp), intent(out) :: theta(:)  !< angle theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< angular velocity Omega(t(i)) [rad/s], size(t) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     theta = 0
     omega = 0
     call check_finite('theta0', theta0, status)
@@ -100,9 +115,10 @@ contains
   !> Small-angle model for a built motion (same formula; the motion holds the
   !> checked, reduced initial state).
   elemental subroutine small_angle_eval(motion, t, theta, omega)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: t
-    real(wp), intent(out) :: theta, omega
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init
+    real(wp), intent(in) :: t  !< time [s]
+    real(wp), intent(out) :: theta  !< model angle [rad]
+    real(wp), intent(out) :: omega  !< model angular velocity [rad/s]
     call harmonic_state(motion%center, motion%theta_r, motion%omega0, motion%w0, t, theta, omega)
   end subroutine small_angle_eval
 
@@ -121,7 +137,7 @@ contains
   !> (~ m/4 for small m; the phase error of the model grows like this times
   !> w0 t).  +inf outside libration (no frequency to compare).
   elemental real(wp) function small_angle_phase_drift(motion) result(drift)
-    type(undamped_motion_t), intent(in) :: motion
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init
     real(wp) :: m
     if (motion%regime /= REGIME_LIBRATION) then
       drift = ieee_value(1.0_wp, ieee_positive_inf)
@@ -143,9 +159,10 @@ contains
   !> separatrix and rotation (the model never describes going over the top).
   !> Non-decreasing in |tmax|; 0 for the pendulum at rest at the bottom.
   elemental subroutine small_angle_bound(motion, tmax, dtheta, domega)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: tmax
-    real(wp), intent(out) :: dtheta, domega
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init
+    real(wp), intent(in) :: tmax  !< time span [s]: the bound holds for |t| <= |tmax|
+    real(wp), intent(out) :: dtheta  !< bound on the angle error [rad]
+    real(wp), intent(out) :: domega  !< bound on the angular velocity error [rad/s]
     real(wp), parameter :: eps = epsilon(1.0_wp)
     real(wp) :: q, kp, w, a1, amp, x, tail, dphi, drift, w0, ph, slack
     if (motion%regime /= REGIME_LIBRATION) then

@@ -30,9 +30,10 @@ contains
   !> as cn^2 a + sn^2 a dn^2 b).  So u0 ~ K (large near the separatrix) costs no
   !> eps*K of the argument, and t = 0 returns the initial state to ~1 ulp.
   elemental subroutine undamped_eval(motion, t, theta, omega)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: t
-    real(wp), intent(out) :: theta, omega
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
+    real(wp), intent(in) :: t  !< time [s], any real
+    real(wp), intent(out) :: theta  !< angle [rad]
+    real(wp), intent(out) :: omega  !< angular velocity [rad/s]
     real(wp) :: a, sa, ca, da, ama, y, x, z, den, sb, ss, cc, delta, ex, tt, turns
     tt = t
     turns = 0
@@ -119,10 +120,12 @@ contains
   !> size of t (status PENDULA_ERR_SIZE otherwise, outputs untouched); times are
   !> not checked for finiteness here (`undamped_solve` does that).
   pure subroutine undamped_eval_many(motion, t, theta, omega, status)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: t(:)
-    real(wp), intent(inout) :: theta(:), omega(:)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
+    real(wp), intent(in) :: t(:)  !< times [s], finite, any order
+    real(wp), intent(inout) :: theta(:)  !< theta(t(i)) [rad], size(t) elements
+    real(wp), intent(inout) :: omega(:)  !< Omega(t(i)) [rad/s], size(t) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     integer, parameter :: nb = 256
     real(wp) :: a(nb), sa(nb), ca(nb), da(nb), ama(nb), y(nb), x(nb), r(nb), sb
     integer :: i0, i1, nc, i, j
@@ -194,16 +197,16 @@ contains
 
   !> theta(t) [rad] alone (see undamped_eval).
   elemental real(wp) function undamped_theta(motion, t) result(theta)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: t
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
+    real(wp), intent(in) :: t  !< time [s], any real
     real(wp) :: omega
     call undamped_eval(motion, t, theta, omega)
   end function undamped_theta
 
   !> Omega(t) [rad/s] alone (see undamped_eval).
   elemental real(wp) function undamped_omega(motion, t) result(omega)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: t
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
+    real(wp), intent(in) :: t  !< time [s], any real
     real(wp) :: theta
     call undamped_eval(motion, t, theta, omega)
   end function undamped_omega

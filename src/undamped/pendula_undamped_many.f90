@@ -22,9 +22,14 @@ contains
   !> undamped_eval_many; below, a light motion (no F, no plan) and
   !> undamped_eval, exactly as undamped_states evaluates the same state.
   pure subroutine undamped_solve(t, theta0, omega0, w0, theta, omega, status)
-    real(wp), intent(in) :: t(:), theta0, omega0, w0
-    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(in) :: t(:)  !< times [s], finite, any order
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0
+    real(wp), intent(out) :: theta(:)  !< theta(t(i)) [rad], size(t) elements
+    real(wp), intent(out) :: omega(:)  !< Omega(t(i)) [rad/s], size(t) elements
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     type(undamped_motion_t) :: motion
     theta = 0
     omega = 0
@@ -50,9 +55,14 @@ contains
   !> element (message naming the argument of the first one, checked in the
   !> order theta0, omega0, w0, t) theta and omega are 0.
   pure subroutine undamped_states(t, theta0, omega0, w0, theta, omega, status)
-    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
-    real(wp), intent(out) :: theta(:), omega(:)
+    real(wp), intent(in) :: t(:)  !< times [s], finite, any order
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], finite, n elements or one
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], finite, n elements or one
+    real(wp), intent(in) :: w0(:)  !< angular frequencies [1/s], > 0, n elements or one
+    real(wp), intent(out) :: theta(:)  !< theta [rad] of each state at its time
+    real(wp), intent(out) :: omega(:)  !< Omega [rad/s] of each state at its time
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     type(undamped_motion_t) :: motion
     integer :: i, j, n, run
     n = size(theta)
@@ -138,10 +148,16 @@ contains
   !> state must be valid: otherwise status names the argument of the first bad
   !> state and the outputs are 0.
   pure subroutine undamped_properties(theta0, omega0, w0, status, period, amplitude, m, mc, regime)
-    real(wp), intent(in) :: theta0(:), omega0(:), w0(:)
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], finite, n elements or one
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], finite, n elements or one
+    real(wp), intent(in) :: w0(:)  !< angular frequencies [1/s], > 0, n elements or one
     type(status_t), intent(out) :: status
-    real(wp), intent(out), optional :: period(:), amplitude(:), m(:), mc(:)
-    integer, intent(out), optional :: regime(:)
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    real(wp), intent(out), optional :: period(:)  !< optional periods [s] (+inf on the separatrix)
+    real(wp), intent(out), optional :: amplitude(:)  !< optional amplitudes [rad] (+inf for rotation)
+    real(wp), intent(out), optional :: m(:)  !< optional elliptic parameters m
+    real(wp), intent(out), optional :: mc(:)  !< optional 1 - m
+    integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
     type(undamped_motion_t) :: motion
     real(wp) :: th, om, w
     integer :: i, n

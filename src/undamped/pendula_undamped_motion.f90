@@ -71,9 +71,12 @@ contains
   !> status names the argument and `motion` is the resting pendulum).
   !> Cost: one K, one F and one Jacobi plan (~ a few hundred ns).
   pure subroutine undamped_init(motion, theta0, omega0, w0, status, plan, w0lo)
-    type(undamped_motion_t), intent(out) :: motion
-    real(wp), intent(in) :: theta0, omega0, w0
+    type(undamped_motion_t), intent(out) :: motion  !< the motion (the resting pendulum on error)
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency sqrt(g/l) [1/s], finite, > 0
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     !> Build a Jacobi plan (default .true.): ~13 us once, then ~40 ns per time;
     !> .false. gives a light motion (~1 us) that costs ~0.3-0.7 us per time
     !> (ellipjm1), for states evaluated at fewer than UNDAMPED_PLAN_MIN_TIMES
@@ -113,8 +116,11 @@ contains
 
   !> The checks of undamped_init: theta0, Omega0 finite, w0 finite and > 0.
   pure subroutine check_state(theta0, omega0, w0, status)
-    real(wp), intent(in) :: theta0, omega0, w0
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], finite, > 0
     type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
     call check_finite('theta0', theta0, status)
     call check_finite('omega0', omega0, status)
     call check_positive('w0', w0, status)
@@ -127,9 +133,12 @@ contains
   !> light motion evaluates at moderate t without them (undamped_eval needs
   !> the period only beyond |rate t| ~ 5e11).
   pure subroutine set_geometry(motion, theta0, omega0, w0, w0lo)
-    type(undamped_motion_t), intent(out) :: motion
-    real(wp), intent(in) :: theta0, omega0, w0
+    type(undamped_motion_t), intent(out) :: motion  !< the motion (the resting pendulum on error)
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0 (checked)
     real(wp), intent(in), optional :: w0lo   ! see undamped_init
+    !< optional low part of w0 when w0 is a double-double
     real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
 
     motion%theta0 = theta0
@@ -229,7 +238,7 @@ contains
   !> K of the parameter in use and the period (set_geometry first): 4 K(m)/w0,
   !> 2 K(1/m)/(k w0) per turn, 2 pi/|Omega0| for the free rotor, +inf on the separatrix.
   elemental subroutine set_period(motion)
-    type(undamped_motion_t), intent(inout) :: motion
+    type(undamped_motion_t), intent(inout) :: motion  !< a motion with its geometry set
     if (motion%free) then
       motion%period = 2 * pi / abs(motion%omega0)
       return
@@ -249,7 +258,7 @@ contains
 
   !> Amplitude [rad] of a motion with its geometry set (see undamped_amplitude).
   elemental real(wp) function motion_amplitude(motion) result(amplitude)
-    type(undamped_motion_t), intent(in) :: motion
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     select case (motion%regime)
     case (REGIME_LIBRATION)
       amplitude = 2 * atan2(motion%k, sqrt(motion%mc))
@@ -262,8 +271,8 @@ contains
 
   !> Whether undamped_eval at t takes whole periods out (and so needs the period).
   elemental logical function period_needed(motion, t) result(needed)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: t
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
+    real(wp), intent(in) :: t  !< time [s]
     needed = .not. motion%free .and. motion%regime /= REGIME_SEPARATRIX &
         .and. exponent(t) > 40 - exponent(motion%rate)
   end function period_needed
@@ -272,7 +281,7 @@ contains
   !> the time of one full turn 2 K(1/m)/(k w0) for rotation (the period of
   !> Omega), +inf on the separatrix.
   elemental real(wp) function undamped_period(motion) result(period)
-    type(undamped_motion_t), intent(in) :: motion
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     period = motion%period
   end function undamped_period
 
@@ -280,20 +289,20 @@ contains
   !> as 2 atan2(k, sqrt(1-m)), accurate up to the separatrix), pi on the
   !> separatrix (approached, never reached), +inf for rotation.
   elemental real(wp) function undamped_amplitude(motion) result(amplitude)
-    type(undamped_motion_t), intent(in) :: motion
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     amplitude = motion%amplitude
   end function undamped_amplitude
 
   !> Energy per unit m l^2 [1/s^2]: Omega^2/2 + w0^2 (1 - cos theta) = 2 w0^2 m
   !> (zero at the bottom, 2 w0^2 on the separatrix); constant along the motion.
   elemental real(wp) function undamped_energy(motion) result(energy)
-    type(undamped_motion_t), intent(in) :: motion
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     energy = motion%energy
   end function undamped_energy
 
   !> Regime code: REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION.
   elemental integer function undamped_regime(motion) result(regime)
-    type(undamped_motion_t), intent(in) :: motion
+    type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     regime = motion%regime
   end function undamped_regime
 
@@ -301,7 +310,9 @@ contains
   !> (= Omega^2/2 + w0^2 (1 - cos theta), eq. 1.2, without the cancellation of
   !> 1 - cos near theta = 0).  Relative accuracy a few eps.
   elemental real(wp) function pendulum_energy(theta, omega, w0) result(energy)
-    real(wp), intent(in) :: theta, omega, w0
+    real(wp), intent(in) :: theta  !< angle [rad]
+    real(wp), intent(in) :: omega  !< angular velocity [rad/s]
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s]
     real(wp) :: sh
     sh = sin(0.5_wp * theta)
     energy = 0.5_wp * omega * omega + 2 * (w0 * sh) * (w0 * sh)
@@ -309,7 +320,7 @@ contains
 
   !> 'libration', 'separatrix' or 'rotation' for a regime code ('unknown' otherwise).
   pure function undamped_regime_name(regime) result(name)
-    integer, intent(in) :: regime
+    integer, intent(in) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
     character(len=:), allocatable :: name
     name = code_text(regime, [REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION], &
         [character(len=10) :: 'libration', 'separatrix', 'rotation'], 'unknown')
