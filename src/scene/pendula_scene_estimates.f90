@@ -216,7 +216,9 @@ contains
   !> the top, where a start at fl(pi) turns): the frequency error over the
   !> window (exact_estimate), the rounding of the initial phase u0 (a few eps
   !> of K, and eps pi/2 through F's slope 1/cos(theta_r/2) when a libration
-  !> starts with Omega0 /= 0 near the top), and the root finding (4 eps t).
+  !> starts with Omega0 /= 0 near the top), the root finding (4 eps t), and
+  !> the spacing of theta's doubles about a far centre 2 pi N over the speed
+  !> at the bottom (a swing of 1e-7 rad about 4 pi: ~2e-8 s at w0 = 3).
   pure real(wp) function exact_time_error(motion, tend) result(dt)
     type(undamped_motion_t), intent(in) :: motion
     real(wp), intent(in) :: tend
@@ -224,6 +226,9 @@ contains
     du = 8 * eps * (1 + motion%rate * tend)
     if (motion%regime == REGIME_LIBRATION .and. motion%q /= 0) du = du + 2 * eps / max(abs(motion%ch), eps)
     dt = du / motion%rate + 4 * tend * frequency_error(motion) + 8 * eps * tend
+    ! a crossing is located on theta = center + theta_r, whose doubles are spaced
+    ! ~eps |center| apart: that resolution over the speed at the bottom, 2 k w0
+    dt = dt + 2 * eps * abs(motion%center) / max(2 * motion%k * motion%w0, tiny(1.0_wp))
   end function exact_time_error
 
   ! Relative error of the exact solution's frequency: the rounding of w0 t
