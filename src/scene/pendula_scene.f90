@@ -86,11 +86,11 @@ contains
   !> (optional, see pendula_control): cancel flag polled throughout the
   !> integrations (PENDULA_ERR_CANCELLED), progress in steps / evaluations.
   subroutine scene_solve(scene, result, status, control, max_steps)
-    type(scene_t), intent(in) :: scene
-    type(scene_result_t), intent(out) :: result
-    type(status_t), intent(out) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    integer(i8), intent(in), optional :: max_steps
+    type(scene_t), intent(in) :: scene  !< the scene (build it with scene_init; checked again here)
+    type(scene_result_t), intent(out) :: result  !< the answer: model, reason, estimate, wanted quantities, cost
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
+    integer(i8), intent(in), optional :: max_steps  !< work budget [RK4 steps], >= 1; default SCENE_STEP_CAP
     integer(i8) :: c0, c1, rate
     integer :: model
     real(wp) :: est, tend, budget, k, phi0, v0
@@ -155,13 +155,13 @@ contains
   !> control and max_steps: as for scene_solve (an RK4 run needing more than
   !> max_steps steps is refused up front; CVODE stops after max_steps/20).
   subroutine scene_run_model(scene, model, setting, result, status, control, max_steps)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(in) :: setting
-    type(scene_result_t), intent(out) :: result
-    type(status_t), intent(out) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    integer(i8), intent(in), optional :: max_steps
+    type(scene_t), intent(in) :: scene  !< the scene (build it with scene_init; checked again here)
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE (not AUTO)
+    real(wp), intent(in) :: setting  !< RK4 step h [s] or CVODE rtol, > 0; ignored for closed forms
+    type(scene_result_t), intent(out) :: result  !< the run's answer (error_estimate 0 for rk4/cvode: unknown)
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
+    integer(i8), intent(in), optional :: max_steps  !< work budget [RK4 steps], >= 1; default SCENE_STEP_CAP
     integer(i8) :: c0, c1, rate
     real(wp) :: est, tend, budget
     call system_clock(c0, rate)

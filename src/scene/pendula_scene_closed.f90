@@ -69,11 +69,11 @@ contains
   !> linear) whose a priori estimate is est [rad]: the wanted quantities,
   !> the estimate, and the closed-form evaluations in result%cost.
   subroutine solve_closed(scene, model, est, result, status)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(in) :: est
-    type(scene_result_t), intent(inout) :: result
-    type(status_t), intent(inout) :: status
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT or SCENE_MODEL_LINEAR
+    real(wp), intent(in) :: est  !< the model's a priori error estimate [rad] (model_estimate), >= 0
+    type(scene_result_t), intent(inout) :: result  !< gets the wanted quantities, the estimate and the cost
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     type(closed_t) :: cf
     call closed_init(scene, model, cf, status)
     if (status%code /= PENDULA_OK) return

@@ -96,7 +96,7 @@ contains
 
   !> 'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode' ('unknown' otherwise).
   pure function scene_model_name(code) result(name)
-    integer, intent(in) :: code
+    integer, intent(in) :: code  !< model code, SCENE_MODEL_* (0 .. 5); any other value gives 'unknown'
     ! explicit lengths here (not deferred): see pendula_format on gfortran's static lengths
     character(len=len(code_text(code, MODEL_CODES, SCENE_MODEL_NAMES, 'unknown'))) :: name
     name = code_text(code, MODEL_CODES, SCENE_MODEL_NAMES, 'unknown')
@@ -105,7 +105,7 @@ contains
   !> Model code of a name (as scene_model_name, or one of
   !> SCENE_MODEL_ALIAS_NAMES); -1 for an unknown name.
   pure integer function scene_model_code(name) result(code)
-    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: name  !< model name or alias, lower case; surrounding blanks ignored
     integer :: i
     code = -1
     do i = lbound(SCENE_MODEL_NAMES, 1), ubound(SCENE_MODEL_NAMES, 1)
@@ -118,14 +118,14 @@ contains
 
   !> 'state', 'theta', 'final', 'energy', 'period', 'events' ('unknown' otherwise).
   pure function scene_want_name(code) result(name)
-    integer, intent(in) :: code
+    integer, intent(in) :: code  !< want code, SCENE_WANT_* (1 .. 6); any other value gives 'unknown'
     character(len=len(code_text(code, WANT_CODES, SCENE_WANT_NAMES, 'unknown'))) :: name
     name = code_text(code, WANT_CODES, SCENE_WANT_NAMES, 'unknown')
   end function scene_want_name
 
   !> Want code of a name (as scene_want_name); -1 for an unknown name.
   pure integer function scene_want_code(name) result(code)
-    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: name  !< want name, lower case; surrounding blanks ignored
     integer :: i
     code = -1
     do i = 1, size(SCENE_WANT_NAMES)
@@ -136,7 +136,7 @@ contains
   !> The model names with their codes from code first on, for messages:
   !> 'auto (0), small_angle (1), ..., cvode (5)'.
   pure function scene_model_list(first) result(list)
-    integer, intent(in) :: first
+    integer, intent(in) :: first  !< first model code listed, SCENE_MODEL_AUTO (0) .. SCENE_MODEL_CVODE (5)
     character(len=len_trim(list_text(SCENE_MODEL_NAMES(max(first, 0):), MODEL_CODES(max(first, 0):)))) :: list
     list = list_text(SCENE_MODEL_NAMES(max(first, 0):), MODEL_CODES(max(first, 0):))
   end function scene_model_list

@@ -41,10 +41,10 @@ contains
   !> model does not apply (small angle over the top, closed forms with the
   !> wrong gamma).
   pure subroutine scene_estimate(scene, model, estimate, status)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(out) :: estimate
-    type(status_t), intent(out) :: status
+    type(scene_t), intent(in) :: scene  !< the scene (checked here)
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    real(wp), intent(out) :: estimate  !< a priori error estimate [rad], >= 0; +inf where the model does not apply
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
     estimate = ieee_value(1.0_wp, ieee_positive_inf)
     call check_scene(scene, status)
     if (status%code /= PENDULA_OK) return
@@ -53,10 +53,10 @@ contains
 
   !> scene_estimate for a scene already checked (no second check).
   pure subroutine model_estimate(scene, model, estimate, status)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(out) :: estimate
-    type(status_t), intent(inout) :: status
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    real(wp), intent(out) :: estimate  !< a priori error estimate [rad], >= 0; +inf where the model does not apply
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     type(undamped_motion_t) :: motion
     real(wp) :: tend, dth, dom
     estimate = ieee_value(1.0_wp, ieee_positive_inf)
@@ -98,12 +98,12 @@ contains
   !> The choice: cheapest model whose estimate meets tol (model, its
   !> estimate, and why in words).
   subroutine choose_model(scene, tend, model, est, why, status)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend
-    integer, intent(out) :: model
-    real(wp), intent(out) :: est
-    character(len=:), allocatable, intent(out) :: why
-    type(status_t), intent(inout) :: status
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    integer, intent(out) :: model  !< the chosen model, SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    real(wp), intent(out) :: est  !< its a priori error estimate [rad] (tol for rk4/cvode)
+    character(len=:), allocatable, intent(out) :: why  !< the reason for the choice, in words
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps, rk4_round, big, msep
     type(status_t) :: st
     if (scene%gamma == 0) then
@@ -216,14 +216,19 @@ contains
   !> the top, where a start at fl(pi) turns): the frequency error over the
   !> window (exact_estimate), the rounding of the initial phase u0 (a few eps
   !> of K, and eps pi/2 through F's slope 1/cos(theta_r/2) when a libration
-  !> starts with Omega0 /= 0 near the top), and the root finding (4 eps t).
+  !> starts with Omega0 /= 0 near the top), the root finding (4 eps t), and
+  !> the spacing of theta's doubles about a far centre 2 pi N over the speed
+  !> at the bottom (a swing of 1e-7 rad about 4 pi: ~2e-8 s at w0 = 3).
   pure real(wp) function exact_time_error(motion, tend) result(dt)
-    type(undamped_motion_t), intent(in) :: motion
-    real(wp), intent(in) :: tend
+    type(undamped_motion_t), intent(in) :: motion  !< the exact motion set up from the scene's initial state
+    real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp) :: du
     du = 8 * eps * (1 + motion%rate * tend)
     if (motion%regime == REGIME_LIBRATION .and. motion%q /= 0) du = du + 2 * eps / max(abs(motion%ch), eps)
     dt = du / motion%rate + 4 * tend * frequency_error(motion) + 8 * eps * tend
+    ! a crossing is located on theta = center + theta_r, whose doubles are spaced
+    ! ~eps |center| apart: that resolution over the speed at the bottom, 2 k w0
+    dt = dt + 2 * eps * abs(motion%center) / max(2 * motion%k * motion%w0, tiny(1.0_wp))
   end function exact_time_error
 
   ! Relative error of the exact solution's frequency: the rounding of w0 t
@@ -273,7 +278,11 @@ contains
   !>      |d| <= w0^2 B^3/6 int_0^tend |G|, B = max |theta_lin|, and the same with
   !>      |G'|/w0 for Omega; G(s) = e^(-gamma s/2) sin(w_d s)/w_d (sinh, s).
   pure real(wp) function linear_estimate(theta0, omega0, w0, gamma, tend) result(e)
-    real(wp), intent(in) :: theta0, omega0, w0, gamma, tend
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     integer, parameter :: n = 400
     type(linear_damped_t) :: lin, gl
     type(status_t) :: st
@@ -370,8 +379,8 @@ contains
   !> the swing |theta0 mod 2 pi| + |Omega0|/w0 (capped at 2 pi), not |theta0|.  The
   !> a posteriori check (run at 2h) catches what this misjudges.
   pure real(wp) function rk4_apriori_step(scene, tend) result(h)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], > 0
     real(wp) :: a, teff, c, slow, half
     ! the motion's size, not the raw angle: theta0 + 2 pi k is the same motion
     a = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
@@ -403,8 +412,9 @@ contains
   !> not resolved at all (CVODE may stay there: no bound), and a rotation only
   !> by the first part.  0 for stiff or over-damped scenes (BDF, few steps).
   pure real(wp) function cvode_min_steps(scene, tend, rtol) result(n)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend, rtol
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], >= 0
+    real(wp), intent(in) :: rtol  !< CVODE relative tolerance of the run, > 0
     real(wp) :: xr, d0, msep, per, tres
     n = 0
     if (is_stiff(scene) .or. scene%gamma >= 2 * scene%w0 .or. .not. rtol > 0) return
@@ -432,8 +442,9 @@ contains
   !> to 1e-7, gamma/w0 = 0.05 to 1, h w0 = 2e-3 and 5e-3, over 15/w0 lost up to
   !> 3.6x what 4 eps pi/d0 (with the swing term) predicted.
   pure real(wp) function integrator_rounding(scene, theta, nsteps) result(r)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: theta(:), nsteps
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: theta(:)  !< angles [rad] of the run (for its largest |theta|); may be empty
+    real(wp), intent(in) :: nsteps  !< number of steps of the run (values below 1 count as 1)
     real(wp) :: big, d0, xr, swing
     swing = abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi   ! size of a swing
     big = swing

@@ -45,7 +45,10 @@ contains
   !> 2 floor(w0 tend/pi) + 3 + floor(Omega_max tend/(2 pi)) (derivation
   !> above); huge(1_i8) when that does not fit (or is not finite).
   elemental integer(i8) function scene_event_bound(w0, tend, theta0, omega0) result(n)
-    real(wp), intent(in) :: w0, tend, theta0, omega0
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    real(wp), intent(in) :: tend  !< end of the window [s], >= 0
+    real(wp), intent(in) :: theta0  !< initial angle [rad]
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s]
     real(wp) :: half_periods, turns
     half_periods = w0 * tend / pi
     turns = sqrt(omega0**2 + 4 * w0**2 * sin(theta0 / 2)**2) * tend / (2 * pi)
@@ -60,14 +63,16 @@ contains
   !> 2 pi apart) whose bottom_sign differs: it is within (b - a)/2 < pi of
   !> their midpoint, so the multiple nearest to the midpoint.
   elemental real(wp) function bottom_level(a, b) result(c)
-    real(wp), intent(in) :: a, b
+    real(wp), intent(in) :: a  !< angle [rad] at the first sample
+    real(wp), intent(in) :: b  !< angle [rad] at the next sample, |b - a| < 2 pi
     c = 2 * pi * anint((a / 2 + b / 2) / (2 * pi))
   end function bottom_level
 
   !> An event between samples with values fa then fb: a sign change, or fb
   !> reaching 0 from a nonzero fa (an event at a sample counts once).
   pure logical function sign_change(fa, fb)
-    real(wp), intent(in) :: fa, fb
+    real(wp), intent(in) :: fa  !< value at the first sample
+    real(wp), intent(in) :: fb  !< value at the next sample
     sign_change = fa * fb < 0 .or. (fb == 0 .and. fa /= 0)
   end function sign_change
 
@@ -75,10 +80,10 @@ contains
   !> PENDULA_EVENT_*, at most two: one of each kind) in time order to the
   !> first nev of result's event list, growing it geometrically.
   pure subroutine append_events(result, te, kinds, nev)
-    type(scene_result_t), intent(inout) :: result
-    real(wp), intent(in) :: te(:)
-    integer, intent(in) :: kinds(:)
-    integer, intent(inout) :: nev
+    type(scene_result_t), intent(inout) :: result  !< event lists to append to (grown as needed)
+    real(wp), intent(in) :: te(:)  !< times [s] of the interval's events, at most two
+    integer, intent(in) :: kinds(:)  !< their kinds, PENDULA_EVENT_*; size(te)
+    integer, intent(inout) :: nev  !< number of events in the lists, >= 0; increased
     real(wp), allocatable :: tmp(:)
     integer, allocatable :: itmp(:)
     integer :: cap
@@ -104,8 +109,8 @@ contains
   !> Cut result's event list to its first nev events, with room for the
   !> state at each.
   pure subroutine trim_events(result, nev)
-    type(scene_result_t), intent(inout) :: result
-    integer, intent(in) :: nev
+    type(scene_result_t), intent(inout) :: result  !< event lists cut to nev; state arrays allocated to nev for the caller to fill
+    integer, intent(in) :: nev  !< number of events kept, 0 .. size(result%event_t)
     result%event_t = result%event_t(1:nev)
     result%event_kind = result%event_kind(1:nev)
     if (allocated(result%event_theta)) deallocate (result%event_theta)
@@ -119,8 +124,9 @@ contains
   !> w0 d/(w0^2 |sin theta|) at a turning point.  +inf when it exceeds half
   !> the gap between two neighbouring events (the count is then unverified).
   pure real(wp) function event_time_error(result, est, w0) result(e)
-    type(scene_result_t), intent(in) :: result
-    real(wp), intent(in) :: est, w0
+    type(scene_result_t), intent(in) :: result  !< the events found, with their state
+    real(wp), intent(in) :: est  !< state error where the events were placed [rad] (theta, Omega/w0), >= 0
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
     integer :: i
     real(wp) :: rate
     e = 0
@@ -146,9 +152,9 @@ contains
   !> resolved when over-damped (capped at 4e6 samples; event_interp_error
   !> says what the grid achieves).
   pure subroutine event_grid(scene, tend, tg)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend
-    real(wp), allocatable, intent(out) :: tg(:)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], >= 0
+    real(wp), allocatable, intent(out) :: tg(:)  !< sample times [s] from 0 to tend, increasing
     integer :: n, i
     real(wp) :: d, per
     d = scene%tol / (10 * interp_bound(scene, 1.0_wp))
@@ -166,8 +172,8 @@ contains
   !> tg(:) of the scene's trajectory (in theta, and Omega/w0), to be added
   !> to the state error at the samples where events are placed.
   pure real(wp) function event_interp_error(scene, tg) result(e)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tg(:)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tg(:)  !< sample times [s], increasing (event_grid)
     e = 0
     if (size(tg) > 1) e = interp_bound(scene, maxval(tg(2:) - tg(:size(tg)-1)))
   end function event_interp_error
@@ -193,9 +199,11 @@ contains
   !> built from (theta, Omega) and (Omega, Omega') at both ends, whose error
   !> (h^4/384 max|theta''''|) is below tol/10 on the grid of event_grid.
   pure subroutine grid_events(scene, tg, th, om, result)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tg(:), th(:), om(:)
-    type(scene_result_t), intent(inout) :: result
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tg(:)  !< sample times [s], increasing (event_grid)
+    real(wp), intent(in) :: th(:)  !< theta [rad] at tg; size(tg)
+    real(wp), intent(in) :: om(:)  !< Omega [rad/s] at tg; size(tg)
+    type(scene_result_t), intent(inout) :: result  !< gets the events in (tg(1), tg(n)]: times, kinds, state
     integer :: i, nev, ne, kinds(2)
     real(wp) :: te(2), h, da, db, c
     if (allocated(result%event_t)) deallocate (result%event_t, result%event_kind)

@@ -56,13 +56,14 @@ contains
   !> has decayed enough (gamma > 0; want state, theta, final or energy).  why:
   !> the reason so far; the hand-over, when made, is appended.
   subroutine solve_integrated(scene, model, tend, budget, why, result, status, control)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(in) :: tend, budget
-    character(len=:), allocatable, intent(inout) :: why
-    type(scene_result_t), intent(inout) :: result
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    integer, intent(in) :: model  !< SCENE_MODEL_RK4 or SCENE_MODEL_CVODE
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
+    character(len=:), allocatable, intent(inout) :: why  !< the reason so far; the hand-over is appended
+    type(scene_result_t), intent(inout) :: result  !< gets the answer, its error estimate and cost
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     type(scene_t) :: sub
     type(scene_result_t) :: part, fresh
     type(scene_cost_t) :: spent
@@ -211,8 +212,8 @@ contains
   end subroutine assemble
 
   pure subroutine add_cost(total, c)
-    type(scene_cost_t), intent(inout) :: total
-    type(scene_cost_t), intent(in) :: c
+    type(scene_cost_t), intent(inout) :: total  !< cost added to
+    type(scene_cost_t), intent(in) :: c  !< cost to add (wall_time is not added)
     total%closed_form_evals = total%closed_form_evals + c%closed_form_evals
     total%rhs_evals = total%rhs_evals + c%rhs_evals
     total%steps = total%steps + c%steps

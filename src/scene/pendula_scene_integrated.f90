@@ -49,13 +49,16 @@ contains
   !> or rtol (CVODE; atol = rtol * scale / 100 with scale the state's size).
   !> budget: RK4 steps allowed (CVODE: budget / SCENE_CVODE_STEP_COST steps).
   subroutine integrate(scene, model, setting, budget, tout, theta, omega, stats, status, control)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(in) :: setting, budget, tout(:)
-    real(wp), intent(out) :: theta(:), omega(:)
-    type(ode_stats_t), intent(out) :: stats
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    integer, intent(in) :: model  !< SCENE_MODEL_RK4 or SCENE_MODEL_CVODE
+    real(wp), intent(in) :: setting  !< RK4 step h [s] or CVODE rtol, > 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
+    real(wp), intent(in) :: tout(:)  !< output times [s], >= 0, increasing
+    real(wp), intent(out) :: theta(:)  !< theta [rad] at tout; size(tout)
+    real(wp), intent(out) :: omega(:)  !< Omega [rad/s] at tout; size(tout)
+    type(ode_stats_t), intent(out) :: stats  !< counters of the run: rhs evaluations, steps
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp), allocatable :: tt(:), th(:), om(:)
     integer :: off, n, method
     real(wp) :: scale
@@ -94,11 +97,12 @@ contains
   !> RK4 with h from tol and the window, verified by a run at 2h; refined
   !> from the observed error (which scales like h^4) until it meets tol.
   subroutine solve_rk4(scene, tend, budget, result, status, control)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend, budget
-    type(scene_result_t), intent(inout) :: result
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
+    type(scene_result_t), intent(inout) :: result  !< gets the run at h, its Richardson error estimate, step and cost
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: h, hb, f, q, hmax, est, d, round, nrun
     real(wp), allocatable :: th2(:), om2(:), tgrid(:)
     type(status_t) :: st
@@ -244,11 +248,12 @@ contains
   !> the two (an estimate of the looser run's error, which bounds the tighter
   !> one's) is its error estimate.
   subroutine solve_cvode(scene, tend, budget, result, status, control)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend, budget
-    type(scene_result_t), intent(inout) :: result
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
+    type(scene_result_t), intent(inout) :: result  !< gets the tighter run, the two runs' difference as estimate, rtol, cost
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: rtol, est, periods, scale, predicted
     real(wp), allocatable :: th1(:), om1(:), tgrid(:)
     type(ode_stats_t) :: stats
@@ -295,12 +300,13 @@ contains
   !> want = events the events of the run on the event grid; the error
   !> estimate is 0 (unknown).  want = period is the caller's to refuse.
   subroutine run_fixed(scene, model, setting, budget, result, status, control)
-    type(scene_t), intent(in) :: scene
-    integer, intent(in) :: model
-    real(wp), intent(in) :: setting, budget
-    type(scene_result_t), intent(inout) :: result
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    integer, intent(in) :: model  !< SCENE_MODEL_RK4 or SCENE_MODEL_CVODE
+    real(wp), intent(in) :: setting  !< RK4 step h [s] or CVODE rtol, > 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
+    type(scene_result_t), intent(inout) :: result  !< gets the run's outputs (or events), setting and cost
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp), allocatable :: tgrid(:)
     type(ode_stats_t) :: stats
     call sample_grid(scene, window_end(scene), result, tgrid)

@@ -31,11 +31,15 @@ contains
   !> w0lo (optional): the rounding residual of w0, sqrt(g/l) - w0 to ~eps^2 w0
   !> (0 where g/l leaves the double range), for scene_init.
   pure subroutine scene_physics(g, length, w0, gamma, status, gamma_in, mass, b, w0lo)
-    real(wp), intent(in) :: g, length
-    real(wp), intent(out) :: w0, gamma
-    type(status_t), intent(out) :: status
-    real(wp), intent(in), optional :: gamma_in, mass, b
-    real(wp), intent(out), optional :: w0lo
+    real(wp), intent(in) :: g  !< gravitational acceleration [m/s^2], > 0
+    real(wp), intent(in) :: length  !< pendulum length [m], > 0
+    real(wp), intent(out) :: w0  !< natural frequency sqrt(g/length) [1/s] (0 on error)
+    real(wp), intent(out) :: gamma  !< damping rate [1/s], >= 0 (0 without damping)
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
+    real(wp), intent(in), optional :: gamma_in  !< damping rate gamma [1/s], >= 0 (optional)
+    real(wp), intent(in), optional :: mass  !< bob mass [kg], > 0 (optional, with b)
+    real(wp), intent(in), optional :: b  !< linear damping coefficient [kg/s], >= 0 (optional, with mass)
+    real(wp), intent(out), optional :: w0lo  !< rounding residual sqrt(g/length) - w0 [1/s] (optional)
     real(wp) :: gb
     type(status_t) :: st
     w0 = 0
@@ -98,12 +102,17 @@ contains
   !> residual from scene_physics, |w0lo| <= eps w0, so that the closed forms
   !> use the energy of the data g, l as given.  On bad input status names the argument.
   pure subroutine scene_init(scene, theta0, omega0, t, w0, gamma, tol, want, status, model, w0lo)
-    type(scene_t), intent(out) :: scene
-    real(wp), intent(in) :: theta0, omega0, t(:), w0, gamma, tol
-    integer, intent(in) :: want
-    type(status_t), intent(out) :: status
-    integer, intent(in), optional :: model
-    real(wp), intent(in), optional :: w0lo
+    type(scene_t), intent(out) :: scene  !< the scene built (default fields on error)
+    real(wp), intent(in) :: theta0  !< initial angle [rad] at t = 0, finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s] at t = 0, finite
+    real(wp), intent(in) :: t(:)  !< output times [s], finite, >= 0, strictly increasing; >= 1 unless want = period
+    real(wp), intent(in) :: w0  !< natural frequency sqrt(g/l) [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate b/m [1/s], >= 0 (0 for want = period)
+    real(wp), intent(in) :: tol  !< absolute tolerance on theta [rad] and Omega/w0 over the window, > 0
+    integer, intent(in) :: want  !< what is asked: one of SCENE_WANT_*
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
+    integer, intent(in), optional :: model  !< forced model, one of SCENE_MODEL_* (default SCENE_MODEL_AUTO)
+    real(wp), intent(in), optional :: w0lo  !< rounding residual of w0 [1/s], |w0lo| <= eps w0 (default 0)
     integer :: mdl
     real(wp) :: lo
     mdl = SCENE_MODEL_AUTO
@@ -127,8 +136,8 @@ contains
   !> Check a scene's fields in place (no copy): the rules of scene_init, for
   !> a scene_t built or changed by hand.  status names the first bad field.
   pure subroutine check_scene(scene, status)
-    type(scene_t), intent(in) :: scene
-    type(status_t), intent(inout) :: status
+    type(scene_t), intent(in) :: scene  !< scene to check, built or changed by hand
+    type(status_t), intent(inout) :: status  !< the first bad field is reported here; else left unchanged
     if (.not. allocated(scene%t)) then
       call set_error(status, PENDULA_ERR_SIZE, 'the scene has no output times: build it with scene_init')
       return
@@ -190,9 +199,9 @@ contains
   !> The closed forms small_angle and exact describe the undamped pendulum
   !> only: model one of them with gamma > 0 is an error naming both.
   pure subroutine check_model_gamma(model, gamma, status)
-    integer, intent(in) :: model
-    real(wp), intent(in) :: gamma
-    type(status_t), intent(inout) :: status
+    integer, intent(in) :: model  !< model code, SCENE_MODEL_*
+    real(wp), intent(in) :: gamma  !< damping rate of the scene [1/s], >= 0
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     if (gamma > 0 .and. (model == SCENE_MODEL_SMALL_ANGLE .or. model == SCENE_MODEL_EXACT)) then
       call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // scene_model_name(model) // &
           ' needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // '): use linear, rk4 or cvode')
@@ -201,17 +210,17 @@ contains
 
   !> model = cvode in a build without SUNDIALS is PENDULA_ERR_UNAVAILABLE.
   subroutine check_model_built(model, status)
-    integer, intent(in) :: model
-    type(status_t), intent(inout) :: status
+    integer, intent(in) :: model  !< model code, SCENE_MODEL_*
+    type(status_t), intent(inout) :: status  !< PENDULA_ERR_UNAVAILABLE for cvode without SUNDIALS, else left unchanged
     if (model == SCENE_MODEL_CVODE .and. .not. cvode_available()) call set_error(status, &
         PENDULA_ERR_UNAVAILABLE, 'model = cvode is not available: this build has no SUNDIALS CVODE')
   end subroutine check_model_built
 
   !> The work budget [RK4 steps] from the optional max_steps (>= 1; default SCENE_STEP_CAP).
   pure subroutine get_budget(budget, status, max_steps)
-    real(wp), intent(out) :: budget
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(in), optional :: max_steps
+    real(wp), intent(out) :: budget  !< the work budget [RK4 steps]
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(in), optional :: max_steps  !< budget asked [RK4 steps], >= 1 (optional)
     budget = SCENE_STEP_CAP
     if (.not. present(max_steps)) return
     budget = real(max_steps, wp)
@@ -221,8 +230,8 @@ contains
 
   !> Output arrays for the want: every t, or only t(n) for want = final.
   pure subroutine alloc_outputs(scene, result)
-    type(scene_t), intent(in) :: scene
-    type(scene_result_t), intent(inout) :: result
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    type(scene_result_t), intent(inout) :: result  !< gets t and the state (and energy) arrays the want needs
     integer :: n
     n = size(scene%t)
     if (scene%want == SCENE_WANT_FINAL) then
@@ -238,8 +247,8 @@ contains
 
   !> Energies from the state, and empty event arrays where no events were asked.
   pure subroutine finish_outputs(scene, result)
-    type(scene_t), intent(in) :: scene
-    type(scene_result_t), intent(inout) :: result
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    type(scene_result_t), intent(inout) :: result  !< state filled in; gets energies and empty event arrays as needed
     if (scene%want == SCENE_WANT_ENERGY) &
         result%energy = pendulum_energy(result%theta, result%omega, scene%w0)
     if (.not. allocated(result%event_t)) then

@@ -59,9 +59,11 @@ contains
   !> solve_top answers it.  k: the odd integer (as a real); phi0, v0: the
   !> top-centred start k pi - theta0 (to eps relative) and -Omega0.
   pure subroutine top_start(scene, is_top, k, phi0, v0)
-    type(scene_t), intent(in) :: scene
-    logical, intent(out) :: is_top
-    real(wp), intent(out) :: k, phi0, v0
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    logical, intent(out) :: is_top  !< true when solve_top answers the scene
+    real(wp), intent(out) :: k  !< the odd integer of the nearest top k pi (0 when none applies)
+    real(wp), intent(out) :: phi0  !< distance k pi - theta0 [rad], to eps relative
+    real(wp), intent(out) :: v0  !< top-centred start rate -Omega0 [rad/s]
     real(wp) :: p, e
     is_top = .false.
     k = 0
@@ -110,13 +112,14 @@ contains
   !> computed) when the hang alone would exceed the budget; status carries
   !> any error of the parts (budget, cancel).
   subroutine solve_top(scene, tend, budget, why, result, done, status, control)
-    type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: tend, budget
-    logical, intent(out) :: done
-    character(len=:), allocatable, intent(inout) :: why
-    type(scene_result_t), intent(inout) :: result
-    type(status_t), intent(inout) :: status
-    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
+    logical, intent(out) :: done  !< false when nothing was computed (the hang exceeds the budget)
+    character(len=:), allocatable, intent(inout) :: why  !< the reason, replaced when done
+    type(scene_result_t), intent(inout) :: result  !< gets the answer, its error estimate and cost when done
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: k, phi0, v0, lp, lm, a, b, tx, tshift, gain, target, h, est, d, p, e, thx, omx, near, eround
     real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
     type(scene_t) :: sub

@@ -69,21 +69,21 @@ contains
 
   !> End of the window [s]: t(n), or 0 without output times.
   pure real(wp) function window_end(scene) result(tend)
-    type(scene_t), intent(in) :: scene
+    type(scene_t), intent(in) :: scene  !< the scene (t may be empty)
     tend = 0
     if (size(scene%t) > 0) tend = scene%t(size(scene%t))
   end function window_end
 
   !> Stiff for the integrators: gamma > SCENE_STIFF_RATIO w0.
   pure logical function is_stiff(scene)
-    type(scene_t), intent(in) :: scene
+    type(scene_t), intent(in) :: scene  !< the scene (w0 > 0, gamma >= 0)
     is_stiff = scene%gamma > SCENE_STIFF_RATIO * scene%w0
   end function is_stiff
 
   !> Add one integrator run's counters to a cost.
   pure subroutine add_stats(cost, stats)
-    type(scene_cost_t), intent(inout) :: cost
-    type(ode_stats_t), intent(in) :: stats
+    type(scene_cost_t), intent(inout) :: cost  !< cost to add to (one more run)
+    type(ode_stats_t), intent(in) :: stats  !< counters of the run: rhs evaluations, steps
     cost%rhs_evals = cost%rhs_evals + stats%rhs_evals
     cost%steps = cost%steps + stats%steps
     cost%runs = cost%runs + 1

@@ -184,6 +184,7 @@ def test_linear_damped_finite_when_representable(th0, om0, w0, gamma, tau):
     # (w0^2 theta0, a Omega0 underflow in the set-up) costs digits
     rate = max(w0, gamma)
     assume(abs(th0) * rate * rate > 1e-300 and abs(om0) * rate > 1e-300)
+    assume(abs(th0) * w0 * w0 > 1e-300 and abs(om0) * w0 > 1e-300)   # w0^2 theta0 itself, not only the larger rate's
     _check_linear(tau / max(w0, gamma), th0, om0, w0, gamma)
 
 
