@@ -12,6 +12,13 @@
 !> of its last digit.  NaN prints as 'NaN', infinities as '+Inf' / '-Inf'; the
 !> sign of a negative zero is kept ('-0.000E+00').  Cost: a few microseconds,
 !> run only when a message is built.
+!>
+!> Why no deferred-length (`character(len=:), allocatable`) results:
+!> gfortran 12 keeps the length of such a result in a static variable at
+!> each call site, so two threads calling the same site race on it (garbled
+!> or truncated messages).  The public functions here return an explicit
+!> length computed by a specification function (the text is built twice,
+!> once to measure it); the helpers append into a fixed buffer.
 module pendula_format
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use pendula_kinds, only: wp, i8
@@ -28,7 +35,9 @@ module pendula_format
   integer, parameter :: LIMB_DIGITS = 9
   integer(i8), parameter :: LIMB = 1000000000_i8   ! base 10**9 limbs of the big integer
   integer, parameter :: NLIMB = MAX_DEC / LIMB_DIGITS
-  integer, parameter :: STYLE_SCI = 1, STYLE_FIXED = 2, STYLE_GENERAL = 3
+  integer, parameter :: STYLE_SCI = 1, STYLE_FIXED = 2, STYLE_GENERAL = 3, STYLE_SHORT = 4
+  ! Longest text: sign, 309 integer digits of a double, point, the decimals
+  integer, parameter :: TEXT_MAX = MAX_DEC + FORMAT_MAX_DIGITS + 16
 
   !> Decimal text of an integer (any default or 64-bit integer, like i0).
   interface format_int
@@ -37,13 +46,68 @@ module pendula_format
 
 contains
 
+  ! Length functions first: the public results' lengths are specification
+  ! expressions calling them, and a function must be defined before use there.
+
+  ! The length of code_text(code, codes, names, fallback).
+  pure integer function code_text_len(code, codes, names, fallback)
+    integer, intent(in) :: code, codes(:)
+    character(len=*), intent(in) :: names(:), fallback
+    integer :: i
+    i = code_index(code, codes, names)
+    code_text_len = len(fallback)
+    if (i > 0) code_text_len = len_trim(names(i))
+  end function code_text_len
+
+  ! The first i with codes(i) == code (within both tables), else 0.
+  pure integer function code_index(code, codes, names)
+    integer, intent(in) :: code, codes(:)
+    character(len=*), intent(in) :: names(:)
+    integer :: i
+    code_index = 0
+    do i = 1, min(size(codes), size(names))
+      if (codes(i) == code) then
+        code_index = i
+        return
+      end if
+    end do
+  end function code_index
+
+  ! The length of format_int(n).
+  pure integer function int_len(n)
+    integer(i8), intent(in) :: n
+    character(len=20) :: b
+    integer :: p
+    call int_chars(n, b, p)
+    int_len = len(b) - p + 1
+  end function int_len
+
+  ! The length of x's text in a style.
+  pure integer function text_len(x, style, ndig)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: style, ndig
+    character(len=TEXT_MAX) :: buf
+    call build_text(x, style, ndig, buf, text_len)
+  end function text_len
+
+  ! x's text in a style, as long as text_len says.
+  pure function text_of(x, style, ndig) result(s)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: style, ndig
+    character(len=text_len(x, style, ndig)) :: s
+    character(len=TEXT_MAX) :: buf
+    integer :: n
+    call build_text(x, style, ndig, buf, n)
+    s = buf(1:n)
+  end function text_of
+
   !> Scientific form with `sig` significant digits, like Fortran's ES edit
   !> descriptor: '-1.235E+00', '5.000E-324' (two exponent digits, three when
   !> needed).  sig is clamped to [1, FORMAT_MAX_DIGITS]; sig = 1 gives '5E-01'.
   pure function format_sci(x, sig) result(s)
     real(wp), intent(in) :: x  !< value to format
     integer, intent(in) :: sig  !< significant digits, clamped to [1, FORMAT_MAX_DIGITS]
-    character(len=:), allocatable :: s
+    character(len=text_len(x, STYLE_SCI, sig)) :: s
     s = text_of(x, STYLE_SCI, sig)
   end function format_sci
 
@@ -53,7 +117,7 @@ contains
   pure function format_fixed(x, decimals) result(s)
     real(wp), intent(in) :: x  !< value to format
     integer, intent(in) :: decimals  !< digits after the point, clamped to [0, FORMAT_MAX_DIGITS]
-    character(len=:), allocatable :: s
+    character(len=text_len(x, STYLE_FIXED, decimals)) :: s
     s = text_of(x, STYLE_FIXED, decimals)
   end function format_fixed
 
@@ -63,7 +127,7 @@ contains
   pure function format_general(x, sig) result(s)
     real(wp), intent(in) :: x  !< value to format
     integer, intent(in) :: sig  !< significant digits, clamped to [1, FORMAT_MAX_DIGITS]
-    character(len=:), allocatable :: s
+    character(len=text_len(x, STYLE_GENERAL, sig)) :: s
     s = text_of(x, STYLE_GENERAL, sig)
   end function format_general
 
@@ -72,21 +136,8 @@ contains
   !> significant digits in scientific form ('1.23457E-05').
   pure function format_short(x) result(s)
     real(wp), intent(in) :: x  !< value to format
-    character(len=:), allocatable :: s
-    integer :: last
-    if (x == 0) then
-      s = '0'
-    else if (abs(x) >= 1.0e-3_wp .and. abs(x) < 1.0e6_wp) then
-      s = format_fixed(x, 6)
-      last = len(s)
-      do while (s(last:last) == '0')
-        last = last - 1
-      end do
-      if (s(last:last) == '.') last = last - 1
-      s = s(1:last)
-    else
-      s = format_sci(x, 6)
-    end if
+    character(len=text_len(x, STYLE_SHORT, 6)) :: s
+    s = text_of(x, STYLE_SHORT, 6)
   end function format_short
 
   !> The name of an integer code from a table: names(i) (trailing blanks
@@ -97,161 +148,208 @@ contains
     integer, intent(in) :: codes(:)  !< table of codes
     character(len=*), intent(in) :: names(:)  !< names(i) is the name of codes(i)
     character(len=*), intent(in) :: fallback  !< text returned when code is not in codes
-    character(len=:), allocatable :: s
+    character(len=code_text_len(code, codes, names, fallback)) :: s
     integer :: i
-    do i = 1, min(size(codes), size(names))
-      if (codes(i) == code) then
-        s = trim(names(i))
-        return
-      end if
-    end do
-    s = fallback
+    i = code_index(code, codes, names)
+    if (i > 0) then
+      s = names(i)
+    else
+      s = fallback
+    end if
   end function code_text
 
   ! ---------------------------------------------------------------- helpers
 
-  ! x in one of the styles; NaN and infinities have fixed texts in all.
-  pure function text_of(x, style, ndig) result(s)
+  ! buf(1:n) := x in one of the styles; NaN and infinities have fixed texts
+  ! in all but STYLE_SHORT's zero.
+  pure subroutine build_text(x, style, ndig, buf, n)
     real(wp), intent(in) :: x
     integer, intent(in) :: style, ndig
-    character(len=:), allocatable :: s
-    if (.not. ieee_is_finite(x)) then
-      s = special_text(x)
-      return
+    character(len=*), intent(inout) :: buf
+    integer, intent(out) :: n
+    n = 0
+    if (style == STYLE_SHORT) then
+      call short_text(x, buf, n)
+    else if (.not. ieee_is_finite(x)) then
+      call short_text(x, buf, n)              ! the same fixed texts
+    else
+      if (sign(1.0_wp, x) < 0) call put(buf, n, '-')
+      select case (style)
+      case (STYLE_SCI)
+        call sci_text(x, ndig, buf, n)
+      case (STYLE_FIXED)
+        call fixed_text(x, ndig, buf, n)
+      case default
+        call general_text(x, ndig, buf, n)
+      end select
     end if
-    select case (style)
-    case (STYLE_SCI)
-      s = sign_text(x) // sci_text(x, ndig)
-    case (STYLE_FIXED)
-      s = sign_text(x) // fixed_text(x, ndig)
-    case default
-      s = sign_text(x) // general_text(x, ndig)
-    end select
-  end function text_of
+  end subroutine build_text
 
-  ! |x| (finite) in scientific form with sig significant digits.
-  pure function sci_text(x, sig) result(s)
+  ! format_short's text: '0', fixed with six decimals less trailing zeros, or
+  ! scientific with six digits (also NaN and the infinities).
+  pure subroutine short_text(x, buf, n)
+    real(wp), intent(in) :: x
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    if (x == 0) then
+      call put(buf, n, '0')
+    else if (ieee_is_nan(x)) then
+      call put(buf, n, 'NaN')
+    else if (.not. ieee_is_finite(x)) then
+      call put(buf, n, merge('+Inf', '-Inf', x > 0))
+    else if (abs(x) >= 1.0e-3_wp .and. abs(x) < 1.0e6_wp) then
+      if (x < 0) call put(buf, n, '-')
+      call fixed_text(x, 6, buf, n)
+      do while (buf(n:n) == '0')
+        n = n - 1
+      end do
+      if (buf(n:n) == '.') n = n - 1
+    else
+      if (x < 0) call put(buf, n, '-')
+      call sci_text(x, 6, buf, n)
+    end if
+  end subroutine short_text
+
+  ! Append text to buf(1:n).
+  pure subroutine put(buf, n, text)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    character(len=*), intent(in) :: text
+    buf(n+1:n+len(text)) = text
+    n = n + len(text)
+  end subroutine put
+
+  ! Append the digits d as characters.
+  pure subroutine put_digits(buf, n, d)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    integer, intent(in) :: d(:)
+    integer :: i
+    do i = 1, size(d)
+      buf(n+i:n+i) = achar(iachar('0') + d(i))
+    end do
+    n = n + size(d)
+  end subroutine put_digits
+
+  ! Append |x| (finite) in scientific form with sig significant digits.
+  pure subroutine sci_text(x, sig, buf, n)
     real(wp), intent(in) :: x
     integer, intent(in) :: sig
-    character(len=:), allocatable :: s
-    integer :: d(MAX_DEC), n, e10, k
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    integer :: d(MAX_DEC), nd, e10, k
     k = max(1, min(sig, FORMAT_MAX_DIGITS))
-    call rounded_digits(x, k, d, n, e10)
-    s = digit_text(d(1:1))
-    if (k > 1) s = s // '.' // digit_text(d(2:k))
-    s = s // 'E' // exponent_text(e10, 2)
-  end function sci_text
+    call rounded_digits(x, k, d, nd, e10)
+    call put_sci(buf, n, d(1:k), e10, 'E', 2)
+  end subroutine sci_text
 
-  ! |x| (finite) in fixed form with `decimals` digits after the point.
-  pure function fixed_text(x, decimals) result(s)
+  ! Append |x| (finite) in fixed form with `decimals` digits after the point.
+  pure subroutine fixed_text(x, decimals, buf, n)
     real(wp), intent(in) :: x
     integer, intent(in) :: decimals
-    character(len=:), allocatable :: s
-    integer :: d(MAX_DEC), n, e10, nd, p
-    nd = max(0, min(decimals, FORMAT_MAX_DIGITS))
-    call exact_digits(x, d, n, e10)
-    ! keep the digits down to the place 10**(-nd): e10 + 1 + nd of them
-    call round_to(d, n, e10, e10 + 1 + nd)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    integer :: d(MAX_DEC), nd, e10, dec, p
+    dec = max(0, min(decimals, FORMAT_MAX_DIGITS))
+    call exact_digits(x, d, nd, e10)
+    ! keep the digits down to the place 10**(-dec): e10 + 1 + dec of them
+    call round_to(d, nd, e10, e10 + 1 + dec)
     if (e10 < 0) then
-      s = '0'
+      call put(buf, n, '0')
     else
-      s = digit_text([(digit(d, n, e10, p), p = e10, 0, -1)])
+      call put_digits(buf, n, [(digit(d, nd, e10, p), p = e10, 0, -1)])
     end if
-    if (nd > 0) s = s // '.' // digit_text([(digit(d, n, e10, p), p = -1, -nd, -1)])
-  end function fixed_text
+    if (dec > 0) then
+      call put(buf, n, '.')
+      call put_digits(buf, n, [(digit(d, nd, e10, p), p = -1, -dec, -1)])
+    end if
+  end subroutine fixed_text
 
-  ! |x| (finite) like "%.<sig>g" without trailing zeros.
-  pure function general_text(x, sig) result(s)
+  ! Append |x| (finite) like "%.<sig>g" without trailing zeros.
+  pure subroutine general_text(x, sig, buf, n)
     real(wp), intent(in) :: x
     integer, intent(in) :: sig
-    character(len=:), allocatable :: s
-    integer :: d(MAX_DEC), n, e10, k, last
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    integer :: d(MAX_DEC), nd, e10, k, last
     k = max(1, min(sig, FORMAT_MAX_DIGITS))
-    call rounded_digits(x, k, d, n, e10)
+    call rounded_digits(x, k, d, nd, e10)
     last = k
     do while (last > 1 .and. d(last) == 0)
       last = last - 1
     end do
     if (e10 >= -4 .and. e10 < k) then
       if (e10 < 0) then
-        s = '0.' // repeat('0', -e10 - 1) // digit_text(d(1:last))
+        call put(buf, n, '0.' // repeat('0', -e10 - 1))
+        call put_digits(buf, n, d(1:last))
       else if (last <= e10 + 1) then
-        s = digit_text(d(1:last)) // repeat('0', e10 + 1 - last)
+        call put_digits(buf, n, d(1:last))
+        call put(buf, n, repeat('0', e10 + 1 - last))
       else
-        s = digit_text(d(1:e10+1)) // '.' // digit_text(d(e10+2:last))
+        call put_digits(buf, n, d(1:e10+1))
+        call put(buf, n, '.')
+        call put_digits(buf, n, d(e10+2:last))
       end if
     else
-      s = digit_text(d(1:1))
-      if (last > 1) s = s // '.' // digit_text(d(2:last))
-      s = s // 'e' // exponent_text(e10, 1)
+      call put_sci(buf, n, d(1:last), e10, 'e', 1)
     end if
-  end function general_text
+  end subroutine general_text
 
+  ! Append d(1).d(2:) (no point for one digit), the exponent letter and the
+  ! signed exponent e10 with at least `width` digits: '+05', '-324', '+7'.
+  pure subroutine put_sci(buf, n, d, e10, letter, width)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: n
+    integer, intent(in) :: d(:), e10, width
+    character(len=1), intent(in) :: letter
+    character(len=20) :: b
+    integer :: p
+    call put_digits(buf, n, d(1:1))
+    if (size(d) > 1) then
+      call put(buf, n, '.')
+      call put_digits(buf, n, d(2:))
+    end if
+    call int_chars(int(abs(e10), i8), b, p)
+    call put(buf, n, letter // merge('+', '-', e10 >= 0) // repeat('0', max(0, width - (21 - p))) // b(p:))
+  end subroutine put_sci
 
   pure function format_int_default(n) result(s)
     integer, intent(in) :: n  !< integer to format
-    character(len=:), allocatable :: s
+    character(len=int_len(int(n, i8))) :: s
     s = format_int_i8(int(n, i8))
   end function format_int_default
 
   pure function format_int_i8(n) result(s)
     integer(i8), intent(in) :: n  !< integer to format
-    character(len=:), allocatable :: s
-    character(len=20) :: buf
-    integer(i8) :: v
+    character(len=int_len(n)) :: s
+    character(len=20) :: b
     integer :: p
+    call int_chars(n, b, p)
+    s = b(p:)
+  end function format_int_i8
+
+  ! b(p:) := n in decimal, with '-' when negative (len(b) = 20 fits any i8).
+  pure subroutine int_chars(n, b, p)
+    integer(i8), intent(in) :: n
+    character(len=20), intent(out) :: b
+    integer, intent(out) :: p
+    integer(i8) :: v
     ! Work with -|n|: the most negative integer has no positive counterpart.
     v = -abs(n)
     if (n < 0) v = n
-    p = len(buf) + 1
+    b = ''
+    p = len(b) + 1
     do
       p = p - 1
-      buf(p:p) = achar(iachar('0') - int(mod(v, 10_i8)))
+      b(p:p) = achar(iachar('0') - int(mod(v, 10_i8)))
       v = v / 10
       if (v == 0) exit
     end do
-    s = buf(p:)
-    if (n < 0) s = '-' // s
-  end function format_int_i8
-
-  ! The fixed texts of NaN and the infinities (x not finite).
-  pure function special_text(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    if (ieee_is_nan(x)) then
-      s = 'NaN'
-    else if (x > 0) then
-      s = '+Inf'
-    else
-      s = '-Inf'
+    if (n < 0) then
+      p = p - 1
+      b(p:p) = '-'
     end if
-  end function special_text
-
-  ! '-' for negative x, including -0.
-  pure function sign_text(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    s = merge('-', ' ', sign(1.0_wp, x) < 0)
-    s = trim(s)
-  end function sign_text
-
-  ! Signed exponent with at least `width` digits: '+05', '-324', '+7'.
-  pure function exponent_text(e, width) result(s)
-    integer, intent(in) :: e, width
-    character(len=:), allocatable :: s
-    s = format_int(abs(e))
-    if (len(s) < width) s = repeat('0', width - len(s)) // s
-    s = merge('+', '-', e >= 0) // s
-  end function exponent_text
-
-  pure function digit_text(d) result(s)
-    integer, intent(in) :: d(:)
-    character(len=size(d)) :: s
-    integer :: i
-    do i = 1, size(d)
-      s(i:i) = achar(iachar('0') + d(i))
-    end do
-  end function digit_text
+  end subroutine int_chars
 
   ! The digit of place 10**p in the rounded digits d(1:n) (d(1) has place
   ! 10**e10); zero outside them.

@@ -40,6 +40,14 @@ module pendula_status
 
   include 'pendula_msg_len.inc'
 
+  ! code_name's table
+  integer, parameter :: STATUS_CODES(10) = [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, &
+      PENDULA_ERR_SIZE, PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
+      PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED]
+  character(len=27), parameter :: STATUS_NAMES(10) = [character(len=27) :: 'ok', 'non-finite argument', &
+      'argument out of range', 'bad array size', 'times not increasing', 'unstable step', &
+      'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled']
+
   !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
   !> the table above and a message naming the argument and its valid range.
   type :: status_t
@@ -78,19 +86,15 @@ contains
   !> Short name of a status code, for messages and logs.
   pure function code_name(code) result(name)
     integer, intent(in) :: code  !< status code (PENDULA_OK or a PENDULA_ERR_* constant)
-    character(len=:), allocatable :: name
-    name = code_text(code, [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
-        PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, PENDULA_ERR_UNAVAILABLE, &
-        PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED], &
-        [character(len=27) :: 'ok', 'non-finite argument', 'argument out of range', 'bad array size', &
-        'times not increasing', 'unstable step', 'solver failure', 'not available in this build', &
-        'step budget exhausted', 'cancelled'], 'unknown status')
+    ! explicit length (not deferred): see pendula_format on gfortran's static lengths
+    character(len=len(code_text(code, STATUS_CODES, STATUS_NAMES, 'unknown status'))) :: name
+    name = code_text(code, STATUS_CODES, STATUS_NAMES, 'unknown status')
   end function code_name
 
   ! A real as it appears in messages, like C's "%.15g": 0.1 -> 0.1, 1e300 -> 1e+300.
   pure function fmt(x) result(s)
     real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
+    character(len=len(format_general(x, 15))) :: s
     s = format_general(x, 15)
   end function fmt
 

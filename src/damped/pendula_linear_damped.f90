@@ -42,6 +42,9 @@ module pendula_linear_damped
   integer, parameter :: DAMPING_UNDERDAMPED = 1
   integer, parameter :: DAMPING_CRITICAL = 2
   integer, parameter :: DAMPING_OVERDAMPED = 3
+  ! regime_name's table
+  integer, parameter :: REGIME_CODES(3) = [DAMPING_UNDERDAMPED, DAMPING_CRITICAL, DAMPING_OVERDAMPED]
+  character(len=11), parameter :: REGIME_NAMES(3) = [character(len=11) :: 'underdamped', 'critical', 'overdamped']
 
   !> Beyond |z| = |D| t^2 > 1/4, i.e. x = sqrt|D| t > X_SERIES, the closed
   !> forms replace the series.
@@ -198,9 +201,9 @@ contains
   !> 'underdamped', 'critical' or 'overdamped' (or 'unknown').
   pure function regime_name(regime) result(name)
     integer, intent(in) :: regime  !< DAMPING_UNDERDAMPED, DAMPING_CRITICAL or DAMPING_OVERDAMPED
-    character(len=:), allocatable :: name
-    name = code_text(regime, [DAMPING_UNDERDAMPED, DAMPING_CRITICAL, DAMPING_OVERDAMPED], &
-        [character(len=11) :: 'underdamped', 'critical', 'overdamped'], 'unknown')
+    ! explicit length (not deferred): see pendula_format on gfortran's static lengths
+    character(len=len(code_text(regime, REGIME_CODES, REGIME_NAMES, 'unknown'))) :: name
+    name = code_text(regime, REGIME_CODES, REGIME_NAMES, 'unknown')
   end function regime_name
 
   !> Set up the trajectory with theta(0) = theta0 [rad], Omega(0) = omega0

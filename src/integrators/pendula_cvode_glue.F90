@@ -52,6 +52,26 @@ module pendula_cvode_glue
   !> tens of microseconds of CVODE work); progress is counted in evaluations.
   integer(i8), parameter :: CV_POLL_EVALS = 256
 
+  ! The names and meanings of CVODE's failure flags, for messages.
+  integer, parameter :: FLAG_CODES(21) = [integer :: CV_TOO_MUCH_WORK, CV_TOO_MUCH_ACC, CV_ERR_FAILURE, &
+      CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
+      CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
+      CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
+      CV_NO_MALLOC, CV_BAD_T, CV_TOO_CLOSE]
+  character(len=20), parameter :: FLAG_NAMES(21) = [character(len=20) :: 'CV_TOO_MUCH_WORK', &
+      'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
+      'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
+      'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
+      'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
+      'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE']
+  integer, parameter :: MEANING_CODES(5) = [integer :: CV_TOO_MUCH_ACC, CV_ERR_FAILURE, CV_CONV_FAILURE, &
+      CV_MEM_FAIL, CV_ILL_INPUT]
+  character(len=60), parameter :: MEANINGS(5) = [character(len=60) :: 'the requested accuracy could not be met', &
+      'repeated error-test failures (the step size hit its minimum)', &
+      'repeated nonlinear-solver convergence failures', 'out of memory', &
+      'an input to CVODE was invalid']
+  character(len=*), parameter :: MEANING_FALLBACK = 'see the SUNDIALS CVODE documentation'
+
 contains
 
   !> Record a failed SUNDIALS call (flag < 0) with CVODE's own explanation
@@ -240,30 +260,17 @@ contains
 
   ! ---- small helpers for messages ----
 
+  ! explicit lengths (not deferred): see pendula_format on gfortran's static lengths
   pure function flag_name(flag) result(s)
     integer(c_int), intent(in) :: flag
-    character(len=:), allocatable :: s
-    s = code_text(int(flag), [integer :: CV_TOO_MUCH_WORK, CV_TOO_MUCH_ACC, CV_ERR_FAILURE, &
-        CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
-        CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
-        CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
-        CV_NO_MALLOC, CV_BAD_T, CV_TOO_CLOSE], &
-        [character(len=20) :: 'CV_TOO_MUCH_WORK', 'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
-        'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
-        'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
-        'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
-        'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE'], 'flag ' // format_int(flag))
+    character(len=len(code_text(int(flag), FLAG_CODES, FLAG_NAMES, 'flag ' // format_int(flag)))) :: s
+    s = code_text(int(flag), FLAG_CODES, FLAG_NAMES, 'flag ' // format_int(flag))
   end function flag_name
 
   pure function flag_meaning(flag) result(s)
     integer(c_int), intent(in) :: flag
-    character(len=:), allocatable :: s
-    s = code_text(int(flag), [integer :: CV_TOO_MUCH_ACC, CV_ERR_FAILURE, CV_CONV_FAILURE, CV_MEM_FAIL, &
-        CV_ILL_INPUT], &
-        [character(len=60) :: 'the requested accuracy could not be met', &
-        'repeated error-test failures (the step size hit its minimum)', &
-        'repeated nonlinear-solver convergence failures', 'out of memory', &
-        'an input to CVODE was invalid'], 'see the SUNDIALS CVODE documentation')
+    character(len=len(code_text(int(flag), MEANING_CODES, MEANINGS, MEANING_FALLBACK))) :: s
+    s = code_text(int(flag), MEANING_CODES, MEANINGS, MEANING_FALLBACK)
   end function flag_meaning
 
 end module pendula_cvode_glue

@@ -5,7 +5,7 @@
 !> module at build time.
 module pendula_scene_codes
   use pendula_kinds, only: wp
-  use pendula_format, only: format_int
+  use pendula_format, only: format_int, code_text
   implicit none
   private
 
@@ -42,6 +42,12 @@ module pendula_scene_codes
   !> Want names, indexed by code.
   character(len=*), parameter :: SCENE_WANT_NAMES(6) = [character(len=6) :: &
       'state', 'theta', 'final', 'energy', 'period', 'events']
+  ! The codes in the order of the name tables, and room for a list of them.
+  integer, parameter :: MODEL_CODES(0:5) = [SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
+      SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_MODEL_CVODE]
+  integer, parameter :: WANT_CODES(6) = [SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
+      SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS]
+  integer, parameter :: LIST_MAX = 200
 
   !> RK4 runs longer than this many steps are left to CVODE when it is built.
   !> RK4 is several times cheaper than CVODE (Adams) at equal sup error on
@@ -74,15 +80,26 @@ module pendula_scene_codes
 
 contains
 
+  ! 'names(1) (codes(1)), names(2) (codes(2)), ...', blank-padded.
+  pure function list_text(names, codes) result(list)
+    character(len=*), intent(in) :: names(:)
+    integer, intent(in) :: codes(:)
+    character(len=LIST_MAX) :: list
+    character(len=:), allocatable :: work
+    integer :: i
+    work = ''
+    do i = 1, size(names)
+      work = work // merge(', ', '  ', i > 1) // trim(names(i)) // ' (' // format_int(codes(i)) // ')'
+    end do
+    list = adjustl(work)
+  end function list_text
+
   !> 'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode' ('unknown' otherwise).
   pure function scene_model_name(code) result(name)
     integer, intent(in) :: code  !< model code, SCENE_MODEL_* (0 .. 5); any other value gives 'unknown'
-    character(len=:), allocatable :: name
-    if (code >= lbound(SCENE_MODEL_NAMES, 1) .and. code <= ubound(SCENE_MODEL_NAMES, 1)) then
-      name = trim(SCENE_MODEL_NAMES(code))
-    else
-      name = 'unknown'
-    end if
+    ! explicit lengths here (not deferred): see pendula_format on gfortran's static lengths
+    character(len=len(code_text(code, MODEL_CODES, SCENE_MODEL_NAMES, 'unknown'))) :: name
+    name = code_text(code, MODEL_CODES, SCENE_MODEL_NAMES, 'unknown')
   end function scene_model_name
 
   !> Model code of a name (as scene_model_name, or one of
@@ -102,12 +119,8 @@ contains
   !> 'state', 'theta', 'final', 'energy', 'period', 'events' ('unknown' otherwise).
   pure function scene_want_name(code) result(name)
     integer, intent(in) :: code  !< want code, SCENE_WANT_* (1 .. 6); any other value gives 'unknown'
-    character(len=:), allocatable :: name
-    if (code >= 1 .and. code <= size(SCENE_WANT_NAMES)) then
-      name = trim(SCENE_WANT_NAMES(code))
-    else
-      name = 'unknown'
-    end if
+    character(len=len(code_text(code, WANT_CODES, SCENE_WANT_NAMES, 'unknown'))) :: name
+    name = code_text(code, WANT_CODES, SCENE_WANT_NAMES, 'unknown')
   end function scene_want_name
 
   !> Want code of a name (as scene_want_name); -1 for an unknown name.
@@ -124,24 +137,14 @@ contains
   !> 'auto (0), small_angle (1), ..., cvode (5)'.
   pure function scene_model_list(first) result(list)
     integer, intent(in) :: first  !< first model code listed, SCENE_MODEL_AUTO (0) .. SCENE_MODEL_CVODE (5)
-    character(len=:), allocatable :: list
-    integer :: i
-    list = ''
-    do i = first, ubound(SCENE_MODEL_NAMES, 1)
-      list = list // merge(', ', '  ', i > first) // trim(SCENE_MODEL_NAMES(i)) // ' (' // format_int(i) // ')'
-    end do
-    list = trim(adjustl(list))
+    character(len=len_trim(list_text(SCENE_MODEL_NAMES(max(first, 0):), MODEL_CODES(max(first, 0):)))) :: list
+    list = list_text(SCENE_MODEL_NAMES(max(first, 0):), MODEL_CODES(max(first, 0):))
   end function scene_model_list
 
   !> The want names with their codes, for messages: 'state (1), ..., events (6)'.
   pure function scene_want_list() result(list)
-    character(len=:), allocatable :: list
-    integer :: i
-    list = ''
-    do i = 1, size(SCENE_WANT_NAMES)
-      list = list // merge(', ', '  ', i > 1) // trim(SCENE_WANT_NAMES(i)) // ' (' // format_int(i) // ')'
-    end do
-    list = trim(adjustl(list))
+    character(len=len_trim(list_text(SCENE_WANT_NAMES, WANT_CODES))) :: list
+    list = list_text(SCENE_WANT_NAMES, WANT_CODES)
   end function scene_want_list
 
 end module pendula_scene_codes

@@ -78,7 +78,9 @@ contains
   !> 'centre' or 'saddle' for a type code ('unknown' otherwise).
   pure function equilibrium_type_name(kind) result(name)
     integer, intent(in) :: kind  !< EQUILIBRIUM_CENTRE or EQUILIBRIUM_SADDLE
-    character(len=:), allocatable :: name
+    ! explicit length (not deferred): see pendula_format on gfortran's static lengths
+    character(len=len(code_text(kind, [EQUILIBRIUM_CENTRE, EQUILIBRIUM_SADDLE], ['centre', 'saddle'], &
+        'unknown'))) :: name
     name = code_text(kind, [EQUILIBRIUM_CENTRE, EQUILIBRIUM_SADDLE], ['centre', 'saddle'], 'unknown')
   end function equilibrium_type_name
 

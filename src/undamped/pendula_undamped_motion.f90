@@ -26,6 +26,9 @@ module pendula_undamped_motion
   integer, parameter :: REGIME_SEPARATRIX = 2
   !> It goes over the top and keeps turning (m > 1).
   integer, parameter :: REGIME_ROTATION = 3
+  ! undamped_regime_name's table
+  integer, parameter :: REGIME_CODES(3) = [REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION]
+  character(len=10), parameter :: REGIME_NAMES(3) = [character(len=10) :: 'libration', 'separatrix', 'rotation']
 
   !> A state evaluated at this many times or more gets a Jacobi plan (~13 us
   !> once, then ~40 ns per time); below, each time costs ~0.3-0.7 us of
@@ -321,9 +324,9 @@ contains
   !> 'libration', 'separatrix' or 'rotation' for a regime code ('unknown' otherwise).
   pure function undamped_regime_name(regime) result(name)
     integer, intent(in) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
-    character(len=:), allocatable :: name
-    name = code_text(regime, [REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION], &
-        [character(len=10) :: 'libration', 'separatrix', 'rotation'], 'unknown')
+    ! explicit length (not deferred): see pendula_format on gfortran's static lengths
+    character(len=len(code_text(regime, REGIME_CODES, REGIME_NAMES, 'unknown'))) :: name
+    name = code_text(regime, REGIME_CODES, REGIME_NAMES, 'unknown')
   end function undamped_regime_name
 
 end module pendula_undamped_motion
