@@ -17,13 +17,20 @@ import pendula
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-def load_generator(name):
-    """tools/gen/<name>.py (a reference generator whose mpmath functions tests
-    reuse) as a module, loaded from its file: no sys.path edit."""
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / "gen" / f"{name}.py")
+def load_file(path):
+    """The Python file at ``path`` as a module named after it, loaded from the file
+    (tools/, benchmarks/ and examples/ are not packages): no sys.path edit."""
+    path = pathlib.Path(path)
+    spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def load_generator(name):
+    """tools/gen/<name>.py (a reference generator whose mpmath functions tests
+    reuse) as a module."""
+    return load_file(ROOT / "tools" / "gen" / f"{name}.py")
 
 
 #: Marks a test that reads the source tree.

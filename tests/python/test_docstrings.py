@@ -26,7 +26,6 @@ numpydoc sections fails it.
 """
 import ast
 import doctest
-import importlib.util
 import inspect
 import textwrap
 
@@ -35,7 +34,7 @@ import pytest
 
 import pendula
 from api_table import ALL_CASES, API
-from helpers import ROOT
+from helpers import ROOT, load_file
 
 pytest.importorskip("numpydoc")
 from numpydoc.docscrape import get_doc_object  # noqa: E402
@@ -57,15 +56,7 @@ CHECKS = {
 }
 
 
-def _load_tool(name):
-    """tools/<name>.py as a module (the docs build's own code), loaded from its file."""
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-DOCS = _load_tool("docs_docstrings")
+DOCS = load_file(ROOT / "tools" / "docs_docstrings.py")   # the docs build's own code
 
 
 def _is_constant(obj):

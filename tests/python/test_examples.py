@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 import pendula
+from helpers import load_file
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "python"
@@ -59,10 +60,7 @@ TABLES = {
 
 
 def _run_all_module():
-    spec = importlib.util.spec_from_file_location("run_all", EXAMPLES / "run_all.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_file(EXAMPLES / "run_all.py")
 
 
 @pytest.fixture(scope="module")

@@ -6,16 +6,15 @@ Tolerances: 1e-25 absolute in theta [rad] and Omega/w0, and in event times
 w0 t; the Taylor integrator keeps a 1e-30 tail per step in ~60-digit fixed
 point, the elliptic reference works at 40 digits.
 """
-import importlib.util
 import pathlib
 
 import mpmath as mp
 import pytest
 
+from helpers import load_file
+
 _PATH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks" / "scene_reference.py"
-_spec = importlib.util.spec_from_file_location("scene_reference", _PATH)
-ref = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(ref)
+ref = load_file(_PATH)
 
 TOL = mp.mpf("1e-25")
 W0 = ref.exact_w0(9.81, 2.3)        # irrational: the data as given, not fl(sqrt)

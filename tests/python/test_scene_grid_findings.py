@@ -7,7 +7,6 @@ References: benchmarks/scene_reference.py's fixed-point Taylor integrator (order
 as given (w0 = sqrt(g/l) in mpmath).  Error measure: the Scene's, sup over the outputs of
 max(|d theta|, |d Omega|/w0) [rad]; the final state for want = final.
 """
-import importlib.util
 import pathlib
 
 import mpmath as mp
@@ -15,19 +14,13 @@ import numpy as np
 import pytest
 
 import pendula
+from helpers import load_file
 
 _BENCH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
 
 
-def _load(name):
-    spec = importlib.util.spec_from_file_location(name, _BENCH / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-ref = _load("scene_reference")
-grid = _load("scene_grid_draw")
+ref = load_file(_BENCH / "scene_reference.py")
+grid = load_file(_BENCH / "scene_grid_draw.py")
 
 
 @pytest.mark.parametrize("scene_id, ratio", [
