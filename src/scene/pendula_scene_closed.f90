@@ -8,7 +8,7 @@ module pendula_scene_closed
   use pendula_constants, only: pi
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_ILLINOIS
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
-      REGIME_SEPARATRIX
+      undamped_plan_pays, undamped_add_plan, REGIME_SEPARATRIX
   use pendula_small_angle, only: small_angle_eval
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state, &
       DAMPING_UNDERDAMPED
@@ -47,9 +47,32 @@ contains
     if (model == SCENE_MODEL_LINEAR) then
       call linear_damped_init(cf%lin, scene%theta0, scene%omega0, scene%w0, scene%gamma, status)
     else
-      call undamped_init(cf%motion, scene%theta0, scene%omega0, scene%w0, status, w0lo=scene%w0lo)
+      ! the Jacobi plan only where its table pays for itself: near the
+      ! separatrix it costs ~20x more than at small swings
+      call undamped_init(cf%motion, scene%theta0, scene%omega0, scene%w0, status, plan=.false., w0lo=scene%w0lo)
+      if (status%code == PENDULA_OK .and. model == SCENE_MODEL_EXACT) then
+        if (undamped_plan_pays(cf%motion, closed_times(scene, cf%motion))) call undamped_add_plan(cf%motion)
+      end if
     end if
   end subroutine closed_init
+
+  ! How many times the closed form will be evaluated: the outputs, or for
+  ! events the scan (16 per period) and each event's refinement (~20).
+  pure integer function closed_times(scene, motion) result(n)
+    type(scene_t), intent(in) :: scene
+    type(undamped_motion_t), intent(in) :: motion
+    real(wp) :: periods
+    select case (scene%want)
+    case (SCENE_WANT_EVENTS)
+      periods = 1
+      if (ieee_is_finite(motion%period) .and. motion%period > 0) periods = 1 + window_end(scene) / motion%period
+      n = int(min(periods * (16 + 4 * 20), 1.0e9_wp))
+    case (SCENE_WANT_PERIOD, SCENE_WANT_ENERGY)
+      n = 0
+    case default
+      n = size(scene%t)
+    end select
+  end function closed_times
 
   elemental subroutine closed_eval(cf, t, theta, omega)
     type(closed_t), intent(in) :: cf

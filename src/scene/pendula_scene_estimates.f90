@@ -64,7 +64,8 @@ contains
     select case (model)
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT)
       if (scene%gamma > 0) return
-      call undamped_init(motion, scene%theta0, scene%omega0, scene%w0, status, w0lo=scene%w0lo)
+      ! a light motion: the estimates need its parameter and period, not a Jacobi plan
+      call undamped_init(motion, scene%theta0, scene%omega0, scene%w0, status, plan=.false., w0lo=scene%w0lo)
       if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_SMALL_ANGLE) then
         call small_angle_bound(motion, tend, dth, dom)

@@ -32,7 +32,7 @@
 module pendula_undamped
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
       undamped_period, undamped_amplitude, undamped_energy, &
-      undamped_regime, pendulum_energy, undamped_regime_name, &
+      undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan, &
       REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, undamped_theta, undamped_omega
   use pendula_angle_dd, only: reduce_angle_2pi
@@ -42,7 +42,8 @@ module pendula_undamped
 
   public :: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, undamped_theta, undamped_omega, &
             undamped_solve, undamped_period, undamped_amplitude, undamped_energy, &
-            undamped_regime, pendulum_energy, undamped_regime_name, reduce_angle_2pi
+            undamped_regime, pendulum_energy, undamped_regime_name, reduce_angle_2pi, &
+            undamped_plan_pays, undamped_add_plan
   public :: undamped_states, undamped_properties
   public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
 end module pendula_undamped

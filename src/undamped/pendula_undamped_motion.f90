@@ -15,7 +15,7 @@ module pendula_undamped_motion
   private
 
   public :: undamped_motion_t, undamped_init, undamped_period, undamped_amplitude, undamped_energy, &
-            undamped_regime, pendulum_energy, undamped_regime_name
+            undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan
   ! for pendula_undamped_eval and pendula_undamped_many only (not re-exported by pendula_undamped):
   public :: check_state, set_geometry, set_period, motion_amplitude, period_needed
   public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
@@ -111,11 +111,31 @@ contains
       ! dF/dphi = 1/sqrt(1 - sin^2(phi)/m) = k/|q| carries the r_lo correction
       motion%phase = ellipfm1(motion%s * motion%h, motion%pmc) + motion%s * motion%hlo * motion%k / abs(motion%q)
     end select
-    if (motion%regime /= REGIME_SEPARATRIX .and. want_plan) then
-      motion%plan = ellipj_planm1(motion%pmc)
-      motion%planned = .true.
-    end if
+    if (want_plan) call undamped_add_plan(motion)
   end subroutine undamped_init
+
+  !> Whether a Jacobi plan pays for itself on `times` evaluations of this
+  !> motion: its table has ~32 K rows (one Taylor row ~0.25 us each), a point
+  !> without it costs ~0.3-0.7 us of ellipjm1 and ~40 ns with it, so the plan
+  !> pays from ~16 K times on (UNDAMPED_PLAN_MIN_TIMES at K ~ 2; near the
+  !> separatrix K ~ 40 makes the table ~20x dearer).  Never for the
+  !> separatrix or a free rotor (no plan there).
+  pure logical function undamped_plan_pays(motion, times) result(pays)
+    type(undamped_motion_t), intent(in) :: motion  !< a motion from undamped_init (planned or light)
+    integer, intent(in) :: times  !< number of times it will be evaluated at, >= 0
+    pays = motion%regime /= REGIME_SEPARATRIX .and. .not. motion%free .and. &
+        real(times, wp) >= max(real(UNDAMPED_PLAN_MIN_TIMES, wp), 16 * motion%kk)
+  end function undamped_plan_pays
+
+  !> Give a light motion (undamped_init with plan = .false.) its Jacobi plan;
+  !> a motion already planned, the separatrix and a free rotor are left as
+  !> they are.  The same numbers as undamped_init with plan = .true.
+  pure subroutine undamped_add_plan(motion)
+    type(undamped_motion_t), intent(inout) :: motion  !< a motion from undamped_init
+    if (motion%planned .or. motion%free .or. motion%regime == REGIME_SEPARATRIX) return
+    motion%plan = ellipj_planm1(motion%pmc)
+    motion%planned = .true.
+  end subroutine undamped_add_plan
 
   !> The checks of undamped_init: theta0, Omega0 finite, w0 finite and > 0.
   pure subroutine check_state(theta0, omega0, w0, status)
