@@ -16,7 +16,8 @@ module pendula_scene_estimates
       DAMPING_UNDERDAMPED
   use pendula_integrators, only: rk4_max_stable_step, cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-      SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_RK4_STEP_LIMIT, &
+      SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS, &
+      SCENE_RK4_STEP_LIMIT, &
       SCENE_STIFF_RK4_STEPS, scene_want_name
   use pendula_scene_types, only: scene_t, window_end, is_stiff
   use pendula_scene_setup, only: check_scene
@@ -123,6 +124,14 @@ contains
         est = e_ex
         why = 'gamma = 0 and want = ' // scene_want_name(scene%want) // &
             ': the exact value costs one set-up (K once), no time series'
+      else if (e_sa <= scene%tol .and. small_angle_event_error(scene, e_sa) > scene%tol) then
+        ! an event's time is off by the state bound over the rate there (as
+        ! pendula_scene_events measures it once the events are found)
+        model = SCENE_MODEL_EXACT
+        est = e_ex
+        why = 'gamma = 0, want = events: the small-angle bound ' // format_sci(e_sa, 4) // &
+            ' rad moves its event times by ~' // format_sci(small_angle_event_error(scene, e_sa), 4) // &
+            ' > tol: exact elliptic solution'
       else if (e_sa <= scene%tol) then
         model = SCENE_MODEL_SMALL_ANGLE
         est = e_sa
@@ -170,6 +179,21 @@ contains
           'tol and the window (C h^4 T), verified by a run at 2h'
     end if
   end subroutine choose_model
+
+  ! The event-time error the small-angle model will report for want = events
+  ! (pendula_scene_events: the state bound e_sa over the rate at each event,
+  ! w0 A at a zero crossing and w0 sin A at a turning point, A its
+  ! amplitude): 0 for other wants or a window shorter than a quarter period
+  ! (events are a quarter period apart, so a longer window holds one).
+  pure real(wp) function small_angle_event_error(scene, e_sa) result(e)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: e_sa
+    real(wp) :: a
+    e = 0
+    if (scene%want /= SCENE_WANT_EVENTS .or. window_end(scene) < 0.5_wp * pi / scene%w0) return
+    a = hypot(scene%theta0, scene%omega0 / scene%w0)
+    e = e_sa / (scene%w0 * max(min(a, sin(min(a, pi / 2))), tiny(1.0_wp)))
+  end function small_angle_event_error
 
   ! Rounding of the energy per unit m l^2 of a state, divided by w0^2: each
   ! of the two terms Omega^2/2 and w0^2 (1 - cos theta) rounds by a few eps.
