@@ -399,8 +399,8 @@ contains
   !> A priori RK4 step for the window: global error ~ C A (w0 h)^4 w0 T_eff
   !> with C = 1/120 for the harmonic oscillator (the phase error of one step is
   !> (w0 h)^5/120), doubled for the nonlinear pendulum.  With damping the error
-  !> stops growing once the motion has decayed below tol, so T_eff is the
-  !> window or the time the slowest mode needs to decay from A to tol.  A is
+  !> is the amplitude A e^(-slow t) times a phase error growing like t, which
+  !> peaks at t = 1/slow: T_eff is the window or 2/slow.  A is
   !> the swing |theta0 mod 2 pi| + |Omega0|/w0 (capped at 2 pi), not |theta0|.  The
   !> a posteriori check (run at 2h) catches what this misjudges.
   pure real(wp) function rk4_apriori_step(scene, tend) result(h)
@@ -418,7 +418,10 @@ contains
       else
         slow = half
       end if
-      teff = min(tend, (1 + log(max(exp(1.0_wp), a / scene%tol))) / slow)
+      ! the phase error accumulates for ever, but it moves theta by the
+      ! amplitude times it: A0 e^(-slow t) t peaks at t = 1/slow (value
+      ! A0/(e slow)); 2/slow leaves room for the slower decay of a large swing
+      teff = min(tend, 2 / slow)
     end if
     c = 2.0_wp / 120
     h = (scene%tol / (c * a * max(scene%w0 * teff, 1.0_wp)))**0.25_wp / scene%w0
