@@ -238,7 +238,8 @@ contains
   pure real(wp) function handover_time(x0, v0, w0, gamma, tol, span) result(ts)
     real(wp), intent(in) :: x0, v0, w0, gamma, tol, span
     real(wp), parameter :: AREF = 0.1_wp
-    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot, thang, d0
+    real(wp) :: xr, msep, a0, ah, eref, half, rate, trot, thang, d0, el, cap, x
+    integer :: i
     xr = abs(modulo(x0 + pi, 2 * pi) - pi)
     msep = sin(xr / 2)**2 + (v0 / (2 * w0))**2
     trot = 0
@@ -260,7 +261,17 @@ contains
       return
     end if
     ah = 0.8_wp * AREF * (0.25_wp * tol / eref)**(1.0_wp / 3)
-    ts = trot + thang + max(0.0_wp, log(a0 / ah)) / rate
+    ! near critical damping the two modes' rates meet and the decay is
+    ! (1 + rate t) e^(-rate t) until t ~ 1/delta, delta the rates' gap
+    ! (theta0 + t (Omega0 + gamma theta0/2) at gamma = 2 w0): a few fixed-
+    ! point steps of rate t = L + ln(1 + min(rate t, rate/delta))
+    el = max(0.0_wp, log(a0 / ah))
+    cap = rate / max(sqrt(abs(half - w0)) * sqrt(half + w0), tiny(1.0_wp))
+    x = el
+    do i = 1, 3
+      x = el + log(1 + min(x, cap))
+    end do
+    ts = trot + thang + x / rate
     ts = max(ts, 1 / max(w0, gamma))
   end function handover_time
 
