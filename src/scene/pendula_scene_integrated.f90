@@ -144,15 +144,19 @@ contains
       if (status%code /= PENDULA_OK) return
       if (.not. reuse) call rk4_run(scene, tgrid, hb, 2 * f, th2, om2, result%cost, status, control)
       if (status%code /= PENDULA_OK) return
+      ! the step the fine run took (dense outputs may have set it below h)
+      h = used_step(tgrid, hb, f)
       d = state_diff(result%theta, result%omega, th2, om2, scene%w0)
       round = integrator_rounding(scene, result%theta, tend / h)
       est = RK4_SAFETY * d / 15 + round
       if (est <= scene%tol) exit
       if (it == MAX_REFINE .or. round > 0.5_wp * est) exit   ! a smaller h only adds rounding
-      ! e ~ C h^4: the step for tol/2 (a 0.9 margin), at most /16.  When that
-      ! is about one halving, halve exactly: the run just made checks the next.
-      q = 0.9_wp * (scene%tol / (2 * est))**0.25_wp
-      reuse = q >= 0.45_wp
+      ! e ~ C h^4: the step for 0.6 tol, at most /16.  When that is about one
+      ! halving, halve exactly: the run just made checks the next, and one run
+      ! at h/2 (2 units of the run at h) costs less than a new pair at q h
+      ! (1.5/q units) for q <= 3/4.
+      q = (0.6_wp * scene%tol / est)**0.25_wp
+      reuse = q >= 0.45_wp .and. q <= 0.75_wp
       if (reuse) then
         f = f / 2
       else
@@ -238,10 +242,34 @@ contains
   contains
     pure real(wp) function substeps(d) result(ns)
       real(wp), intent(in) :: d
-      ns = 2 * ceiling(d / (2 * h), i8)
-      ns = anint(ns / factor)
+      ns = substep_count(d, h, factor)
     end function substeps
   end subroutine rk4_run
+
+  ! rk4_run's substeps on an interval of length d: 2 ceil(d/(2 h)) / factor.
+  pure real(wp) function substep_count(d, h, factor) result(ns)
+    real(wp), intent(in) :: d, h, factor
+    ns = 2 * ceiling(d / (2 * h), i8)
+    ns = anint(ns / factor)
+  end function substep_count
+
+  ! The longest substep rk4_run takes on the grid tg (0 first when tg(1) > 0)
+  ! at (h, factor): h itself, or shorter where every interval is shorter
+  ! than 2 h (dense outputs set the step, and a smaller h changes nothing
+  ! until it is below half an interval).
+  pure real(wp) function used_step(tg, h, factor) result(hu)
+    real(wp), intent(in) :: tg(:), h, factor
+    real(wp) :: t0, d
+    integer :: i
+    hu = 0
+    t0 = 0
+    do i = 1, size(tg)
+      d = tg(i) - t0
+      if (d > 0) hu = max(hu, d / substep_count(d, h, factor))
+      t0 = tg(i)
+    end do
+    if (.not. hu > 0) hu = h
+  end function used_step
 
   !> CVODE with rtol from tol and the number of periods in the window, checked
   !> by a run 10x tighter; the tighter run is returned, and the difference of
