@@ -106,6 +106,27 @@ contains
     no_turn = v0 == 0 .or. .not. (a * b > 0 .and. abs(lm * b) >= 0.5_wp * lp * abs(a))
   end function no_turn
 
+  ! The first RK4 step of the hang over [0, T] for an error target [rad].
+  ! The motion there is phi = a e^(lp t) + b e^(lm t) (plus the cubic of
+  ! sin, small for |phi| <= PHI_EXIT).  RK4 follows the growing mode with a
+  ! relative error ~ (lp h)^4/120 per unit lp t, i.e. an absolute one of that
+  ! times the largest |phi| reached, phimax (the predicted size, not
+  ! PHI_EXIT: a start 1e-16 from the top under heavy damping stays ~1e-8 over
+  ! a short window), doubled.  Its accuracy scale is lp, not the decaying
+  ! rate -lm (which is >> lp when overdamped): the decaying mode, of
+  ! amplitude |b| <= the start's, only needs stability of the run at 2h
+  ! (-lm 2h <= 2 < 2.78, RK4's real-axis limit); the Richardson pair checks
+  ! what the model leaves out.
+  pure real(wp) function hang_step(scene, phi0, target, t_end) result(h)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, target, t_end
+    real(wp) :: lp, lm, a, b, phimax
+    call saddle(scene, phi0, -scene%omega0, lp, lm, a, b)
+    phimax = max(abs(phi0), min(PHI_EXIT, abs(a) * exp(min(lp * t_end, 700.0_wp))) + abs(b), tiny(1.0_wp))
+    h = min((120 * target / (2 * phimax * max(1.0_wp, lp * t_end)))**0.25_wp, 0.5_wp) / lp
+    h = min(h, 1 / (-lm))
+  end function hang_step
+
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi
   !> over the hang, then `model`'s ordinary path from the state where the
   !> motion has left the top.  why is replaced.  done is false (nothing
@@ -154,14 +175,13 @@ contains
       target = min(target, scene%tol / 2)
     end if
     allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)))
-    ! RK4: relative error ~ (lambda h)^4/120 per unit lambda t, doubled
-    h = min((120 * target / (2 * PHI_EXIT * max(1.0_wp, lp * tg(size(tg)))))**0.25_wp, 0.5_wp) / max(-lm, scene%w0)
+    h = hang_step(scene, phi0, target, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
     do it = 1, MAX_REFINE
       if (1.5_wp * tg(size(tg)) / h > budget) exit
-      call run(h, ph, vp)
-      call run(2 * h, ph2, vp2)
+      call run(h, 1_i8, ph, vp)
+      call run(h, 2_i8, ph2, vp2)
       if (status%code /= PENDULA_OK) return
       d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2)) / scene%w0)
       est = 2 * d / 15 + 4 * eps * maxval(abs(ph))
@@ -236,9 +256,13 @@ contains
     call finish_outputs(scene, result)
   contains
     ! RK4 in (phi, v = phi') from (phi0, v0) at 0 through the times tg,
-    ! ceil(dt/hh) equal substeps on each interval
-    subroutine run(hh, x, y)
+    ! 2 ceil(dt/(2 hh)) / factor equal substeps on each interval dt: the
+    ! check (factor 2) halves the substeps of the run (factor 1) on EVERY
+    ! interval, also where the outputs are denser than hh (else both take
+    ! one substep there, agree exactly, and the estimate is void)
+    subroutine run(hh, factor, x, y)
       real(wp), intent(in) :: hh
+      integer(i8), intent(in) :: factor
       real(wp), intent(out) :: x(:), y(:)
       real(wp) :: t0, u, w, dt, k1u, k1w, k2u, k2w, k3u, k3w, k4u, k4w
       integer :: i
@@ -253,7 +277,8 @@ contains
             return
           end if
         end if
-        ns = max(1_i8, ceiling((tg(i) - t0) / hh, i8))
+        ns = 2 * ceiling((tg(i) - t0) / (2 * hh), i8) / factor
+        ns = max(1_i8, ns)
         dt = (tg(i) - t0) / real(ns, wp)
         do j = 1, ns
           k1u = w
