@@ -22,7 +22,9 @@
 !> shift along it (max speed / speed at the hand-over, in (theta, Omega/w0))
 !> times the sensitivity of the next approach to the top (small damping
 !> brings it back near -pi, at a distance ~ sqrt(4 gamma/w0) of the
-!> separatrix energy): an a priori bound, TOP_SAFETY on top.
+!> separatrix energy): an a priori bound, TOP_SAFETY on top.  The part of
+!> the RK4 error along the flow at the hand-over (most of it: RK4 errs on
+!> the growing mode's rate, a shift in time) carries only the first factor.
 module pendula_scene_top
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
@@ -142,6 +144,7 @@ contains
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: k, phi0, v0, lp, lm, a, b, tx, tshift, gain, target, h, est, d, p, e, thx, omx, near, eround
+    real(wp) :: vmax, frac, carried, r
     real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
@@ -149,7 +152,7 @@ contains
     integer :: nk, n, it, sub_model
     integer(i8) :: steps
     real(wp) :: sub_est
-    logical :: is_top
+    logical :: is_top, handover
     done = .false.
     call top_start(scene, is_top, k, phi0, v0)
     if (.not. is_top) return
@@ -158,13 +161,21 @@ contains
     tx = tend
     if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
     ! the gain of the motion after tx on an error of the state handed over
+    ! across the flow there, and the a priori target of the hang (the error
+    ! along the flow, a time shift, has the gain without the sensitivity
+    ! factor; the part across it, frac, was 0.4 % .. 18 % on the benchmark
+    ! grid, growing with gamma/w0): a guess for the first step only, the
+    ! loop checks the carried error measured at tx
+    vmax = max(2 * scene%w0, 2 * scene%gamma + scene%w0)
     near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
-    gain = TOP_SAFETY * max(2 * scene%w0, 2 * scene%gamma + scene%w0) / (lp * PHI_EXIT) * (1 + 2 / near)
-    target = scene%tol / (4 * gain)
+    gain = TOP_SAFETY * vmax / (lp * PHI_EXIT) * (1 + 2 / near)
+    frac = min(0.5_wp, 0.05_wp + 0.1_wp * scene%gamma / scene%w0)
+    target = scene%tol / (4 * (TOP_SAFETY * vmax / (lp * PHI_EXIT) + frac * gain))
     ! the outputs in the hang (nk of the result's, up to tx), then tx
     call alloc_outputs(scene, result)
     n = size(result%t)
     nk = count(result%t <= tx)
+    handover = nk < n .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)
     if (scene%want == SCENE_WANT_EVENTS) then
       tg = [tx]
     else if (nk == n) then
@@ -185,8 +196,13 @@ contains
       if (status%code /= PENDULA_OK) return
       d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2)) / scene%w0)
       est = 2 * d / 15 + 4 * eps * maxval(abs(ph))
-      if (est <= target) exit
-      h = h * max(1.0_wp / 16, 0.9_wp * (target / est)**0.25_wp)
+      carried = carried_error(ph(size(ph)), vp(size(ph)), ph2(size(ph)), vp2(size(ph)))
+      ! the hang's outputs at tol/2, the state handed over to tol/4 after the gain
+      r = huge(1.0_wp)
+      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol / (2 * est)
+      if (handover) r = min(r, scene%tol / (4 * max(carried, tiny(1.0_wp))))
+      if (r >= 1) exit
+      h = h * max(1.0_wp / 16, 0.9_wp * r**0.25_wp)
     end do
     if (est == huge(1.0_wp)) return   ! over the budget: the ordinary path
     done = .true.
@@ -202,7 +218,7 @@ contains
     result%setting = h
     why = 'gamma > 0, start ' // format_sci(hypot(phi0, v0 / scene%w0), 3) // ' rad from a top: RK4 in ' // &
         'phi = k pi - theta'
-    if (nk < size(result%t) .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)) then
+    if (handover) then
       thx = p - (ph(size(ph)) - (e + k * pi_lo))
       omx = -vp(size(vp))
       eround = eps * abs(thx)
@@ -236,8 +252,8 @@ contains
       end do
       if (scene%want == SCENE_WANT_EVENTS) then
         ! the handed-over error shifts the later motion in time by at most
-        ! its size over the speed at tx (gain without the max speed)
-        tshift = gain / max(2 * scene%w0, 2 * scene%gamma + scene%w0) * (est + eround)
+        ! its size over the speed at tx (carried_error without the max speed)
+        tshift = (carried + gain * eround) / vmax
         result%event_t = rest%event_t + tx
         result%event_kind = rest%event_kind
         result%event_theta = rest%event_theta
@@ -247,7 +263,7 @@ contains
         result%theta(nk+1:) = rest%theta
         result%omega(nk+1:) = rest%omega
       end if
-      result%error_estimate = max(result%error_estimate, rest%error_estimate + gain * (est + eround) + &
+      result%error_estimate = max(result%error_estimate, rest%error_estimate + carried + gain * eround + &
           4 * eps * tend * (scene%w0 + scene%gamma))
       call add_cost(result%cost, rest%cost)
       result%rtol = rest%rtol
@@ -298,6 +314,28 @@ contains
         y(i) = w
       end do
     end subroutine run
+    ! The error the state handed over at tx carries to the outputs after it,
+    ! from the Richardson difference of the runs there (x, y at h; x2, y2 at
+    ! 2h) split along the flow f at tx and across it, in (phi, phi'/w0).
+    ! Along the flow it is a shift in time by its size over |f| (to first
+    ! order the perturbed motion is the same one, shifted), which moves later
+    ! states by at most that times vmax; across it the a priori gain applies,
+    ! also to the rounding of phi there.  TOP_SAFETY on both.
+    pure real(wp) function carried_error(x, y, x2, y2) result(c)
+      real(wp), intent(in) :: x, y, x2, y2
+      real(wp) :: dx, dy, fx, fy, fn
+      dx = 2 * (x - x2) / 15
+      dy = 2 * (y - y2) / (15 * scene%w0)
+      fx = y
+      fy = f(x, y) / scene%w0
+      fn = hypot(fx, fy)
+      if (.not. fn > 0) then
+        c = gain * (hypot(dx, dy) + 4 * eps * abs(x))
+      else
+        c = TOP_SAFETY * vmax / fn * abs(dx * fx + dy * fy) / fn + &
+            gain * (abs(dx * fy - dy * fx) / fn + 4 * eps * abs(x))
+      end if
+    end function carried_error
     pure real(wp) function f(u, w)
       real(wp), intent(in) :: u, w
       f = -scene%gamma * w + scene%w0**2 * sin(u)
