@@ -199,7 +199,7 @@ contains
       carried = carried_error(ph(size(ph)), vp(size(ph)), ph2(size(ph)), vp2(size(ph)))
       ! the hang's outputs at tol/2, the state handed over to tol/4 after the gain
       r = huge(1.0_wp)
-      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol / (2 * est)
+      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol / (2 * max(est, tiny(1.0_wp)))
       if (handover) r = min(r, scene%tol / (4 * max(carried, tiny(1.0_wp))))
       if (r >= 1) exit
       h = h * max(1.0_wp / 16, 0.9_wp * r**0.25_wp)
