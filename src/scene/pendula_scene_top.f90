@@ -22,7 +22,9 @@
 !> shift along it (max speed / speed at the hand-over, in (theta, Omega/w0))
 !> times the sensitivity of the next approach to the top (small damping
 !> brings it back near -pi, at a distance ~ sqrt(4 gamma/w0) of the
-!> separatrix energy): an a priori bound, TOP_SAFETY on top.
+!> separatrix energy): an a priori bound, TOP_SAFETY on top.  The part of
+!> the RK4 error along the flow at the hand-over (most of it: RK4 errs on
+!> the growing mode's rate, a shift in time) carries only the first factor.
 module pendula_scene_top
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
@@ -106,6 +108,27 @@ contains
     no_turn = v0 == 0 .or. .not. (a * b > 0 .and. abs(lm * b) >= 0.5_wp * lp * abs(a))
   end function no_turn
 
+  ! The first RK4 step of the hang over [0, T] for an error target [rad].
+  ! The motion there is phi = a e^(lp t) + b e^(lm t) (plus the cubic of
+  ! sin, small for |phi| <= PHI_EXIT).  RK4 follows the growing mode with a
+  ! relative error ~ (lp h)^4/120 per unit lp t, i.e. an absolute one of that
+  ! times the largest |phi| reached, phimax (the predicted size, not
+  ! PHI_EXIT: a start 1e-16 from the top under heavy damping stays ~1e-8 over
+  ! a short window), doubled.  Its accuracy scale is lp, not the decaying
+  ! rate -lm (which is >> lp when overdamped): the decaying mode, of
+  ! amplitude |b| <= the start's, only needs stability of the run at 2h
+  ! (-lm 2h <= 2 < 2.78, RK4's real-axis limit); the Richardson pair checks
+  ! what the model leaves out.
+  pure real(wp) function hang_step(scene, phi0, target, t_end) result(h)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, target, t_end
+    real(wp) :: lp, lm, a, b, phimax
+    call saddle(scene, phi0, -scene%omega0, lp, lm, a, b)
+    phimax = max(abs(phi0), min(PHI_EXIT, abs(a) * exp(min(lp * t_end, 700.0_wp))) + abs(b), tiny(1.0_wp))
+    h = min((120 * target / (2 * phimax * max(1.0_wp, lp * t_end)))**0.25_wp, 0.5_wp) / lp
+    h = min(h, 1 / (-lm))
+  end function hang_step
+
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi
   !> over the hang, then `model`'s ordinary path from the state where the
   !> motion has left the top.  why is replaced.  done is false (nothing
@@ -121,6 +144,7 @@ contains
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: k, phi0, v0, lp, lm, a, b, tx, tshift, gain, target, h, est, d, p, e, thx, omx, near, eround
+    real(wp) :: vmax, frac, carried, r
     real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
@@ -128,7 +152,7 @@ contains
     integer :: nk, n, it, sub_model
     integer(i8) :: steps
     real(wp) :: sub_est
-    logical :: is_top
+    logical :: is_top, handover
     done = .false.
     call top_start(scene, is_top, k, phi0, v0)
     if (.not. is_top) return
@@ -137,13 +161,21 @@ contains
     tx = tend
     if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
     ! the gain of the motion after tx on an error of the state handed over
+    ! across the flow there, and the a priori target of the hang (the error
+    ! along the flow, a time shift, has the gain without the sensitivity
+    ! factor; the part across it, frac, was 0.4 % .. 18 % on the benchmark
+    ! grid, growing with gamma/w0): a guess for the first step only, the
+    ! loop checks the carried error measured at tx
+    vmax = max(2 * scene%w0, 2 * scene%gamma + scene%w0)
     near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
-    gain = TOP_SAFETY * max(2 * scene%w0, 2 * scene%gamma + scene%w0) / (lp * PHI_EXIT) * (1 + 2 / near)
-    target = scene%tol / (4 * gain)
+    gain = TOP_SAFETY * vmax / (lp * PHI_EXIT) * (1 + 2 / near)
+    frac = min(0.5_wp, 0.05_wp + 0.1_wp * scene%gamma / scene%w0)
+    target = scene%tol / (4 * (TOP_SAFETY * vmax / (lp * PHI_EXIT) + frac * gain))
     ! the outputs in the hang (nk of the result's, up to tx), then tx
     call alloc_outputs(scene, result)
     n = size(result%t)
     nk = count(result%t <= tx)
+    handover = nk < n .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)
     if (scene%want == SCENE_WANT_EVENTS) then
       tg = [tx]
     else if (nk == n) then
@@ -154,19 +186,23 @@ contains
       target = min(target, scene%tol / 2)
     end if
     allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)))
-    ! RK4: relative error ~ (lambda h)^4/120 per unit lambda t, doubled
-    h = min((120 * target / (2 * PHI_EXIT * max(1.0_wp, lp * tg(size(tg)))))**0.25_wp, 0.5_wp) / max(-lm, scene%w0)
+    h = hang_step(scene, phi0, target, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
     do it = 1, MAX_REFINE
       if (1.5_wp * tg(size(tg)) / h > budget) exit
-      call run(h, ph, vp)
-      call run(2 * h, ph2, vp2)
+      call run(h, 1_i8, ph, vp)
+      call run(h, 2_i8, ph2, vp2)
       if (status%code /= PENDULA_OK) return
       d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2)) / scene%w0)
       est = 2 * d / 15 + 4 * eps * maxval(abs(ph))
-      if (est <= target) exit
-      h = h * max(1.0_wp / 16, 0.9_wp * (target / est)**0.25_wp)
+      carried = carried_error(ph(size(ph)), vp(size(ph)), ph2(size(ph)), vp2(size(ph)))
+      ! the hang's outputs at tol/2, the state handed over to tol/4 after the gain
+      r = huge(1.0_wp)
+      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol / (2 * max(est, tiny(1.0_wp)))
+      if (handover) r = min(r, scene%tol / (4 * max(carried, tiny(1.0_wp))))
+      if (r >= 1) exit
+      h = h * max(1.0_wp / 16, 0.9_wp * r**0.25_wp)
     end do
     if (est == huge(1.0_wp)) return   ! over the budget: the ordinary path
     done = .true.
@@ -182,7 +218,7 @@ contains
     result%setting = h
     why = 'gamma > 0, start ' // format_sci(hypot(phi0, v0 / scene%w0), 3) // ' rad from a top: RK4 in ' // &
         'phi = k pi - theta'
-    if (nk < size(result%t) .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)) then
+    if (handover) then
       thx = p - (ph(size(ph)) - (e + k * pi_lo))
       omx = -vp(size(vp))
       eround = eps * abs(thx)
@@ -216,8 +252,8 @@ contains
       end do
       if (scene%want == SCENE_WANT_EVENTS) then
         ! the handed-over error shifts the later motion in time by at most
-        ! its size over the speed at tx (gain without the max speed)
-        tshift = gain / max(2 * scene%w0, 2 * scene%gamma + scene%w0) * (est + eround)
+        ! its size over the speed at tx (carried_error without the max speed)
+        tshift = (carried + gain * eround) / vmax
         result%event_t = rest%event_t + tx
         result%event_kind = rest%event_kind
         result%event_theta = rest%event_theta
@@ -227,7 +263,7 @@ contains
         result%theta(nk+1:) = rest%theta
         result%omega(nk+1:) = rest%omega
       end if
-      result%error_estimate = max(result%error_estimate, rest%error_estimate + gain * (est + eround) + &
+      result%error_estimate = max(result%error_estimate, rest%error_estimate + carried + gain * eround + &
           4 * eps * tend * (scene%w0 + scene%gamma))
       call add_cost(result%cost, rest%cost)
       result%rtol = rest%rtol
@@ -236,9 +272,13 @@ contains
     call finish_outputs(scene, result)
   contains
     ! RK4 in (phi, v = phi') from (phi0, v0) at 0 through the times tg,
-    ! ceil(dt/hh) equal substeps on each interval
-    subroutine run(hh, x, y)
+    ! 2 ceil(dt/(2 hh)) / factor equal substeps on each interval dt: the
+    ! check (factor 2) halves the substeps of the run (factor 1) on EVERY
+    ! interval, also where the outputs are denser than hh (else both take
+    ! one substep there, agree exactly, and the estimate is void)
+    subroutine run(hh, factor, x, y)
       real(wp), intent(in) :: hh
+      integer(i8), intent(in) :: factor
       real(wp), intent(out) :: x(:), y(:)
       real(wp) :: t0, u, w, dt, k1u, k1w, k2u, k2w, k3u, k3w, k4u, k4w
       integer :: i
@@ -253,7 +293,8 @@ contains
             return
           end if
         end if
-        ns = max(1_i8, ceiling((tg(i) - t0) / hh, i8))
+        ns = 2 * ceiling((tg(i) - t0) / (2 * hh), i8) / factor
+        ns = max(1_i8, ns)
         dt = (tg(i) - t0) / real(ns, wp)
         do j = 1, ns
           k1u = w
@@ -273,6 +314,28 @@ contains
         y(i) = w
       end do
     end subroutine run
+    ! The error the state handed over at tx carries to the outputs after it,
+    ! from the Richardson difference of the runs there (x, y at h; x2, y2 at
+    ! 2h) split along the flow f at tx and across it, in (phi, phi'/w0).
+    ! Along the flow it is a shift in time by its size over |f| (to first
+    ! order the perturbed motion is the same one, shifted), which moves later
+    ! states by at most that times vmax; across it the a priori gain applies,
+    ! also to the rounding of phi there.  TOP_SAFETY on both.
+    pure real(wp) function carried_error(x, y, x2, y2) result(c)
+      real(wp), intent(in) :: x, y, x2, y2
+      real(wp) :: dx, dy, fx, fy, fn
+      dx = 2 * (x - x2) / 15
+      dy = 2 * (y - y2) / (15 * scene%w0)
+      fx = y
+      fy = f(x, y) / scene%w0
+      fn = hypot(fx, fy)
+      if (.not. fn > 0) then
+        c = gain * (hypot(dx, dy) + 4 * eps * abs(x))
+      else
+        c = TOP_SAFETY * vmax / fn * abs(dx * fx + dy * fy) / fn + &
+            gain * (abs(dx * fy - dy * fx) / fn + 4 * eps * abs(x))
+      end if
+    end function carried_error
     pure real(wp) function f(u, w)
       real(wp), intent(in) :: u, w
       f = -scene%gamma * w + scene%w0**2 * sin(u)

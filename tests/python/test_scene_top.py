@@ -170,3 +170,60 @@ def test_top_start_in_theta_loses_what_phi_keeps():
     top = pendula.solve(s)
     th, _, _ = _top_reference(np.linspace(0, 60, 61), np.pi, 0.0, 0.5, 1e-13)
     assert np.max(np.abs(top.theta - th)) <= top.error_estimate <= 1e-8
+
+
+# --- overdamped hangs: the step follows the growing mode, the check halves every interval ---------
+
+def _lp_lm(gamma):
+    """The saddle's rates at w0 = W0: lp > 0 (growing), lm < 0 (decaying)."""
+    lm = -(gamma / 2 + np.hypot(gamma / 2, W0))
+    return W0 ** 2 / -lm, lm
+
+
+@pytest.mark.parametrize("theta0,gamma,tend,tol", [(np.pi, 6.0, 5.0, 1e-9), (np.pi - 1e-3, 5.0, 8.0, 1e-5),
+                                                   (-3 * np.pi + 2e-4, 12.0, 30.0, 1e-7)])
+@pytest.mark.parametrize("spacing", [0.15, 1.0])
+def test_overdamped_hang_step_from_the_growing_rate_and_honest(theta0, gamma, tend, tol, spacing):
+    """Overdamped (gamma > 2 w0), the motion about the top is a e^(lp t) + b e^(lm t) with
+    -lm >> lp: the step is sized by lp and bounded by 1/(-lm) for the check run's stability
+    (it was ~1/(-lm) times a fourth root of the target, 50x smaller than a fixed step meeting
+    tol).  Outputs 0.15 s apart are denser than that step: the check at 2h must still halve
+    the substeps on every interval, else both runs take one substep there, agree exactly
+    and the estimate is the rounding alone (it was 7e-16 for an error of 1.7e-10)."""
+    t = np.arange(0.0, tend + spacing / 2, spacing)
+    res = pendula.solve(pendula.Scene(theta0=theta0, t=t, g=9.8, length=9.8, gamma=gamma, tol=tol))
+    th, om, _ = _top_reference(t, theta0, 0.0, gamma, 1e-13)
+    th2, om2, _ = _top_reference(t, theta0, 0.0, gamma, 1e-11)
+    assert max(np.max(np.abs(th - th2)), np.max(np.abs(om - om2))) <= tol / 20
+    err = max(np.max(np.abs(res.theta - th)), np.max(np.abs(res.omega - om)))
+    assert "from a top" in res.reason and res.tol_met
+    assert err <= res.error_estimate <= tol
+    lp, lm = _lp_lm(gamma)
+    # the hang's step: at most 1/(-lm) (stability of the run at 2h), and not
+    # pinned below it by the decaying rate: here >= 1/4 of that bound
+    assert 0.25 / -lm <= res.step <= 1 / -lm * (1 + 1e-12)
+    print(f"theta0={theta0!r} gamma={gamma} spacing={spacing}: err {err:.2e} estimate "
+          f"{res.error_estimate:.2e} step {res.step:.3g} (1/lp {1 / lp:.3g}) steps {res.cost['steps']}")
+
+
+@pytest.mark.parametrize("theta0,gamma", [(np.pi, 0.05), (-3 * np.pi + 1e-9, 0.02), (np.pi - 2e-5, 0.1)])
+@pytest.mark.parametrize("want", ["state", "energy"])
+def test_light_damping_after_the_hang_is_honest(theta0, gamma, want):
+    """Light damping brings the motion back near the top ~sqrt(4 gamma/w0) below the separatrix,
+    which amplifies an error of the state handed over across the flow; the part along it (most of
+    the hang's RK4 error: a shift in time) is carried without that factor.  Both must stay inside
+    the estimate over several returns."""
+    t = np.linspace(0.0, 40.0, 81)
+    tol = 1e-7
+    res = pendula.solve(pendula.Scene(theta0=theta0, t=t, g=9.8, length=9.8, gamma=gamma, tol=tol, want=want))
+    th, om, _ = _top_reference(t, theta0, 0.0, gamma, 1e-13)
+    th2, om2, _ = _top_reference(t, theta0, 0.0, gamma, 1e-11)
+    assert max(np.max(np.abs(th - th2)), np.max(np.abs(om - om2))) <= tol / 20
+    if want == "energy":
+        err = np.max(np.abs(res.energy - (om ** 2 / 2 + W0 ** 2 * (1 - np.cos(th)))))
+    else:
+        err = max(np.max(np.abs(res.theta - th)), np.max(np.abs(res.omega - om)))
+    assert "from a top" in res.reason and res.tol_met
+    assert err <= res.error_estimate <= tol
+    print(f"theta0={theta0!r} gamma={gamma} want={want}: err {err:.2e} estimate {res.error_estimate:.2e} "
+          f"steps {res.cost['steps']}")
