@@ -1,10 +1,8 @@
 !> Nanoseconds per call of pendula_format's number texts for a few typical
-!> values (a benchmark that prints numbers, not a test).  Build it against a
-!> meson build directory and run it:
+!> values (a benchmark that prints numbers, not a test).  Built with the tests
+!> (tests/meson.build); run it from a build directory:
 !>
-!>     B=build/dev
-!>     gfortran -O2 -I $B/src/libpendula_core.a.p benchmarks/bench_format.f90 \
-!>       $B/src/libpendula_core.a -o /tmp/bench_format && /tmp/bench_format
+!>     build/dev/tests/bench_format
 program bench_format
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_fixed, format_general, format_short

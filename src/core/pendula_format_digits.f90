@@ -2,7 +2,8 @@
 !> (half-to-even on exact ties) to k significant digits or to a fixed number of
 !> decimals, with integer and floating-point arithmetic only (no I/O).
 !>
-!> Fast path (k <= 18 significant digits, or a scaled value below 2**62):
+!> Fast path (k <= 18 significant digits, or dec decimals with |x| * 10**dec
+!> below 2**62):
 !> y = |x| * 10**s as a double-double, from the exact product of x's 53-bit
 !> integer significand and 5**(s mod 22), times a tabulated 5**(22 q) and a
 !> power of two.  Its relative error is below 2**-102 (table 2**-106, one
@@ -16,8 +17,9 @@
 !>
 !> Exact path: the double is m * 2**e, so its decimal expansion is finite (at
 !> most 767 significant digits); it is expanded in base 10**9 limbs and
-!> rounded half-to-even.  Costs a few microseconds (tens for subnormals), the
-!> fast path tens of nanoseconds.
+!> rounded half-to-even.  It costs microseconds (tens for subnormals); with the
+!> fast path a whole text costs several times less, subnormals a hundred
+!> times less (benchmarks/bench_format.f90 prints ns per call).
 module pendula_format_digits
   use pendula_kinds, only: wp, i8
   use pendula_double_double, only: two_prod, dd_mul

@@ -104,12 +104,12 @@ contains
       v = tiny(v) * rnd()
     case (4)                                     ! 10**p and up to 3 ulps either side
       p = int(632 * rnd()) - 323
-      v = 10.0_wp**p
+      v = 10.0_wp**real(p, wp)                    ! (10.0**p would overflow on the way)
       v = v + spacing(v) * (int(7 * rnd()) - 3)
     case (5)                                     ! next to 9.99..95 * 10**p (k nines)
       k = 1 + int(17 * rnd())
       p = int(600 * rnd()) - 300
-      v = (1 - 5 * 10.0_wp**(-k - 1)) * 10.0_wp**p
+      v = (1 - 5 * 10.0_wp**(-k - 1)) * 10.0_wp**real(p, wp)
       v = v + spacing(v) * (int(5 * rnd()) - 2)
     case default                                 ! odd integer * 2**-t: ends in 5
       v = real(2 * int(rnd() * 2.0_wp**int(1 + 51 * rnd()), i8) + 1, wp)
