@@ -9,7 +9,7 @@ module pendula_testing
   use pendula_status, only: status_t
   implicit none
   private
-  public :: checker_t, ulps_between, time_grid
+  public :: checker_t, ulps_between, time_grid, quick_mode
 
   type :: checker_t
     integer :: passed = 0
@@ -93,6 +93,16 @@ contains
     integer :: i
     t = [(t0 + dt * i, i = 0, n - 1)]
   end function time_grid
+
+  !> True when PENDULA_TEST_QUICK is set and not '0' (tools/memcheck.sh and
+  !> tools/checked-build.sh set it: slow legs run fewer cases).
+  logical function quick_mode()
+    character(len=8) :: v
+    integer :: vlen, vstat
+    call get_environment_variable('PENDULA_TEST_QUICK', v, vlen, vstat)
+    quick_mode = .false.
+    if (vstat == 0 .and. vlen > 0) quick_mode = v(1:1) /= '0'
+  end function quick_mode
 
   !> Print the closing line and exit non-zero on any failure.
   subroutine report(self, name)

@@ -12,13 +12,12 @@ program test_format
       ieee_negative_inf
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_fixed, format_general, format_short, format_int
-  use pendula_testing, only: checker_t
+  use pendula_testing, only: checker_t, quick_mode
   implicit none
   type(checker_t) :: t
   real(wp) :: nan, inf, x, u
   integer(i8) :: bits
-  integer :: i, bad_sci, bad_fix, bad_gen, bad_int, n_sci, n_fix, n_gen, n_random, qlen, qstat
-  character(len=8) :: quick
+  integer :: i, bad_sci, bad_fix, bad_gen, bad_int, n_sci, n_fix, n_gen, n_random
   real(wp), parameter :: fixed_values(*) = [0.0_wp, -0.0_wp, tiny(1.0_wp), -tiny(1.0_wp), &
       5.0e-324_wp, 2.2250738585072009e-308_wp, huge(1.0_wp), -huge(1.0_wp), 1.0_wp, 0.1_wp, &
       0.5_wp, 2.5_wp, 9.5_wp, 0.125_wp, 1.0e22_wp, 1.0e23_wp, 9.9999999e99_wp, &
@@ -62,12 +61,8 @@ program test_format
   do i = 1, size(fixed_values)
     call compare(fixed_values(i))
   end do
-  ! PENDULA_TEST_QUICK=1 (memcheck and checked legs): 200 random values, not 20000
-  call get_environment_variable('PENDULA_TEST_QUICK', quick, qlen, qstat)
   n_random = 20000
-  if (qstat == 0 .and. qlen > 0) then
-    if (quick(1:1) /= '0') n_random = 200
-  end if
+  if (quick_mode()) n_random = 200               ! memcheck and checked legs
   call random_seed_fixed()
   do i = 1, n_random
     call random_number(u)
