@@ -184,12 +184,14 @@ contains
   ! (t e^(-w0 t)) has |theta''''| up to 4 w0^4 A, within (2 w0)^4 A; Omega's
   ! fourth derivative carries one more factor w, over w0 in the scaled
   ! measure.  A rotation (A = |Omega0|/w0 > 1) has theta'''' ~ w0^2 Omega^2,
-  ! hence A max(1, A).
+  ! hence A max(1, A).  A is the swing about the nearest bottom 2 pi k (the
+  ! derivatives of theta do not see k): theta0 = 4 pi + 0.01 is a 0.01 rad
+  ! swing, not a 12.6 rad one.
   pure real(wp) function interp_bound(scene, h) result(e)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: h
     real(wp) :: a, w
-    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    a = max(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
     w = max(scene%w0, scene%gamma)
     e = (w * h)**4 / 384 * a * max(1.0_wp, a) * (w / scene%w0)
   end function interp_bound
