@@ -146,7 +146,7 @@ contains
       spent = result%cost
       result = best
       result%cost = spent
-      why = why // handover_why()
+      call append_handover_why()
     end if
   contains
     ! want = events: the integrator over [0, ts] sampled on the event grid of
@@ -166,7 +166,7 @@ contains
       type(scene_result_t) :: lres, evs, cand
       type(status_t) :: st
       real(wp), allocatable :: tg(:), each(:), elev(:)
-      real(wp) :: eint, e, dts
+      real(wp) :: eint, e, dts, wd, c, rh, sw
       integer :: n, ni, nl
       logical :: unverified
       done = .false.
@@ -174,6 +174,20 @@ contains
       sub = scene
       sub%want = SCENE_WANT_STATE
       sub%tol = scene%tol / 2
+      if (scene%gamma < scene%w0) then
+        ! clearly under-damped: the linear part's time errors are its phase
+        ! drift, ~ c rh^2 for a swing rh at ts (linear_error_at's estimate
+        ! over the rate w_d rh); ts where the swing, decaying at gamma/2, is
+        ! that rh; the integrated part's last events (rates ~ w0 rh) need a
+        ! state error of about tol w0 rh (its estimate is often well below its
+        ! tol: no more margin than that)
+        wd = sqrt(scene%w0 - scene%gamma / 2) * sqrt(scene%w0 + scene%gamma / 2)
+        c = 1.5_wp * scene%w0**2 * max(1.0_wp, (wd + scene%gamma / 2) / scene%w0) / (16 * wd**2 * scene%gamma)
+        rh = sqrt(0.25_wp * scene%tol / c)
+        sw = min(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, pi)
+        ts = max(ts, log(max(1.0_wp, sw / rh)) / (scene%gamma / 2))
+        sub%tol = min(sub%tol, scene%tol * scene%w0 * rh)
+      end if
       do it = 1, MAX_TRIES_EVENTS
         if (.not. ts < MAX_PART_EVENTS * tend) exit
         call event_grid(sub, ts, tg)
@@ -235,7 +249,7 @@ contains
         if (e <= scene%tol) then
           result = best
           result%cost = spent
-          why = why // handover_why()
+          call append_handover_why()
           done = .true.
           return
         end if
@@ -256,13 +270,13 @@ contains
       end do
     end subroutine events_handover
 
-    ! The reason's part for an events hand-over kept (best).
-    function handover_why() result(w)
-      character(len=:), allocatable :: w
-      w = '; events: the motion has decayed by t = ' // format_sci(best_ts, 4) // ' s: ' // &
+    ! The reason's part for an events hand-over kept (best), appended to why
+    ! (a subroutine: no function returns a deferred-length text here).
+    subroutine append_handover_why()
+      why = why // '; events: the motion has decayed by t = ' // format_sci(best_ts, 4) // ' s: ' // &
           trim(merge('RK4  ', 'CVODE', best_model == SCENE_MODEL_RK4)) // ' up to there, then the linear ' // &
           'closed form from that state (event times off by up to ' // format_sci(best%event_time_error, 4) // ' s)'
-    end function handover_why
+    end subroutine append_handover_why
 
     ! The integrated part: sub over [0, ts] into part, with the integrator
     ! picked for that length; its cost added to spent (none on an error).
