@@ -128,7 +128,8 @@ contains
     case (SCENE_WANT_EVENTS)
       call closed_events(cf, window_end(scene), result)
       allocate (result%t(0), result%theta(0), result%omega(0))
-      result%event_time_error = event_time_error(result, est, scene%w0)
+      ! (an infinite error from closed_events, a scan cut short, stays)
+      result%event_time_error = max(result%event_time_error, event_time_error(result, est, scene%w0))
       ! the exact solution's events sit at known phases: their times are
       ! off by its phase error, also at a turning point at the top
       if (model == SCENE_MODEL_EXACT) result%event_time_error = min(result%event_time_error, &
@@ -144,7 +145,8 @@ contains
   ! Event times from a closed form: scan (0, tend] at 16 samples per period
   ! (geometric steps for motions that do not oscillate), then refine each sign
   ! change of theta (zero crossing) or Omega (turning point) by the Illinois
-  ! variant of regula falsi to a few ulps of t.
+  ! variant of regula falsi to a few ulps of t.  result%event_time_error is
+  ! set to +inf when the scan had to stop early (0 otherwise, as on entry).
   subroutine closed_events(cf, tend, result)
     type(closed_t), intent(in) :: cf
     real(wp), intent(in) :: tend
@@ -152,6 +154,8 @@ contains
     real(wp) :: step, growth, stepmax, ta, tb, tha, oma, thb, omb, te(2), per
     integer :: kinds(2), ne, nev
     integer(i8) :: nevals
+    logical :: cut
+    cut = .false.
     allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0))
     per = ieee_value(1.0_wp, ieee_positive_inf)
     select case (cf%model)
@@ -180,6 +184,15 @@ contains
       tb = min(tend, ta + step)
       call closed_eval(cf, tb, thb, omb)
       nevals = nevals + 1
+      ! a damped motion decayed to subnormal size: its values are rounding
+      ! (one flushed to 0 would count as an event), the scan stops there.  An
+      ! over-damped or critical one has no events left (at most one of each
+      ! kind, the last passed); an oscillating one has, uncounted: the event
+      ! count is then unverified (an infinite time error)
+      if (cf%model == SCENE_MODEL_LINEAR .and. max(abs(thb), abs(omb) / cf%w0) < tiny(1.0_wp) / eps) then
+        if (ieee_is_finite(per)) cut = .true.
+        exit
+      end if
       ne = 0
       if (sign_change(bottom_sign(tha), bottom_sign(thb))) then
         ne = ne + 1
@@ -200,6 +213,7 @@ contains
     call trim_events(result, nev)
     call closed_eval(cf, result%event_t, result%event_theta, result%event_omega)
     result%cost%closed_form_evals = nevals + size(result%event_t)
+    if (cut) result%event_time_error = ieee_value(1.0_wp, ieee_positive_inf)
   contains
     real(wp) function refine(which, a0, b0, fa0, fb0) result(r)
       integer, intent(in) :: which

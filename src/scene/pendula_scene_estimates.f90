@@ -18,19 +18,16 @@ module pendula_scene_estimates
   use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
       SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS, &
       SCENE_RK4_STEP_LIMIT, &
-      SCENE_STIFF_RK4_STEPS, scene_want_name
+      SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY, scene_want_name
   use pendula_scene_types, only: scene_t, window_end, is_stiff
   use pendula_scene_setup, only: check_scene
   implicit none
   private
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
-  public :: cvode_min_steps, exact_time_error
+  public :: cvode_min_steps, exact_time_error, slow_rate
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
-  !> Safety factor on the a priori nonlinearity estimate of the linear model
-  !> (calibrated: the estimate is within 3 % of the true error where tight).
-  real(wp), parameter :: LINEAR_SAFETY = 1.5_wp
 
 contains
 
@@ -292,7 +289,7 @@ contains
 
   !> Nonlinearity error of the linear model theta'' + gamma theta' + w0^2 theta
   !> = 0 against eq. 2.2 over [0, tend], as sup max(|d theta|, |d Omega|/w0).
-  !> Two estimates, the smaller is used (times LINEAR_SAFETY), plus rounding:
+  !> Two estimates, the smaller is used (times SCENE_LINEAR_SAFETY), plus rounding:
   !>  (a) underdamped, phase drift: an oscillation of amplitude A is slower by
   !>      dw = w0^2 A^2/(16 w_d) (the pendulum's A^2/16 shift, eq. 1.53 expanded);
   !>      with A(t) = A0 e^(-gamma t/2) the phase lag is
@@ -373,7 +370,7 @@ contains
     ! (b) Green's function bound, any regime
     eg = w0**2 * bmax**3 / 6 * max(ig, igp / w0)
     round = 16 * eps * scale * (1 + (w0 + gamma) * tend)
-    e = LINEAR_SAFETY * min(eg, ep) + round
+    e = SCENE_LINEAR_SAFETY * min(eg, ep) + round
   contains
     ! int_0^T e^(-a s) ds and int_0^T s e^(-a s) ds, without cancellation
     pure real(wp) function int_exp(a, t) result(r)
@@ -406,18 +403,13 @@ contains
   pure real(wp) function rk4_apriori_step(scene, tend) result(h)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tend  !< end of the window [s], > 0
-    real(wp) :: a, teff, c, slow, half
+    real(wp) :: a, teff, c, slow
     ! the motion's size, not the raw angle: theta0 + 2 pi k is the same motion
     a = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
     a = min(max(a, 1.0e-3_wp), 2 * pi)
     teff = tend
     if (scene%gamma > 0) then
-      half = scene%gamma / 2
-      if (half > scene%w0) then
-        slow = scene%w0**2 / (half + sqrt(half - scene%w0) * sqrt(half + scene%w0))
-      else
-        slow = half
-      end if
+      slow = slow_rate(scene%w0, scene%gamma)
       ! the phase error accumulates for ever, but it moves theta by the
       ! amplitude times it: A0 e^(-slow t) t peaks at t = 1/slow (value
       ! A0/(e slow)); 2/slow leaves room for the slower decay of a large swing
@@ -427,6 +419,21 @@ contains
     h = (scene%tol / (c * a * max(scene%w0 * teff, 1.0_wp)))**0.25_wp / scene%w0
     h = min(h, 0.5_wp / scene%w0)
   end function rk4_apriori_step
+
+  !> Decay rate [1/s] of the slowest mode of the linear damped equation:
+  !> gamma/2 up to critical damping, then w0^2/(gamma/2 + sqrt(gamma^2/4 - w0^2))
+  !> (the smaller root, without cancellation).
+  pure real(wp) function slow_rate(w0, gamma) result(rate)
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    real(wp) :: half
+    half = gamma / 2
+    if (half > w0) then
+      rate = w0**2 / (half + sqrt(half - w0) * sqrt(half + w0))
+    else
+      rate = half
+    end if
+  end function slow_rate
 
   !> Lower bound on the steps of one CVODE (Adams) run of an underdamped,
   !> non-stiff scene over [0, tend] at rtol (atol = rtol/100 times the state's

@@ -29,11 +29,12 @@ module pendula_scene_events
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_BISECT
   use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
   use pendula_scene_types, only: scene_t, scene_result_t
+  use pendula_scene_codes, only: SCENE_LINEAR_SAFETY
   implicit none
   private
 
   public :: scene_event_bound, sign_change, bottom_sign, bottom_level, append_events, trim_events, event_time_error, &
-      event_grid, grid_events, event_interp_error
+      event_grid, grid_events, event_interp_error, linear_error_at, event_rate
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
@@ -123,20 +124,21 @@ contains
   !> dt = d theta/|Omega| at a zero crossing, d Omega/|Omega'| =
   !> w0 d/(w0^2 |sin theta|) at a turning point.  +inf when it exceeds half
   !> the gap between two neighbouring events (the count is then unverified).
-  pure real(wp) function event_time_error(result, est, w0) result(e)
+  !> With est_each, event i's state error is est_each(i) (a model whose
+  !> error changes along the window: the linear closed form after a hand-over).
+  pure real(wp) function event_time_error(result, est, w0, est_each) result(e)
     type(scene_result_t), intent(in) :: result  !< the events found, with their state
     real(wp), intent(in) :: est  !< state error where the events were placed [rad] (theta, Omega/w0), >= 0
     real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    real(wp), intent(in), optional :: est_each(:)  !< state error [rad] at each event, >= 0; size(result%event_t)
     integer :: i
-    real(wp) :: rate
+    real(wp) :: rate, ei
     e = 0
     do i = 1, size(result%event_t)
-      if (result%event_kind(i) == PENDULA_EVENT_ZERO) then
-        rate = abs(result%event_omega(i))
-      else
-        rate = w0 * abs(sin(result%event_theta(i)))
-      end if
-      e = max(e, est / max(rate, tiny(1.0_wp)))
+      rate = event_rate(result%event_kind(i), result%event_theta(i), result%event_omega(i), w0)
+      ei = est
+      if (present(est_each)) ei = max(est, est_each(i))
+      e = max(e, ei / rate)
     end do
     ! Times this uncertain could swap or merge neighbouring events: their
     ! number and kinds are then unverified (a count off is an infinite error)
@@ -144,6 +146,91 @@ contains
       if (e > (result%event_t(i) - result%event_t(i-1)) / 2) e = ieee_value(1.0_wp, ieee_positive_inf)
     end do
   end function event_time_error
+
+  !> Nonlinearity error [rad] of the linear damped model from (x0 [rad], v0
+  !> [rad/s]) AT time tau >= 0 [s] (not the sup over [0, tau] of
+  !> linear_estimate), in max(|d theta|, |d Omega|/w0); gamma > 0 [1/s].  It
+  !> decays with the swing, so over an event's rate it stays a relative (phase)
+  !> error however late the event.  Derivation: d = theta - theta_lin solves
+  !> d'' + gamma d' + w0^2 d = w0^2 (theta - sin theta), |forcing| <= w0^2
+  !> |theta|^3/6, so d(tau) = int_0^tau G(tau - s) f(s) ds with the Green's
+  !> function G(u) = e^(-a u) sin(w_d u)/w_d (sinh, u past critical), a =
+  !> gamma/2.  With rho = a - sqrt(a^2 - w0^2) (a when under-damped), |G(u)| <=
+  !> e^(-rho u) min(u, 1/w_d) and |G'(u)| <= e^(-rho u) (1 + a min(u, 1/w_d)).
+  !> An envelope |theta_lin(s)| <= R e^(-beta s), beta <= rho, then gives
+  !> |d(tau)| <= w0^2 R^3/6 e^(-beta tau) min(tau, 1/w_d) int_0^tau e^(-2 beta s) ds
+  !> (and (1 + a min(tau, 1/w_d)) for Omega).  Envelopes: the amplitude R at
+  !> beta = a (under-damped), and, any regime, from e^(-rho s)(|x0| + |v0 + a
+  !> x0| s): R = |x0| + 2 |v0 + a x0|/(rho e) at beta = rho/2; under-damped
+  !> also linear_estimate's phase-drift estimate at tau; the smallest is used.  The forcing is taken on the linear solution (as linear_estimate
+  !> does), hence the same safety factor SCENE_LINEAR_SAFETY; plus rounding, relative to the
+  !> envelope.
+  elemental real(wp) function linear_error_at(x0, v0, w0, gamma, tau) result(e)
+    real(wp), intent(in) :: x0  !< angle [rad] about the bottom at the start
+    real(wp), intent(in) :: v0  !< angular velocity [rad/s] at the start
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], > 0
+    real(wp), intent(in) :: tau  !< time since the start [s], >= 0
+    real(wp) :: a, kap, rho, wd, c, g, e1, r2, env, amp, phi
+    a = gamma / 2
+    c = abs(v0 + a * x0)
+    if (a < w0) then
+      wd = sqrt(w0 - a) * sqrt(w0 + a)
+      rho = a
+      g = min(tau, 1 / wd)
+    else
+      kap = sqrt(a - w0) * sqrt(a + w0)
+      rho = w0**2 / (a + kap)
+      g = tau
+    end if
+    r2 = abs(x0) + 2 * c / (rho * exp(1.0_wp))
+    e1 = bound(r2, rho / 2)
+    env = r2 * exp(-rho * tau / 2)
+    if (a < w0) then
+      amp = hypot(x0, c / wd)
+      e1 = min(e1, bound(amp, a))
+      env = min(env, amp * exp(-a * tau))
+      ! phase drift (linear_estimate's (a)): the swing A(tau) = amp e^(-a tau)
+      ! lags by phi = w0^2 amp^2 (1 - e^(-gamma tau))/(16 w_d gamma), off by
+      ! A min(2, phi) max(1, (w_d + a)/w0) plus the harmonics A^3/16
+      phi = w0**2 * amp**2 * (1 - exp(-gamma * tau)) / (16 * wd * gamma)
+      if (gamma * tau < 1.0e-5_wp) phi = w0**2 * amp**2 * tau / (16 * wd)
+      e1 = min(e1, amp * exp(-a * tau) * min(2.0_wp, phi) * max(1.0_wp, (wd + a) / w0) + &
+          (amp * exp(-a * tau))**3 / 16)
+    end if
+    ! the closed form's rounding is relative to the swing it evaluates
+    ! (env bounds |theta_lin| and, with w0 + gamma, |Omega_lin|/w0)
+    e = SCENE_LINEAR_SAFETY * e1 + 16 * eps * env * (1 + (w0 + gamma) * tau) * (1 + gamma / w0)
+  contains
+    pure real(wp) function bound(r, beta)
+      real(wp), intent(in) :: r, beta
+      real(wp) :: i2, x
+      ! int_0^tau e^(-2 beta s) ds (1 - e^(-x) cancels at most to eps/x relative)
+      x = 2 * beta * tau
+      if (x < 1.0e-5_wp) then
+        i2 = tau * (1 - x / 2 + x**2 / 6)
+      else
+        i2 = (1 - exp(-x)) / (2 * beta)
+      end if
+      bound = w0**2 * r**3 / 6 * exp(-beta * tau) * i2 * max(g, (1 + a * g) / w0)
+    end function bound
+  end function linear_error_at
+
+  !> Rate [rad/s] at which an event's function crosses zero, in the units of
+  !> the state error (theta, Omega/w0): |Omega| at a zero crossing, w0
+  !> |sin theta| (= |Omega'|/w0 at rest) at a turning point; at least tiny.
+  elemental real(wp) function event_rate(kind, theta, omega, w0) result(rate)
+    integer, intent(in) :: kind  !< PENDULA_EVENT_ZERO or PENDULA_EVENT_TURNING
+    real(wp), intent(in) :: theta  !< angle at the event [rad]
+    real(wp), intent(in) :: omega  !< angular velocity at the event [rad/s]
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    if (kind == PENDULA_EVENT_ZERO) then
+      rate = abs(omega)
+    else
+      rate = w0 * abs(sin(theta))
+    end if
+    rate = max(rate, tiny(1.0_wp))
+  end function event_rate
 
   !> Sample grid for events found from an integrated trajectory: spacing d
   !> with interp_bound(d) <= tol/10, so that the cubic Hermite interpolant
@@ -184,12 +271,14 @@ contains
   ! (t e^(-w0 t)) has |theta''''| up to 4 w0^4 A, within (2 w0)^4 A; Omega's
   ! fourth derivative carries one more factor w, over w0 in the scaled
   ! measure.  A rotation (A = |Omega0|/w0 > 1) has theta'''' ~ w0^2 Omega^2,
-  ! hence A max(1, A).
+  ! hence A max(1, A).  A is the swing about the nearest bottom 2 pi k (the
+  ! derivatives of theta do not see k): theta0 = 4 pi + 0.01 is a 0.01 rad
+  ! swing, not a 12.6 rad one.
   pure real(wp) function interp_bound(scene, h) result(e)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: h
     real(wp) :: a, w
-    a = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    a = max(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
     w = max(scene%w0, scene%gamma)
     e = (w * h)**4 / 384 * a * max(1.0_wp, a) * (w / scene%w0)
   end function interp_bound

@@ -21,19 +21,31 @@
 !> looser tolerance (at most SUB_TOL_REL of the motion's size, where its own
 !> estimate is still in the asymptotic regime), so a long decayed window
 !> costs a coarse run.
+!>
+!> want = events: the integrator's part is sampled on the event grid of
+!> [0, ts] and gives the events there; the linear closed form gives those
+!> after ts.  Each of its events is off by the linear model's nonlinearity AT
+!> that time (linear_error_at of pendula_scene_events, which decays with the
+!> swing) plus the carried error, over the event's rate: late in a decay both
+!> shrink like the rate, so the time error stays a phase error where a
+!> whole-window run's state error over the vanishing rates grew without bound.
 module pendula_scene_handover
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
   use pendula_control, only: CONTROL_SIZE
-  use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, &
-      SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY
+  use pendula_scene_codes, only: SCENE_LINEAR_SAFETY, SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_LINEAR, &
+      SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: choose_model, linear_estimate
+  use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate
   use pendula_scene_integrated, only: solve_rk4, solve_cvode
+  use pendula_scene_closed, only: solve_closed
+  use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error, linear_error_at, &
+      event_rate
   implicit none
   private
 
@@ -41,8 +53,17 @@ module pendula_scene_handover
 
   !> A hand-over is tried only when it spares at least this part of the window.
   real(wp), parameter :: MAX_PART = 0.75_wp
+  !> For want = events the hand-over also spares the integrator the late
+  !> events, whose time errors are its state error over tiny rates: tried
+  !> while it leaves at least this part of the window to the closed form.
+  real(wp), parameter :: MAX_PART_EVENTS = 0.9_wp
+  !> The linear part's events are found this many tol [s] past the window's
+  !> end, to see those whose time error straddles it.
+  real(wp), parameter :: END_MARGIN = 10.0_wp
   !> Hand-over points tried before integrating the whole window.
   integer, parameter :: MAX_TRIES = 3
+  !> The same for want = events, where a try may also tighten the integrated part.
+  integer, parameter :: MAX_TRIES_EVENTS = 5
   !> Loosest tolerance of the integrated part, relative to the motion's size
   !> (the swing modulo 2 pi, at most pi), when the carried error decays
   !> before the first output: the integrators' a posteriori estimates
@@ -53,7 +74,7 @@ contains
 
   !> Answer a checked, damped or undamped scene with the integrator `model`
   !> (RK4 or CVODE), handing over to the linear closed form once the motion
-  !> has decayed enough (gamma > 0; want state, theta, final or energy).  why:
+  !> has decayed enough (gamma > 0; want state, theta, final, energy or events).  why:
   !> the reason so far; the hand-over, when made, is appended.
   subroutine solve_integrated(scene, model, tend, budget, why, result, status, control)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
@@ -70,7 +91,17 @@ contains
     real(wp) :: ts, xs, vs, e1, elin, est, center, gain, swing
     integer :: it, k, sub_model
     logical :: early
-    if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
+    type(scene_result_t) :: best
+    real(wp) :: best_ts
+    integer :: best_model
+    logical :: done
+    best%event_time_error = ieee_value(1.0_wp, ieee_positive_inf)   ! none yet
+    best_ts = 0
+    best_model = model
+    if (scene%gamma > 0 .and. scene%want == SCENE_WANT_EVENTS) then
+      call events_handover(done)
+      if (done .or. status%code /= PENDULA_OK) return
+    else if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
         scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
       ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
       swing = min(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, pi)
@@ -82,13 +113,8 @@ contains
         ! ones before ts need the part at tol
         early = count(scene%t(1:k) > 0) > 0
         if (.not. early) sub%tol = max(sub%tol, min(sub%tol / max(gain, tiny(1.0_wp)), SUB_TOL_REL * swing))
-        part = fresh
-        sub_model = model
-        if (scene%model == SCENE_MODEL_AUTO) call pick_integrator(sub, ts, model, sub_model, status)
+        call run_part()
         if (status%code /= PENDULA_OK) return
-        call run(sub, sub_model, ts, part)
-        if (status%code /= PENDULA_OK) return
-        call add_cost(spent, part%cost)
         ! the linear model about the equilibrium the motion has settled to,
         ! 2 pi k (to its rounding, eps |2 pi k|, added to its estimate)
         center = 2 * pi * anint(part%theta(size(part%theta)) / (2 * pi))
@@ -118,7 +144,156 @@ contains
     end if
     call run(scene, model, tend, result)
     call add_cost(result%cost, spent)
+    ! events: a hand-over that fell short of tol may still beat the whole window
+    if (status%code == PENDULA_OK .and. scene%want == SCENE_WANT_EVENTS .and. &
+        best%event_time_error < result%event_time_error) then
+      spent = result%cost
+      result = best
+      result%cost = spent
+      call append_handover_why()
+    end if
   contains
+    ! want = events: the integrator over [0, ts] sampled on the event grid of
+    ! that part, its events there (each off by its state estimate plus the
+    ! interpolation's, over the rate); the linear closed form's events over
+    ! (ts, tend] from the integrated state at ts, about the bottom 2 pi k the
+    ! motion has settled to, each off by the linear model's nonlinearity AT
+    ! that time (linear_error_at, which decays with the swing) plus the
+    ! integrator's error at ts carried there (propagator_gain), over the rate.
+    ! The sign of theta and Omega at ts is the one both parts see, so no
+    ! event is lost or counted twice at the junction.  done: the answer meets
+    ! tol; otherwise a later ts, or a tighter integrated part when that is
+    ! what fails; after MAX_TRIES the whole window is integrated.
+    subroutine events_handover(done)
+      logical, intent(out) :: done
+      type(scene_t) :: ls
+      type(scene_result_t) :: lres, evs, cand
+      type(status_t) :: st
+      real(wp), allocatable :: tg(:), each(:), elev(:)
+      real(wp) :: eint, e, dts, wd, c, rh, sw
+      integer :: n, ni, nl
+      logical :: unverified
+      done = .false.
+      ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol * scene%w0, tend)
+      sub = scene
+      sub%want = SCENE_WANT_STATE
+      sub%tol = scene%tol / 2
+      if (scene%gamma < scene%w0) then
+        ! clearly under-damped: the linear part's time errors are its phase
+        ! drift, ~ c rh^2 for a swing rh at ts (linear_error_at's estimate
+        ! over the rate w_d rh); ts where the swing, decaying at gamma/2, is
+        ! that rh; the integrated part's last events (rates ~ w0 rh) need a
+        ! state error of about tol w0 rh (its estimate is often well below its
+        ! tol: no more margin than that)
+        wd = sqrt(scene%w0 - scene%gamma / 2) * sqrt(scene%w0 + scene%gamma / 2)
+        c = SCENE_LINEAR_SAFETY * scene%w0**2 * max(1.0_wp, (wd + scene%gamma / 2) / scene%w0) / (16 * wd**2 * scene%gamma)
+        rh = sqrt(0.25_wp * scene%tol / c)
+        sw = min(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, pi)
+        ts = max(ts, log(max(1.0_wp, sw / rh)) / (scene%gamma / 2))
+        sub%tol = min(sub%tol, scene%tol * scene%w0 * rh)
+      end if
+      do it = 1, MAX_TRIES_EVENTS
+        if (.not. ts < MAX_PART_EVENTS * tend) exit
+        call event_grid(sub, ts, tg)
+        sub%t = tg
+        call run_part()
+        if (status%code /= PENDULA_OK) return
+        n = size(tg)
+        e1 = part%error_estimate
+        ! the integrator did not reach the part's tol (a rounding floor): no
+        ! tighter part or later ts would
+        if (e1 > sub%tol) exit
+        evs = fresh
+        call grid_events(sub, tg, part%theta, part%omega, evs)
+        ni = size(evs%event_t)
+        eint = event_time_error(evs, e1 + event_interp_error(sub, tg), scene%w0)
+        center = 2 * pi * anint(part%theta(n) / (2 * pi))
+        xs = part%theta(n) - center
+        vs = part%omega(n)
+        ls = scene
+        ls%theta0 = xs
+        ls%omega0 = vs
+        ! past the window's end too: an event within its time error of the
+        ! end may be in or out (the count is unverified)
+        ls%t = [tend - ts + END_MARGIN * scene%tol]
+        lres = fresh
+        st = status_t()
+        call solve_closed(ls, SCENE_MODEL_LINEAR, 0.0_wp, lres, st)
+        if (st%code /= PENDULA_OK) exit
+        call add_cost(spent, lres%cost)
+        elev = linear_error_at(xs, vs, scene%w0, scene%gamma, lres%event_t) + &
+            propagator_gain(scene%w0, scene%gamma, lres%event_t) * (e1 + 2 * epsilon(1.0_wp) * abs(center))
+        unverified = .not. lres%event_time_error < huge(1.0_wp) .or. any(abs(ts + lres%event_t - tend) <= &
+            elev / event_rate(lres%event_kind, lres%event_theta, lres%event_omega, scene%w0))
+        nl = count(ts + lres%event_t <= tend)
+        cand = fresh
+        cand%event_t = [evs%event_t, ts + lres%event_t(1:nl)]
+        cand%event_kind = [evs%event_kind, lres%event_kind(1:nl)]
+        cand%event_theta = [evs%event_theta, lres%event_theta(1:nl) + center]
+        cand%event_omega = [evs%event_omega, lres%event_omega(1:nl)]
+        ! the integrated part's events at its own estimate; the linear part's
+        ! (lres%event_t measured from ts) at theirs
+        each = [spread(e1 + event_interp_error(sub, tg), 1, ni), elev(1:nl)]
+        ! ts + tau rounds to eps (ts + tau)
+        e = event_time_error(cand, 0.0_wp, scene%w0, each) + 4 * epsilon(1.0_wp) * tend
+        if (unverified) e = ieee_value(1.0_wp, ieee_positive_inf)
+        if (e < best%event_time_error) then
+          best = cand
+          best%event_time_error = e
+          best%error_estimate = e1
+          best%t = [real(wp) ::]
+          best%theta = [real(wp) ::]
+          best%omega = [real(wp) ::]
+          best%setting = part%setting
+          best%step = part%step
+          best%rtol = part%rtol
+          best_model = sub_model
+          best_ts = ts
+        end if
+        if (e <= scene%tol) then
+          result = best
+          result%cost = spent
+          call append_handover_why()
+          done = .true.
+          return
+        end if
+        ! the integrated part's events (eint) and the linear part's (what
+        ! exceeds eint) each get what fails: a tighter integrated part, a later
+        ! ts (the linear part's time errors scale like the swing at ts squared,
+        ! which decays at the slowest linear rate; the integrated part's late
+        ! events then have rates smaller by about that decay, its tol with them)
+        dts = 0
+        if (e > eint .and. e < huge(1.0_wp)) then
+          dts = max(0.1_wp * ts, log(e / (0.5_wp * scene%tol)) / (2 * slow_rate(scene%w0, scene%gamma)))
+        else if (e > eint) then
+          dts = max(0.5_wp * ts, 1 / max(scene%w0, scene%gamma))
+        end if
+        sub%tol = sub%tol * max(1.0e-3_wp, min(1.0_wp, 0.25_wp * scene%tol / eint) * &
+            exp(-slow_rate(scene%w0, scene%gamma) * dts))
+        ts = ts + dts
+      end do
+    end subroutine events_handover
+
+    ! The reason's part for an events hand-over kept (best), appended to why
+    ! (a subroutine: no function returns a deferred-length text here).
+    subroutine append_handover_why()
+      why = why // '; events: the motion has decayed by t = ' // format_sci(best_ts, 4) // ' s: ' // &
+          trim(merge('RK4  ', 'CVODE', best_model == SCENE_MODEL_RK4)) // ' up to there, then the linear ' // &
+          'closed form from that state (event times off by up to ' // format_sci(best%event_time_error, 4) // ' s)'
+    end subroutine append_handover_why
+
+    ! The integrated part: sub over [0, ts] into part, with the integrator
+    ! picked for that length; its cost added to spent (none on an error).
+    subroutine run_part()
+      part = fresh
+      sub_model = model
+      if (scene%model == SCENE_MODEL_AUTO) call pick_integrator(sub, ts, model, sub_model, status)
+      if (status%code /= PENDULA_OK) return
+      call run(sub, sub_model, ts, part)
+      if (status%code /= PENDULA_OK) return
+      call add_cost(spent, part%cost)
+    end subroutine run_part
+
     subroutine run(sc, mdl, t_end, res)
       type(scene_t), intent(in) :: sc
       integer, intent(in) :: mdl
@@ -155,9 +330,7 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: ts
     integer, intent(in) :: k
-    type(linear_damped_t) :: ua, ub
-    type(status_t) :: st
-    real(wp), allocatable :: tau(:), xa(:), va(:), xb(:), vb(:)
+    real(wp), allocatable :: tau(:)
     integer :: n
     n = size(scene%t)
     if (scene%want == SCENE_WANT_FINAL) then
@@ -165,16 +338,26 @@ contains
     else
       tau = scene%t(k+1:n) - ts
     end if
-    allocate (xa(size(tau)), va(size(tau)), xb(size(tau)), vb(size(tau)))
-    call linear_damped_init(ua, 1.0_wp, 0.0_wp, scene%w0, scene%gamma, st)
-    call linear_damped_init(ub, 0.0_wp, scene%w0, scene%w0, scene%gamma, st)
+    gain = 0
+    if (size(tau) > 0) gain = maxval(propagator_gain(scene%w0, scene%gamma, tau))
+  end function carry_gain
+
+  ! Induced norm in max(|theta|, |Omega|/w0) of the linear damped propagator
+  ! over each time tau(i) >= 0 [s] (from the states (1, 0) and (0, w0) it
+  ! maps), to a few ulps of the evaluation, never above sqrt(2) (its energy
+  ! does not grow).
+  pure function propagator_gain(w0, gamma, tau) result(gain)
+    real(wp), intent(in) :: w0, gamma, tau(:)
+    real(wp) :: gain(size(tau))
+    type(linear_damped_t) :: ua, ub
+    type(status_t) :: st
+    real(wp) :: xa(size(tau)), va(size(tau)), xb(size(tau)), vb(size(tau))
+    call linear_damped_init(ua, 1.0_wp, 0.0_wp, w0, gamma, st)
+    call linear_damped_init(ub, 0.0_wp, w0, w0, gamma, st)
     call linear_damped_state(ua, tau, xa, va)
     call linear_damped_state(ub, tau, xb, vb)
-    gain = 0
-    if (size(tau) > 0) gain = max(maxval(abs(xa) + abs(xb)), maxval(abs(va) + abs(vb)) / scene%w0)
-    ! a few ulps of the evaluation
-    gain = min(sqrt(2.0_wp), gain * (1 + 64 * epsilon(1.0_wp)))
-  end function carry_gain
+    gain = min(sqrt(2.0_wp), max(abs(xa) + abs(xb), (abs(va) + abs(vb)) / w0) * (1 + 64 * epsilon(1.0_wp)))
+  end function propagator_gain
 
   ! The integrator for the part [0, ts] (the choice for the whole window may
   ! have taken CVODE for a length RK4 now need not cover); a closed form is
@@ -249,12 +432,7 @@ contains
     if (msep < 1 .and. d0 < pi) thang = log(pi / max(d0, epsilon(1.0_wp))) / (hypot(gamma / 2, w0) - gamma / 2)
     a0 = min(xr + abs(v0) / w0, pi)
     if (msep >= 1) a0 = pi
-    half = gamma / 2
-    if (half > w0) then
-      rate = w0**2 / (half + sqrt(half - w0) * sqrt(half + w0))
-    else
-      rate = half
-    end if
+    rate = slow_rate(w0, gamma)
     eref = linear_estimate(AREF, 0.0_wp, w0, gamma, span)
     if (.not. eref > 0) then
       ts = 0
@@ -266,6 +444,7 @@ contains
     ! (theta0 + t (Omega0 + gamma theta0/2) at gamma = 2 w0): a few fixed-
     ! point steps of rate t = L + ln(1 + min(rate t, rate/delta))
     el = max(0.0_wp, log(a0 / ah))
+    half = gamma / 2
     cap = rate / max(sqrt(abs(half - w0)) * sqrt(half + w0), tiny(1.0_wp))
     x = el
     do i = 1, 3
