@@ -40,7 +40,7 @@ module pendula_scene_top
   implicit none
   private
 
-  public :: top_start, solve_top
+  public :: top_start, solve_top, top_hang_work
 
   !> A start within this distance of k pi (in (theta, Omega/w0)) hangs.
   real(wp), parameter :: TOP_NEAR = 0.05_wp
@@ -106,6 +106,52 @@ contains
     no_turn = v0 == 0 .or. .not. (a * b > 0 .and. abs(lm * b) >= 0.5_wp * lp * abs(a))
   end function no_turn
 
+  ! The hang from the top-centred start (phi0, v0): the time tx [s] at which
+  ! the growing mode reaches PHI_EXIT (at most tend), and the gain of the
+  ! motion after tx on an error of the state handed over there.
+  pure subroutine hang_plan(scene, phi0, v0, tend, tx, gain)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, v0, tend
+    real(wp), intent(out) :: tx, gain
+    real(wp) :: lp, lm, a, b, near
+    ! the saddle's rates, and the growing mode's amplitude a
+    call saddle(scene, phi0, v0, lp, lm, a, b)
+    tx = tend
+    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
+    ! the gain of the motion after tx on an error of the state handed over
+    near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
+    gain = TOP_SAFETY * max(2 * scene%w0, 2 * scene%gamma + scene%w0) / (lp * PHI_EXIT) * (1 + 2 / near)
+  end subroutine hang_plan
+
+  ! The first RK4 step [s] in phi for an error target over [0, tlast]: the
+  ! relative error ~ (lambda h)^4/120 per unit lambda t, doubled.
+  pure real(wp) function hang_step(scene, target, tlast) result(h)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: target, tlast
+    real(wp) :: lp, lm, a, b
+    call saddle(scene, 0.0_wp, 0.0_wp, lp, lm, a, b)
+    h = min((120 * target / (2 * PHI_EXIT * max(1.0_wp, lp * tlast)))**0.25_wp, 0.5_wp) / max(-lm, scene%w0)
+  end function hang_step
+
+  !> Predicted work [RK4 steps] of the hang of a damped scene that starts near
+  !> the top (solve_top; 0 for any other scene): the first pair of RK4 runs
+  !> in phi (at h and 2h) up to where the motion leaves the top, or to t(n)
+  !> when that comes first.  A prediction from closed formulas (refinements
+  !> are not counted), for deciding how to run the call.
+  pure real(wp) function top_hang_work(scene) result(work)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene), auto model
+    real(wp) :: k, phi0, v0, tend, tx, gain, target
+    logical :: is_top
+    work = 0
+    call top_start(scene, is_top, k, phi0, v0)
+    if (.not. is_top .or. scene%model /= SCENE_MODEL_AUTO) return
+    tend = scene%t(size(scene%t))
+    call hang_plan(scene, phi0, v0, tend, tx, gain)
+    target = min(scene%tol / (4 * gain), scene%tol / 2)
+    if (tend <= tx .and. scene%want /= SCENE_WANT_EVENTS) target = scene%tol / 2
+    work = 1.5_wp * tx / hang_step(scene, target, tx)
+  end function top_hang_work
+
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi
   !> over the hang, then `model`'s ordinary path from the state where the
   !> motion has left the top.  why is replaced.  done is false (nothing
@@ -120,7 +166,7 @@ contains
     type(scene_result_t), intent(inout) :: result  !< gets the answer, its error estimate and cost when done
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
-    real(wp) :: k, phi0, v0, lp, lm, a, b, tx, tshift, gain, target, h, est, d, p, e, thx, omx, near, eround
+    real(wp) :: k, phi0, v0, tx, tshift, gain, target, h, est, d, p, e, thx, omx, eround
     real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
@@ -132,13 +178,7 @@ contains
     done = .false.
     call top_start(scene, is_top, k, phi0, v0)
     if (.not. is_top) return
-    ! the saddle's rates, and the growing mode's amplitude a
-    call saddle(scene, phi0, v0, lp, lm, a, b)
-    tx = tend
-    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
-    ! the gain of the motion after tx on an error of the state handed over
-    near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
-    gain = TOP_SAFETY * max(2 * scene%w0, 2 * scene%gamma + scene%w0) / (lp * PHI_EXIT) * (1 + 2 / near)
+    call hang_plan(scene, phi0, v0, tend, tx, gain)
     target = scene%tol / (4 * gain)
     ! the outputs in the hang (nk of the result's, up to tx), then tx
     call alloc_outputs(scene, result)
@@ -154,8 +194,7 @@ contains
       target = min(target, scene%tol / 2)
     end if
     allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)))
-    ! RK4: relative error ~ (lambda h)^4/120 per unit lambda t, doubled
-    h = min((120 * target / (2 * PHI_EXIT * max(1.0_wp, lp * tg(size(tg)))))**0.25_wp, 0.5_wp) / max(-lm, scene%w0)
+    h = hang_step(scene, target, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
     do it = 1, MAX_REFINE
