@@ -149,7 +149,9 @@ contains
     call hang_plan(scene, phi0, v0, tend, tx, gain)
     target = min(scene%tol / (4 * gain), scene%tol / 2)
     if (tend <= tx .and. scene%want /= SCENE_WANT_EVENTS) target = scene%tol / 2
-    work = 1.5_wp * tx / hang_step(scene, target, tx)
+    ! at most 1.5e300 (no overflow: a start exactly at the top hangs for ever)
+    work = 1.5e300_wp
+    if (tx / 1.0e300_wp <= hang_step(scene, target, tx)) work = 1.5_wp * tx / hang_step(scene, target, tx)
   end function top_hang_work
 
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi

@@ -71,7 +71,7 @@ contains
   pure real(wp) function scene_solve_work(scene) result(work)
     type(scene_t), intent(in) :: scene  !< the scene (checked here)
     type(status_t) :: st
-    real(wp) :: tend, span, tol, gain
+    real(wp) :: tend, span, tol, gain, loose
     integer :: model
     work = 0
     call check_scene(scene, st)
@@ -97,7 +97,9 @@ contains
         ! tol over the gain of the linear propagator to t(n) (about its decay)
         if (scene%want == SCENE_WANT_FINAL .or. .not. scene%t(1) < span) then
           gain = min(sqrt(2.0_wp), exp(-slow_rate(scene%w0, scene%gamma) * (tend - span)))
-          tol = max(tol, min(tol / max(gain, tiny(1.0_wp)), SUB_TOL_REL * min(swing(scene), pi)))
+          loose = SUB_TOL_REL * min(swing(scene), pi)
+          if (tol < loose * gain) loose = tol / gain   ! (no overflow when gain underflows)
+          tol = max(tol, loose)
         end if
       else
         span = tend
@@ -169,7 +171,7 @@ contains
     real(wp) :: nsteps, big, msep
     model = SCENE_MODEL_RK4
     if (.not. cvode_available()) return
-    nsteps = span / rk4_step(scene, span, tol)
+    nsteps = steps(span, rk4_step(scene, span, tol))
     big = abs(scene%theta0) + 2 * pi
     msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
     if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * min(span, 2 * (1 + log(msep)) / scene%gamma)
@@ -190,9 +192,9 @@ contains
     if (scene%want == SCENE_WANT_EVENTS) grid = 2 * real(event_grid_intervals(scene, span), wp)
     if (model == SCENE_MODEL_RK4) then
       if (setting > 0) then
-        work = max(span / setting, grid)
+        work = max(steps(span, setting), grid)
       else
-        work = RK4_RUNS * max(span / rk4_step(scene, span, tol), grid / 2)
+        work = RK4_RUNS * max(steps(span, rk4_step(scene, span, tol)), grid / 2)
       end if
     else
       if (setting > 0) then
@@ -227,6 +229,13 @@ contains
     h = min(rk4_apriori_step(sub, max(span, tiny(1.0_wp))), 0.5_wp / scene%w0, 0.45_wp * 2.78_wp / lam)
   end function rk4_step
 
+  ! span / h, at most 1e300 (a prediction has no use for more; no overflow).
+  pure real(wp) function steps(span, h) result(n)
+    real(wp), intent(in) :: span, h
+    n = 1.0e300_wp
+    if (span / n <= h) n = span / h
+  end function steps
+
   ! The motion's size [rad]: the angle modulo 2 pi and Omega0/w0.
   pure real(wp) function swing(scene)
     type(scene_t), intent(in) :: scene
@@ -244,7 +253,7 @@ contains
     real(wp), intent(in) :: w0, gamma, span
     real(wp) :: wf
     wf = gamma / 2 + sqrt(abs(gamma / 2 - w0)) * sqrt(gamma / 2 + w0)
-    e = w0**2 * AREF**3 / 6 * min(span**2 / 2, span / wf, 1 / (slow_rate(w0, gamma) * wf))
+    e = w0**2 * AREF**3 / 6 * min(span * min(span / 2, 1 / wf), 1 / (slow_rate(w0, gamma) * wf))
   end function linear_nonlinearity
 
 end module pendula_scene_work
