@@ -43,6 +43,7 @@ module pendula
       SCENE_MODEL_RK4, SCENE_MODEL_CVODE, &
       SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
       SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
+  use pendula_scene_work, only: scene_solve_work, scene_run_work
   implicit none
   ! Default public: the module re-exports exactly what the `only:` lists import.
   public

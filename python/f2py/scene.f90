@@ -169,3 +169,26 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   info(SCENE_INFO_EVENT_TIME_ERROR) = res%event_time_error
   reason = res%reason
 end subroutine scene_solve_f2py
+
+! Predicted work of scene_solve_f2py with the same arguments [RK4 steps]
+! (scene_solve_work, or scene_run_work when fixed /= 0): Python runs a call
+! predicted long in a worker thread that Ctrl-C can stop.  0 for an invalid
+! scene (the solve refuses it at once).
+subroutine scene_work_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, work)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_scene, only: scene_t
+  use pendula_scene_work, only: scene_solve_work, scene_run_work
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n, want, model, fixed
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, w0lo, gamma, tol, setting
+  real(c_double), intent(out) :: work
+  type(scene_t) :: scene
+  scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
+      model=merge(0, int(model), fixed /= 0), t=t)
+  if (fixed /= 0) then
+    work = scene_run_work(scene, int(model), setting)
+  else
+    work = scene_solve_work(scene)
+  end if
+end subroutine scene_work_f2py

@@ -323,19 +323,14 @@ class SceneResult(_tables.Tabular):
             f"cost: runs={c.get('runs')}, steps={c.get('steps')}, rhs_evals={c.get('rhs_evals')}, "
             f"closed_form_evals={c.get('closed_form_evals')}, wall_time={c.get('python_wall_time', 0.0):.3g} s"])
 
-def _long_scene(scene, tt, model_code, setting):
-    # Predicted > ~50 ms: an integrated window of more than a few dozen
-    # periods, a fixed RK4 run of more than _longcall.RK4_LONG_STEPS steps, or many outputs.
-    # Closed forms (gamma = 0, or the linear model) are fast per point.
-    span = float(tt[-1]) if tt.size else 0.0
-    if tt.size > 100_000:
-        return True
-    if model_code == MODEL_CODES["rk4"] and setting > 0:
-        return span / setting > _longcall.RK4_LONG_STEPS
-    closed_undamped = (MODEL_CODES[name] for name in ("auto", "small_angle", "exact"))
-    if scene.gamma == 0 and model_code in closed_undamped:
-        return False
-    return scene.w0 * span / (2 * np.pi) > 50
+def _long_scene(scene, tt, model_code, fixed, setting):
+    # Predicted > ~50 ms (_longcall.RK4_LONG_STEPS): Fortran predicts the work of
+    # the call in RK4 steps from the scene (scene_solve_work / scene_run_work:
+    # the model the choice would take, its span, e.g. up to the hand-over of a
+    # decaying motion, its steps, the event grid and the outputs).  NaN: long.
+    work = _scene.scene_work_f2py(tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol,
+                                  WANT_CODES[scene.want], model_code, int(fixed), float(setting))
+    return not work <= _longcall.RK4_LONG_STEPS
 
 
 def _budget(max_steps):
@@ -362,9 +357,11 @@ def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, c
     m = _event_slots(scene, tt)
     budget = _budget(max_steps)
     watched = control is None
-    long = watched and _long_scene(scene, tt, model_code, float(setting))
+    long = watched and _long_scene(scene, tt, model_code, fixed, setting)
     start = time.perf_counter()
-    control = _longcall.new_control() if watched else control
+    if watched:
+        # a short call with no progress to watch runs inline: this thread's scratch array
+        control = _longcall.new_control() if long or progress else _longcall.scratch_control()
     args = (tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol, WANT_CODES[scene.want],
             model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
     out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress if watched else None,

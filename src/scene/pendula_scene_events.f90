@@ -34,7 +34,7 @@ module pendula_scene_events
   private
 
   public :: scene_event_bound, sign_change, bottom_sign, bottom_level, append_events, trim_events, event_time_error, &
-      event_grid, grid_events, event_interp_error, linear_error_at, event_rate
+      event_grid, event_grid_intervals, grid_events, event_interp_error, linear_error_at, event_rate
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
@@ -243,17 +243,26 @@ contains
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp), allocatable, intent(out) :: tg(:)  !< sample times [s] from 0 to tend, increasing
     integer :: n, i
+    n = event_grid_intervals(scene, tend)
+    allocate (tg(n + 1))
+    do i = 0, n
+      tg(i+1) = tend * (real(i, wp) / n)
+    end do
+  end subroutine event_grid
+
+  !> Intervals of the uniform sample grid of event_grid over [0, tend]: fine
+  !> enough that cubic Hermite interpolation is within tol/10 (interp_bound),
+  !> at least 64 and 8 gamma tend (fast decay), at most 4e6.
+  pure integer function event_grid_intervals(scene, tend) result(n)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp) :: d, per
     d = scene%tol / (10 * interp_bound(scene, 1.0_wp))
     d = d**0.25_wp
     per = max(64.0_wp, 2 * pi / (scene%w0 * d))
     n = int(min(4.0e6_wp, max(64.0_wp, per * scene%w0 * tend / (2 * pi) + 1)))
     if (scene%gamma > scene%w0) n = max(n, min(4000000, ceiling(8 * scene%gamma * tend) + 1))
-    allocate (tg(n + 1))
-    do i = 0, n
-      tg(i+1) = tend * (real(i, wp) / n)
-    end do
-  end subroutine event_grid
+  end function event_grid_intervals
 
   !> Bound on the error of the cubic Hermite interpolant between the samples
   !> tg(:) of the scene's trajectory (in theta, and Omega/w0), to be added

@@ -42,7 +42,7 @@ module pendula_scene_top
   implicit none
   private
 
-  public :: top_start, solve_top
+  public :: top_start, solve_top, top_hang_work
 
   !> A start within this distance of k pi (in (theta, Omega/w0)) hangs.
   real(wp), parameter :: TOP_NEAR = 0.05_wp
@@ -108,6 +108,30 @@ contains
     no_turn = v0 == 0 .or. .not. (a * b > 0 .and. abs(lm * b) >= 0.5_wp * lp * abs(a))
   end function no_turn
 
+  ! The hang from the top-centred start (phi0, v0): the time tx [s] at which
+  ! the growing mode reaches PHI_EXIT (at most tend), the gain of the motion
+  ! after tx on an error of the state handed over across the flow there, the
+  ! largest speed vmax [rad/s] after it, and the a priori target [rad] of the
+  ! hang (the error along the flow, a time shift, has the gain without the
+  ! sensitivity factor; the part across it, frac, was 0.4 % .. 18 % on the
+  ! benchmark grid, growing with gamma/w0): a guess for the first step only,
+  ! solve_top checks the carried error measured at tx.
+  pure subroutine hang_plan(scene, phi0, v0, tend, tx, gain, vmax, target)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, v0, tend
+    real(wp), intent(out) :: tx, gain, vmax, target
+    real(wp) :: lp, lm, a, b, near, frac
+    ! the saddle's rates, and the growing mode's amplitude a
+    call saddle(scene, phi0, v0, lp, lm, a, b)
+    tx = tend
+    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
+    vmax = max(2 * scene%w0, 2 * scene%gamma + scene%w0)
+    near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
+    gain = TOP_SAFETY * vmax / (lp * PHI_EXIT) * (1 + 2 / near)
+    frac = min(0.5_wp, 0.05_wp + 0.1_wp * scene%gamma / scene%w0)
+    target = scene%tol / (4 * (TOP_SAFETY * vmax / (lp * PHI_EXIT) + frac * gain))
+  end subroutine hang_plan
+
   ! The first RK4 step of the hang over [0, T] for an error target [rad].
   ! The motion there is phi = a e^(lp t) + b e^(lm t) (plus the cubic of
   ! sin, small for |phi| <= PHI_EXIT).  RK4 follows the growing mode with a
@@ -129,6 +153,30 @@ contains
     h = min(h, 1 / (-lm))
   end function hang_step
 
+  !> Predicted work [RK4 steps] of the hang of a damped scene that starts near
+  !> the top (solve_top; 0 for any other scene): the first pair of RK4 runs
+  !> in phi (at h and 2h) up to where the motion leaves the top, or to t(n)
+  !> when that comes first.  A prediction from closed formulas (refinements
+  !> are not counted), for deciding how to run the call.
+  pure real(wp) function top_hang_work(scene) result(work)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene), auto model
+    real(wp) :: k, phi0, v0, tend, tx, gain, vmax, target, h
+    logical :: is_top
+    work = 0
+    call top_start(scene, is_top, k, phi0, v0)
+    if (.not. is_top .or. scene%model /= SCENE_MODEL_AUTO) return
+    tend = scene%t(size(scene%t))
+    call hang_plan(scene, phi0, v0, tend, tx, gain, vmax, target)
+    ! as solve_top: the hang's own outputs at tol/2, all of them when it
+    ! covers the window
+    if (scene%want /= SCENE_WANT_EVENTS) target = min(target, scene%tol / 2)
+    if (scene%want /= SCENE_WANT_EVENTS .and. tend <= tx) target = scene%tol / 2
+    h = hang_step(scene, phi0, target, tx)
+    ! at most 1.5e300 (no overflow: a start exactly at the top hangs for ever)
+    work = 1.5e300_wp
+    if (tx / 1.0e300_wp <= h) work = 1.5_wp * tx / h
+  end function top_hang_work
+
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi
   !> over the hang, then `model`'s ordinary path from the state where the
   !> motion has left the top.  why is replaced.  done is false (nothing
@@ -143,8 +191,8 @@ contains
     type(scene_result_t), intent(inout) :: result  !< gets the answer, its error estimate and cost when done
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
-    real(wp) :: k, phi0, v0, lp, lm, a, b, tx, tshift, gain, target, h, est, d, p, e, thx, omx, near, eround
-    real(wp) :: vmax, frac, carried, r
+    real(wp) :: k, phi0, v0, tx, tshift, gain, target, h, est, d, p, e, thx, omx, eround
+    real(wp) :: vmax, carried, r
     real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
@@ -156,21 +204,7 @@ contains
     done = .false.
     call top_start(scene, is_top, k, phi0, v0)
     if (.not. is_top) return
-    ! the saddle's rates, and the growing mode's amplitude a
-    call saddle(scene, phi0, v0, lp, lm, a, b)
-    tx = tend
-    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
-    ! the gain of the motion after tx on an error of the state handed over
-    ! across the flow there, and the a priori target of the hang (the error
-    ! along the flow, a time shift, has the gain without the sensitivity
-    ! factor; the part across it, frac, was 0.4 % .. 18 % on the benchmark
-    ! grid, growing with gamma/w0): a guess for the first step only, the
-    ! loop checks the carried error measured at tx
-    vmax = max(2 * scene%w0, 2 * scene%gamma + scene%w0)
-    near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
-    gain = TOP_SAFETY * vmax / (lp * PHI_EXIT) * (1 + 2 / near)
-    frac = min(0.5_wp, 0.05_wp + 0.1_wp * scene%gamma / scene%w0)
-    target = scene%tol / (4 * (TOP_SAFETY * vmax / (lp * PHI_EXIT) + frac * gain))
+    call hang_plan(scene, phi0, v0, tend, tx, gain, vmax, target)
     ! the outputs in the hang (nk of the result's, up to tx), then tx
     call alloc_outputs(scene, result)
     n = size(result%t)
