@@ -324,8 +324,9 @@ contains
       d = w0 * (w0 * theta0) + a * omega0
       bmax = abs(theta0)
       if (omega0 /= 0 .and. (d > 0 .eqv. omega0 > 0) .and. beta * abs(omega0) < abs(d)) then
-        t = tend
-        if (abs(omega0) < abs(d) * tend) t = min(tend, hump_time(beta, abs(omega0), abs(d), abs(d) - beta * abs(omega0)))
+        t = tend    ! the hump lies beyond Omega0/d, so past tend when that is
+        if (abs(omega0) < abs(d) * tend) &
+            t = min(tend, hump_time(beta, abs(omega0), abs(d), abs(d) - beta * abs(omega0)))
         call linear_damped_state(lin, t, th, om)
         bmax = max(bmax, abs(th))
       end if
