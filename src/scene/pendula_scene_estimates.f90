@@ -295,22 +295,24 @@ contains
   !>      with A(t) = A0 e^(-gamma t/2) the phase lag is
   !>      phi(t) = w0^2 A0^2 (1 - e^(-gamma t))/(16 w_d gamma), so the error is
   !>      about A(t) min(2, phi(t)) (1 + gamma/(2 w0)) plus the harmonics A^3/16;
+  !>      its sup over the window is taken in closed form (drift_sup);
   !>  (b) any regime, Green's function: the error d solves the linear equation
   !>      forced by w0^2 (theta - sin theta) <= w0^2 |theta|^3/6, so
   !>      |d| <= w0^2 B^3/6 int_0^tend |G|, B = max |theta_lin|, and the same with
   !>      |G'|/w0 for Omega; G(s) = e^(-gamma s/2) sin(w_d s)/w_d (sinh, s).
+  !>      Over-damped or critical, B and max G are taken at their humps, whose
+  !>      times are closed forms (hump_time).
+  !> Cost: a few exp/log and at most two evaluations of the closed form, no
+  !> sampling (the scenes call this several times per solve).
   pure real(wp) function linear_estimate(theta0, omega0, w0, gamma, tend) result(e)
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
     real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
     real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
-    integer, parameter :: n = 400
     type(linear_damped_t) :: lin, gl
     type(status_t) :: st
-    real(wp) :: tt(0:n), th(0:n), om(0:n), bmax, ig, igp, eg, ep, wd, a0, a, amp, phi, scale, &
-        round, t0, gt, gpt, gmax, jmin
-    integer :: i
+    real(wp) :: bmax, ig, igp, eg, ep, wd, a, scale, round, gt, gpt, gmax, jmin, beta, d, th, om, t
     call linear_damped_init(lin, theta0, omega0, w0, gamma, st)
     if (st%code /= PENDULA_OK) then
       e = ieee_value(1.0_wp, ieee_positive_inf)
@@ -322,8 +324,6 @@ contains
       return
     end if
     a = gamma / 2
-    call linear_damped_init(gl, 0.0_wp, 1.0_wp, w0, gamma, st)   ! G: theta0 = 0, Omega0 = 1
-    call linear_damped_state(gl, tend, gt, gpt)
     if (lin%info%regime == DAMPING_UNDERDAMPED) then
       wd = lin%info%omega_d
       ! |theta| <= R e^(-a t) <= R, but R ~ 1/w_d blows up towards critical
@@ -336,34 +336,32 @@ contains
       jmin = min(int_exp_s(a, tend), int_exp(a, tend) / wd)
       ig = jmin
       igp = int_exp(a, tend) + a * jmin
-      ! (a) phase drift, sampled on a uniform grid (A(t) phi(t) is smooth)
-      a0 = lin%amplitude
-      ep = 0
-      do i = 0, n
-        tt(i) = tend * (real(i, wp) / n)
-        amp = a0 * exp(-a * tt(i))
-        if (gamma > 0) then
-          phi = w0**2 * a0**2 * (-expm1(-gamma * tt(i))) / (16 * wd * gamma)
-        else
-          phi = w0**2 * a0**2 * tt(i) / (16 * wd)
-        end if
-        ep = max(ep, amp * min(2.0_wp, phi) * max(1.0_wp, (wd + a) / w0) + amp**3 / 16)
-      end do
+      ep = drift_sup(lin%amplitude, max(1.0_wp, (wd + a) / w0), (w0 * lin%amplitude)**2 / (16 * wd))
     else
-      ! over-damped or critical: theta has at most one hump; sample it on a
-      ! geometric grid that resolves the fast time scale 1/|lambda1|
-      t0 = min(tend, 1.0e-3_wp / max(w0, gamma))
-      tt(0) = 0
-      do i = 1, n
-        tt(i) = t0 * (tend / t0)**(real(i - 1, wp) / (n - 1))
-      end do
-      call linear_damped_state(lin, tt, th, om)
-      bmax = maxval(abs(th)) * (1 + 1.0e-2_wp)
+      ! over-damped or critical (beta = 0): Omega = e^(-a t) (Omega0 C - d S)
+      ! with C = cosh(beta t), S = sinh(beta t)/beta, so theta has at most one
+      ! hump, where tanh(beta t)/beta = Omega0/d; without one (or with one
+      ! beyond the window) |theta| is largest at t = 0 or at tend
+      beta = lin%info%beta
+      d = w0 * (w0 * theta0) + a * omega0
+      bmax = abs(theta0)
+      if (omega0 /= 0 .and. (d > 0 .eqv. omega0 > 0) .and. beta * abs(omega0) < abs(d)) then
+        t = tend    ! the hump lies beyond Omega0/d, so past tend when that is
+        if (abs(omega0) < abs(d) * tend) &
+            t = min(tend, hump_time(beta, abs(omega0), abs(d), abs(d) - beta * abs(omega0)))
+        call linear_damped_state(lin, t, th, om)
+        bmax = max(bmax, abs(th))
+      end if
       ! G >= 0: int G = (1 - G'(T) - gamma G(T))/w0^2 from the equation itself;
-      ! G' changes sign once (at the hump of G), so int |G'| <= 2 max G.
+      ! G' changes sign once, at the hump tanh(beta t)/beta = 1/a, where
+      ! sinh(beta t) = beta/w0, so max G = e^(-a t)/w0 (or G(T) before it);
+      ! int |G'| <= 2 max G.
+      call linear_damped_init(gl, 0.0_wp, 1.0_wp, w0, gamma, st)   ! G: theta0 = 0, Omega0 = 1
+      call linear_damped_state(gl, tend, gt, gpt)
       ig = max(0.0_wp, (1 - gpt - gamma * gt) / w0**2)
-      call linear_damped_state(gl, tt, th, om)
-      gmax = maxval(th) * (1 + 1.0e-2_wp)
+      t = hump_time(beta, 1.0_wp, a, lin%info%decay_slow)
+      gmax = gt
+      if (t < tend) gmax = max(gt, exp(-a * t) / w0)
       igp = 2 * gmax
       ep = ieee_value(1.0_wp, ieee_positive_inf)
     end if
@@ -391,6 +389,56 @@ contains
         r = (-expm1(-x) - x * exp(-x)) / a**2
       end if
     end function int_exp_s
+    ! sup over t in [0, tend] of the phase-drift error (a), the sup itself,
+    ! not a sample of it, so that it bounds every t in the window.  In u =
+    ! e^(-a t) (from 1 down to u_T) with phi = p (1 - u^2)/gamma (p = w0^2
+    ! A0^2/(16 w_d)) it is f = A0 u c min(2, phi) + (A0 u)^3/16: where phi >= 2
+    ! f grows with u, so that part peaks where phi reaches 2 (u^2 = 1 - 2
+    ! gamma/p); where phi < 2 it is the cubic A0 c (p/gamma) u (1 - u^2) +
+    ! (A0 u)^3/16, stationary only at u^2 = 1/(3 (1 - q)), q = A0^2 gamma/
+    ! (16 c p).  The sup is the largest of f at u = 1, u_T and those two
+    ! points where they lie in the window.  gamma = 0: u = 1, phi = p t grows.
+    pure real(wp) function drift_sup(a0, c, p) result(f)
+      real(wp), intent(in) :: a0  !< amplitude R of the linear motion [rad]
+      real(wp), intent(in) :: c  !< factor max(1, (w_d + gamma/2)/w0) on the drift
+      real(wp), intent(in) :: p  !< w0^2 A0^2/(16 w_d) [1/s]
+      real(wp) :: phi, q, s
+      if (.not. ieee_is_finite(a0) .or. .not. ieee_is_finite(p)) then
+        f = ieee_value(1.0_wp, ieee_positive_inf)
+        return
+      end if
+      f = a0**3 / 16                                         ! t = 0
+      phi = p * int_exp(gamma, tend)                         ! t = tend
+      f = max(f, drift(a0, c, exp(-a * tend), phi))
+      if (phi > 2) f = max(f, drift(a0, c, sqrt(max(0.0_wp, 1 - 2 * gamma / p)), 2.0_wp))
+      if (3 * a0**2 * gamma < 32 * c * p) then
+        q = a0**2 * gamma / (16 * c * p)
+        s = (2 - 3 * q) / (3 * (1 - q))                       ! 1 - u^2 at the stationary point
+        if (s * p < 2 * gamma .and. s <= -expm1(-gamma * tend)) &
+            f = max(f, drift(a0, c, sqrt(1 / (3 * (1 - q))), s * p / gamma))
+      end if
+    end function drift_sup
+    ! the phase-drift error at u = e^(-a t) with phase lag phi
+    pure real(wp) function drift(a0, c, u, phi) result(y)
+      real(wp), intent(in) :: a0, c, u, phi
+      y = a0 * u * min(2.0_wp, phi) * c + (a0 * u)**3 / 16
+    end function drift
+    ! The t > 0 where w C(t) = v S(t), i.e. tanh(beta t)/beta = w/v (for
+    ! 0 <= beta w < v): the hump of a motion whose velocity is e^(-a t) (w C -
+    ! v S).  vm = v - beta w, from the caller without cancellation where it
+    ! can.  atanh(x)/beta with x = beta w/v, by its series for small x (no 0/0
+    ! at beta = 0, critical damping, where t = w/v: seamless across it).
+    pure real(wp) function hump_time(beta, w, v, vm) result(t)
+      real(wp), intent(in) :: beta, w, v, vm
+      real(wp) :: x, x2
+      x = beta * (w / v)
+      if (x < 1.0e-3_wp) then
+        x2 = x * x
+        t = (w / v) * (1 + x2 * (1.0_wp / 3 + x2 * (1.0_wp / 5 + x2 / 7)))
+      else
+        t = 0.5_wp * (log(v + beta * w) - log(vm)) / beta
+      end if
+    end function hump_time
   end function linear_estimate
 
   !> A priori RK4 step for the window: global error ~ C A (w0 h)^4 w0 T_eff
@@ -493,10 +541,8 @@ contains
   end function integrator_rounding
 
   ! e^x - 1 without cancellation for small |x| (accurate to ~1e-11 relative,
-  ! ample for error estimates).  Kept here, next to its only caller, rather
-  ! than in src/core: inlined into linear_estimate's sampling loop it lets
-  ! gfortran vectorise that loop (vector exp), and the estimates depend on
-  ! that to the last bit; a call across modules would change them.
+  ! ample for error estimates).  Kept here, next to its only caller,
+  ! linear_estimate (its integrals of e^(-a s) and the phase drift's window).
   elemental real(wp) function expm1(x) result(r)
     real(wp), intent(in) :: x
     if (abs(x) < 1.0e-5_wp) then

@@ -4,6 +4,7 @@
 !> bad input.  The 240-scene honesty grid is in tests/python/test_scene.py.
 program test_scene
   use pendula
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_testing, only: checker_t
   implicit none
   type(checker_t) :: tc
@@ -13,6 +14,14 @@ program test_scene
   real(wp) :: w0, wx, gamma, tt(41), ref_th(41), ref_om(41), err, e0, kk, per
   real(wp), allocatable :: tz(:)
   integer :: i, nz
+  ! the linear model's estimate at the ends of its ranges: theta0, Omega0/w0,
+  ! gamma/w0 (critical, just off it, heavy, vanishing) and w0 tend (to 1e12)
+  real(wp), parameter :: LIN_CASES(4, 10) = reshape([ &
+      1.0e-3_wp, 0.0_wp, 2.0_wp, 10.0_wp, 0.3_wp, -0.5_wp, 2.000000000002_wp, 10.0_wp, &
+      0.5_wp, -0.4_wp, 1.999999_wp, 7.0_wp, 0.3_wp, 0.0_wp, 2.0e8_wp, 10.0_wp, &
+      0.0_wp, 50.0_wp, 2.0e8_wp, 1.0e-6_wp, 0.2_wp, 0.1_wp, 1.0e-300_wp, 1.0e6_wp, &
+      0.2_wp, 0.1_wp, 1.0e-3_wp, 1.0e12_wp, 1.0e-300_wp, 0.0_wp, 0.5_wp, 100.0_wp, &
+      3.0_wp, 40.0_wp, 0.5_wp, 10.0_wp, 0.2_wp, -3.0_wp, 5.0_wp, 50.0_wp], [4, 10])
 
   w0 = sqrt(2.0_wp)
   tt = [(i * 0.5_wp, i = 0, 40)]
@@ -104,6 +113,20 @@ program test_scene
   else
     call tc%check_true(st%code == PENDULA_ERR_UNAVAILABLE, 'cvode forced without SUNDIALS: unavailable')
   end if
+
+  ! --- the linear model's estimate at the ends of its ranges: a number >= 0
+  ! (the checked build traps overflow and 0/0 on the way), and a longer
+  ! window never lowers it (it is a sup over the window)
+  do i = 1, size(LIN_CASES, 2)
+    call scene_init(sc, LIN_CASES(1, i), LIN_CASES(2, i) * w0, [LIN_CASES(4, i) / w0], w0, LIN_CASES(3, i) * w0, &
+        1.0e-6_wp, SCENE_WANT_STATE, st)
+    call scene_estimate(sc, SCENE_MODEL_LINEAR, e0, st)
+    call scene_init(sc, LIN_CASES(1, i), LIN_CASES(2, i) * w0, [2 * LIN_CASES(4, i) / w0], w0, &
+        LIN_CASES(3, i) * w0, 1.0e-6_wp, SCENE_WANT_STATE, st)
+    call scene_estimate(sc, SCENE_MODEL_LINEAR, err, st)
+    call tc%check_true(status_ok(st) .and. ieee_is_finite(e0) .and. e0 >= 0 .and. e0 <= err * (1 + 1.0e-12_wp), &
+        'linear estimate at an extreme: finite, >= 0, not lowered by a longer window')
+  end do
 
   ! --- bad input: a status naming the argument
   call scene_physics(9.8_wp, 4.9_wp, wx, gamma, st, gamma_in=0.2_wp, mass=0.1_wp, b=0.01_wp)
