@@ -2,8 +2,8 @@
 linear_estimate) against its documented formula evaluated independently with mpmath at 40
 digits: the phase-drift sup (underdamped) and the Green's-function bound (over-damped and
 critical), whose maxima pendula takes in closed form and the references find by a dense grid
-refined by golden-section search.  The estimate is LINEAR_SAFETY = 1.5 times the bound plus
-a rounding term 16 eps scale (1 + (w0 + gamma) T).
+refined by golden-section search.  The estimate is LINEAR_SAFETY (pendula._codes) times the
+bound plus a rounding term 16 eps scale (1 + (w0 + gamma) T).
 
 Tolerances: 1e-12 relative (the closed forms round to a few ulps; the references' maxima are
 located to ~1e-25 in t, so their values are good to far better than that).
@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 import pendula
+from pendula import _codes
 
 EPS = np.finfo(float).eps
-SAFETY = 1.5           # LINEAR_SAFETY of the Fortran module
+SAFETY = _codes.LINEAR_SAFETY   # the Fortran SCENE_LINEAR_SAFETY
 REL = 1e-12
 
 

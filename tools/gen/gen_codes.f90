@@ -13,7 +13,7 @@ program gen_codes
       PENDULA_CVODE_BDF
   use pendula_scene_codes, only: SCENE_MODEL_NAMES, SCENE_MODEL_ALIAS_NAMES, SCENE_MODEL_ALIAS_CODES, &
       SCENE_WANT_NAMES, SCENE_INFO_NAMES, SCENE_INFO_SIZE, SCENE_RK4_STEP_LIMIT, SCENE_STEP_CAP, &
-      SCENE_CVODE_STEP_COST, SCENE_STIFF_RATIO, SCENE_STIFF_RK4_STEPS
+      SCENE_CVODE_STEP_COST, SCENE_STIFF_RATIO, SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY
   use pendula_physics, only: PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
   implicit none
   include 'pendula_glue_codes.inc'
@@ -98,6 +98,8 @@ program gen_codes
   call real_line('STIFF_RK4_STEPS', SCENE_STIFF_RK4_STEPS)
   call put('STEP_CAP = ' // itoa(nint(SCENE_STEP_CAP, i8)))
   call real_line('CVODE_STEP_COST', SCENE_CVODE_STEP_COST)
+  call put('# safety factor of the linear model''s a priori nonlinearity estimates')
+  call real_line('LINEAR_SAFETY', SCENE_LINEAR_SAFETY)
   call put('')
   call put('# the number array of a solved scene: field name -> 0-based position')
   call put('INFO = {')
