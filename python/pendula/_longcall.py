@@ -19,6 +19,10 @@ import numpy as np
 RK4_LONG_STEPS = 2_000_000
 #: CVODE steps (or output points) above which a call is "long" (~0.5 us each).
 CVODE_LONG_STEPS = 100_000
+#: Predicted RK4 steps above which a scene solve is "long" (~2.5 ms): its
+#: prediction is a priori (the first verified pair), and refinements can
+#: multiply the work several times; a thread costs ~0.1 ms, a few % of such a call.
+SCENE_LONG_STEPS = RK4_LONG_STEPS // 20
 # Wait slices of the calling thread: a progress update, or a chance for Ctrl-C.
 _POLL_SECONDS = 0.02
 _JOIN_SECONDS = 0.05

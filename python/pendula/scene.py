@@ -324,13 +324,13 @@ class SceneResult(_tables.Tabular):
             f"closed_form_evals={c.get('closed_form_evals')}, wall_time={c.get('python_wall_time', 0.0):.3g} s"])
 
 def _long_scene(scene, tt, model_code, fixed, setting):
-    # Predicted > ~50 ms (_longcall.RK4_LONG_STEPS): Fortran predicts the work of
+    # Predicted > ~2.5 ms (_longcall.SCENE_LONG_STEPS): Fortran predicts the work of
     # the call in RK4 steps from the scene (scene_solve_work / scene_run_work:
     # the model the choice would take, its span, e.g. up to the hand-over of a
     # decaying motion, its steps, the event grid and the outputs).  NaN: long.
     work = _scene.scene_work_f2py(tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol,
                                   WANT_CODES[scene.want], model_code, int(fixed), float(setting))
-    return not work <= _longcall.RK4_LONG_STEPS
+    return not work <= _longcall.SCENE_LONG_STEPS
 
 
 def _budget(max_steps):

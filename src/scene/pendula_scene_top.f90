@@ -331,6 +331,13 @@ contains
         ns = max(1_i8, ns)
         dt = (tg(i) - t0) / real(ns, wp)
         do j = 1, ns
+          ! a hang may take millions of substeps in one interval: poll there too
+          if (present(control) .and. iand(j, 4095_i8) == 0) then
+            if (cancel_requested(control)) then
+              call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled by the caller')
+              return
+            end if
+          end if
           k1u = w
           k1w = f(u, w)
           k2u = w + dt / 2 * k1w

@@ -49,6 +49,10 @@ _CHILD = textwrap.dedent("""
         elif kind == "solve":
             t = [0.0, 1e6] if long else [0.0, 100.0]
             r = pendula.solve(pendula.Scene(1.0, t=t, gamma=1e-5, tol=1e-10))
+        elif kind == "solve_top":   # a hang at the top: millions of RK4 substeps in one interval
+            t = [0.0, 34722.6] if long else [0.0, 50.0]
+            r = pendula.solve(pendula.Scene(np.pi, t=t, g=4.776, length=6.674, gamma=28.64, tol=1e-12,
+                                            want="final"))
         elif kind == "run_model":
             t = [0.0, 1e5] if long else [0.0, 10.0]
             r = pendula.run_model(pendula.Scene(1.0, t=t, gamma=0.1), "rk4", 1e-4)
@@ -79,8 +83,8 @@ def _child(kind, mode):
                             stderr=subprocess.PIPE, text=True, env=_ENV)
 
 
-@pytest.mark.parametrize("kind", ["rk4", "cvode", "solve", "run_model", "tradeoff", "rk4_batch", "cvode_batch",
-                                  "solve_batch"])
+@pytest.mark.parametrize("kind", ["rk4", "cvode", "solve", "solve_top", "run_model", "tradeoff", "rk4_batch",
+                                  "cvode_batch", "solve_batch"])
 def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
     if kind.startswith("cvode") and not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
