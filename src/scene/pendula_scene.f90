@@ -36,8 +36,9 @@
 !> pendula_scene_integrated (RK4/CVODE runs and their verification),
 !> pendula_scene_events (event bound, Hermite events), pendula_scene_handover
 !> (an integrator only until a damped motion has decayed, then the linear
-!> closed form), pendula_scene_top (a damped start at the top: the hang in
-!> top-centred coordinates); this module is the
+!> closed form, also for events), pendula_scene_top (a damped start at the
+!> top: the hang in top-centred coordinates), pendula_scene_work (the
+!> predicted work of a call, from closed formulas); this module is the
 !> public face and the two entry points that run a scene.
 module pendula_scene
   use pendula_kinds, only: wp, i8
