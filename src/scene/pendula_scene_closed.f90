@@ -190,7 +190,7 @@ contains
       ! kind, the last passed); an oscillating one has, uncounted: the event
       ! count is then unverified (an infinite time error)
       if (cf%model == SCENE_MODEL_LINEAR .and. max(abs(thb), abs(omb) / cf%w0) < tiny(1.0_wp) / eps) then
-        if (ieee_is_finite(per)) cut = .true.
+        if (ieee_is_finite(per)) cut = next_linear_event(tha, oma) <= tend - ta
         exit
       end if
       ne = 0
@@ -215,6 +215,26 @@ contains
     result%cost%closed_form_evals = nevals + size(result%event_t)
     if (cut) result%event_time_error = ieee_value(1.0_wp, ieee_positive_inf)
   contains
+    ! Under-damped linear motion from (x, v) at the last sample still of
+    ! normal size: e^(a tau) theta = x cos(w_d tau) + c2 sin(w_d tau) and
+    ! e^(a tau) Omega = v cos(w_d tau) + c3 sin(w_d tau) vanish at phases
+    ! known in closed form, whatever the size, so the time [s] to the next
+    ! event (zero crossing or turning point) is exact to rounding: when it lies
+    ! past the window's end (a few ulps of margin) the count is verified.
+    pure real(wp) function next_linear_event(x, v) result(tau)
+      real(wp), intent(in) :: x, v
+      real(wp) :: a, wd
+      a = cf%gamma / 2
+      wd = cf%lin%info%omega_d
+      tau = min(first_zero(x, (v + a * x) / wd), first_zero(v, -(cf%w0**2 * x + a * v) / wd)) / wd
+      tau = tau * (1 - 64 * eps)
+    end function next_linear_event
+    ! smallest phase p > 0 with c cos(p) + s sin(p) = 0 (c, s not both 0)
+    pure real(wp) function first_zero(c, s) result(p)
+      real(wp), intent(in) :: c, s
+      p = modulo(atan2(s, c) + pi / 2, pi)
+      if (.not. p > 0) p = pi
+    end function first_zero
     real(wp) function refine(which, a0, b0, fa0, fb0) result(r)
       integer, intent(in) :: which
       real(wp), intent(in) :: a0, b0, fa0, fb0

@@ -25,7 +25,7 @@ module pendula_scene_estimates
   private
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
-  public :: cvode_min_steps, exact_time_error, slow_rate
+  public :: cvode_min_steps, exact_time_error, slow_rate, linear_answers
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
@@ -142,6 +142,13 @@ contains
       end if
       return
     end if
+    if (scene%want == SCENE_WANT_EVENTS .and. no_events(scene)) then
+      model = SCENE_MODEL_LINEAR
+      est = 0
+      why = 'gamma >= 2 w0 and the start lies in the sector 0 <= -Omega sign(theta) <= lambda |theta|, ' // &
+          'which the pendulum never leaves: no event after t = 0 (the linear closed form, exact here)'
+      return
+    end if
     e_lin = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend)
     if (e_lin <= scene%tol) then
       model = SCENE_MODEL_LINEAR
@@ -191,6 +198,41 @@ contains
     a = hypot(scene%theta0, scene%omega0 / scene%w0)
     e = e_sa / (scene%w0 * max(min(a, sin(min(a, pi / 2))), tiny(1.0_wp)))
   end function small_angle_event_error
+
+  !> Whether choose_model answers a damped scene with the linear closed form
+  !> (its nonlinearity estimate over the window meets tol, or want = events
+  !> and no event can follow t = 0): the rule itself, for predictions.
+  pure logical function linear_answers(scene, tend) result(yes)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene), gamma > 0
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    yes = scene%want == SCENE_WANT_EVENTS .and. no_events(scene)
+    if (.not. yes) yes = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend) <= scene%tol
+  end function linear_answers
+
+  ! Whether the damped pendulum has no event (zero crossing, turning point)
+  ! after t = 0, proved for gamma >= 2 w0 and a start (theta, Omega with
+  ! |theta| < pi) in the sector 0 <= -Omega sign(theta) <=
+  ! lambda |theta|, lambda = gamma/2 + sqrt(gamma^2/4 - w0^2) (a root of
+  ! lambda^2 - gamma lambda + w0^2 = 0).  For theta > 0, f = Omega + lambda
+  ! theta has f' = (gamma lambda - lambda^2) theta - w0^2 sin(theta) =
+  ! w0^2 (theta - sin(theta)) >= 0 where f = 0, and Omega' = -w0^2
+  ! sin(theta) < 0 where Omega = 0: the motion stays in the sector, so theta
+  ! decreases for t > 0 (no turning point) and theta >= theta0 e^(-lambda t) >
+  ! 0 (no crossing); the linear closed form (where f' = 0 on the edge) has
+  ! no event either.  The sector's edge is kept 1e-12 inside for rounding.
+  pure logical function no_events(scene)
+    type(scene_t), intent(in) :: scene
+    real(wp) :: x, half, lam
+    no_events = .false.
+    half = scene%gamma / 2
+    if (half < scene%w0) return
+    ! about the bottom theta = 0 only: the linear closed form that answers
+    ! (no event either) is the one about 0
+    x = scene%theta0
+    if (.not. abs(x) < pi) return
+    lam = half + sqrt(half - scene%w0) * sqrt(half + scene%w0)
+    no_events = scene%omega0 * x <= 0 .and. abs(scene%omega0) <= lam * abs(x) * (1 - 1.0e-12_wp)
+  end function no_events
 
   ! Rounding of the energy per unit m l^2 of a state, divided by w0^2: each
   ! of the two terms Omega^2/2 and w0^2 (1 - cos theta) rounds by a few eps.

@@ -49,7 +49,7 @@ module pendula_scene_handover
   implicit none
   private
 
-  public :: solve_integrated, add_cost, decay_time, MAX_PART, SUB_TOL_REL, AREF
+  public :: solve_integrated, add_cost, handover_time, MAX_PART, SUB_TOL_REL
 
   !> A hand-over is tried only when it spares at least this part of the window.
   real(wp), parameter :: MAX_PART = 0.75_wp
@@ -409,12 +409,18 @@ contains
     total%runs = total%runs + c%runs
   end subroutine add_cost
 
-  ! Predicted time [s] after which the linear model's nonlinearity over the
-  ! rest of a window of length span fits tol/4, for a motion from (x0, v0)
-  ! (decay_time, with the nonlinearity of a swing AREF over span from
-  ! linear_estimate).  A prediction only: the integrated state at that time decides.
+  !> Predicted time [s] after which the linear model's nonlinearity over the
+  !> rest of a window of length span fits tol/4, for a motion from (x0, v0)
+  !> (decay_time, with the nonlinearity of a swing AREF over span from
+  !> linear_estimate).  A prediction only: the integrated state at that time
+  !> decides (solve_integrated), or the work a solve will do (pendula_scene_work).
   pure real(wp) function handover_time(x0, v0, w0, gamma, tol, span) result(ts)
-    real(wp), intent(in) :: x0, v0, w0, gamma, tol, span
+    real(wp), intent(in) :: x0  !< initial angle [rad]
+    real(wp), intent(in) :: v0  !< initial angular velocity [rad/s]
+    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], > 0
+    real(wp), intent(in) :: tol  !< tolerance [rad], > 0
+    real(wp), intent(in) :: span  !< the rest of the window [s], >= 0
     ts = decay_time(x0, v0, w0, gamma, tol, linear_estimate(AREF, 0.0_wp, w0, gamma, span))
   end function handover_time
 

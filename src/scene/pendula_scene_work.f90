@@ -28,10 +28,11 @@ module pendula_scene_work
       SCENE_RK4_STEP_LIMIT, SCENE_STIFF_RK4_STEPS
   use pendula_scene_types, only: scene_t, window_end, is_stiff
   use pendula_scene_setup, only: check_scene
-  use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, integrator_rounding, slow_rate
+  use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, integrator_rounding, slow_rate, &
+      linear_answers
   use pendula_scene_events, only: scene_event_bound, event_grid_intervals
   use pendula_scene_top, only: top_hang_work
-  use pendula_scene_handover, only: decay_time, MAX_PART, SUB_TOL_REL, AREF
+  use pendula_scene_handover, only: handover_time, MAX_PART, SUB_TOL_REL
   implicit none
   private
 
@@ -79,6 +80,9 @@ contains
     tend = window_end(scene)
     model = scene%model
     if (model == SCENE_MODEL_AUTO .and. scene%gamma == 0) model = SCENE_MODEL_EXACT
+    if (model == SCENE_MODEL_AUTO .and. scene%gamma > 0) then
+      if (linear_answers(scene, tend)) model = SCENE_MODEL_LINEAR
+    end if
     if (model == SCENE_MODEL_SMALL_ANGLE .or. model == SCENE_MODEL_EXACT .or. model == SCENE_MODEL_LINEAR) then
       work = closed_work(scene, tend)
       return
@@ -87,10 +91,8 @@ contains
     tol = scene%tol
     if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
         scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
-      ! the hand-over to the linear form once decayed (pendula_scene_handover),
-      ! with a nonlinearity estimate of the linear form from closed formulas
-      span = decay_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, &
-          linear_nonlinearity(scene%w0, scene%gamma, tend))
+      ! the hand-over to the linear form once decayed (pendula_scene_handover)
+      span = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
       if (span < MAX_PART * tend) then
         tol = scene%tol / 2
         ! no output before the hand-over: the state there is needed only to
@@ -241,19 +243,5 @@ contains
     type(scene_t), intent(in) :: scene
     swing = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
   end function swing
-
-  ! The linear model's nonlinearity [rad] for a swing of AREF over a window
-  ! of length span, from closed formulas (linear_estimate samples the window):
-  ! its Green's-function bound w0^2 A^3/6 int_0^span |G| with int |G| ~
-  ! min(span^2/2, span/wf, 1/(slow wf)), wf the faster rate (gamma/2 + the
-  ! damped frequency, or the fast real root) and slow the slow one.  Within
-  ! a few times linear_estimate's value, which decay_time needs only through
-  ! its cube root inside a logarithm.
-  pure real(wp) function linear_nonlinearity(w0, gamma, span) result(e)
-    real(wp), intent(in) :: w0, gamma, span
-    real(wp) :: wf
-    wf = gamma / 2 + sqrt(abs(gamma / 2 - w0)) * sqrt(gamma / 2 + w0)
-    e = w0**2 * AREF**3 / 6 * min(span * min(span / 2, 1 / wf), 1 / (slow_rate(w0, gamma) * wf))
-  end function linear_nonlinearity
 
 end module pendula_scene_work
