@@ -273,6 +273,9 @@ FORTRAN_NO_STATUS = {
     "ellipj_plan": "elliptic rule", "ellipj_planm1": "elliptic rule",
     # whether a Jacobi plan pays off: a total decision on (m, n) for any m and n
     "ellipj_plan_pays": "total decision", "ellipjm1_plan_pays": "total decision",
+    # the same for a motion built (and checked) by undamped_init, and adding that plan to it
+    "undamped_plan_pays": "total decision on a checked motion",
+    "undamped_add_plan": "acts on a motion undamped_init built and checked",
     # documented unchecked kernels with a checked entry point (reported to their concerns)
     "linear_eigenvalues": "helper of rk4_max_stable_step on checked inputs",
 }
