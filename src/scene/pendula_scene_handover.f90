@@ -69,7 +69,7 @@ module pendula_scene_handover
   !> before the first output: the integrators' a posteriori estimates
   !> (Richardson, two CVODE tolerances) assume errors well below the motion.
   real(wp), parameter :: SUB_TOL_REL = 1.0e-2_wp
-  !> Swing [rad] whose linear-model nonlinearity decay_time scales from.
+  !> Swing [rad] whose linear-model nonlinearity handover_time scales from.
   real(wp), parameter :: AREF = 0.1_wp
 
 contains
@@ -410,10 +410,17 @@ contains
   end subroutine add_cost
 
   !> Predicted time [s] after which the linear model's nonlinearity over the
-  !> rest of a window of length span fits tol/4, for a motion from (x0, v0)
-  !> (decay_time, with the nonlinearity of a swing AREF over span from
-  !> linear_estimate).  A prediction only: the integrated state at that time
-  !> decides (solve_integrated), or the work a solve will do (pendula_scene_work).
+  !> rest of a window of length span fits tol/4, for a motion from (x0, v0):
+  !> a rotation first loses its excess energy (m decays at least like
+  !> e^(-gamma t) while it goes over the top), a start at distance d0 from
+  !> the top first hangs there for ~ln(pi/d0)/lambda (lambda = sqrt(gamma^2/4
+  !> + w0^2) - gamma/2, the growth rate of the linearization about the top:
+  !> without it a start 1e-6 rad below the top was predicted to have decayed
+  !> while still up, and every try failed), then the swing A decays at the
+  !> slowest rate of the linear modes (slow_rate) down to the amplitude A_h
+  !> where linear_estimate (which grows like A^3) is tol/4.  A prediction
+  !> only: the integrated state at that time decides (solve_integrated), or
+  !> the work a solve will do (pendula_scene_work).
   pure real(wp) function handover_time(x0, v0, w0, gamma, tol, span) result(ts)
     real(wp), intent(in) :: x0  !< initial angle [rad]
     real(wp), intent(in) :: v0  !< initial angular velocity [rad/s]
@@ -421,27 +428,7 @@ contains
     real(wp), intent(in) :: gamma  !< damping rate [1/s], > 0
     real(wp), intent(in) :: tol  !< tolerance [rad], > 0
     real(wp), intent(in) :: span  !< the rest of the window [s], >= 0
-    ts = decay_time(x0, v0, w0, gamma, tol, linear_estimate(AREF, 0.0_wp, w0, gamma, span))
-  end function handover_time
-
-  !> Predicted time [s] after which the linear model's nonlinearity, eref [rad]
-  !> for a swing of AREF [rad] and growing like the swing cubed, fits tol/4,
-  !> for a motion from (x0, v0): a rotation first loses its excess energy (m
-  !> decays at least like e^(-gamma t) while it goes over the top), a start at
-  !> distance d0 from the top first hangs there for ~ln(pi/d0)/lambda (lambda
-  !> = sqrt(gamma^2/4 + w0^2) - gamma/2, the growth rate of the linearization
-  !> about the top: without it a start 1e-6 rad below the top was predicted to
-  !> have decayed while still up, and every try failed), then the swing A
-  !> decays at the slowest rate of the linear modes (slow_rate) down to the
-  !> amplitude A_h where the nonlinearity is tol/4.  0 when eref is not > 0.
-  pure real(wp) function decay_time(x0, v0, w0, gamma, tol, eref) result(ts)
-    real(wp), intent(in) :: x0  !< initial angle [rad]
-    real(wp), intent(in) :: v0  !< initial angular velocity [rad/s]
-    real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
-    real(wp), intent(in) :: gamma  !< damping rate [1/s], > 0
-    real(wp), intent(in) :: tol  !< tolerance [rad], > 0
-    real(wp), intent(in) :: eref  !< the linear model's nonlinearity [rad] for a swing of AREF (0.1 rad) over the rest of the window
-    real(wp) :: xr, msep, a0, ah, trot, thang, d0, el, half, rate, cap, x
+    real(wp) :: xr, msep, a0, ah, trot, thang, d0, el, half, rate, cap, x, eref
     integer :: i
     xr = abs(modulo(x0 + pi, 2 * pi) - pi)
     msep = sin(xr / 2)**2 + (v0 / (2 * w0))**2
@@ -453,6 +440,7 @@ contains
     a0 = min(xr + abs(v0) / w0, pi)
     if (msep >= 1) a0 = pi
     rate = slow_rate(w0, gamma)
+    eref = linear_estimate(AREF, 0.0_wp, w0, gamma, span)
     if (.not. eref > 0) then
       ts = 0
       return
@@ -471,6 +459,6 @@ contains
     end do
     ts = trot + thang + x / rate
     ts = max(ts, 1 / max(w0, gamma))
-  end function decay_time
+  end function handover_time
 
 end module pendula_scene_handover
