@@ -19,13 +19,13 @@ module pendula_scene_estimates
       SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS, &
       SCENE_RK4_STEP_LIMIT, &
       SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY, scene_want_name
-  use pendula_scene_types, only: scene_t, window_end, is_stiff
+  use pendula_scene_types, only: scene_t, window_end, is_stiff, swing
   use pendula_scene_setup, only: check_scene
   implicit none
   private
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
-  public :: cvode_min_steps, exact_time_error, slow_rate, linear_answers
+  public :: cvode_min_steps, exact_time_error, slow_rate, linear_answers, integrator_rule, cvode_first_rtol
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
@@ -103,12 +103,14 @@ contains
     real(wp), intent(out) :: est  !< its a priori error estimate [rad] (tol for rk4/cvode)
     character(len=:), allocatable, intent(out) :: why  !< the reason for the choice, in words
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
-    real(wp) :: e_sa, e_ex, e_lin, hmax, nsteps, rk4_round, big, msep
+    real(wp) :: e_sa, e_ex, e_ev, e_lin, hmax, nsteps, rk4_round
+    logical :: use_cvode
     type(status_t) :: st
     if (scene%gamma == 0) then
       call model_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
       call model_estimate(scene, SCENE_MODEL_EXACT, e_ex, status)
       if (status%code /= PENDULA_OK) return
+      e_ev = small_angle_event_error(scene, e_sa)
       if (scene%want == SCENE_WANT_PERIOD .and. e_sa <= scene%tol) then
         model = SCENE_MODEL_SMALL_ANGLE
         est = e_sa
@@ -121,14 +123,13 @@ contains
         est = e_ex
         why = 'gamma = 0 and want = ' // scene_want_name(scene%want) // &
             ': the exact value costs one set-up (K once), no time series'
-      else if (e_sa <= scene%tol .and. small_angle_event_error(scene, e_sa) > scene%tol) then
+      else if (e_sa <= scene%tol .and. e_ev > scene%tol) then
         ! an event's time is off by the state bound over the rate there (as
         ! pendula_scene_events measures it once the events are found)
         model = SCENE_MODEL_EXACT
         est = e_ex
         why = 'gamma = 0, want = events: the small-angle bound ' // format_sci(e_sa, 4) // &
-            ' rad moves its event times by ~' // format_sci(small_angle_event_error(scene, e_sa), 4) // &
-            ' > tol: exact elliptic solution'
+            ' rad moves its event times by ~' // format_sci(e_ev, 4) // ' > tol: exact elliptic solution'
       else if (e_sa <= scene%tol) then
         model = SCENE_MODEL_SMALL_ANGLE
         est = e_sa
@@ -161,18 +162,8 @@ contains
     model = SCENE_MODEL_RK4
     call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
     nsteps = tend / min(0.9_wp * hmax, rk4_apriori_step(scene, tend))
-    ! RK4's rounding floor grows like sqrt(steps) times max|theta| (unwrapped
-    ! rotations): when it would eat tol, CVODE's fewer, longer steps do better
-    ! (the angle grows without bound only while the pendulum goes over the top:
-    ! at most max|Omega| = sqrt(Omega0^2 + 4 w0^2) times the window, or the
-    ! time damping needs to bring the energy E0 = m E_sep below the separatrix)
-    big = abs(scene%theta0) + 2 * pi
-    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
-    if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * &
-        min(tend, 2 * (1 + log(msep)) / scene%gamma)
-    rk4_round = integrator_rounding(scene, [big], nsteps)
-    if (cvode_available() .and. (nsteps > SCENE_RK4_STEP_LIMIT .or. rk4_round > scene%tol / 4 .or. &
-        (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))) then
+    call integrator_rule(scene, tend, nsteps, scene%tol, use_cvode, rk4_round)
+    if (use_cvode) then
       model = SCENE_MODEL_CVODE
       why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
           format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad): CVODE (' // &
@@ -233,6 +224,43 @@ contains
     lam = half + sqrt(half - scene%w0) * sqrt(half + scene%w0)
     no_events = scene%omega0 * x <= 0 .and. abs(scene%omega0) <= lam * abs(x) * (1 - 1.0e-12_wp)
   end function no_events
+
+  !> The integrator for an integrated span [0, span] of nsteps RK4 steps at
+  !> tol: CVODE (when built) for a very long RK4 run, a stiff scene beyond a
+  !> short one, or where RK4's rounding floor would eat tol; it grows like
+  !> sqrt(steps) times max|theta|, and the unwrapped angle of a rotation grows
+  !> only while the pendulum goes over the top: at most max|Omega| =
+  !> sqrt(Omega0^2 + 4 w0^2) times the span, or the time damping needs to
+  !> bring the energy E0 = m E_sep below the separatrix.  One rule for
+  !> choose_model and for the work prediction (pendula_scene_work).
+  pure subroutine integrator_rule(scene, span, nsteps, tol, use_cvode, rk4_round)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene), gamma > 0
+    real(wp), intent(in) :: span  !< integrated span [s], >= 0
+    real(wp), intent(in) :: nsteps  !< RK4 steps over it
+    real(wp), intent(in) :: tol  !< tolerance of the integration [rad], > 0
+    logical, intent(out) :: use_cvode  !< CVODE rather than RK4
+    real(wp), intent(out) :: rk4_round  !< RK4's predicted rounding floor [rad]
+    real(wp) :: big, msep
+    big = abs(scene%theta0) + 2 * pi
+    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
+    if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * min(span, 2 * (1 + log(msep)) / scene%gamma)
+    rk4_round = integrator_rounding(scene, [big], nsteps)
+    use_cvode = cvode_available() .and. (nsteps > SCENE_RK4_STEP_LIMIT .or. rk4_round > tol / 4 .or. &
+        (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))
+  end subroutine integrator_rule
+
+  !> CVODE's first rtol for tol over [0, tend]: a local tolerance is not a
+  !> global error, so tol/10 over the periods in the window and the state's
+  !> scale |theta0| + |Omega0|/w0 (at least 1e-14).
+  pure real(wp) function cvode_first_rtol(scene, tend, tol) result(rtol)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the integrated span [s], >= 0
+    real(wp), intent(in) :: tol  !< tolerance [rad], > 0
+    real(wp) :: periods, scale
+    periods = 1 + scene%w0 * tend / (2 * pi)
+    scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
+    rtol = max(0.1_wp * tol / (periods * scale), 1.0e-14_wp)
+  end function cvode_first_rtol
 
   ! Rounding of the energy per unit m l^2 of a state, divided by w0^2: each
   ! of the two terms Omega^2/2 and w0^2 (1 - cos theta) rounds by a few eps.
@@ -495,7 +523,7 @@ contains
     real(wp), intent(in) :: tend  !< end of the window [s], > 0
     real(wp) :: a, teff, c, slow
     ! the motion's size, not the raw angle: theta0 + 2 pi k is the same motion
-    a = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
+    a = swing(scene)
     a = min(max(a, 1.0e-3_wp), 2 * pi)
     teff = tend
     if (scene%gamma > 0) then

@@ -28,7 +28,7 @@ module pendula_scene_events
   use pendula_constants, only: pi
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_BISECT
   use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
-  use pendula_scene_types, only: scene_t, scene_result_t
+  use pendula_scene_types, only: scene_t, scene_result_t, swing
   use pendula_scene_codes, only: SCENE_LINEAR_SAFETY
   implicit none
   private
@@ -287,7 +287,7 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: h
     real(wp) :: a, w
-    a = max(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, 1.0e-3_wp)
+    a = max(swing(scene), 1.0e-3_wp)
     w = max(scene%w0, scene%gamma)
     e = (w * h)**4 / 384 * a * max(1.0_wp, a) * (w / scene%w0)
   end function interp_bound

@@ -39,7 +39,7 @@ module pendula_scene_handover
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: SCENE_LINEAR_SAFETY, SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_LINEAR, &
       SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
-  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate
   use pendula_scene_integrated, only: solve_rk4, solve_cvode
@@ -49,7 +49,7 @@ module pendula_scene_handover
   implicit none
   private
 
-  public :: solve_integrated, add_cost, handover_time, MAX_PART, SUB_TOL_REL
+  public :: solve_integrated, add_cost, handover_time, loosened_tol, MAX_PART
 
   !> A hand-over is tried only when it spares at least this part of the window.
   real(wp), parameter :: MAX_PART = 0.75_wp
@@ -90,7 +90,7 @@ contains
     type(scene_t) :: sub
     type(scene_result_t) :: part, fresh
     type(scene_cost_t) :: spent
-    real(wp) :: ts, xs, vs, e1, elin, est, center, gain, swing
+    real(wp) :: ts, xs, vs, e1, elin, est, center, gain
     integer :: it, k, sub_model
     logical :: early
     type(scene_result_t) :: best
@@ -106,7 +106,6 @@ contains
     else if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
         scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
       ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
-      swing = min(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, pi)
       do it = 1, MAX_TRIES
         if (.not. ts < MAX_PART * tend) exit
         call sub_scene(scene, ts, sub, k)
@@ -114,7 +113,7 @@ contains
         ! outputs at t = 0 are the initial state itself, exact: only later
         ! ones before ts need the part at tol
         early = count(scene%t(1:k) > 0) > 0
-        if (.not. early) sub%tol = max(sub%tol, min(sub%tol / max(gain, tiny(1.0_wp)), SUB_TOL_REL * swing))
+        if (.not. early) sub%tol = loosened_tol(scene, sub%tol, gain)
         call run_part()
         if (status%code /= PENDULA_OK) return
         ! the linear model about the equilibrium the motion has settled to,
@@ -190,7 +189,7 @@ contains
         wd = sqrt(scene%w0 - scene%gamma / 2) * sqrt(scene%w0 + scene%gamma / 2)
         c = SCENE_LINEAR_SAFETY * scene%w0**2 * max(1.0_wp, (wd + scene%gamma / 2) / scene%w0) / (16 * wd**2 * scene%gamma)
         rh = sqrt(0.25_wp * scene%tol / c)
-        sw = min(abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0, pi)
+        sw = min(swing(scene), pi)
         ts = max(ts, log(max(1.0_wp, sw / rh)) / (scene%gamma / 2))
         sub%tol = min(sub%tol, scene%tol * scene%w0 * rh)
       end if
@@ -308,6 +307,20 @@ contains
       end if
     end subroutine run
   end subroutine solve_integrated
+
+  !> Tolerance [rad] of the integrated part when no output precedes the
+  !> hand-over: the state there is needed only to tol over the gain [-] of
+  !> the linear propagator to the outputs after it, but at most SUB_TOL_REL
+  !> of the motion's size (where the integrators' a posteriori estimates
+  !> stay asymptotic); never below tol, and no overflow when gain underflows.
+  pure real(wp) function loosened_tol(scene, tol, gain) result(loose)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tol  !< the part's tolerance before loosening [rad], > 0
+    real(wp), intent(in) :: gain  !< gain of the linear propagator after the hand-over, in [0, sqrt(2)]
+    loose = SUB_TOL_REL * min(swing(scene), pi)
+    if (tol < loose * gain) loose = tol / gain
+    loose = max(tol, loose)
+  end function loosened_tol
 
   ! The first part of the scene: the outputs before ts, then ts itself (or
   ! ts alone for want = final), at tol/2; k of the scene's outputs lie before ts.

@@ -16,7 +16,7 @@ module pendula_scene_integrated
       SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding, cvode_min_steps
+  use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding, cvode_min_steps, cvode_first_rtol
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error
   implicit none
   private
@@ -203,7 +203,7 @@ contains
       if (abs((tt(i) - tt(i-1)) - dt) > 1.0e-12_wp * dt) uniform = .false.
     end do
     if (size(tt) >= 2 .and. uniform) then
-      nsub = substeps(dt)
+      nsub = substep_count(dt, h, factor)
       allocate (th1(size(tt)), om1(size(tt)))
       call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt / nsub, th1, om1, &
           stats, status, control, huge(1_i8))
@@ -226,7 +226,7 @@ contains
       end if
       if (tg(i) > t0) then
         dt = tg(i) - t0
-        call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substeps(dt), x1, v1, &
+        call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substep_count(dt, h, factor), x1, v1, &
             stats, status, control, huge(1_i8))
         x = x1
         v = v1
@@ -239,11 +239,6 @@ contains
       t0 = tg(i)
     end do
     cost%runs = cost%runs + 1
-  contains
-    pure real(wp) function substeps(d) result(ns)
-      real(wp), intent(in) :: d
-      ns = substep_count(d, h, factor)
-    end function substeps
   end subroutine rk4_run
 
   ! rk4_run's substeps on an interval of length d: 2 ceil(d/(2 h)) / factor.
@@ -282,7 +277,7 @@ contains
     type(scene_result_t), intent(inout) :: result  !< gets the tighter run, the two runs' difference as estimate, rtol, cost
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
-    real(wp) :: rtol, est, periods, scale, predicted
+    real(wp) :: rtol, est, periods, predicted
     real(wp), allocatable :: th1(:), om1(:), tgrid(:)
     type(ode_stats_t) :: stats
     integer :: it
@@ -290,8 +285,7 @@ contains
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
     allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)))
     periods = 1 + scene%w0 * tend / (2 * pi)
-    scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
-    rtol = max(0.1_wp * scene%tol / (periods * scale), 1.0e-14_wp)
+    rtol = cvode_first_rtol(scene, tend, scene%tol)
     ! Up front: the two runs (rtol and rtol/10) need at least cvode_min_steps
     ! each (an underdamped, non-stiff scene; 0 otherwise)
     predicted = (cvode_min_steps(scene, tend, rtol) + cvode_min_steps(scene, tend, rtol / 10)) * SCENE_CVODE_STEP_COST

@@ -2,6 +2,7 @@
 !> is), and the few quantities every part of the solve derives from a scene.
 module pendula_scene_types
   use pendula_kinds, only: wp, i8
+  use pendula_constants, only: pi
   use pendula_status, only: PENDULA_MSG_LEN
   use pendula_integrators, only: ode_stats_t
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_WANT_STATE, SCENE_STIFF_RATIO
@@ -9,7 +10,7 @@ module pendula_scene_types
   private
 
   public :: scene_t, scene_result_t, scene_cost_t
-  public :: window_end, is_stiff, add_stats
+  public :: window_end, is_stiff, add_stats, swing
 
   !> A scene; build it with scene_init (which checks every field).
   type :: scene_t
@@ -79,6 +80,13 @@ contains
     type(scene_t), intent(in) :: scene  !< the scene (w0 > 0, gamma >= 0)
     is_stiff = scene%gamma > SCENE_STIFF_RATIO * scene%w0
   end function is_stiff
+
+  !> The motion's size [rad]: |theta0| about the nearest bottom 2 pi k (in
+  !> [0, pi]) plus |Omega0|/w0, so theta0 + 2 pi k is the same motion.
+  pure real(wp) function swing(scene)
+    type(scene_t), intent(in) :: scene  !< the scene (w0 > 0)
+    swing = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
+  end function swing
 
   !> Add one integrator run's counters to a cost.
   pure subroutine add_stats(cost, stats)

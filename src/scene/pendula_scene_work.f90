@@ -21,18 +21,17 @@ module pendula_scene_work
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_constants, only: pi
-  use pendula_integrators, only: cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_LINEAR, &
       SCENE_MODEL_EXACT, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, &
       SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST, &
       SCENE_RK4_STEP_LIMIT, SCENE_STIFF_RK4_STEPS
   use pendula_scene_types, only: scene_t, window_end, is_stiff
   use pendula_scene_setup, only: check_scene
-  use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, integrator_rounding, slow_rate, &
-      linear_answers
+  use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, slow_rate, linear_answers, &
+      integrator_rule, cvode_first_rtol
   use pendula_scene_events, only: scene_event_bound, event_grid_intervals
   use pendula_scene_top, only: top_hang_work
-  use pendula_scene_handover, only: handover_time, MAX_PART, SUB_TOL_REL
+  use pendula_scene_handover, only: handover_time, loosened_tol, MAX_PART
   implicit none
   private
 
@@ -72,7 +71,7 @@ contains
   pure real(wp) function scene_solve_work(scene) result(work)
     type(scene_t), intent(in) :: scene  !< the scene (checked here)
     type(status_t) :: st
-    real(wp) :: tend, span, tol, gain, loose
+    real(wp) :: tend, span, tol, gain
     integer :: model
     work = 0
     call check_scene(scene, st)
@@ -99,9 +98,7 @@ contains
         ! tol over the gain of the linear propagator to t(n) (about its decay)
         if (scene%want == SCENE_WANT_FINAL .or. .not. scene%t(1) < span) then
           gain = min(sqrt(2.0_wp), exp(-slow_rate(scene%w0, scene%gamma) * (tend - span)))
-          loose = SUB_TOL_REL * min(swing(scene), pi)
-          if (tol < loose * gain) loose = tol / gain   ! (no overflow when gain underflows)
-          tol = max(tol, loose)
+          tol = loosened_tol(scene, tol, gain)
         end if
       else
         span = tend
@@ -163,22 +160,15 @@ contains
     end if
   end function sampling_work
 
-  ! The integrator choose_model takes for an integrated span at tol: CVODE
-  ! (when built) for a very long RK4 run, a stiff scene beyond a short one,
-  ! or when RK4's rounding over its steps (the unwrapped angle of a rotation
-  ! grows until damping ends it) would eat tol.
+  ! The integrator choose_model takes for an integrated span at tol
+  ! (integrator_rule), with the prediction's RK4 step.
   pure integer function integrator_choice(scene, span, tol) result(model)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: span, tol
-    real(wp) :: nsteps, big, msep
-    model = SCENE_MODEL_RK4
-    if (.not. cvode_available()) return
-    nsteps = steps(span, rk4_step(scene, span, tol))
-    big = abs(scene%theta0) + 2 * pi
-    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
-    if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * min(span, 2 * (1 + log(msep)) / scene%gamma)
-    if (nsteps > SCENE_RK4_STEP_LIMIT .or. (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS) .or. &
-        integrator_rounding(scene, [big], nsteps) > tol / 4) model = SCENE_MODEL_CVODE
+    real(wp) :: rk4_round
+    logical :: use_cvode
+    call integrator_rule(scene, span, steps(span, rk4_step(scene, span, tol)), tol, use_cvode, rk4_round)
+    model = merge(SCENE_MODEL_CVODE, SCENE_MODEL_RK4, use_cvode)
   end function integrator_choice
 
   ! Steps of the integrator over [0, span] [RK4 steps]: at setting (h or
@@ -189,7 +179,7 @@ contains
     type(scene_t), intent(in) :: scene
     integer, intent(in) :: model
     real(wp), intent(in) :: span, tol, setting
-    real(wp) :: rtol, periods, scale, grid
+    real(wp) :: rtol, grid
     grid = 0
     if (scene%want == SCENE_WANT_EVENTS) grid = 2 * real(event_grid_intervals(scene, span), wp)
     if (model == SCENE_MODEL_RK4) then
@@ -202,10 +192,7 @@ contains
       if (setting > 0) then
         work = cvode_min_steps(scene, span, setting)
       else
-        ! rtol as solve_cvode sets it (pendula_scene_integrated)
-        periods = 1 + scene%w0 * span / (2 * pi)
-        scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
-        rtol = max(0.1_wp * tol / (periods * scale), 1.0e-14_wp)
+        rtol = cvode_first_rtol(scene, span, tol)
         work = CVODE_OVER_BOUND * (cvode_min_steps(scene, span, rtol) + cvode_min_steps(scene, span, rtol / 10))
       end if
       work = work * SCENE_CVODE_STEP_COST
@@ -237,11 +224,5 @@ contains
     n = 1.0e300_wp
     if (span / n <= h) n = span / h
   end function steps
-
-  ! The motion's size [rad]: the angle modulo 2 pi and Omega0/w0.
-  pure real(wp) function swing(scene)
-    type(scene_t), intent(in) :: scene
-    swing = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
-  end function swing
 
 end module pendula_scene_work
