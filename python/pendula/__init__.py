@@ -22,6 +22,7 @@ from . import undamped as _undamped; from .undamped import *  # noqa: E702,F401,
 from . import linear as _linear; from .linear import *  # noqa: E702,F401,F403
 from . import integrate as _integrate_api; from .integrate import *  # noqa: E702,F401,F403
 from . import scene as _scene_api; from .scene import *  # noqa: E702,F401,F403
+from . import _tradeoff; from ._tradeoff import *  # noqa: E702,F401,F403
 # the function pendula.sweep shadows its module's attribute (the module stays in sys.modules)
 from . import sweep as _sweep_api; from .sweep import *  # noqa: E702,F401,F403
 # plot helpers: matplotlib is imported only when one is called
@@ -33,6 +34,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      + _linear.__all__
                      + _integrate_api.__all__
                      + _scene_api.__all__
+                     + _tradeoff.__all__
                      + _sweep_api.__all__
                      + _motion_plots.__all__
                      ))

@@ -177,3 +177,18 @@ def integer_arg(x, name, lo, hi, scalar=False):
             bad = amin if amin < lo else amax
             raise ValueError(f"{name} = {bad} is out of range: it must be an integer in [{lo}, {hi}]")
     return arr.astype(np.int64)
+
+
+def time_grid(t):
+    """The output times ``t`` [s] as a contiguous 1-D float64 copy of at least one element."""
+    arr = as_real(t, "t")
+    if arr.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of output times, got an array of shape {arr.shape}")
+    if arr.size < 1:
+        raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
+    return np.ascontiguousarray(arr)
+
+
+def step_budget(max_steps):
+    """max_steps checked exactly (no wrap), capped at 2**62 for the Fortran double."""
+    return min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62)

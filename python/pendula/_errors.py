@@ -5,6 +5,11 @@ from ``pendula._codes`` (generated from it at build time): argument problems
 become ``ValueError``, solver failures ``RuntimeError``, a feature missing
 from this build ``NotImplementedError``.
 """
+import numbers
+import re
+
+import numpy as np
+
 from ._codes import (OK, ERR_NONFINITE, ERR_DOMAIN, ERR_SIZE, ERR_ORDER, ERR_UNSTABLE, ERR_SOLVER,  # noqa: F401
                      ERR_UNAVAILABLE, ERR_MAXSTEPS, ERR_CANCELLED)
 
@@ -68,3 +73,59 @@ def raise_for_status(code, msg):
     exc = _EXCEPTIONS.get(code, RuntimeError)(_text(msg) or f"pendula error code {code}")
     exc.pendula_code = code   # the batch layer reports it per state
     raise exc
+
+
+# -- messages: one convention for numbers and state indices -----------------------------------------------
+# A state of a batch is named by its 0-based NumPy index in the batch (the
+# broadcast shape), written like an element: ``theta0[3]``, ``w0[1, 2]``;
+# numbers are written as Python writes a float or an int (never a NumPy repr).
+_FORTRAN_STATE = re.compile(r"^state \d+ of \d+(?: \(\d+ failed, see codes\))?: ")
+_NAME_IS = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*) = ")
+
+
+def number(x):
+    """``x`` as Python writes it (``-1.0``, ``3``): never ``np.float64(-1.0)``."""
+    if isinstance(x, (bool, np.bool_)):
+        return str(bool(x))
+    if isinstance(x, (numbers.Integral, np.integer)):
+        return str(int(x))
+    try:
+        return repr(float(x))
+    except (TypeError, ValueError):
+        return repr(x)
+
+
+def index_text(i, shape):
+    """The flat C-order state ``i`` of a batch of ``shape`` as ``[i]`` / ``[i, j]``."""
+    where = np.unravel_index(int(i), shape) if shape else ()
+    return "[" + ", ".join(str(int(j)) for j in where) + "]"
+
+
+def for_state(detail, i, shape, names=None):
+    """A one-state message ``detail`` (``"w0 = -1 is ..."``, or the Fortran
+    batch form ``"state 3 of 5: w0 = -1 ..."``) for state ``i`` of a batch:
+    ``"w0[2] = -1 is ..."``, or ``"state [2]: ..."`` when it names no
+    argument of the call (``names``: the call's per-state arguments; None: any)."""
+    detail = _FORTRAN_STATE.sub("", str(detail), count=1)
+    at = index_text(i, shape)
+    m = _NAME_IS.match(detail)
+    if m and (names is None or m.group(1) in names):
+        return f"{m.group(1)}{at} = {detail[m.end():]}"
+    return f"state {at}: {detail}"
+
+
+def batch_summary(codes, first_detail, shape, names=None):
+    """The summary message of a batch whose flat ``codes`` have failures:
+    how many failed and the first one's message, indexed (see ``for_state``)."""
+    bad = np.flatnonzero(np.asarray(codes).reshape(-1) != OK)
+    n = int(np.asarray(codes).size)
+    head = "every state failed" if bad.size == n else f"{bad.size} of {n} states failed"
+    return f"{head} (see codes); the first: {for_state(first_detail, int(bad[0]), shape, names)}"
+
+
+def raise_if_all_failed(codes, code, message):
+    """The one rule for when a batch raises: every state of a non-empty batch
+    failed (there is no answer to return).  Raises the first state's exception."""
+    codes = np.asarray(codes)
+    if codes.size and not (codes == OK).any():
+        raise_for_status(code, message)

@@ -5,10 +5,31 @@ SciPy is optional: imported only when rows are asked for.
 """
 import importlib.util
 import math
+import time
+
+import numpy as np
 
 from ._tables import optional
-from ._tradeoff import SCIPY_METHODS, _sup_error, _timed
 from .integrate import rk4_max_stable_step
+
+SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
+"""SciPy ``solve_ivp`` methods ``tradeoff`` adds as rows (``scipy=True``)."""
+
+
+def _sup_error(theta, omega, ref_theta, ref_omega, w0):
+    """The tradeoff error measure: sup over t of max(abs(d theta), abs(d Omega)/w0)."""
+    return float(max(np.max(np.abs(theta - ref_theta)), np.max(np.abs(omega - ref_omega)) / w0))
+
+
+def _timed(fn, repeat):
+    """(fn's result, the best wall time [s] of ``repeat`` runs)."""
+    best = np.inf
+    out = None
+    for _ in range(max(1, repeat)):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return out, best
 
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 # a method's tighter rtols are skipped once one run takes longer than this [s]

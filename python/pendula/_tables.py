@@ -23,6 +23,8 @@ from ._codes import OK
 
 UNITS = {"t": "s", "theta": "rad", "omega": "rad/s", "energy": "1/s^2", "period": "s",
          "error_estimate": "rad", "event_time_error": "s"}
+INPUT_UNITS = {"theta0": "rad", "omega0": "rad/s", "w0": "1/s", "gamma": "1/s", "h": "s", "tol": "rad",
+               "rtol": "1", "atol": "1"}
 _REASON_CHARS = 100
 
 
@@ -95,13 +97,15 @@ def batch_dims(shape):
     return tuple(f"batch_{i}" for i in range(len(shape)))
 
 
-def frame(t, fields, shape=(), per_state=None, attrs=None):
+def frame(t, fields, shape=(), per_state=None, attrs=None, coords=None):
     """pandas DataFrame of ``fields`` (name -> array of shape shape + (n_t,), or
     shape alone when t is None), indexed by t, or by (batch dims..., t) for a
-    batch; ``per_state`` (name -> array of shape ``shape``) repeated along t."""
+    batch; ``per_state`` and ``coords`` (the per-state inputs: name -> array
+    of shape ``shape``) repeated along t."""
     pd = optional("pandas")
     fields = {k: np.asarray(v) for k, v in fields.items() if v is not None}
     per_state = {k: np.asarray(v) for k, v in (per_state or {}).items() if v is not None}
+    per_state.update({k: np.broadcast_to(np.asarray(v), shape) for k, v in (coords or {}).items()})
     n_t = 1 if t is None else np.size(t)
     levels = [np.arange(n) for n in shape] + ([] if t is None else [np.asarray(t, dtype=float)])
     names = list(batch_dims(shape)) + ([] if t is None else ["t"])
@@ -114,13 +118,15 @@ def frame(t, fields, shape=(), per_state=None, attrs=None):
     data = {k: v.reshape(-1) for k, v in fields.items()}
     data.update({k: np.repeat(v.reshape(-1), n_t) for k, v in per_state.items()})
     out = pd.DataFrame(data, index=index)
-    out.attrs.update(attrs or {}, units={k: UNITS[k] for k in data if k in UNITS})
+    units = dict(UNITS, **INPUT_UNITS)
+    out.attrs.update(attrs or {}, units={k: units[k] for k in data if k in units})
     return out
 
 
-def dataset(t, fields, shape=(), per_state=None, attrs=None):
+def dataset(t, fields, shape=(), per_state=None, attrs=None, coords=None):
     """xarray Dataset of ``fields`` with dims (batch dims..., t) and ``per_state``
-    with the batch dims; t is a coordinate [s]."""
+    with the batch dims; t is a coordinate [s], and so is each per-state input
+    of ``coords`` (theta0, w0, ...: non-index coordinates over the batch dims)."""
     xr = optional("xarray")
     dims = batch_dims(shape)
     series_dims = dims + (() if t is None else ("t",))
@@ -131,8 +137,11 @@ def dataset(t, fields, shape=(), per_state=None, attrs=None):
     for k, v in (per_state or {}).items():
         if v is not None:
             data[k] = (dims, np.asarray(v), {"units": UNITS[k]} if k in UNITS else {})
+    inputs = coords or {}
     coords = {} if t is None else {"t": ("t", np.asarray(t, dtype=float), {"units": "s"})}
     coords.update({d: np.arange(n) for d, n in zip(dims, shape)})
+    for k, v in inputs.items():
+        coords[k] = (dims, np.broadcast_to(np.asarray(v), shape), {"units": INPUT_UNITS[k]} if k in INPUT_UNITS else {})
     return xr.Dataset(data, coords=coords, attrs=dict(attrs or {}))
 
 
@@ -152,14 +161,15 @@ class Tabular:
             ``batch_0``, ``batch_1``, ... for several batch dimensions -- then
             t; no t level when there is one value per state), and the
             per-state values (``code``; for scenes also model, error_estimate,
-            tol_met) repeated along t.  ``attrs``: units and the result's
+            tol_met) and inputs (theta0, omega0, w0, gamma, h or rtol, atol
+            or tol) repeated along t.  ``attrs``: units and the result's
             summary values (method or model, ...).
 
         Raises
         ------
         ValueError
-            For a result without a table (a scene's want "period" or
-            "events": use ``period`` or ``events.to_pandas()``).
+            For a result without a table (a scene's want "events": use
+            ``events.to_pandas()``).
         ImportError
             When pandas (an optional dependency) is not installed.
 
@@ -172,7 +182,7 @@ class Tabular:
         ('t', ['theta', 'omega'], 3)
         >>> b = pendula.rk4([0.0, 1.0], [0.1, 0.2, 0.3], 0.0, 1.0, 0.0, h=0.01).to_pandas()
         >>> list(b.index.names), list(b.columns)
-        (['batch', 't'], ['theta', 'omega', 'code'])
+        (['batch', 't'], ['theta', 'omega', 'code', 'theta0', 'omega0', 'w0', 'gamma', 'h'])
         """
         return frame(**self._table())
 
@@ -185,13 +195,14 @@ class Tabular:
             The quantities over dims (batch dims..., ``t``) -- ``batch`` or
             ``batch_0``, ``batch_1``, ...; no ``t`` when there is one value
             per state -- with units in each variable's ``attrs``; per-state
-            values (``code``, ...) over the batch dims; coordinate t [s].
+            values (``code``, ...) over the batch dims; coordinate t [s],
+            and a batch's inputs (theta0, omega0, w0, gamma, h or rtol,
+            atol or tol) as coordinates over the batch dims.
 
         Raises
         ------
         ValueError
-            For a result without a table (a scene's want "period" or
-            "events").
+            For a result without a table (a scene's want "events").
         ImportError
             When xarray (an optional dependency) is not installed.
 
@@ -202,5 +213,7 @@ class Tabular:
         >>> ds = r.to_xarray()
         >>> dict(ds.sizes), ds["theta"].dims, ds["theta"].attrs["units"]
         ({'batch': 3, 't': 2}, ('batch', 't'), 'rad')
+        >>> ds["theta0"].values.tolist()
+        [0.1, 0.2, 0.3]
         """
         return dataset(**self._table())

@@ -11,18 +11,17 @@ step actually used (``step_used``, the window over the steps taken) and keeps
 one row per distinct run.
 """
 import csv as _csv
-import time
 
 import numpy as np
 
-from . import _scene_batch, _tables
+from . import _scipy_rows, _tables
 from ._arrays import as_real, integer_arg
 from ._config import HAVE_CVODE
+from ._many.scenes import SceneBatch
+from ._scipy_rows import SCIPY_METHODS, _sup_error, _timed  # noqa: F401 (SCIPY_METHODS: named in the docs)
 from .integrate import rk4_max_stable_step
 from .scene import Scene, _model_code, run_model, solve
 
-SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
-"""SciPy ``solve_ivp`` methods ``tradeoff`` adds as rows (``scipy=True``)."""
 SCIPY_RTOLS = (1e-3, 1e-6, 1e-9)
 """Default rtols of the SciPy rows (atol = rtol * state scale / 100, as CVODE's)."""
 _RK4_ROWS = 14   # default RK4 rows: distinct used steps, halving
@@ -240,20 +239,6 @@ class TradeoffTable:
                                    tol=self.scene.tol, ax=ax)
 
 
-def _sup_error(theta, omega, ref_theta, ref_omega, w0):
-    return float(max(np.max(np.abs(theta - ref_theta)), np.max(np.abs(omega - ref_omega)) / w0))
-
-
-def _timed(fn, repeat):
-    best = np.inf
-    out = None
-    for _ in range(max(1, repeat)):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return out, best
-
-
 def _count(x, name):
     return integer_arg(x, name, 1, 2**63 - 1, scalar=True)
 
@@ -346,11 +331,15 @@ def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv
     >>> table.column("step_used")   # h = 0.4 and 0.2 both run 0.1 s steps
     [0.1, 0.05]
     """
-    if isinstance(scene, _scene_batch.SceneBatch):
+    if isinstance(scene, SceneBatch):
         if csv is not None or plot is not None:
             raise ValueError("csv and plot take one scene: call tradeoff per scene of the batch to write them")
-        return _scene_batch.tradeoff(scene, models=models, rk4_steps=rk4_steps, cvode_rtols=cvode_rtols,
-                                     repeat=repeat, max_steps=max_steps, scipy=scipy, scipy_rtols=scipy_rtols)
+        # the scenes one after another: their wall times must not compete for cores
+        out = np.empty(scene.scenes.size, dtype=object)
+        for i, sc in enumerate(scene.scenes.reshape(-1)):
+            out[i] = tradeoff(sc, models=models, rk4_steps=rk4_steps, cvode_rtols=cvode_rtols, repeat=repeat,
+                              max_steps=max_steps, scipy=scipy, scipy_rtols=scipy_rtols)
+        return out.reshape(scene.shape)
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
     if scene.t.size < 1:
@@ -450,4 +439,4 @@ def _reference(st):
                  f"its a posteriori estimate {ref.error_estimate:.2g} rad")
 
 
-from . import _scipy_rows  # noqa: E402  (it reads SCIPY_METHODS, _sup_error and _timed from here)
+__all__ = ["tradeoff", "TradeoffTable"]

@@ -15,15 +15,15 @@ show.  Errata of the text's listings are not copied (see each docstring).
 not be drawn because a part of the library is missing from this build (it
 never writes a placeholder).  ``quick=True`` uses fewer points, for tests.
 
-The drawing code is split by concern: ``_figures_text`` (the text's figures
-3-15), ``_figures_extra`` (A1-A5, what the text lacks) and ``_figures_base``
+The drawing code is split by concern: ``_plotting.text_figures`` (the text's figures
+3-15), ``_plotting.extra_figures`` (A1-A5, what the text lacks) and ``_plotting.base``
 (the text's parameters and the plumbing they share); this module is the
 registry and the entry points, and re-exports every figure function.
 """
-from ._figures_base import _TEXT_H, _TEXT_TEND, G, LENGTH, MASS, FigureUnavailable  # noqa: F401 (re-exported)
-from ._figures_extra import (figA1_underdamped_linear, figA2_phase_portrait, figA3_period_vs_energy,
+from ._plotting.base import _TEXT_H, _TEXT_TEND, G, LENGTH, MASS, FigureUnavailable  # noqa: F401 (re-exported)
+from ._plotting.extra_figures import (figA1_underdamped_linear, figA2_phase_portrait, figA3_period_vs_energy,
                              figA4_work_precision, figA5_text_listing_error)
-from ._figures_text import (fig03_complete_elliptic_K, fig04_period_vs_amplitude, fig05_theta_small_theta0,
+from ._plotting.text_figures import (fig03_complete_elliptic_K, fig04_period_vs_amplitude, fig05_theta_small_theta0,
                             fig06_theta_medium_theta0, fig07_theta_large_theta0, fig08_theta_all_theta0,
                             fig09_launch_speed_series, fig10_overdamped_gamma3, fig11_overdamped_gamma5,
                             fig12_overdamped_phase_plane, fig13_critical_damping, fig14_nonlinear_damped,

@@ -35,19 +35,22 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _fortran, _longcall, _tables
-from ._arrays import as_real, check_size, integer_arg, real_scalar
-from ._codes import CVODE_ADAMS, CVODE_BDF, EVENT_TURNING, EVENT_ZERO
+from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
+from ._codes import CVODE_ADAMS, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
+from ._defaults import (CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL, MAX_EVENTS,
+                        RK4_MAX_STEPS, STAT_NAMES, THREADS, check_threads)
 from ._errors import raise_for_status
+from ._many import ensemble as _ensemble
+from ._many.ensemble import BatchIntegrationResult
 
 TURNING_POINT = EVENT_TURNING
 """Event kind: Omega = 0 (theta at an extremum; the amplitude is abs(theta) there)."""
 ZERO_CROSSING = EVENT_ZERO
 """Event kind: theta = 0 mod 2 pi (the pendulum passes the bottom; a rotation once per turn)."""
 
-_STAT_NAMES = ("steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters", "nonlin_fails",
-               "root_evals")
-_METHODS = {"adams": CVODE_ADAMS, "bdf": CVODE_BDF}
+_STAT_NAMES = STAT_NAMES
+_METHODS = CVODE_METHODS
 
 
 @dataclass(frozen=True, repr=False)
@@ -235,13 +238,7 @@ class IntegrationResult(_tables.Tabular):
     def _table(self):
         return dict(t=self.t, fields={"theta": self.theta, "omega": self.omega}, attrs={"method": self.method})
 
-def _grid(t):
-    arr = as_real(t, "t")
-    if arr.ndim != 1:
-        raise ValueError(f"t must be a 1-D array of output times, got an array of shape {arr.shape}")
-    if arr.size < 1:
-        raise ValueError("t has 0 elements: it needs at least 1 (t[0] is the initial time)")
-    return np.ascontiguousarray(arr)
+_grid = time_grid
 
 
 def _stats(raw):
@@ -270,7 +267,7 @@ def _result(t, theta, omega, stats, method):
     return r
 
 
-def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None, threads=0):
+def rk4(t, theta0, omega0, w0, gamma, h, max_steps=RK4_MAX_STEPS, progress=None, threads=THREADS):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
     Parameters
@@ -284,27 +281,29 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None,
         Small-angle angular frequency sqrt(g/l) [1/s], > 0.
     gamma : float or array_like
         Damping rate [1/s], >= 0.
-    h : float
+    h : float or array_like
         Largest step [s], > 0 and inside RK4's stability limit
         (``rk4_max_stable_step``).  Between consecutive output times RK4
         takes the fewest equal substeps of at most h (a spacing that is a
-        multiple of h up to rounding counts as that multiple).
+        multiple of h up to rounding counts as that multiple).  An array
+        is a step per state, broadcast with the state arguments.
     max_steps : int
         Step budget (default 2e9, about a minute of CPU); a window that
         needs more steps is refused before any work.
     progress : bool or callable, optional
         True for a tqdm bar (needs tqdm), or a callable(done, total) called
         about every 20 ms with the steps taken.
-    threads : int
-        OpenMP threads of a batch (0: OMP_NUM_THREADS or every core);
-        unused by a single state.
+    threads : int or None
+        OpenMP threads of a batch: None (the default) chooses from the
+        predicted work (one thread for a small batch), 0 asks for
+        OMP_NUM_THREADS or every core; unused by a single state.
 
     Returns
     -------
     IntegrationResult or BatchIntegrationResult
         theta [rad] and omega [rad/s] at t, stats (steps, rhs_evals = 4
-        steps); a ``BatchIntegrationResult`` when a state argument is an
-        array.
+        steps); a ``BatchIntegrationResult`` when a state argument or h is
+        an array.
 
     Raises
     ------
@@ -323,15 +322,16 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None,
     Global error O(h**4): for the text's scenario (w0 = sqrt(2), gamma =
     0.1, theta0 = 0, Omega0 = 2, t <= 30 s) h = 0.05 s gives about 3e-6 rad.
 
-    Batches: theta0, omega0, w0 and gamma broadcast together like NumPy to
-    the batch shape; theta.shape == batch_shape + (len(t),), each state
+    Batches: theta0, omega0, w0, gamma and h broadcast together like NumPy
+    to the batch shape; theta.shape == batch_shape + (len(t),), each state
     bit-identical to the scalar call (the Fortran batch kernel, GIL
     released).  A value refused without integrating (NaN, inf, out of
-    domain) raises ValueError naming the first bad state; a state that
-    fails over the window (unstable h, more than max_steps steps) gets its
-    own code in ``result.codes`` (``result.ok``, ``result.message``) and
+    domain) raises ValueError naming the argument and the first bad state
+    (``w0[2] = -1.0 ...``); a state that fails over the window (unstable
+    h, more than max_steps steps) gets its own code in ``result.codes``
+    (``result.ok``, ``result.message``), NaN in its theta and omega, and
     the others keep their answers; when every state failed the call raises
-    that exception.  progress then counts finished states.  Scalars and
+    that exception (docs/robustness.md).  progress then counts finished states.  Scalars and
     0-d arrays take the scalar path.
 
     Examples
@@ -344,11 +344,10 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None,
     >>> b.theta.shape, bool(b.ok.all())
     ((2, 2), True)
     """
-    if _ensemble.is_batch(theta0, omega0, w0, gamma):
-        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, _real(h, "h"), max_steps, progress,
-                                   threads)
-    if threads != 0:
-        _batch._threads(threads)   # checked, unused: one state runs on one thread
+    if _ensemble.is_batch(theta0, omega0, w0, gamma, h):
+        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads)
+    if threads is not None:
+        check_threads(threads)   # checked, unused: one state runs on one thread
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
         check_size(t.size, "t")
         tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
@@ -373,9 +372,7 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=2_000_000_000, progress=None,
     return _result(tt, theta, omega, _rk4_stats(stats), "rk4")
 
 
-def _step_budget(max_steps):
-    """max_steps checked exactly (no wrap), capped at 2**62 for the Fortran double."""
-    return min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62)
+_step_budget = step_budget
 
 
 def rk4_max_stable_step(w0, gamma):
@@ -418,8 +415,8 @@ def rk4_max_stable_step(w0, gamma):
     return float(h)
 
 
-def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", max_steps=10_000_000,
-          events=False, max_events=100_000, progress=None, threads=0):
+def cvode(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, method=CVODE_METHOD,
+          max_steps=CVODE_MAX_STEPS, events=False, max_events=MAX_EVENTS, progress=None, threads=THREADS):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     Parameters
@@ -457,8 +454,10 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
     progress : bool or callable, optional
         True for a tqdm bar, or a callable(done, total) called about every
         20 ms with the right-hand-side evaluations so far (total None).
-    threads : int
-        Threads of a batch (0: OMP_NUM_THREADS or every core).
+    threads : int or None
+        Threads of a batch: None (the default) chooses from the predicted
+        work, 0 asks for OMP_NUM_THREADS or every core; unused by a single
+        state.
 
     Returns
     -------
@@ -504,7 +503,7 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
         # The Fortran stub says the same; checking here first keeps the
         # message independent of the other arguments.
         _, _, _, _, _, _, _, _, _, code, msg = _fortran.cvode_f2py(
-            np.zeros(1), 0.0, 0.0, 1.0, 0.0, 1e-8, 1e-10, CVODE_ADAMS, 1.0, 0, _longcall.new_control())
+            np.zeros(1), 0.0, 0.0, 1.0, 0.0, CVODE_RTOL, CVODE_ATOL, CVODE_ADAMS, 1.0, 0, _longcall.new_control())
         raise_for_status(code, msg)
     tt = _grid(t)
     if _ensemble.is_batch(theta0, omega0, w0, gamma):
@@ -515,13 +514,13 @@ def cvode(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", m
         return _ensemble.cvode_batch(tt, theta0, omega0, w0, gamma, real_scalar(rtol, "rtol"),
                                      real_scalar(atol, "atol"), method, max_steps, events, max_events, progress,
                                      threads, _cvode_one)
-    if threads != 0:
-        _batch._threads(threads)
+    if threads is not None:
+        check_threads(threads)   # checked, unused: one state runs on one thread
     return _cvode_one(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress)
 
 
-def _cvode_one(tt, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="adams", max_steps=10_000_000,
-               events=False, max_events=100_000, progress=None, control=None):
+def _cvode_one(tt, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, method=CVODE_METHOD,
+               max_steps=CVODE_MAX_STEPS, events=False, max_events=MAX_EVENTS, progress=None, control=None):
     """``cvode`` for one state on the checked grid tt; control: the caller's
     (a batch pool thread's) control array, watched by the caller."""
     args = [real_scalar(x, name) for x, name in
@@ -554,10 +553,6 @@ def _cvode_one(tt, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="ada
     return IntegrationResult(t=tt, theta=theta, omega=omega, stats=_stats(stats), method=method.lower(),
                              events=ev)
 
-
-# Last: the batch modules import this module's names (_METHODS, _STAT_NAMES).
-from . import _batch, _ensemble  # noqa: E402
-from ._ensemble import BatchIntegrationResult  # noqa: E402
 
 __all__ = ["rk4", "rk4_max_stable_step", "cvode", "IntegrationResult", "BatchIntegrationResult", "Events",
            "TURNING_POINT", "ZERO_CROSSING"]

@@ -43,12 +43,15 @@ import time
 import numpy as np
 
 from . import _fortran as _scene, _longcall, _tables
-from ._arrays import as_real, real_scalar
-from ._codes import (G_DEFAULT, INFO, INFO_SIZE, LENGTH_DEFAULT, MODEL_ALIASES, MODEL_CODES, STEP_CAP,
-                     WANT_CODES)
+from ._arrays import as_real, real_scalar, step_budget
+from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, WANT_CODES
 from ._config import HAVE_CVODE  # noqa: F401 (read by benchmarks/bench_scenes.py)
+from ._defaults import G_DEFAULT, LENGTH_DEFAULT, SERIAL_WORK, STEP_CAP, THREADS, TOL, check_threads
 from ._errors import PendulaSolverError, _text, raise_for_status
-from .integrate import Events, _step_budget
+from ._many import scenes as _scene_batch
+from ._many.ensemble import is_batch as _is_batch
+from ._many.scenes import SceneBatch, SceneBatchResult
+from .integrate import Events
 
 MODELS = tuple(name for name in MODEL_CODES if name != "auto")
 """Model names accepted by ``solve(scene, model=...)`` (plus "auto")."""
@@ -136,15 +139,15 @@ class Scene:
     """
 
     def __new__(cls, theta0=None, omega0=0.0, t=None, g=G_DEFAULT, length=LENGTH_DEFAULT, gamma=None,
-                mass=None, b=None, tol=1e-6, want="state"):
+                mass=None, b=None, tol=TOL, want="state"):
         # (theta0 defaults to None here only so that pickle and copy, which call
         # __new__ with no arguments, work; __init__ still requires it)
         if cls is Scene and _is_batch(theta0, omega0, g, length, gamma, mass, b, tol):
-            return _scene_batch.SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want)
+            return SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want, make=Scene)
         return object.__new__(cls)
 
     def __init__(self, theta0, omega0=0.0, t=None, g=G_DEFAULT, length=LENGTH_DEFAULT, gamma=None,
-                 mass=None, b=None, tol=1e-6, want="state"):
+                 mass=None, b=None, tol=TOL, want="state"):
         self.theta0 = real_scalar(theta0, "theta0")
         self.omega0 = real_scalar(omega0, "omega0")
         self.g = real_scalar(g, "g")
@@ -302,11 +305,13 @@ class SceneResult(_tables.Tabular):
         return {"theta": self.theta, "omega": self.omega, "energy": self.energy}
 
     def _table(self):
+        attrs = {"model": self.model, "error_estimate": self.error_estimate, "tol_met": int(self.tol_met)}
+        if self.period is not None:   # want "period": one row, the period [s]
+            return dict(t=None, fields={"period": np.array(self.period)}, attrs=attrs)
         if self.t is None:
-            raise ValueError("this result has no time series to convert (want='period' or 'events'): "
-                             "use result.period or result.events.to_pandas()")
-        return dict(t=self.t, fields=self._series(), attrs={
-            "model": self.model, "error_estimate": self.error_estimate, "tol_met": int(self.tol_met)})
+            raise ValueError("this result has no time series to convert (want='events'): "
+                             "use result.events.to_pandas()")
+        return dict(t=self.t, fields=self._series(), attrs=attrs)
 
     def __repr__(self):
         setting = (f", step h={self.step:.4g} s" if self.step is not None else
@@ -334,7 +339,7 @@ def _long_scene(scene, tt, model_code, fixed, setting):
 
 
 def _budget(max_steps):
-    return float(min(_step_budget(max_steps), 2**62))
+    return float(step_budget(max_steps))
 
 
 _MAX_EVENT_SLOTS = 2**30
@@ -411,7 +416,7 @@ def _result(scene, raw):
                        rtol=num["rtol"] if model == "cvode" else None, cost=cost, **kw)
 
 
-def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
+def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=THREADS):
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
     Parameters
@@ -431,9 +436,10 @@ def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
         True for a tqdm bar (needs tqdm) or a callable(done, total) called
         about every 20 ms with the integrator's work so far (RK4 steps /
         CVODE right-hand-side evaluations; total None); for a batch, scenes.
-    threads : int
-        Threads of a batch (0: OMP_NUM_THREADS or every core); unused for
-        one scene.
+    threads : int or None
+        Threads of a batch: None (the default) chooses from the predicted
+        work (one thread for a small batch), 0 asks for OMP_NUM_THREADS or
+        every core; unused for one scene.
 
     Returns
     -------
@@ -479,13 +485,13 @@ def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=0):
     (['exact', 'exact'], (2, 2))
     """
     code = _model_code(model)
-    if isinstance(scene, _scene_batch.SceneBatch):
-        return _scene_batch.run(scene, code, False, 0.0, max_steps, progress, threads)
-    _check_threads(threads)
+    if isinstance(scene, SceneBatch):
+        return _batch_run(scene, code, False, 0.0, max_steps, progress, threads)
+    check_threads(threads)
     return _result(scene, _run(scene, code, False, 0.0, max_steps, progress))
 
 
-def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, threads=0):
+def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, threads=THREADS):
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
     For work-precision studies (``tradeoff``).
@@ -539,23 +545,38 @@ def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, thr
         setting = real_scalar(setting, "setting")
     else:
         setting = 0.0
-    if isinstance(scene, _scene_batch.SceneBatch):
-        return _scene_batch.run(scene, code, True, setting, max_steps, progress, threads)
-    _check_threads(threads)
+    if isinstance(scene, SceneBatch):
+        return _batch_run(scene, code, True, setting, max_steps, progress, threads)
+    check_threads(threads)
     return _result(scene, _run(scene, code, True, setting, max_steps, progress))
 
 
-def _check_threads(threads):
-    if threads != 0 or type(threads) is not int:
-        _threads(threads)   # checked, unused: one scene runs on one thread
+def _batch_run(batch, model_code, fixed, setting, max_steps, progress, threads):
+    """solve / run_model of every scene of a SceneBatch on a thread pool."""
+    step_budget(max_steps)   # the call's own argument: ValueError/TypeError for the whole call
+    check_threads(threads)
+    work = 0.0
+    if threads is None:
+        # Fortran's prediction of each scene's work, summed until it is clearly enough for threads
+        for sc in batch.scenes.reshape(-1):
+            work += _scene.scene_work_f2py(sc._t_arg(), sc.theta0, sc.omega0, sc.w0, sc._w0lo, sc.gamma, sc.tol,
+                                           WANT_CODES[sc.want], model_code, int(fixed), float(setting))
+            if not work <= SERIAL_WORK:
+                break
+
+    def one(sc, control):
+        return _result(sc, _run(sc, model_code, fixed, setting, max_steps, control=control))
+    return _scene_batch.run(batch, one, progress, threads, work)
 
 
-# Last: the batch layer builds on this module's Scene, _run and _result.
-from . import _scene_batch  # noqa: E402
-from ._batch import _threads  # noqa: E402
-from ._ensemble import is_batch as _is_batch  # noqa: E402
-from ._scene_batch import SceneBatch, SceneBatchResult  # noqa: E402
-from ._tradeoff import TradeoffTable, tradeoff  # noqa: E402
+__all__ = ["Scene", "SceneResult", "solve", "run_model", "SceneBatch", "SceneBatchResult"]
 
-__all__ = ["Scene", "SceneResult", "solve", "run_model", "tradeoff", "TradeoffTable", "SceneBatch",
-           "SceneBatchResult"]
+
+def __getattr__(name):
+    # tradeoff and TradeoffTable live a layer above this module (pendula._tradeoff
+    # builds on Scene and solve); pendula.scene.tradeoff keeps working, looked up
+    # on first use instead of imported here, so imports run one way.
+    if name in ("tradeoff", "TradeoffTable"):
+        from . import _tradeoff
+        return getattr(_tradeoff, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -4,8 +4,8 @@ on this machine or on a Dask cluster.
 ``sweep`` broadcasts theta0, omega0, w0, gamma (and the RK4 step h or the
 CVODE tolerances) like NumPy -- ``theta0[:, None]`` and ``omega0[None, :]``
 give a theta0 x omega0 grid -- splits the flattened states into chunks and
-runs each chunk through the batch kernels of ``pendula._batch`` (RK4 or
-CVODE), or through the closed-form period for an undamped sweep.  Each
+runs each chunk through the batch kernels of ``pendula._many.kernels`` (RK4
+or CVODE), or through the closed-form period for an undamped sweep.  Each
 state's answer is bit-identical to the direct batch call (and so to
 ``pendula.rk4`` / ``pendula.cvode``): states are independent, and chunking
 only changes which call computes them.
@@ -18,22 +18,21 @@ arrays assembled in place (each chunk exactly once).  Dask is imported only
 there: importing pendula never imports dask (optional extra ``cluster``).
 """
 import math
-import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _batch, _fortran, _longcall, _tables
-from ._arrays import broadcast_real, integer_arg
-from ._errors import OK
+from . import _fortran, _longcall, _tables
+from ._arrays import broadcast_real, integer_arg, time_grid
+from ._defaults import (CHUNK_STATES, CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_RTOL, SETTLE_MARGIN,
+                        SWEEP_H, THREADS, WELL_NONE, check_threads)
+from ._errors import OK, batch_summary, for_state, number, raise_if_all_failed
+from ._many import kernels
+from .physics import pendulum_gamma, pendulum_w0
 from .undamped import REGIMES, _state_property, period as _period
 
 WANTS = ("final", "trajectory", "period")
 METHODS = ("rk4", "cvode")
-#: Default states per chunk: ~0.1-0.5 s of RK4 work for a few hundred steps.
-CHUNK_STATES = 4096
-# The batch kernels' summary prefix, renumbered by _assemble.
-_PREFIX = re.compile(r"^state \d+ of \d+ \(\d+ failed, see codes\): ")
 # Poll interval of the Dask wait loop: Ctrl-C and progress are seen this often.
 _DASK_POLL_SECONDS = 0.1
 
@@ -51,7 +50,7 @@ class SweepResult(_tables.Tabular):
     theta, omega : numpy.ndarray or None
         [rad], [rad/s]: the state at t[-1] (shape batch_shape) for "final",
         the whole series (batch_shape + (n_t,)) for "trajectory", None for
-        "period".
+        "period"; NaN for a failed state (from the point it failed).
     period : numpy.ndarray or None
         For "period" [s]: the libration period, or the time of one turn of a
         rotation (+inf on the separatrix); else None.
@@ -61,6 +60,11 @@ class SweepResult(_tables.Tabular):
         The first failure's code and message, or 0 and ''.
     n_chunks : int
         The chunks the sweep ran in.
+    inputs : dict
+        The per-state inputs broadcast to the batch shape: theta0 [rad],
+        omega0 [rad/s], w0 [1/s], gamma [1/s], and h [s] (rk4) or rtol,
+        atol (cvode): the coordinates of ``to_xarray`` and columns of
+        ``to_pandas``.
 
     Notes
     -----
@@ -82,6 +86,7 @@ class SweepResult(_tables.Tabular):
     code: int
     message: str
     n_chunks: int
+    inputs: dict = field(default=None)
 
     @property
     def ok(self):
@@ -108,8 +113,11 @@ class SweepResult(_tables.Tabular):
         attrs = {"want": self.want}
         if self.want == "final":
             attrs["t"] = float(self.t[-1])
+        per_state = {"code": self.codes}
+        if self.want != "period":
+            per_state.update(well=self.well, settled=self.settled)
         return dict(t=self.t if self.want == "trajectory" else None, fields=self._fields(),
-                    shape=self.codes.shape, per_state={"code": self.codes}, attrs=attrs)
+                    shape=self.codes.shape, per_state=per_state, attrs=attrs, coords=self.inputs)
 
     def __repr__(self):
         good = self.ok
@@ -128,18 +136,20 @@ class SweepResult(_tables.Tabular):
             return self.theta, self.omega
         return self.theta[..., -1], self.omega[..., -1]
 
-    def rotating(self, w0):
+    def rotating(self, w0=None):
         """True where the state at t[-1] is above the separatrix energy 2 w0^2.
 
         Parameters
         ----------
-        w0 : float or array_like
-            The sweep's w0 [1/s], > 0 (broadcast against the batch).
+        w0 : float or array_like, optional
+            [1/s], > 0 (broadcast against the batch); default: the sweep's
+            own w0 (``inputs["w0"]``).
 
         Returns
         -------
         numpy.ndarray
-            bool, the batch shape: still going over the top at t[-1].
+            bool, the batch shape: still going over the top at t[-1]
+            (False for a failed state).
 
         Raises
         ------
@@ -150,13 +160,50 @@ class SweepResult(_tables.Tabular):
         --------
         >>> import numpy as np, pendula
         >>> r = pendula.sweep([0.0, 1.0], 0.0, np.array([1.0, 3.0]), w0=1.0, h=0.01)
-        >>> r.rotating(1.0).tolist()
+        >>> r.rotating().tolist()
         [False, True]
         """
         theta, omega = self._final()
+        w0 = self.inputs["w0"] if w0 is None else w0
+        good = self.ok
+        # a failed state has no regime: a placeholder state, reported False
+        theta, omega = np.where(good, theta, 0.0), np.where(good, omega, 0.0)
         shape, _, (reg,) = _state_property(_fortran.regime_f2py, 1, theta, omega, w0)
         rotation = next(code for code, name in REGIMES.items() if name == "rotation")
-        return (np.asarray(reg) == rotation).reshape(shape)
+        return (np.asarray(reg) == rotation).reshape(shape) & np.broadcast_to(good, shape)
+
+    @property
+    def settled(self):
+        """True where the state at t[-1] is trapped in its well.
+
+        Returns
+        -------
+        numpy.ndarray
+            bool, the batch shape: the state succeeded and its energy
+            omega^2/2 + w0^2 (1 - cos theta) is below the separatrix energy
+            2 w0^2 by more than ``SETTLE_MARGIN`` of it, so the damped
+            pendulum can never leave the well again.  False for a state
+            still going over the top or near it.
+
+        Raises
+        ------
+        ValueError
+            For want="period" (no final state).
+
+        Examples
+        --------
+        >>> import numpy as np, pendula
+        >>> r = pendula.sweep([0.0, 40.0], 0.0, np.array([1.0, 3.0, 5.0]), w0=1.0, gamma=0.2, h=0.01)
+        >>> r.settled.tolist()
+        [True, True, True]
+        >>> pendula.sweep([0.0, 1.0], 0.0, 5.0, w0=1.0, h=0.01).settled.tolist()
+        False
+        """
+        theta, omega = self._final()
+        w0 = self.inputs["w0"]
+        with np.errstate(invalid="ignore"):
+            energy = 0.5 * omega**2 + w0**2 * (1 - np.cos(theta))
+            return self.ok & (energy < 2 * w0**2 * (1 - SETTLE_MARGIN))
 
     @property
     def well(self):
@@ -166,7 +213,9 @@ class SweepResult(_tables.Tabular):
         -------
         numpy.ndarray
             int64, the batch shape: the number of full turns made before the
-            damping caught the pendulum (the basin map colours starts by it).
+            damping caught the pendulum (the basin map colours starts by it);
+            ``pendula.WELL_NONE`` (-2**31, never a number of turns) where
+            the state failed or is not ``settled`` at t[-1].
 
         Raises
         ------
@@ -179,9 +228,13 @@ class SweepResult(_tables.Tabular):
         >>> r = pendula.sweep([0.0, 40.0], 0.0, np.array([1.0, 3.0]), w0=1.0, gamma=0.2, h=0.01)
         >>> r.well.tolist()
         [0, 1]
+        >>> int(pendula.sweep([0.0, 1.0], 0.0, 5.0, w0=1.0, h=0.01).well) == pendula.WELL_NONE
+        True
         """
         theta, _ = self._final()
-        return np.rint(np.asarray(theta) / (2 * math.pi)).astype(np.int64)
+        settled = self.settled
+        k = np.rint(np.where(settled, theta, 0.0) / (2 * math.pi)).astype(np.int64)
+        return np.where(settled, k, WELL_NONE)
 
 
 def _chunk(kind, t, cols, opts, want, threads):
@@ -193,34 +246,43 @@ def _chunk(kind, t, cols, opts, want, threads):
         return {"period": per, "codes": np.zeros(per.size, dtype=np.int64), "code": 0, "message": ""}
     control = opts.pop("control", None)
     if kind == "rk4":
-        r = _batch.rk4_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["h"],
-                             threads=threads, control=control)
+        r = kernels.rk4_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["h"],
+                              threads=threads, control=control)
     else:
-        r = _batch.cvode_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["rtol"],
-                               cols["atol"], threads=threads, control=control, **opts)
+        r = kernels.cvode_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["rtol"],
+                                cols["atol"], threads=threads, control=control, **opts)
     keep = (lambda a: a) if want == "trajectory" else (lambda a: np.ascontiguousarray(a[:, -1]))
     return {"theta": keep(r.theta), "omega": keep(r.omega), "codes": r.codes, "code": r.code,
             "message": r.message}
 
 
-def _check(flats, method, want):
-    """Refuse non-finite or out-of-domain inputs up front, naming the argument."""
+_RULES = {"w0": (lambda a: a > 0, "> 0"), "gamma": (lambda a: a >= 0, ">= 0"), "h": (lambda a: a > 0, "> 0"),
+          "rtol": (lambda a: a > 0, "> 0"), "atol": (lambda a: a >= 0, ">= 0")}
+
+
+def _check(flats, shape, want):
+    """Refuse non-finite or out-of-domain inputs up front, naming the argument and the state."""
     for name, a in flats.items():
-        if not np.isfinite(a).all():
-            raise ValueError(f"{name} has a non-finite element (NaN or +-inf): every element must be finite")
-    rules = {"w0": (lambda a: a > 0, "> 0"), "gamma": (lambda a: a >= 0, ">= 0"), "h": (lambda a: a > 0, "> 0"),
-             "rtol": (lambda a: a > 0, "> 0"), "atol": (lambda a: a >= 0, ">= 0")}
-    for name, (good, rng) in rules.items():
-        if name in flats and not good(flats[name]).all():
-            bad = flats[name][~good(flats[name])][0]
-            raise ValueError(f"{name} = {bad!r} is out of range: every element must be {rng}")
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ValueError(for_state(f"{name} = {number(a[bad[0]])} is not finite: every element must be finite",
+                                       int(bad[0]), shape))
+    for name, (good, rng) in _RULES.items():
+        if name in flats:
+            bad = np.flatnonzero(~good(flats[name]))
+            if bad.size:
+                i = int(bad[0])
+                raise ValueError(for_state(f"{name} = {number(flats[name][i])} is out of range: it must be {rng}",
+                                           i, shape))
     if want == "period" and (flats["gamma"] != 0).any():
-        raise ValueError("want='period' needs gamma = 0 everywhere (the closed-form period is undamped)")
+        i = int(np.flatnonzero(flats["gamma"] != 0)[0])
+        raise ValueError(for_state(f"gamma = {number(flats['gamma'][i])} is not 0: want='period' needs "
+                                   "gamma = 0 everywhere (the closed-form period is undamped)", i, shape))
 
 
-def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4", h=0.01, rtol=1e-8,
-          atol=1e-10, cvode_method="adams", max_steps=10_000_000, chunk_states=CHUNK_STATES, threads=None,
-          progress=None, client=None):
+def sweep(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None, mass=None, want="final",
+          method="rk4", h=SWEEP_H, rtol=CVODE_RTOL, atol=CVODE_ATOL, cvode_method=CVODE_METHOD,
+          max_steps=CVODE_MAX_STEPS, chunk_states=CHUNK_STATES, threads=THREADS, progress=None, client=None):
     """Integrate (or, for want="period", answer in closed form) every state of a sweep.
 
     Parameters
@@ -232,10 +294,17 @@ def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4
         Initial angle [rad] and angular velocity [rad/s]; with w0, gamma and
         h (or rtol, atol) they broadcast like NumPy: pass
         ``theta0[:, None]`` and ``omega0[None, :]`` for a grid.
-    w0 : float or array_like
-        [1/s], > 0.
-    gamma : float or array_like
-        [1/s], >= 0 (0 everywhere for want="period").
+    w0 : float or array_like, optional
+        [1/s], > 0; default: sqrt(g/length), the text's pendulum (sqrt(2))
+        when neither is given, as everywhere in the package.
+    gamma : float or array_like, optional
+        [1/s], >= 0 (0 everywhere for want="period"); default: b/mass when
+        both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length) (the
+        text's 9.8 and 4.9 for the one not given).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     want : {"final", "trajectory", "period"}
         theta, omega at t[-1]; the whole series; or the closed-form period
         (undamped only, ``pendula.period``).
@@ -249,9 +318,10 @@ def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4
         As ``pendula.cvode``'s method and max_steps.
     chunk_states : int
         States per chunk, >= 1.
-    threads : int, optional
-        OpenMP threads per chunk (None: the OpenMP default locally, 1 on
-        Dask workers, whose own threads give the parallelism).
+    threads : int or None
+        OpenMP threads per chunk: None (the default) chooses from the
+        chunk's predicted work locally and takes 1 on Dask workers (whose
+        own threads give the parallelism); 0 asks for the OpenMP default.
     progress : bool or callable, optional
         True (tqdm bar; tqdm is optional) or callable(done, total) in states.
     client : dask.distributed.Client, optional
@@ -261,15 +331,19 @@ def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4
     Returns
     -------
     SweepResult
-        Arrays with the batch shape in front; per-state solver failures are
-        reported in ``codes``.
+        Arrays with the batch shape in front and the inputs that made them;
+        per-state solver failures are reported in ``codes``, their outputs
+        NaN (docs/robustness.md).
 
     Raises
     ------
     ValueError
-        For bad arguments, naming them.
+        For bad arguments, naming them and the state (``w0[1] = -1.0 ...``).
     TypeError
         For a client that is not a Dask client, or bad types.
+    RuntimeError
+        When every state failed (``PendulaSolverError`` for a solver
+        failure), as for ``rk4`` and ``cvode`` batches.
     KeyboardInterrupt
         Ctrl-C: a local sweep stops within ~0.1 s, a Dask one within
         ~0.1 s plus the cancellation of its tasks.
@@ -286,8 +360,9 @@ def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4
     >>> r = pendula.sweep([0.0, 10.0], np.linspace(0, 3, 4)[:, None], np.zeros(2)[None, :], w0=1.0)
     >>> r.theta.shape, bool(r.ok.all())
     ((4, 2), True)
-    >>> np.round(pendula.sweep(None, np.array([0.1, 1.0]), want="period").period, 3).tolist()
-    [6.287, 6.7]
+    >>> p = pendula.sweep(None, np.array([0.1, 1.0]), want="period").period
+    >>> bool((p == pendula.period(np.array([0.1, 1.0]))).all())
+    True
     """
     if not isinstance(want, str) or want not in WANTS:
         raise ValueError(f"want = {want!r} is invalid: it must be one of {', '.join(WANTS)}")
@@ -296,36 +371,39 @@ def sweep(t, theta0, omega0=0.0, w0=1.0, gamma=0.0, *, want="final", method="rk4
     chunk_states = integer_arg(chunk_states, "chunk_states", 1, 2**31 - 1, scalar=True)
     if client is not None and not callable(getattr(client, "submit", None)):
         raise TypeError(f"client must be a dask.distributed Client (or None), got {type(client).__name__}")
-    if threads is not None:
-        _batch._threads(threads)   # validates the type and range
-    named = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    check_threads(threads)
+    named = dict(theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length), gamma=pendulum_gamma(gamma, b, mass))
     opts = {}
     if want == "period":
         tt = None
     else:
-        tt = _batch._grid(t)
+        tt = time_grid(t)
         if not np.isfinite(tt).all() or (np.diff(tt) <= 0).any():
             raise ValueError("t must be finite and strictly increasing (the output times in s)")
         if method == "rk4":
             named["h"] = h
         else:
             named.update(rtol=rtol, atol=atol)
+            if not isinstance(cvode_method, str) or cvode_method.lower() not in ("adams", "bdf"):
+                raise ValueError(f"cvode_method = {cvode_method!r} is invalid: it must be 'adams' or 'bdf'")
+            integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
             opts = dict(method=cvode_method, max_steps=max_steps)
     shape, _, flats = broadcast_real(**named)
-    _check(flats, method, want)
+    _check(flats, shape, want)
     n = int(np.prod(shape, dtype=np.int64)) if shape else 1
     starts = list(range(0, n, chunk_states))
     chunks = [{k: v[s:s + chunk_states] for k, v in flats.items()} for s in starts]
     update, close = _longcall._progress_sink(progress, n, "state")
     try:
         if client is None:
-            parts = _run_local(method, tt, chunks, opts, want, 0 if threads is None else threads, update)
+            parts = _run_local(method, tt, chunks, opts, want, threads, update)
         else:
             parts = _run_dask(client, method, tt, chunks, opts, want, 1 if threads is None else threads, update)
     finally:
         if close is not None:
             close()
-    return _assemble(parts, shape, tt, want, len(chunks))
+    inputs = {k: v.reshape(shape) for k, v in flats.items()}
+    return _assemble(parts, shape, tt, want, len(chunks), inputs)
 
 
 def _run_local(method, tt, chunks, opts, want, threads, update):
@@ -380,25 +458,25 @@ def _wait_some(wait, pending):
     return set(res.done), set(res.not_done)
 
 
-def _assemble(parts, shape, tt, want, n_chunks):
+def _assemble(parts, shape, tt, want, n_chunks, inputs):
     codes = np.concatenate([p["codes"] for p in parts]) if parts else np.zeros(0, dtype=np.int64)
     code, message = OK, ""
     failed = np.flatnonzero(codes != OK)
     if failed.size:
-        # the first failed chunk's message, renumbered for the whole sweep (as the direct batch call says it)
+        # the first failed chunk's message, indexed for the whole sweep (as the direct batch call says it)
         first = next(p for p in parts if p["code"] != OK)
-        detail = _PREFIX.sub("", first["message"], count=1)
         code = first["code"]
-        message = f"state {failed[0] + 1} of {codes.size} ({failed.size} failed, see codes): {detail}"
+        message = batch_summary(codes, first["message"], shape)
+        raise_if_all_failed(codes, code, message)
     if want == "period":
         per = np.concatenate([p["period"] for p in parts]) if parts else np.zeros(0)
         return SweepResult(want, None, None, None, per.reshape(shape), codes.reshape(shape), code, message,
-                           n_chunks)
+                           n_chunks, inputs)
     tail = (tt.size,) if want == "trajectory" else ()
     join = (lambda key: np.concatenate([p[key] for p in parts]).reshape(shape + tail)) if parts \
         else (lambda key: np.zeros(shape + tail))
     return SweepResult(want, tt, join("theta"), join("omega"), None, codes.reshape(shape), code, message,
-                       n_chunks)
+                       n_chunks, inputs)
 
 
-__all__ = ["sweep", "SweepResult"]
+__all__ = ["sweep", "SweepResult", "WELL_NONE"]

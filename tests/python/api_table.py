@@ -76,9 +76,9 @@ NOT_ENTRY_POINTS = {
     "plot_phase_portrait": "plot helper: returns a matplotlib Figure",
 }
 
-# threads= of the batch paths: 0 (the default: every core) or a count
-THREADS = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("2", TypeError), (True, TypeError),
-                            (None, TypeError)))
+# threads= of the batch paths: None (the default: chosen from the predicted work), 0 (the
+# OpenMP default: every core) or a count
+THREADS = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("2", TypeError), (True, TypeError)))
 
 # The pendulum as g and length instead of w0, the damping as b and mass instead of
 # gamma (pendula.physics' one convention): checked with w0 (gamma) left out.
@@ -139,8 +139,9 @@ API: dict[str, Entry] = {
         valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.05),
         args=dict(t=Arg(TIMES), theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
                   w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), threads=THREADS,
-                  # a step outside RK4's stability region is refused, not integrated into garbage
-                  h=Arg(POS, extremes=(1e300, 1e154, 1e-300, 5e-324),
+                  # a step outside RK4's stability region is refused, not integrated into garbage;
+                  # an array is a step per state, broadcast like the state arguments
+                  h=Arg(POS, array=True, extremes=(1e300, 1e154, 1e-300, 5e-324),
                         extra=((50.0, ValueError, dict(t=np.array([0.0, 100.0]))),)),
                   # a budget below the window's steps is refused up front
                   max_steps=Arg(COUNT, extra=((3, ValueError),)),
@@ -157,7 +158,7 @@ API: dict[str, Entry] = {
                   client=Arg(OTHER, extra=(("tcp://x", TypeError),))),
         unchecked=dict(rtol="CVODE only (method='cvode')", atol="CVODE only (method='cvode')",
                        cvode_method="checked by cvode_batch", max_steps="checked by cvode_batch",
-                       threads="checked by _batch (test_sweep)")),
+                       threads="checked by _defaults.check_threads (test_sweep)")),
     "rk4_max_stable_step": Entry(
         valid=dict(w0=1.4, gamma=0.1),
         args=dict(w0=Arg(POS), gamma=Arg(NONNEG))),

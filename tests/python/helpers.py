@@ -134,13 +134,13 @@ def interrupt_child(args, wait, timeout):
 def finished_states_of_cancelled_batch(r, n, control):
     """Check a batch result (n states) cancelled mid-run through `control`: code
     ERR_CANCELLED naming the cancel, every state OK or cancelled, some but not all
-    finished, the progress counter equal to the finished count, theta zero for the
-    others.  Returns the mask of finished states."""
+    finished, the progress counter equal to the finished count, theta NaN for the
+    others (a state without an answer is never a number).  Returns the mask of finished states."""
     from pendula._errors import ERR_CANCELLED, OK
     assert r.code == ERR_CANCELLED and "cancelled" in r.message
     done = r.codes == OK
     assert ((r.codes == OK) | (r.codes == ERR_CANCELLED)).all()
     assert 0 < done.sum() < n, "the flag should land mid-run"
     assert control[1] == done.sum()                     # progress counts finished states
-    assert (r.theta[~done] == 0).all()
+    assert np.isnan(r.theta[~done]).all()
     return done

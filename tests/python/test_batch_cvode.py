@@ -20,7 +20,7 @@ import pytest
 import pendula
 from helpers import (dop853_text_scene, finished_states_of_cancelled_batch, forked_child_exit_code,
                      text_scene_ensemble)
-from pendula import _batch
+from pendula._many import kernels as _batch
 from pendula._errors import ERR_DOMAIN, ERR_MAXSTEPS, ERR_NONFINITE, ERR_SOLVER, OK
 
 pytestmark = pytest.mark.skipif(not pendula.have_cvode(), reason="this build has no CVODE")

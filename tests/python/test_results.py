@@ -83,7 +83,8 @@ def test_events_repr_counts_the_kinds():
 
 def test_batch_repr_reports_codes_and_the_first_failure():
     r = pendula.rk4(T30, [0.1, 0.2], 0.0, [W0, 200.0], 0.0, 0.05)   # the second is unstable at h = 0.05
-    _check_repr(r, "BatchIntegrationResult", "batch shape (2,)", "codes: 1 ok, 1 failed", "state 2 of 2")
+    _check_repr(r, "BatchIntegrationResult", "batch shape (2,)", "codes: 1 ok, 1 failed", "1 of 2 states failed",
+                "h[1] = 0.05")
 
 
 def test_scene_result_repr_has_model_error_tol_and_cost():
@@ -140,8 +141,11 @@ def test_scene_results_convert_what_was_wanted():
     np.testing.assert_array_equal(df["energy"].to_numpy(), r.energy)
     final = pendula.solve(_text_scene(want="final")).to_xarray()
     assert dict(final.sizes) == {"t": 1} and float(final["t"][0]) == 30.0
-    with pytest.raises(ValueError, match="no time series"):
-        pendula.solve(pendula.Scene(1.0, want="period")).to_pandas()
+    per = pendula.solve(pendula.Scene(1.0, want="period"))
+    assert per.to_pandas()["period"].tolist() == [per.period]     # one row, as the batch forms
+    assert float(per.to_xarray()["period"]) == per.period
+    with pytest.raises(ValueError, match="events"):
+        pendula.solve(pendula.Scene(1.0, t=[0.0, 10.0], want="events")).to_pandas()
     sb = pendula.solve(pendula.Scene([0.1, 3.0], t=T30[:5]))
     ds = sb.to_xarray()
     np.testing.assert_array_equal(ds["theta"].values, sb.theta)
@@ -153,9 +157,13 @@ def test_sweep_and_tradeoff_to_pandas():
     sw = pendula.sweep(T30[:5], np.array([0.1, 0.2]), w0=1.0, h=0.01, want="trajectory")
     ds = sw.to_xarray()
     np.testing.assert_array_equal(ds["theta"].values, sw.theta)
+    # the inputs are physical coordinates of the batch
+    assert ds["theta0"].values.tolist() == [0.1, 0.2] and ds["w0"].attrs["units"] == "1/s"
+    assert ds["h"].values.tolist() == [0.01, 0.01]
     assert sw.to_pandas().index.names == ["batch", "t"]
     per = pendula.sweep(None, np.array([0.1, 0.2]), want="period").to_pandas()
-    assert list(per.columns) == ["period", "code"]
+    assert list(per.columns) == ["period", "code", "theta0", "omega0", "w0", "gamma"]
+    assert per["w0"].tolist() == [pendula.natural_frequency()] * 2     # the package's one default pendulum
     table = pendula.tradeoff(pendula.Scene(0.5, t=[0.0, 1.0]), models=["exact", "rk4"], rk4_steps=[0.1],
                              repeat=1, scipy=False)
     df = table.to_pandas()

@@ -1,7 +1,7 @@
 """pendula.sweep: chunked sweeps over states and parameters, locally and on Dask.
 
 Every state of a sweep must be bit-identical (0 ulps) to the direct batch
-call of pendula._batch for the same states, whatever the chunk size, and on
+call of pendula._many.kernels for the same states, whatever the chunk size, and on
 a dask.distributed LocalCluster (2 spawned worker processes on 127.0.0.1, no
 dashboard), also when a worker is killed mid-sweep (Dask reruns its chunks;
 none may be lost or placed twice).  Ctrl-C stops a local sweep (child
@@ -19,7 +19,7 @@ import pytest
 
 import pendula
 from helpers import HAVE_CVODE, interrupt_child
-from pendula import _batch
+from pendula._many import kernels as _batch
 
 T = np.linspace(0.0, 20.0, 81)
 W0 = np.sqrt(2.0)
@@ -56,8 +56,11 @@ def test_per_state_failure_is_reported_not_raised():
     r = pendula.sweep(t, 1.0, 0.0, 2.0, 0.0, h=h, chunk_states=4)
     d = _batch.rk4_batch(t, 1.0, 0.0, 2.0, 0.0, h)
     assert np.array_equal(r.codes, d.codes) and (r.codes[h == 3.0] != 0).all() and (r.codes[h != 3.0] == 0).all()
-    assert r.code == d.code and r.message == d.message
-    assert np.array_equal(r.theta, d.theta[:, -1])
+    # the message as the public batch call says it (0-based index of the argument), NaN for the failed states
+    assert r.code == d.code and r.message == pendula.rk4(t, 1.0, 0.0, 2.0, 0.0, h).message
+    assert r.message.startswith("4 of 10 states failed (see codes); the first: h[0] = 3 is unstable")
+    assert np.array_equal(r.theta, d.theta[:, -1], equal_nan=True) and np.isnan(r.theta[h == 3.0]).all()
+    assert (r.well[h == 3.0] == pendula.WELL_NONE).all() and not r.settled[h == 3.0].any()
 
 
 @pytest.mark.skipif(not HAVE_CVODE, reason="this build has no CVODE")
@@ -82,8 +85,12 @@ def test_classification_against_energy_and_turns():
     rot = r.rotating(W0)
     far = np.abs(energy - 2 * W0**2) > 1e-9 * W0**2   # away from the separatrix, where rounding decides
     assert np.array_equal(rot[far], (energy > 2 * W0**2)[far]) and rot.any() and (~rot).any()
-    k = r.well
-    assert (np.abs(r.theta - 2 * np.pi * k) <= np.pi).all() and len(np.unique(k)) > 1
+    assert np.array_equal(r.rotating(), rot)   # the sweep's own w0 by default
+    k, settled = r.well, r.settled
+    # settled: trapped in a well (energy below the separatrix), and only then a well number
+    assert np.array_equal(settled[far], (energy < 2 * W0**2)[far]) and settled.any() and (~settled).any()
+    assert (k[~settled] == pendula.WELL_NONE).all()
+    assert (np.abs(r.theta - 2 * np.pi * k)[settled] <= np.pi).all() and len(np.unique(k[settled])) > 1
 
 
 def test_progress_callback_counts_states():

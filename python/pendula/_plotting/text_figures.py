@@ -3,9 +3,9 @@ import numpy as np
 
 import pendula as _pd
 
-from ._figures_base import (_TEXT_H, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pi_label,
+from .base import (_TEXT_H, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pi_label,
                             _reference, _save, _small, _text_listing, _w0)
-from .plots import _figure
+from ..plots import _figure
 
 
 # --------------------------------------------------------------------------

@@ -5,7 +5,7 @@ mass, b or tol is an array of one or more dimensions (they broadcast like
 NumPy; t and want are shared).  ``solve``, ``run_model`` and ``tradeoff``
 of a SceneBatch answer every scene of it.
 
-Why a thread pool over the scalar solve (``_pool``), not a Fortran loop: each
+Why a thread pool over the scalar solve (``pool``), not a Fortran loop: each
 scene picks its own model, setting and verification runs, and its answer
 must be bit-identical to ``solve`` of that scene alone, which the scalar
 Fortran solve is by construction; the f2py call releases the GIL, so with one
@@ -13,18 +13,24 @@ thread per core every core runs Fortran while the Python overhead (~30 us
 a scene) is small against a scene's integration.  tradeoff of a batch runs
 the scenes one after another: its wall times must not compete for cores.
 
-Failure rules (as rk4/cvode batches): a scene that cannot be built (a bad
-value in one state) raises ValueError naming the state; a scene whose solve
-fails gets its code and message; when every scene failed, the call raises
-the first one's exception.
+Failure rules (as rk4/cvode batches, docs/robustness.md): a scene that
+cannot be built (a bad value in one state) raises ValueError naming the
+argument and the state (``gamma[1] = -1 ...``); a scene whose solve fails
+gets its code and message, NaN in its real quantities and '' as its model;
+when every scene failed, the call raises the first one's exception.
+
+This layer knows nothing of ``pendula.scene``: the scene class and the
+one-scene solve are handed in (``make``, ``one``), so imports run one way.
 """
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import _pool, _tables, scene as _scene
-from ._arrays import broadcast_real
-from ._ensemble import BatchStatus, summary
+from .. import _tables
+from .._arrays import broadcast_real
+from .._errors import for_state
+from . import pool
+from .ensemble import BatchStatus, summary
 
 _PARAMS = ("theta0", "omega0", "g", "length", "gamma", "mass", "b", "tol")
 
@@ -63,19 +69,19 @@ class SceneBatch:
     [0.1, 0.5, 1.0]
     """
 
-    def __init__(self, theta0, omega0, t, g, length, gamma, mass, b, tol, want):
+    def __init__(self, theta0, omega0, t, g, length, gamma, mass, b, tol, want, *, make):
+        # make: the one-scene class (pendula.Scene), handed in by it
         given = {k: v for k, v in zip(_PARAMS, (theta0, omega0, g, length, gamma, mass, b, tol)) if v is not None}
         shape, _, flats = broadcast_real(**given)
         n = int(np.prod(shape, dtype=np.int64))
-        probe = _scene.Scene(0.0, 0.0, t=t, want=want)   # t and want, also for an empty batch
+        probe = make(0.0, 0.0, t=t, want=want)   # t and want, also for an empty batch
         scenes = np.empty(n, dtype=object)
         for i in range(n):
             kw = {k: float(v[i]) for k, v in flats.items()}
             try:
-                scenes[i] = _scene.Scene(t=t, want=want, **kw)
+                scenes[i] = make(t=t, want=want, **kw)
             except ValueError as exc:
-                where = np.unravel_index(i, shape)
-                raise ValueError(f"state {tuple(int(j) for j in where)} of the batch {shape}: {exc}") from None
+                raise ValueError(for_state(exc, i, shape, _PARAMS)) from None
         self.shape = shape
         self.scenes = scenes.reshape(shape)
         self.t = probe.t
@@ -108,12 +114,16 @@ class SceneBatchResult(BatchStatus, _tables.Tabular):
     first_failed : int
         Flat index of the first failed scene, or -1.
     model, error_estimate, tol_met : numpy.ndarray
-        Per scene: model name ('' when failed), error estimate [rad] (inf
-        when failed), tol met.
+        Per scene: model name ('' when failed), error estimate [rad] (NaN
+        when failed), tol met (False when failed).
     t, theta, omega, energy, period, event_time_error : numpy.ndarray or None
         The per-scene quantities stacked with the batch shape in front
         (theta.shape == batch_shape + (len(t),); batch_shape + (1,) for want
-        "final"), zero for a failed scene; None when not asked for.
+        "final"), NaN for a failed scene; None when not asked for.
+    inputs : dict
+        The scenes' theta0 [rad], omega0 [rad/s], w0 [1/s], gamma [1/s] and
+        tol [rad] (batch shape): the coordinates of ``to_xarray`` and columns
+        of ``to_pandas``.
 
     Notes
     -----
@@ -141,20 +151,23 @@ class SceneBatchResult(BatchStatus, _tables.Tabular):
     energy: object = None
     period: object = None
     event_time_error: object = None
+    inputs: dict = None
 
     def _series(self):
         return {"theta": self.theta, "omega": self.omega, "energy": self.energy}
 
     def _t(self):
-        # t is stacked like the series; every scene shares it
-        return None if self.t is None else self.t.reshape(-1, self.t.shape[-1])[0]
+        # t is stacked like the series; every scene shares it (a failed scene's row is NaN)
+        if self.t is None:
+            return None
+        return self.t.reshape(-1, self.t.shape[-1])[int(np.argmax(self.ok.reshape(-1)))]
 
     def _table(self):
         if self.t is None and self.period is None:
             raise ValueError("a batch of want='events' scenes has no table: convert results[i].events one by one")
         return dict(t=self._t(), fields=self._series(), shape=self.shape, per_state={
             "code": self.codes, "model": self.model, "error_estimate": self.error_estimate,
-            "tol_met": self.tol_met, "period": self.period})
+            "tol_met": self.tol_met, "period": self.period}, coords=self.inputs)
 
     def __repr__(self):
         good = self.ok
@@ -173,7 +186,7 @@ def _stack(values, shape, name):
     good = [getattr(v, name) for v in values if v is not None]
     if not good or good[0] is None:
         return None
-    out = np.zeros((len(values),) + np.shape(good[0]))
+    out = np.full((len(values),) + np.shape(good[0]), np.nan)
     for i, v in enumerate(values):
         if v is not None:
             out[i] = getattr(v, name)
@@ -182,34 +195,25 @@ def _stack(values, shape, name):
 
 def _collect(batch, values, codes, messages):
     shape, n = batch.shape, len(values)
-    first, message = summary(codes, messages)
+    first, message = summary(codes, messages, shape, _PARAMS)
     res = np.empty(n, dtype=object)
     res[:] = values
     return SceneBatchResult(
         results=res.reshape(shape), codes=codes.reshape(shape),
         messages=np.array(messages, dtype=object).reshape(shape), message=message, first_failed=first,
         model=np.array([v.model if v is not None else "" for v in values], dtype=object).reshape(shape),
-        error_estimate=np.array([v.error_estimate if v is not None else np.inf for v in values],
+        error_estimate=np.array([v.error_estimate if v is not None else np.nan for v in values],
                                 dtype=float).reshape(shape),
         tol_met=np.array([v is not None and v.tol_met for v in values], dtype=bool).reshape(shape),
+        inputs={k: getattr(batch, k) for k in ("theta0", "omega0", "w0", "gamma", "tol")},
         **{k: _stack(values, shape, k) for k in ("t", "theta", "omega", "energy", "period", "event_time_error")})
 
 
-def run(batch, model_code, fixed, setting, max_steps, progress, threads):
-    """solve / run_model of every scene of ``batch`` on ``threads`` threads."""
+def run(batch, one, progress, threads, work):
+    """``one(scene, control)`` (a solve or run_model of one scene) for every
+    scene of ``batch`` on ``threads`` threads (None: chosen from ``work``, the
+    predicted work of the batch in RK4 steps)."""
     scenes = batch.scenes.reshape(-1)
-
-    def one(i, control):
-        sc = scenes[i]
-        return _scene._result(sc, _scene._run(sc, model_code, fixed, setting, max_steps, control=control))
-    values, codes, messages = _pool.map_states(one, scenes.size, threads, progress)
+    values, codes, messages = pool.map_states(lambda i, control: one(scenes[i], control), scenes.size, threads,
+                                              progress, work=work, shape=batch.shape, names=_PARAMS)
     return _collect(batch, values, codes, messages)
-
-
-def tradeoff(batch, **kw):
-    """``tradeoff`` of every scene, one after another: an object array of
-    ``TradeoffTable`` with the batch shape."""
-    out = np.empty(batch.scenes.size, dtype=object)
-    for i, sc in enumerate(batch.scenes.reshape(-1)):
-        out[i] = _scene.tradeoff(sc, **kw)
-    return out.reshape(batch.shape)

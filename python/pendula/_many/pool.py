@@ -9,39 +9,31 @@ thread's share).  Each thread owns a ``control`` array (pendula_control);
 Ctrl-C in the calling thread raises every cancel flag, waits for the threads
 (each stops within a millisecond or so) and re-raises KeyboardInterrupt.
 """
-import os
 import threading
 
 import numpy as np
 
-from . import _longcall
-from ._batch import _threads
-from ._errors import ERR_SOLVER
+from .. import _longcall
+from .._defaults import choose_threads, default_threads
+from .._errors import ERR_SOLVER, for_state
 
 
-def default_threads():
-    """Threads for ``threads=0``: OMP_NUM_THREADS when set (as the OpenMP
-    kernels), else the CPUs this process may run on."""
-    env = os.environ.get("OMP_NUM_THREADS", "").split(",")[0].strip()
-    if env.isdigit() and int(env) > 0:
-        return int(env)
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:   # not Linux
-        return os.cpu_count() or 1
-
-
-def map_states(fn, n, threads=0, progress=None):
+def map_states(fn, n, threads=None, progress=None, work=float("nan"), shape=None, names=None):
     """Call ``fn(i, control)`` for i in range(n) on a thread pool.
 
     Returns ``(values, codes, messages)``: values[i] is fn's result (None when
     it raised), codes an int64 array (0, or the raised exception's
     ``pendula_code``, ERR_SOLVER when it has none), messages the exceptions'
-    texts ('' for a success).  An exception that is neither a ValueError, a
-    RuntimeError nor NotImplementedError (a bug, a TypeError) is re-raised.
+    texts ('' for a success).  A ValueError without a ``pendula_code`` is an
+    argument error found by the Python layer: it is re-raised as a ValueError
+    naming the state (``shape``: the batch shape, for the index).  An
+    exception that is neither a ValueError, a RuntimeError nor
+    NotImplementedError (a bug, a TypeError) is re-raised.
     progress: as ``pendula.rk4`` (done = finished states, total = n).
+    threads: as the batch kernels, None chosen from the predicted ``work``
+    (RK4-step units; NaN: unknown, threads).
     """
-    nthreads = _threads(threads) or default_threads()
+    nthreads = choose_threads(threads, work) or default_threads()
     nthreads = max(1, min(nthreads, n))
     values, messages = [None] * n, [""] * n
     codes = np.zeros(n, dtype=np.int64)
@@ -59,7 +51,16 @@ def map_states(fn, n, threads=0, progress=None):
                 state["next"] = i + 1
             try:
                 values[i] = fn(i, control)
-            except (ValueError, RuntimeError, NotImplementedError) as exc:
+            except ValueError as exc:
+                if hasattr(exc, "pendula_code"):
+                    codes[i] = exc.pendula_code
+                    messages[i] = str(exc)
+                else:   # an argument error: the whole call is refused
+                    with lock:
+                        if state["error"] is None:
+                            state["error"] = ValueError(for_state(exc, i, (n,) if shape is None else shape, names))
+                    return
+            except (RuntimeError, NotImplementedError) as exc:
                 codes[i] = getattr(exc, "pendula_code", ERR_SOLVER)
                 messages[i] = str(exc)
             except BaseException as exc:   # a bug or a cancel: stop every thread, re-raise below

@@ -5,9 +5,9 @@ import numpy as np
 
 import pendula as _pd
 
-from ._figures_base import (_TEXT_H, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pair,
+from .base import (_TEXT_H, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pair,
                             _reference, _save, _text_listing, _w0)
-from .plots import _figure, tradeoff_rows, work_precision_plot
+from ..plots import _figure, tradeoff_rows, work_precision_plot
 
 
 def figA1_underdamped_linear(out_dir, quick=False):

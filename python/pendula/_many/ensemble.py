@@ -1,30 +1,34 @@
 """The batch path of ``pendula.rk4`` and ``pendula.cvode`` (array states).
 
-``rk4`` and ``cvode`` come here when theta0, omega0, w0 or gamma is an array
-of one or more dimensions; they broadcast together like NumPy to the batch
-shape.  The work goes to the Fortran batch kernels (``_batch``: OpenMP
-threads, GIL released), each state bit-identical to the scalar call;
+``rk4`` and ``cvode`` come here when theta0, omega0, w0, gamma (or rk4's h)
+is an array of one or more dimensions; they broadcast together like NumPy to
+the batch shape.  The work goes to the Fortran batch kernels (``kernels``:
+OpenMP threads, GIL released), each state bit-identical to the scalar call;
 ``cvode(..., events=True)`` runs the scalar call per state on a thread pool
-(``_pool``).
+(``pool``).
 
-Failure rules (documented in rk4/cvode):
+Failure rules (the package's one contract, docs/robustness.md):
 - a value the scalar call refuses without integrating (NaN or infinite,
   w0 <= 0, gamma < 0, h <= 0, ...) raises ValueError for the whole call,
-  naming the first bad state and the argument: it is a mistake in the input,
-  found before any work by a pass over the states at t[0] alone;
+  naming the argument and the first bad state (``w0[2] = -1.0 ...``): it is
+  a mistake in the input, found before any work by a pass over the states at
+  t[0] alone;
 - anything that fails for one state over the window (an RK4 step outside the
   stability region, more than max_steps steps, a CVODE failure, a non-finite
-  state) is that state's code; the others keep their answers;
+  state) is that state's code, and its outputs are NaN from the point it
+  failed; the others keep their answers;
 - when EVERY state of a non-empty batch failed, the call raises the first
-  state's exception (there is no answer to return), message prefixed by
-  "every state failed".
+  state's exception (there is no answer to return).
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _batch, _longcall, _pool, _tables
-from ._errors import OK, raise_for_status
+from .. import _longcall, _tables
+from .._arrays import broadcast_real, integer_arg
+from .._defaults import CVODE_METHODS
+from .._errors import OK, batch_summary, for_state, raise_if_all_failed
+from . import kernels, pool
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma")
 
@@ -78,15 +82,16 @@ class BatchStatus:
         return self.codes.shape
 
 
-def summary(codes, messages):
-    """(first_failed, message) of a batch from flat codes and per-state messages;
-    raises the first state's exception when every state of a non-empty batch failed."""
+def summary(codes, messages, shape, names=None):
+    """(first_failed, message) of a batch of ``shape`` from flat codes and
+    per-state messages; raises the first state's exception when every state of
+    a non-empty batch failed."""
     bad = np.flatnonzero(codes != OK)
     if not bad.size:
         return -1, ""
     first = int(bad[0])
-    message = f"state {first + 1} of {codes.size} ({bad.size} failed, see codes): {messages[first]}"
-    _all_failed(codes, int(codes[first]), message)
+    message = batch_summary(codes, messages[first], shape, names)
+    raise_if_all_failed(codes, int(codes[first]), message)
     return first, message
 
 
@@ -99,8 +104,9 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
     t : numpy.ndarray
         Output times [s], shape (n_t,).
     theta, omega : numpy.ndarray
-        [rad], [rad/s], shape batch_shape + (n_t,); a failed state's rows
-        are zero (CVODE: what it reached before failing, zero after).
+        [rad], [rad/s], shape batch_shape + (n_t,); a failed state is NaN
+        from the point it failed (RK4: its whole row; CVODE: what it
+        reached before failing is kept).
     stats : dict
         int64 arrays of shape batch_shape (the keys of the scalar result's
         stats).
@@ -109,14 +115,18 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
     codes : numpy.ndarray
         int64 status per state (0 = ok, see ``pendula._codes``).
     message : str
-        Summary ('' when every state succeeded; else the first failed
-        state's index and the scalar call's message for it, states numbered
-        from 1 in C order).
+        Summary ('' when every state succeeded; else how many failed and
+        the first one's message, naming it by its 0-based index in the
+        batch, ``w0[2]`` or ``state [1, 0]``).
     first_failed : int
         Flat index of the first failed state, or -1.
     events : numpy.ndarray, optional
         For ``cvode(..., events=True)``, an object array of ``Events`` (None
         for a failed state), else None.
+    inputs : dict, optional
+        The per-state inputs broadcast to batch_shape (theta0, omega0, w0,
+        gamma, and h or rtol, atol): the coordinates of ``to_xarray`` and
+        columns of ``to_pandas``.
 
     Notes
     -----
@@ -139,6 +149,7 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
     message: str
     first_failed: int
     events: np.ndarray = field(default=None)
+    inputs: dict = field(default=None)
 
     def __repr__(self):
         good = self.ok
@@ -151,18 +162,23 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
 
     def _table(self):
         return dict(t=self.t, fields={"theta": self.theta, "omega": self.omega}, shape=self.shape,
-                    per_state={"code": self.codes}, attrs={"method": self.method})
-
-def _all_failed(codes, code, message):
-    if codes.size and not (codes == OK).any():
-        raise_for_status(code, "every state failed; " + message)
+                    per_state={"code": self.codes}, attrs={"method": self.method}, coords=self.inputs)
 
 
-def _precheck(kernel, t, **kw):
+def inputs(shape, **named):
+    """The per-state inputs of a batch, each broadcast to ``shape`` (read-only views)."""
+    out = {}
+    for k, v in named.items():
+        a = np.broadcast_to(np.asarray(v, dtype=float), shape)
+        out[k] = a
+    return out
+
+
+def _precheck(kernel, t, shape, **kw):
     # The kernel over t[0] alone: the per-state argument checks, no integration.
     res = kernel(t[:1], **kw)
     if res.code != OK:
-        raise ValueError(res.message)
+        raise ValueError(for_state(res.message, res.first_failed, shape))
 
 
 def _watched(run, n, per_state_work, long_work, progress):
@@ -171,18 +187,30 @@ def _watched(run, n, per_state_work, long_work, progress):
     return _longcall.run(lambda: run(control), control, long, progress, total=n, unit="state")
 
 
+def _summarised(res, shape):
+    """The kernel result's message in the package's convention; raises when every state failed."""
+    if res.first_failed < 0:
+        return res.message
+    message = batch_summary(res.codes, res.message, shape)
+    raise_if_all_failed(res.codes, res.code, message)
+    return message
+
+
 def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads):
+    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)   # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, threads=threads)
-    _precheck(_batch.rk4_batch, tt, **args)
-    steps = (tt[-1] - tt[0]) / float(h) + tt.size
-    res = _watched(lambda c: _batch.rk4_batch(tt, control=c, max_steps=max_steps, **args),
-                   int(res_size(theta0, omega0, w0, gamma)), steps, _longcall.RK4_LONG_STEPS, progress)
-    _all_failed(res.codes, res.code, res.message)
+    _precheck(kernels.rk4_batch, tt, shape, **dict(args, threads=1))
+    hmin = float(np.min(h, initial=np.inf))
+    steps = (tt[-1] - tt[0]) / hmin + tt.size
+    res = _watched(lambda c: kernels.rk4_batch(tt, control=c, max_steps=max_steps, **args),
+                   int(np.prod(shape, dtype=np.int64)), steps, _longcall.RK4_LONG_STEPS, progress)
+    message = _summarised(res, shape)
     zero = np.zeros(res.codes.shape, dtype=np.int64)
     stats = {"steps": res.steps, "rhs_evals": 4 * res.steps, "jac_evals": zero, "err_test_fails": zero.copy(),
              "nonlin_iters": zero.copy(), "nonlin_fails": zero.copy(), "root_evals": zero.copy()}
     return BatchIntegrationResult(t=tt, theta=res.theta, omega=res.omega, stats=stats, method="rk4",
-                                  codes=res.codes, message=res.message, first_failed=res.first_failed)
+                                  codes=res.codes, message=message, first_failed=res.first_failed,
+                                  inputs=inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h))
 
 
 def res_size(*values):
@@ -192,33 +220,42 @@ def res_size(*values):
 
 def cvode_batch(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress,
                 threads, scalar_cvode):
+    # the call's own arguments first, as the scalar call checks them: ValueError for the whole call
+    if not isinstance(method, str) or method.lower() not in CVODE_METHODS:
+        raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
+    integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
+    if events:
+        integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
+    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)   # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol, method=method,
                 threads=threads)
-    _precheck(_batch.cvode_batch, tt, **args)
+    _precheck(kernels.cvode_batch, tt, shape, **dict(args, threads=1))
     n = res_size(theta0, omega0, w0, gamma)
     periods = abs(tt[-1] - tt[0]) * float(np.max(w0, initial=0.0)) / (2 * np.pi)
+    given = inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol)
     if not events:
-        res = _watched(lambda c: _batch.cvode_batch(tt, control=c, max_steps=max_steps, **args), n,
+        res = _watched(lambda c: kernels.cvode_batch(tt, control=c, max_steps=max_steps, **args), n,
                        periods * 50 + tt.size, _longcall.CVODE_LONG_STEPS, progress)
-        _all_failed(res.codes, res.code, res.message)
+        message = _summarised(res, shape)
         return BatchIntegrationResult(t=tt, theta=res.theta, omega=res.omega, stats=res.stats, method=res.method,
-                                      codes=res.codes, message=res.message, first_failed=res.first_failed)
+                                      codes=res.codes, message=message, first_failed=res.first_failed,
+                                      inputs=given)
     # events: the scalar call per state (its event arrays differ in length)
-    shape = np.broadcast_shapes(*(np.shape(v) for v in (theta0, omega0, w0, gamma)))
     flat = [np.broadcast_to(np.asarray(v, dtype=float), shape).reshape(-1) for v in (theta0, omega0, w0, gamma)]
 
     def one(i, control):
         return scalar_cvode(tt, float(flat[0][i]), float(flat[1][i]), float(flat[2][i]), float(flat[3][i]),
                             rtol=rtol, atol=atol, method=method, max_steps=max_steps, events=True,
                             max_events=max_events, control=control)
-    values, codes, messages = _pool.map_states(one, n, threads, progress)
-    return _from_states(tt, shape, values, codes, messages, method.lower())
+    values, codes, messages = pool.map_states(one, n, threads, progress, work=kernels.cvode_work(tt, w0, n),
+                                              shape=shape, names=_BATCH_ARGS)
+    return _from_states(tt, shape, values, codes, messages, method.lower(), given)
 
 
-def _from_states(tt, shape, values, codes, messages, method):
+def _from_states(tt, shape, values, codes, messages, method, given):
     n = len(values)
-    theta = np.zeros((n, tt.size))
-    omega = np.zeros((n, tt.size))
+    theta = np.full((n, tt.size), np.nan)
+    omega = np.full((n, tt.size), np.nan)
     stats = {}
     ev = np.empty(n, dtype=object)
     for i, r in enumerate(values):
@@ -227,9 +264,10 @@ def _from_states(tt, shape, values, codes, messages, method):
         theta[i], omega[i], ev[i] = r.theta, r.omega, r.events
         for k, v in r.stats.items():
             stats.setdefault(k, np.zeros(n, dtype=np.int64))[i] = v
-    first, message = summary(codes, messages)
+    first, message = summary(codes, messages, shape, _BATCH_ARGS)
     codes = codes.reshape(shape)
     return BatchIntegrationResult(t=tt, theta=theta.reshape(shape + (tt.size,)),
                                   omega=omega.reshape(shape + (tt.size,)),
                                   stats={k: v.reshape(shape) for k, v in stats.items()}, method=method,
-                                  codes=codes, message=message, first_failed=first, events=ev.reshape(shape))
+                                  codes=codes, message=message, first_failed=first, events=ev.reshape(shape),
+                                  inputs=given)

@@ -8,7 +8,7 @@ import numpy as np
 
 import pendula as _pd
 
-from .plots import DPI
+from ..plots import DPI
 
 G = 9.8          # m/s^2, the text's g
 LENGTH = 4.9     # m, the text's l
