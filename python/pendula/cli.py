@@ -31,6 +31,7 @@ from ._cli_values import accept_negative_values, angle, angular_velocity, count 
 from ._cli_values import finite as _finite
 from ._cli_values import nonnegative as _nonnegative, positive as _positive
 from ._codes import EVENT_TURNING, EVENT_ZERO, G_DEFAULT, LENGTH_DEFAULT, MODEL_CODES, WANT_CODES
+from ._defaults import SWEEP_H, TOL
 
 PROG = "pendula"
 MODELS = tuple(name for name in MODEL_CODES if name != "auto")
@@ -86,9 +87,9 @@ def _add_scene(p):
                    help="end of the time window in s (the window starts at t = 0)")
     s.add_argument("--n", type=_count, default=201, metavar="N",
                    help="number of equally spaced output times in [0, t-end] (default 201)")
-    s.add_argument("--tol", type=_positive, default=1e-6, metavar="RAD",
+    s.add_argument("--tol", type=_positive, default=TOL, metavar="RAD",
                    help="absolute tolerance on theta in rad over the whole window "
-                        "(Omega scaled by w0); default 1e-6")
+                        f"(Omega scaled by w0); default {TOL:g}")
     _add_physics(p)
 
 
@@ -179,7 +180,7 @@ def build_parser():
     w.add_argument("--omega0", nargs=3, default=[-6.0, 6.0, 101], metavar=("LO", "HI", "N"),
                    help=f"Omega0 grid: LO HI {_RATE_HELP}, N points (default -6 6 101)")
     w.add_argument("--t-end", type=_positive, default=30.0, metavar="S", help="end time in s (default 30)")
-    w.add_argument("--h", type=_positive, default=0.01, metavar="S", help="RK4 step in s (default 0.01)")
+    w.add_argument("--h", type=_positive, default=SWEEP_H, metavar="S", help=f"RK4 step in s (default {SWEEP_H:g})")
     w.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (created if missing, but its parent must exist unless --mkdir)")
     w.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
@@ -450,7 +451,7 @@ def cmd_sweep(args, out):
     _write_csv(folder / "sweep.csv", ["theta0_rad", "omega0_rad_per_s", "theta_end_rad", "omega_end_rad_per_s",
                                       "well", "code"], rows)
     out.write(f"{r.codes.size} starts, w0 = {w0:.12g} 1/s, gamma = {gamma:g} 1/s, t-end = {args.t_end:g} s; "
-              f"{int((~r.ok).sum())} failed; wells {int(well.min())}..{int(well.max())}\n")
+              f"{int((~r.ok).sum())} failed; " + _wells(r) + "\n")
     out.write(f"wrote {folder / 'sweep.npz'}\nwrote {folder / 'sweep.csv'}\n")
     if not args.no_png:
         from .figures import basin_map_plot
@@ -459,6 +460,14 @@ def cmd_sweep(args, out):
         sys.stderr.write(f"{PROG} sweep: {r.message}\n")
         return 1
     return 0
+
+
+def _wells(r):
+    # the wells of the settled starts; the others have none (pendula.WELL_NONE in the files)
+    k = r.well[r.settled]
+    unsettled = int((r.ok & ~r.settled).sum())
+    text = f"wells {int(k.min())}..{int(k.max())}" if k.size else "no well reached"
+    return text + (f", {unsettled} not settled at t-end" if unsettled else "")
 
 
 COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff}

@@ -105,15 +105,19 @@ def work_precision_plot(rows, path, title="Work-precision", tol=None, note=None,
 def basin_map_plot(theta0, omega0, well, path, w0=None, gamma=None):
     """The basin map of a damped sweep: each start (theta0 [rad], omega0 [rad/s])
     coloured by the well 2 pi k its motion ends in (``SweepResult.well``,
-    shape (len(theta0), len(omega0))); returns the path of the PNG."""
+    shape (len(theta0), len(omega0))); returns the path of the PNG.  Starts
+    without a well (``WELL_NONE``: failed, or not settled at t[-1]) are left
+    blank, never coloured as a well."""
     from matplotlib.colors import BoundaryNorm
+    from ._defaults import WELL_NONE
     fig, axs = _figure(size=(7.0, 5.4))
     ax = axs[0, 0]
-    well = np.asarray(well)
-    ks = np.arange(int(well.min()), int(well.max()) + 2) - 0.5
+    well = np.ma.masked_equal(np.asarray(well), WELL_NONE)
+    lo, hi = (int(well.min()), int(well.max())) if well.count() else (0, 0)
+    ks = np.arange(lo, hi + 2) - 0.5
     mesh = ax.pcolormesh(theta0, omega0, well.T, shading="nearest", cmap="coolwarm",
                          norm=BoundaryNorm(ks, 256))
-    fig.colorbar(mesh, ax=ax, ticks=np.arange(int(well.min()), int(well.max()) + 1), label="well k: ends near θ = 2πk (full turns made)")
+    fig.colorbar(mesh, ax=ax, ticks=np.arange(lo, hi + 1), label="well k: ends near θ = 2πk (full turns made)")
     sub = "" if w0 is None else f"  (w0 = {w0:.4g} 1/s, γ = {gamma:.4g} 1/s)"
     ax.set(xlabel="θ0  (rad)", ylabel="Ω0  (rad/s)", title="Basin map: where each start comes to rest" + sub)
     path = Path(path)
