@@ -11,7 +11,7 @@ rates (w0, gamma) in 1/s, g in m/s^2, lengths in m, masses in kg, b in kg/s.
 """
 from ._config import HAVE_CVODE as _HAVE_CVODE, VERSION as __version__
 from . import _config
-from ._errors import PendulaSolverError
+from ._errors import PendulaSolverError  # noqa: F401 (public: in __all__)
 from . import physics as _physics
 from .physics import *  # noqa: F401,F403
 

@@ -5,7 +5,7 @@ import numpy as np
 
 import pendula as _pd
 
-from .base import (_TEXT_H, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pair,
+from .base import (_TEXT_H, FigureUnavailable, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pair,
                             _reference, _save, _text_listing, _w0)
 from ..plots import _figure, tradeoff_rows, work_precision_plot
 
