@@ -24,8 +24,8 @@ import numpy as np
 
 from . import _fortran, _longcall, _tables
 from ._arrays import broadcast_real, integer_arg, time_grid
-from ._defaults import (CHUNK_STATES, CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_RTOL, SETTLE_MARGIN,
-                        SWEEP_H, THREADS, WELL_NONE, check_threads)
+from ._defaults import (CHUNK_STATES, CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL,
+                        SETTLE_MARGIN, SWEEP_H, THREADS, WELL_NONE, check_threads)
 from ._errors import OK, batch_summary, for_state, number, raise_if_all_failed
 from ._many import kernels
 from .physics import pendulum_gamma, pendulum_w0
@@ -384,7 +384,7 @@ def sweep(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=
             named["h"] = h
         else:
             named.update(rtol=rtol, atol=atol)
-            if not isinstance(cvode_method, str) or cvode_method.lower() not in ("adams", "bdf"):
+            if not isinstance(cvode_method, str) or cvode_method.lower() not in CVODE_METHODS:
                 raise ValueError(f"cvode_method = {cvode_method!r} is invalid: it must be 'adams' or 'bdf'")
             integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
             opts = dict(method=cvode_method, max_steps=max_steps)
