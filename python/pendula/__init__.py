@@ -9,6 +9,8 @@ scenes answered by the cheapest model that meets a tolerance.
 Units throughout: angles in rad, angular velocities in rad/s, times in s,
 rates (w0, gamma) in 1/s, g in m/s^2, lengths in m, masses in kg, b in kg/s.
 """
+from __future__ import annotations
+
 from ._config import HAVE_CVODE as _HAVE_CVODE, VERSION as __version__
 from . import _config
 from ._errors import PendulaSolverError  # noqa: F401 (public: in __all__)
@@ -40,7 +42,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      ))
 
 
-def build_info():
+def build_info() -> dict:
     """What this build contains, as meson configured it.
 
     Returns
@@ -69,7 +71,7 @@ def build_info():
                          for k, v in _config.COMPILER.items()}}
 
 
-def have_cvode():
+def have_cvode() -> bool:
     """True when this build includes the SUNDIALS CVODE integrator.
 
     Returns

@@ -10,6 +10,8 @@ on a grid spaced dt, every h >= dt runs the same steps.  The table shows the
 step actually used (``step_used``, the window over the steps taken) and keeps
 one row per distinct run.
 """
+from __future__ import annotations
+
 import csv as _csv
 
 import numpy as np
@@ -255,8 +257,8 @@ def _positive_list(xs, name):
     return [float(v) for v in arr]
 
 
-def tradeoff(scene, models=None, rk4_steps=None, cvode_rtols=None, repeat=3, csv=None, plot=None,
-             max_steps=2_000_000, scipy=None, scipy_rtols=None):
+def tradeoff(scene: Scene | SceneBatch, models=None, rk4_steps=None, cvode_rtols=None, repeat: int = 3, csv=None,
+             plot=None, max_steps: int = 2000000, scipy=None, scipy_rtols=None) -> TradeoffTable | np.ndarray:
     """Measure the speed/accuracy trade of every applicable model on ``scene``.
 
     Parameters

@@ -30,7 +30,10 @@ Where they differ from ``scipy.special`` (docs/guide/elliptic.md lists it all):
   subclasses (masked arrays lose their mask);
 * bool and complex input raise TypeError (SciPy reads True as 1.0).
 """
+from __future__ import annotations
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran as _elliptic
 from ._codes import (GLUE_ELLIPE, GLUE_ELLIPEM1, GLUE_ELLIPK, GLUE_ELLIPKM1, GLUE_JACOBI_AUTO,
@@ -123,7 +126,7 @@ def _elliptic_doc(f):
 
 
 @_elliptic_doc
-def ellipk(m, *, errors="raise"):
+def ellipk(m: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     """Complete elliptic integral of the first kind K(m).
 
     K(m) = F(pi/2 | m), the integral of (1 - m sin^2 t)^(-1/2) over
@@ -164,7 +167,7 @@ def ellipk(m, *, errors="raise"):
 
 
 @_elliptic_doc
-def ellipkm1(p, *, errors="raise"):
+def ellipkm1(p: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     """K(1 - p): the complete integral of the first kind by its complementary parameter.
 
     Same name and meaning as ``scipy.special.ellipkm1``.  Near the
@@ -204,7 +207,7 @@ def ellipkm1(p, *, errors="raise"):
 
 
 @_elliptic_doc
-def ellipe(m, *, errors="raise"):
+def ellipe(m: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     """Complete elliptic integral of the second kind E(m).
 
     E(m), the integral of (1 - m sin^2 t)^(1/2) over [0, pi/2]; with K it
@@ -242,7 +245,7 @@ def ellipe(m, *, errors="raise"):
 
 
 @_elliptic_doc
-def ellipem1(p, *, errors="raise"):
+def ellipem1(p: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     """E(1 - p): the complete integral of the second kind by its complementary parameter.
 
     The companion of :func:`ellipkm1` (SciPy has no such function): accurate
@@ -278,7 +281,7 @@ def ellipem1(p, *, errors="raise"):
 
 
 @_elliptic_doc
-def ellipf(phi, m, *, errors="raise"):
+def ellipf(phi: ArrayLike, m: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     """Incomplete elliptic integral of the first kind F(phi | m).
 
     F(phi | m), the integral of (1 - m sin^2 t)^(-1/2) over [0, phi] (text
@@ -329,7 +332,7 @@ ellipkinc = ellipf
 
 
 @_elliptic_doc
-def ellipfm1(phi, p, *, errors="raise"):
+def ellipfm1(phi: ArrayLike, p: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     """F(phi | 1 - p): the incomplete integral by the complementary parameter.
 
     Accurate near m = 1 (the separatrix), where 1 - m cannot be formed;
@@ -416,7 +419,7 @@ def _jacobi(u, m, name, which, errors):
 
 
 @_elliptic_doc
-def ellipj(u, m, *, errors="raise"):
+def ellipj(u: ArrayLike, m: ArrayLike, *, errors: str = "raise") -> tuple:
     """Jacobi elliptic functions sn, cn, dn and the amplitude am of (u | m).
 
     ``(sn, cn, dn, ph) = ellipj(u, m)`` as in ``scipy.special``: the
@@ -471,7 +474,7 @@ def ellipj(u, m, *, errors="raise"):
 
 
 @_elliptic_doc
-def ellipjm1(u, p, *, errors="raise"):
+def ellipjm1(u: ArrayLike, p: ArrayLike, *, errors: str = "raise") -> tuple:
     """Jacobi elliptic functions by the complementary parameter: ``ellipj(u, 1 - p)``.
 
     Use it near the separatrix (m -> 1), where 1 - m cannot be formed in

@@ -30,9 +30,13 @@ Examples
 >>> [int(k) == pendula.TURNING_POINT for k in ev.kind]
 [False, True, False, True]
 """
+from __future__ import annotations
+
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran, _longcall, _tables
 from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
@@ -267,7 +271,9 @@ def _result(t, theta, omega, stats, method):
     return r
 
 
-def rk4(t, theta0, omega0, w0, gamma, h, max_steps=RK4_MAX_STEPS, progress=None, threads=THREADS):
+def rk4(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gamma: ArrayLike, h: ArrayLike,
+        max_steps: int = RK4_MAX_STEPS, progress: bool | Callable[[int, int | None], object] | None = None,
+        threads: int | None = THREADS) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
     Parameters
@@ -375,7 +381,7 @@ def rk4(t, theta0, omega0, w0, gamma, h, max_steps=RK4_MAX_STEPS, progress=None,
 _step_budget = step_budget
 
 
-def rk4_max_stable_step(w0, gamma):
+def rk4_max_stable_step(w0: float, gamma: float) -> float:
     """Largest RK4 step h [s] that is stable for the pendulum linearised about theta = 0.
 
     Parameters
@@ -415,8 +421,11 @@ def rk4_max_stable_step(w0, gamma):
     return float(h)
 
 
-def cvode(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, method=CVODE_METHOD,
-          max_steps=CVODE_MAX_STEPS, events=False, max_events=MAX_EVENTS, progress=None, threads=THREADS):
+def cvode(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gamma: ArrayLike,
+          rtol: float = CVODE_RTOL, atol: float = CVODE_ATOL, method: str = CVODE_METHOD,
+          max_steps: int = CVODE_MAX_STEPS, events: bool = False, max_events: int = MAX_EVENTS,
+          progress: bool | Callable[[int, int | None], object] | None = None,
+          threads: int | None = THREADS) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     Parameters

@@ -12,9 +12,12 @@ gamma = 2 w0, for gamma >> w0, and never overflows (see the Fortran module
 ``length=`` (default the text's, w0 = sqrt(2)), the damping ``gamma=`` or ``b=`` and
 ``mass=`` (default none), as everywhere in pendula (``pendula.physics``).
 """
+from __future__ import annotations
+
 import dataclasses
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran
 from ._arrays import as_array, as_real, broadcast_real, real_scalar, restore
@@ -39,7 +42,10 @@ def _params(w0, gamma, g, length, b, mass):
 
 
 @documented(start=_START)
-def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None, mass=None):
+def linear_damped(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None,
+                  gamma: ArrayLike | None = None, *, g: ArrayLike | None = None, length: ArrayLike | None = None,
+                  b: ArrayLike | None = None,
+                  mass: ArrayLike | None = None) -> tuple[float | np.ndarray, float | np.ndarray]:
     """Angle and angular velocity of the linear damped pendulum.
 
     The solution of theta'' + gamma theta' + w0^2 theta = 0 (text eq. 2.4)
@@ -107,8 +113,10 @@ def linear_damped(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=
 
 
 @documented(start=_START)
-def linear_damped_envelope(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None,
-                           mass=None):
+def linear_damped_envelope(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None,
+                           gamma: ArrayLike | None = None, *, g: ArrayLike | None = None,
+                           length: ArrayLike | None = None, b: ArrayLike | None = None,
+                           mass: ArrayLike | None = None) -> float | np.ndarray:
     """Under-damped envelope R exp(-gamma t/2), with abs(theta(t)) <= envelope.
 
     R = sqrt(theta0^2 + ((omega0 + gamma theta0/2)/omega_d)^2), so that
@@ -211,7 +219,9 @@ class DampingRegime:
 
 
 @documented
-def damping_regime(w0=None, gamma=None, *, g=None, length=None, b=None, mass=None):
+def damping_regime(w0: ArrayLike | None = None, gamma: ArrayLike | None = None, *, g: ArrayLike | None = None,
+                   length: ArrayLike | None = None, b: ArrayLike | None = None,
+                   mass: ArrayLike | None = None) -> DampingRegime:
     """The regime of the linear damped pendulum and its numbers.
 
     Classifies theta'' + gamma theta' + w0^2 theta = 0 (text eq. 2.4) by its

@@ -7,7 +7,10 @@ default as ``Scene``.  A damping rate is ``gamma=`` or ``b=`` and ``mass=``
 (gamma = b/mass, text eq. 2.2); given none, gamma = 0.  The defaults live in the
 Fortran module ``pendula_physics`` and reach Python through ``_codes``.
 """
+from __future__ import annotations
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran
 from ._arrays import as_real, broadcast_real, real_scalar, restore
@@ -15,7 +18,7 @@ from ._codes import G_DEFAULT, GLUE_GAMMA, GLUE_W0, LENGTH_DEFAULT, PARAM_RTOL
 from ._errors import raise_for_status
 
 
-def natural_frequency(g=G_DEFAULT, length=LENGTH_DEFAULT):
+def natural_frequency(g: float = G_DEFAULT, length: float = LENGTH_DEFAULT) -> float:
     """Natural angular frequency w0 = sqrt(g/length) of the pendulum (text eq. 1.4).
 
     The rate that sets every time scale of the motion: the small-angle
@@ -61,7 +64,7 @@ def natural_frequency(g=G_DEFAULT, length=LENGTH_DEFAULT):
     return float(w0)
 
 
-def damping_rate(b, mass):
+def damping_rate(b: float, mass: float) -> float:
     """Damping rate gamma = b/mass of the linear friction force (text eqs 2.2-2.3).
 
     The friction torque -b l^2 theta' divided by m l^2 gives the term
@@ -193,7 +196,8 @@ def pendulum_gamma(gamma=None, b=None, mass=None):
 
 
 @documented
-def small_angle_period(w0=None, *, g=None, length=None):
+def small_angle_period(w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+                       length: ArrayLike | None = None) -> float | np.ndarray:
     """Small-angle period T0 = 2 pi / w0 = 2 pi sqrt(length/g) (text eq. 1.8).
 
     The period of the harmonic model theta0 cos(w0 t), the limit of the
@@ -237,7 +241,8 @@ def small_angle_period(w0=None, *, g=None, length=None):
 
 
 @documented
-def period_series(m, w0=None, *, g=None, length=None):
+def period_series(m: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+                  length: ArrayLike | None = None) -> float | np.ndarray:
     """The textbook's amplitude correction to the period, T0 (1 + m/4 + 9 m^2/64).
 
     T0 = 2 pi / w0 is the small-angle period (text eq. 1.8) and m = k^2 the

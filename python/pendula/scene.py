@@ -37,10 +37,14 @@ scene: this module passes its arguments through.
 Units: angles rad, Omega rad/s, t s, g m/s^2, length m, mass kg, b kg/s,
 gamma and w0 1/s, energies per unit m l^2 in 1/s^2.
 """
+from __future__ import annotations
+
 from dataclasses import dataclass, field
 import time
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran as _scene, _longcall, _tables
 from ._arrays import as_real, real_scalar, step_budget
@@ -146,8 +150,10 @@ class Scene:
             return SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want, make=Scene)
         return object.__new__(cls)
 
-    def __init__(self, theta0, omega0=0.0, t=None, g=G_DEFAULT, length=LENGTH_DEFAULT, gamma=None,
-                 mass=None, b=None, tol=TOL, want="state"):
+    def __init__(self, theta0: ArrayLike, omega0: ArrayLike = 0.0, t: ArrayLike | None = None,
+                 g: ArrayLike = G_DEFAULT, length: ArrayLike = LENGTH_DEFAULT, gamma: ArrayLike | None = None,
+                 mass: ArrayLike | None = None, b: ArrayLike | None = None, tol: ArrayLike = TOL,
+                 want: str = "state") -> None:
         self.theta0 = real_scalar(theta0, "theta0")
         self.omega0 = real_scalar(omega0, "omega0")
         self.g = real_scalar(g, "g")
@@ -416,7 +422,9 @@ def _result(scene, raw):
                        rtol=num["rtol"] if model == "cvode" else None, cost=cost, **kw)
 
 
-def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=THREADS):
+def solve(scene: Scene | SceneBatch, model: str | None = None, max_steps: int = STEP_CAP,
+          progress: bool | Callable[[int, int | None], object] | None = None,
+          threads: int | None = THREADS) -> SceneResult | SceneBatchResult:
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
     Parameters
@@ -491,7 +499,9 @@ def solve(scene, model=None, max_steps=STEP_CAP, progress=None, threads=THREADS)
     return _result(scene, _run(scene, code, False, 0.0, max_steps, progress))
 
 
-def run_model(scene, model, setting=None, max_steps=STEP_CAP, progress=None, threads=THREADS):
+def run_model(scene: Scene | SceneBatch, model: str, setting: float | None = None, max_steps: int = STEP_CAP,
+              progress: bool | Callable[[int, int | None], object] | None = None,
+              threads: int | None = THREADS) -> SceneResult | SceneBatchResult:
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
     For work-precision studies (``tradeoff``).

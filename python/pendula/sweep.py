@@ -17,15 +17,20 @@ mapped to the same batch kernel on the workers; results come back as NumPy
 arrays assembled in place (each chunk exactly once).  Dask is imported only
 there: importing pendula never imports dask (optional extra ``cluster``).
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran, _longcall, _tables
 from ._arrays import broadcast_real, integer_arg, time_grid
 from ._defaults import (CHUNK_STATES, CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL,
-                        SETTLE_MARGIN, SWEEP_H, THREADS, WELL_NONE, check_threads)
+                        SETTLE_MARGIN, SWEEP_H, THREADS, check_threads)
+from ._defaults import WELL_NONE as _WELL_NONE
 from ._errors import OK, batch_summary, for_state, number, raise_if_all_failed
 from ._many import kernels
 from .physics import pendulum_gamma, pendulum_w0
@@ -33,6 +38,10 @@ from .undamped import REGIMES, _state_property, period as _period
 
 WANTS = ("final", "trajectory", "period")
 METHODS = ("rk4", "cvode")
+WELL_NONE = _WELL_NONE
+"""The ``well`` of a state that has none: it failed, or it is not ``settled``
+at t[-1] (still going over the top, or at it).  -2**31, never a number of
+turns (``pendula._defaults``)."""
 # Poll interval of the Dask wait loop: Ctrl-C and progress are seen this often.
 _DASK_POLL_SECONDS = 0.1
 
@@ -280,9 +289,13 @@ def _check(flats, shape, want):
                                    "gamma = 0 everywhere (the closed-form period is undamped)", i, shape))
 
 
-def sweep(t, theta0, omega0=0.0, w0=None, gamma=None, *, g=None, length=None, b=None, mass=None, want="final",
-          method="rk4", h=SWEEP_H, rtol=CVODE_RTOL, atol=CVODE_ATOL, cvode_method=CVODE_METHOD,
-          max_steps=CVODE_MAX_STEPS, chunk_states=CHUNK_STATES, threads=THREADS, progress=None, client=None):
+def sweep(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None,
+          gamma: ArrayLike | None = None, *, g: float | None = None, length: float | None = None,
+          b: float | None = None, mass: float | None = None, want: str = "final", method: str = "rk4",
+          h: ArrayLike = SWEEP_H, rtol: ArrayLike = CVODE_RTOL, atol: ArrayLike = CVODE_ATOL,
+          cvode_method: str = CVODE_METHOD, max_steps: int = CVODE_MAX_STEPS, chunk_states: int = CHUNK_STATES,
+          threads: int | None = THREADS, progress: bool | Callable[[int, int | None], object] | None = None,
+          client: object | None = None) -> SweepResult:
     """Integrate (or, for want="period", answer in closed form) every state of a sweep.
 
     Parameters

@@ -18,9 +18,12 @@ raises ValueError naming the argument.
 The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
+from __future__ import annotations
+
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _fortran as _undamped
 from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
@@ -48,7 +51,9 @@ N_MAX = 2**31 - 1
 
 
 @_documented
-def undamped(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def undamped(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
+             g: ArrayLike | None = None,
+             length: ArrayLike | None = None) -> tuple[float | np.ndarray, float | np.ndarray]:
     """Exact motion (theta(t), omega(t)) of the undamped pendulum from any state.
 
     Solves theta'' + w0^2 sin(theta) = 0 (text eq. 1.3) in closed form for
@@ -129,7 +134,9 @@ def _small_angle(which, **named):
 
 
 @_documented
-def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def small_angle(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
+                g: ArrayLike | None = None,
+                length: ArrayLike | None = None) -> tuple[float | np.ndarray, float | np.ndarray]:
     """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t).
 
     The solution of the linearised equation theta'' + w0^2 theta = 0 (text
@@ -172,7 +179,8 @@ def small_angle(t, theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 
 @_documented
-def small_angle_error(tmax, theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def small_angle_error(tmax: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
+                      g: ArrayLike | None = None, length: ArrayLike | None = None) -> float | np.ndarray:
     """Rigorous bounds on the small-angle model's error over all abs(t) <= abs(tmax).
 
     How far :func:`small_angle` (text eq. 1.18) is from the exact motion
@@ -228,7 +236,8 @@ def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=N
 
 
 @_documented
-def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def period(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+           length: ArrayLike | None = None) -> float | np.ndarray:
     """Exact period of the undamped pendulum from the state (theta0, omega0).
 
     Libration: T = 4 K(m)/w0 (text eq. 1.53, here for any start, not only
@@ -272,7 +281,8 @@ def period(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 
 @_documented
-def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def amplitude(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+              length: ArrayLike | None = None) -> float | np.ndarray:
     """Amplitude of the swing from the state (theta0, omega0).
 
     max abs(theta - 2 pi N) over the motion: 2 asin(k) for a libration (the
@@ -308,7 +318,8 @@ def amplitude(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 
 @_documented
-def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def elliptic_parameter(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
+                       g: ArrayLike | None = None, length: ArrayLike | None = None) -> float | np.ndarray:
     """Elliptic parameter m = E / E_separatrix of a state, and 1 - m.
 
     m = sin^2(theta0/2) + (omega0/(2 w0))^2 (the text's k^2 of eqs 1.52 and
@@ -351,7 +362,8 @@ def elliptic_parameter(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 
 @_documented
-def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
+def regime(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+           length: ArrayLike | None = None) -> str | np.ndarray:
     """Kind of motion from a state: 'libration', 'separatrix' or 'rotation'.
 
     From m = E / E_separatrix (:func:`elliptic_parameter`): swinging (m < 1,
@@ -397,7 +409,8 @@ def regime(theta0, omega0=0.0, w0=None, *, g=None, length=None):
 
 
 @_documented
-def energy(theta, omega, w0=None, *, g=None, length=None):
+def energy(theta: ArrayLike, omega: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+           length: ArrayLike | None = None) -> float | np.ndarray:
     """Energy per unit m l^2, omega^2/2 + w0^2 (1 - cos theta).
 
     K + U of the text's Lagrangian (eq. 1.1) over m l^2.  0 at rest at the
@@ -444,7 +457,8 @@ def energy(theta, omega, w0=None, *, g=None, length=None):
 
 
 @_documented
-def equilibria(n, w0=None, *, g=None, length=None):
+def equilibria(n: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
+               length: ArrayLike | None = None) -> float | np.ndarray:
     """Equilibria (n pi, 0) of the pendulum and their linearisation (text §1.1).
 
     The Jacobian [[0, 1], [-w0^2 cos(n pi), 0]] (eqs 1.9-1.24) has

@@ -42,6 +42,9 @@ class SceneBatch:
     ----------
     theta0, omega0, t, g, length, gamma, mass, b, tol, want
         As for ``Scene``; the numeric ones (not t, want) broadcast like NumPy.
+    make : type
+        The one-scene class, ``pendula.Scene``, which hands itself in (this
+        layer does not import it).
 
     Attributes
     ----------
