@@ -6,12 +6,12 @@ theta0 ~ U(-0.1, 0.1) rad, Omega0 ~ U(1.9, 2.1) rad/s), t in [0, 30] s with
 meeting 1e-6 rad for every state).  Contenders, all doing the same 1200 RK4
 steps per state except solve_ivp:
 
-  batch 1 thread / all cores  pendula._batch.rk4_batch (SIMD blocks, OpenMP)
+  batch 1 thread / all cores  pendula._many.kernels.rk4_batch (SIMD blocks, OpenMP)
   pendula.rk4 loop            one pendula.rk4 call per state from Python
   numba njit / prange         a plain RK4 over states (libm sin), optional
   numpy vectorised            the RK4 stages as array operations across states
   solve_ivp stacked           one DOP853 system of 2N equations (rtol 1e-10)
-  batch CVODE 1 thread / all  pendula._batch.cvode_batch (Adams, rtol 1e-8,
+  batch CVODE 1 thread / all  pendula._many.kernels.cvode_batch (Adams, rtol 1e-8,
                               atol 1e-10: one solver per thread, CVodeReInit)
   pendula.cvode loop          one pendula.cvode call per state, same settings
 
@@ -42,7 +42,7 @@ from scipy.integrate import solve_ivp
 
 import harness
 import pendula
-from pendula import _batch
+from pendula._many import kernels as _batch
 
 W0SQ, GAMMA, H = 2.0, 0.1, 0.025
 T = np.linspace(0.0, 30.0, 601)

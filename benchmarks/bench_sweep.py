@@ -28,7 +28,7 @@ import numpy as np
 
 import harness
 import pendula
-from pendula import _batch
+from pendula._many import kernels as _batch
 
 W0 = np.sqrt(2.0)
 
