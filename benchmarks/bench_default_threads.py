@@ -9,14 +9,14 @@ wall time of threads=None, threads=1 and threads=0 (every core) and the ratios
 default / threads=1 (the goal: about 1 or below on a small batch, never the
 10-20x of waking a team on a busy machine) and default / threads=0.
 
-    python benchmarks/bench_default_threads.py [--quick]
+    python benchmarks/bench_default_threads.py [--quick] [--out DIR]
 """
-import argparse
 import os
 import time
 
 import numpy as np
 
+import harness
 import pendula
 from pendula import _defaults
 
@@ -31,15 +31,15 @@ def best(fn, repeat):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="fewer repeats and sizes")
+    ap = harness.parser(__doc__, "fewer repeats and sizes", "also write bench_default_threads.md here")
     args = ap.parse_args(argv)
     cases = [(200, 1.0), (200, 10.0), (2000, 10.0)] + ([] if args.quick else [(20000, 10.0)])
     h = 0.01
-    print(f"pendula {pendula.__version__}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
-          f"SERIAL_WORK = {_defaults.SERIAL_WORK:g} RK4 steps")
-    print("| states | t_end [s] | work [steps] | default [ms] | threads=1 [ms] | threads=0 [ms] | default / 1 | default / 0 |")
-    print("|---|---|---|---|---|---|---|---|")
+    lines = [f"pendula {pendula.__version__}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
+             f"SERIAL_WORK = {_defaults.SERIAL_WORK:g} RK4 steps", "",
+             "| states | t_end [s] | work [steps] | default [ms] | threads=1 [ms] | threads=0 [ms] | default / 1 "
+             "| default / 0 |", "|---|---|---|---|---|---|---|---|"]
+    print("\n".join(lines), flush=True)
     for n, t_end in cases:
         th0 = np.linspace(0.1, 3.0, n)
         t = np.array([0.0, t_end])
@@ -47,8 +47,10 @@ def main(argv=None):
         times = {thr: best(lambda thr=thr: pendula.rk4(t, th0, 0.0, np.sqrt(2), 0.1, h, threads=thr), rep)
                  for thr in (None, 1, 0)}
         work = n * (t_end / h + t.size)
-        print(f"| {n} | {t_end:g} | {work:.1e} | {times[None] * 1e3:.3f} | {times[1] * 1e3:.3f} | "
-              f"{times[0] * 1e3:.3f} | {times[None] / times[1]:.2f} | {times[None] / times[0]:.2f} |")
+        lines.append(f"| {n} | {t_end:g} | {work:.1e} | {times[None] * 1e3:.3f} | {times[1] * 1e3:.3f} | "
+                     f"{times[0] * 1e3:.3f} | {times[None] / times[1]:.2f} | {times[None] / times[0]:.2f} |")
+        print(lines[-1], flush=True)
+    harness.write_outputs(args.out, "bench_default_threads", "\n".join(lines))
 
 
 if __name__ == "__main__":
