@@ -13,7 +13,7 @@ from ._codes import CVODE_ADAMS, CVODE_BDF, G_DEFAULT, LENGTH_DEFAULT, STEP_CAP
 
 __all__ = ["G_DEFAULT", "LENGTH_DEFAULT", "STEP_CAP", "TOL", "CVODE_RTOL", "CVODE_ATOL", "CVODE_METHOD",
            "CVODE_MAX_STEPS", "CVODE_METHODS", "RK4_MAX_STEPS", "MAX_EVENTS", "SWEEP_H", "CHUNK_STATES",
-           "STAT_NAMES", "THREADS", "SERIAL_WORK", "WELL_NONE", "SETTLE_MARGIN", "check_threads",
+           "STAT_NAMES", "THREADS", "SERIAL_WORK", "POOL_STATE_WORK", "WELL_NONE", "SETTLE_MARGIN", "check_threads",
            "choose_threads"]
 
 TOL = 1e-6
@@ -50,6 +50,12 @@ an OpenMP team or a thread pool costs ~0.1-10 ms on a loaded machine, while
 2e6 RK4 steps take ~10-30 ms on one core (5-15 ns a step in the batch kernel),
 so below it threads cannot pay (200 states of 100 steps: 0.7 ms on one
 thread, 4.9 ms with threads=0 on a busy 2-core machine)."""
+
+POOL_STATE_WORK = 3000.0
+"""The least work of one state on the Python thread pool (scenes, CVODE with
+events), in RK4 steps: its ~30 us of Python around the Fortran call.  A batch
+of more than SERIAL_WORK / POOL_STATE_WORK such states takes threads without
+asking Fortran for each state's prediction."""
 
 WELL_NONE = -2**31
 """The ``well`` of a state that has none (failed, or still above or at the

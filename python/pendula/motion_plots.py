@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ._arrays import as_real, integer_arg, real_scalar
+from ._errors import number
 from .physics import pendulum_w0
 
 KINDS = ("time", "phase", "both")
@@ -198,7 +199,8 @@ def _levels(levels):
         raise ValueError(f"levels must be a number or a 1-D sequence of at most 100 numbers, got shape {arr.shape}")
     arr = np.atleast_1d(arr)
     if not np.all(np.isfinite(arr) & (arr > 0)):
-        raise ValueError(f"levels (E/E_sep) must be finite and > 0, got {arr[~(np.isfinite(arr) & (arr > 0))][0]!r}")
+        bad = np.flatnonzero(~(np.isfinite(arr) & (arr > 0)))[0]
+        raise ValueError(f"levels[{bad}] = {number(arr[bad])} is out of range: levels (E/E_sep) must be finite and > 0")
     return arr[arr != 1.0]   # E = E_sep is the separatrix, always drawn
 
 

@@ -50,7 +50,8 @@ from . import _fortran as _scene, _longcall, _tables
 from ._arrays import as_real, real_scalar, step_budget
 from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, WANT_CODES
 from ._config import HAVE_CVODE  # noqa: F401 (read by benchmarks/bench_scenes.py)
-from ._defaults import G_DEFAULT, LENGTH_DEFAULT, SERIAL_WORK, STEP_CAP, THREADS, TOL, check_threads
+from ._defaults import (G_DEFAULT, LENGTH_DEFAULT, POOL_STATE_WORK, SERIAL_WORK, STEP_CAP, THREADS, TOL,
+                        check_threads)
 from ._errors import PendulaSolverError, _text, raise_for_status
 from ._many import scenes as _scene_batch
 from ._many.ensemble import is_batch as _is_batch
@@ -565,9 +566,9 @@ def _batch_run(batch, model_code, fixed, setting, max_steps, progress, threads):
     """solve / run_model of every scene of a SceneBatch on a thread pool."""
     step_budget(max_steps)   # the call's own argument: ValueError/TypeError for the whole call
     check_threads(threads)
-    work = 0.0
-    if threads is None:
-        # Fortran's prediction of each scene's work, summed until it is clearly enough for threads
+    work = batch.scenes.size * POOL_STATE_WORK
+    if threads is None and not work > SERIAL_WORK:
+        # a small batch: Fortran's prediction of each scene's work, summed until it is enough for threads
         for sc in batch.scenes.reshape(-1):
             work += _scene.scene_work_f2py(sc._t_arg(), sc.theta0, sc.omega0, sc.w0, sc._w0lo, sc.gamma, sc.tol,
                                            WANT_CODES[sc.want], model_code, int(fixed), float(setting))

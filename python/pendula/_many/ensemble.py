@@ -26,7 +26,7 @@ import numpy as np
 
 from .. import _longcall, _tables
 from .._arrays import broadcast_real, integer_arg
-from .._defaults import CVODE_METHODS
+from .._defaults import CVODE_METHODS, POOL_STATE_WORK
 from .._errors import OK, batch_summary, for_state, raise_if_all_failed
 from . import kernels, pool
 
@@ -247,8 +247,8 @@ def cvode_batch(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, ev
         return scalar_cvode(tt, float(flat[0][i]), float(flat[1][i]), float(flat[2][i]), float(flat[3][i]),
                             rtol=rtol, atol=atol, method=method, max_steps=max_steps, events=True,
                             max_events=max_events, control=control)
-    values, codes, messages = pool.map_states(one, n, threads, progress, work=kernels.cvode_work(tt, w0, n),
-                                              shape=shape, names=_BATCH_ARGS)
+    work = kernels.cvode_work(tt, w0, n) + n * POOL_STATE_WORK
+    values, codes, messages = pool.map_states(one, n, threads, progress, work=work, shape=shape, names=_BATCH_ARGS)
     return _from_states(tt, shape, values, codes, messages, method.lower(), given)
 
 

@@ -67,7 +67,7 @@ def _text_listing(t_end, h, theta0, omega0, w0, gamma):
     textbook = getattr(_pd, "textbook", None)
     if textbook is None:
         try:
-            from . import textbook  # noqa: F811 (not re-exported by every build)
+            from .. import textbook  # noqa: F811 (not re-exported by every build)
         except ImportError:
             raise FigureUnavailable("pendula.textbook (the text's printed RK4 listing) "
                                     "is not available in this build") from None
