@@ -274,8 +274,10 @@ def test_rk4_bad_input(kw, match):
 def test_rk4_type_errors_and_input_untouched():
     with pytest.raises(TypeError):
         pendula.rk4("abc", 0.1, 0.0, W0, 0.1, 0.01)
-    with pytest.raises(TypeError):
-        pendula.rk4([0.0, 1.0], 0.1, 0.0, W0, 0.1, [0.01, 0.02])
+    with pytest.raises(TypeError, match="h"):
+        pendula.rk4([0.0, 1.0], 0.1, 0.0, W0, 0.1, "0.01")
+    # an array h is a step per state (a batch), as in sweep
+    assert pendula.rk4([0.0, 1.0], 0.1, 0.0, W0, 0.1, [0.01, 0.02]).theta.shape == (2, 2)
     t = np.array([0.0, 0.5, 1.0])
     keep = t.copy()
     r = pendula.rk4(t, 0.1, 0.0, W0, 0.1, 0.01)

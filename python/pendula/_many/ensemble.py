@@ -166,12 +166,9 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
 
 
 def inputs(shape, **named):
-    """The per-state inputs of a batch, each broadcast to ``shape`` (read-only views)."""
-    out = {}
-    for k, v in named.items():
-        a = np.broadcast_to(np.asarray(v, dtype=float), shape)
-        out[k] = a
-    return out
+    """The per-state inputs of a batch, each broadcast to ``shape``: read-only views of
+    copies (the result never aliases, nor changes with, a user's array)."""
+    return {k: np.broadcast_to(np.array(v, dtype=float), shape) for k, v in named.items()}
 
 
 def _precheck(kernel, t, shape, **kw):

@@ -72,17 +72,17 @@ def _control(control):
 def rk4_work(tt, h):
     """Predicted work of an RK4 batch in steps: sum over the states of span/h + outputs."""
     h = np.asarray(h, dtype=float)
-    span = float(tt[-1] - tt[0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        per = span / h + tt.size
-    return float(np.sum(per)) if h.size else 0.0
+    with np.errstate(all="ignore"):   # inf/NaN work (extreme windows, h): threads, the kernel refuses what it must
+        per = float(tt[-1] - tt[0]) / h + tt.size
+        return float(np.sum(per)) if h.size else 0.0
 
 
 def cvode_work(tt, w0, n):
     """Predicted work of a CVODE batch of ``n`` states in RK4-step units:
     ~50 steps a period of the fastest state, plus the outputs, per state."""
-    periods = abs(float(tt[-1] - tt[0])) * float(np.max(np.asarray(w0, dtype=float), initial=0.0)) / (2 * np.pi)
-    return n * (periods * 50 + tt.size)
+    with np.errstate(all="ignore"):
+        periods = abs(float(tt[-1] - tt[0])) * float(np.max(np.asarray(w0, dtype=float), initial=0.0)) / (2 * np.pi)
+        return n * (periods * 50 + tt.size)
 
 
 def nan_after_failure(theta, omega, codes, whole_row=False):
