@@ -127,7 +127,8 @@ contains
         est = elin + gain * e1
         if (early) est = max(e1, est)
         if (est <= scene%tol) then
-          call assemble(scene, part, k, ts, center, xs, vs, est, result)
+          call assemble(scene, part, k, ts, center, xs, vs, est, result, status)
+          if (status%code /= PENDULA_OK) return
           call add_cost(spent, result%cost)
           result%cost = spent
           result%setting = part%setting
@@ -195,7 +196,8 @@ contains
       end if
       do it = 1, MAX_TRIES_EVENTS
         if (.not. ts < MAX_PART_EVENTS * tend) exit
-        call event_grid(sub, ts, tg)
+        call event_grid(sub, ts, tg, status)
+        if (status%code /= PENDULA_OK) return
         sub%t = tg
         call run_part()
         if (status%code /= PENDULA_OK) return
@@ -205,7 +207,8 @@ contains
         ! tighter part or later ts would
         if (e1 > sub%tol) exit
         evs = fresh
-        call grid_events(sub, tg, part%theta, part%omega, evs)
+        call grid_events(sub, tg, part%theta, part%omega, evs, status)
+        if (status%code /= PENDULA_OK) return
         ni = size(evs%event_t)
         eint = event_time_error(evs, e1 + event_interp_error(sub, tg), scene%w0)
         center = 2 * pi * anint(part%theta(n) / (2 * pi))
@@ -345,16 +348,19 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: ts
     integer, intent(in) :: k
-    real(wp), allocatable :: tau(:)
-    integer :: n
+    ! blocks of the outputs: propagator_gain's work arrays live on the stack,
+    ! and the outputs may be millions (no heap copy of them either)
+    integer, parameter :: BLOCK = 512
+    integer :: n, i0
     n = size(scene%t)
-    if (scene%want == SCENE_WANT_FINAL) then
-      tau = [scene%t(n) - ts]
-    else
-      tau = scene%t(k+1:n) - ts
-    end if
     gain = 0
-    if (size(tau) > 0) gain = maxval(propagator_gain(scene%w0, scene%gamma, tau))
+    if (scene%want == SCENE_WANT_FINAL) then
+      gain = maxval(propagator_gain(scene%w0, scene%gamma, [scene%t(n) - ts]))
+      return
+    end if
+    do i0 = k + 1, n, BLOCK
+      gain = max(gain, maxval(propagator_gain(scene%w0, scene%gamma, scene%t(i0:min(n, i0 + BLOCK - 1)) - ts)))
+    end do
   end function carry_gain
 
   ! Induced norm in max(|theta|, |Omega|/w0) of the linear damped propagator
@@ -392,16 +398,18 @@ contains
   ! The answer from the integrated part (outputs 1..k, state at ts last) and
   ! the linear closed form about center from (center + xs, vs) at ts for the
   ! outputs after it.
-  pure subroutine assemble(scene, part, k, ts, center, xs, vs, est, result)
+  pure subroutine assemble(scene, part, k, ts, center, xs, vs, est, result, status)
     type(scene_t), intent(in) :: scene
     type(scene_result_t), intent(in) :: part
     integer, intent(in) :: k
     real(wp), intent(in) :: ts, center, xs, vs, est
     type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
     type(linear_damped_t) :: lin
     type(status_t) :: st
     integer :: n
-    call alloc_outputs(scene, result)
+    call alloc_outputs(scene, result, status)
+    if (status%code /= PENDULA_OK) return
     n = size(result%t)
     result%theta(1:k) = part%theta(1:k)
     result%omega(1:k) = part%omega(1:k)
@@ -410,7 +418,7 @@ contains
     result%theta(k+1:n) = result%theta(k+1:n) + center
     result%cost%closed_form_evals = n - k
     result%error_estimate = est
-    call finish_outputs(scene, result)
+    call finish_outputs(scene, result, status)
   end subroutine assemble
 
   pure subroutine add_cost(total, c)

@@ -28,7 +28,7 @@
 module pendula_scene_top
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
-  use pendula_status, only: status_t, PENDULA_OK, set_error, PENDULA_ERR_CANCELLED
+  use pendula_status, only: status_t, PENDULA_OK, set_error, check_alloc, PENDULA_ERR_CANCELLED
   use pendula_constants, only: pi, pi_lo, pi_lo2
   use pendula_double_double, only: two_prod
   use pendula_control, only: CONTROL_SIZE, cancel_requested
@@ -197,7 +197,7 @@ contains
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
     character(len=:), allocatable :: why2
-    integer :: nk, n, it, sub_model
+    integer :: nk, n, it, sub_model, ist
     integer(i8) :: steps
     real(wp) :: sub_est
     logical :: is_top, handover
@@ -206,7 +206,8 @@ contains
     if (.not. is_top) return
     call hang_plan(scene, phi0, v0, tend, tx, gain, vmax, target)
     ! the outputs in the hang (nk of the result's, up to tx), then tx
-    call alloc_outputs(scene, result)
+    call alloc_outputs(scene, result, status)
+    if (status%code /= PENDULA_OK) return
     n = size(result%t)
     nk = count(result%t <= tx)
     handover = nk < n .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)
@@ -219,7 +220,9 @@ contains
       tg = [result%t(1:nk), tx]
       target = min(target, scene%tol / 2)
     end if
-    allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)))
+    allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)), stat=ist)
+    call check_alloc(ist, 'the runs from the top', 4_i8 * size(tg), 8, status)
+    if (status%code /= PENDULA_OK) return
     h = hang_step(scene, phi0, target, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
@@ -303,7 +306,7 @@ contains
       result%rtol = rest%rtol
       why = why // ' to t = ' // format_sci(tx, 4) // ' s, then ' // why2
     end if
-    call finish_outputs(scene, result)
+    call finish_outputs(scene, result, status)
   contains
     ! RK4 in (phi, v = phi') from (phi0, v0) at 0 through the times tg,
     ! 2 ceil(dt/(2 hh)) / factor equal substeps on each interval dt: the
