@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _fortran
+from . import _fortran, _memory
 from ._arrays import broadcast_real, integer_arg
 from ._errors import OK, ERR_CANCELLED, _text, raise_for_status
 from .integrate import _METHODS, _STAT_NAMES, _grid
@@ -114,8 +114,11 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=0, control=None, max_step
     budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     nthreads = _threads(threads)
     control = _control(control)
-    theta, omega, codes, steps, first, code, msg = _fortran.rk4_batch_f2py(
-        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control)
+    n = flats["theta0"].size
+    # f2py allocates theta and omega (n_t x n each) before any work: refused at once
+    theta, omega, codes, steps, first, code, msg = _memory.guard(lambda: _fortran.rk4_batch_f2py(
+        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control),
+        f"the outputs theta and omega of {n} states x {tt.size} times", _trajectory_bytes(n, tt.size))
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)   # the call itself was refused
@@ -158,9 +161,11 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="ada
     max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     nthreads = _threads(threads)
     control = _control(control)
-    theta, omega, codes, stats, first, code, msg = _fortran.cvode_batch_f2py(
+    n = flats["theta0"].size
+    theta, omega, codes, stats, first, code, msg = _memory.guard(lambda: _fortran.cvode_batch_f2py(
         tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
-        _METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control)
+        _METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control),
+        f"the outputs theta and omega of {n} states x {tt.size} times", _trajectory_bytes(n, tt.size))
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)   # the call itself was refused
@@ -171,6 +176,12 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=1e-8, atol=1e-10, method="ada
                             codes=codes.astype(np.int64).reshape(shape), steps=counts["steps"], code=code,
                             message=_text(msg) if code else "", first_failed=first - 1, stats=counts,
                             method=method.lower())
+
+
+def _trajectory_bytes(n, n_t):
+    """Bytes of a batch's theta and omega: n states x n_t times, float64 (the
+    one prediction of a batch's output size: the batch calls and sweep use it)."""
+    return 2 * 8 * n * n_t
 
 
 def openmp():

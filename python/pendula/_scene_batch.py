@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _pool, _tables, scene as _scene
+from . import _memory, _pool, _tables, scene as _scene
 from ._arrays import broadcast_real
 from ._ensemble import BatchStatus, summary
 
@@ -44,7 +44,8 @@ class SceneBatch:
     scenes : numpy.ndarray
         Object array of ``Scene`` of that shape.
     t, want
-        Shared by every scene (t [s], read-only).
+        Shared by every scene (t [s], read-only: one array that every
+        scene of the batch refers to, not a copy per scene).
     theta0, omega0, w0, gamma, tol : numpy.ndarray
         Float arrays of the batch shape ([rad], [rad/s], [1/s], [1/s], [rad]).
 
@@ -68,11 +69,12 @@ class SceneBatch:
         shape, _, flats = broadcast_real(**given)
         n = int(np.prod(shape, dtype=np.int64))
         probe = _scene.Scene(0.0, 0.0, t=t, want=want)   # t and want, also for an empty batch
+        shared = _scene._SharedTimes(probe.t)   # one time grid for every scene, not a copy each
         scenes = np.empty(n, dtype=object)
         for i in range(n):
             kw = {k: float(v[i]) for k, v in flats.items()}
             try:
-                scenes[i] = _scene.Scene(t=t, want=want, **kw)
+                scenes[i] = _scene.Scene(t=shared, want=want, **kw)
             except ValueError as exc:
                 where = np.unravel_index(i, shape)
                 raise ValueError(f"state {tuple(int(j) for j in where)} of the batch {shape}: {exc}") from None
@@ -198,6 +200,11 @@ def _collect(batch, values, codes, messages):
 def run(batch, model_code, fixed, setting, max_steps, progress, threads):
     """solve / run_model of every scene of ``batch`` on ``threads`` threads."""
     scenes = batch.scenes.reshape(-1)
+    # up front, before any solve: each scene's series (t, theta, omega, energy:
+    # at most 4 of len(t)) in its result and again stacked in the batch's
+    n_t = 1 if batch.want == "final" else batch.t.size if batch.want in ("state", "theta", "energy") else 0
+    _memory.reserve(2 * 4 * 8 * scenes.size * n_t,
+                    f"the results of {scenes.size} scenes x {n_t} output times (4 series, per scene and stacked)")
 
     def one(i, control):
         sc = scenes[i]

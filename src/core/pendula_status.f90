@@ -249,12 +249,20 @@ contains
     integer, intent(in) :: bytes_each  !< bytes per value (8 for real(wp))
     type(status_t), intent(inout) :: status
     !< receives the error if the allocation failed and no earlier error is set
-    real(wp), parameter :: MIB = 1024.0_wp**2
+    real(wp), parameter :: MIB = 1024.0_wp**2, GIB = 1024.0_wp**3
+    real(wp) :: bytes
     if (stat == 0 .or. status%code /= PENDULA_OK) return
-    ! MiB with 3 significant digits: 7630 MiB, 0.0153 MiB (the exact count follows)
-    call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
-        format_general(real(elements, wp) * bytes_each / MIB, 3) // ' MiB (' // format_int(elements) // &
-        ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+    ! 3 significant digits of MiB or GiB: 7.45 GiB, 0.0153 MiB (the exact count follows)
+    bytes = real(elements, wp) * bytes_each
+    if (bytes >= GIB) then
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
+          format_general(bytes / GIB, 3) // ' GiB (' // format_int(elements) // &
+          ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+    else
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
+          format_general(bytes / MIB, 3) // ' MiB (' // format_int(elements) // &
+          ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+    end if
   end subroutine check_alloc
 
 end module pendula_status
