@@ -34,7 +34,7 @@ module pendula_scene_top
   use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_scene_codes, only: scene_model_name, SCENE_MODEL_LINEAR, SCENE_MODEL_AUTO, SCENE_WANT_PERIOD, &
       SCENE_WANT_EVENTS
-  use pendula_scene_types, only: scene_t, scene_result_t
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model
   use pendula_scene_closed, only: solve_closed
@@ -211,13 +211,17 @@ contains
     n = size(result%t)
     nk = count(result%t <= tx)
     handover = nk < n .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)
+    allocate (tg(merge(1, min(nk + 1, n), scene%want == SCENE_WANT_EVENTS)), stat=ist)
+    call check_alloc(ist, 'the times of the run from the top', int(nk + 1, i8), 8, status)
+    if (status%code /= PENDULA_OK) return
     if (scene%want == SCENE_WANT_EVENTS) then
-      tg = [tx]
+      tg(1) = tx
     else if (nk == n) then
-      tg = result%t
+      tg(:) = result%t
       target = scene%tol / 2
     else
-      tg = [result%t(1:nk), tx]
+      tg(1:nk) = result%t(1:nk)
+      tg(nk+1) = tx
       target = min(target, scene%tol / 2)
     end if
     allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)), stat=ist)
@@ -259,15 +263,16 @@ contains
       thx = p - (ph(size(ph)) - (e + k * pi_lo))
       omx = -vp(size(vp))
       eround = eps * abs(thx)
-      sub = scene
+      call scene_like(scene, sub, merge(1, n - nk, scene%want == SCENE_WANT_EVENTS), status)
+      if (status%code /= PENDULA_OK) return
       sub%theta0 = thx
       sub%omega0 = omx
       sub%tol = scene%tol / 2
       sub%model = SCENE_MODEL_AUTO
       if (scene%want == SCENE_WANT_EVENTS) then
-        sub%t = [tend - tx]
+        sub%t(1) = tend - tx
       else
-        sub%t = max(0.0_wp, result%t(nk+1:n) - tx)
+        sub%t(:) = max(0.0_wp, result%t(nk+1:n) - tx)
       end if
       call choose_model(sub, sub%t(size(sub%t)), sub_model, sub_est, why2, status)
       if (status%code /= PENDULA_OK) return
