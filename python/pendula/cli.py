@@ -549,7 +549,14 @@ COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "s
 
 def main(argv=None, out=None):
     """Entry point of the ``pendula`` console script and ``python -m pendula``; returns the exit code."""
-    out = out or sys.stdout
+    try:
+        return _main(argv, out or sys.stdout)
+    except KeyboardInterrupt:   # before a subcommand runs (parsing, importing): still one line
+        sys.stderr.write(f"{PROG}: interrupted (Ctrl-C)\n")
+        return 130
+
+
+def _main(argv, out):
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:

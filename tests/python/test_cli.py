@@ -357,6 +357,14 @@ def test_ctrl_c_is_one_line_and_exit_130(capsys, tmp_path, monkeypatch, sub, tar
     assert code == 130 and _one_line(err) and "interrupted" in err
 
 
+def test_ctrl_c_before_the_subcommand_runs_is_one_line_too(capsys, monkeypatch):
+    def interrupted():
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cli, "build_parser", interrupted)
+    code, _, err = run(["period", "--theta0", "0.1"], capsys)
+    assert code == 130 and _one_line(err) and err.startswith("pendula: interrupted")
+
+
 def test_out_of_memory_is_one_line(capsys, tmp_path, monkeypatch):
     def refused(*args, **kwargs):
         raise MemoryError("out of memory: the outputs need 7.45 GiB (8000000000 bytes), which could not be allocated")
