@@ -10,7 +10,7 @@ module pendula
   use pendula_status, only: status_t, status_ok, code_name, PENDULA_MSG_LEN, &
       PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, PENDULA_ERR_ORDER, &
       PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, &
-      PENDULA_ERR_CANCELLED
+      PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_physics, only: natural_frequency, damping_rate, small_angle_period, period_series, &
       PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL

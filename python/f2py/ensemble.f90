@@ -10,7 +10,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
     theta, omega, codes, steps, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t, status_unpack
+  use pendula_status, only: status_t, status_unpack, check_alloc
   use pendula_rk4_batch, only: rk4_batch_solve
   implicit none
   include 'pendula_msg_len.inc'
@@ -27,8 +27,19 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer(i8), allocatable :: nsteps(:)   ! heap: n may be 1e7
-  integer :: first
-  allocate (nsteps(n))
+  integer :: first, ist
+  allocate (nsteps(n), stat=ist)
+  if (ist /= 0) then
+    ! the whole call is refused (first_failed = 0): Python raises MemoryError
+    call check_alloc(ist, 'the step counts', int(n, i8), 8, st)
+    theta = 0
+    omega = 0
+    codes = st%code
+    steps = 0
+    first_failed = 0
+    call status_unpack(st, code, msg)
+    return
+  end if
   call rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, nsteps, st, &
       threads=int(threads), control=control, first_failed=first, max_steps=int(max_steps, i8))
   steps = real(nsteps, c_double)
@@ -49,7 +60,7 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
     max_steps, threads, control, theta, omega, codes, stats, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t, status_unpack
+  use pendula_status, only: status_t, status_unpack, check_alloc
   use pendula_ode, only: ode_stats_t, ode_stats_values, step_budget
   use pendula_cvode_batch, only: cvode_batch_solve
   implicit none
@@ -64,8 +75,19 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
   type(status_t) :: st
   type(ode_stats_t), allocatable :: s(:)   ! heap: n may be 1e7
   integer(i8) :: budget
-  integer :: first, i
-  allocate (s(n))
+  integer :: first, i, ist
+  allocate (s(n), stat=ist)
+  if (ist /= 0) then
+    ! the whole call is refused (first_failed = 0): Python raises MemoryError
+    call check_alloc(ist, 'the CVODE counters', 7_i8 * n, 8, st)
+    theta = 0
+    omega = 0
+    codes = st%code
+    stats = 0
+    first_failed = 0
+    call status_unpack(st, code, msg)
+    return
+  end if
   ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
   budget = step_budget(max_steps)
   call cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, codes, &

@@ -86,7 +86,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_ode, only: step_budget
-  use pendula_status, only: status_t, status_unpack, set_error, PENDULA_OK, PENDULA_ERR_SIZE
+  use pendula_status, only: status_t, status_unpack, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_format, only: format_int
   use pendula_scene, only: scene_t, scene_result_t, scene_solve, scene_run_model
   use pendula_scene_codes, only: SCENE_INFO_SIZE, SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, &
@@ -110,7 +110,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   type(status_t) :: st
   type(scene_t) :: scene
   type(scene_result_t) :: res
-  integer :: k
+  integer :: k, ist
   integer(i8) :: budget
   ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
   budget = step_budget(max_steps)
@@ -131,8 +131,14 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
       ' slots, the result has ' // format_int(SCENE_INFO_SIZE) // ': pendula/_codes.py is stale, rebuild')
   call status_unpack(st, code, msg)
   if (st%code /= PENDULA_OK) return
+  ! the times copied into a checked allocation (not by the constructor)
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
-      model=merge(0, int(model), fixed /= 0), t=t)
+      model=merge(0, int(model), fixed /= 0))
+  allocate (scene%t(n), stat=ist)
+  call check_alloc(ist, 'the output times t', int(n, i8), 8, st)
+  call status_unpack(st, code, msg)
+  if (st%code /= PENDULA_OK) return
+  scene%t(:) = t
   if (fixed /= 0) then
     call scene_run_model(scene, int(model), setting, res, st, control, budget)
   else
@@ -184,8 +190,15 @@ subroutine scene_work_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mod
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, w0lo, gamma, tol, setting
   real(c_double), intent(out) :: work
   type(scene_t) :: scene
+  integer :: ist
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
-      model=merge(0, int(model), fixed /= 0), t=t)
+      model=merge(0, int(model), fixed /= 0))
+  ! times that cannot be copied: predicted short (0), so that the solve runs
+  ! inline and reports PENDULA_ERR_MEMORY itself
+  allocate (scene%t(n), stat=ist)
+  work = 0
+  if (ist /= 0) return
+  scene%t(:) = t
   if (fixed /= 0) then
     work = scene_run_work(scene, int(model), setting)
   else

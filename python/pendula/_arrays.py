@@ -192,3 +192,13 @@ def time_grid(t):
 def step_budget(max_steps):
     """max_steps checked exactly (no wrap), capped at 2**62 for the Fortran double."""
     return min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62)
+
+
+class SharedTimes:
+    """The output times of a SceneBatch (a read-only array this package made):
+    every scene of the batch refers to it instead of holding its own copy."""
+
+    __slots__ = ("array",)
+
+    def __init__(self, array):
+        self.array = array

@@ -65,6 +65,17 @@ def count(text):
     return n
 
 
+def threads(text):
+    """A thread count: an integer in [0, 4096] (0: every core)."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if not 0 <= n <= 4096:
+        raise argparse.ArgumentTypeError(f"{text!r} must be an integer in [0, 4096] (0: every core)")
+    return n
+
+
 def _with_unit(text, units, what, examples):
     """The value of ``text`` in rad (or rad/s): a number with at most one unit suffix from ``units``."""
     if not isinstance(text, str):          # a default given as a number

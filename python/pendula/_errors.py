@@ -3,7 +3,8 @@
 The codes are those of ``pendula_status`` (src/core/pendula_status.f90), read
 from ``pendula._codes`` (generated from it at build time): argument problems
 become ``ValueError``, solver failures ``RuntimeError``, a feature missing
-from this build ``NotImplementedError``.
+from this build ``NotImplementedError``, an allocation that failed
+``MemoryError`` (its message names the size asked for).
 """
 import numbers
 import re
@@ -11,7 +12,7 @@ import re
 import numpy as np
 
 from ._codes import (OK, ERR_NONFINITE, ERR_DOMAIN, ERR_SIZE, ERR_ORDER, ERR_UNSTABLE, ERR_SOLVER,  # noqa: F401
-                     ERR_UNAVAILABLE, ERR_MAXSTEPS, ERR_CANCELLED)
+                     ERR_UNAVAILABLE, ERR_MAXSTEPS, ERR_CANCELLED, ERR_MEMORY)
 
 
 class PendulaSolverError(RuntimeError):
@@ -51,6 +52,7 @@ _EXCEPTIONS = {
     ERR_UNAVAILABLE: NotImplementedError,
     ERR_MAXSTEPS: PendulaSolverError,
     ERR_CANCELLED: KeyboardInterrupt,
+    ERR_MEMORY: MemoryError,
 }
 
 

@@ -12,22 +12,25 @@ Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
 mass kg, b kg/s, gamma and w0 1/s; angles may be given in degrees (--theta0 90deg,
 --omega0 30deg/s) and the initial state by the text's launch speed (--v0 in m/s,
 Omega0 = v0/l).  Exit status 0 on success, 2 on a bad flag or value (with a
-message saying what is wrong), 1 when a solver fails.
+message saying what is wrong), 1 when a solver fails, memory runs out or an
+output cannot be written, 130 on Ctrl-C; every error is one line on stderr.
 
-Output: tables printed for people show the times of the output grid without
-binary noise (0.45, not 0.44999999999999996); CSV and NPZ files are data files
-and keep every number to full precision (the shortest decimal that reads back as
-the same double).
+Output: every number written, in CSV and NPZ files and in printed tables, is the
+shortest decimal that reads back as the same double (Python's repr), except the
+times of the output grid in a table printed for people, shown without binary
+noise (0.45, not 0.44999999999999996).  An output path ending in / (or naming an
+existing folder) writes a file of the command's name inside that folder.
 """
 import argparse
 import csv
 import math
+import os
 import sys
 from pathlib import Path
 
 import numpy as np
 
-from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times
+from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times, threads
 from ._cli_values import finite as _finite
 from ._cli_values import nonnegative as _nonnegative, positive as _positive
 from ._codes import EVENT_TURNING, EVENT_ZERO, G_DEFAULT, LENGTH_DEFAULT, MODEL_CODES, WANT_CODES
@@ -48,12 +51,18 @@ _PHYS_HELP = (f"physical parameters (the text's defaults: g = {G_DEFAULT:g} m/s^
               "so w0 = sqrt(2) 1/s)")
 
 
-def _add_physics(p, damping=True):
+def _add_physics(p, damping=True, w0=False):
     g = p.add_argument_group(_PHYS_HELP)
-    g.add_argument("--g", type=_positive, default=G_DEFAULT, metavar="M/S2",
+    # g and length default to None here and to the text's values in main, so that
+    # --w0 can refuse them when they are given too
+    g.add_argument("--g", type=_positive, default=None, metavar="M/S2",
                    help=f"gravitational acceleration g in m/s^2 (default {G_DEFAULT:g})")
-    g.add_argument("--length", "-l", type=_positive, default=LENGTH_DEFAULT, metavar="M",
+    g.add_argument("--length", "-l", type=_positive, default=None, metavar="M",
                    help=f"pendulum length l in m (default {LENGTH_DEFAULT:g}); w0 = sqrt(g/l) in 1/s")
+    if w0:
+        g.add_argument("--w0", type=_positive, default=None, metavar="1/S",
+                       help="natural frequency w0 in 1/s, instead of --g and --length "
+                            "(default sqrt(g/l) = sqrt(2))")
     if damping:
         g.add_argument("--gamma", type=_nonnegative, default=None, metavar="1/S",
                        help="damping rate gamma in 1/s (eq. 2.3); or give --mass and --b "
@@ -127,9 +136,10 @@ def build_parser():
     q.add_argument("--theta0", type=angle, nargs="+", required=True, metavar="ANGLE",
                    help=f"one or more initial angles {_ANGLE_HELP}")
     _add_launch(q, "initial angular velocity")
-    q.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    q.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV "
+                   "(FILE ending in / or an existing folder: period.csv in it)")
     q.add_argument("--mkdir", action="store_true", help="create the missing folders of --csv")
-    _add_physics(q, damping=False)
+    _add_physics(q, damping=False, w0=True)
 
     s = sub.add_parser("solve", help="solve a scene with the cheapest model that meets --tol",
                        description="Describe a scene (parameters, initial state, window, tolerance); the "
@@ -168,30 +178,57 @@ def build_parser():
     t.add_argument("--repeat", type=_count, default=3, metavar="N",
                    help="wall time is the best of N >= 2 calls (default 3)")
     w = sub.add_parser("sweep", help="a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and basin map",
-                       description="Integrate every start of a theta0 x Omega0 grid (RK4 batch kernel, in "
-                                   "chunks; Ctrl-C stops it) to --t-end and write into --out: sweep.npz "
-                                   "(theta0 [rad], omega0 [rad/s], final theta [rad], final Omega [rad/s], "
-                                   "well, status codes), sweep.csv (one row per start) and basin.png: the "
-                                   "basin map, each start coloured by the well 2 pi k it ends in (the turns "
-                                   "made before the damping caught it).")
-    w.add_argument("--theta0", nargs=3, default=[-math.pi, math.pi, 101], metavar=("LO", "HI", "N"),
+                       description="Integrate every start of a theta0 x Omega0 grid (or of one axis: give "
+                                   "the other a single value) with pendula.sweep (RK4 or CVODE batch "
+                                   "kernels, in chunks; Ctrl-C stops it) to --t-end and write into --out: "
+                                   "sweep.npz (theta0 [rad], omega0 [rad/s], final theta [rad], final "
+                                   "Omega [rad/s], well, status codes), sweep.csv (one row per start) and "
+                                   "basin.png: the basin map, each start coloured by the well 2 pi k it "
+                                   "ends in (the turns made before the damping caught it).")
+    w.add_argument("--theta0", nargs="+", default=[-math.pi, math.pi, 101], metavar="LO HI N",
                    help=f"theta0 grid: LO HI {_ANGLE_HELP} (-180deg 180deg 101), N points "
-                        "(default -pi pi 101)")
-    w.add_argument("--omega0", nargs=3, default=[-6.0, 6.0, 101], metavar=("LO", "HI", "N"),
-                   help=f"Omega0 grid: LO HI {_RATE_HELP}, N points (default -6 6 101)")
+                        "(default -pi pi 101); or one value: a 1-D sweep over Omega0 only")
+    w.add_argument("--omega0", nargs="+", default=[-6.0, 6.0, 101], metavar="LO HI N",
+                   help=f"Omega0 grid: LO HI {_RATE_HELP}, N points (default -6 6 101); or one "
+                        "value: a 1-D sweep over theta0 only")
     w.add_argument("--t-end", type=_positive, default=30.0, metavar="S", help="end time in s (default 30)")
+    w.add_argument("--method", default="rk4", choices=("rk4", "cvode"),
+                   help="integrator: rk4 (fixed step --h, default) or cvode (tolerances --rtol, --atol)")
     w.add_argument("--h", type=_positive, default=SWEEP_H, metavar="S", help=f"RK4 step in s (default {SWEEP_H:g})")
+    w.add_argument("--rtol", type=_positive, default=None, metavar="REL",
+                   help="CVODE relative tolerance, > 0 (default: pendula.sweep's)")
+    w.add_argument("--atol", type=_nonnegative, default=None, metavar="ABS",
+                   help="CVODE absolute tolerance, >= 0 (default: pendula.sweep's)")
+    w.add_argument("--cvode-method", default=None, choices=("adams", "bdf"),
+                   help="CVODE's method: adams (non-stiff) or bdf (stiff, gamma >> w0); default pendula.sweep's")
+    w.add_argument("--threads", type=threads, default=None, metavar="N",
+                   help="threads of the batch kernels (0: every core; default: chosen from the predicted work)")
     w.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (created if missing, but its parent must exist unless --mkdir)")
     w.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
     w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
-    _add_physics(w)
+    _add_physics(w, w0=True)
     for parser in (p, *sub.choices.values()):
         accept_negative_values(parser)
     return p
 
 
 # ---------------------------------------------------------------- helpers
+
+def _physics_defaults(args):
+    """--w0 instead of --g/--length (refused together); then the text's g and l."""
+    if getattr(args, "w0", None) is not None and (args.g is not None or args.length is not None):
+        raise CliError("--w0 replaces --g and --length (w0 = sqrt(g/l)): give either --w0 or --g/--length")
+    if hasattr(args, "g"):
+        args.g = G_DEFAULT if args.g is None else args.g
+        args.length = LENGTH_DEFAULT if args.length is None else args.length
+
+
+def _w0(args):
+    """The natural frequency of the flags: --w0, or sqrt(g/l)."""
+    import pendula
+    w0 = getattr(args, "w0", None)
+    return float(w0) if w0 is not None else float(pendula.natural_frequency(args.g, args.length))
 
 def _scene(args, want="state"):
     """The scene of the flags; --gamma, --mass and --b go through to the library,
@@ -212,6 +249,17 @@ def _fmt_table(header, rows):
              "  ".join("-" * w for w in widths)]
     lines += ["  ".join(str(v).rjust(w) for v, w in zip(r, widths)) for r in rows]
     return "\n".join(lines)
+
+
+def _output_file(path, option, args, name):
+    """The file an output flag names: a path ending in a separator, or naming an
+    existing folder, means the file `name` inside that folder (never a file
+    named like the folder); checked by _check_output."""
+    text = str(path)
+    if text.endswith(("/", os.sep)) or Path(text).is_dir():
+        path = Path(text) / name
+    _check_output(path, option, args)
+    return str(path)
 
 
 def _check_output(path, option, args, folder=False):
@@ -245,10 +293,13 @@ def _make_parent(path, args):
 
 def _write_csv(path, header, rows):
     path = Path(path)
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        w.writerows(rows)
+    try:
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            w.writerows(rows)
+    except OSError as exc:   # e.g. a full disk reported when the file is closed: name the file
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
     return path
 
 
@@ -297,8 +348,8 @@ def cmd_figures(args, out):
 def cmd_period(args, out):
     import pendula
     if args.csv:
-        _check_output(args.csv, "--csv", args)
-    w0 = pendula.natural_frequency(args.g, args.length)
+        args.csv = _output_file(args.csv, "--csv", args, "period.csv")
+    w0 = _w0(args)
     t0 = float(pendula.small_angle_period(w0))
     theta0 = np.asarray(args.theta0, dtype=float)
     exact = np.atleast_1d(np.asarray(pendula.period(theta0, args.omega0, w0), dtype=float))
@@ -310,9 +361,12 @@ def cmd_period(args, out):
     for th, te, m, mc, reg in zip(theta0, exact, m_all, mc_all, regimes):
         motion = "rotation (per turn)" if reg == "rotation" else str(reg)
         series = t0 * (1 + m / 4 + 9 * m * m / 64) if reg == "libration" else float("nan")
-        rows.append([f"{th:.10g}", f"{args.omega0:.10g}", f"{m:.10g}", f"{mc:.6g}", motion, f"{te:.12g}",
-                     f"{t0:.12g}", f"{series:.8g}", f"{te / t0:.8g}"])
-    out.write(f"g = {args.g} m/s^2, l = {args.length} m, w0 = {w0:.12g} 1/s\n")
+        rows.append([data(th), data(args.omega0), data(m), data(mc), motion, data(te), data(t0), data(series),
+                     data(te / t0)])
+    if args.w0 is not None:
+        out.write(f"w0 = {data(w0)} 1/s\n")
+    else:
+        out.write(f"g = {data(args.g)} m/s^2, l = {data(args.length)} m, w0 = {data(w0)} 1/s\n")
     out.write(_fmt_table(header, rows) + "\n")
     if args.csv:
         _make_parent(args.csv, args)
@@ -325,9 +379,10 @@ _SERIES = ("state", "theta", "energy")   # the wants that give theta at every ou
 
 def cmd_solve(args, out):
     import pendula
-    for opt, path in (("--csv", args.csv), ("--png", args.png)):
-        if path:
-            _check_output(path, opt, args)
+    if args.csv:
+        args.csv = _output_file(args.csv, "--csv", args, "solve.csv")
+    if args.png:
+        args.png = _output_file(args.png, "--png", args, "solve.png")
     if args.png:
         if args.want not in _SERIES:
             raise CliError(f"--png draws a time series: give --want {', '.join(_SERIES)}, not {args.want}")
@@ -337,7 +392,7 @@ def cmd_solve(args, out):
     res = pendula.solve(scene, **kw)
     out.write(f"model: {_get(res, 'model')}\n")
     out.write(f"reason: {_get(res, 'reason')}\n")
-    out.write(f"error estimate: {_get(res, 'error_estimate')} rad (tolerance {args.tol:g} rad)\n")
+    out.write(f"error estimate: {data(_get(res, 'error_estimate'))} rad (tolerance {data(args.tol)} rad)\n")
     cost = _get(res, "cost")
     if cost is not None:
         out.write(f"cost: {cost}\n")
@@ -346,7 +401,7 @@ def cmd_solve(args, out):
         header, rows = ["period_s"], [[data(res.period)]]
     elif args.want == "final":
         theta, omega = float(res.theta[-1]), float(res.omega[-1])
-        out.write(f"final state at t = {args.t_end:g} s: theta = {data(theta)} rad, "
+        out.write(f"final state at t = {data(args.t_end)} s: theta = {data(theta)} rad, "
                   f"Omega = {data(omega)} rad/s\n")
         header = ["t_s", "theta_rad", "omega_rad_per_s"]
         rows = [[data(args.t_end), data(theta), data(omega)]]
@@ -356,7 +411,7 @@ def cmd_solve(args, out):
         header = ["t_s", "kind", "theta_rad", "omega_rad_per_s"]
         rows = [[data(a), kinds.get(int(k), str(k)), data(b), data(c)]
                 for a, k, b, c in zip(ev.t, ev.kind, ev.theta, ev.omega)]
-        out.write(f"{len(rows)} event(s) in (0, {args.t_end:g}] s, time error ~ {res.event_time_error} s\n")
+        out.write(f"{len(rows)} event(s) in (0, {data(args.t_end)}] s, time error ~ {data(res.event_time_error)} s\n")
     else:
         t = np.asarray(res.t, dtype=float)
         cols = [("theta_rad", res.theta), ("omega_rad_per_s", res.omega), ("energy_per_ml2_1_per_s2", res.energy)]
@@ -386,9 +441,10 @@ def cmd_tradeoff(args, out):
     fn = getattr(pendula, "tradeoff", None)
     if fn is None:
         raise NotImplementedError("pendula.tradeoff (the scenes module) is not available in this build")
-    for opt, path in (("--csv", args.csv), ("--png", args.png)):
-        if path:
-            _check_output(path, opt, args)
+    if args.csv:
+        args.csv = _output_file(args.csv, "--csv", args, "tradeoff.csv")
+    if args.png:
+        args.png = _output_file(args.png, "--png", args, "tradeoff.png")
     scene = _scene(args)
     kw = {"repeat": args.repeat}
     if args.models:
@@ -397,9 +453,9 @@ def cmd_tradeoff(args, out):
         if bad:
             raise CliError(f"--models: unknown model(s) {', '.join(bad)}; known: {', '.join(MODELS)}")
     table = fn(scene, **kw)
-    rows = _tradeoff_rows(table)
+    rows = [[r[0], _exact(r[1]), _exact(r[2]), _exact(r[3]), _exact(r[4])] for r in _tradeoff_rows(table)]
     header = ["model", "setting", "sup_error_rad", "wall_time_s", "rhs_evaluations"]
-    out.write(_fmt_table(header, [[r[0], r[1], f"{r[2]:.3g}", f"{r[3]:.3g}", r[4]] for r in rows]) + "\n")
+    out.write(_fmt_table(header, rows) + "\n")
     if args.csv:
         _make_parent(args.csv, args)
         out.write(f"wrote {_write_csv(args.csv, header, rows)}\n")
@@ -411,6 +467,19 @@ def cmd_tradeoff(args, out):
     return 0
 
 
+def _exact(v):
+    """A table cell: a real as the shortest decimal that reads back exactly, an
+    integer as itself, anything else (a name, an empty setting) as its text."""
+    if isinstance(v, (bool, np.bool_)) or v is None or isinstance(v, str):
+        return "" if v is None else str(v)
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    try:
+        return data(v)
+    except (TypeError, ValueError):
+        return str(v)
+
+
 def _tradeoff_rows(table):
     """Normalise pendula.tradeoff's table into rows (model, setting, error, time, evaluations)."""
     from .figures import tradeoff_rows
@@ -418,7 +487,12 @@ def _tradeoff_rows(table):
 
 
 def _grid_axis(spec, option, kind):
+    if len(spec) not in (1, 3):
+        raise CliError(f"{option}: give LO HI N (a grid of N points) or one value (a 1-D sweep over "
+                       f"the other axis), not {len(spec)} values")
     try:
+        if len(spec) == 1:
+            return np.array([kind(spec[0])])
         lo, hi, n = kind(spec[0]), kind(spec[1]), _finite(spec[2])
     except argparse.ArgumentTypeError as exc:
         raise CliError(f"{option}: {exc}") from None
@@ -434,24 +508,32 @@ def cmd_sweep(args, out):
     th = _grid_axis(args.theta0, "--theta0", angle)
     om = _grid_axis(args.omega0, "--omega0", angular_velocity)
     _check_output(args.out, "--out", args, folder=True)
-    w0 = pendula.natural_frequency(args.g, args.length)
+    w0 = _w0(args)
     gamma = args.gamma if args.gamma is not None else (
         pendula.damping_rate(args.b, args.mass) if args.mass is not None and args.b is not None else 0.0)
     t = np.array([0.0, args.t_end])
-    r = pendula.sweep(t, th[:, None], om[None, :], w0, gamma, h=args.h)
+    if args.method == "rk4":
+        if args.rtol is not None or args.atol is not None or args.cvode_method is not None:
+            raise CliError("--rtol, --atol and --cvode-method are CVODE's: give --method cvode (RK4 takes --h)")
+        kw = {"h": args.h}
+    else:
+        kw = {k: v for k, v in (("rtol", args.rtol), ("atol", args.atol), ("cvode_method", args.cvode_method))
+              if v is not None}
+    r = pendula.sweep(t, th[:, None], om[None, :], w0, gamma, method=args.method, threads=args.threads, **kw)
     _make_parent(Path(args.out) / "x", args)
     folder = Path(args.out)
     folder.mkdir(exist_ok=True)
     well = r.well
+    setting = {"h": args.h} if args.method == "rk4" else kw
     np.savez(folder / "sweep.npz", theta0=th, omega0=om, theta=r.theta, omega=r.omega, well=well, codes=r.codes,
-             t_end=args.t_end, w0=w0, gamma=gamma, h=args.h)
+             t_end=args.t_end, w0=w0, gamma=gamma, method=args.method, **setting)
     tt, oo = np.meshgrid(th, om, indexing="ij")
     rows = [[data(a), data(b), data(c), data(d), int(k), int(code)] for a, b, c, d, k, code in
             zip(tt.ravel(), oo.ravel(), r.theta.ravel(), r.omega.ravel(), well.ravel(), r.codes.ravel())]
     _write_csv(folder / "sweep.csv", ["theta0_rad", "omega0_rad_per_s", "theta_end_rad", "omega_end_rad_per_s",
                                       "well", "code"], rows)
-    out.write(f"{r.codes.size} starts, w0 = {w0:.12g} 1/s, gamma = {gamma:g} 1/s, t-end = {args.t_end:g} s; "
-              f"{int((~r.ok).sum())} failed; " + _wells(r) + "\n")
+    out.write(f"{r.codes.size} starts, w0 = {data(w0)} 1/s, gamma = {data(gamma)} 1/s, t-end = {data(args.t_end)} s, "
+              f"{args.method}; {int((~r.ok).sum())} failed; " + _wells(r) + "\n")
     out.write(f"wrote {folder / 'sweep.npz'}\nwrote {folder / 'sweep.csv'}\n")
     if not args.no_png:
         from .figures import basin_map_plot
@@ -475,7 +557,14 @@ COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "s
 
 def main(argv=None, out=None):
     """Entry point of the ``pendula`` console script and ``python -m pendula``; returns the exit code."""
-    out = out or sys.stdout
+    try:
+        return _main(argv, out or sys.stdout)
+    except KeyboardInterrupt:   # before a subcommand runs (parsing, importing): still one line
+        sys.stderr.write(f"{PROG}: interrupted (Ctrl-C)\n")
+        return 130
+
+
+def _main(argv, out):
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:
@@ -487,11 +576,12 @@ def main(argv=None, out=None):
         parser.print_help(out)
         return 2
     sub = f"{PROG} {args.command}"
-    if getattr(args, "v0", None) is not None:   # the text's §1.3 launch speed: Omega0 = v0 / l
-        args.omega0 = args.v0 / args.length
-        out.write(f"Omega0 = v0/l = {data(args.omega0)} rad/s (v0 = {data(args.v0)} m/s, "
-                  f"l = {data(args.length)} m)\n")
     try:
+        _physics_defaults(args)
+        if getattr(args, "v0", None) is not None:   # the text's §1.3 launch speed: Omega0 = v0 / l
+            args.omega0 = args.v0 / args.length
+            out.write(f"Omega0 = v0/l = {data(args.omega0)} rad/s (v0 = {data(args.v0)} m/s, "
+                      f"l = {data(args.length)} m)\n")
         return COMMANDS[args.command](args, out)
     except (CliError, ValueError, TypeError) as exc:
         sys.stderr.write(f"{sub}: error: {exc}\n")
@@ -499,9 +589,32 @@ def main(argv=None, out=None):
     except NotImplementedError as exc:
         sys.stderr.write(f"{sub}: not available: {exc}\n")
         return 2
+    except MemoryError as exc:   # refused up front by the library, with the size asked for
+        sys.stderr.write(f"{sub}: error: {exc or 'out of memory'}\n")
+        return 1
+    except KeyboardInterrupt:
+        sys.stderr.write(f"{sub}: interrupted (Ctrl-C)\n")
+        return 130
+    except OSError as exc:   # an output that cannot be written: one line, no traceback
+        if isinstance(exc, BrokenPipeError) and out is sys.stdout:
+            _quiet_stdout()
+            return 1
+        where = f" {exc.filename}" if exc.filename else ""
+        sys.stderr.write(f"{sub}: error: cannot write{where}: {exc.strerror or exc}\n")
+        return 1
     except RuntimeError as exc:  # PendulaSolverError and friends
         sys.stderr.write(f"{sub}: solver failed: {exc}\n")
         return 1
+
+
+def _quiet_stdout():
+    """stdout's reader has gone (``pendula period ... | head``): send the rest,
+    and Python's flush at exit, to the null device instead of a traceback."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

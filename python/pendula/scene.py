@@ -46,8 +46,8 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran as _scene, _longcall, _tables
-from ._arrays import as_real, real_scalar, step_budget
+from . import _fortran as _scene, _longcall, _memory, _tables
+from ._arrays import SharedTimes, as_real, real_scalar, step_budget
 from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, WANT_CODES
 from ._config import HAVE_CVODE  # noqa: F401 (read by benchmarks/bench_scenes.py)
 from ._defaults import (G_DEFAULT, LENGTH_DEFAULT, POOL_STATE_WORK, SERIAL_WORK, STEP_CAP, THREADS, TOL,
@@ -180,10 +180,13 @@ class Scene:
         # as given (near the separatrix a half-ulp of w0 matters): its residual
         self._w0lo = float(w0lo)
         self.gamma = float(gam)
-        if t is None:
+        if isinstance(t, SharedTimes):
+            tt = t.array   # a batch's checked, read-only grid: shared, not copied
+        elif t is None:
             if self.want != "period":
                 raise ValueError("t is missing: give the output times (only want='period' needs none)")
             tt = np.zeros(0)
+            tt.setflags(write=False)
         else:
             arr = as_real(t, "t")
             if arr.ndim > 1:
@@ -191,7 +194,7 @@ class Scene:
             tt = np.ascontiguousarray(arr.reshape(-1))
             if tt.size == 0 and self.want != "period":
                 raise ValueError("t has 0 elements: it needs at least 1 output time (>= 0, increasing)")
-        tt.setflags(write=False)
+            tt.setflags(write=False)
         self.t = tt
         code, msg = _scene.scene_check_f2py(self._t_arg(), self.theta0, self.omega0, self.w0, self.gamma,
                                             self.tol, WANT_CODES[self.want], MODEL_CODES["auto"])
@@ -335,6 +338,7 @@ class SceneResult(_tables.Tabular):
             f"cost: runs={c.get('runs')}, steps={c.get('steps')}, rhs_evals={c.get('rhs_evals')}, "
             f"closed_form_evals={c.get('closed_form_evals')}, wall_time={c.get('python_wall_time', 0.0):.3g} s"])
 
+
 def _long_scene(scene, tt, model_code, fixed, setting):
     # Predicted > ~2.5 ms (_longcall.SCENE_LONG_STEPS): Fortran predicts the work of
     # the call in RK4 steps from the scene (scene_solve_work / scene_run_work:
@@ -349,16 +353,20 @@ def _budget(max_steps):
     return float(step_budget(max_steps))
 
 
-_MAX_EVENT_SLOTS = 2**30
+# Event slots of a first solve: the storage grows with the events found, not
+# with the bound on them (a long window's bound can be ~1e9 events, 28 bytes
+# each, where the motion has a few thousand): a solve that finds more events
+# than slots is run once more with exactly as many (Fortran keeps its own
+# list growing geometrically, pendula_scene_events).
+_FIRST_EVENT_SLOTS = 65536
 
 
 def _event_slots(scene, tt):
-    # Fortran's rigorous bound on the events of the window (scene_event_bound),
-    # so that one solve always has room for them all.
+    # at most Fortran's rigorous bound on the events of the window (scene_event_bound)
     if scene.want != "events":
         return 1
-    return int(min(_MAX_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]), scene.theta0,
-                                                                    scene.omega0)))
+    return int(min(_FIRST_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]), scene.theta0,
+                                                                      scene.omega0)))
 
 
 def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, control=None):
@@ -374,16 +382,20 @@ def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, c
     if watched:
         # a short call with no progress to watch runs inline: this thread's scratch array
         control = _longcall.new_control() if long or progress else _longcall.scratch_control()
-    args = (tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol, WANT_CODES[scene.want],
-            model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
-    out = _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long, progress if watched else None,
-                        unit="step")
-    (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
-     reason, code, msg) = out
-    raise_for_status(code, msg)
-    if int(n_ev) > m:
-        raise PendulaSolverError(f"the window holds {int(n_ev)} events, more than the {m} this "
-                                 "Python layer keeps: shorten the window")
+    while True:
+        args = (tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol,
+                WANT_CODES[scene.want], model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
+        # f2py allocates the outputs (3 series of t, energy, m event slots of 28 bytes) before the solve
+        out = _memory.guard(
+            lambda: _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long,
+                                  progress if watched else None, unit="step"),
+            "the scene's outputs and event slots", 8 * 4 * tt.size + 28 * m)
+        (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
+         reason, code, msg) = out
+        raise_for_status(code, msg)
+        if int(n_ev) <= m:
+            break
+        m = int(n_ev)   # more events than slots: once more with room for every one (same solve, same events)
     wall = time.perf_counter() - start
     return (int(nout), tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, int(n_ev),
             int(model_out), info, reason, wall)

@@ -26,7 +26,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran, _longcall, _tables
+from . import _fortran, _longcall, _memory, _tables
 from ._arrays import broadcast_real, integer_arg, time_grid
 from ._defaults import (CHUNK_STATES, CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL,
                         SETTLE_MARGIN, SWEEP_H, THREADS, check_threads)
@@ -330,7 +330,8 @@ def sweep(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLik
     cvode_method, max_steps
         As ``pendula.cvode``'s method and max_steps.
     chunk_states : int
-        States per chunk, >= 1.
+        States per chunk, >= 1 (fewer when a chunk's trajectories would
+        pass 256 MiB: long grids run in smaller chunks).
     threads : int or None
         OpenMP threads per chunk: None (the default) chooses from the
         chunk's predicted work locally and takes 1 on Dask workers (whose
@@ -357,6 +358,10 @@ def sweep(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLik
     RuntimeError
         When every state failed (``PendulaSolverError`` for a solver
         failure), as for ``rk4`` and ``cvode`` batches.
+    MemoryError
+        Up front, before any work, when the outputs of want="trajectory"
+        (2 x 8 bytes x states x times) cannot be allocated; the message
+        gives the size.
     KeyboardInterrupt
         Ctrl-C: a local sweep stops within ~0.1 s, a Dask one within
         ~0.1 s plus the cancellation of its tasks.
@@ -404,39 +409,60 @@ def sweep(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLik
     shape, _, flats = broadcast_real(**named)
     _check(flats, shape, want)
     n = int(np.prod(shape, dtype=np.int64)) if shape else 1
+    out = None
+    if tt is not None:
+        # a chunk's trajectories (also for "final": the kernels return them) stay within
+        # _memory.CHUNK_BYTES; the whole output of "trajectory" is allocated (or refused) now
+        chunk_states = min(chunk_states, max(1, _memory.CHUNK_BYTES // kernels._trajectory_bytes(1, tt.size)))
+        if want == "trajectory":
+            what = f"the outputs theta and omega of {n} states x {tt.size} times"
+            both = _memory.empty((2, n, tt.size), what)
+            out = {"theta": both[0], "omega": both[1]}
     starts = list(range(0, n, chunk_states))
     chunks = [{k: v[s:s + chunk_states] for k, v in flats.items()} for s in starts]
     update, close = _longcall._progress_sink(progress, n, "state")
     try:
         if client is None:
-            parts = _run_local(method, tt, chunks, opts, want, threads, update)
+            parts = _run_local(method, tt, chunks, opts, want, threads, update, out, starts)
         else:
-            parts = _run_dask(client, method, tt, chunks, opts, want, 1 if threads is None else threads, update)
+            parts = _run_dask(client, method, tt, chunks, opts, want, 1 if threads is None else threads, update,
+                              out, starts)
     finally:
         if close is not None:
             close()
     inputs = {k: v.reshape(shape) for k, v in flats.items()}
-    return _assemble(parts, shape, tt, want, len(chunks), inputs)
+    return _assemble(parts, shape, tt, want, len(chunks), inputs, out)
 
 
-def _run_local(method, tt, chunks, opts, want, threads, update):
+def _store(part, out, start):
+    """Move a trajectory chunk's series into the sweep's outputs (allocated up
+    front), so that no chunk's copy outlives its arrival."""
+    if out is not None:
+        for k in ("theta", "omega"):
+            out[k][start:start + len(part[k])] = part[k]
+            part[k] = None
+    return part
+
+
+def _run_local(method, tt, chunks, opts, want, threads, update, out=None, starts=()):
     parts, done = [], 0
-    for cols in chunks:
+    for i, cols in enumerate(chunks):
         size = len(cols["theta0"])
         if want == "period":
             parts.append(_chunk(method, tt, cols, dict(opts), want, threads))
         else:
             control = _longcall.new_control()
             sink = None if update is None else (lambda k, _tot, d=done: update(d + k))
-            parts.append(_longcall.run(lambda: _chunk(method, tt, cols, dict(opts, control=control), want,
-                                                      threads), control, long=True, progress=sink))
+            parts.append(_store(_longcall.run(lambda: _chunk(method, tt, cols, dict(opts, control=control), want,
+                                                             threads), control, long=True, progress=sink),
+                                out, starts[i] if out is not None else 0))
         done += size
         if update is not None:
             update(done)
     return parts
 
 
-def _run_dask(client, method, tt, chunks, opts, want, threads, update):
+def _run_dask(client, method, tt, chunks, opts, want, threads, update, out=None, starts=()):
     from distributed import wait   # optional dependency: imported only here
     futures = [client.submit(_chunk, method, tt, cols, dict(opts), want, threads, pure=False,
                              key=f"pendula-sweep-{i}-{id(chunks)}") for i, cols in enumerate(chunks)]
@@ -449,7 +475,7 @@ def _run_dask(client, method, tt, chunks, opts, want, threads, update):
             finished, pending = _wait_some(wait, pending)
             for f in finished:
                 i = index[f.key]
-                parts[i] = f.result()
+                parts[i] = _store(f.result(), out, starts[i] if out is not None else 0)
                 arrivals[i] += 1
                 done += len(chunks[i]["theta0"])
             if update is not None and finished:
@@ -471,7 +497,7 @@ def _wait_some(wait, pending):
     return set(res.done), set(res.not_done)
 
 
-def _assemble(parts, shape, tt, want, n_chunks, inputs):
+def _assemble(parts, shape, tt, want, n_chunks, inputs, out=None):
     codes = np.concatenate([p["codes"] for p in parts]) if parts else np.zeros(0, dtype=np.int64)
     code, message = OK, ""
     failed = np.flatnonzero(codes != OK)
@@ -488,6 +514,8 @@ def _assemble(parts, shape, tt, want, n_chunks, inputs):
     tail = (tt.size,) if want == "trajectory" else ()
     join = (lambda key: np.concatenate([p[key] for p in parts]).reshape(shape + tail)) if parts \
         else (lambda key: np.zeros(shape + tail))
+    if out is not None:   # the trajectories, already in place
+        join = (lambda key: out[key].reshape(shape + tail))
     return SweepResult(want, tt, join("theta"), join("omega"), None, codes.reshape(shape), code, message,
                        n_chunks, inputs)
 

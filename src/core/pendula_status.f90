@@ -6,17 +6,17 @@
 !> (argument errors -> ValueError, solver failures -> RuntimeError).
 module pendula_status
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use pendula_kinds, only: wp
+  use pendula_kinds, only: wp, i8
   use pendula_format, only: format_general, format_int, code_text
   implicit none
   private
 
   public :: status_t, status_ok, set_error, code_name, status_unpack
   public :: check_finite, check_positive, check_nonnegative, check_range, &
-            check_all_finite, check_increasing, check_size, check_same_size
+            check_all_finite, check_increasing, check_size, check_same_size, check_alloc
   public :: PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE, &
             PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
-            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
+            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY, PENDULA_MSG_LEN
 
   integer, parameter :: PENDULA_OK = 0
   !> An argument is NaN or infinite where a finite value is required.
@@ -37,16 +37,18 @@ module pendula_status
   integer, parameter :: PENDULA_ERR_MAXSTEPS = 8
   !> The caller cancelled the call (pendula_control); finished work is kept.
   integer, parameter :: PENDULA_ERR_CANCELLED = 9
+  !> An allocation failed: the memory asked for (named, with its size) is not available.
+  integer, parameter :: PENDULA_ERR_MEMORY = 10
 
   include 'pendula_msg_len.inc'
 
   ! code_name's table
-  integer, parameter :: STATUS_CODES(10) = [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, &
+  integer, parameter :: STATUS_CODES(11) = [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, &
       PENDULA_ERR_SIZE, PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
-      PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED]
-  character(len=27), parameter :: STATUS_NAMES(10) = [character(len=27) :: 'ok', 'non-finite argument', &
+      PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY]
+  character(len=27), parameter :: STATUS_NAMES(11) = [character(len=27) :: 'ok', 'non-finite argument', &
       'argument out of range', 'bad array size', 'times not increasing', 'unstable step', &
-      'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled']
+      'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled', 'out of memory']
 
   !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
   !> the table above and a message naming the argument and its valid range.
@@ -236,5 +238,31 @@ contains
           ' element(s): it must have the same size as ' // like // ' (' // format_int(n_like) // ')')
     end if
   end subroutine check_same_size
+
+  !> Report a failed allocation (`stat` from `allocate (..., stat=stat)`, nonzero
+  !> on failure) as PENDULA_ERR_MEMORY, naming what was asked for and its size:
+  !> `elements` values of `bytes_each` bytes.  Nothing happens when stat == 0.
+  pure subroutine check_alloc(stat, what, elements, bytes_each, status)
+    integer, intent(in) :: stat  !< the stat= of the allocate statement
+    character(len=*), intent(in) :: what  !< what was allocated, for the message (e.g. 'the output times')
+    integer(i8), intent(in) :: elements  !< number of values asked for, >= 0
+    integer, intent(in) :: bytes_each  !< bytes per value (8 for real(wp))
+    type(status_t), intent(inout) :: status
+    !< receives the error if the allocation failed and no earlier error is set
+    real(wp), parameter :: MIB = 1024.0_wp**2, GIB = 1024.0_wp**3
+    real(wp) :: bytes
+    if (stat == 0 .or. status%code /= PENDULA_OK) return
+    ! 3 significant digits of MiB or GiB: 7.45 GiB, 0.0153 MiB (the exact count follows)
+    bytes = real(elements, wp) * bytes_each
+    if (bytes >= GIB) then
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
+          format_general(bytes / GIB, 3) // ' GiB (' // format_int(elements) // &
+          ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+    else
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
+          format_general(bytes / MIB, 3) // ' MiB (' // format_int(elements) // &
+          ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+    end if
+  end subroutine check_alloc
 
 end module pendula_status

@@ -28,7 +28,7 @@ module pendula_cvode
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_same_size, PENDULA_OK, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+      check_alloc, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
   use pendula_ode, only: ode_stats_t, check_problem, check_cvode_options, check_span, &
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
@@ -235,7 +235,9 @@ contains
       call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: this work is already open (close it first)')
       return
     end if
-    allocate (work%data)
+    allocate (work%data, stat=ierr)
+    call check_alloc(int(ierr), 'the CVODE work''s data', 1_i8, int(storage_size(work%data) / 8), status)
+    if (status%code /= PENDULA_OK) return
     work%method = method
     ! One pass through the set-up; the first failure skips the rest (the
     ! `block` exits) and cvode_work_close frees whatever was made.

@@ -20,7 +20,7 @@ module pendula_rk4_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_DOMAIN, &
+  use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, &
       PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
@@ -98,7 +98,7 @@ contains
     !< optional: 1-based index of the first failed state (0: none)
     integer(i8), intent(in), optional :: max_steps  !< step budget per state, >= 1
     integer, allocatable :: live(:)
-    integer :: n, i, nlive, nblocks, b, nthreads, first, ncancel
+    integer :: n, i, nlive, nblocks, b, nthreads, first, ncancel, ist
     integer(i8) :: budget
     type(status_t) :: st
     n = size(theta0)
@@ -119,7 +119,15 @@ contains
 
     ! Per-state checks, in rk4_solve's order (t is already known to be good),
     ! with the step budget per state (rk4_solve's default unless max_steps).
-    allocate (live(n))
+    allocate (live(n), stat=ist)
+    call check_alloc(ist, 'the batch''s list of live states', int(n, i8), 4, status)
+    if (status%code /= PENDULA_OK) then
+      theta = 0
+      omega = 0
+      codes = status%code
+      steps = 0
+      return
+    end if
     nlive = 0
     do i = 1, n
       st = status_t()
@@ -188,7 +196,10 @@ contains
     type(status_t) :: st
     real(wp), allocatable :: th(:), om(:)
     type(ode_stats_t) :: s
-    allocate (th(size(t)), om(size(t)))
+    integer :: ist
+    allocate (th(size(t)), om(size(t)), stat=ist)
+    call check_alloc(ist, 'the failed state''s rerun', 2_i8 * size(t), 8, st)
+    if (st%code /= PENDULA_OK) return
     call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, s, st, max_steps=budget)
     if (st%code == PENDULA_OK) call set_error(st, code, 'failed in the batch')   ! cannot happen: same kernel
   end function state_status

@@ -4,7 +4,7 @@
 module pendula_scene_closed
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_finite
   use pendula_kinds, only: wp, i8
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, check_alloc, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_ILLINOIS
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
@@ -16,7 +16,7 @@ module pendula_scene_closed
   use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
       SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, window_end
-  use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_setup, only: alloc_outputs, finish_outputs, empty_outputs
   use pendula_scene_estimates, only: exact_time_error
   use pendula_scene_events, only: append_events, trim_events, event_time_error, sign_change, bottom_sign
   implicit none
@@ -98,6 +98,7 @@ contains
     type(scene_result_t), intent(inout) :: result  !< gets the wanted quantities, the estimate and the cost
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     type(closed_t) :: cf
+    integer :: ist
     call closed_init(scene, model, cf, status)
     if (status%code /= PENDULA_OK) return
     result%error_estimate = est
@@ -108,9 +109,10 @@ contains
       else
         result%period = cf%motion%period
       end if
-      allocate (result%t(0), result%theta(0), result%omega(0))
+      call empty_outputs(result, status)
     case (SCENE_WANT_ENERGY)
-      call alloc_outputs(scene, result)
+      call alloc_outputs(scene, result, status)
+      if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_EXACT) then
         ! conserved: the energy of the initial state, no time series
         result%theta = 0
@@ -119,15 +121,17 @@ contains
         result%error_estimate = max(est, 4 * eps * result%energy(1) / scene%w0**2)
         result%cost%closed_form_evals = 1
         deallocate (result%theta, result%omega)
-        allocate (result%theta(0), result%omega(0))
+        allocate (result%theta(0), result%omega(0), stat=ist)
+        call check_alloc(ist, 'the (empty) outputs', 0_i8, 8, status)
         return
       end if
       call closed_eval(cf, result%t, result%theta, result%omega)
       result%cost%closed_form_evals = size(result%t)
-      call finish_outputs(scene, result)
+      call finish_outputs(scene, result, status)
     case (SCENE_WANT_EVENTS)
-      call closed_events(cf, window_end(scene), result)
-      allocate (result%t(0), result%theta(0), result%omega(0))
+      call closed_events(cf, window_end(scene), result, status)
+      call empty_outputs(result, status)
+      if (status%code /= PENDULA_OK) return
       ! (an infinite error from closed_events, a scan cut short, stays)
       result%event_time_error = max(result%event_time_error, event_time_error(result, est, scene%w0))
       ! the exact solution's events sit at known phases: their times are
@@ -135,10 +139,11 @@ contains
       if (model == SCENE_MODEL_EXACT) result%event_time_error = min(result%event_time_error, &
           exact_time_error(cf%motion, window_end(scene)))
     case default
-      call alloc_outputs(scene, result)
+      call alloc_outputs(scene, result, status)
+      if (status%code /= PENDULA_OK) return
       call closed_eval(cf, result%t, result%theta, result%omega)
       result%cost%closed_form_evals = size(result%t)
-      call finish_outputs(scene, result)
+      call finish_outputs(scene, result, status)
     end select
   end subroutine solve_closed
 
@@ -147,16 +152,19 @@ contains
   ! change of theta (zero crossing) or Omega (turning point) by the Illinois
   ! variant of regula falsi to a few ulps of t.  result%event_time_error is
   ! set to +inf when the scan had to stop early (0 otherwise, as on entry).
-  subroutine closed_events(cf, tend, result)
+  subroutine closed_events(cf, tend, result, status)
     type(closed_t), intent(in) :: cf
     real(wp), intent(in) :: tend
     type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
     real(wp) :: step, growth, stepmax, ta, tb, tha, oma, thb, omb, te(2), per
-    integer :: kinds(2), ne, nev
+    integer :: kinds(2), ne, nev, ist
     integer(i8) :: nevals
     logical :: cut
     cut = .false.
-    allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0))
+    allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0), stat=ist)
+    call check_alloc(ist, 'the (empty) event lists', 0_i8, 8, status)
+    if (status%code /= PENDULA_OK) return
     per = ieee_value(1.0_wp, ieee_positive_inf)
     select case (cf%model)
     case (SCENE_MODEL_SMALL_ANGLE)
@@ -204,13 +212,15 @@ contains
         kinds(ne) = PENDULA_EVENT_TURNING
         te(ne) = refine(2, ta, tb, oma, omb)
       end if
-      if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev)
+      if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev, status)
+      if (status%code /= PENDULA_OK) return
       ta = tb
       tha = thb
       oma = omb
       step = min(stepmax, step * growth)
     end do
-    call trim_events(result, nev)
+    call trim_events(result, nev, status)
+    if (status%code /= PENDULA_OK) return
     call closed_eval(cf, result%event_t, result%event_theta, result%event_omega)
     result%cost%closed_form_evals = nevals + size(result%event_t)
     if (cut) result%event_time_error = ieee_value(1.0_wp, ieee_positive_inf)

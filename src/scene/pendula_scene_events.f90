@@ -30,6 +30,7 @@ module pendula_scene_events
   use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
   use pendula_scene_types, only: scene_t, scene_result_t, swing
   use pendula_scene_codes, only: SCENE_LINEAR_SAFETY
+  use pendula_status, only: status_t, check_alloc, PENDULA_OK
   implicit none
   private
 
@@ -79,18 +80,24 @@ contains
 
   !> Append the events of one sample interval (te(:) [s], kinds(:) of
   !> PENDULA_EVENT_*, at most two: one of each kind) in time order to the
-  !> first nev of result's event list, growing it geometrically.
-  pure subroutine append_events(result, te, kinds, nev)
+  !> first nev of result's event list, growing it geometrically (doubling,
+  !> so that n events cost O(n) copies); PENDULA_ERR_MEMORY in status when
+  !> the grown list cannot be allocated.
+  pure subroutine append_events(result, te, kinds, nev, status)
     type(scene_result_t), intent(inout) :: result  !< event lists to append to (grown as needed)
     real(wp), intent(in) :: te(:)  !< times [s] of the interval's events, at most two
     integer, intent(in) :: kinds(:)  !< their kinds, PENDULA_EVENT_*; size(te)
     integer, intent(inout) :: nev  !< number of events in the lists, >= 0; increased
+    type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
     real(wp), allocatable :: tmp(:)
     integer, allocatable :: itmp(:)
-    integer :: cap
+    integer :: cap, ist
+    if (status%code /= PENDULA_OK) return
     if (nev + size(te) > size(result%event_t)) then
-      cap = max(16, 2 * (nev + size(te)))
-      allocate (tmp(cap), itmp(cap))
+      cap = int(min(max(16_i8, 2_i8 * (nev + size(te))), int(huge(1), i8)))
+      allocate (tmp(cap), itmp(cap), stat=ist)
+      call check_alloc(ist, 'the event list', 3_i8 * cap, 4, status)
+      if (status%code /= PENDULA_OK) return
       tmp(1:nev) = result%event_t(1:nev)
       itmp(1:nev) = result%event_kind(1:nev)
       call move_alloc(tmp, result%event_t)
@@ -108,15 +115,26 @@ contains
   end subroutine append_events
 
   !> Cut result's event list to its first nev events, with room for the
-  !> state at each.
-  pure subroutine trim_events(result, nev)
+  !> state at each (PENDULA_ERR_MEMORY in status when that cannot be allocated).
+  pure subroutine trim_events(result, nev, status)
     type(scene_result_t), intent(inout) :: result  !< event lists cut to nev; state arrays allocated to nev for the caller to fill
     integer, intent(in) :: nev  !< number of events kept, 0 .. size(result%event_t)
-    result%event_t = result%event_t(1:nev)
-    result%event_kind = result%event_kind(1:nev)
-    if (allocated(result%event_theta)) deallocate (result%event_theta)
-    if (allocated(result%event_omega)) deallocate (result%event_omega)
-    allocate (result%event_theta(nev), result%event_omega(nev))
+    type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
+    real(wp), allocatable :: tmp(:)
+    integer, allocatable :: itmp(:)
+    integer :: ist
+    if (status%code /= PENDULA_OK) return
+    allocate (tmp(nev), itmp(nev), stat=ist)
+    if (ist == 0) then
+      tmp(:) = result%event_t(1:nev)
+      itmp(:) = result%event_kind(1:nev)
+      call move_alloc(tmp, result%event_t)
+      call move_alloc(itmp, result%event_kind)
+      if (allocated(result%event_theta)) deallocate (result%event_theta)
+      if (allocated(result%event_omega)) deallocate (result%event_omega)
+      allocate (result%event_theta(nev), result%event_omega(nev), stat=ist)
+    end if
+    call check_alloc(ist, 'the event list', 7_i8 * nev, 4, status)
   end subroutine trim_events
 
   !> Event time error from the state error est (the sup of |d theta| and
@@ -238,13 +256,16 @@ contains
   !> 64 samples per small-angle period, and the fast time scale 1/gamma
   !> resolved when over-damped (capped at 4e6 samples; event_interp_error
   !> says what the grid achieves).
-  pure subroutine event_grid(scene, tend, tg)
+  pure subroutine event_grid(scene, tend, tg, status)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp), allocatable, intent(out) :: tg(:)  !< sample times [s] from 0 to tend, increasing
-    integer :: n, i
+    type(status_t), intent(inout) :: status  !< set when the grid cannot be allocated, else left unchanged
+    integer :: n, i, ist
     n = event_grid_intervals(scene, tend)
-    allocate (tg(n + 1))
+    allocate (tg(n + 1), stat=ist)
+    call check_alloc(ist, 'the event sample grid', int(n + 1, i8), 8, status)
+    if (status%code /= PENDULA_OK) return
     do i = 0, n
       tg(i+1) = tend * (real(i, wp) / n)
     end do
@@ -296,16 +317,19 @@ contains
   !> or Omega between samples is refined on the cubic Hermite interpolant,
   !> built from (theta, Omega) and (Omega, Omega') at both ends, whose error
   !> (h^4/384 max|theta''''|) is below tol/10 on the grid of event_grid.
-  pure subroutine grid_events(scene, tg, th, om, result)
+  pure subroutine grid_events(scene, tg, th, om, result, status)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tg(:)  !< sample times [s], increasing (event_grid)
     real(wp), intent(in) :: th(:)  !< theta [rad] at tg; size(tg)
     real(wp), intent(in) :: om(:)  !< Omega [rad/s] at tg; size(tg)
     type(scene_result_t), intent(inout) :: result  !< gets the events in (tg(1), tg(n)]: times, kinds, state
-    integer :: i, nev, ne, kinds(2)
+    type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
+    integer :: i, nev, ne, kinds(2), ist
     real(wp) :: te(2), h, da, db, c
     if (allocated(result%event_t)) deallocate (result%event_t, result%event_kind)
-    allocate (result%event_t(0), result%event_kind(0))
+    allocate (result%event_t(0), result%event_kind(0), stat=ist)
+    call check_alloc(ist, 'the (empty) event list', 0_i8, 8, status)
+    if (status%code /= PENDULA_OK) return
     nev = 0
     do i = 1, size(tg) - 1
       h = tg(i+1) - tg(i)
@@ -323,9 +347,11 @@ contains
         kinds(ne) = PENDULA_EVENT_TURNING
         te(ne) = tg(i) + h * hermite_root(om(i), om(i+1), da, db)
       end if
-      if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev)
+      if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev, status)
+      if (status%code /= PENDULA_OK) return
     end do
-    call trim_events(result, nev)
+    call trim_events(result, nev, status)
+    if (status%code /= PENDULA_OK) return
     do i = 1, nev
       call hermite_state(result%event_t(i), result%event_theta(i), result%event_omega(i))
     end do

@@ -33,13 +33,13 @@ module pendula_scene_handover
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
-  use pendula_status, only: status_t, PENDULA_OK
+  use pendula_status, only: status_t, check_alloc, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: SCENE_LINEAR_SAFETY, SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_LINEAR, &
       SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
-  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate
   use pendula_scene_integrated, only: solve_rk4, solve_cvode
@@ -108,7 +108,8 @@ contains
       ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
       do it = 1, MAX_TRIES
         if (.not. ts < MAX_PART * tend) exit
-        call sub_scene(scene, ts, sub, k)
+        call sub_scene(scene, ts, sub, k, status)
+        if (status%code /= PENDULA_OK) return
         gain = carry_gain(scene, ts, k)
         ! outputs at t = 0 are the initial state itself, exact: only later
         ! ones before ts need the part at tol
@@ -127,7 +128,8 @@ contains
         est = elin + gain * e1
         if (early) est = max(e1, est)
         if (est <= scene%tol) then
-          call assemble(scene, part, k, ts, center, xs, vs, est, result)
+          call assemble(scene, part, k, ts, center, xs, vs, est, result, status)
+          if (status%code /= PENDULA_OK) return
           call add_cost(spent, result%cost)
           result%cost = spent
           result%setting = part%setting
@@ -172,11 +174,12 @@ contains
       type(status_t) :: st
       real(wp), allocatable :: tg(:), each(:), elev(:)
       real(wp) :: eint, e, dts, wd, c, rh, sw
-      integer :: n, ni, nl
+      integer :: n, ni, nl, ist
       logical :: unverified
       done = .false.
       ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol * scene%w0, tend)
-      sub = scene
+      call scene_like(scene, sub, 0, status)
+      if (status%code /= PENDULA_OK) return
       sub%want = SCENE_WANT_STATE
       sub%tol = scene%tol / 2
       if (scene%gamma < scene%w0) then
@@ -195,8 +198,13 @@ contains
       end if
       do it = 1, MAX_TRIES_EVENTS
         if (.not. ts < MAX_PART_EVENTS * tend) exit
-        call event_grid(sub, ts, tg)
-        sub%t = tg
+        call event_grid(sub, ts, tg, status)
+        if (status%code /= PENDULA_OK) return
+        deallocate (sub%t)
+        allocate (sub%t(size(tg)), stat=ist)
+        call check_alloc(ist, 'the event sample grid', int(size(tg), i8), 8, status)
+        if (status%code /= PENDULA_OK) return
+        sub%t(:) = tg
         call run_part()
         if (status%code /= PENDULA_OK) return
         n = size(tg)
@@ -205,13 +213,15 @@ contains
         ! tighter part or later ts would
         if (e1 > sub%tol) exit
         evs = fresh
-        call grid_events(sub, tg, part%theta, part%omega, evs)
+        call grid_events(sub, tg, part%theta, part%omega, evs, status)
+        if (status%code /= PENDULA_OK) return
         ni = size(evs%event_t)
         eint = event_time_error(evs, e1 + event_interp_error(sub, tg), scene%w0)
         center = 2 * pi * anint(part%theta(n) / (2 * pi))
         xs = part%theta(n) - center
         vs = part%omega(n)
-        ls = scene
+        call scene_like(scene, ls, 1, status)
+        if (status%code /= PENDULA_OK) return
         ls%theta0 = xs
         ls%omega0 = vs
         ! past the window's end too: an event within its time error of the
@@ -324,16 +334,19 @@ contains
 
   ! The first part of the scene: the outputs before ts, then ts itself (or
   ! ts alone for want = final), at tol/2; k of the scene's outputs lie before ts.
-  pure subroutine sub_scene(scene, ts, sub, k)
+  pure subroutine sub_scene(scene, ts, sub, k, status)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: ts
     type(scene_t), intent(out) :: sub
     integer, intent(out) :: k
-    sub = scene
-    sub%tol = scene%tol / 2
+    type(status_t), intent(inout) :: status
     k = count(scene%t < ts)
     if (scene%want == SCENE_WANT_FINAL) k = 0
-    sub%t = [scene%t(1:k), ts]
+    call scene_like(scene, sub, k + 1, status)
+    if (status%code /= PENDULA_OK) return
+    sub%tol = scene%tol / 2
+    sub%t(1:k) = scene%t(1:k)
+    sub%t(k+1) = ts
     if (scene%want /= SCENE_WANT_FINAL) sub%want = SCENE_WANT_STATE
   end subroutine sub_scene
 
@@ -345,16 +358,19 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: ts
     integer, intent(in) :: k
-    real(wp), allocatable :: tau(:)
-    integer :: n
+    ! blocks of the outputs: propagator_gain's work arrays live on the stack,
+    ! and the outputs may be millions (no heap copy of them either)
+    integer, parameter :: BLOCK = 512
+    integer :: n, i0
     n = size(scene%t)
-    if (scene%want == SCENE_WANT_FINAL) then
-      tau = [scene%t(n) - ts]
-    else
-      tau = scene%t(k+1:n) - ts
-    end if
     gain = 0
-    if (size(tau) > 0) gain = maxval(propagator_gain(scene%w0, scene%gamma, tau))
+    if (scene%want == SCENE_WANT_FINAL) then
+      gain = maxval(propagator_gain(scene%w0, scene%gamma, [scene%t(n) - ts]))
+      return
+    end if
+    do i0 = k + 1, n, BLOCK
+      gain = max(gain, maxval(propagator_gain(scene%w0, scene%gamma, scene%t(i0:min(n, i0 + BLOCK - 1)) - ts)))
+    end do
   end function carry_gain
 
   ! Induced norm in max(|theta|, |Omega|/w0) of the linear damped propagator
@@ -392,16 +408,18 @@ contains
   ! The answer from the integrated part (outputs 1..k, state at ts last) and
   ! the linear closed form about center from (center + xs, vs) at ts for the
   ! outputs after it.
-  pure subroutine assemble(scene, part, k, ts, center, xs, vs, est, result)
+  pure subroutine assemble(scene, part, k, ts, center, xs, vs, est, result, status)
     type(scene_t), intent(in) :: scene
     type(scene_result_t), intent(in) :: part
     integer, intent(in) :: k
     real(wp), intent(in) :: ts, center, xs, vs, est
     type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
     type(linear_damped_t) :: lin
     type(status_t) :: st
     integer :: n
-    call alloc_outputs(scene, result)
+    call alloc_outputs(scene, result, status)
+    if (status%code /= PENDULA_OK) return
     n = size(result%t)
     result%theta(1:k) = part%theta(1:k)
     result%omega(1:k) = part%omega(1:k)
@@ -410,7 +428,7 @@ contains
     result%theta(k+1:n) = result%theta(k+1:n) + center
     result%cost%closed_form_evals = n - k
     result%error_estimate = est
-    call finish_outputs(scene, result)
+    call finish_outputs(scene, result, status)
   end subroutine assemble
 
   pure subroutine add_cost(total, c)

@@ -7,7 +7,7 @@ module pendula_scene_integrated
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
-  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+  use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_constants, only: pi
   use pendula_integrators, only: ode_stats_t, rk4_solve, rk4_final_state, rk4_max_stable_step, &
       cvode_solve, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
@@ -15,7 +15,7 @@ module pendula_scene_integrated
   use pendula_scene_codes, only: SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_FINAL, SCENE_WANT_EVENTS, &
       SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats, window_end
-  use pendula_scene_setup, only: alloc_outputs, finish_outputs
+  use pendula_scene_setup, only: alloc_outputs, finish_outputs, empty_outputs
   use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding, cvode_min_steps, cvode_first_rtol
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error
   implicit none
@@ -60,7 +60,7 @@ contains
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp), allocatable :: tt(:), th(:), om(:)
-    integer :: off, n, method
+    integer :: off, n, method, ist
     real(wp) :: scale
     n = size(tout)
     if (scene%want == SCENE_WANT_FINAL .and. model == SCENE_MODEL_RK4) then
@@ -70,7 +70,9 @@ contains
     end if
     off = 0
     if (tout(1) > 0) off = 1
-    allocate (tt(n + off), th(n + off), om(n + off))
+    allocate (tt(n + off), th(n + off), om(n + off), stat=ist)
+    call check_alloc(ist, 'the integrator''s times and states', 3_i8 * (n + off), 8, status)
+    if (status%code /= PENDULA_OK) return
     tt(1) = 0
     tt(1+off:) = tout
     if (model == SCENE_MODEL_RK4) then
@@ -106,7 +108,7 @@ contains
     real(wp) :: h, hb, f, q, hmax, est, d, round, nrun
     real(wp), allocatable :: th2(:), om2(:), tgrid(:)
     type(status_t) :: st
-    integer :: it
+    integer :: it, ist
     logical :: reuse
     call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
     hmax = 0.9_wp * hmax
@@ -115,13 +117,16 @@ contains
     hb = min(OPTIMISM * rk4_apriori_step(scene, tend), 0.5_wp / scene%w0, hmax / 2)
     f = 1
     reuse = .false.
-    call sample_grid(scene, tend, result, tgrid)
-    allocate (th2(size(tgrid)), om2(size(tgrid)))
-    if (.not. allocated(result%theta)) allocate (result%theta(size(tgrid)), result%omega(size(tgrid)))
-    if (size(result%theta) /= size(tgrid)) then
-      deallocate (result%theta, result%omega)
-      allocate (result%theta(size(tgrid)), result%omega(size(tgrid)))
+    call sample_grid(scene, tend, result, tgrid, status)
+    if (status%code /= PENDULA_OK) return
+    if (allocated(result%theta)) then
+      if (size(result%theta) /= size(tgrid)) deallocate (result%theta, result%omega)
     end if
+    ist = 0
+    if (.not. allocated(result%theta)) allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), stat=ist)
+    if (ist == 0) allocate (th2(size(tgrid)), om2(size(tgrid)), stat=ist)
+    call check_alloc(ist, 'the RK4 runs'' states', 4_i8 * size(tgrid), 8, status)
+    if (status%code /= PENDULA_OK) return
     est = ieee_value(1.0_wp, ieee_positive_inf)
     do it = 1, MAX_REFINE
       ! the run at h and its check at 2h (1.5 tend/h steps), or only the run
@@ -167,7 +172,7 @@ contains
     result%setting = h
     result%step = h
     result%error_estimate = est
-    call finish_run(scene, tgrid, est, result)
+    call finish_run(scene, tgrid, est, result, status)
   end subroutine solve_rk4
 
   ! RK4 from t = 0 through the outputs tg(:) with, on every interval dt_i
@@ -190,11 +195,13 @@ contains
     real(wp) :: dt, x, v, t0, x1, v1
     real(wp) :: nsub
     type(ode_stats_t) :: stats
-    integer :: i, off, n
+    integer :: i, off, n, ist
     logical :: uniform
     n = size(tg)
     off = merge(1, 0, tg(1) > 0)
-    allocate (tt(n + off))
+    allocate (tt(n + off), stat=ist)
+    call check_alloc(ist, 'the RK4 run''s times', int(n + off, i8), 8, status)
+    if (status%code /= PENDULA_OK) return
     tt(1) = 0
     tt(1+off:) = tg
     uniform = .true.
@@ -204,7 +211,9 @@ contains
     end do
     if (size(tt) >= 2 .and. uniform) then
       nsub = substep_count(dt, h, factor)
-      allocate (th1(size(tt)), om1(size(tt)))
+      allocate (th1(size(tt)), om1(size(tt)), stat=ist)
+      call check_alloc(ist, 'the RK4 run''s states', 2_i8 * size(tt), 8, status)
+      if (status%code /= PENDULA_OK) return
       call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt / nsub, th1, om1, &
           stats, status, control, huge(1_i8))
       call add_stats(cost, stats)
@@ -280,10 +289,13 @@ contains
     real(wp) :: rtol, est, periods, predicted
     real(wp), allocatable :: th1(:), om1(:), tgrid(:)
     type(ode_stats_t) :: stats
-    integer :: it
-    call sample_grid(scene, tend, result, tgrid)
+    integer :: it, ist
+    call sample_grid(scene, tend, result, tgrid, status)
+    if (status%code /= PENDULA_OK) return
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
-    allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)))
+    allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)), stat=ist)
+    call check_alloc(ist, 'the CVODE runs'' states', 4_i8 * size(tgrid), 8, status)
+    if (status%code /= PENDULA_OK) return
     periods = 1 + scene%w0 * tend / (2 * pi)
     rtol = cvode_first_rtol(scene, tend, scene%tol)
     ! Up front: the two runs (rtol and rtol/10) need at least cvode_min_steps
@@ -314,7 +326,7 @@ contains
     result%setting = rtol / 10
     result%rtol = rtol / 10
     result%error_estimate = est
-    call finish_run(scene, tgrid, est, result)
+    call finish_run(scene, tgrid, est, result, status)
   end subroutine solve_cvode
 
   !> One run of rk4 (setting = h) or cvode (setting = rtol) at a fixed
@@ -331,9 +343,13 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp), allocatable :: tgrid(:)
     type(ode_stats_t) :: stats
-    call sample_grid(scene, window_end(scene), result, tgrid)
+    integer :: ist
+    call sample_grid(scene, window_end(scene), result, tgrid, status)
+    if (status%code /= PENDULA_OK) return
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
-    allocate (result%theta(size(tgrid)), result%omega(size(tgrid)))
+    allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), stat=ist)
+    call check_alloc(ist, 'the run''s states', 2_i8 * size(tgrid), 8, status)
+    if (status%code /= PENDULA_OK) return
     call integrate(scene, model, setting, budget, tgrid, result%theta, result%omega, stats, status, control)
     if (status%code /= PENDULA_OK) return
     call add_stats(result%cost, stats)
@@ -341,39 +357,48 @@ contains
     if (model == SCENE_MODEL_RK4) result%step = setting
     if (model == SCENE_MODEL_CVODE) result%rtol = setting
     result%error_estimate = 0
-    call finish_run(scene, tgrid, 0.0_wp, result)
+    call finish_run(scene, tgrid, 0.0_wp, result, status)
   end subroutine run_fixed
 
   ! The times an integrator run samples: the outputs of the result
   ! (allocated here), or for events a grid fine enough for Hermite
   ! interpolation (event_grid).
-  pure subroutine sample_grid(scene, tend, result, tgrid)
+  pure subroutine sample_grid(scene, tend, result, tgrid, status)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
     type(scene_result_t), intent(inout) :: result
     real(wp), allocatable, intent(out) :: tgrid(:)
+    type(status_t), intent(inout) :: status
+    integer :: ist
     if (scene%want == SCENE_WANT_EVENTS) then
-      call event_grid(scene, tend, tgrid)
+      call event_grid(scene, tend, tgrid, status)
     else
-      call alloc_outputs(scene, result)
-      tgrid = result%t
+      call alloc_outputs(scene, result, status)
+      if (status%code /= PENDULA_OK) return
+      allocate (tgrid(size(result%t)), stat=ist)
+      call check_alloc(ist, 'the sample times', int(size(result%t), i8), 8, status)
+      if (status%code /= PENDULA_OK) return
+      tgrid(:) = result%t
     end if
   end subroutine sample_grid
 
   ! The wanted quantities from the trajectory on tgrid (in result%theta,
   ! result%omega) with error estimate est: the events on the grid (and no
   ! time series), or the outputs themselves.
-  pure subroutine finish_run(scene, tgrid, est, result)
+  pure subroutine finish_run(scene, tgrid, est, result, status)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tgrid(:), est
     type(scene_result_t), intent(inout) :: result
+    type(status_t), intent(inout) :: status
+    if (status%code /= PENDULA_OK) return
     if (scene%want == SCENE_WANT_EVENTS) then
-      call grid_events(scene, tgrid, result%theta, result%omega, result)
-      deallocate (result%theta, result%omega)
-      allocate (result%t(0), result%theta(0), result%omega(0))
+      call grid_events(scene, tgrid, result%theta, result%omega, result, status)
+      if (status%code /= PENDULA_OK) return
+      call empty_outputs(result, status)
+      if (status%code /= PENDULA_OK) return
       result%event_time_error = event_time_error(result, est + event_interp_error(scene, tgrid), scene%w0)
     else
-      call finish_outputs(scene, result)
+      call finish_outputs(scene, result, status)
     end if
   end subroutine finish_run
 

@@ -6,7 +6,7 @@ module pendula_scene_setup
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
-      check_increasing, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
+      check_increasing, check_size, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
   use pendula_physics, only: natural_frequency, damping_rate
   use pendula_double_double, only: dd_div_d, dd_sqrt
   use pendula_undamped, only: pendulum_energy
@@ -19,7 +19,7 @@ module pendula_scene_setup
   private
 
   public :: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, get_budget
-  public :: alloc_outputs, finish_outputs
+  public :: alloc_outputs, finish_outputs, empty_outputs
 
 contains
 
@@ -113,7 +113,7 @@ contains
     type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
     integer, intent(in), optional :: model  !< forced model, one of SCENE_MODEL_* (default SCENE_MODEL_AUTO)
     real(wp), intent(in), optional :: w0lo  !< rounding residual of w0 [1/s], |w0lo| <= eps w0 (default 0)
-    integer :: mdl
+    integer :: mdl, ist
     real(wp) :: lo
     mdl = SCENE_MODEL_AUTO
     if (present(model)) mdl = model
@@ -130,7 +130,10 @@ contains
     scene%tol = tol
     scene%want = want
     scene%model = mdl
-    scene%t = t
+    allocate (scene%t(size(t)), stat=ist)
+    call check_alloc(ist, 'the output times t', int(size(t), i8), 8, status)
+    if (status%code /= PENDULA_OK) return
+    scene%t(:) = t
   end subroutine scene_init
 
   !> Check a scene's fields in place (no copy): the rules of scene_init, for
@@ -228,31 +231,57 @@ contains
         ' is out of range: it must be >= 1')
   end subroutine get_budget
 
-  !> Output arrays for the want: every t, or only t(n) for want = final.
-  pure subroutine alloc_outputs(scene, result)
+  !> Output arrays for the want: every t, or only t(n) for want = final
+  !> (PENDULA_ERR_MEMORY in status when they cannot be allocated).
+  pure subroutine alloc_outputs(scene, result, status)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     type(scene_result_t), intent(inout) :: result  !< gets t and the state (and energy) arrays the want needs
-    integer :: n
+    type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
+    integer :: n, m, ist, k
     n = size(scene%t)
     if (scene%want == SCENE_WANT_FINAL) then
-      result%t = scene%t(n:n)
+      m = 1
     else if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_EVENTS) then
-      allocate (result%t(0))
+      m = 0
     else
-      result%t = scene%t
+      m = n
     end if
-    allocate (result%theta(size(result%t)), result%omega(size(result%t)))
-    if (scene%want == SCENE_WANT_ENERGY) allocate (result%energy(size(result%t)))
+    k = merge(4, 3, scene%want == SCENE_WANT_ENERGY)
+    if (allocated(result%t)) deallocate (result%t)
+    if (allocated(result%theta)) deallocate (result%theta)
+    if (allocated(result%omega)) deallocate (result%omega)
+    if (allocated(result%energy)) deallocate (result%energy)
+    allocate (result%t(m), result%theta(m), result%omega(m), stat=ist)
+    if (ist == 0 .and. scene%want == SCENE_WANT_ENERGY) allocate (result%energy(m), stat=ist)
+    call check_alloc(ist, 'the outputs (t, theta, omega' // trim(merge(', energy', '        ', k == 4)) // ')', &
+        int(k, i8) * m, 8, status)
+    if (status%code /= PENDULA_OK) return
+    if (m > 0) result%t(:) = scene%t(n - m + 1:n)
   end subroutine alloc_outputs
 
+  !> Empty output arrays t, theta, omega (a want with no time series).
+  pure subroutine empty_outputs(result, status)
+    type(scene_result_t), intent(inout) :: result  !< gets empty t, theta, omega (any old ones released)
+    type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
+    integer :: ist
+    if (allocated(result%t)) deallocate (result%t)
+    if (allocated(result%theta)) deallocate (result%theta)
+    if (allocated(result%omega)) deallocate (result%omega)
+    allocate (result%t(0), result%theta(0), result%omega(0), stat=ist)
+    call check_alloc(ist, 'the (empty) outputs', 0_i8, 8, status)
+  end subroutine empty_outputs
+
   !> Energies from the state, and empty event arrays where no events were asked.
-  pure subroutine finish_outputs(scene, result)
+  pure subroutine finish_outputs(scene, result, status)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     type(scene_result_t), intent(inout) :: result  !< state filled in; gets energies and empty event arrays as needed
+    type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
+    integer :: ist
     if (scene%want == SCENE_WANT_ENERGY) &
-        result%energy = pendulum_energy(result%theta, result%omega, scene%w0)
+        result%energy(:) = pendulum_energy(result%theta, result%omega, scene%w0)
     if (.not. allocated(result%event_t)) then
-      allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0))
+      allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0), stat=ist)
+      call check_alloc(ist, 'the (empty) event lists', 0_i8, 8, status)
     end if
   end subroutine finish_outputs
 

@@ -28,13 +28,13 @@
 module pendula_scene_top
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
-  use pendula_status, only: status_t, PENDULA_OK, set_error, PENDULA_ERR_CANCELLED
+  use pendula_status, only: status_t, PENDULA_OK, set_error, check_alloc, PENDULA_ERR_CANCELLED
   use pendula_constants, only: pi, pi_lo, pi_lo2
   use pendula_double_double, only: two_prod
   use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_scene_codes, only: scene_model_name, SCENE_MODEL_LINEAR, SCENE_MODEL_AUTO, SCENE_WANT_PERIOD, &
       SCENE_WANT_EVENTS
-  use pendula_scene_types, only: scene_t, scene_result_t
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model
   use pendula_scene_closed, only: solve_closed
@@ -197,7 +197,7 @@ contains
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
     character(len=:), allocatable :: why2
-    integer :: nk, n, it, sub_model
+    integer :: nk, n, it, sub_model, ist
     integer(i8) :: steps
     real(wp) :: sub_est
     logical :: is_top, handover
@@ -206,20 +206,27 @@ contains
     if (.not. is_top) return
     call hang_plan(scene, phi0, v0, tend, tx, gain, vmax, target)
     ! the outputs in the hang (nk of the result's, up to tx), then tx
-    call alloc_outputs(scene, result)
+    call alloc_outputs(scene, result, status)
+    if (status%code /= PENDULA_OK) return
     n = size(result%t)
     nk = count(result%t <= tx)
     handover = nk < n .or. (scene%want == SCENE_WANT_EVENTS .and. tx < tend)
+    allocate (tg(merge(1, min(nk + 1, n), scene%want == SCENE_WANT_EVENTS)), stat=ist)
+    call check_alloc(ist, 'the times of the run from the top', int(nk + 1, i8), 8, status)
+    if (status%code /= PENDULA_OK) return
     if (scene%want == SCENE_WANT_EVENTS) then
-      tg = [tx]
+      tg(1) = tx
     else if (nk == n) then
-      tg = result%t
+      tg(:) = result%t
       target = scene%tol / 2
     else
-      tg = [result%t(1:nk), tx]
+      tg(1:nk) = result%t(1:nk)
+      tg(nk+1) = tx
       target = min(target, scene%tol / 2)
     end if
-    allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)))
+    allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)), stat=ist)
+    call check_alloc(ist, 'the runs from the top', 4_i8 * size(tg), 8, status)
+    if (status%code /= PENDULA_OK) return
     h = hang_step(scene, phi0, target, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
@@ -256,15 +263,16 @@ contains
       thx = p - (ph(size(ph)) - (e + k * pi_lo))
       omx = -vp(size(vp))
       eround = eps * abs(thx)
-      sub = scene
+      call scene_like(scene, sub, merge(1, n - nk, scene%want == SCENE_WANT_EVENTS), status)
+      if (status%code /= PENDULA_OK) return
       sub%theta0 = thx
       sub%omega0 = omx
       sub%tol = scene%tol / 2
       sub%model = SCENE_MODEL_AUTO
       if (scene%want == SCENE_WANT_EVENTS) then
-        sub%t = [tend - tx]
+        sub%t(1) = tend - tx
       else
-        sub%t = max(0.0_wp, result%t(nk+1:n) - tx)
+        sub%t(:) = max(0.0_wp, result%t(nk+1:n) - tx)
       end if
       call choose_model(sub, sub%t(size(sub%t)), sub_model, sub_est, why2, status)
       if (status%code /= PENDULA_OK) return
@@ -303,7 +311,7 @@ contains
       result%rtol = rest%rtol
       why = why // ' to t = ' // format_sci(tx, 4) // ' s, then ' // why2
     end if
-    call finish_outputs(scene, result)
+    call finish_outputs(scene, result, status)
   contains
     ! RK4 in (phi, v = phi') from (phi0, v0) at 0 through the times tg,
     ! 2 ceil(dt/(2 hh)) / factor equal substeps on each interval dt: the

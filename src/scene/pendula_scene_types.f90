@@ -3,14 +3,14 @@
 module pendula_scene_types
   use pendula_kinds, only: wp, i8
   use pendula_constants, only: pi
-  use pendula_status, only: PENDULA_MSG_LEN
+  use pendula_status, only: PENDULA_MSG_LEN, status_t, check_alloc, PENDULA_OK
   use pendula_integrators, only: ode_stats_t
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_WANT_STATE, SCENE_STIFF_RATIO
   implicit none
   private
 
   public :: scene_t, scene_result_t, scene_cost_t
-  public :: window_end, is_stiff, add_stats, swing
+  public :: window_end, is_stiff, add_stats, swing, scene_like
 
   !> A scene; build it with scene_init (which checks every field).
   type :: scene_t
@@ -67,6 +67,27 @@ module pendula_scene_types
   end type scene_result_t
 
 contains
+
+  !> A scene with the fields of `scene` and room for n output times (left for
+  !> the caller to fill): a part of a scene, built without copying its times
+  !> first.  PENDULA_ERR_MEMORY in status when the times cannot be allocated.
+  pure subroutine scene_like(scene, sub, n, status)
+    type(scene_t), intent(in) :: scene  !< the scene whose parameters and initial state are taken
+    type(scene_t), intent(out) :: sub  !< the new scene, sub%t of size n (unset)
+    integer, intent(in) :: n  !< number of output times, >= 0
+    type(status_t), intent(inout) :: status  !< set when the times cannot be allocated, else left unchanged
+    integer :: ist
+    sub%theta0 = scene%theta0
+    sub%omega0 = scene%omega0
+    sub%w0 = scene%w0
+    sub%w0lo = scene%w0lo
+    sub%gamma = scene%gamma
+    sub%tol = scene%tol
+    sub%want = scene%want
+    sub%model = scene%model
+    allocate (sub%t(n), stat=ist)
+    call check_alloc(ist, 'the output times of a part of the scene', int(n, i8), 8, status)
+  end subroutine scene_like
 
   !> End of the window [s]: t(n), or 0 without output times.
   pure real(wp) function window_end(scene) result(tend)

@@ -57,7 +57,7 @@ contains
     real(wp), intent(in) :: m, mc
     logical, intent(in) :: usemc
     type(ellipj_plan_t) :: plan
-    integer :: j
+    integer :: j, ist
     plan%par = jacobi_param(m, mc, usemc, .true.)
     ! K of a core parameter in [0, 1) lies in [pi/2, 374] (374 at the smallest subnormal
     ! mc); anything else (never seen, but NaN would size the table from garbage) gets
@@ -65,7 +65,13 @@ contains
     if ((plan%par%kind == MODULUS_CORE .or. plan%par%kind >= 2) .and. &
         plan%par%khi >= 1 .and. plan%par%khi <= khi_tab_max) then
       plan%ntab = ceiling(plan%par%khi * tab_inv_step) + 1
-      allocate(plan%tab(0:ntay, 4, 0:plan%ntab))
+      ! a table the memory cannot hold (at most a few hundred kB) is no
+      ! error: the plan then evaluates directly, to the same accuracy
+      allocate(plan%tab(0:ntay, 4, 0:plan%ntab), stat=ist)
+      if (ist /= 0) then
+        plan%ntab = -1
+        return
+      end if
       do j = 0, plan%ntab
         call taylor_row_at(plan%par, j * tab_step, plan%tab(:, :, j))
       end do

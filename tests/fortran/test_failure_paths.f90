@@ -13,6 +13,7 @@ program test_failure_paths
   use, intrinsic :: ieee_exceptions, only: ieee_usual, ieee_get_halting_mode, ieee_set_halting_mode
   use pendula
   use pendula_rk4_kernel, only: rk4_grid
+  use pendula_status, only: check_alloc
   use pendula_testing, only: checker_t
   implicit none
   type(checker_t) :: tc
@@ -33,6 +34,7 @@ program test_failure_paths
     if (cvode_available()) call cvode_failures(r == 1)
   end do
   if (.not. cvode_available()) call cvode_unavailable()
+  call memory_refusal()
   call tc%report('test_failure_paths')
 
 contains
@@ -303,5 +305,28 @@ contains
         PENDULA_CVODE_ADAMS, 100_i8, th, om, s, st)
     call expect_failure(st, PENDULA_ERR_UNAVAILABLE, 'cvode not built', .true.)
   end subroutine cvode_unavailable
+
+  !> An allocation the machine cannot satisfy (2**58 reals, 2 EiB: refused at
+  !> once, nothing touched; below 2**63 bytes, which valgrind calls a fishy size) comes back through check_alloc as
+  !> PENDULA_ERR_MEMORY naming what and how much, never as a crash; a
+  !> successful one (stat 0) leaves the status alone.
+  subroutine memory_refusal()
+    real(wp), allocatable :: huge_block(:)
+    type(status_t) :: st
+    integer :: ist
+    integer(i8) :: n
+    n = 2_i8**58
+    allocate (huge_block(n), stat=ist)
+    call tc%check_true(ist /= 0, 'a 2 EiB allocation is refused (stat /= 0)')
+    if (ist == 0) return
+    call check_alloc(ist, 'the test block', n, 8, st)
+    call tc%check_true(st%code == PENDULA_ERR_MEMORY .and. code_name(st%code) == 'out of memory', &
+        'memory: status PENDULA_ERR_MEMORY, ' // code_name(st%code))
+    call tc%check_true(index(st%message, 'out of memory: the test block need') == 1 .and. &
+        index(st%message, ' GiB (288230376151711744 values of 8 bytes)') > 0, 'memory: message ' // trim(st%message))
+    st = status_t()
+    call check_alloc(0, 'nothing', 1_i8, 8, st)
+    call tc%check_true(st%code == PENDULA_OK, 'memory: stat 0 is no error')
+  end subroutine memory_refusal
 
 end program test_failure_paths

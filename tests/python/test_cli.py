@@ -1,6 +1,7 @@
 """The command line: python -m pendula {figures, period, solve, tradeoff}, help and errors."""
 import csv
 import math
+import pathlib
 import subprocess
 import sys
 
@@ -301,9 +302,155 @@ def test_mkdir_creates_the_directories_asked_for(capsys, tmp_path):
     assert path.is_file()
 
 
-def test_output_path_that_is_a_directory_is_refused(capsys, tmp_path):
-    code, _, err = run(_SOLVE + ["--csv", str(tmp_path)], capsys)
-    assert code == 2 and "--csv" in err and "directory" in err
+@pytest.mark.parametrize("argv, option, name", [
+    (["period", "--theta0", "0.1"], "--csv", "period.csv"),
+    (_SOLVE, "--csv", "solve.csv"),
+    (_TRADEOFF, "--csv", "tradeoff.csv"),
+])
+def test_output_path_naming_a_folder_writes_inside_it(capsys, tmp_path, argv, option, name):
+    # `--csv dir/ --mkdir` wrote a file named dir: a folder (existing, or a path ending
+    # in /) gets the command's file inside it, never a file named like the folder
+    code, out, err = run(argv + [option, str(tmp_path)], capsys)
+    assert code == 0, err
+    assert (tmp_path / name).is_file()
+    code, out, err = run(argv + [option, str(tmp_path / "new") + "/", "--mkdir"], capsys)
+    assert code == 0, err
+    assert (tmp_path / "new").is_dir() and (tmp_path / "new" / name).is_file()
+    code, out, err = run(argv + [option, str(tmp_path / "absent") + "/"], capsys)
+    assert code == 2 and "--mkdir" in err and not (tmp_path / "absent").exists()
+
+
+# ---------------------------------------------------------------- I/O errors, Ctrl-C: one line
+
+def _one_line(err):
+    lines = err.strip().splitlines()
+    return len(lines) == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv", [
+    ["period", "--theta0", "0.1", "--csv", "/proc/pendula-no-such.csv"],
+    ["period", "--theta0", "0.1", "--csv", "/dev/full"],
+    _SOLVE + ["--csv", "/dev/full"],
+    ["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1", "--no-png",
+     "--out", "/proc/pendula-basin"],
+])
+def test_io_errors_are_one_line_and_exit_1(argv):
+    # a subprocess: the exit status and stderr exactly as a shell sees them
+    if not pathlib.Path("/dev/full").exists() or not pathlib.Path("/proc").is_dir():
+        pytest.skip("needs Linux's /dev/full and /proc")
+    r = subprocess.run([sys.executable, "-m", "pendula", *argv], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1, r.stderr
+    assert _one_line(r.stderr) and "cannot write" in r.stderr
+    assert argv[-1] in r.stderr                      # names the file
+    assert r.stderr.startswith(f"pendula {argv[0]}: error:")
+
+
+@pytest.mark.parametrize("sub, target", [("sweep", "sweep"), ("period", "period"), ("solve", "solve")])
+def test_ctrl_c_is_one_line_and_exit_130(capsys, tmp_path, monkeypatch, sub, target):
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(pendula, target, interrupted)
+    argv = {"sweep": ["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1",
+                      "--no-png", "--out", str(tmp_path / "sw")],
+            "period": ["period", "--theta0", "0.1"], "solve": _SOLVE}[sub]
+    code, _, err = run(argv, capsys)
+    assert code == 130 and _one_line(err) and "interrupted" in err
+
+
+def test_ctrl_c_before_the_subcommand_runs_is_one_line_too(capsys, monkeypatch):
+    def interrupted():
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cli, "build_parser", interrupted)
+    code, _, err = run(["period", "--theta0", "0.1"], capsys)
+    assert code == 130 and _one_line(err) and err.startswith("pendula: interrupted")
+
+
+def test_out_of_memory_is_one_line(capsys, tmp_path, monkeypatch):
+    def refused(*args, **kwargs):
+        raise MemoryError("out of memory: the outputs need 7.45 GiB (8000000000 bytes), which could not be allocated")
+    monkeypatch.setattr(pendula, "sweep", refused)
+    code, _, err = run(["sweep", "--out", str(tmp_path / "sw"), "--no-png"], capsys)
+    assert code == 1 and _one_line(err) and "7.45 GiB" in err
+
+
+# ---------------------------------------------------------------- exact decimals
+
+def _numbers(text):
+    return [tok for tok in text.replace(",", " ").split() if tok[:1].isdigit() or tok[:1] == "-"]
+
+
+def test_period_writes_shortest_exact_decimals(capsys, tmp_path):
+    # `period --csv` rounded to 10-12 digits: every number is now repr(float), so it reads back exactly
+    path = tmp_path / "p.csv"
+    code, out, err = run(["period", "--theta0", "0.1", "1.0", "3.0", "--omega0", "0.3", "--csv", str(path)],
+                         capsys)
+    assert code == 0, err
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    w0 = pendula.natural_frequency(9.8, 4.9)
+    exact = pendula.period(np.array([0.1, 1.0, 3.0]), 0.3, w0)
+    assert [float(r["T_exact_s"]) for r in rows] == exact.tolist()           # bit for bit
+    for r in rows:
+        for key, text in r.items():
+            if key != "motion":
+                assert text == repr(float(text)), (key, text)              # shortest round trip
+    table = [ln.split() for ln in out.splitlines() if ln.strip()[:1].isdigit()]
+    assert [float(ln[-4]) for ln in table] == exact.tolist()              # the printed table too
+    assert f"w0 = {w0!r} 1/s" in out
+
+
+def test_tradeoff_table_prints_exact_decimals(capsys, tmp_path):
+    code, out, err = run(_TRADEOFF + ["--models", "exact", "--csv", str(tmp_path / "t.csv")], capsys)
+    assert code == 0, err
+    with open(tmp_path / "t.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    printed = [ln.split() for ln in out.splitlines() if ln.split()[:1] == ["exact"]]
+    assert printed and rows
+    assert [ln[-3] for ln in printed] == [r["sup_error_rad"] for r in rows]
+    for r in rows:
+        for key in ("sup_error_rad", "wall_time_s"):
+            assert r[key] == repr(float(r[key])), (key, r[key])
+
+
+# ---------------------------------------------------------------- sweep options
+
+_SWEEP = ["sweep", "--t-end", "6", "--gamma", "0.3", "--no-png"]
+
+
+def test_sweep_w0_threads_and_method_reach_the_library(capsys, tmp_path):
+    th, om = np.linspace(-2, 2, 3), np.linspace(-3, 3, 4)
+    code, out, err = run(_SWEEP + ["--theta0", "-2", "2", "3", "--omega0", "-3", "3", "4", "--w0", "2.5",
+                                   "--threads", "1", "--method", "cvode", "--rtol", "1e-9", "--atol", "1e-12",
+                                   "--out", str(tmp_path / "a")], capsys)
+    assert code == 0, err
+    z = np.load(tmp_path / "a" / "sweep.npz")
+    lib = pendula.sweep([0.0, 6.0], th[:, None], om[None, :], 2.5, 0.3, method="cvode", rtol=1e-9, atol=1e-12)
+    assert np.array_equal(z["theta"], lib.theta) and float(z["w0"]) == 2.5 and str(z["method"]) == "cvode"
+    assert "w0 = 2.5 1/s" in out and "cvode" in out
+    code, _, err = run(_SWEEP + ["--w0", "2", "--g", "9.8", "--out", str(tmp_path / "b")], capsys)
+    assert code == 2 and "--w0" in err and not (tmp_path / "b").exists()
+    code, _, err = run(_SWEEP + ["--rtol", "1e-9", "--out", str(tmp_path / "c")], capsys)
+    assert code == 2 and "--method cvode" in err
+    code, _, err = run(_SWEEP + ["--threads", "-1", "--out", str(tmp_path / "d")], capsys)
+    assert code == 2 and "--threads" in err
+
+
+@pytest.mark.parametrize("fixed, axis", [("--theta0", 1), ("--omega0", 0)])
+def test_sweep_over_one_axis(capsys, tmp_path, fixed, axis):
+    grid = {"--theta0": ["-2", "2", "5"], "--omega0": ["-3", "3", "5"]}
+    grid[fixed] = ["0.5"]
+    code, out, err = run(["sweep", "--t-end", "4", "--gamma", "0.3", "--theta0", *grid["--theta0"],
+                          "--omega0", *grid["--omega0"], "--out", str(tmp_path / "s")], capsys)
+    assert code == 0, err
+    assert "5 starts" in out
+    z = np.load(tmp_path / "s" / "sweep.npz")
+    assert z["theta"].shape[axis] == 5 and z["theta"].size == 5
+    th, om = np.asarray(z["theta0"]), np.asarray(z["omega0"])
+    lib = pendula.sweep([0.0, 4.0], th[:, None], om[None, :], W0, 0.3, h=0.01)
+    assert np.array_equal(z["theta"], lib.theta)
+    assert (tmp_path / "s" / "basin.png").stat().st_size > 1000
+    code, _, err = run(["sweep", "--theta0", "0", "1", "--out", str(tmp_path / "x")], capsys)
+    assert code == 2 and "--theta0" in err and "LO HI N" in err
 
 
 def test_figures_out_creates_the_folder_but_not_its_parents(capsys, tmp_path):

@@ -2,7 +2,7 @@
 Fortran modules (pendula/_codes.py is generated from them at build time by
 tools/gen/gen_codes.f90), and no Python source types a second copy.  Also the
 scene facts that travel through _codes: the result's number array by name, the
-event bound that sizes the event slots (one solve, never a second), and the
+event bound that caps the event slots (one solve up to 65536 events), and the
 step/rtol fields of a result."""
 import pathlib
 import re
@@ -171,7 +171,7 @@ def test_event_bound_holds_and_is_tight():
 
 @pytest.mark.parametrize("gamma, model", [(0.0, None), (0.01, "rk4"), (0.01, None)])
 def test_events_come_from_one_solve(monkeypatch, gamma, model):
-    """The event slots are sized by the bound: the solve runs once, however many events."""
+    """The first event slots hold every event of such a window: the solve runs once."""
     calls = []
     real = scene_mod._scene.scene_solve_f2py
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _fortran
+from .. import _fortran, _memory
 from .._arrays import broadcast_real, integer_arg, time_grid
 from .._defaults import (CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL, RK4_MAX_STEPS,
                          STAT_NAMES, choose_threads)
@@ -125,8 +125,11 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     nthreads = choose_threads(threads, rk4_work(tt, flats["h"]))
     control = _control(control)
-    theta, omega, codes, steps, first, code, msg = _fortran.rk4_batch_f2py(
-        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control)
+    n = flats["theta0"].size
+    # f2py allocates theta and omega (n_t x n each) before any work: refused at once
+    theta, omega, codes, steps, first, code, msg = _memory.guard(lambda: _fortran.rk4_batch_f2py(
+        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control),
+        f"the outputs theta and omega of {n} states x {tt.size} times", _trajectory_bytes(n, tt.size))
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)   # the call itself was refused
@@ -172,9 +175,11 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, 
     max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     nthreads = choose_threads(threads, cvode_work(tt, flats["w0"], flats["theta0"].size))
     control = _control(control)
-    theta, omega, codes, stats, first, code, msg = _fortran.cvode_batch_f2py(
+    n = flats["theta0"].size
+    theta, omega, codes, stats, first, code, msg = _memory.guard(lambda: _fortran.cvode_batch_f2py(
         tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
-        CVODE_METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control)
+        CVODE_METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control),
+        f"the outputs theta and omega of {n} states x {tt.size} times", _trajectory_bytes(n, tt.size))
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)   # the call itself was refused
@@ -187,6 +192,12 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, 
                             codes=codes.astype(np.int64).reshape(shape), steps=counts["steps"], code=code,
                             message=_text(msg) if code else "", first_failed=first - 1, stats=counts,
                             method=method.lower())
+
+
+def _trajectory_bytes(n, n_t):
+    """Bytes of a batch's theta and omega: n states x n_t times, float64 (the
+    one prediction of a batch's output size: the batch calls and sweep use it)."""
+    return 2 * 8 * n * n_t
 
 
 def openmp():

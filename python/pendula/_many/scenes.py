@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _tables
-from .._arrays import broadcast_real
+from .. import _memory, _tables
+from .._arrays import SharedTimes, broadcast_real
 from .._errors import for_state
 from . import pool
 from .ensemble import BatchStatus, summary
@@ -53,7 +53,8 @@ class SceneBatch:
     scenes : numpy.ndarray
         Object array of ``Scene`` of that shape.
     t, want
-        Shared by every scene (t [s], read-only).
+        Shared by every scene (t [s], read-only: one array that every
+        scene of the batch refers to, not a copy per scene).
     theta0, omega0, w0, gamma, tol : numpy.ndarray
         Float arrays of the batch shape ([rad], [rad/s], [1/s], [1/s], [rad]).
 
@@ -78,11 +79,12 @@ class SceneBatch:
         shape, _, flats = broadcast_real(**given)
         n = int(np.prod(shape, dtype=np.int64))
         probe = make(0.0, 0.0, t=t, want=want)   # t and want, also for an empty batch
+        shared = SharedTimes(probe.t)   # one time grid for every scene, not a copy each
         scenes = np.empty(n, dtype=object)
         for i in range(n):
             kw = {k: float(v[i]) for k, v in flats.items()}
             try:
-                scenes[i] = make(t=t, want=want, **kw)
+                scenes[i] = make(t=shared, want=want, **kw)
             except ValueError as exc:
                 raise ValueError(for_state(exc, i, shape, _PARAMS)) from None
         self.shape = shape
@@ -217,6 +219,11 @@ def run(batch, one, progress, threads, work):
     scene of ``batch`` on ``threads`` threads (None: chosen from ``work``, the
     predicted work of the batch in RK4 steps)."""
     scenes = batch.scenes.reshape(-1)
+    # up front, before any solve: each scene's series (t, theta, omega, energy:
+    # at most 4 of len(t)) in its result and again stacked in the batch's
+    n_t = 1 if batch.want == "final" else batch.t.size if batch.want in ("state", "theta", "energy") else 0
+    _memory.reserve(2 * 4 * 8 * scenes.size * n_t,
+                    f"the results of {scenes.size} scenes x {n_t} output times (4 series, per scene and stacked)")
     values, codes, messages = pool.map_states(lambda i, control: one(scenes[i], control), scenes.size, threads,
                                               progress, work=work, shape=batch.shape, names=_PARAMS)
     return _collect(batch, values, codes, messages)
