@@ -17,7 +17,7 @@ import pendula
 
 PKG = Path(pendula.__file__).parent
 EXTENSIONS = {"_fortran"}   # compiled: imports nothing of the package
-BASE = {"_codes", "_config", "_errors", "_arrays", "_defaults", "_longcall", "_tables", "_angle_warning"}
+BASE = {"_codes", "_config", "_errors", "_arrays", "_defaults", "_longcall", "_memory", "_tables", "_angle_warning"}
 
 
 def _modules():
