@@ -177,7 +177,7 @@ class FitResult:
                             pvalue=self.pvalue, confidence=self.confidence, interval_kind=self.interval_kind)
             return df
         if what == "data":
-            cols = {k: np.asarray(v) for k, v in self.data.items() if v is not None}
+            cols = {k: np.asarray(v) for k, v in self.data.items() if v is not None and k != "sigma_effective"}
             x = cols["theta0"] if self.kind == "period" else cols["t"]
             name = "period" if self.kind == "period" else "theta"
             cols[name + "_model"] = self.model(x)
@@ -236,12 +236,15 @@ class FitResult:
                      color="k", label="measured")
         grid = np.linspace(0.0, max(float(np.max(np.abs(th))), 0.1), 400)
         top.plot(deg(grid), self.model(grid), color="C0", label=f"exact, w0 = {self.estimates['w0']:.6g} 1/s")
+        top.axhline(2 * np.pi / self.estimates["w0"], color="0.4", ls=":",
+                    label="this pendulum's small-angle period 2π/w0")
         w_sa = self.small_angle["w0"]
         top.axhline(2 * np.pi / w_sa, color="C3", ls="--",
                     label=f"small-angle fit, T = 2π/w0 with w0 = {w_sa:.5g} 1/s")
         top.set_ylabel("period T  (s)")
         top.legend(loc="upper left", fontsize=8)
-        bottom.errorbar(deg(th), self.residuals, yerr=sp, fmt="o", ms=4, color="k")
+        # residual error bars: the effective sigma (period and amplitude errors together)
+        bottom.errorbar(deg(th), self.residuals, yerr=self.data.get("sigma_effective"), fmt="o", ms=4, color="k")
         bottom.set_xlabel("amplitude θ0  (deg)")
         bottom.set_ylabel("residual (s)")
 

@@ -20,7 +20,7 @@ from ._arrays import as_real, real_scalar
 from ._errors import raise_for_status
 from ._fit_result import FitResult
 
-__all__ = ["fit_period", "fit_motion", "FitResult", "SENSITIVITY_INTEGRATORS"]
+__all__ = ["fit_period", "fit_motion", "FitResult"]
 
 EXTRA = "fit"
 LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
@@ -256,7 +256,8 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
                      dof=dof, chi2=chi2_out, confidence=conf, residuals=resid, model=model,
                      data={"theta0": theta0, "period": period,
                            "sigma_period": sp if known else None,
-                           "sigma_theta0": None if sigma_theta0 is None else st},
+                           "sigma_theta0": None if sigma_theta0 is None else st,
+                           "sigma_effective": s_eff if known else None},
                      small_angle=sa, info={"engine": "pendula Fortran fit_period (weighted least squares)",
                                            "bob_radius": r})
 
@@ -366,7 +367,9 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
         (default 1e-3 of the smallest sigma, within [1e-11, 1e-7]; 1e-9
         without sigma).
     integrator : str, optional, keyword-only
-        Key of ``SENSITIVITY_INTEGRATORS`` (``"rk4"``).
+        Key of ``pendula.fit.SENSITIVITY_INTEGRATORS`` (``"rk4"``: the
+        Fortran RK4 of the variational equations; a higher-order integrator
+        plugs in by adding an entry).
     confidence : float, optional, keyword-only
         Level of the intervals, in (0, 1); default 0.95.
     max_nfev : int, optional, keyword-only
