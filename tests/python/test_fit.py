@@ -271,3 +271,31 @@ def test_result_table_repr_and_plot():
     m = pendula.fit_motion(t, swing(t, 1.0, 0.0, W0, 0.1)[0] + 1e-3 * np.sin(7 * t), sigma=1e-3)
     assert len(m.plot().axes) == 2
     assert np.allclose(m.model(t), m.data["theta"] - m.residuals)
+
+
+# ------------------------------------------------------------- command line
+
+def test_cli_fit_periods_and_swing(tmp_path):
+    import io
+
+    from pendula.cli import main
+    pytest.importorskip("matplotlib")
+    th = np.radians([10.0, 40.0, 80.0, 120.0, 150.0])
+    per = tmp_path / "periods.csv"
+    per.write_text("theta0_deg,period,sigma_period\n" + "".join(
+        f"{float(d)!r},{float(p)!r},0.001\n" for d, p in zip(np.degrees(th), pendula.period(th, g=9.81, length=LENGTH))))
+    out = io.StringIO()
+    assert main(["fit", str(per), "--length", str(LENGTH)], out=out) == 0
+    text = out.getvalue()
+    assert "g " in text and "9.81" in text and "small-angle" in text
+    assert (tmp_path / "periods_fit.png").read_bytes()[:4] == b"\x89PNG"
+    t = np.linspace(0.0, 6.0, 120)
+    sw = tmp_path / "swing.csv"
+    sw.write_text("t,theta\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(t, swing(t, 1.0, 0.0, W0, 0.1)[0]
+                                                                         + 1e-3 * np.cos(50 * t))))
+    out = io.StringIO()
+    assert main(["fit", str(sw), "--png", str(tmp_path / "s.png")], out=out) == 0
+    assert "gamma" in out.getvalue() and (tmp_path / "s.png").exists()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,y\n1,2\n3,4\n")
+    assert main(["fit", str(bad), "--no-png"], out=io.StringIO()) == 2
