@@ -29,6 +29,16 @@ class FitResult:
     Built by :func:`pendula.fit_period` and :func:`pendula.fit_motion`; not
     meant to be constructed by hand.
 
+    Parameters
+    ----------
+    values : ndarray
+        The estimates, in the order of ``names``.
+    model : callable
+        The fitted model as a function of amplitudes (period fits) or times
+        (motion fits); called by :meth:`model`.
+    kind, names, covariance, sigma_known, dof, chi2, confidence, residuals, data, residuals_omega, small_angle, info
+        The attributes of the same names.
+
     Attributes
     ----------
     kind : str
@@ -69,6 +79,14 @@ class FitResult:
         The data fitted (arrays), for the figure and ``to_pandas("data")``.
     info : dict
         Engine details (iterations, evaluations, loss, integrator, message).
+
+    Examples
+    --------
+    >>> import numpy as np, pendula
+    >>> th = np.radians([10.0, 60.0, 120.0])
+    >>> r = pendula.fit_period(th, pendula.period(th, w0=2.0), sigma_period=1e-3, g=9.81)
+    >>> r.names, round(r["length"], 6), r.interval_kind
+    (('w0', 'length'), 2.4525, 'normal')
     """
 
     def __init__(self, *, kind, names, values, covariance, sigma_known, dof, chi2, confidence,
@@ -107,9 +125,28 @@ class FitResult:
         self._model = model
 
     def model(self, x):
-        """The fitted model at x: the period [s] at amplitudes x [rad] (period
-        fits) or the angle theta [rad] at times x [s] (motion fits, with the
-        angle offset when one was fitted)."""
+        """The fitted model at x.
+
+        Parameters
+        ----------
+        x : array_like
+            Amplitudes [rad] (period fits) or times [s] (motion fits; not
+            before the fit's ``t_ref`` when damped).
+
+        Returns
+        -------
+        ndarray
+            The period [s] at each amplitude, or the angle theta [rad] at
+            each time (with the sensor offset when one was fitted).
+
+        Examples
+        --------
+        >>> import numpy as np, pendula
+        >>> th = np.radians([10.0, 60.0, 120.0])
+        >>> r = pendula.fit_period(th, pendula.period(th, w0=2.0), sigma_period=1e-3)
+        >>> np.round(r.model([0.0, np.pi / 2]), 6)     # 2 pi/w0 and 4 K(1/2)/w0
+        array([3.141593, 3.708149])
+        """
         return self._model(np.asarray(x, dtype=float))
 
     def __getitem__(self, name):
@@ -147,6 +184,7 @@ class FitResult:
         Returns
         -------
         pandas.DataFrame
+            The table asked for (see ``what``).
 
         Raises
         ------
@@ -201,6 +239,7 @@ class FitResult:
         Returns
         -------
         matplotlib.figure.Figure
+            Two Axes: the data and model above, the residuals below.
 
         Raises
         ------

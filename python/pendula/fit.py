@@ -181,20 +181,22 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
         ``length``/``length_per_point``) -- the bias of ignoring the
         amplitude.
 
-    Notes
-    -----
-    Periods, uncertainties, ``length``, ``g`` and ``bob_radius`` must lie in
-    ``SCALE_RANGE`` = [1e-150, 1e150] (in their units): the least squares
-    square them.
-
     Raises
     ------
     ValueError
         Too few points (1 with ``sigma_period``, else 2), lengths that differ,
         non-finite data, |theta0| >= pi (a rotation has no swing period),
         periods or sigmas out of range, both ``length`` and ``g``.
+    TypeError
+        Data or options that are not real numbers.
     ImportError
         When SciPy (the optional extra ``fit``) is not installed.
+
+    Notes
+    -----
+    Periods, uncertainties, ``length``, ``g`` and ``bob_radius`` must lie in
+    ``SCALE_RANGE`` = [1e-150, 1e150] (in their units): the least squares
+    square them.
 
     Examples
     --------
@@ -359,9 +361,11 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
         (``theta0``, ``omega0``, ``w0``, ``gamma``, ``theta_offset``, ``omega_offset``).
     loss : str, optional, keyword-only
         SciPy's robust loss for outliers: "linear" (least squares, the
-        default), "soft_l1", "huber", "cauchy", "arctan"; ``f_scale`` is the
-        residual (in units of sigma) where outliers begin.  With a robust
+        default), "soft_l1", "huber", "cauchy", "arctan".  With a robust
         loss the covariance is the least-squares one at the robust estimate.
+    f_scale : float, optional, keyword-only
+        The residual (in units of sigma) where a robust loss begins to treat
+        points as outliers (default 1).
     tol : float, optional, keyword-only
         Integration error target [rad] of the damped model, in [1e-15, 1]
         (default 1e-3 of the smallest sigma, within [1e-11, 1e-7]; 1e-9
@@ -391,6 +395,9 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
         data, all samples at one time, times not increasing, |theta| >= pi about
         the centre (the data show a rotation, not a swing), no swing to find
         a period in (give ``p0``), a bad option.
+    TypeError
+        Data or options of the wrong type (strings, booleans, a p0 that is
+        not a dict).
     RuntimeError
         When the least squares do not converge.
     ImportError

@@ -37,7 +37,7 @@ contains
   !> (h lam)**5 / 120, summed over the steps); lam = max(w0, gamma) bounds the
   !> rates of the linearised problem, and a factor 1/2 covers the harmonics of a
   !> large swing.  Never above 2 / lam (well inside RK4's stability region).
-  pure real(wp) function sensitivity_step(w0, gamma, span, tol) result(h)
+  elemental real(wp) function sensitivity_step(w0, gamma, span, tol) result(h)
     real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0
     real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
     real(wp), intent(in) :: span  !< window length [s], >= 0
