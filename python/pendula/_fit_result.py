@@ -64,7 +64,8 @@ class FitResult:
         Chi-square of the weighted residuals, degrees of freedom (data minus
         fitted parameters), chi2/dof and the probability of a chi-square at
         least as large (goodness of fit; NaN when the uncertainties were not
-        given: the scatter then defines them).
+        given: the scatter then defines them, chi2 is the plain sum of squared
+        residuals and reduced_chi2 the estimated noise variance).
     sigma_known : bool
         The data's uncertainties were given.
     residuals : ndarray

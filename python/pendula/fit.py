@@ -135,7 +135,7 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
 
     The model is the exact period of the swing, T = 4 K(m)/w0 with
     m = sin^2(theta0/2) (text eq. 1.53), valid for every amplitude
-    |theta0| < pi; it is linear in 1/w0, so the weighted least squares are
+    abs(theta0) < pi; it is linear in 1/w0, so the weighted least squares are
     closed form when the amplitudes are exact.  Amplitude uncertainties are
     propagated through dT/dtheta0 (effective variance, Orear, Am. J. Phys. 50
     (1982) 912: s_i^2 = sigma_T,i^2 + (dT/dtheta0 sigma_theta0,i)^2, iterated to
@@ -145,7 +145,7 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
     Parameters
     ----------
     theta0 : array_like
-        Amplitudes [rad] (the turning angle of each swing), |theta0| < pi.
+        Amplitudes [rad] (the turning angle of each swing), abs(theta0) < pi.
     period : array_like
         Measured periods [s], > 0, one per amplitude.
     sigma_period : float or array_like, optional, keyword-only
@@ -185,7 +185,7 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
     ------
     ValueError
         Too few points (1 with ``sigma_period``, else 2), lengths that differ,
-        non-finite data, |theta0| >= pi (a rotation has no swing period),
+        non-finite data, abs(theta0) >= pi (a rotation has no swing period),
         periods or sigmas out of range, both ``length`` and ``g``.
     TypeError
         Data or options that are not real numbers.
@@ -333,7 +333,7 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
     t : array_like
         Sample times [s], strictly increasing, any spacing.
     theta : array_like
-        Measured angles [rad], same length; a swing (|theta| < pi about the
+        Measured angles [rad], same length; a swing (abs(theta) < pi about the
         centre).
     omega : array_like, optional, keyword-only
         Measured angular velocities [rad/s] at the same times.
@@ -392,7 +392,7 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
     ------
     ValueError
         Too few samples for the parameters, mismatched lengths, non-finite
-        data, all samples at one time, times not increasing, |theta| >= pi about
+        data, all samples at one time, times not increasing, abs(theta) >= pi about
         the centre (the data show a rotation, not a swing), no swing to find
         a period in (give ``p0``), a bad option.
     TypeError
