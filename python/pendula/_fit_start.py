@@ -29,22 +29,38 @@ def _fft_period(t, y):
     return (grid[-1] - grid[0]) * n / (n - 1) / k
 
 
-def start_values(t, theta, omega, t_ref, offset):
+def _noise(y):
+    """A rough noise level of y: the median absolute second difference / sqrt(6)
+    (exact for white noise on a straight line; larger where the signal curves)."""
+    if y.size < 5:
+        return 0.0
+    return float(np.median(np.abs(np.diff(y, 2)))) / math.sqrt(6.0)
+
+
+def start_values(t, theta, omega, t_ref, offset, noise=None):
     """Rough (theta0, omega0, w0, gamma) of the swing theta(t) - offset.
 
-    Raises ValueError when the data hold no half swing to time (the caller
-    may then give p0)."""
+    Only the half swings well above the noise (noise: the data's sigma, or
+    estimated) count: a strongly damped record ends in noise whose zero
+    crossings carry no period.  Raises ValueError when the data hold no half
+    swing to time (the caller may then give p0)."""
     from .elliptic import ellipk
     y = theta - offset
+    noise = _noise(y) if noise is None else float(noise)
     tc = _crossings(t, y)
+    amps, times = [], []
+    for a, b in zip(tc[:-1], tc[1:]):
+        inside = (t > a) & (t < b)
+        if not inside.any():
+            break
+        k = int(np.argmax(np.abs(y[inside])))
+        if np.abs(y[inside])[k] < 5.0 * noise:
+            break          # the swing has decayed into the noise: later crossings are noise
+        amps.append(float(np.abs(y[inside])[k]))
+        times.append(float(t[inside][k]))
+    tc = tc[:len(amps) + 1]
     if tc.size >= 2:
         halves = np.diff(tc)
-        amps, times = [], []
-        for a, b in zip(tc[:-1], tc[1:]):
-            inside = (t > a) & (t < b)
-            k = np.argmax(np.abs(y[inside])) if inside.any() else None
-            amps.append(float(np.abs(y[inside])[k]) if k is not None else float(np.max(np.abs(y))))
-            times.append(float(t[inside][k]) if k is not None else 0.5 * (a + b))
         amps, times = np.array(amps), np.array(times)
         amps = np.clip(amps, 1e-12, math.pi - 1e-9)
         w0 = float(np.median(2.0 * ellipk(np.sin(amps / 2) ** 2) / halves))

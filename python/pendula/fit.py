@@ -469,7 +469,7 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
                          "unwrapped angles of a rotating pendulum cannot be fitted")
     if not {"theta0", "omega0", "w0"} <= set(p0) or (damped and "gamma" not in p0):
         from ._fit_start import start_values
-        s = start_values(t, theta, omega, t_ref, offset)
+        s = start_values(t, theta, omega, t_ref, offset, None if sig is None else float(np.median(sig)))
         start = dict(zip(["theta0", "omega0", "w0", "gamma"], s))
     else:
         start = {}
@@ -508,37 +508,57 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
 
     cache = {}
 
-    def evaluate(x):
-        key = x.tobytes()
+    def evaluate(x, m=n):
+        """Weighted residuals and Jacobian over the first m samples."""
+        key = (x.tobytes(), m)
         if key not in cache:
             cache.clear()
             th0, om0, w0, gam, dth, dom = unpack(x)
-            th, om, jt, jo = solve(t, t_ref, th0, om0, max(w0, 1e-300), gam, tol)
+            tt = t[:m]
+            th, om, jt, jo = solve(tt, t_ref, th0, om0, max(w0, 1e-300), gam, tol)
             if not damped:
                 # the exact elliptic solution for the values; the variational
                 # equations (integrated at gamma = 0) for the Jacobian
                 from .undamped import undamped
-                th, om = undamped(t - t_ref, th0, om0, w0)
-            jac = [jt[:, cols]]
-            res = [(th + dth - theta) * w_th]
-            jac[0] = jac[0] * w_th[:, None]
+                th, om = undamped(tt - t_ref, th0, om0, w0)
+            res = [(th + dth - theta[:m]) * w_th[:m]]
+            jac = [jt[:, cols] * w_th[:m, None]]
             if omega is not None:
-                res.append((om + dom - omega) * w_om)
-                jac.append(jo[:, cols] * w_om[:, None])
+                res.append((om + dom - omega[:m]) * w_om[:m])
+                jac.append(jo[:, cols] * w_om[:m, None])
             jac = np.vstack(jac)
             if fit_offsets:
-                extra = np.zeros((nres, npar - len(cols)))
-                extra[:n, 0] = w_th
+                extra = np.zeros((jac.shape[0], npar - len(cols)))
+                extra[:m, 0] = w_th[:m]
                 if omega is not None:
-                    extra[n:, 1] = w_om
+                    extra[m:, 1] = w_om[:m]
                 jac = np.hstack([jac, extra])
             cache[key] = (np.concatenate(res), jac)
         return cache[key]
 
-    sol = optimize.least_squares(lambda x: evaluate(x)[0], x0, jac=lambda x: evaluate(x)[1],
-                                 bounds=(lower, np.full(npar, np.inf)), method="trf", x_scale="jac",
-                                 loss=loss, f_scale=f_scale, max_nfev=max_nfev,
-                                 xtol=1e-12, ftol=1e-12, gtol=1e-10)
+    def run(x, m, **tols):
+        return optimize.least_squares(lambda x: evaluate(x, m)[0], x, jac=lambda x: evaluate(x, m)[1],
+                                      bounds=(lower, np.full(npar, np.inf)), method="trf", x_scale="jac",
+                                      loss=loss, f_scale=f_scale, max_nfev=max_nfev, **tols)
+
+    # Continuation over the record: a w0 off by a fraction of a percent puts
+    # a long record's later swings out of phase, a local minimum the solver
+    # cannot leave; fitting 3, 6, 12, ... starting periods first (each stage
+    # starting from the last) keeps the phase error small at every stage.
+    nfev, x_start = 0, x0.copy()
+    period = 2.0 * math.pi / x0[i_w0]
+    span = 3.0 * period
+    while t[-1] - t_ref > 1.5 * span:
+        m = int(np.searchsorted(t, t_ref + span, side="right"))
+        if m * (1 if omega is None else 2) >= 3 * npar:
+            stage = run(np.clip(x0, lower + 1e-12 * np.abs(x0), None), m)
+            nfev += stage.nfev
+            if stage.status > 0:
+                x0 = stage.x
+        span *= 2.0
+    x0 = np.clip(x0, lower + 1e-12 * np.abs(x0) + 1e-300, None)
+    sol = run(x0, n, xtol=1e-12, ftol=1e-12, gtol=1e-10)
+    nfev += sol.nfev
     if sol.status <= 0:
         raise RuntimeError(f"the least squares did not converge: {sol.message}")
     x = sol.x
@@ -580,7 +600,7 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
                      dof=dof, chi2=chi2,
                      confidence=conf, residuals=resid, residuals_omega=resid_om, model=model,
                      data={"t": t, "theta": theta, "omega": omega, "sigma": sig},
-                     info={"engine": "scipy.optimize.least_squares (trf)", "nfev": sol.nfev, "njev": sol.njev,
+                     info={"engine": "scipy.optimize.least_squares (trf)", "nfev": nfev, "njev": sol.njev,
                            "message": sol.message, "loss": loss, "integrator": integrator if damped else
                            "elliptic (values), " + integrator + " variational (Jacobian)",
-                           "t_ref": t_ref, "start": dict(zip(names, x0.tolist())), "tol": tol})
+                           "t_ref": t_ref, "start": dict(zip(names, x_start.tolist())), "tol": tol})
