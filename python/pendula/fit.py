@@ -164,9 +164,10 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
         Radius r [m] of a solid spherical bob on a light string (with
         ``length`` or ``g``): the physical pendulum has I = m (l^2 + 2 r^2/5)
         about the pivot, so w0^2 = m g l / I = g / l_eff with
-        l_eff = l + 2 r^2 / (5 l) (e.g. Nelson & Olsson, Am. J. Phys. 54
-        (1986) 112, eq. 9).  The equation of motion keeps the form
-        theta'' = -w0^2 sin(theta), so the exact period still applies.
+        l_eff = l + 2 r^2 / (5 l) (Nelson & Olsson, "The pendulum -- rich
+        physics from a simple system", Am. J. Phys. 54 (1986) 112).  The
+        equation of motion keeps the form theta'' = -w0^2 sin(theta), so the
+        exact period still applies.
     confidence : float, optional, keyword-only
         Level of the confidence intervals, in (0, 1); default 0.95.
 
