@@ -17,7 +17,7 @@ import numpy as np
 
 from . import _fortran
 from ._arrays import as_real, real_scalar
-from ._errors import raise_for_status
+from ._errors import ERR_MAXSTEPS, _text, raise_for_status
 from ._fit_result import FitResult
 
 __all__ = ["fit_period", "fit_motion", "FitResult"]
@@ -269,8 +269,13 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
 
 def _rk4_sensitivity(t, t_ref, theta0, omega0, w0, gamma, tol):
     """theta, omega (n,) and their Jacobians (n, 4) in (theta0, omega0, w0,
-    gamma): the Fortran RK4 integration of the variational equations."""
+    gamma): the Fortran RK4 integration of the variational equations.  A
+    record too long for the step budget at tol is bad data for a fit
+    (ValueError naming t and tol), not a solver failure."""
     th, om, jt, jo, _, code, msg = _fortran.sensitivity_f2py(t, t_ref, theta0, omega0, w0, gamma, tol)
+    if code == ERR_MAXSTEPS:
+        raise ValueError(f"the record is too long to fit at this tol: {_text(msg)}; "
+                         "or check the times t (in s?)")
     raise_for_status(code, msg)
     return th, om, jt, jo
 
