@@ -44,6 +44,8 @@ module pendula
       SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
       SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
   use pendula_scene_work, only: scene_solve_work, scene_run_work
+  use pendula_sensitivity, only: sensitivity_solve, SENSITIVITY_NPARAMS
+  use pendula_fit_period, only: period_fit_t, fit_period, period_factor
   implicit none
   ! Default public: the module re-exports exactly what the `only:` lists import.
   public

@@ -29,6 +29,8 @@ from . import _tradeoff; from ._tradeoff import *  # noqa: E702,F401,F403
 from . import sweep as _sweep_api; from .sweep import *  # noqa: E702,F401,F403
 # plot helpers: matplotlib is imported only when one is called
 from . import motion_plots as _motion_plots; from .motion_plots import *  # noqa: E702,F401,F403
+# fits of measured pendulums: SciPy is imported only when one is called
+from . import fit as _fit_api; from .fit import *  # noqa: E702,F401,F403
 
 __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "have_cvode"]
                      + _elliptic.__all__
@@ -39,6 +41,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      + _tradeoff.__all__
                      + _sweep_api.__all__
                      + _motion_plots.__all__
+                     + _fit_api.__all__
                      ))
 
 

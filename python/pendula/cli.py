@@ -7,6 +7,7 @@ Subcommands (``pendula SUBCOMMAND --help`` for each):
   solve     solve a scene (the library picks the cheapest model meeting --tol)
   tradeoff  speed/accuracy table of every model on a scene (CSV, work-precision PNG)
   sweep     a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and the basin map (PNG)
+  fit       fit g, length, damping and the initial state to measured data (CSV): table and PNG
 
 Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
 mass kg, b kg/s, gamma and w0 1/s; angles may be given in degrees (--theta0 90deg,
@@ -30,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _cli_fit
 from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times, threads
 from ._cli_values import finite as _finite
 from ._cli_values import nonnegative as _nonnegative, positive as _positive
@@ -208,6 +210,7 @@ def build_parser():
     w.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
     w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
     _add_physics(w, w0=True)
+    _cli_fit.add_parser(sub, _positive)
     for parser in (p, *sub.choices.values()):
         accept_negative_values(parser)
     return p
@@ -552,7 +555,8 @@ def _wells(r):
     return text + (f", {unsettled} not settled at t-end" if unsettled else "")
 
 
-COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff}
+COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff,
+            "fit": _cli_fit.cmd_fit}
 
 
 def main(argv=None, out=None):

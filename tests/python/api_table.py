@@ -74,6 +74,7 @@ NOT_ENTRY_POINTS = {
     # a Figure is no result of numbers to walk; their bad input is tested in test_motion_plots.py
     "plot_motion": "plot helper: returns a matplotlib Figure",
     "plot_phase_portrait": "plot helper: returns a matplotlib Figure",
+    "FitResult": "result container built by fit_period()/fit_motion() from checked data",
 }
 
 # threads= of the batch paths: None (the default: chosen from the predicted work), 0 (the
@@ -88,6 +89,27 @@ DAMPING = dict(b=Arg(NONNEG, others=dict(gamma=None, mass=0.1)),
 
 # ---- the table ----------------------------------------------------------------
 API: dict[str, Entry] = {
+    # fits (fit.py): data arrays are whole records (array=False: a scalar or a
+    # wrong-length array is refused, not broadcast into a different data set)
+    "fit_period": Entry(
+        valid=dict(theta0=[0.2, 0.8, 1.5, 2.5], period=2.0, sigma_period=1e-3, sigma_theta0=0.01,
+                   length=0.75, bob_radius=0.01),
+        args=dict(theta0=Arg(REAL, out_of_domain=(4.0,)), period=Arg(POS), sigma_period=Arg(POS),
+                  sigma_theta0=Arg(NONNEG), length=Arg(POS), g=Arg(POS, others=dict(length=None)),
+                  bob_radius=Arg(NONNEG),
+                  confidence=Arg(OTHER, extra=((1.0, ValueError), (0.0, ValueError), ("0.9", TypeError))))),
+    "fit_motion": Entry(
+        valid=dict(t=np.linspace(0.0, 6.0, 40).tolist(),
+                   theta=(np.cos(3.0 * np.linspace(0.0, 6.0, 40)) * np.exp(-0.05 * np.linspace(0.0, 6.0, 40))
+                          * 0.5).tolist(), sigma=1e-2, t_ref=0.0),
+        args=dict(t=Arg(TIMES), theta=Arg(REAL), omega=Arg(REAL, others=dict(sigma_omega=0.1)), sigma=Arg(POS),
+                  sigma_omega=Arg(POS, others=dict(omega=(-1.5 * np.sin(3.0 * np.linspace(0.0, 6.0, 40))).tolist())),
+                  damping=Arg(OTHER, extra=(("quadratic", ValueError), (1.0, ValueError))), fit_offsets=Arg(OTHER, extra=(("yes", TypeError), (1, TypeError))),
+                  length=Arg(POS), g=Arg(POS), t_ref=Arg(REAL),
+                  p0=Arg(OTHER, extra=(([1.0], TypeError), ({"w1": 1.0}, ValueError), ({"w0": "x"}, TypeError))),
+                  loss=Arg(CHOICE), f_scale=Arg(POS), tol=Arg(POS), integrator=Arg(CHOICE),
+                  confidence=Arg(OTHER, extra=((1.5, ValueError), (None, TypeError))),
+                  max_nfev=Arg(COUNT))),
     # physics (core)
     "natural_frequency": Entry(
         valid=dict(g=9.8, length=4.9),

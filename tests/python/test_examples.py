@@ -56,6 +56,7 @@ TABLES = {
     "linear_damping.py": "linear_damping.csv",
     "integrators.py": "integrators_comparison.csv",
     "scene_solver.py": "scene_solver.csv",
+    "fit_lab.py": "periods.csv",
 }
 
 

@@ -44,6 +44,7 @@ import pendula
 from fuzz_support import (  # noqa: F401 (worker: the fixture)
     recorded_test, BIG, HALF_PI, Recorder, SETTINGS, evaluate, flt, judge, nonfinite_problem, real_args,
     scalar_src, values, worker)
+from fuzz_support import array_src  # noqa: E402
 
 
 # ----------------------------------------------------------------- elementwise functions
@@ -312,6 +313,46 @@ def test_fuzz_no_argument_functions(worker):
     rec.verdict()
 
 
+# ----------------------------------------------------------------- fits
+
+# A clean swing the fit of a motion can start from; the drawn values replace one sample or the noise.
+FIT_T = "np.linspace(0.0, 6.0, 40)"
+FIT_THETA = "0.5 * np.cos(3.0 * np.linspace(0.0, 6.0, 40))"
+
+
+@settings(SETTINGS, max_examples=40)
+@given(theta0=array_src((4,)), period=array_src((4,)), sigma=scalar_src(values()))
+@example(theta0="np.array([0.1, 1.0, 2.0, 3.14159])", period="np.array([2.0, 2.2, 3.0, 30.0])", sigma="5e-324")
+def _run_fit_period(worker, rec, theta0, period, sigma):
+    kw = {"sigma_period": sigma}
+    rec.add(judge(worker.call("fit_period", [theta0, period], kw), ["theta0", "period", "sigma_period"]),
+            "fit_period", [theta0, period], kw)
+
+
+def test_fuzz_fit_period(worker):
+    rec = Recorder("fit_period")
+    _run_fit_period(worker, rec)
+    rec.verdict()
+
+
+@settings(SETTINGS, max_examples=30)
+@given(v=scalar_src(values()), sigma=scalar_src(values()), where=st.sampled_from(["theta", "t", "sigma"]))
+def _run_fit_motion(worker, rec, v, sigma, where):
+    t, theta = FIT_T, FIT_THETA
+    if where == "theta":
+        theta = f"np.r_[{FIT_THETA}[:39], np.ravel({v})[:1]]"
+    elif where == "t":
+        t = f"np.r_[{FIT_T}[:39], np.ravel({v})[:1]]"
+    kw = {"sigma": sigma if where == "sigma" else "1e-2"}
+    rec.add(judge(worker.call("fit_motion", [t, theta], kw), ["t", "theta", "sigma"]), "fit_motion", [t, theta], kw)
+
+
+def test_fuzz_fit_motion(worker):
+    rec = Recorder("fit_motion")
+    _run_fit_motion(worker, rec)
+    rec.verdict()
+
+
 # ----------------------------------------------------------------- CLI and coverage
 
 CLI_CASES = [
@@ -353,10 +394,13 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "PendulaSolverError
               # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
               "BatchIntegrationResult", "SceneBatch", "SceneBatchResult", "SweepResult",
               # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
-              "plot_motion", "plot_phase_portrait"}
+              "plot_motion", "plot_phase_portrait",
+              # the fits' result container (checked through fit_period / fit_motion)
+              "FitResult"}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
 FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
-                                            "tradeoff", "build_info", "have_cvode", "sweep"})
+                                            "tradeoff", "build_info", "have_cvode", "sweep",
+                                            "fit_period", "fit_motion"})
 
 
 def test_fuzz_covers_every_public_name():
