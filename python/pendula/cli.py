@@ -219,7 +219,10 @@ def build_parser():
 # ---------------------------------------------------------------- helpers
 
 def _physics_defaults(args):
-    """--w0 instead of --g/--length (refused together); then the text's g and l."""
+    """--w0 instead of --g/--length (refused together); then the text's g and l
+    (not for ``fit``, where the one given says which is estimated)."""
+    if args.command == "fit":
+        return
     if getattr(args, "w0", None) is not None and (args.g is not None or args.length is not None):
         raise CliError("--w0 replaces --g and --length (w0 = sqrt(g/l)): give either --w0 or --g/--length")
     if hasattr(args, "g"):
