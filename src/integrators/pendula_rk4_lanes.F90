@@ -115,18 +115,7 @@ contains
       do i = 1, nmax
         call fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1, &
             yn, un, rn, kn, okv)
-        if (.not. all(okv)) then
-          ! Not vectorised: with AVX2 gcc would call glibc's vector sin
-          ! (libmvec, up to 4 ulp) here, which gfortran declares SIMD-capable,
-          ! instead of the scalar libm sin of rk4_grid's plain step.
-          !GCC$ novector
-          do l = 1, nl
-            if (.not. okv(l) .and. i <= nsub(l)) then
-              call plain_step(y(l), u(l), wsq(l), gam(l), hs(l), half(l), sixth(l), c6(l), yn(l), un(l))
-              call node_reduce(yn(l), kn(l), rn(l))
-            end if
-          end do
-        end if
+        if (.not. all(okv)) call plain_lanes(i, nsub, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
         if (uniform) then
           y = yn
           u = un
@@ -178,13 +167,35 @@ contains
     done = 1
   end subroutine PENDULA_LANES_ENTRY
 
+  !> rk4_grid's plain libm step on the lanes l with okv(l) false that still
+  !> take step i (i <= nsub(l)).  Out of line: the rare path stays out of the
+  !> hot loop's registers.  Not vectorised: with AVX2 gcc would call glibc's
+  !> vector sin (libmvec, up to 4 ulp), which gfortran declares SIMD-capable,
+  !> instead of the scalar libm sin of rk4_grid's plain step.
+  subroutine plain_lanes(i, nsub, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
+    integer(i8), intent(in) :: i, nsub(nl)
+    real(wp), dimension(nl), intent(in) :: y, u, wsq, gam, hs, half, sixth, c6
+    logical, intent(in) :: okv(nl)
+    real(wp), dimension(nl), intent(inout) :: yn, un, rn
+    integer, intent(inout) :: kn(nl)
+    integer :: l
+    !GCC$ novector
+    do l = 1, nl
+      if (.not. okv(l) .and. i <= nsub(l)) then
+        call plain_step(y(l), u(l), wsq(l), gam(l), hs(l), half(l), sixth(l), c6(l), yn(l), un(l))
+        call node_reduce(yn(l), kn(l), rn(l))
+      end if
+    end do
+  end subroutine plain_lanes
+
   !> One table-path RK4 step on every lane (rk4_grid's fast branch, same
   !> operations).  okv(l) is false where that lane must take the plain step
   !> instead; such lanes are computed on a neutral state (0, 0) so that no
   !> operation sees a huge argument, and their results are discarded.
-  !> Two loops: the table rows are gathered lane by lane first (SSE2 has no
-  !> gather), then the arithmetic runs as one branch-free loop over lanes,
-  !> which gcc vectorises.
+  !> The node's sine and cosine are gathered lane by lane first (SSE2 has no
+  !> gather; two loads per lane instead of rk4_grid's ten table entries, whose
+  !> products are formed here), then the arithmetic runs as branch-free loops
+  !> over lanes, which gcc vectorises.
   pure subroutine fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
       bu0, bu1, yn, un, rn, kn, okv)
     real(wp), dimension(nl), intent(in) :: y, u, rh, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
@@ -205,14 +216,17 @@ contains
       ik = iand(kk(l), nnodes - 1)
       sk(l) = node_sin(ik)
       ck(l) = node_cos(ik)
-      c2(l) = taylor(2, ik)
-      c3(l) = taylor(3, ik)
-      c4(l) = taylor(4, ik)
-      c5(l) = taylor(5, ik)
-      c6t(l) = taylor(6, ik)
-      c7(l) = taylor(7, ik)
-      c8(l) = taylor(8, ik)
-      c9(l) = taylor(9, ik)
+    end do
+    do l = 1, nl
+      ! the rows of `taylor`, formed as it was (one rounded product each)
+      c2(l) = sk(l) * taylor_factor(2)
+      c3(l) = ck(l) * taylor_factor(3)
+      c4(l) = sk(l) * taylor_factor(4)
+      c5(l) = ck(l) * taylor_factor(5)
+      c6t(l) = sk(l) * taylor_factor(6)
+      c7(l) = ck(l) * taylor_factor(7)
+      c8(l) = sk(l) * taylor_factor(8)
+      c9(l) = ck(l) * taylor_factor(9)
     end do
     do l = 1, nl
       yv = y(l)
