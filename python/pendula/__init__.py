@@ -9,6 +9,27 @@ scenes answered by the cheapest model that meets a tolerance.
 Units throughout: angles in rad, angular velocities in rad/s, times in s,
 rates (w0, gamma) in 1/s, g in m/s^2, lengths in m, masses in kg, b in kg/s.
 """
+import os as _os
+
+# The batch kernels' OpenMP threads sleep between calls instead of spinning
+# (libgomp's default spins up to ~300,000 rounds after each parallel region,
+# burning a core that the caller's own work, or another process, needs).
+# libgomp reads its settings once, when it is loaded -- here, with the
+# extension -- so OMP_WAIT_POLICY=passive is set for that moment only, and
+# only when the user chose neither OMP_WAIT_POLICY nor GOMP_SPINCOUNT; the
+# environment is restored at once (child processes see the user's).  The
+# policy is process-wide: another library's libgomp threads in this process
+# sleep too, unless libgomp was loaded before pendula.
+_passive = not {"OMP_WAIT_POLICY", "GOMP_SPINCOUNT"} & set(_os.environ)
+if _passive:
+    _os.environ["OMP_WAIT_POLICY"] = "passive"
+try:
+    from . import _fortran  # noqa: F401
+finally:
+    if _passive:
+        del _os.environ["OMP_WAIT_POLICY"]
+del _passive
+
 from ._config import HAVE_CVODE as _HAVE_CVODE, VERSION as __version__
 from . import _config
 from ._errors import PendulaSolverError

@@ -85,3 +85,19 @@ def test_unknown_request_runs_the_best_path(tmp_path, value):
     out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True,
                          timeout=120)
     assert out.stdout.strip() == "True"
+
+
+@pytest.mark.skipif(not pendula._batch.openmp(), reason="no OpenMP in this build")
+@pytest.mark.parametrize("user, want", [(None, "PASSIVE"), ("active", "ACTIVE")])
+def test_openmp_threads_sleep_unless_the_user_chose(user, want):
+    """libgomp (OMP_DISPLAY_ENV shows what it read at load) gets the passive wait
+    policy when the user set none, the user's otherwise; os.environ is restored."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
+    env["OMP_DISPLAY_ENV"] = "true"
+    if user is not None:
+        env["OMP_WAIT_POLICY"] = user
+    code = "import os, pendula; print(os.environ.get('OMP_WAIT_POLICY'))"
+    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True,
+                         timeout=120)
+    assert f"OMP_WAIT_POLICY = '{want}'" in out.stderr
+    assert out.stdout.strip() == str(user)
