@@ -19,6 +19,12 @@
 !> each lane computes.  Every variant therefore returns the bits of rk4_solve
 !> (tests/python/test_kernel_paths.py compares them on every path the
 !> machine has).
+! meson defines both names per variant; a build that compiles the file once
+! (fpm) gets the portable one, which pendula_kernel_path.c always has.
+#ifndef PENDULA_LANES_MODULE
+#define PENDULA_LANES_MODULE pendula_rk4_lanes_baseline_m
+#define PENDULA_LANES_ENTRY pendula_rk4_lanes_baseline
+#endif
 module PENDULA_LANES_MODULE
   use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
   use, intrinsic :: iso_fortran_env, only: wp => real64, i8 => int64
