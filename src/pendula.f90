@@ -44,6 +44,7 @@ module pendula
       SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
       SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
   use pendula_scene_work, only: scene_solve_work, scene_run_work
+  use pendula_dispatch, only: kernel_path, kernel_path_available, KERNEL_BASELINE, KERNEL_V3, KERNEL_V4
   implicit none
   ! Default public: the module re-exports exactly what the `only:` lists import.
   public
