@@ -46,6 +46,7 @@ module pendula
   use pendula_scene_work, only: scene_solve_work, scene_run_work
   use pendula_sensitivity, only: sensitivity_solve, SENSITIVITY_NPARAMS
   use pendula_fit_period, only: period_fit_t, fit_period, period_factor
+  use pendula_dispatch, only: kernel_path, kernel_path_available, KERNEL_BASELINE, KERNEL_V3, KERNEL_V4
   implicit none
   ! Default public: the module re-exports exactly what the `only:` lists import.
   public

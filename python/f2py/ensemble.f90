@@ -56,6 +56,21 @@ subroutine rk4_batch_openmp_f2py(flag)
   flag = merge(1, 0, rk4_batch_openmp())
 end subroutine rk4_batch_openmp_f2py
 
+! The kernel path this process runs (pendula_dispatch: 0 baseline, 1 v3,
+! 2 v4) and which paths this build and CPU offer (available(p+1) = 1).
+subroutine kernel_path_f2py(path, available)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use pendula_dispatch, only: kernel_path, kernel_path_available, KERNEL_BASELINE, KERNEL_V4
+  implicit none
+  !f2py threadsafe
+  integer(c_int), intent(out) :: path, available(3)
+  integer :: p
+  path = kernel_path()
+  do p = KERNEL_BASELINE, KERNEL_V4
+    available(p + 1) = merge(1, 0, kernel_path_available(p))
+  end do
+end subroutine kernel_path_f2py
+
 subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, gamma, rtol, atol, method, &
     max_steps, threads, control, theta, omega, codes, stats, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int

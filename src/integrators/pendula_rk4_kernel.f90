@@ -26,7 +26,7 @@ module pendula_rk4_kernel
   implicit none
   private
   public :: rk4_grid, substeps, step_constants, plain_step, node_reduce, sin_node, sin_shift
-  public :: stage_rmax, stage_xmax, RK4_POLL_STEPS
+  public :: stage_rmax, stage_xmax, RK4_POLL_STEPS, RK4_BATCH_LANES
   ! the node tables and reduction constants, for the batch kernel's own copy
   ! of the step (pendula_rk4_batch: the same operations, across states)
   public :: nnodes, node_sin, node_cos, taylor, node_p1, node_p2, node_p3, nodes_per_radian
@@ -36,131 +36,9 @@ module pendula_rk4_kernel
   !> and one volatile load per 4096 steps costs nothing measurable).
   integer(i8), parameter :: RK4_POLL_STEPS = 4096
 
-  !> Largest |r| for which sin_node is accurate, and largest |theta| [rad]
-  !> that the fast step reduces (k*node_p1, k*node_p2 stay exact).
-  real(wp), parameter :: stage_rmax = 0.1_wp
-  real(wp), parameter :: stage_xmax = 1048576.0_wp
-  integer, parameter :: nnodes = 256
-
-  real(wp), parameter :: node_p1 = 0.02454369328916073_wp, node_p2 = -6.829904419802801e-10_wp, &
-      node_p3 = -2.6798820303795045e-17_wp, nodes_per_radian = 40.74366543152521_wp
-  ! residual of the split: 1.32e-33
-  real(wp), parameter :: node_sin(0:255) = [ &
-      0.0_wp, 0.024541228522912288_wp, 0.049067674327418015_wp, &
-      0.07356456359966743_wp, 0.0980171403295606_wp, 0.1224106751992162_wp, &
-      0.14673047445536175_wp, 0.17096188876030122_wp, 0.19509032201612828_wp, &
-      0.2191012401568698_wp, 0.2429801799032639_wp, 0.26671275747489837_wp, &
-      0.2902846772544624_wp, 0.31368174039889146_wp, 0.33688985339222005_wp, &
-      0.35989503653498817_wp, 0.3826834323650898_wp, 0.40524131400498986_wp, &
-      0.4275550934302821_wp, 0.4496113296546066_wp, 0.47139673682599764_wp, &
-      0.49289819222978404_wp, 0.5141027441932218_wp, 0.5349976198870973_wp, &
-      0.5555702330196022_wp, 0.5758081914178453_wp, 0.5956993044924334_wp, &
-      0.6152315905806268_wp, 0.6343932841636455_wp, 0.6531728429537768_wp, &
-      0.6715589548470184_wp, 0.6895405447370669_wp, 0.7071067811865476_wp, &
-      0.7242470829514669_wp, 0.7409511253549591_wp, 0.7572088465064846_wp, &
-      0.773010453362737_wp, 0.7883464276266062_wp, 0.8032075314806449_wp, &
-      0.8175848131515837_wp, 0.8314696123025452_wp, 0.8448535652497071_wp, &
-      0.8577286100002721_wp, 0.8700869911087115_wp, 0.881921264348355_wp, &
-      0.8932243011955153_wp, 0.9039892931234433_wp, 0.9142097557035307_wp, &
-      0.9238795325112867_wp, 0.9329927988347388_wp, 0.9415440651830208_wp, &
-      0.9495281805930367_wp, 0.9569403357322088_wp, 0.9637760657954398_wp, &
-      0.970031253194544_wp, 0.9757021300385286_wp, 0.9807852804032304_wp, &
-      0.9852776423889412_wp, 0.989176509964781_wp, 0.99247953459871_wp, &
-      0.9951847266721969_wp, 0.9972904566786902_wp, 0.9987954562051724_wp, &
-      0.9996988186962042_wp, 1.0_wp, 0.9996988186962042_wp, &
-      0.9987954562051724_wp, 0.9972904566786902_wp, 0.9951847266721969_wp, &
-      0.99247953459871_wp, 0.989176509964781_wp, 0.9852776423889412_wp, &
-      0.9807852804032304_wp, 0.9757021300385286_wp, 0.970031253194544_wp, &
-      0.9637760657954398_wp, 0.9569403357322088_wp, 0.9495281805930367_wp, &
-      0.9415440651830208_wp, 0.9329927988347388_wp, 0.9238795325112867_wp, &
-      0.9142097557035307_wp, 0.9039892931234433_wp, 0.8932243011955153_wp, &
-      0.881921264348355_wp, 0.8700869911087115_wp, 0.8577286100002721_wp, &
-      0.8448535652497071_wp, 0.8314696123025452_wp, 0.8175848131515837_wp, &
-      0.8032075314806449_wp, 0.7883464276266062_wp, 0.773010453362737_wp, &
-      0.7572088465064846_wp, 0.7409511253549591_wp, 0.7242470829514669_wp, &
-      0.7071067811865476_wp, 0.6895405447370669_wp, 0.6715589548470184_wp, &
-      0.6531728429537768_wp, 0.6343932841636455_wp, 0.6152315905806268_wp, &
-      0.5956993044924334_wp, 0.5758081914178453_wp, 0.5555702330196022_wp, &
-      0.5349976198870973_wp, 0.5141027441932218_wp, 0.49289819222978404_wp, &
-      0.47139673682599764_wp, 0.4496113296546066_wp, 0.4275550934302821_wp, &
-      0.40524131400498986_wp, 0.3826834323650898_wp, 0.35989503653498817_wp, &
-      0.33688985339222005_wp, 0.31368174039889146_wp, 0.2902846772544624_wp, &
-      0.26671275747489837_wp, 0.2429801799032639_wp, 0.2191012401568698_wp, &
-      0.19509032201612828_wp, 0.17096188876030122_wp, 0.14673047445536175_wp, &
-      0.1224106751992162_wp, 0.0980171403295606_wp, 0.07356456359966743_wp, &
-      0.049067674327418015_wp, 0.024541228522912288_wp, 1.1419936994248699e-61_wp, &
-      -0.024541228522912288_wp, -0.049067674327418015_wp, -0.07356456359966743_wp, &
-      -0.0980171403295606_wp, -0.1224106751992162_wp, -0.14673047445536175_wp, &
-      -0.17096188876030122_wp, -0.19509032201612828_wp, -0.2191012401568698_wp, &
-      -0.2429801799032639_wp, -0.26671275747489837_wp, -0.2902846772544624_wp, &
-      -0.31368174039889146_wp, -0.33688985339222005_wp, -0.35989503653498817_wp, &
-      -0.3826834323650898_wp, -0.40524131400498986_wp, -0.4275550934302821_wp, &
-      -0.4496113296546066_wp, -0.47139673682599764_wp, -0.49289819222978404_wp, &
-      -0.5141027441932218_wp, -0.5349976198870973_wp, -0.5555702330196022_wp, &
-      -0.5758081914178453_wp, -0.5956993044924334_wp, -0.6152315905806268_wp, &
-      -0.6343932841636455_wp, -0.6531728429537768_wp, -0.6715589548470184_wp, &
-      -0.6895405447370669_wp, -0.7071067811865476_wp, -0.7242470829514669_wp, &
-      -0.7409511253549591_wp, -0.7572088465064846_wp, -0.773010453362737_wp, &
-      -0.7883464276266062_wp, -0.8032075314806449_wp, -0.8175848131515837_wp, &
-      -0.8314696123025452_wp, -0.8448535652497071_wp, -0.8577286100002721_wp, &
-      -0.8700869911087115_wp, -0.881921264348355_wp, -0.8932243011955153_wp, &
-      -0.9039892931234433_wp, -0.9142097557035307_wp, -0.9238795325112867_wp, &
-      -0.9329927988347388_wp, -0.9415440651830208_wp, -0.9495281805930367_wp, &
-      -0.9569403357322088_wp, -0.9637760657954398_wp, -0.970031253194544_wp, &
-      -0.9757021300385286_wp, -0.9807852804032304_wp, -0.9852776423889412_wp, &
-      -0.989176509964781_wp, -0.99247953459871_wp, -0.9951847266721969_wp, &
-      -0.9972904566786902_wp, -0.9987954562051724_wp, -0.9996988186962042_wp, &
-      -1.0_wp, -0.9996988186962042_wp, -0.9987954562051724_wp, &
-      -0.9972904566786902_wp, -0.9951847266721969_wp, -0.99247953459871_wp, &
-      -0.989176509964781_wp, -0.9852776423889412_wp, -0.9807852804032304_wp, &
-      -0.9757021300385286_wp, -0.970031253194544_wp, -0.9637760657954398_wp, &
-      -0.9569403357322088_wp, -0.9495281805930367_wp, -0.9415440651830208_wp, &
-      -0.9329927988347388_wp, -0.9238795325112867_wp, -0.9142097557035307_wp, &
-      -0.9039892931234433_wp, -0.8932243011955153_wp, -0.881921264348355_wp, &
-      -0.8700869911087115_wp, -0.8577286100002721_wp, -0.8448535652497071_wp, &
-      -0.8314696123025452_wp, -0.8175848131515837_wp, -0.8032075314806449_wp, &
-      -0.7883464276266062_wp, -0.773010453362737_wp, -0.7572088465064846_wp, &
-      -0.7409511253549591_wp, -0.7242470829514669_wp, -0.7071067811865476_wp, &
-      -0.6895405447370669_wp, -0.6715589548470184_wp, -0.6531728429537768_wp, &
-      -0.6343932841636455_wp, -0.6152315905806268_wp, -0.5956993044924334_wp, &
-      -0.5758081914178453_wp, -0.5555702330196022_wp, -0.5349976198870973_wp, &
-      -0.5141027441932218_wp, -0.49289819222978404_wp, -0.47139673682599764_wp, &
-      -0.4496113296546066_wp, -0.4275550934302821_wp, -0.40524131400498986_wp, &
-      -0.3826834323650898_wp, -0.35989503653498817_wp, -0.33688985339222005_wp, &
-      -0.31368174039889146_wp, -0.2902846772544624_wp, -0.26671275747489837_wp, &
-      -0.2429801799032639_wp, -0.2191012401568698_wp, -0.19509032201612828_wp, &
-      -0.17096188876030122_wp, -0.14673047445536175_wp, -0.1224106751992162_wp, &
-      -0.0980171403295606_wp, -0.07356456359966743_wp, -0.049067674327418015_wp, &
-      -0.024541228522912288_wp ]
-  ! Taylor coefficients of sin(x_k + r) in r for every node, tabulated at
-  ! compile time so that a step loads them instead of forming eight products
-  ! (the step is bound by floating-point throughput): row j holds
-  ! d^j/dr^j sin(x_k + r) / j! at r = 0, i.e. +-sin x_k / j! or +-cos x_k / j!.
-  real(wp), parameter :: node_cos(0:nnodes-1) = cshift(node_sin, nnodes / 4)
-  real(wp), parameter :: taylor(2:9, 0:nnodes-1) = transpose(reshape([ &
-      -0.5_wp * node_sin, node_cos * (-1.0_wp / 6), node_sin * (1.0_wp / 24), node_cos * (1.0_wp / 120), &
-      node_sin * (-1.0_wp / 720), node_cos * (-1.0_wp / 5040), node_sin * (1.0_wp / 40320), &
-      node_cos * (1.0_wp / 362880)], [nnodes, 8]))
+  include 'pendula_rk4_tables.inc'
 
 contains
-
-  !> Nearest node k (x_k = 2 pi k / 256) to x and rho = x - x_k, accurate to
-  !> ~1e-18 absolute (|rho| <= pi/256 + 1e-16).  For |x| > stage_xmax, or x
-  !> not finite, k = 0 and rho = x (callers then see |rho| > stage_rmax).
-  elemental subroutine node_reduce(x, k, rho)
-    real(wp), intent(in) :: x  !< angle [rad]
-    integer, intent(out) :: k  !< node index (x_k = 2 pi k / 256)
-    real(wp), intent(out) :: rho  !< x - x_k [rad]
-    real(wp) :: kf
-    if (abs(x) <= stage_xmax) then
-      kf = anint(x * nodes_per_radian)
-      k = int(kf)
-      rho = ((x - kf * node_p1) - kf * node_p2) - kf * node_p3
-    else
-      k = 0
-      rho = x
-    end if
-  end subroutine node_reduce
 
   !> sin(2 pi k / 256 + r) for |r| <= stage_rmax; absolute error <= 2 eps.
   elemental real(wp) function sin_node(k, r) result(s)
@@ -189,103 +67,7 @@ contains
     end if
   end function sin_shift
 
-  !> sin(x_k + r) for |r| <= stage_rmax from sk = sin x_k, ck = cos x_k and
-  !> c2..c9 = taylor(:, k): the Taylor polynomial to degree 9 in r (first
-  !> omitted term <= stage_rmax**10/10! = 2.8e-17), in Estrin order (three
-  !> levels from r to the result: RK4 chains two stage sines per step).
-  pure real(wp) function sin_taylor(sk, ck, c2, c3, c4, c5, c6, c7, c8, c9, r) result(s)
-    real(wp), intent(in) :: sk, ck, c2, c3, c4, c5, c6, c7, c8, c9, r
-    real(wp) :: z, z2
-    z = r * r
-    z2 = z * z
-    s = ((sk + ck * r) + z * (c2 + c3 * r)) + z2 * (((c4 + c5 * r) + z * (c6 + c7 * r)) + z2 * (c8 + c9 * r))
-  end function sin_taylor
-
-  !> Number of equal substeps of at most h that cover dt: ceiling(dt/h), except
-  !> that dt/h within 1e-9 of an integer counts as that integer (output grids
-  !> like 0.05*k are multiples of h only up to rounding).
-  pure integer(i8) function substeps(dt, h) result(n)
-    real(wp), intent(in) :: dt  !< interval to cover [s], > 0
-    real(wp), intent(in) :: h  !< largest step [s], > 0
-    real(wp) :: r, nr
-    ! The common case first and without a division: dt <= h or dt exceeding h
-    ! by rounding only (dt/h <= 1 + 1e-9: one step).  One test for both keeps
-    ! the branch predictable on grids like 0.05*k, where dt <= h or not is
-    ! decided by rounding (a mispredicted branch per output was measurable).
-    if (dt <= h * (1 + 0.999e-9_wp)) then
-      n = 1
-      return
-    end if
-    r = dt / h
-    nr = anint(r)
-    if (r <= 1) then
-      n = 1
-    else if (abs(r - nr) <= 1.0e-9_wp * nr) then
-      n = int(nr, i8)
-    else
-      n = int(ceiling(r), i8)
-    end if
-  end function substeps
-
-  !> The plain RK4 step (libm sines of the rounded stage arguments) from
-  !> (y, u) = (theta, Omega) with step_constants' half, sixth and c6: rk4_grid's
-  !> path where the stage offsets leave the table's range, and the batch lanes'.
-  pure subroutine plain_step(y, u, w0sq, gamma, hs, half, sixth, c6, yn, un)
-    real(wp), intent(in) :: y  !< theta at the start of the step [rad]
-    real(wp), intent(in) :: u  !< Omega at the start of the step [rad/s]
-    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
-    real(wp), intent(in) :: gamma  !< damping rate [1/s]
-    real(wp), intent(in) :: hs  !< substep [s]
-    real(wp), intent(in) :: half  !< hs/2 from step_constants
-    real(wp), intent(in) :: sixth  !< hs/6 from step_constants
-    real(wp), intent(in) :: c6  !< c6 from step_constants
-    real(wp), intent(out) :: yn  !< theta after the step [rad]
-    real(wp), intent(out) :: un  !< Omega after the step [rad/s]
-    real(wp) :: k1, k2, k3, k4, p2
-    p2 = half * u
-    k1 = -gamma * u - w0sq * sin(y)
-    k2 = -gamma * (u + half * k1) - w0sq * sin(y + p2)
-    k3 = -gamma * (u + half * k2) - w0sq * sin(y + half * (u + half * k1))
-    k4 = -gamma * (u + hs * k3) - w0sq * sin(y + hs * (u + half * k2))
-    yn = y + hs * u + c6 * ((k1 + k2) + k3)
-    un = u + sixth * (k1 + 2 * (k2 + k3) + k4)
-  end subroutine plain_step
-
-  !> The constants of one RK4 substep hs [s] for w0sq [1/s^2] and gamma [1/s]
-  !> that rk4_grid (and rk4_batch's lanes, operation for operation) use in
-  !> every step of an interval: hs/2, hs/6, their products, and the w0sq and
-  !> gamma factors of the stage updates.
-  elemental subroutine step_constants(hs, w0sq, gamma, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
-    real(wp), intent(in) :: hs  !< substep [s]
-    real(wp), intent(in) :: w0sq  !< w0**2 [1/s^2]
-    real(wp), intent(in) :: gamma  !< damping rate [1/s]
-    real(wp), intent(out) :: half  !< hs/2 [s]
-    real(wp), intent(out) :: sixth  !< hs/6 [s]
-    real(wp), intent(out) :: h2q  !< half**2 [s^2]
-    real(wp), intent(out) :: hh  !< hs*half [s^2]
-    real(wp), intent(out) :: c6  !< hs*sixth [s^2]
-    real(wp), intent(out) :: w1  !< h2q*w0sq
-    real(wp), intent(out) :: w2  !< hh*w0sq
-    real(wp), intent(out) :: cy  !< c6*w0sq
-    real(wp), intent(out) :: g2  !< (2 - gamma hs) gamma [1/s]
-    real(wp), intent(out) :: wa  !< sixth (2 - gamma hs) w0sq [1/s]
-    real(wp), intent(out) :: wb  !< sixth*w0sq [1/s]
-    real(wp), intent(out) :: bu0  !< hh w0sq (gamma hh + 2)
-    real(wp), intent(out) :: bu1  !< hs + hh (2 gamma + gamma**2 hh)
-    half = hs / 2
-    sixth = hs / 6
-    h2q = half * half
-    hh = hs * half
-    c6 = hs * sixth
-    w1 = h2q * w0sq
-    w2 = hh * w0sq
-    cy = c6 * w0sq
-    g2 = (2 - gamma * hs) * gamma
-    wa = sixth * (2 - gamma * hs) * w0sq
-    wb = sixth * w0sq
-    bu1 = hs + hh * (2 * gamma + gamma * gamma * hh)
-    bu0 = hh * w0sq * (gamma * hh + 2)
-  end subroutine step_constants
+  include 'pendula_rk4_step.inc'
 
   !> Classic RK4 for theta'' = -gamma theta' - w0sq sin(theta) over the output
   !> grid t (strictly increasing; not checked here): theta(1) [rad], omega(1)

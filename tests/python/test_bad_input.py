@@ -269,6 +269,10 @@ FORTRAN_NO_STATUS = {
     "scene_model_code": "total function of a name", "scene_model_name": "total function of a code",
     "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
     "cvode_available": "no arguments",
+    "kernel_path": "no arguments (chosen once at load time)",
+    "kernel_path_available": "total function of a kernel path code",
+    # the batch RK4 block kernel of the running path: rk4_batch_solve checks the states first
+    "rk4_lanes": "unchecked kernel behind rk4_batch_solve (pendula_dispatch)",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
     "ellipj_plan": "elliptic rule", "ellipj_planm1": "elliptic rule",
     # whether a Jacobi plan pays off: a total decision on (m, n) for any m and n

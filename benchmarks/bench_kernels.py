@@ -1,0 +1,165 @@
+"""The batch RK4 kernel on every CPU dispatch path, side by side with its peers.
+
+The scene of bench_ensembles.py (N states of the text's damped pendulum,
+1200 RK4 steps each, every state within 1e-6 rad).  Contenders, all in the
+same run:
+
+  pendula batch, 1 thread      pendula._batch.rk4_batch on each kernel path this
+                               machine has (baseline x86-64, x86-64-v3 = AVX2,
+                               x86-64-v4 = AVX-512), forced by PENDULA_KERNEL
+                               in a fresh interpreter; and 2 threads on the
+                               path pendula picks by itself
+  C loop, -march=native        benchmarks/rk4_peer.c, compiled here with
+                               cc -O3 -march=native -ffast-math: a plain RK4
+                               loop vectorised across states over glibc's
+                               vector sin (libmvec); skipped without cc
+  numba njit, 1 thread         bench_ensembles' numba RK4 (optional: the
+                               `bench` extra); heyoka.py's batch mode likewise
+                               when installed (not timed here otherwise)
+
+and, for the closed forms, pendula.period over many amplitudes against
+SciPy's 4 ellipkm1(cos(theta0/2)**2) / w0.  Times are process CPU time
+(best of --repeat): the per-core cost when other processes share the
+machine.  Ratios > 1 mean pendula is faster.
+
+    python benchmarks/bench_kernels.py [--quick] [--n N] [--repeat R] [--out DIR]
+"""
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import harness
+
+HERE = pathlib.Path(__file__).resolve().parent
+STEPS = 1200
+
+
+def _child(n, repeat):
+    """In a fresh interpreter (PENDULA_KERNEL set by the parent): time the batch."""
+    import bench_ensembles as ens
+    import pendula
+    from pendula import _batch
+    th0, om0 = ens.scene(n)
+    out = {"path": pendula.build_info()["kernel"]["path"]}
+    for threads in (1, 2):
+        wall, cpu, _, theta = harness.best_run(lambda: ens.run_batch(th0, om0, threads), repeat)
+        out[f"wall{threads}"], out[f"cpu{threads}"] = wall, cpu
+    ref = _batch.rk4_batch(ens.T, th0, om0, np.sqrt(ens.W0SQ), ens.GAMMA, ens.H / 16).theta
+    out["err"] = float(np.abs(theta - ref).max())
+    print(json.dumps(out))
+
+
+def _paths(n, repeat):
+    """{path: child result} for every kernel path this machine runs."""
+    import pendula
+    res = {}
+    for path in pendula.build_info()["kernel"]["available"]:
+        env = dict(os.environ, PENDULA_KERNEL=path)
+        run = subprocess.run([sys.executable, __file__, "--child", str(n), str(repeat)], env=env, check=True,
+                             capture_output=True, text=True)
+        res[path] = json.loads(run.stdout.strip().splitlines()[-1])
+    return res
+
+
+def _c_peer(n, repeat):
+    """CPU s of the C loop (rk4_peer.c), or None without a C compiler."""
+    cc = shutil.which(os.environ.get("CC", "cc"))
+    if cc is None:
+        return None, "no C compiler"
+    with tempfile.TemporaryDirectory() as tmp:
+        exe = pathlib.Path(tmp) / "rk4_peer"
+        build = subprocess.run([cc, "-O3", "-march=native", "-ffast-math", str(HERE / "rk4_peer.c"), "-o", str(exe),
+                                "-lm"], capture_output=True, text=True)
+        if build.returncode != 0:
+            return None, "compile failed: " + build.stderr.strip()[:200]
+        cpu = float(subprocess.run([str(exe), str(n), str(repeat)], check=True, capture_output=True,
+                                   text=True).stdout.split()[0])
+    return cpu, "cc -O3 -march=native -ffast-math (libmvec)"
+
+
+def _period(m, repeat):
+    """(pendula s, SciPy s) for the period over m amplitudes in (0, pi)."""
+    import pendula
+    from scipy.special import ellipkm1
+    th = np.random.default_rng(5).uniform(1e-3, np.pi - 1e-3, m)
+    w0 = 1.4
+    tp = harness.best_time(lambda: pendula.period(th, 0.0, w0), repeat, clock=time.process_time)
+    ts = harness.best_time(lambda: 4 * ellipkm1(np.cos(th / 2) ** 2) / w0, repeat, clock=time.process_time)
+    a, b = pendula.period(th, 0.0, w0), 4 * ellipkm1(np.cos(th / 2) ** 2) / w0
+    return tp, ts, float(np.max(np.abs(a - b) / b))
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["--child"]:
+        _child(int(argv[1]), int(argv[2]))
+        return
+    ap = harness.parser(__doc__, "2,000 states, period over 1e5 amplitudes (seconds)",
+                        "also write bench_kernels.md here")
+    args, n, repeat = harness.parse_with_sizes(ap, argv, "states (default 10,000; --quick 2,000)",
+                                               n=(2_000, 10_000), repeat=(3, 5))
+    import bench_ensembles as ens
+    import pendula
+
+    info = pendula.build_info()["kernel"]
+    print(f"pendula {pendula.__version__}; kernel paths {info['available']} (default {info['path']}); "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}", flush=True)
+    paths = _paths(n, repeat)
+    peer_cpu, peer_how = _c_peer(n, repeat)
+    rows = []
+    for path, r in paths.items():
+        rows.append((f"pendula batch, 1 thread, path {path}" + (" (default)" if path == info["path"] else ""),
+                     r["cpu1"], r["err"]))
+    if peer_cpu is not None:
+        rows.append((f"C loop, {peer_how}", peer_cpu, float("nan")))
+    nb = ens.numba_kernels()
+    th0, om0 = ens.scene(n)
+    if nb is not None:
+        nb1 = nb[0]
+        nb1(th0[:8], om0[:8])   # compile outside the timing
+        _, nb_cpu, _, _ = harness.best_run(lambda: nb1(th0, om0), repeat)
+        rows.append(("numba njit, 1 thread", nb_cpu, float("nan")))
+    try:
+        import heyoka  # noqa: F401
+        heyoka_note = "heyoka.py installed: its batch mode is not timed by this script yet"
+    except ImportError:
+        heyoka_note = "heyoka.py not installed"
+
+    lines = ["| contender | ns per state-step (CPU) | max error [rad] |", "|---|---|---|"]
+    for name, cpu, err in rows:
+        lines.append(f"| {name} | {cpu / (n * STEPS) * 1e9:.2f} | {'-' if np.isnan(err) else f'{err:.1e}'} |")
+    best = paths[info["path"]]
+    base = paths["baseline"]
+    ratios = []
+    for path, r in paths.items():
+        if path != "baseline":
+            ratios.append(f"path {path} / baseline, 1 thread: {base['cpu1'] / r['cpu1']:.2f}x")
+    if peer_cpu is not None:
+        ratios.append(f"default path / C loop, 1 thread: {peer_cpu / best['cpu1']:.2f}x (target >= 1)")
+    if nb is not None:
+        ratios.append(f"default path / numba, 1 thread: {nb_cpu / best['cpu1']:.2f}x (target >= 7x)")
+    ratios.append(f"default path, 2 threads / 1 thread, wall: {best['wall1'] / best['wall2']:.2f}x (target >= 1.8x; "
+                  f"load average {os.getloadavg()[0]:.1f})")
+    ratios.append(heyoka_note)
+    m = 100_000 if args.quick else 1_000_000
+    tp, ts, dev = _period(m, repeat)
+    ratios.append(f"period over {m:,} amplitudes: pendula {tp / m * 1e9:.1f} ns, SciPy 4 ellipkm1(cos(theta0/2)**2)/w0 "
+                  f"{ts / m * 1e9:.1f} ns per point: {ts / tp:.2f}x (target >= 1; largest relative difference "
+                  f"{dev:.1e})")
+    text = "\n".join(lines + [""] + ["- " + r for r in ratios])
+    print()
+    print(text)
+    harness.write_outputs(args.out, "bench_kernels", text)
+
+
+if __name__ == "__main__":
+    main()

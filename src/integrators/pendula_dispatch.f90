@@ -1,0 +1,68 @@
+!> Which compiled variant of the hot kernels runs (runtime CPU dispatch):
+!> the portable baseline, x86-64-v3 (AVX2 + FMA) or x86-64-v4 (AVX-512).
+!> The choice is made once when the library is loaded, from the CPU's
+!> features or the environment variable PENDULA_KERNEL = baseline | v3 | v4
+!> (pendula_kernel_path.c); every path gives the same bits (see
+!> pendula_rk4_lanes.F90), only the speed differs.  Non-x86 builds have the
+!> baseline path only.
+module pendula_dispatch
+  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
+  implicit none
+  private
+  public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
+  public :: rk4_lanes
+
+  !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
+  integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
+
+  interface
+    function c_kernel_path() bind(C, name='pendula_kernel_path')
+      import :: c_int
+      integer(c_int) :: c_kernel_path
+    end function c_kernel_path
+    function c_kernel_available(p) bind(C, name='pendula_kernel_available')
+      import :: c_int
+      integer(c_int), intent(in) :: p
+      integer(c_int) :: c_kernel_available
+    end function c_kernel_available
+    !> The batch RK4 block kernel of the running path (pendula_rk4_lanes.F90).
+    subroutine rk4_lanes(nt, t, nb, idx, nw, w0, ng, gamma, nh, h, ldn, theta, omega, nsteps, dead, &
+        poll, ncontrol, control, icancel, done) bind(C, name='pendula_rk4_lanes')
+      import :: c_int, c_int64_t, c_double
+      integer(c_int), intent(in) :: nt  !< output times
+      real(c_double), intent(in) :: t(nt)  !< output times [s]
+      integer(c_int), intent(in) :: nb  !< states in the block
+      integer(c_int), intent(in) :: idx(nb)  !< their columns in theta and omega
+      integer(c_int), intent(in) :: nw  !< size of w0
+      real(c_double), intent(in) :: w0(nw)  !< angular frequencies [1/s]
+      integer(c_int), intent(in) :: ng  !< size of gamma
+      real(c_double), intent(in) :: gamma(ng)  !< damping rates [1/s]
+      integer(c_int), intent(in) :: nh  !< size of h
+      real(c_double), intent(in) :: h(nh)  !< step bounds [s]
+      integer(c_int), intent(in) :: ldn  !< columns of theta and omega
+      real(c_double), intent(inout) :: theta(nt, ldn)  !< angles [rad]
+      real(c_double), intent(inout) :: omega(nt, ldn)  !< angular velocities [rad/s]
+      integer(c_int64_t), intent(out) :: nsteps(nb)  !< steps of each lane
+      integer(c_int), intent(out) :: dead(nb)  !< 1 where a lane stopped being finite
+      integer(c_int), intent(in) :: poll  !< nonzero: look at control(icancel)
+      integer(c_int), intent(in) :: ncontrol  !< size of control
+      integer(c_int64_t), intent(inout), volatile :: control(ncontrol)  !< cancel flag holder
+      integer(c_int), intent(in) :: icancel  !< index of the cancel flag
+      integer(c_int), intent(out) :: done  !< 1 when the block finished
+    end subroutine rk4_lanes
+  end interface
+
+contains
+
+  !> The kernel path this process runs (KERNEL_BASELINE, KERNEL_V3 or KERNEL_V4).
+  integer function kernel_path()
+    kernel_path = int(c_kernel_path())
+  end function kernel_path
+
+  !> True when this build has kernel path p and this CPU can run it.
+  logical function kernel_path_available(p)
+    integer, intent(in) :: p  !< KERNEL_BASELINE, KERNEL_V3 or KERNEL_V4
+    kernel_path_available = c_kernel_available(int(p, c_int)) /= 0
+  end function kernel_path_available
+
+end module pendula_dispatch

@@ -1,0 +1,89 @@
+/* Runtime dispatch of pendula's hot kernels: which compiled variant runs.
+ *
+ * The batch RK4 kernel (pendula_rk4_lanes.F90) is compiled for baseline
+ * x86-64 (SSE2), x86-64-v3 (AVX2, FMA, BMI2) and x86-64-v4 (AVX-512 F, BW,
+ * CD, DQ, VL) when meson builds for x86_64 (PENDULA_KERNEL_VARIANTS), and
+ * only in its portable form elsewhere.  The path is chosen once, when the
+ * library is loaded (a constructor), from the CPU's features as libgcc reads
+ * them (cpuid, with the OS's XSAVE support of the wider registers), as NumPy
+ * and OpenBLAS do.  The environment variable PENDULA_KERNEL = baseline, v3
+ * or v4 asks for one path (for reproducibility and for the tests); a path
+ * the CPU cannot run gives the best one it can below it, and any other value
+ * (or none, or "auto") the best one.  Fortran asks pendula_kernel_path()
+ * which path runs and calls pendula_rk4_lanes(), which forwards to it.
+ * The choice is written once, before any call can read it.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+enum { PATH_BASELINE = 0, PATH_V3 = 1, PATH_V4 = 2 };
+
+#define LANES_ARGS void *, void *, void *, void *, void *, void *, void *, void *, void *, void *, \
+    void *, void *, void *, void *, void *, void *, void *, void *, void *, void *
+typedef void lanes_fn(LANES_ARGS);
+
+extern lanes_fn pendula_rk4_lanes_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern lanes_fn pendula_rk4_lanes_v3;
+extern lanes_fn pendula_rk4_lanes_v4;
+#endif
+
+static int kernel_path = PATH_BASELINE;
+static lanes_fn *rk4_lanes_impl = pendula_rk4_lanes_baseline;
+
+/* 1 when this build has path p and this CPU (and OS) can run it. */
+int pendula_kernel_available(const int *p)
+{
+    switch (*p) {
+    case PATH_BASELINE:
+        return 1;
+#ifdef PENDULA_KERNEL_VARIANTS
+    case PATH_V3:
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")
+            && __builtin_cpu_supports("bmi2");
+    case PATH_V4:
+        __builtin_cpu_init();
+        return pendula_kernel_available(&(int){PATH_V3}) && __builtin_cpu_supports("avx512f")
+            && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512cd")
+            && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
+#endif
+    default:
+        return 0;
+    }
+}
+
+__attribute__((constructor)) static void choose_path(void)
+{
+    const char *want = getenv("PENDULA_KERNEL");
+    int p = PATH_V4;
+    if (want != NULL && strcmp(want, "baseline") == 0)
+        p = PATH_BASELINE;
+    else if (want != NULL && strcmp(want, "v3") == 0)
+        p = PATH_V3;
+    while (p > PATH_BASELINE && !pendula_kernel_available(&p))
+        --p;
+    kernel_path = p;
+#ifdef PENDULA_KERNEL_VARIANTS
+    if (p == PATH_V3)
+        rk4_lanes_impl = pendula_rk4_lanes_v3;
+    else if (p == PATH_V4)
+        rk4_lanes_impl = pendula_rk4_lanes_v4;
+#endif
+}
+
+/* The path the kernels run: 0 baseline, 1 x86-64-v3, 2 x86-64-v4. */
+int pendula_kernel_path(void)
+{
+    return kernel_path;
+}
+
+/* The batch RK4 block kernel of the chosen path (arguments: see
+ * pendula_rk4_lanes.F90, all by reference). */
+void pendula_rk4_lanes(void *a1, void *a2, void *a3, void *a4, void *a5, void *a6, void *a7, void *a8,
+    void *a9, void *a10, void *a11, void *a12, void *a13, void *a14, void *a15, void *a16, void *a17,
+    void *a18, void *a19, void *a20)
+{
+    rk4_lanes_impl(a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15, a16, a17, a18, a19,
+        a20);
+}
