@@ -4,7 +4,7 @@ The scene of bench_ensembles.py (N states of the text's damped pendulum,
 1200 RK4 steps each, every state within 1e-6 rad).  Contenders, all in the
 same run:
 
-  pendula batch, 1 thread      pendula._batch.rk4_batch on each kernel path this
+  pendula batch, 1 thread      pendula._many.kernels.rk4_batch on each kernel path this
                                machine has (baseline x86-64, x86-64-v3 = AVX2,
                                x86-64-v4 = AVX-512), forced by PENDULA_KERNEL
                                in a fresh interpreter; and 2 threads on the
@@ -47,7 +47,7 @@ def _child(n, repeat):
     """In a fresh interpreter (PENDULA_KERNEL set by the parent): time the batch."""
     import bench_ensembles as ens
     import pendula
-    from pendula import _batch
+    from pendula._many import kernels as _batch
     th0, om0 = ens.scene(n)
     out = {"path": pendula.build_info()["kernel"]["path"]}
     for threads in (1, 2):

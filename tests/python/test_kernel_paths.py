@@ -17,7 +17,7 @@ _SCRIPT = r"""
 import sys
 import numpy as np
 import pendula
-from pendula import _batch
+from pendula._many import kernels as _batch
 n = 61
 k = np.arange(1, n + 1)
 th0 = -3.1 + 6.2 * ((k * 7) % n) / n
@@ -87,7 +87,7 @@ def test_unknown_request_runs_the_best_path(tmp_path, value):
     assert out.stdout.strip() == "True"
 
 
-@pytest.mark.skipif(not pendula._batch.openmp(), reason="no OpenMP in this build")
+@pytest.mark.skipif(not pendula._many.kernels.openmp(), reason="no OpenMP in this build")
 @pytest.mark.parametrize("user, want", [(None, "PASSIVE"), ("active", "ACTIVE")])
 def test_openmp_threads_sleep_unless_the_user_chose(user, want):
     """libgomp (OMP_DISPLAY_ENV shows what it read at load) gets the passive wait
