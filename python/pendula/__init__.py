@@ -24,6 +24,8 @@ from . import integrate as _integrate_api; from .integrate import *  # noqa: E70
 from . import scene as _scene_api; from .scene import *  # noqa: E702,F401,F403
 # the function pendula.sweep shadows its module's attribute (the module stays in sys.modules)
 from . import sweep as _sweep_api; from .sweep import *  # noqa: E702,F401,F403
+from . import driven as _driven_api; from .driven import *  # noqa: E702,F401,F403
+from . import chaos as _chaos_api; from .chaos import *  # noqa: E702,F401,F403
 # plot helpers: matplotlib is imported only when one is called
 from . import motion_plots as _motion_plots; from .motion_plots import *  # noqa: E702,F401,F403
 
@@ -35,6 +37,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      + _scene_api.__all__
                      + _sweep_api.__all__
                      + _motion_plots.__all__
+                   + _driven_api.__all__ + _chaos_api.__all__
                      ))
 
 

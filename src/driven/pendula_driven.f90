@@ -185,9 +185,9 @@ contains
     integer, intent(inout) :: codes(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
-    real(wp) :: y(nl), u(nl), r, frac
+    real(wp) :: y(nl), u(nl), fr(nl)
     integer(i8) :: cnt, mk(nl), work
-    integer :: nxt(nl), nb, l, j, nt
+    integer :: nxt(nl), nb, l, j, nt, chunk
     logical :: alive(nl)
     nb = size(idx)
     if (nb == 0) return
@@ -199,33 +199,33 @@ contains
     nxt = 1
     alive = .false.
     alive(1:nb) = .true.
-    mk = 0
     cnt = 0
     j = 0
     work = 0
+    do l = 1, nb
+      call next_output(l)
+    end do
     do
+      ! emit every output on the current grid point (a partial step from it)
       do l = 1, nb
-        if (.not. alive(l)) cycle
-        do while (nxt(l) <= nt)
-          r = (t(nxt(l)) - t(1)) / b%h(l)
-          mk(l) = int(r, i8)
-          if (mk(l) /= cnt) exit
-          frac = r - real(mk(l), wp)
-          call lanes_partial(b, l, j, frac, y(l), u(l), theta(nxt(l), idx(l)), omega(nxt(l), idx(l)))
+        do while (alive(l) .and. mk(l) == cnt)
+          call lanes_partial(b, l, j, fr(l), y(l), u(l), theta(nxt(l), idx(l)), omega(nxt(l), idx(l)))
           nxt(l) = nxt(l) + 1
+          call next_output(l)
         end do
-        if (nxt(l) > nt) alive(l) = .false.
       end do
       if (.not. any(alive)) exit
-      call lanes_steps(b, j, j + 1, y, u)
-      cnt = cnt + 1
-      j = j + 1
+      ! step to the next output of any lane or the end of the period, whichever is first
+      chunk = int(min(int(nsteps - j, i8), minval(mk(1:nb) - cnt, mask=alive(1:nb))))
+      call lanes_steps(b, j, j + chunk, y, u)
+      cnt = cnt + chunk
+      j = j + chunk
       if (j == nsteps) then
         j = 0
         call check_lanes()
         if (.not. any(alive)) exit
       end if
-      work = work + 1
+      work = work + chunk
       if (present(control) .and. work >= poll_every) then
         work = 0
         if (cancel_requested(control)) return   ! codes stay PENDULA_ERR_CANCELLED
@@ -237,6 +237,20 @@ contains
     end do
     if (present(control)) call add_progress(control, int(nb, int64))
   contains
+    ! grid step count mk(l) and step fraction fr(l) of lane l's next output
+    ! (none left: the lane is done)
+    subroutine next_output(k)
+      integer, intent(in) :: k
+      real(wp) :: r
+      if (nxt(k) > nt) then
+        alive(k) = .false.
+        mk(k) = huge(mk(k))
+        return
+      end if
+      r = (t(nxt(k)) - t(1)) / b%h(k)
+      mk(k) = int(r, i8)
+      fr(k) = r - real(mk(k), wp)
+    end subroutine next_output
     subroutine check_lanes()
       logical :: ok(nl)
       integer :: k
@@ -245,6 +259,7 @@ contains
         if (.not. ok(k) .and. codes(idx(k)) == PENDULA_ERR_CANCELLED) then
           codes(idx(k)) = PENDULA_ERR_SOLVER
           alive(k) = .false.
+          mk(k) = huge(mk(k))
         end if
       end do
       where (.not. ok)

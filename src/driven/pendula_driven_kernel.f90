@@ -102,25 +102,38 @@ contains
     real(wp), intent(in) :: x  !< angle [rad], |x| < 2**50
     real(wp), intent(out) :: s  !< sin(x)
     real(wp), intent(out) :: c  !< cos(x)
-    real(wp) :: k, r, z, sg, kh
-    k = (x * inv_pi + round_magic) - round_magic
-    r = ((x - k * pi1) - k * pi2) - k * pi3
-    kh = 0.5_wp * k
-    sg = 1 - 4 * abs(kh - aint(kh))
-    z = r * r
-    s = r + r * z * (-1.66666666666666666667e-1_wp + z * (8.33333333333333333333e-3_wp + z * ( &
-        -1.98412698412698412698e-4_wp + z * (2.75573192239858906526e-6_wp + z * (-2.50521083854417187751e-8_wp &
-        + z * (1.60590438368216145994e-10_wp + z * (-7.64716373181981647590e-13_wp + z * ( &
-        2.81145725434552076320e-15_wp + z * (-8.22063524662432971696e-18_wp + z * (1.95729410633912612308e-20_wp &
-        ))))))))))
-    c = 1 + z * (-0.5_wp + z * (4.16666666666666666667e-2_wp + z * (-1.38888888888888888889e-3_wp + z * ( &
-        2.48015873015873015873e-5_wp + z * (-2.75573192239858906526e-7_wp + z * (2.08767569878680989792e-9_wp &
-        + z * (-1.14707455977297247139e-11_wp + z * (4.77947733238738529744e-14_wp + z * ( &
-        -1.56192069685862264622e-16_wp + z * (4.11031762331216485848e-19_wp + z * ( &
-        -8.89679139245057328675e-22_wp)))))))))))
-    s = sg * s
-    c = sg * c
+    real(wp) :: k, r, z, z2, z4, e0, e1, sg, kh
+    include 'pendula_driven_sincos.inc'
   end subroutine lane_sincos
+
+  !> sin and cos of every lane (lane_sincos as one loop over the lanes, which
+  !> gcc vectorises whether or not it inlines this).
+  pure subroutine lanes_sc(xa, sa, ca)
+    real(wp), intent(in) :: xa(nl)  !< angles [rad]
+    real(wp), intent(out) :: sa(nl)  !< sin(xa)
+    real(wp), intent(out) :: ca(nl)  !< cos(xa)
+    real(wp) :: k, r, z, z2, z4, e0, e1, sg, kh, x, s, c
+    integer :: l
+    do l = 1, nl
+      x = xa(l)
+      include 'pendula_driven_sincos.inc'
+      sa(l) = s
+      ca(l) = c
+    end do
+  end subroutine lanes_sc
+
+  !> sin of every lane (lanes_sc without the cosine).
+  pure subroutine lanes_s(xa, sa)
+    real(wp), intent(in) :: xa(nl)  !< angles [rad]
+    real(wp), intent(out) :: sa(nl)  !< sin(xa)
+    real(wp) :: k, r, z, z2, z4, e0, e1, sg, kh, x, s
+    integer :: l
+    do l = 1, nl
+      x = xa(l)
+      include 'pendula_driven_sin.inc'
+      sa(l) = s
+    end do
+  end subroutine lanes_s
 
   !> Advance every lane by steps j = j0, ..., j1 - 1 of the current period
   !> (0 <= j0 <= j1 <= nsteps).
@@ -130,28 +143,26 @@ contains
     integer, intent(in) :: j1  !< one past the last step
     real(wp), intent(inout) :: y(nl)  !< angles [rad]
     real(wp), intent(inout) :: u(nl)  !< angular velocities [rad/s]
-    real(wp) :: y2, u2, y3, u3, y4, u4, s, c, k1, k2, k3, k4
-    integer :: j, l, m
+    real(wp), dimension(nl) :: y2, u2, y3, u3, y4, u4, s, k1, k2, k3, k4
+    integer :: j, m
     do j = j0, j1 - 1
       m = 2 * j
-      do l = 1, nl
-        call lane_sincos(y(l), s, c)
-        k1 = (b%q(l, m) - b%gam(l) * u(l)) - b%p(l, m) * s
-        y2 = y(l) + b%hh(l) * u(l)
-        u2 = u(l) + b%hh(l) * k1
-        call lane_sincos(y2, s, c)
-        k2 = (b%q(l, m + 1) - b%gam(l) * u2) - b%p(l, m + 1) * s
-        y3 = y(l) + b%hh(l) * u2
-        u3 = u(l) + b%hh(l) * k2
-        call lane_sincos(y3, s, c)
-        k3 = (b%q(l, m + 1) - b%gam(l) * u3) - b%p(l, m + 1) * s
-        y4 = y(l) + b%h(l) * u3
-        u4 = u(l) + b%h(l) * k3
-        call lane_sincos(y4, s, c)
-        k4 = (b%q(l, m + 2) - b%gam(l) * u4) - b%p(l, m + 2) * s
-        y(l) = y(l) + b%h6(l) * ((u(l) + 2 * (u2 + u3)) + u4)
-        u(l) = u(l) + b%h6(l) * ((k1 + 2 * (k2 + k3)) + k4)
-      end do
+      call lanes_s(y, s)
+      k1 = (b%q(:, m) - b%gam * u) - b%p(:, m) * s
+      y2 = y + b%hh * u
+      u2 = u + b%hh * k1
+      call lanes_s(y2, s)
+      k2 = (b%q(:, m + 1) - b%gam * u2) - b%p(:, m + 1) * s
+      y3 = y + b%hh * u2
+      u3 = u + b%hh * k2
+      call lanes_s(y3, s)
+      k3 = (b%q(:, m + 1) - b%gam * u3) - b%p(:, m + 1) * s
+      y4 = y + b%h * u3
+      u4 = u + b%h * k3
+      call lanes_s(y4, s)
+      k4 = (b%q(:, m + 2) - b%gam * u4) - b%p(:, m + 2) * s
+      y = y + b%h6 * ((u + 2 * (u2 + u3)) + u4)
+      u = u + b%h6 * ((k1 + 2 * (k2 + k3)) + k4)
     end do
   end subroutine lanes_steps
 
@@ -164,48 +175,46 @@ contains
     real(wp), intent(inout) :: y(nl)  !< angles [rad]
     real(wp), intent(inout) :: u(nl)  !< angular velocities [rad/s]
     real(wp), intent(inout) :: v(nl, 4)  !< tangent vectors: (p1, q1, p2, q2) per lane
-    real(wp) :: y2, u2, y3, u3, y4, u4, s, c, k1, k2, k3, k4, a1, a2, a3, a4
-    real(wp) :: p, q, e2, f2, e3, f3, e4, f4, l1, l2, l3, l4
-    integer :: j, l, m, i
+    real(wp), dimension(nl) :: y2, u2, y3, u3, y4, u4, s, c, k1, k2, k3, k4, a1, a2, a3, a4
+    real(wp), dimension(nl) :: p, q, e2, f2, e3, f3, e4, f4, l1, l2, l3, l4
+    integer :: j, m, i
     do j = j0, j1 - 1
       m = 2 * j
-      do l = 1, nl
-        call lane_sincos(y(l), s, c)
-        a1 = b%p(l, m) * c
-        k1 = (b%q(l, m) - b%gam(l) * u(l)) - b%p(l, m) * s
-        y2 = y(l) + b%hh(l) * u(l)
-        u2 = u(l) + b%hh(l) * k1
-        call lane_sincos(y2, s, c)
-        a2 = b%p(l, m + 1) * c
-        k2 = (b%q(l, m + 1) - b%gam(l) * u2) - b%p(l, m + 1) * s
-        y3 = y(l) + b%hh(l) * u2
-        u3 = u(l) + b%hh(l) * k2
-        call lane_sincos(y3, s, c)
-        a3 = b%p(l, m + 1) * c
-        k3 = (b%q(l, m + 1) - b%gam(l) * u3) - b%p(l, m + 1) * s
-        y4 = y(l) + b%h(l) * u3
-        u4 = u(l) + b%h(l) * k3
-        call lane_sincos(y4, s, c)
-        a4 = b%p(l, m + 2) * c
-        k4 = (b%q(l, m + 2) - b%gam(l) * u4) - b%p(l, m + 2) * s
-        y(l) = y(l) + b%h6(l) * ((u(l) + 2 * (u2 + u3)) + u4)
-        u(l) = u(l) + b%h6(l) * ((k1 + 2 * (k2 + k3)) + k4)
-        do i = 1, 3, 2
-          p = v(l, i)
-          q = v(l, i + 1)
-          l1 = -b%gam(l) * q - a1 * p
-          e2 = p + b%hh(l) * q
-          f2 = q + b%hh(l) * l1
-          l2 = -b%gam(l) * f2 - a2 * e2
-          e3 = p + b%hh(l) * f2
-          f3 = q + b%hh(l) * l2
-          l3 = -b%gam(l) * f3 - a3 * e3
-          e4 = p + b%h(l) * f3
-          f4 = q + b%h(l) * l3
-          l4 = -b%gam(l) * f4 - a4 * e4
-          v(l, i) = p + b%h6(l) * ((q + 2 * (f2 + f3)) + f4)
-          v(l, i + 1) = q + b%h6(l) * ((l1 + 2 * (l2 + l3)) + l4)
-        end do
+      call lanes_sc(y, s, c)
+      a1 = b%p(:, m) * c
+      k1 = (b%q(:, m) - b%gam * u) - b%p(:, m) * s
+      y2 = y + b%hh * u
+      u2 = u + b%hh * k1
+      call lanes_sc(y2, s, c)
+      a2 = b%p(:, m + 1) * c
+      k2 = (b%q(:, m + 1) - b%gam * u2) - b%p(:, m + 1) * s
+      y3 = y + b%hh * u2
+      u3 = u + b%hh * k2
+      call lanes_sc(y3, s, c)
+      a3 = b%p(:, m + 1) * c
+      k3 = (b%q(:, m + 1) - b%gam * u3) - b%p(:, m + 1) * s
+      y4 = y + b%h * u3
+      u4 = u + b%h * k3
+      call lanes_sc(y4, s, c)
+      a4 = b%p(:, m + 2) * c
+      k4 = (b%q(:, m + 2) - b%gam * u4) - b%p(:, m + 2) * s
+      y = y + b%h6 * ((u + 2 * (u2 + u3)) + u4)
+      u = u + b%h6 * ((k1 + 2 * (k2 + k3)) + k4)
+      do i = 1, 3, 2
+        p = v(:, i)
+        q = v(:, i + 1)
+        l1 = -b%gam * q - a1 * p
+        e2 = p + b%hh * q
+        f2 = q + b%hh * l1
+        l2 = -b%gam * f2 - a2 * e2
+        e3 = p + b%hh * f2
+        f3 = q + b%hh * l2
+        l3 = -b%gam * f3 - a3 * e3
+        e4 = p + b%h * f3
+        f4 = q + b%h * l3
+        l4 = -b%gam * f4 - a4 * e4
+        v(:, i) = p + b%h6 * ((q + 2 * (f2 + f3)) + f4)
+        v(:, i + 1) = q + b%h6 * ((l1 + 2 * (l2 + l3)) + l4)
       end do
     end do
   end subroutine lanes_steps_tangent

@@ -9,8 +9,7 @@
 program test_driven
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
-  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE, PENDULA_ERR_NONFINITE, &
-      PENDULA_ERR_SIZE
+  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE
   use pendula_undamped, only: undamped_solve
   use pendula_ode, only: ode_stats_t
   use pendula_rk4, only: rk4_solve
