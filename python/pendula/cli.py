@@ -7,6 +7,7 @@ Subcommands (``pendula SUBCOMMAND --help`` for each):
   solve     solve a scene (the library picks the cheapest model meeting --tol)
   tradeoff  speed/accuracy table of every model on a scene (CSV, work-precision PNG)
   sweep     a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and the basin map (PNG)
+  poincare, bifurcation, lyapunov, basins   the driven pendulum's chaos tools (NPZ, CSV, PNG)
 
 Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
 mass kg, b kg/s, gamma and w0 1/s; angles may be given in degrees (--theta0 90deg,
@@ -27,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _cli_driven
 from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times
 from ._cli_values import finite as _finite
 from ._cli_values import nonnegative as _nonnegative, positive as _positive
@@ -185,6 +187,7 @@ def build_parser():
     w.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
     w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
     _add_physics(w)
+    _cli_driven.add_parsers(sub)   # poincare, bifurcation, lyapunov, basins
     for parser in (p, *sub.choices.values()):
         accept_negative_values(parser)
     return p
@@ -461,7 +464,8 @@ def cmd_sweep(args, out):
     return 0
 
 
-COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff}
+COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff,
+            **_cli_driven.COMMANDS}
 
 
 def main(argv=None, out=None):
