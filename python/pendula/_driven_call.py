@@ -7,7 +7,7 @@ import numbers
 import numpy as np
 
 from . import _fortran, _longcall
-from ._arrays import broadcast_real, integer_arg
+from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg
 from ._codes import DRIVEN_DEFAULT_STEPS, DRIVEN_MAX_STEPS, DRIVEN_MIN_STEPS
 from ._errors import raise_for_status
 
@@ -18,6 +18,16 @@ def drive_arg(drive):
     if not isinstance(drive, Drive):
         raise TypeError(f"drive must be a pendula.Drive, got {type(drive).__name__}")
     return drive
+
+
+def times_arg(t):
+    """Output times as a 1-D float64 copy (the Fortran checks order and finiteness)."""
+    arr = as_array(t, "t")
+    check_size(arr.size, "t")
+    arr = as_real(arr, "t")
+    if arr.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of times, got shape {arr.shape}")
+    return arr
 
 
 def threads_arg(threads):

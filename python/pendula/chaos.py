@@ -354,7 +354,8 @@ class PeriodicOrbits:
     stable : numpy.ndarray
         True where the largest multiplier's modulus is < 1.
     floquet_exponents : numpy.ndarray
-        ``ln|mu| / (period T)`` [1/s]: a stable orbit's Lyapunov exponents.
+        ``ln|mu| / (period T)`` [1/s]: a stable orbit's Lyapunov exponents
+        (0 where ``period`` is 0).
     residual : numpy.ndarray
         Newton's final residual (<= 1e-10 when found).
     """
@@ -400,7 +401,7 @@ def _orbits(drive, args, shape, period_in, steps, transient, nmax, tol, threads,
     per = per.reshape(shape)
     T = 2 * math.pi / np.broadcast_to(args["freq"], (n,)).reshape(shape)
     with np.errstate(divide="ignore", invalid="ignore"):
-        fe = np.where(per[..., None] > 0, np.log(np.abs(mu)) / (np.maximum(per, 1) * T)[..., None], np.nan)
+        fe = np.where(per[..., None] > 0, np.log(np.abs(mu)) / (np.maximum(per, 1) * T)[..., None], 0.0)
     return PeriodicOrbits(per, wnd.reshape(shape), tp.reshape(shape), op.reshape(shape), mu,
                           (per > 0) & (np.abs(mu[..., 0]) < 1), fe, res.reshape(shape))
 

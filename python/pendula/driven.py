@@ -190,7 +190,7 @@ def driven(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0, steps_per_period=DRIV
     True
     """
     drive = _dc.drive_arg(drive)
-    tt = as_real(t, "t").reshape(-1)
+    tt = _dc.times_arg(t)
     steps = _dc.steps_arg(steps_per_period)
     th = _dc.threads_arg(threads)
     if not isinstance(error, bool):
@@ -307,6 +307,8 @@ def resonance_curve(frequency, *, w0=1.0, gamma=0.0):
             v = a[np.argmax(bad)]
             rng = ">= 0" if name == "gamma" else "> 0"
             raise ValueError(f"{name} = {v!r} is out of range: it must be finite and {rng}")
+    if f["w0"].size == 0:
+        return np.empty(shape), np.empty(shape)
     gain, lag = _fortran.driven_response_f2py(f["w0"], f["gamma"], f["frequency"])
     if scalar:
         return float(gain[0]), float(lag[0])

@@ -8,7 +8,7 @@ module pendula_driven_support
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, check_finite, check_size, PENDULA_OK, PENDULA_ERR_SIZE, &
+  use pendula_status, only: status_t, set_error, check_finite, PENDULA_OK, PENDULA_ERR_SIZE, &
       PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED
   use pendula_drive, only: drive_t, check_driven, check_drive_kind
   use pendula_batch_support, only: set_batch_error
@@ -45,7 +45,7 @@ contains
   pure subroutine params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, threads, p, status)
     integer, intent(in) :: kind  !< DRIVE_TORQUE or DRIVE_PIVOT
     integer, intent(in) :: nsteps  !< RK4 steps per drive period
-    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], n = size(theta0) >= 1
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], n = size(theta0) >= 0
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], n or 1
     real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], n or 1
@@ -58,8 +58,7 @@ contains
     integer :: n, sz(6)
     character(len=6), parameter :: names(6) = ['omega0', 'w0    ', 'gamma ', 'amp   ', 'freq  ', 'phase ']
     integer :: i
-    n = size(theta0)
-    call check_size('theta0', n, 1, status)
+    n = size(theta0)   ! 0: an empty batch, nothing to do
     call check_drive_kind(kind, status)
     if (status%code /= PENDULA_OK) return
     sz = [size(omega0), size(w0), size(gamma), size(amp), size(freq), size(phase)]
