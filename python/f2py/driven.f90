@@ -151,6 +151,7 @@ subroutine driven_linear_f2py(nt, t, theta0, omega0, w0, gamma, amp, freq, phase
   use pendula_driven_linear, only: driven_linear_solve
   implicit none
   include 'pendula_msg_len.inc'
+  !f2py threadsafe
   integer(c_int), intent(in) :: nt
   real(c_double), intent(in) :: t(nt), theta0, omega0, w0, gamma, amp, freq, phase
   real(c_double), intent(out) :: theta(nt), omega(nt)
@@ -165,6 +166,7 @@ subroutine driven_response_f2py(n, w0, gamma, freq, gain, lag)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_driven_linear, only: driven_linear_response
   implicit none
+  !f2py threadsafe
   integer(c_int), intent(in) :: n
   real(c_double), intent(in) :: w0(n), gamma(n), freq(n)
   real(c_double), intent(out) :: gain(n), lag(n)

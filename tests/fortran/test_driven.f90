@@ -7,9 +7,11 @@
 !> and unstable below; the linear closed form at small amplitude; basins;
 !> refused input.
 program test_driven
+  use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
-  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE
+  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_undamped, only: undamped_solve
   use pendula_ode, only: ode_stats_t
   use pendula_rk4, only: rk4_solve
@@ -31,6 +33,7 @@ program test_driven
   call test_linear()
   call test_sections_basins()
   call test_refused()
+  call test_cancel()
   call tc%report('test_driven')
 
 contains
@@ -202,5 +205,25 @@ contains
     call driven_solve([0.0_wp, 0.0_wp], 0.0_wp, 0.0_wp, 1.0_wp, 0.1_wp, drive_t(), a(1:2), b(1:2), st)
     call tc%check_true(st%code /= PENDULA_OK .and. index(st%message, 't') > 0, 't not increasing refused')
   end subroutine test_refused
+
+  ! a cancel flag raised before the call: every state unfinished, status says so, progress 0
+  subroutine test_cancel()
+    real(wp) :: ly(2, 9), le(2, 9), th0(9)
+    integer :: codes(9), i
+    integer(int64) :: control(CONTROL_SIZE)
+    type(status_t) :: st
+    th0 = [(0.1_wp * i, i = 1, 9)]
+    control = 0
+    control(CONTROL_CANCEL) = 1
+    call driven_lyapunov(th0, [0.0_wp], [1.0_wp], [0.5_wp], DRIVE_TORQUE, &
+        [1.15_wp], [2.0_wp / 3], [0.0_wp], 32, 0, 64, ly, le, codes, st, control=control)
+    call tc%check_status(st, PENDULA_ERR_CANCELLED, 'cancelled', 'cancelled lyapunov')
+    call tc%check_true(all(codes == PENDULA_ERR_CANCELLED) .and. control(CONTROL_PROGRESS) == 0, &
+        'every state unfinished, no progress')
+    control = 0
+    call driven_lyapunov(th0, [0.0_wp], [1.0_wp], [0.5_wp], DRIVE_TORQUE, &
+        [1.15_wp], [2.0_wp / 3], [0.0_wp], 32, 0, 64, ly, le, codes, st, control=control, threads=2)
+    call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) == 9, 'progress counts the 9 states')
+  end subroutine test_cancel
 
 end program test_driven

@@ -204,3 +204,34 @@ def test_bad_input_raises_value_error_naming_the_argument(call, name):
 def test_drive_must_be_a_drive():
     with pytest.raises(TypeError, match="drive"):
         pendula.driven([0, 1], 0.0, 0.0, drive=(1.0, 1.0))
+
+
+def test_cancel_flag_stops_a_batch_and_says_so():
+    # the control array of pendula_control, raised before the call: every state unfinished
+    from pendula import _fortran
+    from pendula._codes import DRIVE_TORQUE, ERR_CANCELLED
+    control = np.array([1, 0], dtype=np.int64)
+    out = _fortran.lyapunov_f2py(np.zeros(16), [0.0], [1.0], [0.5], DRIVE_TORQUE, [1.15], [2 / 3], [0.0], 32, 0, 64,
+                                 1, control)
+    codes, code = out[2], out[4]
+    assert code == ERR_CANCELLED and np.all(codes == ERR_CANCELLED)
+
+
+@pytest.mark.parametrize("cmd, files", [
+    (["poincare", "--points", "50", "--transient", "20"], ["poincare.npz", "poincare.csv", "poincare.png"]),
+    (["bifurcation", "--values", "0.9", "1.1", "5", "--points", "4", "--transient", "20", "--no-png"],
+     ["bifurcation.npz", "bifurcation.csv"]),
+    (["lyapunov", "--theta0", "0.2", "1.0", "--periods", "32", "--no-png"], ["lyapunov.npz", "lyapunov.csv"]),
+    (["basins", "--amplitude", "0.9", "--theta0", "-3", "3", "4", "--omega0", "-1", "1", "3", "--transient", "20",
+      "--no-png"], ["basins.npz", "basins.csv"]),
+])
+def test_command_line_writes_its_files(tmp_path, cmd, files):
+    import io
+    from pendula.cli import main
+    if "--no-png" not in cmd:
+        pytest.importorskip("matplotlib")
+    out = io.StringIO()
+    assert main(cmd + ["--out", str(tmp_path / "o")], out=out) == 0, out.getvalue()
+    for name in files:
+        assert (tmp_path / "o" / name).stat().st_size > 0
+    assert main(["lyapunov", "--periods", "3", "--out", str(tmp_path / "x")], out=io.StringIO()) == 2
