@@ -2,13 +2,11 @@
 drive's parameters as the arrays the f2py layer takes, thread and count
 arguments, and a Fortran batch call run so that Ctrl-C stops it and
 progress=True draws a bar (pendula._longcall's watched call)."""
-import numbers
-
 import numpy as np
 
-from . import _fortran, _longcall
+from . import _longcall
 from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg
-from ._codes import DRIVEN_DEFAULT_STEPS, DRIVEN_MAX_STEPS, DRIVEN_MIN_STEPS
+from ._codes import DRIVEN_MAX_STEPS, DRIVEN_MIN_STEPS
 from ._errors import raise_for_status
 
 
@@ -65,11 +63,3 @@ def watched(fn, work, n, progress, **kwargs):
     code, msg = out[-2], out[-1]
     raise_for_status(code, msg)
     return out[:-2]
-
-
-def is_int(x):
-    return isinstance(x, numbers.Integral) and not isinstance(x, bool)
-
-
-__all__ = []
-_ = (DRIVEN_DEFAULT_STEPS, _fortran)

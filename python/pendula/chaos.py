@@ -14,8 +14,8 @@ import numpy as np
 
 from . import _driven_call as _dc
 from . import _fortran
-from ._arrays import as_real, real_scalar, integer_arg
-from ._codes import BASIN_UNSETTLED, BASIN_UNLISTED, DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS, ORBIT_MAX_PERIOD
+from ._arrays import as_real, real_scalar
+from ._codes import BASIN_UNSETTLED, DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS, ORBIT_MAX_PERIOD
 
 __all__ = ["Section", "poincare", "bifurcation", "LyapunovResult", "lyapunov", "PeriodicOrbits",
            "periodic_orbits", "find_periodic_orbit", "Basins", "basins", "UNSETTLED"]
@@ -535,8 +535,8 @@ class Basins:
     labels : numpy.ndarray
         The attractor of each initial state: 1..len(attractors), or
         ``UNSETTLED`` (0) for a state with no periodic attractor of period
-        <= nmax (chaotic or still settling), or -1 for an attractor beyond
-        the table's capacity.
+        <= nmax (chaotic or still settling), or ``BASIN_UNLISTED`` (-1, in
+        ``pendula._codes``) for an attractor beyond the table's capacity.
     period, winding : numpy.ndarray
         Each state's attractor's period and turns per period.
     attractors : dict of numpy.ndarray
@@ -638,5 +638,3 @@ def basins(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, t
                  omega=ao[:natt].copy(), mean_omega=am[:natt].copy())
     return Basins(lab.reshape(shape), per.reshape(shape), wnd.reshape(shape), table)
 
-
-_ = (BASIN_UNLISTED, integer_arg)

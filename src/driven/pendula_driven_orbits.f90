@@ -27,7 +27,7 @@ module pendula_driven_orbits
       params_summary, first_message, wrap_angle
   implicit none
   private
-  public :: driven_orbits, driven_basins, floquet_multipliers, BASIN_UNSETTLED, BASIN_UNLISTED, &
+  public :: driven_orbits, driven_basins, BASIN_UNSETTLED, BASIN_UNLISTED, &
       ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD
 
   integer, parameter :: nl = DRIVEN_LANES
@@ -43,8 +43,8 @@ module pendula_driven_orbits
 
 contains
 
-  !> Floquet multipliers of a 2x2 monodromy matrix m: mult = [re1, im1, re2,
-  !> im2], the larger modulus first.
+  ! Floquet multipliers of a 2x2 monodromy matrix m: mult = [re1, im1, re2,
+  ! im2], the larger modulus first.
   pure subroutine floquet_multipliers(m, mult)
     real(wp), intent(in) :: m(2, 2)  !< monodromy matrix
     real(wp), intent(out) :: mult(4)  !< eigenvalues (real and imaginary parts), largest modulus first
