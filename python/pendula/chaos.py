@@ -49,6 +49,12 @@ class Section:
         The parameter values of a bifurcation diagram (its first axis).
     parameter : str or None
         The parameter varied in a bifurcation diagram.
+
+    Examples
+    --------
+    >>> s = pendula.poincare([0.2, 0.3], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5, points=3)
+    >>> s.theta.shape, s.rotation_number.shape
+    ((2, 3), (2,))
     """
 
     theta: np.ndarray
@@ -247,6 +253,12 @@ class LyapunovResult:
         Error estimates [1/s], same shape: the standard error of the means of
         16 blocks of the measured periods, combined with half the gap between
         the means of the two halves (a running average still drifting).
+
+    Examples
+    --------
+    >>> r = pendula.lyapunov(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5, periods=32)
+    >>> r.exponents.shape, r.errors.shape
+    ((2,), (2,))
     """
 
     exponents: np.ndarray
@@ -358,6 +370,12 @@ class PeriodicOrbits:
         (0 where ``period`` is 0).
     residual : numpy.ndarray
         Newton's final residual (<= 1e-10 when found).
+
+    Examples
+    --------
+    >>> o = pendula.periodic_orbits(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5)
+    >>> int(o.period), o.multipliers.shape
+    (1, (2,))
     """
 
     period: np.ndarray
@@ -543,6 +561,12 @@ class Basins:
         The table: ``period``, ``winding``, ``theta`` and ``omega`` (the
         strobe point of smallest angle) and ``mean_omega`` [rad/s] (running
         orbits: 2 pi winding / (period T)); entry k - 1 is label k.
+
+    Examples
+    --------
+    >>> b = pendula.basins([0.0, 1.0], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5)
+    >>> b.labels.tolist(), b.attractors["period"].tolist()
+    ([1, 1], [1])
     """
 
     labels: np.ndarray

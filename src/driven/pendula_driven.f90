@@ -12,9 +12,10 @@
 module pendula_driven
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
-  use pendula_format, only: format_int
+  use pendula_format, only: format_int, format_general
+  use pendula_constants, only: pi
   use pendula_status, only: status_t, set_error, check_increasing, check_size, check_same_size, PENDULA_OK, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE
+      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_drive, only: drive_t, DRIVEN_DEFAULT_STEPS
@@ -26,6 +27,8 @@ module pendula_driven
   public :: driven_solve, driven_batch_solve
 
   integer, parameter :: nl = DRIVEN_LANES
+  !> Most RK4 grid steps one state of a call may take (the f2py glue's calls stay below a minute or so).
+  real(wp), parameter, public :: DRIVEN_MAX_GRID_STEPS = 2.0e9_wp
   !> Lane steps between two polls of the cancel flag (~0.3 ms).
   integer(i8), parameter :: poll_every = 4096
 
@@ -133,6 +136,13 @@ contains
     omega = 0
     if (present(err_theta)) err_theta = 0
     if (present(err_omega)) err_omega = 0
+    ! the step budget: at most DRIVEN_MAX_GRID_STEPS grid steps for any state
+    if (status%code == PENDULA_OK .and. p%n > 0) then
+      if (.not. (t(size(t)) - t(1)) * maxval(freq) / (2 * pi) * nsteps <= DRIVEN_MAX_GRID_STEPS) &
+          call set_error(status, PENDULA_ERR_DOMAIN, 't spans ' // format_general(t(size(t)) - t(1), 6) // &
+          ' s: more than ' // format_general(DRIVEN_MAX_GRID_STEPS, 3) // ' RK4 steps at ' // format_int(nsteps) // &
+          ' steps per drive period; split the window')
+    end if
     if (status%code /= PENDULA_OK) then
       codes = status%code
       return

@@ -7,9 +7,9 @@ module pendula_driven_support
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
-  use pendula_format, only: format_int
+  use pendula_format, only: format_int, format_general
   use pendula_status, only: status_t, set_error, check_finite, PENDULA_OK, PENDULA_ERR_SIZE, &
-      PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED
+      PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED, PENDULA_ERR_UNSTABLE
   use pendula_drive, only: drive_t, check_driven, check_drive_kind
   use pendula_batch_support, only: set_batch_error
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup
@@ -92,9 +92,19 @@ contains
     type(driven_params_t), intent(in) :: p  !< the call's parameters
     integer, intent(in) :: i  !< state index
     type(status_t), intent(out) :: status  !< OK, or the state's first error
+    real(wp) :: h
     call check_finite('theta0', p%theta0(i), status)
     call check_finite('omega0', pick(p%omega0, i), status)
     call check_driven(pick(p%w0, i), pick(p%gamma, i), state_drive(p, i), p%nsteps, status)
+    if (status%code /= PENDULA_OK) return
+    ! the kernels' sine takes |theta| < 1e15 (pendula_driven_kernel); a start
+    ! that turns by more than 1.5 rad in one step is not resolved
+    if (.not. abs(p%theta0(i)) < 1.0e15_wp) call set_error(status, PENDULA_ERR_DOMAIN, 'theta0 = ' // &
+        format_general(p%theta0(i), 15) // ' is out of range: |theta0| must be < 1e15 rad')
+    h = 2 * pi / (pick(p%freq, i) * p%nsteps)
+    if (.not. abs(pick(p%omega0, i)) * h <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'omega0 = ' // &
+        format_general(pick(p%omega0, i), 15) // ' is too fast for steps_per_period = ' // format_int(p%nsteps) // &
+        ': |omega0| h must be <= 1.5 (h = 2 pi/(Omega steps_per_period) = ' // format_general(h, 6) // ' s)')
   end subroutine params_state
 
   !> Check every state: codes(i) = its status code (PENDULA_ERR_CANCELLED for

@@ -353,15 +353,20 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "PendulaSolverError", "AngleWarn
               # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
               "BatchIntegrationResult", "SceneBatch", "SceneBatchResult", "SweepResult",
               # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
-              "plot_motion", "plot_phase_portrait"}
+              "plot_motion", "plot_phase_portrait",
+              # the driven pendulum's drive and result containers (test_fuzz_driven.py fuzzes its functions)
+              "Drive", "DrivenResult", "Section", "LyapunovResult", "PeriodicOrbits", "Basins", "UNSETTLED"}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
 FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
-                                            "tradeoff", "build_info", "have_cvode", "sweep"})
+                                            "tradeoff", "build_info", "have_cvode", "sweep",
+                                            # test_fuzz_driven.py
+                                            "driven", "driven_linear", "resonance_curve", "poincare", "bifurcation",
+                                            "lyapunov", "periodic_orbits", "find_periodic_orbit", "basins"})
 
 
 def test_fuzz_covers_every_public_name():
     """A new public name must get a fuzz spec (or be listed as not callable)."""
     missing = sorted(set(pendula.__all__) - FUZZED - NOT_CALLED)
     assert not missing, f"public names with no fuzz spec: {missing}"
-    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING"} - PLOT_HELPERS:
+    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING", "UNSETTLED"} - PLOT_HELPERS:
         assert isinstance(getattr(pendula, name), type), name
