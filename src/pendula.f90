@@ -47,6 +47,14 @@ module pendula
   use pendula_sensitivity, only: sensitivity_solve, SENSITIVITY_NPARAMS
   use pendula_fit_period, only: period_fit_t, fit_period, period_factor
   use pendula_dispatch, only: kernel_path, kernel_path_available, KERNEL_BASELINE, KERNEL_V3, KERNEL_V4
+  use pendula_drive, only: drive_t, DRIVE_TORQUE, DRIVE_PIVOT, drive_period, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS, &
+      DRIVEN_DEFAULT_STEPS
+  use pendula_driven, only: driven_solve, driven_batch_solve
+  use pendula_driven_maps, only: driven_poincare, driven_bifurcation, driven_lyapunov, LYAPUNOV_BLOCKS, &
+      PARAM_AMPLITUDE, PARAM_FREQUENCY, PARAM_PHASE, PARAM_GAMMA, PARAM_W0
+  use pendula_driven_orbits, only: driven_orbits, driven_basins, BASIN_UNSETTLED, &
+      BASIN_UNLISTED, ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD
+  use pendula_driven_linear, only: driven_linear_response, driven_linear_solve
   implicit none
   ! Default public: the module re-exports exactly what the `only:` lists import.
   public

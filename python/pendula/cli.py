@@ -8,6 +8,7 @@ Subcommands (``pendula SUBCOMMAND --help`` for each):
   tradeoff  speed/accuracy table of every model on a scene (CSV, work-precision PNG)
   sweep     a theta0 x Omega0 grid integrated to t-end: NPZ, CSV and the basin map (PNG)
   fit       fit g, length, damping and the initial state to measured data (CSV): table and PNG
+  poincare, bifurcation, lyapunov, basins   the driven pendulum's chaos tools (NPZ, CSV, PNG)
 
 Units: angles rad, angular velocities rad/s, times s, g m/s^2, length m,
 mass kg, b kg/s, gamma and w0 1/s; angles may be given in degrees (--theta0 90deg,
@@ -31,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _cli_fit
+from . import _cli_driven, _cli_fit
 from ._cli_values import accept_negative_values, angle, angular_velocity, count as _count, data, grid_times, threads
 from ._cli_values import finite as _finite
 from ._cli_values import nonnegative as _nonnegative, positive as _positive
@@ -211,6 +212,7 @@ def build_parser():
     w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
     _add_physics(w, w0=True)
     _cli_fit.add_parser(sub, _positive)
+    _cli_driven.add_parsers(sub)   # poincare, bifurcation, lyapunov, basins
     for parser in (p, *sub.choices.values()):
         accept_negative_values(parser)
     return p
@@ -559,7 +561,7 @@ def _wells(r):
 
 
 COMMANDS = {"sweep": cmd_sweep, "figures": cmd_figures, "period": cmd_period, "solve": cmd_solve, "tradeoff": cmd_tradeoff,
-            "fit": _cli_fit.cmd_fit}
+            "fit": _cli_fit.cmd_fit, **_cli_driven.COMMANDS}
 
 
 def main(argv=None, out=None):

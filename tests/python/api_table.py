@@ -258,6 +258,49 @@ API: dict[str, Entry] = {
                   scipy_rtols=Arg(OTHER, extra=(([NAN], ValueError), ([-1e-3], ValueError), ([0.0], ValueError)))),
         unchecked=dict(csv="output path (file I/O)", plot="output path (file I/O)")),
 }
+# the driven pendulum (driven.py, chaos.py): the drive is a pendula.Drive, checked by its constructor
+# (a dataclass, so not an entry here: tests/python/test_driven.py checks its refusals)
+_DRIVE = Arg(OTHER, extra=(((1.0, 1.0), TypeError), (None, TypeError), ("torque", TypeError)))
+_PROGRESS = Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError)))
+_TRANSIENT = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("3", TypeError)))
+_STATES = dict(theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), w0=Arg(POS, array=True),
+               gamma=Arg(NONNEG, array=True), drive=_DRIVE, steps_per_period=Arg(COUNT, extra=((7, ValueError),)),
+               threads=THREADS)
+_CHAOS = dict(theta0=0.2, omega0=0.0, w0=1.0, gamma=0.5, drive=pendula.Drive("torque", 0.9, 2 / 3),
+              steps_per_period=32)
+API.update({
+    "driven": Entry(valid=dict(t=[0.0, 1.0, 2.5], **_CHAOS),
+                    args=dict(t=Arg(TIMES), error=Arg(OTHER, extra=(("yes", TypeError),)), progress=_PROGRESS,
+                              **_STATES)),
+    "poincare": Entry(valid=dict(transient=2, points=3, **_CHAOS),
+                      args=dict(transient=_TRANSIENT, points=Arg(COUNT), section_phase=Arg(REAL), progress=_PROGRESS,
+                                **_STATES)),
+    "bifurcation": Entry(valid=dict(parameter="amplitude", values=[0.9, 1.0], transient=2, points=3, **_CHAOS),
+                         args=dict(parameter=Arg(CHOICE), values=Arg(OTHER, extra=(([NAN], ValueError),
+                                                                                   ([], ValueError))),
+                                   theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG), drive=_DRIVE,
+                                   transient=_TRANSIENT, points=Arg(COUNT), section_phase=Arg(REAL),
+                                   steps_per_period=Arg(COUNT), threads=THREADS, progress=_PROGRESS)),
+    "lyapunov": Entry(valid=dict(transient=2, periods=16, **_CHAOS),
+                      args=dict(transient=_TRANSIENT, periods=Arg(COUNT, extra=((15, ValueError),)),
+                                progress=_PROGRESS, **_STATES)),
+    "periodic_orbits": Entry(valid=dict(transient=5, nmax=2, tol=1e-3, **_CHAOS),
+                             args=dict(transient=_TRANSIENT, nmax=Arg(COUNT, extra=((65, ValueError),)), tol=Arg(POS),
+                                       progress=_PROGRESS, **_STATES)),
+    "find_periodic_orbit": Entry(valid=dict(period=1, **_CHAOS),
+                                 args=dict(period=Arg(COUNT, extra=((65, ValueError),)), **_STATES)),
+    "basins": Entry(valid=dict(transient=5, nmax=2, tol=1e-3, max_attractors=4, **_CHAOS),
+                    args=dict(transient=_TRANSIENT, nmax=Arg(COUNT), tol=Arg(POS), max_attractors=Arg(COUNT),
+                              progress=_PROGRESS, **_STATES)),
+    "driven_linear": Entry(valid=dict(t=[0.0, 1.0, 2.0], theta0=0.01, omega0=0.0, w0=1.0, gamma=0.2,
+                                      drive=pendula.Drive("torque", 0.01, 1.3)),
+                           args=dict(t=Arg(OTHER, extra=(([NAN], ValueError), ([-1.0], ValueError))),
+                                     theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG),
+                                     drive=_DRIVE)),
+    "resonance_curve": Entry(valid=dict(frequency=1.3, w0=1.0, gamma=0.2),
+                             args=dict(frequency=Arg(POS, array=True), w0=Arg(POS, array=True),
+                                       gamma=Arg(NONNEG, array=True))),
+})
 # errors= of the elliptic functions: 'raise' or 'nan' (test_elliptic_errors.py)
 for _name in ("ellipk", "ellipe", "ellipkm1", "ellipem1", "ellipf", "ellipkinc", "ellipfm1", "ellipj", "ellipjm1"):
     API[_name].args["errors"] = Arg(CHOICE)

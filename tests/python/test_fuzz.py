@@ -396,16 +396,21 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "PendulaSolverError
               # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
               "plot_motion", "plot_phase_portrait",
               # the fits' result container (checked through fit_period / fit_motion)
-              "FitResult"}
+              "FitResult",
+              # the driven pendulum's drive and result containers (test_fuzz_driven.py fuzzes its functions)
+              "Drive", "DrivenResult", "Section", "LyapunovResult", "PeriodicOrbits", "Basins", "UNSETTLED"}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
 FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
                                             "tradeoff", "build_info", "have_cvode", "sweep",
-                                            "fit_period", "fit_motion"})
+                                            "fit_period", "fit_motion",
+                                            # test_fuzz_driven.py
+                                            "driven", "driven_linear", "resonance_curve", "poincare", "bifurcation",
+                                            "lyapunov", "periodic_orbits", "find_periodic_orbit", "basins"})
 
 
 def test_fuzz_covers_every_public_name():
     """A new public name must get a fuzz spec (or be listed as not callable)."""
     missing = sorted(set(pendula.__all__) - FUZZED - NOT_CALLED)
     assert not missing, f"public names with no fuzz spec: {missing}"
-    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE"} - PLOT_HELPERS:
+    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "UNSETTLED"} - PLOT_HELPERS:
         assert isinstance(getattr(pendula, name), type), name

@@ -14,7 +14,7 @@ from helpers import ROOT, needs_source
 BLOCK = re.compile(r"^```python\n(.*?)^```", re.S | re.M)
 # guides whose Python examples must be checked by running them, not only by reading them
 DOCTESTED = ["guide/elliptic.md", "guide/undamped.md", "guide/linear.md",
-             "guide/integrators.md", "guide/scenes.md", "guide/fitting.md"]
+             "guide/integrators.md", "guide/scenes.md", "guide/fitting.md", "guide/driven.md"]
 
 
 def _pages():

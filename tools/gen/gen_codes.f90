@@ -15,6 +15,9 @@ program gen_codes
       SCENE_WANT_NAMES, SCENE_INFO_NAMES, SCENE_INFO_SIZE, SCENE_RK4_STEP_LIMIT, SCENE_STEP_CAP, &
       SCENE_CVODE_STEP_COST, SCENE_STIFF_RATIO, SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY
   use pendula_physics, only: PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
+  use pendula_drive, only: DRIVE_TORQUE, DRIVE_PIVOT, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS, DRIVEN_DEFAULT_STEPS
+  use pendula_driven_maps, only: LYAPUNOV_BLOCKS
+  use pendula_driven_orbits, only: BASIN_UNSETTLED, BASIN_UNLISTED, ORBIT_MAX_PERIOD
   implicit none
   include 'pendula_glue_codes.inc'
   integer :: i
@@ -109,6 +112,17 @@ program gen_codes
   end do
   call put('}')
   call int_line('INFO_SIZE', SCENE_INFO_SIZE)
+  call put('')
+  call put('# the driven pendulum (pendula_drive, pendula_driven_maps, pendula_driven_orbits)')
+  call int_line('DRIVE_TORQUE', DRIVE_TORQUE)
+  call int_line('DRIVE_PIVOT', DRIVE_PIVOT)
+  call int_line('DRIVEN_MIN_STEPS', DRIVEN_MIN_STEPS)
+  call int_line('DRIVEN_MAX_STEPS', DRIVEN_MAX_STEPS)
+  call int_line('DRIVEN_DEFAULT_STEPS', DRIVEN_DEFAULT_STEPS)
+  call int_line('LYAPUNOV_BLOCKS', LYAPUNOV_BLOCKS)
+  call int_line('BASIN_UNSETTLED', BASIN_UNSETTLED)
+  call int_line('BASIN_UNLISTED', BASIN_UNLISTED)
+  call int_line('ORBIT_MAX_PERIOD', ORBIT_MAX_PERIOD)
 
 contains
 
