@@ -225,11 +225,12 @@ def _physics_defaults(args):
     (not for ``fit``, where the one given says which is estimated)."""
     if args.command == "fit":
         return
+    if not hasattr(args, "g"):   # a command without the physical flags (the driven pendulum's own)
+        return
     if getattr(args, "w0", None) is not None and (args.g is not None or args.length is not None):
         raise CliError("--w0 replaces --g and --length (w0 = sqrt(g/l)): give either --w0 or --g/--length")
-    if hasattr(args, "g"):
-        args.g = G_DEFAULT if args.g is None else args.g
-        args.length = LENGTH_DEFAULT if args.length is None else args.length
+    args.g = G_DEFAULT if args.g is None else args.g
+    args.length = LENGTH_DEFAULT if args.length is None else args.length
 
 
 def _w0(args):
