@@ -24,6 +24,8 @@ from . import integrate as _integrate_api; from .integrate import *  # noqa: E70
 from . import scene as _scene_api; from .scene import *  # noqa: E702,F401,F403
 # the function pendula.sweep shadows its module's attribute (the module stays in sys.modules)
 from . import sweep as _sweep_api; from .sweep import *  # noqa: E702,F401,F403
+# the function pendula.taylor shadows its module's attribute, as sweep does
+from . import taylor as _taylor_api; from .taylor import *  # noqa: E702,F401,F403
 # plot helpers: matplotlib is imported only when one is called
 from . import motion_plots as _motion_plots; from .motion_plots import *  # noqa: E702,F401,F403
 
@@ -34,6 +36,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      + _integrate_api.__all__
                      + _scene_api.__all__
                      + _sweep_api.__all__
+                     + _taylor_api.__all__
                      + _motion_plots.__all__
                      ))
 
