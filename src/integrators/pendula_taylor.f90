@@ -368,14 +368,14 @@ contains
       ! error model: growth of what was committed so far, then this step's share
       if (abs(es - ec) > 1.0e-3_wp * min(es, abs(2 - es)) .or. ec < 0) then
         ec = es
-        g = 1.01_wp * taylor_shear(es)
+        g = 1.01_wp * min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
       end if
       big_d = big_d + w0 * habs * min(g * big_a, lgr * (big_a + big_d))
       call local_error(h, trc, rnd)
       big_a = big_a + trc
       ! rounding: independent from step to step, so summed in quadrature, each
       ! share grown by the integrated shear since it was made (gam)
-      gam = gam + g * w0 * habs
+      gam = min(gam + g * w0 * habs, 1.0e100_wp)
       lt = lt + lgr * w0 * habs
       r0 = r0 + rnd * rnd
       r1 = r1 + rnd * rnd * gam
