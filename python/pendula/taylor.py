@@ -186,8 +186,11 @@ def taylor(t, theta0, omega0, w0, gamma, *, tol=1e-12, events=False, max_events=
 def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     watched = control is None
     control = _longcall.new_control() if watched else control
-    steps = abs(tt[-1] - tt[0]) * w0 * (1 + gamma / w0) * _STEPS_PER_RADIAN if w0 > 0 else 0.0
-    long = watched and not steps <= _longcall.RK4_LONG_STEPS / 20
+    with np.errstate(all="ignore"):
+        steps = float(abs(tt[-1] - tt[0]) * (w0 + gamma) * _STEPS_PER_RADIAN) if w0 > 0 else 0.0
+    if not np.isfinite(steps):
+        steps = 0.0   # a bad t, w0 or gamma: refused by the Fortran checks
+    long = watched and steps > _longcall.RK4_LONG_STEPS / 20
     call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control)
     (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
         lambda: _fortran.taylor_f2py(*call), control, long, progress, total=int(min(steps, 2**62)))
@@ -226,8 +229,9 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
         values, codes, messages = _pool.map_states(one, n, threads, progress)
         return _from_states(tt, shape, values, codes, messages, flats["tol"])
     control = _longcall.new_control()
-    work = abs(tt[-1] - tt[0]) * float(np.max(rest[1])) * _STEPS_PER_RADIAN * n
-    long = not work <= _longcall.RK4_LONG_STEPS / 20
+    with np.errstate(all="ignore"):
+        work = float(abs(tt[-1] - tt[0]) * float(np.max(rest[1] + rest[2])) * _STEPS_PER_RADIAN * n)
+    long = bool(work > _longcall.RK4_LONG_STEPS / 20)
     theta, omega, err, codes, steps, order, first, code, msg = _longcall.run(
         lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control), control, long, progress,
         total=n, unit="state")

@@ -5,7 +5,7 @@
 !> c = cos(theta) (s' = c theta', c' = -s theta'; Jorba & Zou, Exp. Math. 14
 !> (2005) 99, section 3), the order and step that a per-step tolerance asks
 !> for (their eqs. 3-7: order p = ceil(-ln(eps)/2) + 1, step from the last two
-!> coefficients), the step polynomial's evaluation, and the phase shear that
+!> coefficients), and the phase shear that
 !> the error estimate of pendula_taylor propagates.
 !>
 !> A forcing term F cos(Omega_d t + phi) enters as one more series f(k) added
@@ -17,7 +17,6 @@ module pendula_taylor_series
   implicit none
   private
   public :: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_order, taylor_step, taylor_shear
-  public :: poly_eval, poly_abs_sum
 
   !> Largest order the integrator uses (per-step tolerance >= e**(-78) ~ 1e-34):
   !> the coefficient arrays are fixed-size locals, no allocation per call.
@@ -29,10 +28,11 @@ module pendula_taylor_series
 
 contains
 
-  !> Normalised Taylor coefficients x(0:p), v(0:p) [rad s**-k, rad s**-(k+1)]
+  !> Normalised Taylor coefficients x(0:p+1), v(0:p+1) [rad s**-k, rad s**-(k+1)]
   !> of theta and Omega about a state (xh + xl, vh): xh, xl is the angle as a
   !> double-double (xl only corrects sin and cos), vh the angular velocity,
-  !> w0sq = w0**2 [1/s**2], gamma [1/s].  Cost 2 p**2 multiplications.
+  !> w0sq = w0**2 [1/s**2], gamma [1/s].  Cost 2 p**2 multiplications.  The
+  !> terms of order p + 1 measure the truncation of the order-p polynomial.
   !> Accuracy: each coefficient to a few ulps of the sums of absolute terms.
   pure subroutine taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
     real(wp), intent(in) :: xh  !< angle, high part [rad]
@@ -40,13 +40,13 @@ contains
     real(wp), intent(in) :: vh  !< angular velocity [rad/s]
     real(wp), intent(in) :: w0sq  !< w0**2 [1/s**2]
     real(wp), intent(in) :: gamma  !< damping rate [1/s]
-    integer, intent(in) :: p  !< order, 1..TAYLOR_MAX_ORDER
-    real(wp), intent(out) :: x(0:TAYLOR_MAX_ORDER)  !< theta coefficients, x(0:p) set
-    real(wp), intent(out) :: v(0:TAYLOR_MAX_ORDER)  !< Omega coefficients, v(0:p) set
+    integer, intent(in) :: p  !< order, 1..TAYLOR_MAX_ORDER - 1
+    real(wp), intent(out) :: x(0:TAYLOR_MAX_ORDER)  !< theta coefficients, x(0:p+1) set
+    real(wp), intent(out) :: v(0:TAYLOR_MAX_ORDER)  !< Omega coefficients, v(0:p+1) set
     real(wp), intent(out) :: s0abs  !< abs(gamma vh) + w0sq abs(sin theta): size of v(1)'s terms
     real(wp), intent(out) :: sn  !< sin(theta)
     real(wp), intent(out) :: cs  !< cos(theta)
-    real(wp) :: s(0:TAYLOR_MAX_ORDER), c(0:TAYLOR_MAX_ORDER), sh, ch, as, ac
+    real(wp) :: s(0:TAYLOR_MAX_ORDER), c(0:TAYLOR_MAX_ORDER), sh, ch, as, ac, as2, ac2
     integer :: k, j
     sh = sin(xh)
     ch = cos(xh)
@@ -59,16 +59,25 @@ contains
     x(1) = vh
     v(1) = -gamma * vh - w0sq * s(0)
     s0abs = abs(gamma * vh) + w0sq * abs(s(0))
-    ! k x(k) = v(k-1), so s(k) = (1/k) sum_j v(j-1) c(k-j) (and c likewise)
-    do k = 1, p - 1
+    ! k x(k) = v(k-1), so s(k) = (1/k) sum_j v(j-1) c(k-j) (and c likewise).
+    ! Two partial sums per series (odd and even j) break the add latency chain.
+    do k = 1, p
       as = 0
       ac = 0
-      do j = 1, k
+      as2 = 0
+      ac2 = 0
+      do j = 1, k - 1, 2
         as = as + v(j-1) * c(k-j)
         ac = ac + v(j-1) * s(k-j)
+        as2 = as2 + v(j) * c(k-j-1)
+        ac2 = ac2 + v(j) * s(k-j-1)
       end do
-      s(k) = as * INV(k)
-      c(k) = -ac * INV(k)
+      if (mod(k, 2) == 1) then
+        as = as + v(k-1) * c(0)
+        ac = ac + v(k-1) * s(0)
+      end if
+      s(k) = (as + as2) * INV(k)
+      c(k) = -(ac + ac2) * INV(k)
       x(k+1) = v(k) * INV(k+1)
       v(k+1) = (-gamma * v(k) - w0sq * s(k)) * INV(k+1)
     end do
@@ -76,11 +85,11 @@ contains
 
   !> Order p = ceil(-ln(eps)/2) + 1 for a per-step tolerance eps in (0, 1)
   !> (Jorba & Zou, eq. 7: the order that minimises the work per unit time),
-  !> between 2 and TAYLOR_MAX_ORDER.
+  !> between 2 and TAYLOR_MAX_ORDER - 1.
   pure integer function taylor_order(eps) result(p)
     real(wp), intent(in) :: eps  !< per-step absolute tolerance, > 0
     p = ceiling(-log(eps) / 2) + 1
-    p = max(2, min(TAYLOR_MAX_ORDER, p))
+    p = max(2, min(TAYLOR_MAX_ORDER - 1, p))
   end function taylor_order
 
   !> Step |h| [s] at which the last two terms of the series, in the norm
@@ -103,34 +112,6 @@ contains
     if (n1 > 0) h = min(h, exp(log(eps / n1) / (p - 1)))
     if (n2 > 0) h = min(h, exp(log(eps / n2) / p))
   end function taylor_step
-
-  !> The polynomial sum_{k=k0..p} a(k) d**k by Horner's rule.
-  pure real(wp) function poly_eval(a, k0, p, d) result(y)
-    real(wp), intent(in) :: a(0:TAYLOR_MAX_ORDER)  !< coefficients
-    integer, intent(in) :: k0  !< first power, >= 0
-    integer, intent(in) :: p  !< last power
-    real(wp), intent(in) :: d  !< argument
-    integer :: k
-    y = a(p)
-    do k = p - 1, k0, -1
-      y = y * d + a(k)
-    end do
-    y = y * d**k0
-  end function poly_eval
-
-  !> sum_{k=k0..p} |a(k)| |d|**k: the size of the terms, for rounding bounds.
-  pure real(wp) function poly_abs_sum(a, k0, p, d) result(y)
-    real(wp), intent(in) :: a(0:TAYLOR_MAX_ORDER)  !< coefficients
-    integer, intent(in) :: k0  !< first power, >= 0
-    integer, intent(in) :: p  !< last power
-    real(wp), intent(in) :: d  !< argument
-    integer :: k
-    y = abs(a(p))
-    do k = p - 1, k0, -1
-      y = y * abs(d) + abs(a(k))
-    end do
-    y = y * abs(d)**k0
-  end function poly_abs_sum
 
   !> Phase shear of the undamped pendulum at the scaled energy
   !> e = u**2/2 + 1 - cos(x) (u = Omega/w0, time tau = w0 t): the rate
@@ -185,7 +166,7 @@ contains
       a = an
       acc = acc + tw * c * c
       tw = 2 * tw
-      if (abs(c) <= 1.0e-17_wp * a) exit
+      if (abs(c) <= 1.0e-6_wp * a) exit   ! the next term is ~c**2: 1e-12 relative
     end do
     r = (m / 2 - acc) / (2 * m * (1 - m))
     r = max(r, 0.25_wp)   ! its minimum, at m -> 0; guards rounding in the numerator
