@@ -170,39 +170,54 @@ def taylor(t, theta0, omega0, w0, gamma, *, tol=1e-12, events=False, max_events=
     """
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
-    tt = _grid(t)
-    budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
+    if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and 1 <= t.size < 2**31:
+        tt = t.copy()   # the result keeps its own grid
+    else:
+        tt = _grid(t)
+    if type(max_steps) is int and 1 <= max_steps <= 2**62:
+        budget = float(max_steps)
+    else:
+        budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True) if events else 0
     if is_batch(theta0, omega0, w0, gamma, tol):
         return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads)
     if threads != 0:
         from . import _batch as batch_module
         batch_module._threads(threads)   # checked, unused: one state runs on one thread
-    args = [real_scalar(x, name) for x, name in
+    args = [x if type(x) is float else real_scalar(x, name) for x, name in
             ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"), (tol, "tol"))]
     return _one(tt, *args, budget, m, progress)
 
 
 def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     watched = control is None
-    control = _longcall.new_control() if watched else control
     with np.errstate(all="ignore"):
         steps = float(abs(tt[-1] - tt[0]) * (w0 + gamma) * _STEPS_PER_RADIAN) if w0 > 0 else 0.0
     if not np.isfinite(steps):
         steps = 0.0   # a bad t, w0 or gamma: refused by the Fortran checks
     long = watched and steps > _longcall.RK4_LONG_STEPS / 20
-    call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control)
-    (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
-        lambda: _fortran.taylor_f2py(*call), control, long, progress, total=int(min(steps, 2**62)))
-    raise_for_status(code, msg)
+    if watched and not long and progress is None:
+        (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = \
+            _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control())
+    else:
+        control = _longcall.new_control() if watched else control
+        call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control)
+        (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = \
+            _longcall.run(lambda: _fortran.taylor_f2py(*call), control, long, progress,
+                          total=int(min(steps, 2**62)))
     ev = None
     if m:
         n = int(n_ev)
         ev = Events(t=ev_t[:n].copy(), kind=ev_kind[:n].astype(np.int64), theta=ev_theta[:n].copy(),
                     omega=ev_omega[:n].copy(), truncated=bool(trunc))
+    if code:
+        raise_for_status(code, msg)
     st = _stats(stats)
     st["order"] = int(order)
-    return TaylorResult(t=tt, theta=theta, omega=omega, stats=st, method="taylor", events=ev, error=err, tol=tol)
+    # as TaylorResult(...), without the frozen dataclass's per-field __setattr__
+    r = object.__new__(TaylorResult)
+    r.__dict__.update(t=tt, theta=theta, omega=omega, stats=st, method="taylor", events=ev, error=err, tol=tol)
+    return r
 
 
 def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):

@@ -449,17 +449,19 @@ contains
     subroutine local_error(dd, trc_, rnd_)
       real(wp), intent(in) :: dd
       real(wp), intent(out) :: trc_, rnd_
-      real(wp) :: a, sx, sv
+      real(wp) :: a, sx, sv, ap
       integer :: k
       a = abs(dd)
       sx = abs(x(p+1)) * a
       sv = abs(v(p+1)) * a
+      ap = a
       do k = p, 2, -1
         sx = (sx + abs(x(k))) * a
         sv = (sv + abs(v(k))) * a
+        ap = ap * a
       end do
-      ! sx = sum_{k=2..p+1} |x(k)| a**(k-1); the first omitted terms alone:
-      trc_ = 2 * max(abs(x(p+1)), abs(v(p+1)) * inv_w0) * exp((p + 1) * log(max(a, tiny(a))))
+      ! sx = sum_{k=2..p+1} |x(k)| a**(k-1), ap = a**p; the first omitted terms alone:
+      trc_ = 2 * max(abs(x(p+1)), abs(v(p+1)) * inv_w0) * (ap * a)
       rnd_ = ROUND_ULPS * ULP * (sx * a + (s0abs * a + sv * a) * inv_w0 + abs(xl) + abs(vl) * inv_w0)
     end subroutine local_error
 

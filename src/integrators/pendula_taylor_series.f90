@@ -105,12 +105,16 @@ contains
     real(wp), intent(in) :: inv_w0  !< 1/w0 [s]
     real(wp), intent(in) :: eps  !< per-step tolerance, > 0
     real(wp), intent(in) :: h_cap  !< largest step wanted [s], > 0
-    real(wp) :: n1, n2
+    real(wp) :: n1, n2, l1, l2
     h = h_cap
     n1 = max(abs(x(p-1)), abs(v(p-1)) * inv_w0)
     n2 = max(abs(x(p)), abs(v(p)) * inv_w0)
-    if (n1 > 0) h = min(h, exp(log(eps / n1) / (p - 1)))
-    if (n2 > 0) h = min(h, exp(log(eps / n2) / p))
+    if (n1 <= 0 .and. n2 <= 0) return
+    l1 = huge(1.0_wp)
+    l2 = huge(1.0_wp)
+    if (n1 > 0) l1 = log(eps / n1) / (p - 1)
+    if (n2 > 0) l2 = log(eps / n2) / p
+    h = min(h, exp(min(l1, l2, 700.0_wp)))
   end function taylor_step
 
   !> Phase shear of the undamped pendulum at the scaled energy
