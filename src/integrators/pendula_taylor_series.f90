@@ -46,7 +46,7 @@ contains
     real(wp), intent(out) :: s0abs  !< abs(gamma vh) + w0sq abs(sin theta): size of v(1)'s terms
     real(wp), intent(out) :: sn  !< sin(theta)
     real(wp), intent(out) :: cs  !< cos(theta)
-    real(wp) :: s(0:TAYLOR_MAX_ORDER), c(0:TAYLOR_MAX_ORDER), sh, ch, as, ac, as2, ac2
+    real(wp) :: s(0:TAYLOR_MAX_ORDER), c(0:TAYLOR_MAX_ORDER), sh, ch, as, ac, as2, ac2, as3, ac3, as4, ac4
     integer :: k, j
     sh = sin(xh)
     ch = cos(xh)
@@ -60,24 +60,32 @@ contains
     v(1) = -gamma * vh - w0sq * s(0)
     s0abs = abs(gamma * vh) + w0sq * abs(s(0))
     ! k x(k) = v(k-1), so s(k) = (1/k) sum_j v(j-1) c(k-j) (and c likewise).
-    ! Two partial sums per series (odd and even j) break the add latency chain.
+    ! Four partial sums per series (j mod 4) break the add latency chain.
     do k = 1, p
       as = 0
       ac = 0
       as2 = 0
       ac2 = 0
-      do j = 1, k - 1, 2
+      as3 = 0
+      ac3 = 0
+      as4 = 0
+      ac4 = 0
+      do j = 1, k - 3, 4
         as = as + v(j-1) * c(k-j)
         ac = ac + v(j-1) * s(k-j)
         as2 = as2 + v(j) * c(k-j-1)
         ac2 = ac2 + v(j) * s(k-j-1)
+        as3 = as3 + v(j+1) * c(k-j-2)
+        ac3 = ac3 + v(j+1) * s(k-j-2)
+        as4 = as4 + v(j+2) * c(k-j-3)
+        ac4 = ac4 + v(j+2) * s(k-j-3)
       end do
-      if (mod(k, 2) == 1) then
-        as = as + v(k-1) * c(0)
-        ac = ac + v(k-1) * s(0)
-      end if
-      s(k) = (as + as2) * INV(k)
-      c(k) = -(ac + ac2) * INV(k)
+      do j = 4 * (k / 4) + 1, k
+        as = as + v(j-1) * c(k-j)
+        ac = ac + v(j-1) * s(k-j)
+      end do
+      s(k) = ((as + as2) + (as3 + as4)) * INV(k)
+      c(k) = -((ac + ac2) + (ac3 + ac4)) * INV(k)
       x(k+1) = v(k) * INV(k+1)
       v(k+1) = (-gamma * v(k) - w0sq * s(k)) * INV(k+1)
     end do
