@@ -68,6 +68,7 @@ contains
     ! omitted tail at the optimal order), grown on average by G tau/2
     growth = 1 + min(taylor_shear(e0) * tau / 2, 1.0e12_wp)
     eps = min(tol, max(EPS_FLOOR, tol / (n_est * growth)))
+    if (.not. eps >= EPS_FLOOR) eps = EPS_FLOOR   ! NaN-proof
   end function taylor_step_tolerance
 
   !> Argument checks of taylor_solve: t finite and strictly monotonic
@@ -123,11 +124,13 @@ contains
     !< the first error of the call is kept: set here only if nothing failed before
     select case (outcome)
     case (PENDULA_ERR_SOLVER)
-      call set_error(status, outcome, 'the Taylor integrator produced a non-finite state at t = ' // format_short(t_fail))
+      call set_error(status, outcome, 'the Taylor integrator produced a non-finite state or a step lost in ' // &
+          'rounding at t = ' // format_short(t_fail) // ' (the state or the parameters are too large for ' // &
+          'double precision)')
     case (PENDULA_ERR_MAXSTEPS)
-      call set_error(status, outcome, 'the Taylor integrator used max_steps = ' // &
-          format_short(real(max_steps, wp)) // ' steps and stopped at t = ' // format_short(t_fail) // &
-          ': raise max_steps, loosen tol or shorten the window')
+      call set_error(status, outcome, 'the Taylor integrator needs more than max_steps = ' // &
+          format_short(real(max_steps, wp)) // ' steps (stopped at t = ' // format_short(t_fail) // &
+          '): raise max_steps, loosen tol or shorten the window')
     case (PENDULA_ERR_CANCELLED)
       call set_error(status, outcome, 'Taylor integration cancelled at t = ' // format_short(t_fail) // &
           ' (interrupted by the caller)')
@@ -312,14 +315,23 @@ contains
     steps = 0
     outcome = PENDULA_OK
     t_fail = t(1)
-    inv_w0 = 1 / w0
+    inv_w0 = 1 / max(w0, 1.0e-300_wp)   ! w0 = 5e-324: no overflow (the window is then one step)
     w0sq = w0 * w0
     tau = 0
     if (n > 1) tau = w0 * abs(t(n) / 2 - t(1) / 2) * 2
-    eps_s = taylor_step_tolerance(tol, tau, gamma * inv_w0, scaled_energy(theta0, omega0 * inv_w0))
+    ! (ratios clamped to 1e150 each: no overflow for any finite input)
+    eps_s = taylor_step_tolerance(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp) * min(inv_w0, 1.0e150_wp), &
+        scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0) * min(inv_w0, 1.0e150_wp)))
     p = taylor_order(eps_s)
     if (n == 1) return
-    lgr = 1 + gamma * inv_w0
+    ! Steps are at most 2/w0 and, with damping, ~2/gamma long: a window that
+    ! needs more than max_steps is refused before any work.
+    if (tau / MAX_STEP_TAU > real(max_steps, wp) .or. (abs(theta0) + abs(omega0) > 0 .and. &
+        gamma * abs(t(n) / 2 - t(1) / 2) > real(max_steps, wp))) then
+      outcome = PENDULA_ERR_MAXSTEPS
+      return
+    end if
+    lgr = 1 + min(gamma * inv_w0, 1.0e300_wp)
     xh = theta0
     xl = 0
     vh = omega0
@@ -342,6 +354,13 @@ contains
       call two_sum(t(n), -th, rs, re)
       rem = rs + (re - tl)
       habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU * inv_w0))
+      ! a non-finite series (an overflowing state) or a step lost in the time's rounding
+      if (.not. (abs(x(p+1)) + abs(v(p+1)) <= huge(1.0_wp) .and. habs > 0) .or. &
+          (th + sign(habs, rem) == th .and. habs < abs(rem))) then
+        outcome = PENDULA_ERR_SOLVER
+        t_fail = th
+        return
+      end if
       if (habs >= abs(rem)) then
         h = rem
       else
@@ -393,7 +412,9 @@ contains
       th = s + e
       tl = e - (th - s)
       steps = steps + 1
-      if (steps >= max_steps) then
+      ! the budget: spent, or (checked every POLL_STEPS steps) certain to be at this pace
+      if (steps >= max_steps .or. (mod(steps, int(POLL_STEPS, i8)) == 0 .and. &
+          abs(rem) / max(abs(th - t(1)) + abs(tl), tiny(1.0_wp)) > real(max_steps, wp) / real(steps, wp))) then
         outcome = PENDULA_ERR_MAXSTEPS
         t_fail = th
         return

@@ -141,6 +141,8 @@ contains
     m = e / 2
     if (m <= 0) then
       g = 0
+    else if (.not. m <= 1.0e300_wp) then
+      g = 1   ! the free rotor's limit (also for e = +inf)
     else if (m < 1) then
       ! d ln nu/dm = -K'(m)/K(m); max |d state/d phase| = 2 sqrt(m) (u at the
       ! bottom; |sin| is smaller); max |de/d state| <= |sin x| + |u|.
@@ -167,6 +169,8 @@ contains
     real(wp), intent(in) :: m
     real(wp) :: a, b, c, an, tw, acc
     integer :: it
+    r = 0.25_wp   ! the limit m -> 0
+    if (m < 1.0e-300_wp) return
     a = 1
     b = sqrt(1 - m)
     tw = 1
