@@ -6,7 +6,8 @@
 program test_taylor
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_NONFINITE, &
-      PENDULA_ERR_MAXSTEPS
+      PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula, only: taylor_solve, taylor_solve_events, taylor_batch_solve, undamped_solve
   use pendula_testing, only: checker_t, time_grid
@@ -21,6 +22,7 @@ program test_taylor
   call test_events()
   call test_batch_identity()
   call test_refused()
+  call test_cancel_and_progress()
   call tc%report('test_taylor')
 
 contains
@@ -141,5 +143,35 @@ contains
         max_steps=5_i8)
     call tc%check_status(st, PENDULA_ERR_MAXSTEPS, 'max_steps', 'refused: step budget')
   end subroutine test_refused
+
+  !> A raised cancel flag stops the scalar call within 128 steps and every
+  !> state of a batch; progress counts steps (scalar) and finished states (batch).
+  subroutine test_cancel_and_progress()
+    real(wp) :: th(2), om(2), er(2), thb(2, 3), omb(2, 3), erb(2, 3)
+    integer(i8) :: control(CONTROL_SIZE), steps(3)
+    integer :: codes(3), ord(3)
+    type(ode_stats_t) :: s
+    type(status_t) :: st
+    control = 0
+    call taylor_solve([0.0_wp, 1.0e3_wp], 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0e-9_wp, th, om, er, s, st, &
+        control=control)
+    call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) > 0 .and. &
+        control(CONTROL_PROGRESS) <= s%steps, 'control: progress counts steps')
+    control = 0
+    control(CONTROL_CANCEL) = 1
+    call taylor_solve([0.0_wp, 1.0e3_wp], 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0e-9_wp, th, om, er, s, st, &
+        control=control)
+    call tc%check_status(st, PENDULA_ERR_CANCELLED, 'cancelled', 'control: scalar cancel')
+    call tc%check_true(all(th == 0) .and. all(er == 0), 'control: cancelled outputs zero')
+    control = 0
+    call taylor_batch_solve([0.0_wp, 1.0_wp], [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-9_wp], &
+        thb, omb, erb, codes, steps, ord, st, control=control)
+    call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) == 3, 'control: batch progress')
+    control(CONTROL_CANCEL) = 1
+    call taylor_batch_solve([0.0_wp, 1.0_wp], [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-9_wp], &
+        thb, omb, erb, codes, steps, ord, st, control=control)
+    call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. all(codes == PENDULA_ERR_CANCELLED), &
+        'control: batch cancel')
+  end subroutine test_cancel_and_progress
 
 end program test_taylor
