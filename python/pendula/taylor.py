@@ -35,6 +35,16 @@ class TaylorResult(IntegrationResult):
 
     Parameters
     ----------
+    t : numpy.ndarray
+        Output times [s], shape (n_t,).
+    theta, omega : numpy.ndarray
+        Angle [rad] and angular velocity [rad/s] at t.
+    stats : dict
+        Work counters (see Notes).
+    method : str
+        "taylor".
+    events : Events, optional
+        For ``taylor(..., events=True)``, else None.
     error : numpy.ndarray
         Estimated bound on the absolute error at each output [rad]: the
         larger of theta's and of Omega/w0's; ``error[0] == 0``.
@@ -67,6 +77,22 @@ class TaylorBatchResult(BatchIntegrationResult):
 
     Parameters
     ----------
+    t : numpy.ndarray
+        Output times [s], shape (n_t,).
+    theta, omega : numpy.ndarray
+        [rad], [rad/s], shape batch_shape + (n_t,); zero for a failed state.
+    stats : dict
+        int64 arrays of shape batch_shape: the scalar result's stats, with ``order``.
+    method : str
+        "taylor".
+    codes : numpy.ndarray
+        int64 status per state (0 = ok).
+    message : str
+        '' when every state succeeded, else the first failed state's message.
+    first_failed : int
+        Flat index of the first failed state, or -1.
+    events : numpy.ndarray, optional
+        With events=True, an object array of ``Events`` (None for a failed state).
     error : numpy.ndarray
         Estimated error bound of each output [rad], shape batch_shape +
         (n_t,) (zero for a failed state).

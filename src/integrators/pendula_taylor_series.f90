@@ -22,9 +22,12 @@ module pendula_taylor_series
   !> the coefficient arrays are fixed-size locals, no allocation per call.
   integer, parameter :: TAYLOR_MAX_ORDER = 40
 
-  ! 1/k, so that the recurrences multiply instead of dividing
-  integer :: kk
-  real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = [(1.0_wp / kk, kk = 1, TAYLOR_MAX_ORDER + 1)]
+  ! 1/k, so that the recurrences multiply instead of dividing (a literal list:
+  ! an implied-do would need a module variable)
+  real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = 1.0_wp / real([ &
+      1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, &
+      15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, &
+      29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41], wp)
 
 contains
 

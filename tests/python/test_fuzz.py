@@ -352,10 +352,11 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "PendulaSolverError", "AngleWarn
               "SceneResult", "DampingRegime", "TradeoffTable",
               # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
               "BatchIntegrationResult", "SceneBatch", "SceneBatchResult", "SweepResult",
+              "TaylorResult", "TaylorBatchResult",
               # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
               "plot_motion", "plot_phase_portrait"}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
-FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
+FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "taylor", "Scene", "solve", "run_model",
                                             "tradeoff", "build_info", "have_cvode", "sweep"})
 
 
