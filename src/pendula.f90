@@ -35,7 +35,8 @@ module pendula
       PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign, &
       rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function, &
       rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES, &
-      cvode_solve, cvode_solve_events, cvode_available, cvode_batch_solve
+      cvode_solve, cvode_solve_events, cvode_available, cvode_batch_solve, &
+      taylor_solve, taylor_solve_events, taylor_batch_solve, TAYLOR_DEFAULT_MAX_STEPS
   use pendula_scene, only: scene_t, scene_result_t, scene_cost_t, &
       scene_init, scene_physics, scene_solve, scene_run_model, scene_estimate, &
       scene_model_name, scene_model_code, scene_want_name, scene_want_code, &

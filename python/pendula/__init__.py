@@ -50,6 +50,8 @@ from . import _tradeoff; from ._tradeoff import *  # noqa: E702,F401,F403
 from . import sweep as _sweep_api; from .sweep import *  # noqa: E702,F401,F403
 from . import driven as _driven_api; from .driven import *  # noqa: E702,F401,F403
 from . import chaos as _chaos_api; from .chaos import *  # noqa: E702,F401,F403
+# the function pendula.taylor shadows its module's attribute, as sweep does
+from . import taylor as _taylor_api; from .taylor import *  # noqa: E702,F401,F403
 # plot helpers: matplotlib is imported only when one is called
 from . import motion_plots as _motion_plots; from .motion_plots import *  # noqa: E702,F401,F403
 # fits of measured pendulums: SciPy is imported only when one is called
@@ -63,6 +65,7 @@ __all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "ha
                      + _scene_api.__all__
                      + _tradeoff.__all__
                      + _sweep_api.__all__
+                     + _taylor_api.__all__
                      + _motion_plots.__all__
                      + _fit_api.__all__
                      + _driven_api.__all__ + _chaos_api.__all__

@@ -12,7 +12,7 @@ import os
 from ._codes import CVODE_ADAMS, CVODE_BDF, G_DEFAULT, LENGTH_DEFAULT, STEP_CAP
 
 __all__ = ["G_DEFAULT", "LENGTH_DEFAULT", "STEP_CAP", "TOL", "CVODE_RTOL", "CVODE_ATOL", "CVODE_METHOD",
-           "CVODE_MAX_STEPS", "CVODE_METHODS", "RK4_MAX_STEPS", "MAX_EVENTS", "SWEEP_H", "CHUNK_STATES",
+           "CVODE_MAX_STEPS", "CVODE_METHODS", "RK4_MAX_STEPS", "TAYLOR_TOL", "TAYLOR_MAX_STEPS", "MAX_EVENTS", "SWEEP_H", "CHUNK_STATES",
            "STAT_NAMES", "THREADS", "SERIAL_WORK", "POOL_STATE_WORK", "WELL_NONE", "SETTLE_MARGIN", "check_threads",
            "choose_threads"]
 
@@ -30,6 +30,10 @@ CVODE_MAX_STEPS = 10_000_000
 """CVODE's step budget per state when none is given."""
 RK4_MAX_STEPS = 2_000_000_000
 """RK4's step budget per state when none is given (``rk4``, ``sweep``)."""
+TAYLOR_TOL = 1e-12
+"""The Taylor model's accuracy at the outputs [rad] when none is given (``taylor``)."""
+TAYLOR_MAX_STEPS = 1_000_000_000
+"""The Taylor model's step budget per state when none is given (``taylor``)."""
 MAX_EVENTS = 100_000
 """Events kept per state by ``cvode(..., events=True)`` when none is given."""
 SWEEP_H = 0.01

@@ -67,6 +67,8 @@ NOT_ENTRY_POINTS = {
     "AngleWarning": "warning class (test_angle_warning.py)",
     "TradeoffTable": "result container built by tradeoff() from checked runs",
     "BatchIntegrationResult": "result container built by rk4()/cvode() for a batch of states",
+    "TaylorResult": "result container built by taylor() for one state",
+    "TaylorBatchResult": "result container built by taylor() for a batch of states",
     "SceneBatch": "built by Scene() for array parameters (its table entry covers them)",
     "SceneBatchResult": "result container built by solve()/run_model() for a SceneBatch",
     "build_info": "no arguments: build configuration",
@@ -198,6 +200,22 @@ API: dict[str, Entry] = {
                       (0, ValueError, dict(events=True)), (-1, ValueError, dict(events=True)),
                       (2.5, TypeError, dict(events=True)), ("7", TypeError, dict(events=True)),
                       (2**40, ValueError, dict(events=True)))),
+                  progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
+    # t may also decrease (backwards in time): its bad cases are listed here
+    "taylor": Entry(
+        valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1),
+        args=dict(t=Arg(OTHER, extra=((np.array([0.0, NAN]), ValueError), (np.array([0.0, INF]), ValueError),
+                                      (np.array([]), ValueError), (np.array([0.0, 1.0, 1.0]), ValueError),
+                                      (np.array([0.0, 1.0, 0.5]), ValueError), (np.zeros((2, 2)), ValueError),
+                                      ("0", TypeError))),
+                  theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True),
+                  w0=Arg(POS, array=True), gamma=Arg(NONNEG, array=True), threads=THREADS,
+                  tol=Arg(POS, array=True, out_of_domain=(1.5, 1e300)),
+                  max_steps=Arg(COUNT, extra=((3, pendula.PendulaSolverError, dict(t=np.array([0.0, 100.0]))),)),
+                  events=Arg(OTHER, extra=(("yes", TypeError), (None, TypeError), (1.0, TypeError))),
+                  max_events=Arg(OTHER, extra=(
+                      (0, ValueError, dict(events=True)), (-1, ValueError, dict(events=True)),
+                      (2.5, TypeError, dict(events=True)), (2**40, ValueError, dict(events=True)))),
                   progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))))),
     # undamped (src/undamped, undamped.py): any real t, any real state, w0 > 0
     "undamped": Entry(valid=dict(t=1.3, theta0=1.0, omega0=0.2, w0=1.4), args=dict(

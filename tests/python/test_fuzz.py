@@ -393,6 +393,7 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "PendulaSolverError
               "SceneResult", "DampingRegime", "TradeoffTable",
               # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
               "BatchIntegrationResult", "SceneBatch", "SceneBatchResult", "SweepResult",
+              "TaylorResult", "TaylorBatchResult",
               # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
               "plot_motion", "plot_phase_portrait",
               # the fits' result container (checked through fit_period / fit_motion)
@@ -400,7 +401,7 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "PendulaSolverError
               # the driven pendulum's drive and result containers (test_fuzz_driven.py fuzzes its functions)
               "Drive", "DrivenResult", "Section", "LyapunovResult", "PeriodicOrbits", "Basins", "UNSETTLED"}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
-FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "Scene", "solve", "run_model",
+FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "taylor", "Scene", "solve", "run_model",
                                             "tradeoff", "build_info", "have_cvode", "sweep",
                                             "fit_period", "fit_motion",
                                             # test_fuzz_driven.py

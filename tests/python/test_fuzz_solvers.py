@@ -1,4 +1,4 @@
-"""Fuzz leg, the solvers: rk4, sweep, cvode, Scene, solve, run_model and tradeoff on
+"""Fuzz leg, the solvers: rk4, sweep, cvode, taylor, Scene, solve, run_model and tradeoff on
 adversarial input, each call in a subprocess (what fails a call: see test_fuzz.py)."""
 import math
 
@@ -128,6 +128,34 @@ def _run_cvode(worker, rec, t, p, method, max_steps, events, max_events):
     out = worker.call("cvode", args, kw)
     chk = _integration_checks(ok, *(float(v[k]) for k in ("theta0", "omega0", "w0")), ss[0]) if ok else None
     rec.add(judge(out, ["t", "theta0", "omega0", "w0", "gamma"] + list(kw), chk), "cvode", args, kw)
+
+
+@settings(SETTINGS, max_examples=40)
+@given(t=grid_src(), p=real_args(["theta0", "omega0", "w0", "gamma", "tol"]),
+       max_steps=st.sampled_from(["1", "1000", "200000", "0", "-5", "2**70", "1.5", "True"]),
+       events=st.sampled_from(["False", "True", "1"]),
+       max_events=st.sampled_from(["100", "1", "0", "10**8"]))
+@example(t="np.linspace(0.0, 10.0, 3)", p={"theta0": "2.5", "omega0": "0.0", "w0": "np.sqrt(2)", "gamma": "0.1",
+                                           "tol": "1e-12"}, max_steps="200000", events="True", max_events="100")
+def _run_taylor(worker, rec, t, p, max_steps, events, max_events):
+    v = {k: evaluate(s) for k, s in p.items()}
+    ok = all(x is not None and x.ndim == 0 and np.isfinite(x) for x in v.values())
+    ss = _span_steps(t, 1, 0, 1)
+    if ok and ss is not None:
+        # keep the run short: a few hundred periods at most
+        assume(not (float(v["w0"]) > 0 and (abs(ss[0]) * (float(v["w0"]) + float(v["gamma"])) > 1e3)))
+    ok = ok and ss is not None
+    args = [t] + [p[k] for k in ("theta0", "omega0", "w0", "gamma")]
+    kw = {"tol": p["tol"], "max_steps": max_steps, "events": events, "max_events": max_events}
+    out = worker.call("taylor", args, kw)
+    chk = _integration_checks(ok, *(float(v[k]) for k in ("theta0", "omega0", "w0")), abs(ss[0])) if ok else None
+    rec.add(judge(out, ["t", "theta0", "omega0", "w0", "gamma"] + list(kw), chk), "taylor", args, kw)
+
+
+def test_fuzz_taylor(worker):
+    rec = Recorder("taylor")
+    _run_taylor(worker, rec)
+    rec.verdict()
 
 
 def test_fuzz_cvode(worker):
