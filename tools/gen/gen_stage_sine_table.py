@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Generate the constants of pendula_rk4_tables.inc (included by pendula_rk4_kernel.f90 and the batch kernel variants) (run: python3 tools/gen/gen_stage_sine_table.py).
+"""Generate the constants of pendula_rk4_tables.inc (included by pendula_rk4_kernel.f90 and
+the batch kernel variants) (run: python3 tools/gen/gen_stage_sine_table.py).
 
 Prints, as Fortran, the table sin(2 pi j / 256), j = 0..255 (correctly
 rounded by mpmath at 60 digits) and the three-part Cody-Waite split of the
