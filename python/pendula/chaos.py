@@ -851,7 +851,8 @@ def basins(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b
             c["ncyc"] = len(c["theta0"])
         out, res = _dc.settle(_dc.dask_chunks(client, "basins_f2py", chunks, progress, n), shape)
         per, wnd, cyc = out[1], out[2], out[9]
-        lab, natt, ap, aw, at, ao, am = _fortran.basin_table_f2py(per, wnd, cyc, args["freq"], tol, cap)
+        lab, natt, ap, aw, at, ao, am = _fortran.basin_table_f2py(cap=cap, period=per, winding=wnd, cyc=cyc,
+                                                                  freq=args["freq"], tol=tol)
         if int(natt) < 0:
             raise MemoryError(f"out of memory: the attractor table of {cap} entries could not be allocated")
     natt = int(natt)
