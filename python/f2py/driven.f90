@@ -154,25 +154,31 @@ subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0,
 end subroutine basins_f2py
 
 subroutine basin_table_f2py(n, nmax, nf, cap, period, winding, cyc, freq, tol, labels, natt, att_period, &
-    att_winding, att_theta, att_omega, att_mean_omega)
+    att_winding, att_theta, att_omega, att_mean_omega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, status_unpack
   use pendula_driven_orbits, only: basin_table
   implicit none
+  include 'pendula_msg_len.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: n, nmax, nf, cap, period(n), winding(n)
   real(c_double), intent(in) :: cyc(2, nmax, n), freq(nf), tol
   integer(c_int), intent(out) :: labels(n), natt, att_period(cap), att_winding(cap)
   real(c_double), intent(out) :: att_theta(cap), att_omega(cap), att_mean_omega(cap)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
   integer, allocatable :: per(:), wnd(:), lab(:), ap(:), aw(:)
   integer :: na_
   allocate (per(n), wnd(n), lab(n), ap(cap), aw(cap))
   per = period
   wnd = winding
-  call basin_table(per, wnd, cyc, freq, tol, lab, na_, ap, aw, att_theta, att_omega, att_mean_omega)
+  call basin_table(per, wnd, cyc, freq, tol, lab, na_, ap, aw, att_theta, att_omega, att_mean_omega, st)
   labels = lab
   natt = na_
   att_period = ap
   att_winding = aw
+  call status_unpack(st, code, msg)
 end subroutine basin_table_f2py
 
 subroutine driven_linear_f2py(nt, t, theta0, omega0, w0, gamma, amp, freq, phase, theta, omega, code, msg)

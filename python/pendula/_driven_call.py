@@ -14,8 +14,7 @@ from . import _longcall
 from ._arrays import as_array, as_real, broadcast_real, check_size, integer_arg
 from ._codes import DRIVEN_MAX_STEPS, DRIVEN_MIN_STEPS
 from ._defaults import choose_threads
-from ._errors import (OK, ERR_CANCELLED, _text, batch_summary, for_state, number, raise_for_status,
-                      raise_if_all_failed)
+from ._errors import ERR_CANCELLED, OK, _text, batch_summary, for_state, number, raise_for_status, raise_if_all_failed
 from .physics import pendulum_gamma, pendulum_w0
 
 STATE_NAMES = ("theta0", "omega0", "w0", "gamma")
@@ -160,7 +159,7 @@ def dask_chunks(client, name, chunks, progress, total):
     indexed for the whole batch, the first failed chunk's status.  A
     progress bar counts the states of the chunks done; Ctrl-C (or any
     error) cancels the futures still pending."""
-    from distributed import as_completed   # optional dependency: imported only here
+    from distributed import as_completed  # optional dependency: imported only here
     sizes = [len(c["theta0"]) for c in chunks]
     futures = [client.submit(run_chunk, name, c, pure=False, key=f"pendula-{name}-{i}-{id(chunks)}")
                for i, c in enumerate(chunks)]

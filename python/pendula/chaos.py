@@ -17,7 +17,7 @@ from . import _fortran
 from ._arrays import as_real, real_scalar
 from ._codes import BASIN_UNSETTLED, DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS, OK, ORBIT_MAX_PERIOD
 from ._defaults import CHUNK_STATES, THREADS, WELL_NONE, check_threads
-from ._errors import number
+from ._errors import number, raise_for_status
 from .driven import _state_columns
 
 __all__ = ["Section", "poincare", "bifurcation", "LyapunovResult", "lyapunov", "PeriodicOrbits",
@@ -851,10 +851,9 @@ def basins(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b
             c["ncyc"] = len(c["theta0"])
         out, res = _dc.settle(_dc.dask_chunks(client, "basins_f2py", chunks, progress, n), shape)
         per, wnd, cyc = out[1], out[2], out[9]
-        lab, natt, ap, aw, at, ao, am = _fortran.basin_table_f2py(cap=cap, period=per, winding=wnd, cyc=cyc,
-                                                                  freq=args["freq"], tol=tol)
-        if int(natt) < 0:
-            raise MemoryError(f"out of memory: the attractor table of {cap} entries could not be allocated")
+        lab, natt, ap, aw, at, ao, am, code, msg = _fortran.basin_table_f2py(
+            cap=cap, period=per, winding=wnd, cyc=cyc, freq=args["freq"], tol=tol)
+        raise_for_status(code, msg)
     natt = int(natt)
     table = dict(period=ap[:natt].copy(), winding=aw[:natt].copy(), theta=at[:natt].copy(),
                  omega=ao[:natt].copy(), mean_omega=am[:natt].copy())

@@ -18,11 +18,11 @@ import math
 import numpy as np
 
 from . import _driven_call as _dc
+from . import _fortran
 from ._arrays import as_real, broadcast_real, real_scalar
 from ._codes import DRIVE_PIVOT, DRIVE_TORQUE, DRIVEN_DEFAULT_STEPS
 from ._defaults import THREADS
 from ._errors import raise_for_status
-from . import _fortran
 
 __all__ = ["Drive", "DrivenResult", "driven", "driven_linear", "resonance_curve"]
 

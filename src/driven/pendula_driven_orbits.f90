@@ -465,12 +465,9 @@ contains
     end if
     if (present(cycles)) cycles = cyc
     call basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
-        att_omega, att_mean_omega)
-    if (natt < 0) then
-      natt = 0
-      codes = PENDULA_ERR_MEMORY
-      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: the attractor table of ' // format_int(cap) // &
-          ' entries could not be allocated')
+        att_omega, att_mean_omega, status)
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
       return
     end if
     call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
@@ -484,19 +481,20 @@ contains
   !> the table is full); period 0 leaves BASIN_UNSETTLED.  Serial, so the labels
   !> depend neither on the threads nor on how the states were split into calls.
   pure subroutine basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
-      att_omega, att_mean_omega)
+      att_omega, att_mean_omega, status)
     integer, intent(in) :: period(:)  !< period of each state's attractor (0: none), n
     integer, intent(in) :: winding(:)  !< its winding, n
     real(wp), intent(in) :: cyc(:, :, :)  !< strobe cycles (2, nmax, n) [rad, rad/s]
     real(wp), intent(in) :: freq(:)  !< drive frequencies Omega [rad/s], n or 1
     real(wp), intent(in) :: tol  !< settling tolerance [rad, rad/s]
     integer, intent(out) :: labels(:)  !< attractor label of each state, n
-    integer, intent(out) :: natt  !< attractors in the table (-1: its index could not be allocated)
+    integer, intent(out) :: natt  !< attractors in the table
     integer, intent(out) :: att_period(:)  !< period of each attractor (capacity = size)
     integer, intent(out) :: att_winding(:)  !< winding of each attractor
     real(wp), intent(out) :: att_theta(:)  !< strobe angle of smallest angle [rad]
     real(wp), intent(out) :: att_omega(:)  !< its angular velocity [rad/s]
     real(wp), intent(out) :: att_mean_omega(:)  !< mean angular velocity [rad/s]
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or PENDULA_ERR_MEMORY (the table's index not allocated)
     integer, allocatable :: first(:)   ! the state that opened each attractor
     real(wp) :: dmin
     integer :: i, a, k, j, cap, ios
@@ -510,7 +508,8 @@ contains
     att_mean_omega = 0
     allocate (first(cap), stat=ios)
     if (ios /= 0) then
-      natt = -1
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: the attractor table of ' // format_int(cap) // &
+          ' entries could not be allocated')
       return
     end if
     do i = 1, size(period)
