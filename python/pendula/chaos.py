@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from . import _driven_call as _dc
-from . import _fortran
+from . import _fortran, _tables
 from ._arrays import as_real, real_scalar
 from ._codes import BASIN_UNSETTLED, DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS, OK, ORBIT_MAX_PERIOD
 from ._defaults import CHUNK_STATES, THREADS, WELL_NONE, check_threads
@@ -380,6 +380,30 @@ class LyapunovResult(_Outcome):
         s = self.errors.reshape(-1, 2)
         return pd.DataFrame({"lambda1": e[:, 0], "lambda1_err": s[:, 0], "lambda2": e[:, 1],
                              "lambda2_err": s[:, 1], **_state_columns(self)})
+
+    def to_xarray(self):
+        """The exponents as an xarray Dataset.
+
+        Returns
+        -------
+        xarray.Dataset
+            ``lambda1``, ``lambda1_err``, ``lambda2``, ``lambda2_err`` [1/s] and
+            ``codes`` over the batch dims; the inputs theta0, omega0, w0, gamma
+            as coordinates and the drive's parameters as attributes.
+
+        Examples
+        --------
+        >>> r = pendula.lyapunov([0.2, 0.3], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5,
+        ...                      periods=32)
+        >>> r.to_xarray()["gamma"].values.tolist()
+        [0.5, 0.5]
+        """
+        shape = np.shape(self.codes)
+        per_state = {"lambda1": self.exponents[..., 0], "lambda1_err": self.errors[..., 0],
+                     "lambda2": self.exponents[..., 1], "lambda2_err": self.errors[..., 1], "codes": self.codes}
+        coords = {k: v for k, v in (self.inputs or {}).items() if k in ("theta0", "omega0", "w0", "gamma")}
+        attrs = {k: v for k, v in (self.inputs or {}).items() if k in ("kind", "amplitude", "frequency", "phase")}
+        return _tables.dataset(None, {}, shape, per_state=per_state, attrs=attrs, coords=coords)
 
 
 def lyapunov(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=100,

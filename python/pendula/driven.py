@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from . import _driven_call as _dc
-from . import _fortran
+from . import _fortran, _tables
 from ._arrays import as_real, broadcast_real, real_scalar
 from ._codes import DRIVE_PIVOT, DRIVE_TORQUE, DRIVEN_DEFAULT_STEPS
 from ._defaults import THREADS
@@ -159,6 +159,29 @@ class DrivenResult:
             cols["theta_err"] = self.theta_err.ravel()
             cols["omega_err"] = self.omega_err.ravel()
         return pd.DataFrame({**cols, **_state_columns(self, len(self.t))})
+
+    def to_xarray(self):
+        """The result as an xarray Dataset.
+
+        Returns
+        -------
+        xarray.Dataset
+            theta and omega (and the error estimates) over (batch dims, t);
+            ``codes`` over the batch dims; the inputs theta0, omega0, w0,
+            gamma as coordinates and the drive's parameters as attributes.
+
+        Examples
+        --------
+        >>> r = pendula.driven([0.0, 1.0], [0.1, 0.2], 0.0, drive=pendula.Drive("torque", 0.5, 2/3), w0=1.0)
+        >>> ds = r.to_xarray()
+        >>> ds["theta"].dims, ds["w0"].values.tolist()
+        (('batch', 't'), [1.0, 1.0])
+        """
+        fields = {"theta": self.theta, "omega": self.omega, "theta_err": self.theta_err, "omega_err": self.omega_err}
+        coords = {k: v for k, v in (self.inputs or {}).items() if k in ("theta0", "omega0", "w0", "gamma")}
+        attrs = {k: v for k, v in (self.inputs or {}).items() if k in ("kind", "amplitude", "frequency", "phase")}
+        return _tables.dataset(self.t, fields, np.shape(self.codes), per_state={"codes": self.codes}, attrs=attrs,
+                               coords=coords)
 
 
 def _state_columns(result, repeat=1):

@@ -134,3 +134,25 @@ def test_dask_matches_local_bit_for_bit():
         assert np.array_equal(ly_loc.exponents, ly_rem.exponents)
         with pytest.raises(TypeError, match="client"):
             pendula.basins(0.2, 0.0, **kw, client="tcp://x")
+
+
+def test_the_commands_take_the_pendulum_as_every_command_does(tmp_path):
+    import io
+
+    from pendula.cli import main
+
+    def run(*flags):
+        folder = tmp_path / f"o{len(list(tmp_path.iterdir()))}"
+        code = main(["lyapunov", "--theta0", "0.2", "--periods", "16", "--transient", "5", "--no-png", *flags,
+                     "--out", str(folder)], out=io.StringIO())
+        return code, (dict(np.load(folder / "lyapunov.npz")) if code == 0 else None)
+
+    code, text = run()
+    assert code == 0
+    _, one = run("--w0", "1")
+    _, g_l = run("--g", "9.8", "--length", "9.8")
+    _, direct = run("--w0", str(W0_TEXT))
+    for k in one:
+        assert np.array_equal(one[k], g_l[k]) and np.array_equal(text[k], direct[k]), k
+    assert not all(np.array_equal(one[k], text[k]) for k in one)     # the default is the text's, not w0 = 1
+    assert run("--w0", "1", "--g", "9.8")[0] == 2
