@@ -139,7 +139,8 @@ def _section_call(drive, args, shape, steps, section_phase, transient, points, t
     return theta, omega, mo, rot, res
 
 
-def poincare(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=300, points=200, section_phase=None,
+def poincare(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=300,
+             points=200, section_phase=None,
              steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None):
     """Poincare (stroboscopic) sections of driven pendulums after a transient.
 
@@ -208,7 +209,8 @@ def poincare(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None,
     return Section(theta, omega, mo, rot, None, None, res.codes, res.message, inputs)
 
 
-def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, theta0=0.2, omega0=0.0, transient=300,
+def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
+                theta0=0.2, omega0=0.0, transient=300,
                 points=200, section_phase=None, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None,
                 client=None, chunk_states=CHUNK_STATES):
     """A bifurcation diagram: Poincare section points over values of one parameter.
@@ -587,7 +589,8 @@ def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, 
     return PeriodicOrbits(per, wnd, tp, op, mu, stable & ~bad, fe, resid, res.codes, res.message, inputs)
 
 
-def periodic_orbits(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=200, nmax=8, tol=1e-6,
+def periodic_orbits(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
+                    transient=200, nmax=8, tol=1e-6,
                     steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None):
     """Detect the periodic attractor each state settles on and locate it by Newton's method.
 

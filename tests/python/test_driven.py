@@ -139,7 +139,8 @@ def test_kapitza_inverted_pendulum_threshold():
     below = pendula.find_periodic_orbit(np.pi, 0.0, drive=pendula.Drive("pivot", 0.05, 20.0), w0=1.0, gamma=0.1)
     assert bool(above.stable) and not bool(below.stable)
     # and an integration from near the top stays there
-    r = pendula.driven(np.linspace(0, 60, 7), np.pi - 0.1, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), w0=1.0, gamma=0.1)
+    r = pendula.driven(np.linspace(0, 60, 7), np.pi - 0.1, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), w0=1.0,
+                       gamma=0.1)
     assert np.all(np.abs(r.theta - np.pi) < 0.2)
 
 
@@ -174,7 +175,8 @@ def test_sections_bifurcation_and_basins():
 
 def test_progress_callback_counts_states():
     seen = []
-    pendula.lyapunov(np.zeros(20), 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=16, progress=lambda d, n: seen.append((d, n)))
+    pendula.lyapunov(np.zeros(20), 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=16,
+                     progress=lambda d, n: seen.append((d, n)))
     assert seen and seen[-1] == (20, 20)
 
 
