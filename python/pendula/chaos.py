@@ -33,13 +33,6 @@ that failed: -2**31, never a label, a period or a number of turns (the
 ``codes`` of the result say why; ``ok`` is the mask of the others)."""
 
 _PARAMS = ("amplitude", "frequency", "phase", "gamma", "w0")
-_RESULT_DOC = """    codes : numpy.ndarray
-        Status code of each state (0: OK); ``ok`` is the mask of the others.
-    message : str
-        '' when every state succeeded, else how many failed and the first.
-    inputs : dict
-        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
-        drive's kind, amplitude, frequency and phase."""
 
 
 class _Outcome:
@@ -348,6 +341,13 @@ class LyapunovResult(_Outcome):
         Error estimates [1/s], same shape: the standard error of the means of
         16 blocks of the measured periods, combined with half the gap between
         the means of the two halves (a running average still drifting).
+    codes : numpy.ndarray
+        Status code of each state (0: OK); a failed state is NaN.
+    message : str
+        '' when every state succeeded, else how many failed and the first.
+    inputs : dict
+        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
+        drive's kind, amplitude, frequency and phase.
 
     Examples
     --------
