@@ -20,7 +20,7 @@ import numpy as np
 from . import _driven_call as _dc
 from . import _fortran, _tables
 from ._arrays import as_real, broadcast_real, real_scalar
-from ._codes import DRIVE_PIVOT, DRIVE_TORQUE, DRIVEN_DEFAULT_STEPS
+from ._codes import DRIVE_PIVOT, DRIVE_TORQUE, DRIVEN_DEFAULT_STEPS, OK
 from ._defaults import THREADS
 from ._errors import raise_for_status
 
@@ -133,7 +133,7 @@ class DrivenResult:
     @property
     def ok(self):
         """Mask of the states that succeeded."""
-        return self.codes == 0
+        return np.asarray(self.codes) == OK
 
     def to_pandas(self):
         """The result as a long table, one row per state and time.
