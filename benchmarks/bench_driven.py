@@ -88,8 +88,8 @@ def main(argv=None):
 
     # 1. Lyapunov exponent, one core
     periods = 2000 if args.quick else 20000
-    pendula.lyapunov(0.2, 0.0, drive=drive, gamma=GAMMA, periods=16, threads=1)   # warm-up
-    r, t_ly = best(lambda: pendula.lyapunov(0.2, 0.0, drive=drive, gamma=GAMMA, transient=100, periods=periods,
+    pendula.lyapunov(0.2, 0.0, drive=drive, w0=W0, gamma=GAMMA, periods=16, threads=1)   # warm-up
+    r, t_ly = best(lambda: pendula.lyapunov(0.2, 0.0, drive=drive, w0=W0, gamma=GAMMA, transient=100, periods=periods,
                                             threads=1), 1 if args.quick else 2)
     lam, err = float(r.exponents[0]), float(r.errors[0])
     rows.append(("largest Lyapunov exponent, Baker-Gollub F = 1.15 (1 core)",
@@ -99,7 +99,7 @@ def main(argv=None):
     # 2. Bifurcation diagram, 2 threads
     nval = 100 if args.quick else 1000
     amps = np.linspace(0.9, 1.5, nval)
-    _, t_bif = best(lambda: pendula.bifurcation("amplitude", amps, drive=drive, gamma=GAMMA, transient=300,
+    _, t_bif = best(lambda: pendula.bifurcation("amplitude", amps, drive=drive, w0=W0, gamma=GAMMA, transient=300,
                                                 points=200, threads=2), 1, clock=time.perf_counter)
     rows.append((f"bifurcation diagram, {nval} amplitudes x (300 + 200) periods (2 threads)",
                  f"{nval * 500 * N_STEPS / 1e6:.0f} M RK4 steps", f"{t_bif:.2f} s wall", "target < 5 s"))
@@ -119,7 +119,7 @@ def main(argv=None):
         nb, t_nb = best(lambda: run(th0, om0, W0, GAMMA, regular.amplitude, OMEGA, 0.0, N_STEPS, per), 3)
     except ImportError:
         nb, t_nb = None, math.nan
-    pr, t_pd = best(lambda: pendula.driven([0.0, t_end], th0, om0, drive=regular, gamma=GAMMA, threads=1), 3)
+    pr, t_pd = best(lambda: pendula.driven([0.0, t_end], th0, om0, drive=regular, w0=W0, gamma=GAMMA, threads=1), 3)
     steps = n * per * N_STEPS
     diff = (max(np.abs(pr.theta[:, -1] - nb[0]).max(), np.abs(pr.omega[:, -1] - nb[1]).max())
             if nb is not None else math.nan)

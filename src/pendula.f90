@@ -53,7 +53,7 @@ module pendula
   use pendula_driven, only: driven_solve, driven_batch_solve
   use pendula_driven_maps, only: driven_poincare, driven_bifurcation, driven_lyapunov, LYAPUNOV_BLOCKS, &
       PARAM_AMPLITUDE, PARAM_FREQUENCY, PARAM_PHASE, PARAM_GAMMA, PARAM_W0
-  use pendula_driven_orbits, only: driven_orbits, driven_basins, BASIN_UNSETTLED, &
+  use pendula_driven_orbits, only: driven_orbits, driven_basins, basin_table, BASIN_UNSETTLED, &
       BASIN_UNLISTED, ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD
   use pendula_driven_linear, only: driven_linear_response, driven_linear_solve
   implicit none

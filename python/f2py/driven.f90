@@ -110,29 +110,38 @@ subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma
   call status_unpack(st, code, msg)
 end subroutine orbits_f2py
 
-subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-    transient, nmax, tol, threads, control, labels, period, winding, natt, att_period, att_winding, att_theta, &
-    att_omega, att_mean_omega, codes, first_failed, code, msg)
+subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0, gamma, kind, amp, freq, phase, &
+    nsteps, transient, nmax, tol, threads, control, labels, period, winding, natt, att_period, att_winding, &
+    att_theta, att_omega, att_mean_omega, cyc, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_orbits, only: driven_basins
   implicit none
   include 'pendula_msg_len.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n, no, nw, ng, na, nf, np, cap, kind, nsteps, transient, nmax, threads
+  integer(c_int), intent(in) :: n, no, nw, ng, na, nf, np, cap, ncyc, kind, nsteps, transient, nmax, threads
   real(c_double), intent(in) :: theta0(n), omega0(no), w0(nw), gamma(ng), amp(na), freq(nf), phase(np), tol
   integer(8), intent(inout) :: control(2)
   integer(c_int), intent(out) :: labels(n), period(n), winding(n), natt, att_period(cap), att_winding(cap)
   real(c_double), intent(out) :: att_theta(cap), att_omega(cap), att_mean_omega(cap)
+  ! each state's strobe cycle when ncyc = n (a chunk of a sweep; basin_table_f2py joins them), else unused
+  real(c_double), intent(out) :: cyc(2, nmax, ncyc)
   integer(c_int), intent(out) :: codes(n), first_failed, code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer :: ff, na_
   integer, allocatable :: lab(:), per(:), wnd(:), cds(:), ap(:), aw(:)
   allocate (lab(n), per(n), wnd(n), cds(n), ap(cap), aw(cap))
-  call driven_basins(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
-      int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
-      threads=int(threads), control=control, first_failed=ff)
+  cyc = 0
+  if (ncyc == n) then
+    call driven_basins(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
+        int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
+        threads=int(threads), control=control, first_failed=ff, cycles=cyc)
+  else
+    call driven_basins(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
+        int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
+        threads=int(threads), control=control, first_failed=ff)
+  end if
   labels = lab
   period = per
   winding = wnd
@@ -143,6 +152,34 @@ subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, theta0, omega0, w0, gamma
   first_failed = ff
   call status_unpack(st, code, msg)
 end subroutine basins_f2py
+
+subroutine basin_table_f2py(n, nmax, nf, cap, period, winding, cyc, freq, tol, labels, natt, att_period, &
+    att_winding, att_theta, att_omega, att_mean_omega, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, status_unpack
+  use pendula_driven_orbits, only: basin_table
+  implicit none
+  include 'pendula_msg_len.inc'
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n, nmax, nf, cap, period(n), winding(n)
+  real(c_double), intent(in) :: cyc(2, nmax, n), freq(nf), tol
+  integer(c_int), intent(out) :: labels(n), natt, att_period(cap), att_winding(cap)
+  real(c_double), intent(out) :: att_theta(cap), att_omega(cap), att_mean_omega(cap)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
+  integer, allocatable :: per(:), wnd(:), lab(:), ap(:), aw(:)
+  integer :: na_
+  allocate (per(n), wnd(n), lab(n), ap(cap), aw(cap))
+  per = period
+  wnd = winding
+  call basin_table(per, wnd, cyc, freq, tol, lab, na_, ap, aw, att_theta, att_omega, att_mean_omega, st)
+  labels = lab
+  natt = na_
+  att_period = ap
+  att_winding = aw
+  call status_unpack(st, code, msg)
+end subroutine basin_table_f2py
 
 subroutine driven_linear_f2py(nt, t, theta0, omega0, w0, gamma, amp, freq, phase, theta, omega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int

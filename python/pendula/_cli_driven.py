@@ -22,7 +22,7 @@ def _grid(spec, kind, name):
     return np.linspace(kind(lo), kind(hi), n)
 
 
-def _common(p, name, png_what):
+def _common(p, name, png_what, add_physics):
     g = p.add_argument_group("the driven pendulum: theta'' + gamma theta' + w0^2 sin theta = F cos(Omega t + phi) "
                              "(torque), or a pivot a cos(Omega t + phi) (pivot: (a/l) Omega^2 cos(...) added to w0^2)")
     g.add_argument("--kind", choices=("torque", "pivot"), default="torque", help="drive kind (default torque)")
@@ -31,17 +31,19 @@ def _common(p, name, png_what):
     g.add_argument("--frequency", type=positive, default=2 / 3, metavar="RAD/S",
                    help="drive frequency Omega in rad/s (default 2/3)")
     g.add_argument("--phase", type=finite, default=0.0, metavar="RAD", help="drive phase phi in rad (default 0)")
-    g.add_argument("--w0", type=positive, default=1.0, metavar="1/S", help="small-angle frequency w0 (default 1)")
     g.add_argument("--gamma", type=nonnegative, default=0.5, metavar="1/S", help="damping rate (default 0.5)")
     g.add_argument("--steps", type=count, default=128, metavar="N", help="RK4 steps per drive period (default 128)")
+    add_physics(p, damping=False, w0=True)   # the pendulum: --w0, or --g/--length (the text's by default)
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (created if missing, but its parent must exist unless --mkdir)")
     p.add_argument("--mkdir", action="store_true", help="also create the missing parent folders of --out")
     p.add_argument("--no-png", action="store_true", help=f"skip {png_what} (no matplotlib needed)")
 
 
-def add_parsers(sub):
-    """Add the four subcommands to the subparsers ``sub`` of pendula.cli."""
+def add_parsers(sub, add_physics):
+    """Add the four subcommands to the subparsers ``sub`` of pendula.cli;
+    ``add_physics(parser, damping, w0)`` is pendula.cli's --g/--length/--w0
+    group, so that every command takes the pendulum one way."""
     p = sub.add_parser("poincare", help="Poincare section of the driven pendulum: NPZ, CSV and PNG",
                        description="Stroboscopic (Poincare) section at t = k T after a transient: theta wrapped "
                                    "to (-pi, pi] [rad] and Omega [rad/s]; poincare.npz, poincare.csv, poincare.png.")
@@ -49,7 +51,7 @@ def add_parsers(sub):
     p.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
     p.add_argument("--transient", type=int, default=300, metavar="P", help="periods discarded (default 300)")
     p.add_argument("--points", type=count, default=5000, metavar="K", help="section points (default 5000)")
-    _common(p, "poincare", "the section plot")
+    _common(p, "poincare", "the section plot", add_physics)
     b = sub.add_parser("bifurcation", help="bifurcation diagram of the driven pendulum: NPZ, CSV and PNG",
                        description="Section points over values of one parameter (every value from the same "
                                    "start): bifurcation.npz, bifurcation.csv, bifurcation.png.")
@@ -60,7 +62,7 @@ def add_parsers(sub):
     b.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
     b.add_argument("--transient", type=int, default=300, metavar="P", help="periods discarded (default 300)")
     b.add_argument("--points", type=count, default=200, metavar="K", help="section points per value (default 200)")
-    _common(b, "bifurcation", "the diagram")
+    _common(b, "bifurcation", "the diagram", add_physics)
     lp = sub.add_parser("lyapunov", help="Lyapunov exponents of the driven pendulum: NPZ, CSV and PNG",
                         description="Both Lyapunov exponents [1/s] with error estimates, per initial state: "
                                     "lyapunov.npz, lyapunov.csv, lyapunov.png.")
@@ -68,7 +70,7 @@ def add_parsers(sub):
     lp.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
     lp.add_argument("--transient", type=int, default=100, metavar="P", help="periods before measuring (default 100)")
     lp.add_argument("--periods", type=count, default=20000, metavar="P", help="periods measured (default 20000)")
-    _common(lp, "lyapunov", "the plot")
+    _common(lp, "lyapunov", "the plot", add_physics)
     g = sub.add_parser("basins", help="basins of attraction of the driven pendulum: NPZ, CSV and PNG",
                        description="For each start of a theta0 x Omega0 grid, the periodic attractor it settles on "
                                    "(label 0: none of period <= nmax, chaotic or unsettled): basins.npz, "
@@ -79,7 +81,13 @@ def add_parsers(sub):
                    help="Omega0 grid (default -3 3 101)")
     g.add_argument("--transient", type=int, default=200, metavar="P", help="periods before classifying (default 200)")
     g.add_argument("--nmax", type=count, default=8, metavar="N", help="largest period recognised (default 8)")
-    _common(g, "basins", "the basin map")
+    _common(g, "basins", "the basin map", add_physics)
+
+
+def _w0(args):
+    """--w0, or sqrt(g/l) of --g and --length (pendula.cli set the text's values for those not given)."""
+    import pendula
+    return args.w0 if args.w0 is not None else float(pendula.natural_frequency(args.g, args.length))
 
 
 def _setup(args):
@@ -109,7 +117,7 @@ def _fig():
 
 def cmd_poincare(args, out):
     pendula, drive, folder = _setup(args)
-    s = pendula.poincare(args.theta0, args.omega0, drive=drive, w0=args.w0, gamma=args.gamma,
+    s = pendula.poincare(args.theta0, args.omega0, drive=drive, w0=_w0(args), gamma=args.gamma,
                          transient=args.transient, points=args.points, steps_per_period=args.steps)
     np.savez(folder / "poincare.npz", theta=s.theta, omega=s.omega, mean_omega=s.mean_omega)
     _csv(folder / "poincare.csv", ["k", "theta_rad", "omega_rad_per_s"],
@@ -132,7 +140,7 @@ def cmd_poincare(args, out):
 def cmd_bifurcation(args, out):
     pendula, drive, folder = _setup(args)
     vals = _grid(args.values, finite, "--values")
-    b = pendula.bifurcation(args.parameter, vals, drive=drive, w0=args.w0, gamma=args.gamma, theta0=args.theta0,
+    b = pendula.bifurcation(args.parameter, vals, drive=drive, w0=_w0(args), gamma=args.gamma, theta0=args.theta0,
                             omega0=args.omega0, transient=args.transient, points=args.points,
                             steps_per_period=args.steps)
     np.savez(folder / "bifurcation.npz", values=vals, theta=b.theta, omega=b.omega, mean_omega=b.mean_omega,
@@ -157,7 +165,7 @@ def cmd_bifurcation(args, out):
 def cmd_lyapunov(args, out):
     pendula, drive, folder = _setup(args)
     th0 = np.asarray(args.theta0, dtype=float)
-    r = pendula.lyapunov(th0, args.omega0, drive=drive, w0=args.w0, gamma=args.gamma, transient=args.transient,
+    r = pendula.lyapunov(th0, args.omega0, drive=drive, w0=_w0(args), gamma=args.gamma, transient=args.transient,
                          periods=args.periods, steps_per_period=args.steps)
     np.savez(folder / "lyapunov.npz", theta0=th0, exponents=r.exponents, errors=r.errors)
     _csv(folder / "lyapunov.csv", ["theta0_rad", "lambda1", "lambda1_err", "lambda2", "lambda2_err"],
@@ -184,7 +192,7 @@ def cmd_basins(args, out):
     pendula, drive, folder = _setup(args)
     th = _grid(args.theta0, angle, "--theta0")
     om = _grid(args.omega0, angular_velocity, "--omega0")
-    g = pendula.basins(th[:, None], om[None, :], drive=drive, w0=args.w0, gamma=args.gamma,
+    g = pendula.basins(th[:, None], om[None, :], drive=drive, w0=_w0(args), gamma=args.gamma,
                        transient=args.transient, nmax=args.nmax, steps_per_period=args.steps)
     np.savez(folder / "basins.npz", theta0=th, omega0=om, labels=g.labels, period=g.period, winding=g.winding,
              **{"attractor_" + k: v for k, v in g.attractors.items()})

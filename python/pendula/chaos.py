@@ -13,18 +13,35 @@ import math
 import numpy as np
 
 from . import _driven_call as _dc
-from . import _fortran
+from . import _fortran, _tables
 from ._arrays import as_real, real_scalar
-from ._codes import BASIN_UNSETTLED, DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS, ORBIT_MAX_PERIOD
+from ._codes import BASIN_UNSETTLED, DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS, OK, ORBIT_MAX_PERIOD
+from ._defaults import CHUNK_STATES, THREADS, WELL_NONE, check_threads
+from ._errors import number, raise_for_status
+from .driven import _state_columns
 
 __all__ = ["Section", "poincare", "bifurcation", "LyapunovResult", "lyapunov", "PeriodicOrbits",
-           "periodic_orbits", "find_periodic_orbit", "Basins", "basins", "UNSETTLED"]
+           "periodic_orbits", "find_periodic_orbit", "Basins", "basins", "UNSETTLED", "FAILED"]
 
 UNSETTLED = BASIN_UNSETTLED
 """Basin label of a state that settled on no periodic attractor of period <= nmax
 (chaotic, or still settling); attractor labels count from 1."""
 
+FAILED = WELL_NONE
+"""The integer fields (basin ``labels``, ``period``, ``winding``) of a state
+that failed: -2**31, never a label, a period or a number of turns (the
+``codes`` of the result say why; ``ok`` is the mask of the others)."""
+
 _PARAMS = ("amplitude", "frequency", "phase", "gamma", "w0")
+
+
+class _Outcome:
+    """The batch contract's fields of a result: codes, message, inputs and the ok mask."""
+
+    @property
+    def ok(self):
+        """Mask of the states that succeeded."""
+        return np.asarray(self.codes) == OK
 
 
 def _work(n, steps, periods):
@@ -32,7 +49,7 @@ def _work(n, steps, periods):
 
 
 @dataclasses.dataclass
-class Section:
+class Section(_Outcome):
     """Stroboscopic (Poincare) section points (built by :func:`poincare` and :func:`bifurcation`).
 
     Attributes
@@ -49,10 +66,18 @@ class Section:
         The parameter values of a bifurcation diagram (its first axis).
     parameter : str or None
         The parameter varied in a bifurcation diagram.
+    codes : numpy.ndarray
+        Status code of each state or value (0: OK); a failed one is NaN in
+        every real field.
+    message : str
+        '' when every state succeeded, else how many failed and the first.
+    inputs : dict
+        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
+        drive's kind, amplitude, frequency and phase.
 
     Examples
     --------
-    >>> s = pendula.poincare([0.2, 0.3], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5, points=3)
+    >>> s = pendula.poincare([0.2, 0.3], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5, points=3)
     >>> s.theta.shape, s.rotation_number.shape
     ((2, 3), (2,))
     """
@@ -63,6 +88,9 @@ class Section:
     rotation_number: np.ndarray
     values: np.ndarray = None
     parameter: str = None
+    codes: np.ndarray = None
+    message: str = ""
+    inputs: dict = None
 
     def to_pandas(self):
         """The section points as a long table.
@@ -71,11 +99,11 @@ class Section:
         -------
         pandas.DataFrame
             Columns ``state`` (or the parameter's name), ``k`` (point index),
-            ``theta``, ``omega``.
+            ``theta``, ``omega``, then each state's inputs and ``code``.
 
         Examples
         --------
-        >>> s = pendula.poincare(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5,
+        >>> s = pendula.poincare(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5,
         ...                      transient=50, points=3)
         >>> len(s.to_pandas())
         3
@@ -85,23 +113,28 @@ class Section:
         m, k = th.shape
         first = np.repeat(self.values if self.values is not None else np.arange(m), k)
         return pd.DataFrame({self.parameter or "state": first, "k": np.tile(np.arange(k), m),
-                             "theta": th.ravel(), "omega": self.omega.reshape(-1, k).ravel()})
+                             "theta": th.ravel(), "omega": self.omega.reshape(-1, k).ravel(),
+                             **_state_columns(self, k)})
 
 
 def _section_call(drive, args, shape, steps, section_phase, transient, points, threads, progress):
     n = args["theta0"].size
-    ts, os_, mo, codes, first = _dc.watched(
-        _fortran.poincare_f2py, _work(n, steps, transient + points + 1), n, progress, nsteps=steps,
-        section_phase=section_phase, transient=transient, nrec=points, threads=threads, **args)
+    work = _work(n, steps, transient + points + 1)
+    (ts, os_, mo), res = _dc.watched(
+        _fortran.poincare_f2py, work, n, progress, shape, nsteps=steps, section_phase=section_phase,
+        transient=transient, nrec=points, threads=_dc.threads_arg(threads, work), **args)
     theta = np.ascontiguousarray(ts.T).reshape(shape + (points,))
     omega = np.ascontiguousarray(os_.T).reshape(shape + (points,))
     mo = mo.reshape(shape)
     freq = np.broadcast_to(args["freq"], (n,)).reshape(shape)
-    return theta, omega, mo, mo / freq
+    rot = mo / freq
+    _dc.nan_failed(res, theta, omega, mo, rot)
+    return theta, omega, mo, rot, res
 
 
-def poincare(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=300, points=200, section_phase=None,
-             steps_per_period=DRIVEN_DEFAULT_STEPS, threads=0, progress=None):
+def poincare(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=300,
+             points=200, section_phase=None,
+             steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None):
     """Poincare (stroboscopic) sections of driven pendulums after a transient.
 
     Parameters
@@ -111,9 +144,14 @@ def poincare(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=300, points=
     drive : Drive
         The drive.
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     transient : int, optional
         Drive periods discarded first (default 300).
     points : int, optional
@@ -124,8 +162,9 @@ def poincare(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=300, points=
         phases of a period.
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (states).
 
@@ -145,7 +184,7 @@ def poincare(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=300, points=
     Examples
     --------
     >>> d = pendula.Drive("torque", 1.07, 2/3)
-    >>> s = pendula.poincare(0.2, 0.0, drive=d, gamma=0.5, transient=300, points=4)
+    >>> s = pendula.poincare(0.2, 0.0, drive=d, w0=1.0, gamma=0.5, transient=300, points=4)
     >>> bool(abs(s.theta[2] - s.theta[0]) < 1e-6 < abs(s.theta[1] - s.theta[0]))   # period 2
     True
     """
@@ -153,16 +192,20 @@ def poincare(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=300, points=
     steps = _dc.steps_arg(steps_per_period)
     transient = _dc.count_arg(transient, "transient", 0)
     points = _dc.count_arg(points, "points", 1)
-    th = _dc.threads_arg(threads)
+    check_threads(threads)
     ph = drive.phase if section_phase is None else real_scalar(section_phase, "section_phase")
     if not math.isfinite(ph):
         raise ValueError(f"section_phase = {ph!r} is invalid: it must be finite")
-    shape, scalar, args = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    return Section(*_section_call(drive, args, shape, steps, ph, transient, points, th, progress))
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    theta, omega, mo, rot, res = _section_call(drive, args, shape, steps, ph, transient, points, threads, progress)
+    return Section(theta, omega, mo, rot, None, None, res.codes, res.message, inputs)
 
 
-def bifurcation(parameter, values, *, drive, w0=1.0, gamma=0.0, theta0=0.2, omega0=0.0, transient=300,
-                points=200, section_phase=None, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=0, progress=None):
+def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
+                theta0=0.2, omega0=0.0, transient=300,
+                points=200, section_phase=None, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None,
+                client=None, chunk_states=CHUNK_STATES):
     """A bifurcation diagram: Poincare section points over values of one parameter.
 
     Every value starts from the same (theta0, omega0) at t = 0 (no
@@ -177,10 +220,15 @@ def bifurcation(parameter, values, *, drive, w0=1.0, gamma=0.0, theta0=0.2, omeg
         Its values (1-D).
     drive : Drive
         The drive supplying the other drive parameters.
-    w0 : float, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
-    gamma : float, optional
-        Damping rate [1/s], >= 0 (default 0).
+    w0 : float or array_like, optional
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
+    gamma : float or array_like, optional
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     theta0, omega0 : float, optional
         The initial state [rad, rad/s] (default 0.2, 0).
     transient : int, optional
@@ -191,16 +239,23 @@ def bifurcation(parameter, values, *, drive, w0=1.0, gamma=0.0, theta0=0.2, omeg
         Drive phase of the section [rad] (default: the drive's phase).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (values).
+    client : dask.distributed.Client, optional
+        Run on Dask in chunks of ``chunk_states`` values (one thread each);
+        the answer is bit for bit the local one.
+    chunk_states : int, optional
+        Values per Dask chunk (default ``pendula._defaults.CHUNK_STATES``).
 
     Returns
     -------
     Section
         ``theta`` and ``omega`` of shape ``(len(values), points)``, with
-        ``values`` and ``parameter`` set.
+        ``values`` and ``parameter`` set; a value whose run failed has its
+        code in ``codes`` and NaN in every real field.
 
     Raises
     ------
@@ -212,7 +267,7 @@ def bifurcation(parameter, values, *, drive, w0=1.0, gamma=0.0, theta0=0.2, omeg
     Examples
     --------
     >>> d = pendula.Drive("torque", 1.0, 2/3)
-    >>> b = pendula.bifurcation("amplitude", [0.9, 1.07], drive=d, gamma=0.5, points=4)
+    >>> b = pendula.bifurcation("amplitude", [0.9, 1.07], drive=d, w0=1.0, gamma=0.5, points=4)
     >>> b.theta.shape
     (2, 4)
     """
@@ -224,24 +279,57 @@ def bifurcation(parameter, values, *, drive, w0=1.0, gamma=0.0, theta0=0.2, omeg
         raise ValueError("values is empty: it needs at least one value")
     if not np.all(np.isfinite(vals)):
         raise ValueError(f"values[{int(np.argmax(~np.isfinite(vals)))}] is invalid: every value must be finite")
+    rule = {"w0": (lambda v: v > 0, "> 0"), "frequency": (lambda v: v > 0, "> 0"),
+            "gamma": (lambda v: v >= 0, ">= 0")}.get(parameter)
+    if rule is not None and not rule[0](vals).all():
+        i = int(np.argmax(~rule[0](vals)))
+        raise ValueError(f"values[{i}] = {number(vals[i])} is out of range: {parameter} must be {rule[1]}")
     steps = _dc.steps_arg(steps_per_period)
     transient = _dc.count_arg(transient, "transient", 0)
     points = _dc.count_arg(points, "points", 1)
-    th = _dc.threads_arg(threads)
+    check_threads(threads)
+    _dc.check_client(client)
+    chunk_states = _dc.count_arg(chunk_states, "chunk_states", 1)
     ph = drive.phase if section_phase is None else real_scalar(section_phase, "section_phase")
-    base = dict(w0=real_scalar(w0, "w0"), gamma=real_scalar(gamma, "gamma"))
-    args = dict(theta0=np.full(vals.size, real_scalar(theta0, "theta0")),
-                omega0=np.array([real_scalar(omega0, "omega0")]), w0=np.array([base["w0"]]),
-                gamma=np.array([base["gamma"]]), kind=drive.code, amp=np.array([drive.amplitude]),
-                freq=np.array([drive.frequency]), phase=np.array([drive.phase]))
+    if not math.isfinite(ph):
+        raise ValueError(f"section_phase = {ph!r} is invalid: it must be finite")
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    base = dict(theta0=real_scalar(theta0, "theta0"), omega0=real_scalar(omega0, "omega0"),
+                w0=real_scalar(w0, "w0"), gamma=real_scalar(gamma, "gamma"))
+    _dc.check_states({k: np.array([v]) for k, v in base.items()}, ())
+    args = dict(theta0=np.full(vals.size, base["theta0"]), omega0=np.array([base["omega0"]]),
+                w0=np.array([base["w0"]]), gamma=np.array([base["gamma"]]), kind=drive.code,
+                amp=np.array([drive.amplitude]), freq=np.array([drive.frequency]), phase=np.array([drive.phase]))
     key = {"amplitude": "amp", "frequency": "freq", "phase": "phase", "gamma": "gamma", "w0": "w0"}[parameter]
     args[key] = vals.copy()
-    theta, omega, mo, rot = _section_call(drive, args, (vals.size,), steps, ph, transient, points, th, progress)
-    return Section(theta, omega, mo, rot, vals, parameter)
+    flats = {k: np.broadcast_to(args[k], vals.shape) for k in ("theta0", "omega0", "w0", "gamma")}
+    inputs = _dc.inputs(drive, (vals.size,), flats)
+    if parameter in ("amplitude", "frequency", "phase"):
+        inputs[parameter] = vals.copy()
+    if client is None:
+        theta, omega, mo, rot, res = _section_call(drive, args, (vals.size,), steps, ph, transient, points,
+                                                   threads, progress)
+        return Section(theta, omega, mo, rot, vals, parameter, res.codes, res.message, inputs)
+    n = vals.size
+    chunks = [_chunk_args(args, s0, chunk_states, n, nsteps=steps, section_phase=ph, transient=transient,
+                          nrec=points, threads=1) for s0 in range(0, n, chunk_states)]
+    (ts, os_, mo), res = _dc.settle(_dc.dask_chunks(client, "poincare_f2py", chunks, progress, n), (n,))
+    theta, omega = np.ascontiguousarray(ts.T), np.ascontiguousarray(os_.T)
+    rot = mo / np.broadcast_to(args["freq"], (n,))
+    _dc.nan_failed(res, theta, omega, mo, rot)
+    return Section(theta, omega, mo, rot, vals, parameter, res.codes, res.message, inputs)
+
+
+def _chunk_args(args, start, size, n, **extra):
+    """The glue's kwargs for states [start, start + size): per-state arrays sliced, the others as they are."""
+    out = {k: (v[start:start + size] if isinstance(v, np.ndarray) and v.size == n and n > 1 else v)
+           for k, v in args.items()}
+    out.update(extra)
+    return out
 
 
 @dataclasses.dataclass
-class LyapunovResult:
+class LyapunovResult(_Outcome):
     """Lyapunov exponents with error estimates (built by :func:`lyapunov`).
 
     Attributes
@@ -253,16 +341,26 @@ class LyapunovResult:
         Error estimates [1/s], same shape: the standard error of the means of
         16 blocks of the measured periods, combined with half the gap between
         the means of the two halves (a running average still drifting).
+    codes : numpy.ndarray
+        Status code of each state (0: OK); a failed state is NaN.
+    message : str
+        '' when every state succeeded, else how many failed and the first.
+    inputs : dict
+        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
+        drive's kind, amplitude, frequency and phase.
 
     Examples
     --------
-    >>> r = pendula.lyapunov(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5, periods=32)
+    >>> r = pendula.lyapunov(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5, periods=32)
     >>> r.exponents.shape, r.errors.shape
     ((2,), (2,))
     """
 
     exponents: np.ndarray
     errors: np.ndarray
+    codes: np.ndarray = None
+    message: str = ""
+    inputs: dict = None
 
     def to_pandas(self):
         """The exponents as a table, one row per state.
@@ -270,23 +368,49 @@ class LyapunovResult:
         Returns
         -------
         pandas.DataFrame
-            Columns ``lambda1``, ``lambda1_err``, ``lambda2``, ``lambda2_err``.
+            Columns ``lambda1``, ``lambda1_err``, ``lambda2``, ``lambda2_err``,
+            then each state's inputs and ``code``.
 
         Examples
         --------
-        >>> r = pendula.lyapunov(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5, periods=32)
+        >>> r = pendula.lyapunov(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5, periods=32)
         >>> list(r.to_pandas().columns)
-        ['lambda1', 'lambda1_err', 'lambda2', 'lambda2_err']
+        ['lambda1', 'lambda1_err', 'lambda2', 'lambda2_err', 'theta0', 'omega0', 'w0', 'gamma', 'code']
         """
         import pandas as pd
         e = self.exponents.reshape(-1, 2)
         s = self.errors.reshape(-1, 2)
         return pd.DataFrame({"lambda1": e[:, 0], "lambda1_err": s[:, 0], "lambda2": e[:, 1],
-                             "lambda2_err": s[:, 1]})
+                             "lambda2_err": s[:, 1], **_state_columns(self)})
+
+    def to_xarray(self):
+        """The exponents as an xarray Dataset.
+
+        Returns
+        -------
+        xarray.Dataset
+            ``lambda1``, ``lambda1_err``, ``lambda2``, ``lambda2_err`` [1/s] and
+            ``codes`` over the batch dims; the inputs theta0, omega0, w0, gamma
+            as coordinates and the drive's parameters as attributes.
+
+        Examples
+        --------
+        >>> r = pendula.lyapunov([0.2, 0.3], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5,
+        ...                      periods=32)
+        >>> r.to_xarray()["gamma"].values.tolist()
+        [0.5, 0.5]
+        """
+        shape = np.shape(self.codes)
+        per_state = {"lambda1": self.exponents[..., 0], "lambda1_err": self.errors[..., 0],
+                     "lambda2": self.exponents[..., 1], "lambda2_err": self.errors[..., 1], "codes": self.codes}
+        coords = {k: v for k, v in (self.inputs or {}).items() if k in ("theta0", "omega0", "w0", "gamma")}
+        attrs = {k: v for k, v in (self.inputs or {}).items() if k in ("kind", "amplitude", "frequency", "phase")}
+        return _tables.dataset(None, {}, shape, per_state=per_state, attrs=attrs, coords=coords)
 
 
-def lyapunov(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=100, periods=2000,
-             steps_per_period=DRIVEN_DEFAULT_STEPS, threads=0, progress=None):
+def lyapunov(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=100,
+             periods=2000, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None, client=None,
+             chunk_states=CHUNK_STATES):
     """Both Lyapunov exponents of driven pendulums, with error estimates.
 
     Two tangent vectors follow the derivative of the RK4 map and are
@@ -301,24 +425,37 @@ def lyapunov(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=100, periods
     drive : Drive
         The drive.
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     transient : int, optional
         Drive periods before the measurement (default 100).
     periods : int, optional
         Drive periods measured, >= 16 (default 2000).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (states).
+
+    client : dask.distributed.Client, optional
+        Run on Dask in chunks of ``chunk_states`` states (one thread each);
+        the answer is bit for bit the local one.
+    chunk_states : int, optional
+        States per Dask chunk (default ``pendula._defaults.CHUNK_STATES``).
 
     Returns
     -------
     LyapunovResult
-        ``exponents`` and ``errors`` of shape ``shape + (2,)``.
+        ``exponents`` and ``errors`` of shape ``shape + (2,)``; a failed
+        state has its code in ``codes`` and NaN.
 
     Raises
     ------
@@ -330,7 +467,7 @@ def lyapunov(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=100, periods
     Examples
     --------
     >>> d = pendula.Drive("torque", 1.15, 2/3)
-    >>> r = pendula.lyapunov(0.2, 0.0, drive=d, gamma=0.5, periods=2000)
+    >>> r = pendula.lyapunov(0.2, 0.0, drive=d, w0=1.0, gamma=0.5, periods=2000)
     >>> bool(r.exponents[0] > 0), round(float(r.exponents.sum()), 4)
     (True, -0.5)
     """
@@ -338,17 +475,28 @@ def lyapunov(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=100, periods
     steps = _dc.steps_arg(steps_per_period)
     transient = _dc.count_arg(transient, "transient", 0)
     periods = _dc.count_arg(periods, "periods", LYAPUNOV_BLOCKS)
-    th = _dc.threads_arg(threads)
-    shape, scalar, args = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    check_threads(threads)
+    _dc.check_client(client)
+    chunk_states = _dc.count_arg(chunk_states, "chunk_states", 1)
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
     n = args["theta0"].size
-    ly, le, codes, first = _dc.watched(_fortran.lyapunov_f2py, _work(n, 3 * steps, transient + periods), n, progress,
-                                       nsteps=steps, transient=transient, periods=periods, threads=th, **args)
-    return LyapunovResult(np.ascontiguousarray(ly.T).reshape(shape + (2,)),
-                          np.ascontiguousarray(le.T).reshape(shape + (2,)))
+    work = _work(n, 3 * steps, transient + periods)
+    opts = dict(nsteps=steps, transient=transient, periods=periods)
+    if client is None:
+        (ly, le), res = _dc.watched(_fortran.lyapunov_f2py, work, n, progress, shape,
+                                    threads=_dc.threads_arg(threads, work), **opts, **args)
+    else:
+        chunks = [_chunk_args(args, s0, chunk_states, n, threads=1, **opts) for s0 in range(0, n, chunk_states)]
+        (ly, le), res = _dc.settle(_dc.dask_chunks(client, "lyapunov_f2py", chunks, progress, n), shape)
+    ly = np.ascontiguousarray(ly.T).reshape(shape + (2,))
+    le = np.ascontiguousarray(le.T).reshape(shape + (2,))
+    _dc.nan_failed(res, ly, le)
+    return LyapunovResult(ly, le, res.codes, res.message, inputs)
 
 
 @dataclasses.dataclass
-class PeriodicOrbits:
+class PeriodicOrbits(_Outcome):
     """Periodic orbits of the stroboscopic map (built by :func:`periodic_orbits`).
 
     Attributes
@@ -370,10 +518,18 @@ class PeriodicOrbits:
         (0 where ``period`` is 0).
     residual : numpy.ndarray
         Newton's final residual (<= 1e-10 when found).
+    codes : numpy.ndarray
+        Status code of each state (0: OK); a failed state has ``period`` and
+        ``winding`` ``FAILED`` and NaN in every real field.
+    message : str
+        '' when every state succeeded, else how many failed and the first.
+    inputs : dict
+        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
+        drive's kind, amplitude, frequency and phase.
 
     Examples
     --------
-    >>> o = pendula.periodic_orbits(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5)
+    >>> o = pendula.periodic_orbits(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5)
     >>> int(o.period), o.multipliers.shape
     (1, (2,))
     """
@@ -386,6 +542,9 @@ class PeriodicOrbits:
     stable: np.ndarray
     floquet_exponents: np.ndarray
     residual: np.ndarray
+    codes: np.ndarray = None
+    message: str = ""
+    inputs: dict = None
 
     def to_pandas(self):
         """The orbits as a table, one row per state.
@@ -393,11 +552,12 @@ class PeriodicOrbits:
         Returns
         -------
         pandas.DataFrame
-            period, winding, theta, omega, |mu1|, |mu2|, stable.
+            period, winding, theta, omega, |mu1|, |mu2|, stable, then each
+            state's inputs and ``code``.
 
         Examples
         --------
-        >>> o = pendula.periodic_orbits(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5)
+        >>> o = pendula.periodic_orbits(0.2, 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5)
         >>> int(o.to_pandas()["period"][0])
         1
         """
@@ -405,27 +565,33 @@ class PeriodicOrbits:
         mu = np.abs(self.multipliers.reshape(-1, 2))
         return pd.DataFrame({"period": self.period.ravel(), "winding": self.winding.ravel(),
                              "theta": self.theta.ravel(), "omega": self.omega.ravel(),
-                             "abs_mu1": mu[:, 0], "abs_mu2": mu[:, 1], "stable": self.stable.ravel()})
+                             "abs_mu1": mu[:, 0], "abs_mu2": mu[:, 1], "stable": self.stable.ravel(),
+                             **_state_columns(self)})
 
 
-def _orbits(drive, args, shape, period_in, steps, transient, nmax, tol, threads, progress):
+def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, threads, progress):
     n = args["theta0"].size
     per_in = np.asarray(period_in, dtype=np.int32).reshape(-1)
     work = _work(n, 3 * steps, transient + 2 * nmax + 40 * max(int(per_in.max()), nmax))
-    per, wnd, tp, op, mult, res, codes, first = _dc.watched(
-        _fortran.orbits_f2py, work, n, progress, period_in=per_in, nsteps=steps, transient=transient, nmax=nmax,
-        tol=tol, threads=threads, **args)
+    (per, wnd, tp, op, mult, resid), res = _dc.watched(
+        _fortran.orbits_f2py, work, n, progress, shape, period_in=per_in, nsteps=steps, transient=transient,
+        nmax=nmax, tol=tol, threads=_dc.threads_arg(threads, work), **args)
     mu = (mult[0::2] + 1j * mult[1::2]).T.reshape(shape + (2,))
     per = per.reshape(shape)
     T = 2 * math.pi / np.broadcast_to(args["freq"], (n,)).reshape(shape)
     with np.errstate(divide="ignore", invalid="ignore"):
         fe = np.where(per[..., None] > 0, np.log(np.abs(mu)) / (np.maximum(per, 1) * T)[..., None], 0.0)
-    return PeriodicOrbits(per, wnd.reshape(shape), tp.reshape(shape), op.reshape(shape), mu,
-                          (per > 0) & (np.abs(mu[..., 0]) < 1), fe, res.reshape(shape))
+    stable = (per > 0) & (np.abs(mu[..., 0]) < 1)
+    wnd, tp, op, resid = wnd.reshape(shape), tp.reshape(shape), op.reshape(shape), resid.reshape(shape)
+    _dc.nan_failed(res, tp, op, mu, fe, resid)
+    bad = res.codes != OK
+    per, wnd = np.where(bad, FAILED, per), np.where(bad, FAILED, wnd)
+    return PeriodicOrbits(per, wnd, tp, op, mu, stable & ~bad, fe, resid, res.codes, res.message, inputs)
 
 
-def periodic_orbits(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, tol=1e-6,
-                    steps_per_period=DRIVEN_DEFAULT_STEPS, threads=0, progress=None):
+def periodic_orbits(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
+                    transient=200, nmax=8, tol=1e-6,
+                    steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None):
     """Detect the periodic attractor each state settles on and locate it by Newton's method.
 
     After ``transient`` periods the strobe points (t = k T) are tested for a
@@ -441,9 +607,14 @@ def periodic_orbits(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, 
     drive : Drive
         The drive.
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     transient : int, optional
         Drive periods before detection (default 200).
     nmax : int, optional
@@ -452,8 +623,9 @@ def periodic_orbits(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, 
         Detection tolerance on strobe points, > 0 (default 1e-6).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (states).
 
@@ -472,7 +644,7 @@ def periodic_orbits(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, 
     Examples
     --------
     >>> d = pendula.Drive("torque", 1.07, 2/3)
-    >>> o = pendula.periodic_orbits(0.2, 0.0, drive=d, gamma=0.5)
+    >>> o = pendula.periodic_orbits(0.2, 0.0, drive=d, w0=1.0, gamma=0.5)
     >>> int(o.period), bool(o.stable)
     (2, True)
     """
@@ -481,13 +653,14 @@ def periodic_orbits(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, 
     transient = _dc.count_arg(transient, "transient", 0)
     nmax = _dc.count_arg(nmax, "nmax", 1, ORBIT_MAX_PERIOD)
     tol = _positive(tol, "tol")
-    th = _dc.threads_arg(threads)
-    shape, scalar, args = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    return _orbits(drive, args, shape, [0], steps, transient, nmax, tol, th, progress)
+    check_threads(threads)
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    return _orbits(drive, args, inputs, shape, [0], steps, transient, nmax, tol, threads, progress)
 
 
-def find_periodic_orbit(theta0, omega0, *, drive, period=1, w0=1.0, gamma=0.0,
-                        steps_per_period=DRIVEN_DEFAULT_STEPS, threads=0):
+def find_periodic_orbit(theta0, omega0, *, drive, period=1, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
+                        steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS):
     """Locate a periodic orbit of a given period by Newton's method from a guess (stable or not).
 
     Parameters
@@ -499,13 +672,19 @@ def find_periodic_orbit(theta0, omega0, *, drive, period=1, w0=1.0, gamma=0.0,
     period : int, optional
         The period in drive periods, in [1, 64] (default 1).
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
 
     Returns
     -------
@@ -525,16 +704,17 @@ def find_periodic_orbit(theta0, omega0, *, drive, period=1, w0=1.0, gamma=0.0,
     Omega = 20 w0) is stable:
 
     >>> d = pendula.Drive("pivot", 0.1, 20.0)
-    >>> o = pendula.find_periodic_orbit(np.pi, 0.0, drive=d, gamma=0.1)
+    >>> o = pendula.find_periodic_orbit(np.pi, 0.0, drive=d, w0=1.0, gamma=0.1)
     >>> bool(o.stable)
     True
     """
     drive = _dc.drive_arg(drive)
     steps = _dc.steps_arg(steps_per_period)
     period = _dc.count_arg(period, "period", 1, ORBIT_MAX_PERIOD)
-    th = _dc.threads_arg(threads)
-    shape, scalar, args = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    return _orbits(drive, args, shape, [period], steps, 0, 1, 1e-6, th, None)
+    check_threads(threads)
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    return _orbits(drive, args, inputs, shape, [period], steps, 0, 1, 1e-6, threads, None)
 
 
 def _positive(x, name):
@@ -545,7 +725,7 @@ def _positive(x, name):
 
 
 @dataclasses.dataclass
-class Basins:
+class Basins(_Outcome):
     """Basins of attraction (built by :func:`basins`).
 
     Attributes
@@ -561,10 +741,18 @@ class Basins:
         The table: ``period``, ``winding``, ``theta`` and ``omega`` (the
         strobe point of smallest angle) and ``mean_omega`` [rad/s] (running
         orbits: 2 pi winding / (period T)); entry k - 1 is label k.
+    codes : numpy.ndarray
+        Status code of each state (0: OK); a failed state has ``labels``,
+        ``period`` and ``winding`` ``FAILED`` (-2**31) and ``ok`` False.
+    message : str
+        '' when every state succeeded, else how many failed and the first.
+    inputs : dict
+        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
+        drive's kind, amplitude, frequency and phase.
 
     Examples
     --------
-    >>> b = pendula.basins([0.0, 1.0], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5)
+    >>> b = pendula.basins([0.0, 1.0], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5)
     >>> b.labels.tolist(), b.attractors["period"].tolist()
     ([1, 1], [1])
     """
@@ -573,6 +761,9 @@ class Basins:
     period: np.ndarray
     winding: np.ndarray
     attractors: dict
+    codes: np.ndarray = None
+    message: str = ""
+    inputs: dict = None
 
     def to_pandas(self):
         """The attractor table.
@@ -584,7 +775,7 @@ class Basins:
 
         Examples
         --------
-        >>> b = pendula.basins([0.0, 2.0], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), gamma=0.5)
+        >>> b = pendula.basins([0.0, 2.0], 0.0, drive=pendula.Drive("torque", 0.9, 2/3), w0=1.0, gamma=0.5)
         >>> b.to_pandas().index.name
         'label'
         """
@@ -594,8 +785,9 @@ class Basins:
         return df
 
 
-def basins(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, tol=1e-6, max_attractors=64,
-           steps_per_period=DRIVEN_DEFAULT_STEPS, threads=0, progress=None):
+def basins(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=200,
+           nmax=8, tol=1e-6, max_attractors=64, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS,
+           progress=None, client=None, chunk_states=CHUNK_STATES):
     """Which attractor each initial state settles on: a basin map.
 
     Parameters
@@ -606,9 +798,14 @@ def basins(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, t
     drive : Drive
         The drive.
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     transient : int, optional
         Drive periods before classification (default 200).
     nmax : int, optional
@@ -620,10 +817,19 @@ def basins(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, t
         Capacity of the attractor table (default 64).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (states).
+
+    client : dask.distributed.Client, optional
+        Run on Dask in chunks of ``chunk_states`` states (one thread each);
+        the chunks return each state's attractor and the table is built from
+        them in state order as the local call builds it, so the map is bit
+        for bit the local one.
+    chunk_states : int, optional
+        States per Dask chunk (default ``pendula._defaults.CHUNK_STATES``).
 
     Returns
     -------
@@ -641,7 +847,7 @@ def basins(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, t
     Examples
     --------
     >>> d = pendula.Drive("torque", 0.9, 2/3)
-    >>> b = pendula.basins(np.linspace(-3, 3, 4)[:, None], np.linspace(-2, 2, 3)[None, :], drive=d, gamma=0.5)
+    >>> b = pendula.basins(np.linspace(-3, 3, 4)[:, None], np.linspace(-2, 2, 3)[None, :], drive=d, w0=1.0, gamma=0.5)
     >>> b.labels.shape
     (4, 3)
     """
@@ -651,14 +857,33 @@ def basins(theta0, omega0, *, drive, w0=1.0, gamma=0.0, transient=200, nmax=8, t
     nmax = _dc.count_arg(nmax, "nmax", 1, ORBIT_MAX_PERIOD)
     cap = _dc.count_arg(max_attractors, "max_attractors", 1, 100_000)
     tol = _positive(tol, "tol")
-    th = _dc.threads_arg(threads)
-    shape, scalar, args = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    check_threads(threads)
+    _dc.check_client(client)
+    chunk_states = _dc.count_arg(chunk_states, "chunk_states", 1)
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
     n = args["theta0"].size
-    out = _dc.watched(_fortran.basins_f2py, _work(n, steps, transient + 2 * nmax), n, progress, cap=cap,
-                      nsteps=steps, transient=transient, nmax=nmax, tol=tol, threads=th, **args)
-    lab, per, wnd, natt, ap, aw, at, ao, am, codes, first = out
+    work = _work(n, steps, transient + 2 * nmax)
+    opts = dict(cap=cap, nsteps=steps, transient=transient, nmax=nmax, tol=tol)
+    if client is None:
+        out, res = _dc.watched(_fortran.basins_f2py, work, n, progress, shape, ncyc=1,
+                               threads=_dc.threads_arg(threads, work), **opts, **args)
+        lab, per, wnd, natt, ap, aw, at, ao, am, _ = out
+    else:
+        # each chunk returns its states' periods, windings and strobe cycles; the table
+        # is then built from all of them in state order by the same Fortran (basin_table)
+        chunks = [_chunk_args(args, s0, chunk_states, n, threads=1, **dict(opts, cap=1)) for s0 in
+                  range(0, n, chunk_states)]
+        for c in chunks:
+            c["ncyc"] = len(c["theta0"])
+        out, res = _dc.settle(_dc.dask_chunks(client, "basins_f2py", chunks, progress, n), shape)
+        per, wnd, cyc = out[1], out[2], out[9]
+        lab, natt, ap, aw, at, ao, am, code, msg = _fortran.basin_table_f2py(
+            cap=cap, period=per, winding=wnd, cyc=cyc, freq=args["freq"], tol=tol)
+        raise_for_status(code, msg)
     natt = int(natt)
     table = dict(period=ap[:natt].copy(), winding=aw[:natt].copy(), theta=at[:natt].copy(),
                  omega=ao[:natt].copy(), mean_omega=am[:natt].copy())
-    return Basins(lab.reshape(shape), per.reshape(shape), wnd.reshape(shape), table)
-
+    bad = res.codes != OK
+    lab, per, wnd = (np.where(bad, FAILED, np.asarray(a).reshape(shape)) for a in (lab, per, wnd))
+    return Basins(lab, per, wnd, table, res.codes, res.message, inputs)

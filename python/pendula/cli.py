@@ -212,7 +212,7 @@ def build_parser():
     w.add_argument("--no-png", action="store_true", help="skip the figure (no matplotlib needed)")
     _add_physics(w, w0=True)
     _cli_fit.add_parser(sub, _positive)
-    _cli_driven.add_parsers(sub)   # poincare, bifurcation, lyapunov, basins
+    _cli_driven.add_parsers(sub, _add_physics)   # poincare, bifurcation, lyapunov, basins
     for parser in (p, *sub.choices.values()):
         accept_negative_values(parser)
     return p

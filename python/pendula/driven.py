@@ -18,10 +18,11 @@ import math
 import numpy as np
 
 from . import _driven_call as _dc
+from . import _fortran, _tables
 from ._arrays import as_real, broadcast_real, real_scalar
-from ._codes import DRIVE_PIVOT, DRIVE_TORQUE, DRIVEN_DEFAULT_STEPS
+from ._codes import DRIVE_PIVOT, DRIVE_TORQUE, DRIVEN_DEFAULT_STEPS, OK
+from ._defaults import THREADS
 from ._errors import raise_for_status
-from . import _fortran
 
 __all__ = ["Drive", "DrivenResult", "driven", "driven_linear", "resonance_curve"]
 
@@ -105,6 +106,13 @@ class DrivenResult:
         Angular velocities [rad/s], same shape.
     theta_err, omega_err : numpy.ndarray or None
         Richardson error estimates (``error=True``), same shape.
+    codes : numpy.ndarray
+        Status code of each state (0: OK); a failed state is NaN throughout.
+    message : str
+        '' when every state succeeded, else how many failed and the first.
+    inputs : dict
+        theta0, omega0, w0, gamma (broadcast to the states' shape) and the
+        drive's kind, amplitude, frequency and phase.
 
     Examples
     --------
@@ -118,6 +126,14 @@ class DrivenResult:
     omega: np.ndarray
     theta_err: np.ndarray = None
     omega_err: np.ndarray = None
+    codes: np.ndarray = None
+    message: str = ""
+    inputs: dict = None
+
+    @property
+    def ok(self):
+        """Mask of the states that succeeded."""
+        return np.asarray(self.codes) == OK
 
     def to_pandas(self):
         """The result as a long table, one row per state and time.
@@ -126,13 +142,14 @@ class DrivenResult:
         -------
         pandas.DataFrame
             Columns ``state``, ``t``, ``theta``, ``omega`` (and the error
-            estimates when computed).
+            estimates when computed), then each state's inputs ``theta0``,
+            ``omega0``, ``w0``, ``gamma`` and ``code``.
 
         Examples
         --------
         >>> r = pendula.driven([0.0, 1.0], 0.1, 0.0, drive=pendula.Drive("torque", 0.5, 2/3))
         >>> list(r.to_pandas().columns)
-        ['state', 't', 'theta', 'omega']
+        ['state', 't', 'theta', 'omega', 'theta0', 'omega0', 'w0', 'gamma', 'code']
         """
         import pandas as pd
         th = self.theta.reshape(-1, len(self.t))
@@ -141,11 +158,45 @@ class DrivenResult:
         if self.theta_err is not None:
             cols["theta_err"] = self.theta_err.ravel()
             cols["omega_err"] = self.omega_err.ravel()
-        return pd.DataFrame(cols)
+        return pd.DataFrame({**cols, **_state_columns(self, len(self.t))})
+
+    def to_xarray(self):
+        """The result as an xarray Dataset.
+
+        Returns
+        -------
+        xarray.Dataset
+            theta and omega (and the error estimates) over (batch dims, t);
+            ``codes`` over the batch dims; the inputs theta0, omega0, w0,
+            gamma as coordinates and the drive's parameters as attributes.
+
+        Examples
+        --------
+        >>> r = pendula.driven([0.0, 1.0], [0.1, 0.2], 0.0, drive=pendula.Drive("torque", 0.5, 2/3), w0=1.0)
+        >>> ds = r.to_xarray()
+        >>> ds["theta"].dims, ds["w0"].values.tolist()
+        (('batch', 't'), [1.0, 1.0])
+        """
+        fields = {"theta": self.theta, "omega": self.omega, "theta_err": self.theta_err, "omega_err": self.omega_err}
+        coords = {k: v for k, v in (self.inputs or {}).items() if k in ("theta0", "omega0", "w0", "gamma")}
+        attrs = {k: v for k, v in (self.inputs or {}).items() if k in ("kind", "amplitude", "frequency", "phase")}
+        return _tables.dataset(self.t, fields, np.shape(self.codes), per_state={"codes": self.codes}, attrs=attrs,
+                               coords=coords)
 
 
-def driven(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0, steps_per_period=DRIVEN_DEFAULT_STEPS, error=False,
-           threads=0, progress=None):
+def _state_columns(result, repeat=1):
+    """Each state's inputs and code as table columns, each value repeated ``repeat`` times."""
+    cols = {}
+    for k in ("theta0", "omega0", "w0", "gamma"):
+        if result.inputs is not None and k in result.inputs:
+            cols[k] = np.repeat(np.asarray(result.inputs[k], dtype=float).reshape(-1), repeat)
+    if result.codes is not None:
+        cols["code"] = np.repeat(np.asarray(result.codes).reshape(-1), repeat)
+    return cols
+
+
+def driven(t, theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
+           steps_per_period=DRIVEN_DEFAULT_STEPS, error=False, threads=THREADS, progress=None):
     """Integrate driven damped pendulums by RK4 with a whole number of steps per drive period.
 
     Parameters
@@ -160,36 +211,51 @@ def driven(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0, steps_per_period=DRIV
     drive : Drive
         The drive (its kind, amplitude, frequency and phase).
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length) (the text's
+        value for the one not given; with w0 only when they agree).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
     steps_per_period : int, optional
         RK4 steps per drive period N (default 128); h = T/N.  Error O(h^4).
     error : bool, optional
         Also estimate the error by Richardson extrapolation (a second run
         with 2 N steps: ``|x_N - x_2N| 16/15``).
-    threads : int, optional
-        OpenMP threads (0: the OpenMP default).
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (states).
 
     Returns
     -------
     DrivenResult
-        ``theta`` and ``omega`` of shape ``broadcast_shape + (len(t),)``.
+        ``theta`` and ``omega`` of shape ``broadcast_shape + (len(t),)``; a
+        state that failed (too few steps per period for its w0, gamma and the
+        drive, or a state that overflowed) has its code in ``codes`` and NaN
+        throughout.
 
     Raises
     ------
     ValueError
-        Bad times or parameters, or too few steps per period for w0, gamma
-        and the drive (the message names the argument and its range).
+        Bad times or parameters (the message names the argument and, in a
+        batch, the state: ``w0[1] = -1.0 ...``).
+    PendulaSolverError
+        Only when every state failed (the first state's error).
     TypeError
         Non-real input, or a drive that is not a pendula.Drive.
 
     Examples
     --------
+    The dimensionless pendulum of Baker and Gollub (w0 = 1, gamma = 0.5,
+    Omega = 2/3):
+
     >>> d = pendula.Drive("torque", 1.15, 2/3)
-    >>> r = pendula.driven(np.linspace(0.0, 30.0, 4), [0.2, 0.3], 0.0, drive=d, gamma=0.5, error=True)
+    >>> r = pendula.driven(np.linspace(0.0, 30.0, 4), [0.2, 0.3], 0.0, drive=d, w0=1.0, gamma=0.5, error=True)
     >>> r.theta.shape
     (2, 4)
     >>> bool(np.all(r.theta_err < 1e-4))
@@ -198,22 +264,24 @@ def driven(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0, steps_per_period=DRIV
     drive = _dc.drive_arg(drive)
     tt = _dc.times_arg(t)
     steps = _dc.steps_arg(steps_per_period)
-    th = _dc.threads_arg(threads)
     if not isinstance(error, bool):
         raise TypeError(f"error must be True or False, got {type(error).__name__}")
-    shape, scalar, args = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
+    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
     n = args["theta0"].size
     work = n * steps * max(tt[-1] - tt[0], 0.0) / drive.period if tt.size else 0
-    theta, omega, et, eo, codes, first = _dc.watched(
-        _fortran.driven_f2py, work * (3 if error else 1), n, progress, t=tt, nsteps=steps,
+    th = _dc.threads_arg(threads, work)
+    (theta, omega, et, eo), res = _dc.watched(
+        _fortran.driven_f2py, work * (3 if error else 1), n, progress, shape, t=tt, nsteps=steps,
         richardson=int(error), threads=th, **args)
     out = [np.ascontiguousarray(a.T).reshape(shape + (tt.size,)) for a in (theta, omega, et, eo)]
     if not error:
         out[2] = out[3] = None
-    return DrivenResult(tt, out[0], out[1], out[2], out[3])
+    _dc.nan_failed(res, *out)
+    return DrivenResult(tt, out[0], out[1], out[2], out[3], res.codes, res.message, inputs)
 
 
-def driven_linear(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0):
+def driven_linear(t, theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None):
     """The linearised torque-driven damped oscillator in closed form.
 
     theta'' + gamma theta' + w0^2 theta = F cos(Omega t + phi): the steady
@@ -230,10 +298,16 @@ def driven_linear(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0):
     drive : Drive
         A torque drive (a pivot's linearisation, Mathieu's equation, has no
         closed form).
-    w0 : float, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
-    gamma : float, optional
-        Damping rate [1/s], >= 0 (default 0).
+    w0 : float or array_like, optional
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
+    gamma : float or array_like, optional
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length) (the text's
+        value for the one not given; with w0 only when they agree).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
 
     Returns
     -------
@@ -258,6 +332,7 @@ def driven_linear(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0):
     tt = as_real(t, "t")
     th0 = real_scalar(theta0, "theta0")
     om0 = real_scalar(omega0, "omega0")
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
     w = real_scalar(w0, "w0")
     g = real_scalar(gamma, "gamma")
     if drive.kind != "torque":
@@ -268,7 +343,7 @@ def driven_linear(t, theta0, omega0, *, drive, w0=1.0, gamma=0.0):
     return theta.reshape(tt.shape), omega.reshape(tt.shape)
 
 
-def resonance_curve(frequency, *, w0=1.0, gamma=0.0):
+def resonance_curve(frequency, *, w0=None, gamma=None, g=None, length=None, b=None, mass=None):
     """Steady-state gain and phase lag of the linear oscillator driven at a frequency.
 
     For theta'' + gamma theta' + w0^2 theta = F cos(Omega t) the steady
@@ -281,9 +356,15 @@ def resonance_curve(frequency, *, w0=1.0, gamma=0.0):
     frequency : float or array_like
         Drive frequency Omega [rad/s], finite and > 0.
     w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0 (default 1).
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
     gamma : float or array_like, optional
-        Damping rate [1/s], >= 0 (default 0).
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length) (the text's
+        value for the one not given; with w0 only when they agree).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
 
     Returns
     -------
@@ -305,6 +386,7 @@ def resonance_curve(frequency, *, w0=1.0, gamma=0.0):
     >>> round(gain, 12), round(lag, 12)
     (5.0, 1.570796326795)
     """
+    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
     shape, scalar, f = broadcast_real(frequency=frequency, w0=w0, gamma=gamma)
     for name, lo_ok in (("frequency", lambda x: x > 0), ("w0", lambda x: x > 0), ("gamma", lambda x: x >= 0)):
         a = f[name]

@@ -19,7 +19,7 @@ module pendula_driven_orbits
   use pendula_constants, only: pi
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_positive, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE
+      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_MEMORY
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
@@ -27,7 +27,7 @@ module pendula_driven_orbits
       params_summary, first_message, wrap_angle
   implicit none
   private
-  public :: driven_orbits, driven_basins, BASIN_UNSETTLED, BASIN_UNLISTED, &
+  public :: driven_orbits, driven_basins, basin_table, BASIN_UNSETTLED, BASIN_UNLISTED, &
       ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD
 
   integer, parameter :: nl = DRIVEN_LANES
@@ -375,7 +375,7 @@ contains
   !> first_failed as driven_poincare.
   subroutine driven_basins(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, transient, nmax, tol, &
       labels, period, winding, natt, att_period, att_winding, att_theta, att_omega, att_mean_omega, codes, &
-      status, threads, control, first_failed)
+      status, threads, control, first_failed, cycles)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n or 1
@@ -403,12 +403,14 @@ contains
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag and progress counter (finished states)
     integer, intent(out), optional :: first_failed  !< first failed state (0: none)
+    real(wp), intent(out), optional :: cycles(:, :, :)
+    !< each state's strobe cycle (2, nmax, n): the input of basin_table, which builds the
+    !< same table from the states of several calls (chunks of a sweep)
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
-    real(wp), allocatable :: cyc(:, :, :), acyc(:, :, :)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, n, a, k, j, cap
+    real(wp), allocatable :: cyc(:, :, :)
+    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, n, cap
     character(len=len(status%message)) :: msg
-    real(wp) :: dmin
     th = 0
     if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
@@ -441,7 +443,7 @@ contains
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg)
-    allocate (cyc(2, nmax, n), acyc(2, nmax, cap))
+    allocate (cyc(2, nmax, n))
     cyc = 0
     nblocks = (nlive + nl - 1) / nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
@@ -450,19 +452,75 @@ contains
           codes, control)
     end do
     !$omp end parallel do
-    ! the attractor table, in state order (serial: the labels do not depend on the threads)
     do i = 1, n
       if (codes(i) /= PENDULA_OK) then
         period(i) = 0
         winding(i) = 0
       end if
+    end do
+    if (present(cycles)) call check_same_size('cycles', size(cycles), 'cyc', size(cyc), status)
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
+      return
+    end if
+    if (present(cycles)) cycles = cyc
+    call basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
+        att_omega, att_mean_omega, status)
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
+      return
+    end if
+    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
+    if (present(first_failed)) first_failed = ff
+  end subroutine driven_basins
+
+  !> The attractor table of a basin map from its states' periods, windings and
+  !> strobe cycles (2, nmax, n), in state order: a state of period > 0 gets the
+  !> label of the first attractor of its period and winding with a cycle point
+  !> within 10 tol of its first strobe point, else a new one (BASIN_UNLISTED when
+  !> the table is full); period 0 leaves BASIN_UNSETTLED.  Serial, so the labels
+  !> depend neither on the threads nor on how the states were split into calls.
+  pure subroutine basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
+      att_omega, att_mean_omega, status)
+    integer, intent(in) :: period(:)  !< period of each state's attractor (0: none), n
+    integer, intent(in) :: winding(:)  !< its winding, n
+    real(wp), intent(in) :: cyc(:, :, :)  !< strobe cycles (2, nmax, n) [rad, rad/s]
+    real(wp), intent(in) :: freq(:)  !< drive frequencies Omega [rad/s], n or 1
+    real(wp), intent(in) :: tol  !< settling tolerance [rad, rad/s]
+    integer, intent(out) :: labels(:)  !< attractor label of each state, n
+    integer, intent(out) :: natt  !< attractors in the table
+    integer, intent(out) :: att_period(:)  !< period of each attractor (capacity = size)
+    integer, intent(out) :: att_winding(:)  !< winding of each attractor
+    real(wp), intent(out) :: att_theta(:)  !< strobe angle of smallest angle [rad]
+    real(wp), intent(out) :: att_omega(:)  !< its angular velocity [rad/s]
+    real(wp), intent(out) :: att_mean_omega(:)  !< mean angular velocity [rad/s]
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or PENDULA_ERR_MEMORY (the table's index not allocated)
+    integer, allocatable :: first(:)   ! the state that opened each attractor
+    real(wp) :: dmin
+    integer :: i, a, k, j, cap, ios
+    cap = size(att_period)
+    labels = BASIN_UNSETTLED
+    natt = 0
+    att_period = 0
+    att_winding = 0
+    att_theta = 0
+    att_omega = 0
+    att_mean_omega = 0
+    allocate (first(cap), stat=ios)
+    if (ios /= 0) then
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: the attractor table of ' // format_int(cap) // &
+          ' entries could not be allocated')
+      return
+    end if
+    do i = 1, size(period)
       if (period(i) == 0) cycle
       labels(i) = BASIN_UNLISTED
       do a = 1, natt
         if (att_period(a) /= period(i) .or. att_winding(a) /= winding(i)) cycle
         dmin = huge(1.0_wp)
         do k = 1, period(i)
-          dmin = min(dmin, max(abs(wrap_angle(acyc(1, k, a) - cyc(1, 1, i))), abs(acyc(2, k, a) - cyc(2, 1, i))))
+          dmin = min(dmin, max(abs(wrap_angle(cyc(1, k, first(a)) - cyc(1, 1, i))), &
+              abs(cyc(2, k, first(a)) - cyc(2, 1, i))))
         end do
         if (dmin <= 10 * tol) then
           labels(i) = a
@@ -474,22 +532,20 @@ contains
         labels(i) = natt
         att_period(natt) = period(i)
         att_winding(natt) = winding(i)
-        acyc(:, :, natt) = cyc(:, :, i)
+        first(natt) = i
         j = minloc(cyc(1, 1:period(i), i), 1)
         att_theta(natt) = cyc(1, j, i)
         att_omega(natt) = cyc(2, j, i)
         att_mean_omega(natt) = 2 * pi * winding(i) * pick1(freq, i) / (2 * pi * period(i))
       end if
     end do
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
-    if (present(first_failed)) first_failed = ff
   contains
     pure real(wp) function pick1(a, i)
       real(wp), intent(in) :: a(:)
       integer, intent(in) :: i
       pick1 = a(merge(i, 1, size(a) > 1))
     end function pick1
-  end subroutine driven_basins
+  end subroutine basin_table
 
   subroutine basin_block(p, idx, transient, nmax, tol, period, winding, cyc, codes, control)
     type(driven_params_t), intent(in) :: p

@@ -19,7 +19,7 @@ program test_driven
   use pendula_driven_kernel, only: lane_sincos
   use pendula_driven, only: driven_solve, driven_batch_solve
   use pendula_driven_maps, only: driven_poincare, driven_bifurcation, driven_lyapunov, PARAM_AMPLITUDE
-  use pendula_driven_orbits, only: driven_orbits, driven_basins, BASIN_UNSETTLED
+  use pendula_driven_orbits, only: driven_orbits, driven_basins, basin_table, BASIN_UNSETTLED
   use pendula_driven_linear, only: driven_linear_solve, driven_linear_response
   use pendula_testing, only: checker_t, time_grid
   implicit none
@@ -172,6 +172,8 @@ contains
     integer, parameter :: n = 24
     real(wp) :: ts(5, 3), os(5, 3), mo(3), th0(n), om0(n), at(8), ao(8), am(8)
     integer :: codes(3), lab(n), per(n), wnd(n), natt, ap(8), aw(8), cn(n), i
+    integer :: lab2(n), per2(n), wnd2(n), natt2, ap2(8), aw2(8)
+    real(wp) :: cyc(2, 8, n), at2(8), ao2(8), am2(8)
     type(status_t) :: st
     call driven_bifurcation(PARAM_AMPLITUDE, [0.9_wp, 1.07_wp, 1.15_wp], 0.2_wp, 0.0_wp, 1.0_wp, 0.5_wp, &
         DRIVE_TORQUE, 0.0_wp, 2.0_wp / 3, 0.0_wp, 128, 0.0_wp, 300, 5, ts, os, mo, codes, st)
@@ -188,6 +190,16 @@ contains
         1.0e-6_wp, lab, per, wnd, natt, ap, aw, at, ao, am, cn, st)
     call tc%check_true(st%code == PENDULA_OK .and. natt >= 1, 'basins ok')
     call tc%check_true(all(lab /= BASIN_UNSETTLED .eqv. per > 0), 'unsettled exactly where no period was found')
+    ! the same map in two calls (chunks), its table built from their cycles: identical
+    call driven_basins(th0(:n / 2), om0(:n / 2), [1.0_wp], [0.5_wp], DRIVE_TORQUE, [0.9_wp], [2.0_wp / 3], &
+        [0.0_wp], 128, 200, 8, 1.0e-6_wp, lab2(:n / 2), per2(:n / 2), wnd2(:n / 2), natt2, ap2(1:1), aw2(1:1), &
+        at2(1:1), ao2(1:1), am2(1:1), cn(:n / 2), st, cycles=cyc(:, :, :n / 2))
+    call driven_basins(th0(n / 2 + 1:), om0(n / 2 + 1:), [1.0_wp], [0.5_wp], DRIVE_TORQUE, [0.9_wp], [2.0_wp / 3], &
+        [0.0_wp], 128, 200, 8, 1.0e-6_wp, lab2(n / 2 + 1:), per2(n / 2 + 1:), wnd2(n / 2 + 1:), natt2, ap2(1:1), &
+        aw2(1:1), at2(1:1), ao2(1:1), am2(1:1), cn(n / 2 + 1:), st, cycles=cyc(:, :, n / 2 + 1:))
+    call basin_table(per2, wnd2, cyc, [2.0_wp / 3], 1.0e-6_wp, lab2, natt2, ap2, aw2, at2, ao2, am2, st)
+    call tc%check_true(st%code == PENDULA_OK .and. natt2 == natt .and. all(lab2 == lab) .and. &
+        all(at2(:natt) == at(:natt)) .and. all(am2(:natt) == am(:natt)), 'basin_table of two chunks = one call')
   end subroutine test_sections_basins
 
   subroutine test_refused()

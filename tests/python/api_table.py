@@ -284,6 +284,7 @@ _TRANSIENT = Arg(OTHER, extra=((-1, ValueError), (2.5, TypeError), ("3", TypeErr
 _STATES = dict(theta0=Arg(REAL, array=True), omega0=Arg(REAL, array=True), w0=Arg(POS, array=True),
                gamma=Arg(NONNEG, array=True), drive=_DRIVE, steps_per_period=Arg(COUNT, extra=((7, ValueError),)),
                threads=THREADS)
+_DASK = dict(chunk_states=Arg(COUNT), client=Arg(OTHER, extra=(("tcp://x", TypeError),)))
 _CHAOS = dict(theta0=0.2, omega0=0.0, w0=1.0, gamma=0.5, drive=pendula.Drive("torque", 0.9, 2 / 3),
               steps_per_period=32)
 API.update({
@@ -298,10 +299,10 @@ API.update({
                                                                                    ([], ValueError))),
                                    theta0=Arg(REAL), omega0=Arg(REAL), w0=Arg(POS), gamma=Arg(NONNEG), drive=_DRIVE,
                                    transient=_TRANSIENT, points=Arg(COUNT), section_phase=Arg(REAL),
-                                   steps_per_period=Arg(COUNT), threads=THREADS, progress=_PROGRESS)),
+                                   steps_per_period=Arg(COUNT), threads=THREADS, progress=_PROGRESS, **_DASK)),
     "lyapunov": Entry(valid=dict(transient=2, periods=16, **_CHAOS),
                       args=dict(transient=_TRANSIENT, periods=Arg(COUNT, extra=((15, ValueError),)),
-                                progress=_PROGRESS, **_STATES)),
+                                progress=_PROGRESS, **_DASK, **_STATES)),
     "periodic_orbits": Entry(valid=dict(transient=5, nmax=2, tol=1e-3, **_CHAOS),
                              args=dict(transient=_TRANSIENT, nmax=Arg(COUNT, extra=((65, ValueError),)), tol=Arg(POS),
                                        progress=_PROGRESS, **_STATES)),
@@ -309,7 +310,7 @@ API.update({
                                  args=dict(period=Arg(COUNT, extra=((65, ValueError),)), **_STATES)),
     "basins": Entry(valid=dict(transient=5, nmax=2, tol=1e-3, max_attractors=4, **_CHAOS),
                     args=dict(transient=_TRANSIENT, nmax=Arg(COUNT), tol=Arg(POS), max_attractors=Arg(COUNT),
-                              progress=_PROGRESS, **_STATES)),
+                              progress=_PROGRESS, **_DASK, **_STATES)),
     "driven_linear": Entry(valid=dict(t=[0.0, 1.0, 2.0], theta0=0.01, omega0=0.0, w0=1.0, gamma=0.2,
                                       drive=pendula.Drive("torque", 0.01, 1.3)),
                            args=dict(t=Arg(OTHER, extra=(([NAN], ValueError), ([-1.0], ValueError))),

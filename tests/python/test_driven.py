@@ -52,7 +52,7 @@ def test_driven_against_dop853_and_order_four():
     d = pendula.Drive("torque", 1.15, 2 / 3, 0.3)
     errs = []
     for n in (80, 160, 320):
-        r = pendula.driven(t, 0.2, 0.0, drive=d, gamma=0.5, steps_per_period=n, error=(n == 80))
+        r = pendula.driven(t, 0.2, 0.0, drive=d, w0=1.0, gamma=0.5, steps_per_period=n, error=(n == 80))
         errs.append(np.max(np.abs(r.theta - sol.y[0])))
         if n == 80:
             ratio = np.abs(r.theta - sol.y[0])[1:] / r.theta_err[1:]
@@ -67,26 +67,26 @@ def test_a_start_a_million_periods_later_is_the_same_motion():
     # to the rounding of t0 itself (Omega ulp(t0) ~ 1e-9 rad), not h * steps.
     d = pendula.Drive("torque", 0.9, 2 / 3)
     T = d.period
-    a = pendula.driven([0.0, 3 * T], 0.4, 0.1, drive=d, gamma=0.5, steps_per_period=32)
-    b = pendula.driven([1e6 * T, (1e6 + 3) * T], 0.4, 0.1, drive=d, gamma=0.5, steps_per_period=32)
+    a = pendula.driven([0.0, 3 * T], 0.4, 0.1, drive=d, w0=1.0, gamma=0.5, steps_per_period=32)
+    b = pendula.driven([1e6 * T, (1e6 + 3) * T], 0.4, 0.1, drive=d, w0=1.0, gamma=0.5, steps_per_period=32)
     assert abs(a.theta[-1] - b.theta[-1]) < 2 * d.frequency * np.spacing(1e6 * T) * 3
 
 
 def test_batch_equals_single_state_bit_for_bit():
     t = [0.0, 1.0, 9.5, 30.0]
     th0 = np.linspace(-3, 3, 11)
-    r = pendula.driven(t, th0, 0.1, drive=CHAOS, gamma=0.3, threads=2)
+    r = pendula.driven(t, th0, 0.1, drive=CHAOS, w0=1.0, gamma=0.3, threads=2)
     for i, x in enumerate(th0):
-        one = pendula.driven(t, x, 0.1, drive=CHAOS, gamma=0.3, threads=1)
+        one = pendula.driven(t, x, 0.1, drive=CHAOS, w0=1.0, gamma=0.3, threads=1)
         assert np.array_equal(one.theta, r.theta[i]) and np.array_equal(one.omega, r.omega[i])
-    ly = pendula.lyapunov(th0[:9], 0.0, drive=CHAOS, gamma=0.5, periods=32, threads=2)
-    assert np.array_equal(pendula.lyapunov(th0[4], 0.0, drive=CHAOS, gamma=0.5, periods=32).exponents,
+    ly = pendula.lyapunov(th0[:9], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=32, threads=2)
+    assert np.array_equal(pendula.lyapunov(th0[4], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=32).exponents,
                           ly.exponents[4])
 
 
 def test_lyapunov_sum_rule_and_finite_time_exponents_against_scipy():
     scipy = pytest.importorskip("scipy.integrate")
-    r = pendula.lyapunov([0.2, 1.0, -2.0], 0.0, drive=CHAOS, gamma=0.5, transient=0, periods=32,
+    r = pendula.lyapunov([0.2, 1.0, -2.0], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, transient=0, periods=32,
                          steps_per_period=2000)
     assert np.max(np.abs(r.exponents.sum(axis=-1) + 0.5)) < 1e-10
     # finite-time exponents over 16 periods from the same start, Gram-Schmidt each period, DOP853
@@ -105,15 +105,15 @@ def test_lyapunov_sum_rule_and_finite_time_exponents_against_scipy():
         logs += np.log([r11, r22])
         y = np.concatenate([y[:2], v1, v2 / r22])
     ref = logs / (16 * T)
-    got = pendula.lyapunov(0.2, 0.0, drive=PERIOD1, gamma=0.5, transient=0, periods=16, steps_per_period=1024)
+    got = pendula.lyapunov(0.2, 0.0, drive=PERIOD1, w0=1.0, gamma=0.5, transient=0, periods=16, steps_per_period=1024)
     assert np.max(np.abs(got.exponents - ref)) < 1e-9, (got.exponents, ref)
 
 
 def test_chaotic_exponent_is_positive_and_its_error_estimate_covers_the_truth():
-    long = pendula.lyapunov(0.2, 0.0, drive=CHAOS, gamma=0.5, transient=100, periods=20000)
+    long = pendula.lyapunov(0.2, 0.0, drive=CHAOS, w0=1.0, gamma=0.5, transient=100, periods=20000)
     assert 0.05 < long.exponents[0] < 0.2
     starts = np.linspace(-1.0, 1.0, 8)
-    short = pendula.lyapunov(starts, 0.0, drive=CHAOS, gamma=0.5, transient=100, periods=1000)
+    short = pendula.lyapunov(starts, 0.0, drive=CHAOS, w0=1.0, gamma=0.5, transient=100, periods=1000)
     z = np.abs(short.exponents[:, 0] - long.exponents[0]) / np.hypot(short.errors[:, 0], long.errors[0])
     assert np.all(short.errors[:, 0] > 0) and np.all(z < 4), z
     assert np.mean(z < 2) >= 0.75, z
@@ -135,19 +135,20 @@ def test_periodic_orbit_floquet_multipliers_give_the_lyapunov_exponents():
 
 def test_kapitza_inverted_pendulum_threshold():
     # stable iff (a/l)^2 Omega^2 / 2 > w0^2 (Kapitza; Landau & Lifshitz section 30), fast drive Omega = 20 w0
-    above = pendula.find_periodic_orbit(np.pi, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), gamma=0.1)
-    below = pendula.find_periodic_orbit(np.pi, 0.0, drive=pendula.Drive("pivot", 0.05, 20.0), gamma=0.1)
+    above = pendula.find_periodic_orbit(np.pi, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), w0=1.0, gamma=0.1)
+    below = pendula.find_periodic_orbit(np.pi, 0.0, drive=pendula.Drive("pivot", 0.05, 20.0), w0=1.0, gamma=0.1)
     assert bool(above.stable) and not bool(below.stable)
     # and an integration from near the top stays there
-    r = pendula.driven(np.linspace(0, 60, 7), np.pi - 0.1, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), gamma=0.1)
+    r = pendula.driven(np.linspace(0, 60, 7), np.pi - 0.1, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), w0=1.0,
+                       gamma=0.1)
     assert np.all(np.abs(r.theta - np.pi) < 0.2)
 
 
 def test_linear_closed_form_and_resonance():
     d = pendula.Drive("torque", 1e-5, 1.3, 0.4)
     t = np.linspace(0, 20, 50)
-    th, om = pendula.driven_linear(t, 2e-5, 0.0, drive=d, gamma=0.2)
-    r = pendula.driven(t, 2e-5, 0.0, drive=d, gamma=0.2, steps_per_period=1000)
+    th, om = pendula.driven_linear(t, 2e-5, 0.0, drive=d, w0=1.0, gamma=0.2)
+    r = pendula.driven(t, 2e-5, 0.0, drive=d, w0=1.0, gamma=0.2, steps_per_period=1000)
     assert np.max(np.abs(th - r.theta)) < 1e-13 and np.max(np.abs(om - r.omega)) < 1e-13
     f = np.array([0.5, 1.0, 2.0])
     gain, lag = pendula.resonance_curve(f, w0=1.0, gamma=0.2)
@@ -161,7 +162,8 @@ def test_sections_bifurcation_and_basins():
     assert np.ptp(b.theta[0]) < 1e-8                                   # period 1
     assert abs(b.theta[1, 2] - b.theta[1, 0]) < 1e-6 < abs(b.theta[1, 1] - b.theta[1, 0])   # period 2
     df = b.to_pandas()
-    assert list(df.columns) == ["amplitude", "k", "theta", "omega"] and len(df) == 18
+    assert list(df.columns)[:4] == ["amplitude", "k", "theta", "omega"] and len(df) == 18
+    assert (df["w0"] == 1.0).all() and (df["gamma"] == 0.5).all() and (df["code"] == 0).all()   # its inputs
     g = pendula.basins(np.linspace(-3, 3, 6)[:, None], np.linspace(-2, 2, 4)[None, :], drive=PERIOD1, **BG)
     assert g.labels.shape == (6, 4)
     assert np.array_equal(g.labels == pendula.UNSETTLED, g.period == 0)
@@ -173,7 +175,8 @@ def test_sections_bifurcation_and_basins():
 
 def test_progress_callback_counts_states():
     seen = []
-    pendula.lyapunov(np.zeros(20), 0.0, drive=CHAOS, gamma=0.5, periods=16, progress=lambda d, n: seen.append((d, n)))
+    pendula.lyapunov(np.zeros(20), 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=16,
+                     progress=lambda d, n: seen.append((d, n)))
     assert seen and seen[-1] == (20, 20)
 
 
@@ -182,7 +185,7 @@ def test_progress_callback_counts_states():
     (lambda: pendula.Drive("torque", math.nan, 1.0), "amplitude"),
     (lambda: pendula.Drive("torque", 1.0, 0.0), "frequency"),
     (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, w0=-1.0), "w0"),
-    (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, gamma=-1.0), "gamma"),
+    (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, w0=1.0, gamma=-1.0), "gamma"),
     (lambda: pendula.driven([1, 0], 0.0, 0.0, drive=CHAOS), "t"),
     (lambda: pendula.driven([0, 1], math.inf, 0.0, drive=CHAOS), "theta0"),
     (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=pendula.Drive("torque", 1, 0.01), steps_per_period=8),

@@ -399,7 +399,7 @@ NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "PendulaSolverError
               # the fits' result container (checked through fit_period / fit_motion)
               "FitResult",
               # the driven pendulum's drive and result containers (test_fuzz_driven.py fuzzes its functions)
-              "Drive", "DrivenResult", "Section", "LyapunovResult", "PeriodicOrbits", "Basins", "UNSETTLED"}
+              "Drive", "DrivenResult", "Section", "LyapunovResult", "PeriodicOrbits", "Basins", "UNSETTLED", "FAILED"}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
 FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "taylor", "Scene", "solve", "run_model",
                                             "tradeoff", "build_info", "have_cvode", "sweep",
@@ -413,5 +413,5 @@ def test_fuzz_covers_every_public_name():
     """A new public name must get a fuzz spec (or be listed as not callable)."""
     missing = sorted(set(pendula.__all__) - FUZZED - NOT_CALLED)
     assert not missing, f"public names with no fuzz spec: {missing}"
-    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "UNSETTLED"} - PLOT_HELPERS:
+    for name in NOT_CALLED - {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "UNSETTLED", "FAILED"} - PLOT_HELPERS:
         assert isinstance(getattr(pendula, name), type), name
