@@ -225,7 +225,7 @@ def _physics_defaults(args):
     (not for ``fit``, where the one given says which is estimated)."""
     if args.command == "fit":
         return
-    if not hasattr(args, "g"):   # a command without the physical flags (the driven pendulum's own)
+    if not hasattr(args, "g"):   # a command without the physical flags
         return
     if getattr(args, "w0", None) is not None and (args.g is not None or args.length is not None):
         raise CliError("--w0 replaces --g and --length (w0 = sqrt(g/l)): give either --w0 or --g/--length")
