@@ -3,11 +3,14 @@
 !> pendula_undamped_eval with the same numbers as undamped_init + undamped_period/undamped_eval.
 !> Users `use pendula_undamped` (the facade).
 module pendula_undamped_many
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
-      check_state, set_geometry, set_period, motion_amplitude, period_needed, UNDAMPED_PLAN_MIN_TIMES
+      check_state, set_geometry, set_period, period_needed, state_parameter, UNDAMPED_PLAN_MIN_TIMES, &
+      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
+  use pendula_constants, only: pi
+  use pendula_elliptic, only: ellipkm1
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many
   implicit none
   private
@@ -158,10 +161,9 @@ contains
     real(wp), intent(out), optional :: m(:)  !< optional elliptic parameters m
     real(wp), intent(out), optional :: mc(:)  !< optional 1 - m
     integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
-    type(undamped_motion_t) :: motion
-    real(wp) :: th, om, w
-    integer :: i, n
-    logical :: bad
+    real(wp) :: th, om, w, mi, mci
+    integer :: i, n, reg
+    logical :: bad, want_m
     n = max(size(theta0), size(omega0), size(w0))
     if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
     bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
@@ -175,6 +177,7 @@ contains
           'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
       return
     end if
+    want_m = present(m) .or. present(amplitude)
     do i = 1, n
       th = at(theta0, i)
       om = at(omega0, i)
@@ -189,16 +192,43 @@ contains
         if (present(regime)) regime = 0
         return
       end if
-      call set_geometry(motion, th, om, w)
-      if (present(period)) then
-        call set_period(motion)
-        period(i) = motion%period
+      ! the parameter alone (no motion built): cos(theta0/2), and sin only when m is asked
+      call state_parameter(th, om, w, want_m, mi, mci, reg)
+      if (present(period)) period(i) = period_of(reg, mi, mci, om, w)
+      if (present(amplitude)) then
+        select case (reg)
+        case (REGIME_LIBRATION)
+          amplitude(i) = 2 * atan2(sqrt(mi), sqrt(mci))
+        case (REGIME_SEPARATRIX)
+          amplitude(i) = pi
+        case default
+          amplitude(i) = ieee_value(1.0_wp, ieee_positive_inf)
+        end select
       end if
-      if (present(amplitude)) amplitude(i) = motion_amplitude(motion)
-      if (present(m)) m(i) = motion%m
-      if (present(mc)) mc(i) = motion%mc
-      if (present(regime)) regime(i) = motion%regime
+      if (present(m)) m(i) = mi
+      if (present(mc)) mc(i) = mci
+      if (present(regime)) regime(i) = reg
     end do
   end subroutine undamped_properties
+
+  !> The period of a state from its regime, m and 1 - m (state_parameter):
+  !> the numbers of set_period -- 4 K(m)/w0, 2 K(1/m)/(k w0), 2 pi/|Omega0| for
+  !> the free rotor (m = +inf), +inf on the separatrix.
+  elemental real(wp) function period_of(regime, m, mc, omega0, w0) result(period)
+    integer, intent(in) :: regime
+    real(wp), intent(in) :: m, mc, omega0, w0
+    select case (regime)
+    case (REGIME_LIBRATION)
+      period = 4 * ellipkm1(mc) / w0
+    case (REGIME_ROTATION)
+      if (m > huge(m)) then
+        period = 2 * pi / abs(omega0)
+      else
+        period = 2 * ellipkm1(-mc / m) / (sqrt(m) * w0)
+      end if
+    case default
+      period = ieee_value(1.0_wp, ieee_positive_inf)
+    end select
+  end function period_of
 
 end module pendula_undamped_many
