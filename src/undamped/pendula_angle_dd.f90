@@ -9,9 +9,17 @@ module pendula_angle_dd
   implicit none
   private
 
-  public :: cos_dd, reduce_angle_2pi
+  public :: cos_dd, reduce_angle_2pi, sin_apart
 
 contains
+
+  !> libm's sin(x) [rad], in a module of its own so that a caller which needs
+  !> the sine of an angle only now and then is not compiled into one sincos
+  !> (the cost of both) with the cosine it always takes.  The same bits as sin.
+  elemental real(wp) function sin_apart(x) result(s)
+    real(wp), intent(in) :: x  !< angle [rad]
+    s = sin(x)
+  end function sin_apart
 
   !> cos(x) in double-double for x = xh + xl, |x| <= pi/2 (+ rounding), to
   !> ~1e-31 relative: the Taylor series of cos x (|x| <= pi/4) or of

@@ -10,7 +10,7 @@ module pendula_undamped_motion
   use pendula_constants, only: pi, two_pi, two_pi_lo
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1
-  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi
+  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi, sin_apart
   implicit none
   private
 
@@ -296,7 +296,7 @@ contains
     near = abs(q) >= 0.5_wp * ch0 .and. abs(q) <= 2 * ch0
     have_sin = want_m .or. hlo /= 0 .or. near
     sh0 = 0
-    if (have_sin) sh0 = sin(h)
+    if (have_sin) sh0 = sin_apart(h)
     if (near) then
       call cos_dd(h, hlo, ch, chlo)
     else
@@ -323,7 +323,7 @@ contains
       regime = REGIME_SEPARATRIX
     end if
     if (want_m .or. regime == REGIME_ROTATION) then
-      if (.not. have_sin) sh0 = sin(h)
+      if (.not. have_sin) sh0 = sin_apart(h)
       sh = sh0 + ch0 * hlo
       m = sh * sh + q * q
     end if
