@@ -10,14 +10,14 @@ module pendula_undamped_motion
   use pendula_constants, only: pi, two_pi, two_pi_lo
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1
-  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi, sin_apart
+  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi
   implicit none
   private
 
   public :: undamped_motion_t, undamped_init, undamped_period, undamped_amplitude, undamped_energy, &
             undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan
   ! for pendula_undamped_eval and pendula_undamped_many only (not re-exported by pendula_undamped):
-  public :: check_state, set_geometry, set_period, motion_amplitude, period_needed, state_parameter
+  public :: check_state, set_geometry, set_period, motion_amplitude, period_needed
   public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
 
   !> The pendulum swings about theta = 2 pi N (m < 1).
@@ -257,77 +257,6 @@ contains
       end if
     end if
   end subroutine set_geometry
-
-  !> 1 - m, the regime and (when want_m) m of a checked state: the numbers
-  !> set_geometry gives, step for step, without building a motion.  Only
-  !> cos(theta_r/2) is needed for 1 - m (hlo = 0 for |theta0| < pi); sin is
-  !> taken only for m or a reduced angle, cos in double-double only near the
-  !> separatrix.  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
-  !> m = +inf, mc = -inf and regime REGIME_ROTATION.
-  elemental subroutine state_parameter(theta0, omega0, w0, want_m, m, mc, regime)
-    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
-    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
-    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0 (checked)
-    logical, intent(in) :: want_m  !< also m (else m = 0 unless the regime needs it)
-    real(wp), intent(out) :: m  !< k^2 = E / E_separatrix (0 when not wanted)
-    real(wp), intent(out) :: mc  !< 1 - m without cancellation
-    integer, intent(out) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
-    real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
-    logical :: near, have_sin
-    if (abs(theta0) < pi) then
-      ! what reduce_angle_2pi returns for these angles, without the call
-      h = 0.5_wp * theta0
-      hlo = 0
-    else
-      call reduce_angle_2pi(theta0, n, r_hi, r_lo)
-      h = 0.5_wp * r_hi
-      hlo = 0.5_wp * r_lo
-    end if
-    w2 = omega0 / w0
-    q = 0.5_wp * w2
-    m = 0
-    if (abs(q) > 1.0e150_wp) then
-      m = ieee_value(1.0_wp, ieee_positive_inf)
-      mc = -m
-      regime = REGIME_ROTATION
-      return
-    end if
-    ch0 = cos(h)
-    near = abs(q) >= 0.5_wp * ch0 .and. abs(q) <= 2 * ch0
-    have_sin = want_m .or. hlo /= 0 .or. near
-    sh0 = 0
-    if (have_sin) sh0 = sin_apart(h)
-    if (near) then
-      call cos_dd(h, hlo, ch, chlo)
-    else
-      ch = ch0 - sh0 * hlo      ! ch0 exactly when hlo = 0
-      chlo = 0
-    end if
-    qlo = 0
-    if (w2 /= 0 .and. max(abs(w2), w0) < 1.0e290_wp) then
-      call two_prod(w2, w0, p, e)
-      qlo = 0.5_wp * (((omega0 - p) - e) / w0)
-    end if
-    a = ch + abs(q)
-    if (chlo == 0 .and. qlo == 0) then
-      mc = (ch - abs(q)) * a
-    else
-      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
-      mc = (d + dlo) * a
-    end if
-    if (mc > 0) then
-      regime = REGIME_LIBRATION
-    else if (mc < 0) then
-      regime = REGIME_ROTATION
-    else
-      regime = REGIME_SEPARATRIX
-    end if
-    if (want_m .or. regime == REGIME_ROTATION) then
-      if (.not. have_sin) sh0 = sin_apart(h)
-      sh = sh0 + ch0 * hlo
-      m = sh * sh + q * q
-    end if
-  end subroutine state_parameter
 
   !> K of the parameter in use and the period (set_geometry first): 4 K(m)/w0,
   !> 2 K(1/m)/(k w0) per turn, 2 pi/|Omega0| for the free rotor, +inf on the separatrix.
