@@ -164,9 +164,9 @@ contains
     real(wp), intent(out), optional :: mc(:)  !< optional 1 - m
     integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
     integer, parameter :: nb = 256
-    real(wp) :: th, om, w, mi, mci, den(nb)
+    real(wp) :: th, om, w, mi, mci, ch, den(nb)
     integer :: i, i0, i1, n, reg
-    logical :: bad, want_m
+    logical :: bad, want_m, amplitudes_only
     n = max(size(theta0), size(omega0), size(w0))
     if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
     bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
@@ -181,8 +181,28 @@ contains
       return
     end if
     want_m = present(m) .or. present(amplitude)
+    amplitudes_only = present(period) .and. .not. (want_m .or. present(mc) .or. present(regime)) .and. &
+        size(omega0) == 1 .and. size(w0) == 1 .and. size(theta0) == n
+    if (amplitudes_only) amplitudes_only = omega0(1) == 0 .and. w0(1) > 0 .and. w0(1) <= huge(w0)
     do i0 = 1, n, nb
      i1 = min(n, i0 + nb - 1)
+     if (amplitudes_only) then
+       ! Omega0 = 0 and one w0 for all: 1 - m = cos^2(theta0/2) for |theta0| < pi
+       ! (what state_parameter gives there, q = qlo = 0), a libration; others below
+       do i = i0, i1
+         if (abs(theta0(i)) < pi) then
+           ch = cos(0.5_wp * theta0(i))
+           period(i) = 4 * ellipkm1(ch * ch)
+           den(i - i0 + 1) = w0(1)
+         else
+           exit
+         end if
+       end do
+       if (i > i1) then
+         period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
+         cycle
+       end if
+     end if
      do i = i0, i1
       th = at(theta0, i)
       om = at(omega0, i)
