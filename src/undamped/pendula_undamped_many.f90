@@ -185,57 +185,57 @@ contains
         size(omega0) == 1 .and. size(w0) == 1 .and. size(theta0) == n
     if (amplitudes_only) amplitudes_only = omega0(1) == 0 .and. w0(1) > 0 .and. w0(1) <= huge(w0)
     do i0 = 1, n, nb
-     i1 = min(n, i0 + nb - 1)
-     if (amplitudes_only) then
-       ! Omega0 = 0 and one w0 for all: 1 - m = cos^2(theta0/2) for |theta0| < pi
-       ! (what state_parameter gives there, q = qlo = 0), a libration; others below
-       do i = i0, i1
-         if (abs(theta0(i)) < pi) then
-           ch = cos(0.5_wp * theta0(i))
-           period(i) = 4 * ellipkm1(ch * ch)
-           den(i - i0 + 1) = w0(1)
-         else
-           exit
-         end if
-       end do
-       if (i > i1) then
-         period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
-         cycle
-       end if
-     end if
-     do i = i0, i1
-      th = at(theta0, i)
-      om = at(omega0, i)
-      w = at(w0, i)
-      if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
-        ! checked here, not in a pass before: one read of the inputs
-        call check_state(th, om, w, status)
-        if (present(period)) period = 0
-        if (present(amplitude)) amplitude = 0
-        if (present(m)) m = 0
-        if (present(mc)) mc = 0
-        if (present(regime)) regime = 0
-        return
+      i1 = min(n, i0 + nb - 1)
+      if (amplitudes_only) then
+        ! Omega0 = 0 and one w0 for all: 1 - m = cos^2(theta0/2) for |theta0| < pi
+        ! (what state_parameter gives there, q = qlo = 0), a libration; others below
+        do i = i0, i1
+          if (abs(theta0(i)) < pi) then
+            ch = cos(0.5_wp * theta0(i))
+            period(i) = 4 * ellipkm1(ch * ch)
+            den(i - i0 + 1) = w0(1)
+          else
+            exit
+          end if
+        end do
+        if (i > i1) then
+          period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
+          cycle
+        end if
       end if
-      ! the parameter alone (no motion built): cos(theta0/2), and sin only when m is asked
-      call state_parameter(th, om, w, want_m, mi, mci, reg)
-      ! numerator and denominator: the divisions of a block run as one vector loop below
-      if (present(period)) call period_parts(reg, mi, mci, om, w, period(i), den(i - i0 + 1))
-      if (present(amplitude)) then
-        select case (reg)
-        case (REGIME_LIBRATION)
-          amplitude(i) = 2 * atan2(sqrt(mi), sqrt(mci))
-        case (REGIME_SEPARATRIX)
-          amplitude(i) = pi
-        case default
-          amplitude(i) = ieee_value(1.0_wp, ieee_positive_inf)
-        end select
-      end if
-      if (present(m)) m(i) = mi
-      if (present(mc)) mc(i) = mci
-      if (present(regime)) regime(i) = reg
-     end do
-     if (present(period)) period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
+      do i = i0, i1
+        th = at(theta0, i)
+        om = at(omega0, i)
+        w = at(w0, i)
+        if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
+          ! checked here, not in a pass before: one read of the inputs
+          call check_state(th, om, w, status)
+          if (present(period)) period = 0
+          if (present(amplitude)) amplitude = 0
+          if (present(m)) m = 0
+          if (present(mc)) mc = 0
+          if (present(regime)) regime = 0
+          return
+        end if
+        ! the parameter alone (no motion built): cos(theta0/2), and sin only when m is asked
+        call state_parameter(th, om, w, want_m, mi, mci, reg)
+        ! numerator and denominator: the divisions of a block run as one vector loop below
+        if (present(period)) call period_parts(reg, mi, mci, om, w, period(i), den(i - i0 + 1))
+        if (present(amplitude)) then
+          select case (reg)
+          case (REGIME_LIBRATION)
+            amplitude(i) = 2 * atan2(sqrt(mi), sqrt(mci))
+          case (REGIME_SEPARATRIX)
+            amplitude(i) = pi
+          case default
+            amplitude(i) = ieee_value(1.0_wp, ieee_positive_inf)
+          end select
+        end if
+        if (present(m)) m(i) = mi
+        if (present(mc)) mc(i) = mci
+        if (present(regime)) regime(i) = reg
+      end do
+      if (present(period)) period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
     end do
   end subroutine undamped_properties
 
