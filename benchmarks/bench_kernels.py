@@ -18,8 +18,10 @@ same run:
                                when installed (not timed here otherwise)
 
 and, for the closed forms, pendula.period over many amplitudes against
-SciPy's 4 ellipkm1(cos(theta0/2)**2) / w0.  Times are process CPU time
-(best of --repeat): the per-core cost when other processes share the
+SciPy's 4 ellipkm1(cos(theta0/2)**2) / w0, and pendula.undamped over many
+distinct states against SciPy's closed form (bench_undamped.scipy_undamped).
+Times are process CPU time (best of --repeat, the contenders of a pair
+alternated): the per-core cost when other processes share the
 machine.  Ratios > 1 mean pendula is faster.
 
     python benchmarks/bench_kernels.py [--quick] [--n N] [--repeat R] [--out DIR]
@@ -92,10 +94,25 @@ def _period(m, repeat):
     from scipy.special import ellipkm1
     th = np.random.default_rng(5).uniform(1e-3, np.pi - 1e-3, m)
     w0 = 1.4
-    tp = harness.best_time(lambda: pendula.period(th, 0.0, w0), repeat, clock=time.process_time)
-    ts = harness.best_time(lambda: 4 * ellipkm1(np.cos(th / 2) ** 2) / w0, repeat, clock=time.process_time)
+    tp, ts = harness.best_times_interleaved([lambda: pendula.period(th, 0.0, w0),
+                                             lambda: 4 * ellipkm1(np.cos(th / 2) ** 2) / w0],
+                                            repeat, clock=time.process_time)
     a, b = pendula.period(th, 0.0, w0), 4 * ellipkm1(np.cos(th / 2) ** 2) / w0
     return tp, ts, float(np.max(np.abs(a - b) / b))
+
+
+def _undamped(m, repeat):
+    """(pendula s, SciPy s) for undamped over m distinct libration states, one
+    time each in 0..100 s, against bench_undamped's SciPy closed form."""
+    import pendula
+    from bench_undamped import scipy_undamped
+    rng = np.random.default_rng(6)
+    w0 = 1.4
+    th = rng.uniform(-3.0, 3.0, m)
+    om = 2 * w0 * np.cos(th / 2) * rng.uniform(-0.99, 0.99, m)
+    t = rng.uniform(0, 100, m)
+    return harness.best_times_interleaved([lambda: pendula.undamped(t, th, om, w0), scipy_undamped(t, th, om, w0)],
+                                          repeat, clock=time.process_time)
 
 
 def main(argv=None):
@@ -155,6 +172,10 @@ def main(argv=None):
     ratios.append(f"period over {m:,} amplitudes: pendula {tp / m * 1e9:.1f} ns, SciPy 4 ellipkm1(cos(theta0/2)**2)/w0 "
                   f"{ts / m * 1e9:.1f} ns per point: {ts / tp:.2f}x (target >= 1; largest relative difference "
                   f"{dev:.1e})")
+    mu = 20_000 if args.quick else 100_000
+    tu, tsu = _undamped(mu, repeat)
+    ratios.append(f"undamped over {mu:,} distinct states: pendula {tu / mu * 1e9:.1f} ns, SciPy closed form "
+                  f"{tsu / mu * 1e9:.1f} ns per state: {tsu / tu:.2f}x (target >= 3x)")
     text = "\n".join(lines + [""] + ["- " + r for r in ratios])
     print()
     print(text)

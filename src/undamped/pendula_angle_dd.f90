@@ -5,13 +5,21 @@
 module pendula_angle_dd
   use pendula_kinds, only: wp
   use pendula_constants, only: pi, half_pi, half_pi_lo, two_pi, two_pi_lo
-  use pendula_double_double, only: two_prod, dd_add_fast, dd_mul
+  use pendula_double_double, only: two_prod
   implicit none
   private
 
-  public :: cos_dd, reduce_angle_2pi
+  public :: cos_dd, reduce_angle_2pi, sin_apart
 
 contains
+
+  !> libm's sin(x) [rad], in a module of its own so that a caller which needs
+  !> the sine of an angle only now and then is not compiled into one sincos
+  !> (the cost of both) with the cosine it always takes.  The same bits as sin.
+  elemental real(wp) function sin_apart(x) result(s)
+    real(wp), intent(in) :: x  !< angle [rad]
+    s = sin(x)
+  end function sin_apart
 
   !> cos(x) in double-double for x = xh + xl, |x| <= pi/2 (+ rounding), to
   !> ~1e-31 relative: the Taylor series of cos x (|x| <= pi/4) or of
@@ -48,12 +56,12 @@ contains
     logical :: use_sin
     use_sin = abs(xh) > 0.25_wp * pi
     if (use_sin) then
-      call dd_add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh) * xl, yh, yl)
+      call add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh) * xl, yh, yl)
     else
       yh = xh
       yl = xl
     end if
-    call dd_mul(yh, yl, yh, yl, y2h, y2l)
+    call mul(yh, yl, yh, yl, y2h, y2l)
     th = 0
     do j = 16, 9, -1
       if (use_sin) then
@@ -65,16 +73,16 @@ contains
     tl = 0
     do j = 8, 0, -1
       ! t <- (-1)^j c_j + y^2 t
-      call dd_mul(y2h, y2l, th, tl, uh, ul)
+      call mul(y2h, y2l, th, tl, uh, ul)
       sgn = 1 - 2 * modulo(j, 2)
       if (use_sin) then
-        call dd_add_fast(sgn * sin_hi(j), sgn * sin_lo(j), uh, ul, th, tl)
+        call add_fast(sgn * sin_hi(j), sgn * sin_lo(j), uh, ul, th, tl)
       else
-        call dd_add_fast(sgn * cos_hi(j), sgn * cos_lo(j), uh, ul, th, tl)
+        call add_fast(sgn * cos_hi(j), sgn * cos_lo(j), uh, ul, th, tl)
       end if
     end do
     if (use_sin) then
-      call dd_mul(yh, yl, th, tl, ch, cl)
+      call mul(yh, yl, th, tl, ch, cl)
     else
       ch = th
       cl = tl
@@ -131,5 +139,40 @@ contains
     r_hi = d + t
     r_lo = t - (r_hi - d)           ! fast two-sum (|d| >= |t|)
   end subroutine reduce_angle_fixed
+
+  ! dd_add_fast and dd_mul of pendula_double_double, operation for operation (the
+  ! same bits), here so that cos_dd's 20 of them are inlined rather than called;
+  ! mul is two_prod's Dekker product without its range scaling, which cos_dd's
+  ! operands (|y| <= pi/2, |t| <= 2) never need.
+  elemental subroutine add_fast(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: s, e, bb
+    s = ah + bh
+    bb = s - ah
+    e = (ah - (s - bb)) + (bh - bb)
+    e = e + (al + bl)
+    ch = s + e
+    cl = e - (ch - s)
+  end subroutine add_fast
+
+  elemental subroutine mul(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
+    real(wp) :: p, e, t, a1, a2, b1, b2, bb
+    p = ah * bh
+    t = split * ah
+    a1 = t - (t - ah)
+    a2 = ah - a1
+    t = split * bh
+    b1 = t - (t - bh)
+    b2 = bh - b1
+    e = ((a1 * b1 - p) + a1 * b2 + a2 * b1) + a2 * b2
+    e = e + (ah * bl + al * bh)
+    ch = p + e
+    bb = ch - p
+    cl = (p - (ch - bb)) + (e - bb)
+  end subroutine mul
 
 end module pendula_angle_dd

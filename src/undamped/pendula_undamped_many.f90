@@ -3,11 +3,16 @@
 !> pendula_undamped_eval with the same numbers as undamped_init + undamped_period/undamped_eval.
 !> Users `use pendula_undamped` (the facade).
 module pendula_undamped_many
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
-      check_state, set_geometry, set_period, motion_amplitude, period_needed, UNDAMPED_PLAN_MIN_TIMES
+      check_state, set_geometry, set_period, period_needed, UNDAMPED_PLAN_MIN_TIMES, &
+      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
+  use pendula_constants, only: pi
+  use pendula_elliptic, only: ellipkm1
+  use pendula_double_double, only: two_prod, dd_add_fast
+  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi, sin_apart
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many
   implicit none
   private
@@ -158,10 +163,10 @@ contains
     real(wp), intent(out), optional :: m(:)  !< optional elliptic parameters m
     real(wp), intent(out), optional :: mc(:)  !< optional 1 - m
     integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
-    type(undamped_motion_t) :: motion
-    real(wp) :: th, om, w
-    integer :: i, n
-    logical :: bad
+    integer, parameter :: nb = 256
+    real(wp) :: th, om, w, mi, mci, ch, den(nb)
+    integer :: i, i0, i1, n, reg
+    logical :: bad, want_m, amplitudes_only
     n = max(size(theta0), size(omega0), size(w0))
     if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
     bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
@@ -175,30 +180,159 @@ contains
           'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
       return
     end if
-    do i = 1, n
-      th = at(theta0, i)
-      om = at(omega0, i)
-      w = at(w0, i)
-      if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
-        ! checked here, not in a pass before: one read of the inputs
-        call check_state(th, om, w, status)
-        if (present(period)) period = 0
-        if (present(amplitude)) amplitude = 0
-        if (present(m)) m = 0
-        if (present(mc)) mc = 0
-        if (present(regime)) regime = 0
-        return
+    want_m = present(m) .or. present(amplitude)
+    amplitudes_only = present(period) .and. .not. (want_m .or. present(mc) .or. present(regime)) .and. &
+        size(omega0) == 1 .and. size(w0) == 1 .and. size(theta0) == n
+    if (amplitudes_only) amplitudes_only = omega0(1) == 0 .and. w0(1) > 0 .and. w0(1) <= huge(w0)
+    do i0 = 1, n, nb
+      i1 = min(n, i0 + nb - 1)
+      if (amplitudes_only) then
+        ! Omega0 = 0 and one w0 for all: 1 - m = cos^2(theta0/2) for |theta0| < pi
+        ! (what state_parameter gives there, q = qlo = 0), a libration; others below
+        do i = i0, i1
+          if (abs(theta0(i)) < pi) then
+            ch = cos(0.5_wp * theta0(i))
+            period(i) = 4 * ellipkm1(ch * ch)
+            den(i - i0 + 1) = w0(1)
+          else
+            exit
+          end if
+        end do
+        if (i > i1) then
+          period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
+          cycle
+        end if
       end if
-      call set_geometry(motion, th, om, w)
-      if (present(period)) then
-        call set_period(motion)
-        period(i) = motion%period
-      end if
-      if (present(amplitude)) amplitude(i) = motion_amplitude(motion)
-      if (present(m)) m(i) = motion%m
-      if (present(mc)) mc(i) = motion%mc
-      if (present(regime)) regime(i) = motion%regime
+      do i = i0, i1
+        th = at(theta0, i)
+        om = at(omega0, i)
+        w = at(w0, i)
+        if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
+          ! checked here, not in a pass before: one read of the inputs
+          call check_state(th, om, w, status)
+          if (present(period)) period = 0
+          if (present(amplitude)) amplitude = 0
+          if (present(m)) m = 0
+          if (present(mc)) mc = 0
+          if (present(regime)) regime = 0
+          return
+        end if
+        ! the parameter alone (no motion built): cos(theta0/2), and sin only when m is asked
+        call state_parameter(th, om, w, want_m, mi, mci, reg)
+        ! numerator and denominator: the divisions of a block run as one vector loop below
+        if (present(period)) call period_parts(reg, mi, mci, om, w, period(i), den(i - i0 + 1))
+        if (present(amplitude)) then
+          select case (reg)
+          case (REGIME_LIBRATION)
+            amplitude(i) = 2 * atan2(sqrt(mi), sqrt(mci))
+          case (REGIME_SEPARATRIX)
+            amplitude(i) = pi
+          case default
+            amplitude(i) = ieee_value(1.0_wp, ieee_positive_inf)
+          end select
+        end if
+        if (present(m)) m(i) = mi
+        if (present(mc)) mc(i) = mci
+        if (present(regime)) regime(i) = reg
+      end do
+      if (present(period)) period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
     end do
   end subroutine undamped_properties
+
+  !> 1 - m, the regime and (when want_m) m of a checked state: the numbers
+  !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion.  Only
+  !> cos(theta_r/2) is needed for 1 - m (hlo = 0 for |theta0| < pi); sin is
+  !> taken only for m or a reduced angle, cos in double-double only near the
+  !> separatrix.  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
+  !> m = +inf, mc = -inf and regime REGIME_ROTATION.
+  elemental subroutine state_parameter(theta0, omega0, w0, want_m, m, mc, regime)
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0 (checked)
+    logical, intent(in) :: want_m  !< also m (else m = 0 unless the regime needs it)
+    real(wp), intent(out) :: m  !< k^2 = E / E_separatrix (0 when not wanted)
+    real(wp), intent(out) :: mc  !< 1 - m without cancellation
+    integer, intent(out) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
+    real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
+    logical :: near, have_sin
+    if (abs(theta0) < pi) then
+      ! what reduce_angle_2pi returns for these angles, without the call
+      h = 0.5_wp * theta0
+      hlo = 0
+    else
+      call reduce_angle_2pi(theta0, n, r_hi, r_lo)
+      h = 0.5_wp * r_hi
+      hlo = 0.5_wp * r_lo
+    end if
+    w2 = omega0 / w0
+    q = 0.5_wp * w2
+    m = 0
+    if (abs(q) > 1.0e150_wp) then
+      m = ieee_value(1.0_wp, ieee_positive_inf)
+      mc = -m
+      regime = REGIME_ROTATION
+      return
+    end if
+    ch0 = cos(h)
+    near = abs(q) >= 0.5_wp * ch0 .and. abs(q) <= 2 * ch0
+    have_sin = want_m .or. hlo /= 0 .or. near
+    sh0 = 0
+    if (have_sin) sh0 = sin_apart(h)
+    if (near) then
+      call cos_dd(h, hlo, ch, chlo)
+    else
+      ch = ch0 - sh0 * hlo      ! ch0 exactly when hlo = 0
+      chlo = 0
+    end if
+    qlo = 0
+    if (w2 /= 0 .and. max(abs(w2), w0) < 1.0e290_wp) then
+      call two_prod(w2, w0, p, e)
+      qlo = 0.5_wp * (((omega0 - p) - e) / w0)
+    end if
+    a = ch + abs(q)
+    if (chlo == 0 .and. qlo == 0) then
+      mc = (ch - abs(q)) * a
+    else
+      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
+      mc = (d + dlo) * a
+    end if
+    if (mc > 0) then
+      regime = REGIME_LIBRATION
+    else if (mc < 0) then
+      regime = REGIME_ROTATION
+    else
+      regime = REGIME_SEPARATRIX
+    end if
+    if (want_m .or. regime == REGIME_ROTATION) then
+      if (.not. have_sin) sh0 = sin_apart(h)
+      sh = sh0 + ch0 * hlo
+      m = sh * sh + q * q
+    end if
+  end subroutine state_parameter
+
+  !> The period of a state from its regime, m and 1 - m (state_parameter) as
+  !> num / den: the numbers of set_period -- 4 K(m) / w0, 2 K(1/m) / (k w0),
+  !> 2 pi / |Omega0| for the free rotor (m = +inf), +inf / 1 on the separatrix.
+  elemental subroutine period_parts(regime, m, mc, omega0, w0, num, den)
+    integer, intent(in) :: regime
+    real(wp), intent(in) :: m, mc, omega0, w0
+    real(wp), intent(out) :: num, den
+    select case (regime)
+    case (REGIME_LIBRATION)
+      num = 4 * ellipkm1(mc)
+      den = w0
+    case (REGIME_ROTATION)
+      if (m > huge(m)) then
+        num = 2 * pi
+        den = abs(omega0)
+      else
+        num = 2 * ellipkm1(-mc / m)
+        den = sqrt(m) * w0
+      end if
+    case default
+      num = ieee_value(1.0_wp, ieee_positive_inf)
+      den = 1
+    end select
+  end subroutine period_parts
 
 end module pendula_undamped_many

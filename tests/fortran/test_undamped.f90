@@ -301,12 +301,12 @@ contains
 
   subroutine check_many_states()
     real(wp), allocatable :: th(:), om(:), w(:), per(:), amp(:), m(:), mc(:), t(:), ts(:), ths(:), oms(:), &
-        st0(:, :)
+        st0(:, :), thp(:)
     integer, allocatable :: reg(:)
     type(undamped_motion_t) :: mo
     type(status_t) :: st
     real(wp) :: x, y
-    integer :: i, n, nbad, nrun
+    integer :: i, j, n, nbad, nrun
     call many_states(th, om, w)
     n = size(th)
     allocate(per(n), amp(n), m(n), mc(n), reg(n))
@@ -352,6 +352,20 @@ contains
     call undamped_properties(th, [0.25_wp], [1.3_wp], st, period=per, regime=reg)
     call undamped_properties(th, spread(0.25_wp, 1, n), spread(1.3_wp, 1, n), st, period=amp, m=m)
     call tc%check_true(st%code == PENDULA_OK .and. all(same(per, amp)), 'undamped_properties: size-1 inputs')
+    ! the period over amplitudes (Omega0 = 0, one w0: its own loop for |theta0| < pi,
+    ! blocks with larger angles mixed in) is undamped_init's, bit for bit
+    nbad = 0
+    do j = 1, 2
+      if (j == 1) thp = th
+      if (j == 2) thp = pack(th, abs(th) < 3.14_wp)   ! whole blocks of the amplitude loop
+      call undamped_properties(thp, [0.0_wp], [1.3_wp], st, period=per(1:size(thp)))
+      do i = 1, size(thp)
+        call undamped_init(mo, thp(i), 0.0_wp, 1.3_wp, st, plan=.false.)
+        if (.not. same(per(i), mo%period)) nbad = nbad + 1
+      end do
+    end do
+    call tc%check_true(nbad == 0 .and. size(thp) > 100 .and. count(abs(th) > 3.15_wp) > 100, &
+        'undamped_properties: period over amplitudes == undamped_init')
     call undamped_states([2.5_wp], th, om, [1.3_wp], ths(1:n), oms(1:n), st)
     call undamped_states(spread(2.5_wp, 1, n), th, om, spread(1.3_wp, 1, n), ts(1:n), t, st)
     call tc%check_true(st%code == PENDULA_OK .and. all(same(ths(1:n), ts(1:n))) .and. all(same(oms(1:n), t)), &
