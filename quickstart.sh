@@ -2,7 +2,8 @@
 # pendula quick start.  Installs what is missing, then:
 #   ./quickstart.sh run    the main job: example drivers, the text's figures and the
 #                          speed/accuracy report, all written to out/ (or $PENDULA_OUT)
-#   ./quickstart.sh test   every test: Fortran tests (meson test), the consumer
+#   ./quickstart.sh test   every test: lint and format checks (tools/lint.sh), Fortran
+#                          tests (meson test), the consumer
 #                          tests of every install route (pkg-config, CMake, meson
 #                          subproject, fpm), then pytest on the installed package
 #                          (the wheel route included), then the documentation site
@@ -145,6 +146,8 @@ if [ "$mode" = docs ]; then
 fi
 
 # mode = test
+say "lint and format checks (tools/lint.sh: ruff, fprettify)"
+tools/lint.sh
 say "Fortran tests (meson test) and the consumer tests of the install routes"
 meson_dir build/test -Dpython=disabled
 ninja -C build/test >/dev/null

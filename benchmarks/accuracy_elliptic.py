@@ -12,9 +12,10 @@ Lives in benchmarks/ beside the speed tables because it shares their command lin
 
     python benchmarks/accuracy_elliptic.py [--out DIR]     (writes DIR/accuracy_elliptic.md)
 """
-import numpy as np
 
 import harness
+import numpy as np
+
 import pendula
 
 T = harness.load_test_module("test_elliptic")
@@ -60,12 +61,15 @@ def integral_rows():
     ke = T.DATA["ke"]
     k_err = [T._rel((pendula.ellipkm1 if c else pendula.ellipk)(p), kr) for p, c, kr, _ in ke]
     e_err = [T._rel((pendula.ellipem1 if c else pendula.ellipe)(p), er) for p, c, _, er in ke]
-    f_err = [T._rel((pendula.ellipfm1 if c else pendula.ellipf)(phi, p), fr) / cond
-             for phi, p, c, fr, cond in T.DATA["f"]]
+    f_err = [
+        T._rel((pendula.ellipfm1 if c else pendula.ellipf)(phi, p), fr) / cond for phi, p, c, fr, cond in T.DATA["f"]
+    ]
     fmt = lambda e: (f"{float(np.max(e)):.2f}", f"{float(np.median(e)):.2f}")  # noqa: E731
-    return [["K (`ellipk`, `ellipkm1`), ulps", len(ke), *fmt(k_err)],
-            ["E (`ellipe`, `ellipem1`), ulps", len(ke), *fmt(e_err)],
-            ["F (`ellipf`, `ellipfm1`), ulps / cond", len(f_err), *fmt(f_err)]]
+    return [
+        ["K (`ellipk`, `ellipkm1`), ulps", len(ke), *fmt(k_err)],
+        ["E (`ellipe`, `ellipem1`), ulps", len(ke), *fmt(e_err)],
+        ["F (`ellipf`, `ellipfm1`), ulps / cond", len(f_err), *fmt(f_err)],
+    ]
 
 
 def large_u_rows():
@@ -75,12 +79,14 @@ def large_u_rows():
     err = np.array([np.abs(np.asarray(pendula.ellipj(u[i], p[i])) - ref[i]) for i in idx]) / T.EPS
     err[:, 3] /= np.abs(ref[idx, 3])
     umax = float(np.abs(u[idx]).max())
-    return [[name, len(idx), f"{umax:.0e}", f"{float(err[:, j].max()):.2f}"]
-            for j, name in enumerate(["sn (absolute)", "cn (absolute)", "dn (absolute)", "am (relative)"])]
+    return [
+        [name, len(idx), f"{umax:.0e}", f"{float(err[:, j].max()):.2f}"]
+        for j, name in enumerate(["sn (absolute)", "cn (absolute)", "dn (absolute)", "am (relative)"])
+    ]
 
 
 IDENTITY_M = [-1e10, -3.0, -0.1, 0.0, 0.3, 0.9, 0.999999, 1.0, 1.5, 1e4]
-IDENTITY_P = [1e-3, 1e-10, 1e-100, 1e-300, 5e-324]   # complements, through ellipjm1
+IDENTITY_P = [1e-3, 1e-10, 1e-100, 1e-300, 5e-324]  # complements, through ellipjm1
 
 
 def identity_rows(n=20000, seed=7):
@@ -88,8 +94,9 @@ def identity_rows(n=20000, seed=7):
     in [-50, 50] per parameter: a scalar parameter (the plan path) and an array one (elementwise)."""
     u = np.random.default_rng(seed).uniform(-50, 50, n)
     worst = {"plan": [0.0, 0.0], "elementwise": [0.0, 0.0]}
-    cases = [(pendula.ellipj, m, m, max(1.0, abs(m))) for m in IDENTITY_M] + \
-            [(pendula.ellipjm1, p, 1.0 - p, 1.0) for p in IDENTITY_P]
+    cases = [(pendula.ellipj, m, m, max(1.0, abs(m))) for m in IDENTITY_M] + [
+        (pendula.ellipjm1, p, 1.0 - p, 1.0) for p in IDENTITY_P
+    ]
     for fn, par, m, scale in cases:
         for path, arg in (("plan", par), ("elementwise", np.full(n, par))):
             sn, cn, dn, _ = fn(u, arg)
@@ -98,30 +105,45 @@ def identity_rows(n=20000, seed=7):
             worst[path][0] = max(worst[path][0], float(np.abs(sn**2 + cn**2 - 1).max() / T.EPS))
             worst[path][1] = max(worst[path][1], float(np.abs(second).max() / (T.EPS * scale)))
     points = n * len(cases)
-    return [["sn² + cn² − 1, eps", points, f"{worst['elementwise'][0]:.2f}", f"{worst['plan'][0]:.2f}"],
-            ["dn² + m sn² − 1, eps·max(1, \\|m\\|)", points,
-             f"{worst['elementwise'][1]:.2f}", f"{worst['plan'][1]:.2f}"]]
+    return [
+        ["sn² + cn² − 1, eps", points, f"{worst['elementwise'][0]:.2f}", f"{worst['plan'][0]:.2f}"],
+        ["dn² + m sn² − 1, eps·max(1, \\|m\\|)", points, f"{worst['elementwise'][1]:.2f}", f"{worst['plan'][1]:.2f}"],
+    ]
 
 
 def main():
-    args = harness.parser(__doc__, "(no effect: the measurement is quick)", "write accuracy_elliptic.md into DIR").parse_args()
+    args = harness.parser(
+        __doc__, "(no effect: the measurement is quick)", "write accuracy_elliptic.md into DIR"
+    ).parse_args()
     jac = jacobi_rows()
     ints = integral_rows()
     big = large_u_rows()
     ids = identity_rows()
-    md = "\n\n".join([
-        harness.markdown_table(["region", "points", "`ellipj`", "plan (scalar m)"], jac),
-        harness.markdown_table(["integral", "points", "worst", "median"], ints),
-        harness.markdown_table(["\\|u\\| from 1e2 to 1e6: plain error", "points", "\\|u\\| up to",
-                                "worst, eps"], big),
-        harness.markdown_table(["identity, random u in [−50, 50], every region", "points",
-                                "`ellipj` (array m)", "plan (scalar m)"], ids)])
+    md = "\n\n".join(
+        [
+            harness.markdown_table(["region", "points", "`ellipj`", "plan (scalar m)"], jac),
+            harness.markdown_table(["integral", "points", "worst", "median"], ints),
+            harness.markdown_table(
+                ["\\|u\\| from 1e2 to 1e6: plain error", "points", "\\|u\\| up to", "worst, eps"], big
+            ),
+            harness.markdown_table(
+                ["identity, random u in [−50, 50], every region", "points", "`ellipj` (array m)", "plan (scalar m)"],
+                ids,
+            ),
+        ]
+    )
     print(md)
-    harness.write_outputs(args.out, "accuracy_elliptic", md,
-                          [(["region", "points", "ellipj", "plan"], jac),
-                           (["integral", "points", "worst", "median"], ints),
-                           (["function", "points", "u_max", "worst_eps"], big),
-                           (["identity", "points", "ellipj", "plan"], ids)])
+    harness.write_outputs(
+        args.out,
+        "accuracy_elliptic",
+        md,
+        [
+            (["region", "points", "ellipj", "plan"], jac),
+            (["integral", "points", "worst", "median"], ints),
+            (["function", "points", "u_max", "worst_eps"], big),
+            (["identity", "points", "ellipj", "plan"], ids),
+        ],
+    )
 
 
 if __name__ == "__main__":

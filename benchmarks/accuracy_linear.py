@@ -14,11 +14,12 @@ harness.py); it takes about ten seconds.
 
     python benchmarks/accuracy_linear.py [--out DIR]     (writes DIR/accuracy_linear.md)
 """
+
 import math
 
+import harness
 import numpy as np
 
-import harness
 import pendula
 
 T = harness.load_test_module("test_linear_damped")
@@ -38,11 +39,14 @@ def _measure(t, th0, om0, w0, g):
 def grid_rows():
     rows = []
     for label, ratio in T.RATIOS.items():
-        pts = [(t, th0, om0, w0, ratio * w0) for w0 in (math.sqrt(2.0), 0.37)
-               for th0, om0 in T.ICS for t in T._grid(w0, ratio)]
+        pts = [
+            (t, th0, om0, w0, ratio * w0)
+            for w0 in (math.sqrt(2.0), 0.37)
+            for th0, om0 in T.ICS
+            for t in T._grid(w0, ratio)
+        ]
         e = _measure(*map(np.array, zip(*pts)))
-        rows.append([f"{label}", len(pts), f"{e[:, 0].max():.2f}", _g(np.median(e[:, 0])),
-                     _g(e[:, 1].max())])
+        rows.append([f"{label}", len(pts), f"{e[:, 0].max():.2f}", _g(np.median(e[:, 0])), _g(e[:, 1].max())])
     return rows
 
 
@@ -50,8 +54,11 @@ def _sweep(seed, n, log_w0, log_scale, p_far, log_far, log_near, p_zero, log_wt)
     """n seeded states and times: gamma/w0 log-uniform (probability p_far) or 2(1 +- 10^x)."""
     rng = np.random.default_rng(seed)
     w0 = 10 ** rng.uniform(*log_w0, n)
-    ratio = np.where(rng.random(n) < p_far, 10 ** rng.uniform(*log_far, n),
-                     2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(*log_near, n)))
+    ratio = np.where(
+        rng.random(n) < p_far,
+        10 ** rng.uniform(*log_far, n),
+        2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(*log_near, n)),
+    )
     ratio[rng.random(n) < p_zero] = 0
     t = 10 ** rng.uniform(*log_wt, n) / w0
     th0 = rng.uniform(-1, 1, n) * 10 ** rng.uniform(-log_scale, log_scale, n)
@@ -60,10 +67,16 @@ def _sweep(seed, n, log_w0, log_scale, p_far, log_far, log_near, p_zero, log_wt)
 
 
 def sweep_rows():
-    sweeps = [("seeded sweep: γ/w0 ∈ [1e-10, 1e8] and within 1e-3 of critical, w0 ∈ [1e-3, 1e3]",
-               _sweep(20261201, 300, (-3, 3), 0, 0.5, (-10, 8), (-16, -3), 0.0, (-6, 4))),
-              ("extreme scales: w0 ∈ [1e-100, 1e100], θ0, Ω0/w0 ∈ [1e-50, 1e50]",
-               _sweep(20261202, 400, (-100, 100), 50, 0.3, (-15, 12), (-16, 0), 0.05, (-8, 6)))]
+    sweeps = [
+        (
+            "seeded sweep: γ/w0 ∈ [1e-10, 1e8] and within 1e-3 of critical, w0 ∈ [1e-3, 1e3]",
+            _sweep(20261201, 300, (-3, 3), 0, 0.5, (-10, 8), (-16, -3), 0.0, (-6, 4)),
+        ),
+        (
+            "extreme scales: w0 ∈ [1e-100, 1e100], θ0, Ω0/w0 ∈ [1e-50, 1e50]",
+            _sweep(20261202, 400, (-100, 100), 50, 0.3, (-15, 12), (-16, 0), 0.05, (-8, 6)),
+        ),
+    ]
     rows = []
     for label, args in sweeps:
         e = _measure(*args)
@@ -88,25 +101,42 @@ def text_rows():
     gama, tt = 2 * w0 * (1 + 1e-12), t[::50]
     ref = np.array([float(T.reference(x, 0.1, 0.5, w0, gama)[0]) for x in tt])
     rel = lambda th: float(np.max(np.abs(th - ref) / np.abs(ref)))  # noqa: E731
-    return [["figs 10–12: pendula vs eqs 2.27–2.29, eps·scale", 7 * len(t), f"{worst['over']:.2f}"],
-            ["fig 13: pendula vs eqs 2.45–2.47, eps·scale", 3 * len(t), f"{worst['critical']:.2f}"],
-            ["γ = 2w0(1 + 1e-12): eq. 2.29 vs mpmath, relative", len(tt),
-             f"{rel(T._text_overdamped(0.1, 0.5, gama)[0][::50]):.1e}"],
-            ["γ = 2w0(1 + 1e-12): pendula vs mpmath, relative", len(tt),
-             f"{rel(pendula.linear_damped(tt, 0.1, 0.5, w0, gama)[0]):.1e}"]]
+    return [
+        ["figs 10–12: pendula vs eqs 2.27–2.29, eps·scale", 7 * len(t), f"{worst['over']:.2f}"],
+        ["fig 13: pendula vs eqs 2.45–2.47, eps·scale", 3 * len(t), f"{worst['critical']:.2f}"],
+        [
+            "γ = 2w0(1 + 1e-12): eq. 2.29 vs mpmath, relative",
+            len(tt),
+            f"{rel(T._text_overdamped(0.1, 0.5, gama)[0][::50]):.1e}",
+        ],
+        [
+            "γ = 2w0(1 + 1e-12): pendula vs mpmath, relative",
+            len(tt),
+            f"{rel(pendula.linear_damped(tt, 0.1, 0.5, w0, gama)[0]):.1e}",
+        ],
+    ]
 
 
 def main():
-    args = harness.parser(__doc__, "(no effect: the measurement takes seconds)", "write accuracy_linear.md into DIR").parse_args()
+    args = harness.parser(
+        __doc__, "(no effect: the measurement takes seconds)", "write accuracy_linear.md into DIR"
+    ).parse_args()
     rows = grid_rows() + sweep_rows()
     head = ["γ/w0", "points", "worst [eps·(size + cond)]", "median [eps·(size + cond)]", "worst [eps·size]"]
     text = text_rows()
-    md = "\n\n".join([harness.markdown_table(head, rows),
-                       harness.markdown_table(["the text's formulas", "points", "worst"], text)])
+    md = "\n\n".join(
+        [harness.markdown_table(head, rows), harness.markdown_table(["the text's formulas", "points", "worst"], text)]
+    )
     print(md)
-    harness.write_outputs(args.out, "accuracy_linear", md,
-                          [(["gamma/w0", "points", "worst cond", "median cond", "worst size"], rows),
-                           (["comparison", "points", "worst"], text)])
+    harness.write_outputs(
+        args.out,
+        "accuracy_linear",
+        md,
+        [
+            (["gamma/w0", "points", "worst cond", "median cond", "worst size"], rows),
+            (["comparison", "points", "worst"], text),
+        ],
+    )
 
 
 if __name__ == "__main__":

@@ -12,9 +12,10 @@ command line and --out files, harness.py); it takes a few seconds.
 
     python benchmarks/accuracy_undamped.py [--out DIR]     (writes DIR/accuracy_undamped.md)
 """
-import numpy as np
 
 import harness
+import numpy as np
+
 import pendula
 
 REF = harness.load_generator("gen_undamped_reference")
@@ -36,15 +37,17 @@ def planned(d):
         rows = np.flatnonzero(inverse.reshape(-1) == g)
         tt = np.tile(d["t"][rows], 32 // len(rows) + 1)
         a, b = pendula.undamped(tt, d["theta0"][i], d["omega0"][i], d["w0"][i])
-        th[rows], om[rows] = a[:len(rows)], b[:len(rows)]
+        th[rows], om[rows] = a[: len(rows)], b[: len(rows)]
     return th, om
 
 
 def tables(d):
     th_l, om_l = pendula.undamped(d["t"], d["theta0"], d["omega0"], d["w0"])
     th_p, om_p = planned(d)
-    r = {k: _ratio(v, d[k[:-2]], d["cond_" + k[:-2]]) for k, v in
-         (("theta_l", th_l), ("omega_l", om_l), ("theta_p", th_p), ("omega_p", om_p))}
+    r = {
+        k: _ratio(v, d[k[:-2]], d["cond_" + k[:-2]])
+        for k, v in (("theta_l", th_l), ("omega_l", om_l), ("theta_p", th_p), ("omega_p", om_p))
+    }
     regime_rows = []
     for code, name in REGIMES.items():
         s = d["regime"] == code
@@ -57,7 +60,13 @@ def tables(d):
     band_rows = []
     for lo, hi in BANDS:
         s = (gap2 >= lo) & (gap2 < hi) & (np.concatenate([d["regime"]] * 2) != 2)
-        band_rows.append([f"< {hi:g}" if not lo else f"≥ {lo:g}" if hi == np.inf else f"{lo:g} – {hi:g}", int(s.sum() // 2), f"{err[s].max():.1e}"])
+        band_rows.append(
+            [
+                f"< {hi:g}" if not lo else f"≥ {lo:g}" if hi == np.inf else f"{lo:g} – {hi:g}",
+                int(s.sum() // 2),
+                f"{err[s].max():.1e}",
+            ]
+        )
     return regime_rows, band_rows
 
 
@@ -66,7 +75,7 @@ def bound_rows(n_states=150, seed=21, n_t=4001):
     small-angle periods): how often the bound holds, and bound / true worst error."""
     rng = np.random.default_rng(seed)
     m = 10.0 ** rng.uniform(-8, -0.05, n_states)
-    share = rng.uniform(size=n_states)            # share of the energy in the angle
+    share = rng.uniform(size=n_states)  # share of the energy in the angle
     sign = rng.choice([-1.0, 1.0], size=(2, n_states))
     w0 = 10.0 ** rng.uniform(-1, 1, n_states)
     theta0 = sign[0] * 2 * np.arcsin(np.sqrt(share * m))
@@ -81,28 +90,48 @@ def bound_rows(n_states=150, seed=21, n_t=4001):
         for j in range(2):
             true = np.max(np.abs(model[j] - exact[j]))
             held[j, i], ratio[j, i] = true <= bound[j], bound[j] / true
-    return [[name, n_states, f"{int(held[j].sum())}/{n_states}", f"{np.median(ratio[j]):.3g}",
-             f"{ratio[j].max():.3g}"] for j, name in enumerate(["θ (rad)", "Ω (rad/s)"])]
+    return [
+        [name, n_states, f"{int(held[j].sum())}/{n_states}", f"{np.median(ratio[j]):.3g}", f"{ratio[j].max():.3g}"]
+        for j, name in enumerate(["θ (rad)", "Ω (rad/s)"])
+    ]
 
 
 def main():
-    args = harness.parser(__doc__, "(no effect: the measurement is quick)", "write accuracy_undamped.md into DIR").parse_args()
+    args = harness.parser(
+        __doc__, "(no effect: the measurement is quick)", "write accuracy_undamped.md into DIR"
+    ).parse_args()
     d = REF.read_table()
     regime_rows, band_rows = tables(d)
     bounds = bound_rows()
-    head = ["regime", "rows", "worst θ error (light / planned)", "median θ", "worst Ω error (light / planned)",
-            "median Ω"]
-    md = "\n\n".join([
-        "Errors in eps·(cond + \\|value\\|):",
-        harness.markdown_table(head, regime_rows),
-        harness.markdown_table(["\\|1 − m\\|", "rows", "max \\|Δθ\\| (rad), both paths"], band_rows),
-        harness.markdown_table(["small-angle bound on", "states", "bound held", "median bound / true",
-                                "worst bound / true"], bounds)])
+    head = [
+        "regime",
+        "rows",
+        "worst θ error (light / planned)",
+        "median θ",
+        "worst Ω error (light / planned)",
+        "median Ω",
+    ]
+    md = "\n\n".join(
+        [
+            "Errors in eps·(cond + \\|value\\|):",
+            harness.markdown_table(head, regime_rows),
+            harness.markdown_table(["\\|1 − m\\|", "rows", "max \\|Δθ\\| (rad), both paths"], band_rows),
+            harness.markdown_table(
+                ["small-angle bound on", "states", "bound held", "median bound / true", "worst bound / true"], bounds
+            ),
+        ]
+    )
     print(md)
-    harness.write_outputs(args.out, "accuracy_undamped", md,
-                          [(["regime", "rows", "theta worst", "theta median", "omega worst", "omega median"],
-                            regime_rows), (["band", "rows", "max abs dtheta"], band_rows),
-                           (["quantity", "states", "held", "median ratio", "worst ratio"], bounds)])
+    harness.write_outputs(
+        args.out,
+        "accuracy_undamped",
+        md,
+        [
+            (["regime", "rows", "theta worst", "theta median", "omega worst", "omega median"], regime_rows),
+            (["band", "rows", "max abs dtheta"], band_rows),
+            (["quantity", "states", "held", "median ratio", "worst ratio"], bounds),
+        ],
+    )
 
 
 if __name__ == "__main__":

@@ -11,12 +11,13 @@ default / threads=1 (the goal: about 1 or below on a small batch, never the
 
     python benchmarks/bench_default_threads.py [--quick] [--out DIR]
 """
+
 import os
 import time
 
+import harness
 import numpy as np
 
-import harness
 import pendula
 from pendula import _defaults
 
@@ -37,20 +38,28 @@ def main(argv=None):
     args = ap.parse_args(argv)
     cases = [(200, 1.0), (200, 10.0), (2000, 10.0)] + ([] if args.quick else [(20000, 10.0)])
     h = 0.01
-    lines = [f"pendula {pendula.__version__}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
-             f"SERIAL_WORK = {_defaults.SERIAL_WORK:g} RK4 steps", "",
-             "| states | t_end [s] | work [steps] | default [ms] | threads=1 [ms] | threads=0 [ms] | default / 1 "
-             "| default / 0 |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"pendula {pendula.__version__}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
+        f"SERIAL_WORK = {_defaults.SERIAL_WORK:g} RK4 steps",
+        "",
+        "| states | t_end [s] | work [steps] | default [ms] | threads=1 [ms] | threads=0 [ms] | default / 1 "
+        "| default / 0 |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     print("\n".join(lines), flush=True)
     for n, t_end in cases:
         th0 = np.linspace(0.1, 3.0, n)
         t = np.array([0.0, t_end])
         rep = 5 if args.quick or n > 2000 else 15
-        times = best_interleaved({thr: (lambda thr=thr: pendula.rk4(t, th0, 0.0, np.sqrt(2), 0.1, h, threads=thr))
-                                  for thr in (None, 1, 0)}, rep)
+        times = best_interleaved(
+            {thr: (lambda thr=thr: pendula.rk4(t, th0, 0.0, np.sqrt(2), 0.1, h, threads=thr)) for thr in (None, 1, 0)},
+            rep,
+        )
         work = n * (t_end / h + t.size)
-        lines.append(f"| {n} | {t_end:g} | {work:.1e} | {times[None] * 1e3:.3f} | {times[1] * 1e3:.3f} | "
-                     f"{times[0] * 1e3:.3f} | {times[None] / times[1]:.2f} | {times[None] / times[0]:.2f} |")
+        lines.append(
+            f"| {n} | {t_end:g} | {work:.1e} | {times[None] * 1e3:.3f} | {times[1] * 1e3:.3f} | "
+            f"{times[0] * 1e3:.3f} | {times[None] / times[1]:.2f} | {times[None] / times[0]:.2f} |"
+        )
         print(lines[-1], flush=True)
     harness.write_outputs(args.out, "bench_default_threads", "\n".join(lines))
 

@@ -19,6 +19,7 @@ runs, so a loaded machine slows both sides alike; wall seconds for the
 
     python benchmarks/bench_driven.py [--quick] [--out FILE.md]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -75,6 +76,7 @@ def numba_kernel():
             out[0, i] = y
             out[1, i] = u
         return out
+
     return run
 
 
@@ -88,21 +90,39 @@ def main(argv=None):
 
     # 1. Lyapunov exponent, one core
     periods = 2000 if args.quick else 20000
-    pendula.lyapunov(0.2, 0.0, drive=drive, w0=W0, gamma=GAMMA, periods=16, threads=1)   # warm-up
-    r, t_ly = best(lambda: pendula.lyapunov(0.2, 0.0, drive=drive, w0=W0, gamma=GAMMA, transient=100, periods=periods,
-                                            threads=1), 1 if args.quick else 2)
+    pendula.lyapunov(0.2, 0.0, drive=drive, w0=W0, gamma=GAMMA, periods=16, threads=1)  # warm-up
+    r, t_ly = best(
+        lambda: pendula.lyapunov(0.2, 0.0, drive=drive, w0=W0, gamma=GAMMA, transient=100, periods=periods, threads=1),
+        1 if args.quick else 2,
+    )
     lam, err = float(r.exponents[0]), float(r.errors[0])
-    rows.append(("largest Lyapunov exponent, Baker-Gollub F = 1.15 (1 core)",
-                 f"{lam:.3f} +- {err:.3f} 1/s ({periods} periods; sum {float(r.exponents.sum()):+.6f} = -gamma)",
-                 f"{t_ly:.2f} s CPU", "target < 1 s"))
+    rows.append(
+        (
+            "largest Lyapunov exponent, Baker-Gollub F = 1.15 (1 core)",
+            f"{lam:.3f} +- {err:.3f} 1/s ({periods} periods; sum {float(r.exponents.sum()):+.6f} = -gamma)",
+            f"{t_ly:.2f} s CPU",
+            "target < 1 s",
+        )
+    )
 
     # 2. Bifurcation diagram, 2 threads
     nval = 100 if args.quick else 1000
     amps = np.linspace(0.9, 1.5, nval)
-    _, t_bif = best(lambda: pendula.bifurcation("amplitude", amps, drive=drive, w0=W0, gamma=GAMMA, transient=300,
-                                                points=200, threads=2), 1, clock=time.perf_counter)
-    rows.append((f"bifurcation diagram, {nval} amplitudes x (300 + 200) periods (2 threads)",
-                 f"{nval * 500 * N_STEPS / 1e6:.0f} M RK4 steps", f"{t_bif:.2f} s wall", "target < 5 s"))
+    _, t_bif = best(
+        lambda: pendula.bifurcation(
+            "amplitude", amps, drive=drive, w0=W0, gamma=GAMMA, transient=300, points=200, threads=2
+        ),
+        1,
+        clock=time.perf_counter,
+    )
+    rows.append(
+        (
+            f"bifurcation diagram, {nval} amplitudes x (300 + 200) periods (2 threads)",
+            f"{nval * 500 * N_STEPS / 1e6:.0f} M RK4 steps",
+            f"{t_bif:.2f} s wall",
+            "target < 5 s",
+        )
+    )
 
     # 3. batch kernel vs numba, per core; a regular drive (F = 0.9), so that the
     # two answers can be compared (on a chaotic orbit rounding differences grow)
@@ -115,18 +135,33 @@ def main(argv=None):
     t_end = per * drive.period
     try:
         run = numba_kernel()
-        run(th0[:2], om0[:2], W0, GAMMA, regular.amplitude, OMEGA, 0.0, N_STEPS, 1)   # compile
+        run(th0[:2], om0[:2], W0, GAMMA, regular.amplitude, OMEGA, 0.0, N_STEPS, 1)  # compile
         nb, t_nb = best(lambda: run(th0, om0, W0, GAMMA, regular.amplitude, OMEGA, 0.0, N_STEPS, per), 3)
     except ImportError:
         nb, t_nb = None, math.nan
     pr, t_pd = best(lambda: pendula.driven([0.0, t_end], th0, om0, drive=regular, w0=W0, gamma=GAMMA, threads=1), 3)
     steps = n * per * N_STEPS
-    diff = (max(np.abs(pr.theta[:, -1] - nb[0]).max(), np.abs(pr.omega[:, -1] - nb[1]).max())
-            if nb is not None else math.nan)
-    rows.append((f"driven batch kernel, {n} states x {per} periods (1 core)",
-                 f"{t_pd / steps * 1e9:.1f} ns/state-step", f"{t_pd:.3f} s CPU", ""))
-    rows.append(("numba, same RK4 and states (1 core)", f"{t_nb / steps * 1e9:.1f} ns/state-step",
-                 f"{t_nb:.3f} s CPU", f"ratio {t_nb / t_pd:.1f}x (target >= 3x); largest difference {diff:.1e}"))
+    diff = (
+        max(np.abs(pr.theta[:, -1] - nb[0]).max(), np.abs(pr.omega[:, -1] - nb[1]).max())
+        if nb is not None
+        else math.nan
+    )
+    rows.append(
+        (
+            f"driven batch kernel, {n} states x {per} periods (1 core)",
+            f"{t_pd / steps * 1e9:.1f} ns/state-step",
+            f"{t_pd:.3f} s CPU",
+            "",
+        )
+    )
+    rows.append(
+        (
+            "numba, same RK4 and states (1 core)",
+            f"{t_nb / steps * 1e9:.1f} ns/state-step",
+            f"{t_nb:.3f} s CPU",
+            f"ratio {t_nb / t_pd:.1f}x (target >= 3x); largest difference {diff:.1e}",
+        )
+    )
 
     head = ("case", "result", "time", "vs target / peer")
     width = [max(len(str(r[i])) for r in rows + [head]) for i in range(4)]

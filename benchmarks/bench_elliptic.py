@@ -14,15 +14,15 @@ pendula time, > 1 means pendula is faster) on N points (default 1e6):
 
 Usage: python3 benchmarks/bench_elliptic.py [--quick] [--n N] [--out DIR]
 """
+
 import time
 
+import harness
 import numpy as np
 import scipy
 import scipy.special as sc
 
-import harness
 import pendula
-
 
 LARGE_U = "ellipj random (u, m), 20 <= abs(u) <= 1000"
 
@@ -56,14 +56,23 @@ def main(argv=None):
         rows.append((name, tp, ts, ts / tp))
     text = f"pendula vs scipy {scipy.__version__}\n\n" + harness.markdown_table(
         ["function", "pendula ns/pt", "scipy ns/pt", "speed-up"],
-        [(name, f"{tp:.1f}", f"{ts:.1f}", f"{r:.2f}x") for name, tp, ts, r in rows])
+        [(name, f"{tp:.1f}", f"{ts:.1f}", f"{r:.2f}x") for name, tp, ts, r in rows],
+    )
     tpp = {name: t for name, t, _, _ in rows}
-    text += (f"\n\nellipj cost at |u| in [20, 1000] / at |u| <= 10: "
-             f"{tpp[LARGE_U] / tpp['ellipj random (u, m)']:.2f}")
+    text += f"\n\nellipj cost at |u| in [20, 1000] / at |u| <= 10: {tpp[LARGE_U] / tpp['ellipj random (u, m)']:.2f}"
     print(text)
-    harness.write_outputs(args.out, "elliptic_bench", text, [
-        (["function", "pendula_ns", "scipy_ns", "speedup"],
-         [(name, f"{tp:.2f}", f"{ts:.2f}", f"{r:.3f}") for name, tp, ts, r in rows])])
+    harness.write_outputs(
+        args.out,
+        "elliptic_bench",
+        text,
+        [
+            (
+                ["function", "pendula_ns", "scipy_ns", "speedup"],
+                [(name, f"{tp:.2f}", f"{ts:.2f}", f"{r:.3f}") for name, tp, ts, r in rows],
+            )
+        ],
+    )
+
 
 if __name__ == "__main__":
     main()

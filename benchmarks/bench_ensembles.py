@@ -32,21 +32,22 @@ at the default flags, 10.4 with -Dnative=true, scalar rk4_solve 24-26.
 numba is optional (pip install numba, or the `bench` extra); without it its
 rows say so.  Times are best of --repeat runs.
 """
+
 from __future__ import annotations
 
 import os
 import platform
 
+import harness
 import numpy as np
 from scipy.integrate import solve_ivp
 
-import harness
 import pendula
 from pendula._many import kernels as _batch
 
 W0SQ, GAMMA, H = 2.0, 0.1, 0.025
 T = np.linspace(0.0, 30.0, 601)
-STEPS = 1200                      # per state: 600 outputs x 2 substeps of 0.025 s
+STEPS = 1200  # per state: 600 outputs x 2 substeps of 0.025 s
 FLOOR_NS = 3.3
 
 
@@ -57,13 +58,14 @@ def scene(n, seed=2024):
 
 # ---- contenders -----------------------------------------------------------
 
+
 def run_batch(th0, om0, threads):
     r = _batch.rk4_batch(T, th0, om0, np.sqrt(W0SQ), GAMMA, H, threads=threads)
     assert r.code == 0, r.message
     return r.theta
 
 
-RTOL, ATOL = 1e-8, 1e-10       # CVODE rows: pendula.cvode's defaults, every state within 1e-6 rad
+RTOL, ATOL = 1e-8, 1e-10  # CVODE rows: pendula.cvode's defaults, every state within 1e-6 rad
 
 
 def run_cvode_batch(th0, om0, threads):
@@ -74,8 +76,9 @@ def run_cvode_batch(th0, om0, threads):
 
 def run_cvode_loop(th0, om0):
     w0 = float(np.sqrt(W0SQ))
-    return np.array([pendula.cvode(T, float(a), float(b), w0, GAMMA, rtol=RTOL, atol=ATOL).theta
-                     for a, b in zip(th0, om0)])
+    return np.array(
+        [pendula.cvode(T, float(a), float(b), w0, GAMMA, rtol=RTOL, atol=ATOL).theta for a, b in zip(th0, om0)]
+    )
 
 
 def run_loop(th0, om0):
@@ -91,6 +94,7 @@ def run_numpy(th0, om0):
 
     def f(yy, uu):
         return -GAMMA * uu - W0SQ * np.sin(yy)
+
     for j in range(1, T.size):
         for _ in range(2):
             k1 = f(y, u)
@@ -111,8 +115,8 @@ def run_solve_ivp(th0, om0):
     def rhs(_, z):
         y, u = z[:n], z[n:]
         return np.concatenate([u, -GAMMA * u - W0SQ * np.sin(y)])
-    sol = solve_ivp(rhs, (T[0], T[-1]), np.concatenate([th0, om0]), method="DOP853", t_eval=T,
-                    rtol=1e-10, atol=1e-12)
+
+    sol = solve_ivp(rhs, (T[0], T[-1]), np.concatenate([th0, om0]), method="DOP853", t_eval=T, rtol=1e-10, atol=1e-12)
     return sol.y[:n]
 
 
@@ -138,6 +142,7 @@ def numba_kernels():
                     y = y + h * u + (h * h / 6) * (k1 + k2 + k3)
                     u = u + (h / 6) * (k1 + 2 * (k2 + k3) + k4)
                 out[s, j] = y
+
     serial = numba.njit(cache=False)(rk4_states)
     parallel = numba.njit(parallel=True, cache=False)(rk4_states)
 
@@ -147,17 +152,22 @@ def numba_kernels():
             out = np.empty((th0.size, T.size))
             fn(th0, om0, T.size, H, W0SQ, GAMMA, out)
             return out
+
         return run
+
     return mk(serial, 1), mk(parallel, numba.config.NUMBA_NUM_THREADS), numba.config.NUMBA_NUM_THREADS
 
 
 # ---- main -------------------------------------------------------------------
 
+
 def main(argv=None):
-    ap = harness.parser(__doc__, "2,000 states, slow contenders on fewer (a few seconds)",
-                        "also write bench_ensembles.md here")
-    args, n, repeat = harness.parse_with_sizes(ap, argv, "states (default 10,000; --quick 2,000)",
-                                               n=(2_000, 10_000), repeat=(2, 3))
+    ap = harness.parser(
+        __doc__, "2,000 states, slow contenders on fewer (a few seconds)", "also write bench_ensembles.md here"
+    )
+    args, n, repeat = harness.parse_with_sizes(
+        ap, argv, "states (default 10,000; --quick 2,000)", n=(2_000, 10_000), repeat=(2, 3)
+    )
     ncores = os.cpu_count() or 1
     th0, om0 = scene(n)
 
@@ -166,24 +176,43 @@ def main(argv=None):
     ref = _batch.rk4_batch(T, th0, om0, np.sqrt(W0SQ), GAMMA, H / 16).theta
     ref_check = 0.0
     for i in range(0, n, max(1, n // 5)):
-        d = solve_ivp(lambda _, z: [z[1], -GAMMA * z[1] - W0SQ * np.sin(z[0])], (0, 30), [th0[i], om0[i]],
-                      method="DOP853", t_eval=T, rtol=1e-13, atol=1e-14).y[0]
+        d = solve_ivp(
+            lambda _, z: [z[1], -GAMMA * z[1] - W0SQ * np.sin(z[0])],
+            (0, 30),
+            [th0[i], om0[i]],
+            method="DOP853",
+            t_eval=T,
+            rtol=1e-13,
+            atol=1e-14,
+        ).y[0]
         ref_check = max(ref_check, float(np.abs(d - ref[i]).max()))
 
-    sub = {"loop": min(n, 1000 if args.quick else 3000), "numpy": n,
-           "solve_ivp": min(n, 100 if args.quick else 500)}
+    sub = {"loop": min(n, 1000 if args.quick else 3000), "numpy": n, "solve_ivp": min(n, 100 if args.quick else 500)}
     rows = []
 
     def add(name, fn, m, steps=STEPS, threads=1, rep=repeat):
         w, c, _, theta = harness.best_run(lambda: fn(th0[:m], om0[:m]), rep)
         err = float(np.abs(theta - ref[:m]).max())
-        rows.append(dict(name=name, n=m, threads=threads, wall=w, cpu=c, sps=m / w, sps_core=m / c,
-                         ns_step=(c / (m * steps) * 1e9) if steps else float("nan"), err=err))
+        rows.append(
+            dict(
+                name=name,
+                n=m,
+                threads=threads,
+                wall=w,
+                cpu=c,
+                sps=m / w,
+                sps_core=m / c,
+                ns_step=(c / (m * steps) * 1e9) if steps else float("nan"),
+                err=err,
+            )
+        )
         print(f"  {name:<24s} {m:>6d} states  wall {w:8.3f} s  cpu {c:8.3f} s  max err {err:.2e}", flush=True)
 
-    print(f"pendula {pendula.__version__}, {platform.machine()}, {ncores} cores, load average "
-          f"{os.getloadavg()[0]:.1f}; OpenMP in this build: {_batch.openmp()}; "
-          f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', '(unset)')}")
+    print(
+        f"pendula {pendula.__version__}, {platform.machine()}, {ncores} cores, load average "
+        f"{os.getloadavg()[0]:.1f}; OpenMP in this build: {_batch.openmp()}; "
+        f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', '(unset)')}"
+    )
     print(f"reference (batch RK4, h/16) vs DOP853 rtol 1e-13: {ref_check:.1e} rad")
     add("batch, 1 thread", lambda a, b: run_batch(a, b, 1), n)
     add(f"batch, {ncores} threads", lambda a, b: run_batch(a, b, ncores), n, threads=ncores)
@@ -191,7 +220,7 @@ def main(argv=None):
     nb = numba_kernels()
     if nb is not None:
         nb1, nbp, nthr = nb
-        nb1(th0[:8], om0[:8])   # compile outside the timing
+        nb1(th0[:8], om0[:8])  # compile outside the timing
         nbp(th0[:8], om0[:8])
         add("numba njit, 1 thread", nb1, n)
         add(f"numba prange, {nthr} threads", nbp, n, threads=nthr)
@@ -199,32 +228,44 @@ def main(argv=None):
     add("solve_ivp stacked DOP853", run_solve_ivp, sub["solve_ivp"], steps=0, rep=1)
     if pendula.have_cvode():
         add("batch CVODE, 1 thread", lambda a, b: run_cvode_batch(a, b, 1), n, steps=0)
-        add(f"batch CVODE, {ncores} threads", lambda a, b: run_cvode_batch(a, b, ncores), n, steps=0,
-            threads=ncores)
+        add(f"batch CVODE, {ncores} threads", lambda a, b: run_cvode_batch(a, b, ncores), n, steps=0, threads=ncores)
         add("pendula.cvode loop", run_cvode_loop, sub["loop"], steps=0)
 
     by = {r["name"]: r for r in rows}
     b1 = by["batch, 1 thread"]
-    lines = ["| contender | N | threads | states/s | states/s per core | ns/step/core (floor 3.3) | max error [rad] |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "| contender | N | threads | states/s | states/s per core | ns/step/core (floor 3.3) | max error [rad] |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
         ns = "-" if np.isnan(r["ns_step"]) else f"{r['ns_step']:.1f} ({r['ns_step'] / FLOOR_NS:.1f}x)"
-        lines.append(f"| {r['name']} | {r['n']} | {r['threads']} | {r['sps']:,.0f} | {r['sps_core']:,.0f} | {ns} "
-                     f"| {r['err']:.1e} |")
-    ratios = [f"batch 1 thread / pendula.rk4 loop, per core: {b1['sps_core'] / by['pendula.rk4 loop']['sps_core']:.2f}x"
-              " (target >= 4x)"]
+        lines.append(
+            f"| {r['name']} | {r['n']} | {r['threads']} | {r['sps']:,.0f} | {r['sps_core']:,.0f} | {ns} "
+            f"| {r['err']:.1e} |"
+        )
+    ratios = [
+        f"batch 1 thread / pendula.rk4 loop, per core: {b1['sps_core'] / by['pendula.rk4 loop']['sps_core']:.2f}x"
+        " (target >= 4x)"
+    ]
     if nb is not None:
-        ratios.append(f"batch 1 thread / numba 1 thread, per core: "
-                      f"{b1['sps_core'] / by['numba njit, 1 thread']['sps_core']:.2f}x (target >= 7x)")
+        ratios.append(
+            f"batch 1 thread / numba 1 thread, per core: "
+            f"{b1['sps_core'] / by['numba njit, 1 thread']['sps_core']:.2f}x (target >= 7x)"
+        )
     if "pendula.cvode loop" in by:
-        ratios.append(f"batch CVODE 1 thread / pendula.cvode loop, per core: "
-                      f"{by['batch CVODE, 1 thread']['sps_core'] / by['pendula.cvode loop']['sps_core']:.2f}x "
-                      "(target >= 3x)")
+        ratios.append(
+            f"batch CVODE 1 thread / pendula.cvode loop, per core: "
+            f"{by['batch CVODE, 1 thread']['sps_core'] / by['pendula.cvode loop']['sps_core']:.2f}x "
+            "(target >= 3x)"
+        )
     bn = by[f"batch, {ncores} threads"]
-    ratios.append(f"batch {ncores} threads / 1 thread, wall: {b1['wall'] / bn['wall']:.2f}x (target >= 1.8x; "
-                  f"only meaningful on an idle machine: load average {os.getloadavg()[0]:.1f})")
-    ratios.append(f"every state within 1e-6 rad: " + ", ".join(f"{r['name']} {'yes' if r['err'] < 1e-6 else 'NO'}"
-                                                            for r in rows))
+    ratios.append(
+        f"batch {ncores} threads / 1 thread, wall: {b1['wall'] / bn['wall']:.2f}x (target >= 1.8x; "
+        f"only meaningful on an idle machine: load average {os.getloadavg()[0]:.1f})"
+    )
+    ratios.append(
+        "every state within 1e-6 rad: " + ", ".join(f"{r['name']} {'yes' if r['err'] < 1e-6 else 'NO'}" for r in rows)
+    )
     text = "\n".join(lines + [""] + ["- " + r for r in ratios])
     print()
     print(text)

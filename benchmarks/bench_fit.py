@@ -17,18 +17,19 @@ rtol 1e-10) for the model and least_squares' finite-difference Jacobian.
 --quick: 60 data sets per scenario instead of 500.  With --out writes
 bench_fit.md and bench_fit.csv there (docs/_generated holds the full run).
 """
+
 import math
 import platform
 import time
 
+import harness
 import numpy as np
 from scipy import integrate, optimize, stats
 
-import harness
 import pendula
 
 W0, LENGTH = 3.6, 0.75
-G = W0 ** 2 * LENGTH
+G = W0**2 * LENGTH
 
 
 def damped(t, th0, om0, w0, gamma):
@@ -76,8 +77,9 @@ def coverage(n, seed=7):
         for p, h in hits.items():
             k = int(np.sum(h))
             lo, hi = stats.binomtest(k, n).proportion_ci(0.95)
-            rows.append([name, p, n, f"{100 * k / n:.1f} %", f"[{100 * lo:.1f}, {100 * hi:.1f}] %",
-                         f"{1e3 * per_fit:.1f}"])
+            rows.append(
+                [name, p, n, f"{100 * k / n:.1f} %", f"[{100 * lo:.1f}, {100 * hi:.1f}] %", f"{1e3 * per_fit:.1f}"]
+            )
     return rows
 
 
@@ -90,11 +92,20 @@ def swing_2000(seed=3):
 
 def scipy_usual_way(t, th, sigma, start):
     """The fit as commonly written: solve_ivp for the model, finite-difference Jacobian."""
+
     def model(p):
         th0, om0, w0, gamma = p
-        sol = integrate.solve_ivp(lambda _, y: [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])],
-                                  (t[0], t[-1]), [th0, om0], t_eval=t, method="DOP853", rtol=1e-10, atol=1e-12)
+        sol = integrate.solve_ivp(
+            lambda _, y: [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])],
+            (t[0], t[-1]),
+            [th0, om0],
+            t_eval=t,
+            method="DOP853",
+            rtol=1e-10,
+            atol=1e-12,
+        )
         return (sol.y[0] - th) / sigma
+
     x0 = [start[k] for k in ("theta0", "omega0", "w0", "gamma")]
     return optimize.least_squares(model, x0, method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-10)
 
@@ -106,25 +117,38 @@ def main(argv=None):
     rows = coverage(n)
     t, th = swing_2000()
     fit = lambda: pendula.fit_motion(t, th, sigma=1e-3)  # noqa: E731
-    fit()   # warm-up: SciPy's import and first calls
+    fit()  # warm-up: SciPy's import and first calls
     wall, cpu, _, r = harness.best_run(fit, 3 if args.quick else 7)
     c0 = time.process_time()
-    peer = scipy_usual_way(t, th, 1e-3, r.info["start"])   # from the same starting values
+    peer = scipy_usual_way(t, th, 1e-3, r.info["start"])  # from the same starting values
     cpu_peer = time.process_time() - c0
     same = abs(peer.x[2] - r["w0"]) / r.stderr["w0"]
-    head = ["scenario", "parameter", "data sets", "95 % intervals covering the truth", "binomial 95 % band",
-            "ms per fit"]
-    text = [f"# Fits: interval coverage and speed ({platform.machine()}, {n} data sets per scenario)", "",
-            "Target: 93-97 % coverage for every parameter (500 data sets).", "",
-            harness.markdown_table(head, rows), "",
-            "| one fit of a 2,000-sample damped swing | CPU s | model evaluations |", "|---|---:|---:|",
-            f"| pendula.fit_motion (variational RK4 Jacobian, Fortran) | {cpu:.3f} | {r.info['nfev']} "
-            "(each with its Jacobian) |",
-            f"| solve_ivp DOP853 + least_squares finite differences (same run) | {cpu_peer:.3f} | "
-            f"{peer.nfev + 4 * peer.njev} ({peer.nfev} + 4 per Jacobian) |",
-            "", f"pendula is {cpu_peer / cpu:.0f}x faster on this fit; the two w0 agree to "
-            f"{same:.2g} standard errors (target: one fit under 1 s on one core).",
-            "Times: best of several runs after a warm-up (the peer: one run), process CPU time."]
+    head = [
+        "scenario",
+        "parameter",
+        "data sets",
+        "95 % intervals covering the truth",
+        "binomial 95 % band",
+        "ms per fit",
+    ]
+    text = [
+        f"# Fits: interval coverage and speed ({platform.machine()}, {n} data sets per scenario)",
+        "",
+        "Target: 93-97 % coverage for every parameter (500 data sets).",
+        "",
+        harness.markdown_table(head, rows),
+        "",
+        "| one fit of a 2,000-sample damped swing | CPU s | model evaluations |",
+        "|---|---:|---:|",
+        f"| pendula.fit_motion (variational RK4 Jacobian, Fortran) | {cpu:.3f} | {r.info['nfev']} "
+        "(each with its Jacobian) |",
+        f"| solve_ivp DOP853 + least_squares finite differences (same run) | {cpu_peer:.3f} | "
+        f"{peer.nfev + 4 * peer.njev} ({peer.nfev} + 4 per Jacobian) |",
+        "",
+        f"pendula is {cpu_peer / cpu:.0f}x faster on this fit; the two w0 agree to "
+        f"{same:.2g} standard errors (target: one fit under 1 s on one core).",
+        "Times: best of several runs after a warm-up (the peer: one run), process CPU time.",
+    ]
     md = "\n".join(text)
     print(md)
     harness.write_outputs(args.out, "bench_fit", md, [(head, rows)])

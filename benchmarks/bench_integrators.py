@@ -22,15 +22,16 @@ arrays are traced) -- memory grows with the outputs only.
 
     python3 benchmarks/bench_integrators.py [--quick] [--out DIR]
 """
+
 import math
 import sys
 import time
 import tracemalloc
 
+import harness
 import numpy as np
 from scipy.integrate import solve_ivp
 
-import harness
 import pendula
 from pendula.textbook import text_listing_rk4
 
@@ -38,14 +39,21 @@ W0 = math.sqrt(9.8 / 4.9)
 GAMMA = 0.01 / 0.1
 T = np.arange(601) * 0.05
 HS = [0.05, 0.025, 0.01, 0.005, 0.0025, 0.001, 0.0005]
-RTOLS = [10.0 ** (-k / 2) for k in range(6, 28)]   # 1e-3 ... 1e-13.5
+RTOLS = [10.0 ** (-k / 2) for k in range(6, 28)]  # 1e-3 ... 1e-13.5
 TEXT = "text listing as printed (pure Python)"
 PARAPHRASE = "pendula.textbook paraphrase (pure Python)"
 
 
 def reference():
-    sol = solve_ivp(lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])], (0, 30), [0.0, 2.0],
-                    method="DOP853", rtol=1e-13, atol=1e-15, t_eval=T)
+    sol = solve_ivp(
+        lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])],
+        (0, 30),
+        [0.0, 2.0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-15,
+        t_eval=T,
+    )
     ref = sol.y[0]
     table = harness.ROOT / "tests" / "data" / "integrators_reference.csv"
     if table.exists():
@@ -63,10 +71,10 @@ def printed_listing(h, tf=30.0):
     """
     # A deliberate verbatim copy of the text's listing (it is what is timed as
     # "the text's loop"), so it is not shared with pendula.textbook's paraphrase.
-    g = 9.8          # noqa: E221
-    l = 4.9          # noqa: E221,E741
+    g = 9.8  # noqa: E221
+    l = 4.9  # noqa: E221,E741
     b = [0.01, 0.05]
-    m = 0.100        # noqa: E221
+    m = 0.100  # noqa: E221
     i = 0
     t = 0.0
     y = 0.0
@@ -79,22 +87,22 @@ def printed_listing(h, tf=30.0):
     omega.append(u)
     while t < tf:
         m1 = u
-        k1 = - b[i] * u / m - g * np.sin(y) / l
+        k1 = -b[i] * u / m - g * np.sin(y) / l
         m2 = m1 + h * k1 / 2.0
-        t_2 = t + h / 2.0                # noqa: F841
+        t_2 = t + h / 2.0  # noqa: F841
         y_2 = y + h * m1 / 2.0
         u_2 = m2
-        k2 = - b[i] * u_2 / m - g * np.sin(y_2) / l
+        k2 = -b[i] * u_2 / m - g * np.sin(y_2) / l
         m3 = m1 + h * k2 / 2.0
-        t_3 = t + h / 2.0                # noqa: F841
+        t_3 = t + h / 2.0  # noqa: F841
         y_3 = y + h * m2 / 2.0
         u_3 = m3
-        k3 = - b[i] * u_3 / m - g * np.sin(y_3) / l
+        k3 = -b[i] * u_3 / m - g * np.sin(y_3) / l
         m4 = m1 + h * k3
-        t_4 = t + h                      # noqa: F841
+        t_4 = t + h  # noqa: F841
         y_4 = y + h * m3
         u_4 = m4
-        k4 = - b[i] * u_4 / m - g * np.sin(y_4) / l
+        k4 = -b[i] * u_4 / m - g * np.sin(y_4) / l
         t = t + h
         y = y + h * (m1 + (2.0 * m2) + (2.0 * m3) + m4) / 6.0
         u = u + h * (k1 + (2.0 * k2) + (2.0 * k3) + k4) / 6.0
@@ -105,16 +113,22 @@ def printed_listing(h, tf=30.0):
 
 
 def make_methods():
-    f = lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])]   # noqa: E731
+    f = lambda _, y: [y[1], -GAMMA * y[1] - W0 * W0 * math.sin(y[0])]  # noqa: E731
     methods = {}
     methods["pendula.rk4"] = ("h", HS, lambda h: pendula.rk4(T, 0.0, 2.0, W0, GAMMA, h).theta)
     if pendula.build_info()["cvode"]:
         for m in ("adams", "bdf"):
-            methods[f"pendula.cvode {m}"] = ("rtol", RTOLS, lambda r, m=m: pendula.cvode(
-                T, 0.0, 2.0, W0, GAMMA, rtol=r, atol=r / 100, method=m).theta)
+            methods[f"pendula.cvode {m}"] = (
+                "rtol",
+                RTOLS,
+                lambda r, m=m: pendula.cvode(T, 0.0, 2.0, W0, GAMMA, rtol=r, atol=r / 100, method=m).theta,
+            )
     for m in ("RK45", "DOP853", "LSODA"):
-        methods[f"scipy {m}"] = ("rtol", RTOLS, lambda r, m=m: solve_ivp(
-            f, (0, 30), [0.0, 2.0], method=m, rtol=r, atol=r / 100, t_eval=T).y[0])
+        methods[f"scipy {m}"] = (
+            "rtol",
+            RTOLS,
+            lambda r, m=m: solve_ivp(f, (0, 30), [0.0, 2.0], method=m, rtol=r, atol=r / 100, t_eval=T).y[0],
+        )
 
     def printed_loop(h):
         th = np.array(printed_listing(h))
@@ -125,6 +139,7 @@ def make_methods():
         t, th, _ = text_listing_rk4(30.0, h, 0.0, 2.0, W0, GAMMA, typo=False)
         stride = int(round(0.05 / h))
         return th[::stride][:601]
+
     methods[TEXT] = ("h", HS, printed_loop)
     methods[PARAPHRASE] = ("h", HS, paraphrase_loop)
     return methods
@@ -152,14 +167,15 @@ def memory_run(periods):
     pendula.rk4(np.linspace(0.0, t_end, n_dense), 0.0, 2.0, W0, 0.0, 0.05)
     _, peak_dense = tracemalloc.get_traced_memory()
     tracemalloc.stop()
-    rows = [("pendula.rk4 final state only", periods, 2, r.stats["steps"], wall, peak_final),
-            ("pendula.rk4 dense output", periods, n_dense, None, None, peak_dense)]
+    rows = [
+        ("pendula.rk4 final state only", periods, 2, r.stats["steps"], wall, peak_final),
+        ("pendula.rk4 dense output", periods, n_dense, None, None, peak_dense),
+    ]
     if pendula.build_info()["cvode"]:
         cper = periods // 10
         tracemalloc.start()
         t0 = time.perf_counter()
-        c = pendula.cvode([0.0, cper * 2 * math.pi / W0], 0.0, 2.0, W0, 0.0, rtol=1e-8, atol=1e-10,
-                          max_steps=10**9)
+        c = pendula.cvode([0.0, cper * 2 * math.pi / W0], 0.0, 2.0, W0, 0.0, rtol=1e-8, atol=1e-10, max_steps=10**9)
         wall = time.perf_counter() - t0
         _, peak_c = tracemalloc.get_traced_memory()
         tracemalloc.stop()
@@ -168,8 +184,9 @@ def memory_run(periods):
 
 
 def main(argv=None):
-    a = harness.parser(__doc__, "fewer targets, short timing, 1e4 periods",
-                       "also write bench_integrators.md/.csv here").parse_args(argv)
+    a = harness.parser(
+        __doc__, "fewer targets, short timing, 1e4 periods", "also write bench_integrators.md/.csv here"
+    ).parse_args(argv)
     budget = 0.05 if a.quick else 0.5
     targets = [1e-5] if a.quick else [1e-4, 1e-5, 1e-7, 1e-9]
     ref = reference()
@@ -182,15 +199,33 @@ def main(argv=None):
                 continue
             s, err = cheapest(fn, settings, ref, target)
             if s is None:
-                rows.append(dict(target=target, method=name, setting="not reached", error="", ns_per_point="",
-                                 vs_best_scipy="", vs_text_loop="", vs_paraphrase=""))
+                rows.append(
+                    dict(
+                        target=target,
+                        method=name,
+                        setting="not reached",
+                        error="",
+                        ns_per_point="",
+                        vs_best_scipy="",
+                        vs_text_loop="",
+                        vs_paraphrase="",
+                    )
+                )
                 continue
             # CPU time of this process, not wall time: on a shared machine the wall
             # clock also counts waiting for a core (every method here is single-threaded)
             wall = harness.best_time(lambda fn=fn, s=s: fn(s), 3, clock=time.process_time, budget=budget)
             times[name] = wall
-            rows.append(dict(target=target, method=name, setting=f"{kind}={s:.3g}", error=f"{err:.2e}",
-                             ns_per_point=f"{wall / len(T) * 1e9:.0f}", wall=wall))
+            rows.append(
+                dict(
+                    target=target,
+                    method=name,
+                    setting=f"{kind}={s:.3g}",
+                    error=f"{err:.2e}",
+                    ns_per_point=f"{wall / len(T) * 1e9:.0f}",
+                    wall=wall,
+                )
+            )
         scipy_best = min((v for k, v in times.items() if k.startswith("scipy")), default=None)
         text = times.get(TEXT)
         para = times.get(PARAPHRASE)
@@ -200,30 +235,36 @@ def main(argv=None):
                 r["vs_text_loop"] = f"{text / r['wall']:.1f}x" if text else ""
                 r["vs_paraphrase"] = f"{para / r['wall']:.1f}x" if para else ""
 
-    cols = ["target", "method", "setting", "error", "ns_per_point", "vs_best_scipy", "vs_text_loop",
-            "vs_paraphrase"]
-    head = ("| sup-error target | method | cheapest setting | sup error [rad] | ns/point | "
-            "speed-up vs best SciPy | speed-up vs text loop (as printed) | speed-up vs paraphrase |")
+    cols = ["target", "method", "setting", "error", "ns_per_point", "vs_best_scipy", "vs_text_loop", "vs_paraphrase"]
+    head = (
+        "| sup-error target | method | cheapest setting | sup error [rad] | ns/point | "
+        "speed-up vs best SciPy | speed-up vs text loop (as printed) | speed-up vs paraphrase |"
+    )
     lines = [head, "|" + "---|" * len(cols)]
     for r in rows:
         lines.append("| " + " | ".join(f"{r[c]:.0e}" if c == "target" else str(r[c]) for c in cols) + " |")
     table = "\n".join(lines)
-    print("\nText scenario (b = 0.01 kg/s), 601 outputs on [0, 30] s; each method at its cheapest setting"
-          " meeting the target; best-of-repeats CPU time, this run:\n")
+    print(
+        "\nText scenario (b = 0.01 kg/s), 601 outputs on [0, 30] s; each method at its cheapest setting"
+        " meeting the target; best-of-repeats CPU time, this run:\n"
+    )
     print(table)
 
     periods = 10_000 if a.quick else 100_000
     mem = memory_run(periods)
     mlines = ["| run | periods | outputs | steps | wall [s] | peak traced memory |", "|---|---|---|---|---|---|"]
     for name, per, nout, steps, wall, peak in mem:
-        mlines.append(f"| {name} | {per:.0e} | {nout} | {steps if steps is not None else ''} | "
-                      f"{'' if wall is None else f'{wall:.2f}'} | {peak / 1024:.1f} KiB |")
+        mlines.append(
+            f"| {name} | {per:.0e} | {nout} | {steps if steps is not None else ''} | "
+            f"{'' if wall is None else f'{wall:.2f}'} | {peak / 1024:.1f} KiB |"
+        )
     mtable = "\n".join(mlines)
     print("\nLong runs (gamma = 0, theta0 = 0, Omega0 = 2, RK4 h = 0.05 s, CVODE rtol 1e-8):\n")
     print(mtable)
 
-    harness.write_outputs(a.out, "bench_integrators", table + "\n\n" + mtable,
-                          [(cols, [[r.get(c, "") for c in cols] for r in rows])])
+    harness.write_outputs(
+        a.out, "bench_integrators", table + "\n\n" + mtable, [(cols, [[r.get(c, "") for c in cols] for r in rows])]
+    )
     return 0
 
 

@@ -26,6 +26,7 @@ machine.  Ratios > 1 mean pendula is faster.
 
     python benchmarks/bench_kernels.py [--quick] [--n N] [--repeat R] [--out DIR]
 """
+
 from __future__ import annotations
 
 import json
@@ -37,9 +38,8 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-
 import harness
+import numpy as np
 
 HERE = pathlib.Path(__file__).resolve().parent
 STEPS = 1200
@@ -48,8 +48,10 @@ STEPS = 1200
 def _child(n, repeat):
     """In a fresh interpreter (PENDULA_KERNEL set by the parent): time the batch."""
     import bench_ensembles as ens
+
     import pendula
     from pendula._many import kernels as _batch
+
     th0, om0 = ens.scene(n)
     out = {"path": pendula.build_info()["kernel"]["path"]}
     for threads in (1, 2):
@@ -63,11 +65,17 @@ def _child(n, repeat):
 def _paths(n, repeat):
     """{path: child result} for every kernel path this machine runs."""
     import pendula
+
     res = {}
     for path in pendula.build_info()["kernel"]["available"]:
         env = dict(os.environ, PENDULA_KERNEL=path)
-        run = subprocess.run([sys.executable, __file__, "--child", str(n), str(repeat)], env=env, check=True,
-                             capture_output=True, text=True)
+        run = subprocess.run(
+            [sys.executable, __file__, "--child", str(n), str(repeat)],
+            env=env,
+            check=True,
+            capture_output=True,
+            text=True,
+        )
         res[path] = json.loads(run.stdout.strip().splitlines()[-1])
     return res
 
@@ -79,24 +87,34 @@ def _c_peer(n, repeat):
         return None, "no C compiler"
     with tempfile.TemporaryDirectory() as tmp:
         exe = pathlib.Path(tmp) / "rk4_peer"
-        build = subprocess.run([cc, "-O3", "-march=native", "-ffast-math", str(HERE / "rk4_peer.c"), "-o", str(exe),
-                                "-lm"], capture_output=True, text=True)
+        build = subprocess.run(
+            [cc, "-O3", "-march=native", "-ffast-math", str(HERE / "rk4_peer.c"), "-o", str(exe), "-lm"],
+            capture_output=True,
+            text=True,
+        )
         if build.returncode != 0:
             return None, "compile failed: " + build.stderr.strip()[:200]
-        cpu = float(subprocess.run([str(exe), str(n), str(repeat)], check=True, capture_output=True,
-                                   text=True).stdout.split()[0])
+        cpu = float(
+            subprocess.run([str(exe), str(n), str(repeat)], check=True, capture_output=True, text=True).stdout.split()[
+                0
+            ]
+        )
     return cpu, "cc -O3 -march=native -ffast-math (libmvec)"
 
 
 def _period(m, repeat):
     """(pendula s, SciPy s) for the period over m amplitudes in (0, pi)."""
-    import pendula
     from scipy.special import ellipkm1
+
+    import pendula
+
     th = np.random.default_rng(5).uniform(1e-3, np.pi - 1e-3, m)
     w0 = 1.4
-    tp, ts = harness.best_times_interleaved([lambda: pendula.period(th, 0.0, w0),
-                                             lambda: 4 * ellipkm1(np.cos(th / 2) ** 2) / w0],
-                                            repeat, clock=time.process_time)
+    tp, ts = harness.best_times_interleaved(
+        [lambda: pendula.period(th, 0.0, w0), lambda: 4 * ellipkm1(np.cos(th / 2) ** 2) / w0],
+        repeat,
+        clock=time.process_time,
+    )
     a, b = pendula.period(th, 0.0, w0), 4 * ellipkm1(np.cos(th / 2) ** 2) / w0
     return tp, ts, float(np.max(np.abs(a - b) / b))
 
@@ -104,15 +122,18 @@ def _period(m, repeat):
 def _undamped(m, repeat):
     """(pendula s, SciPy s) for undamped over m distinct libration states, one
     time each in 0..100 s, against bench_undamped's SciPy closed form."""
-    import pendula
     from bench_undamped import scipy_undamped
+
+    import pendula
+
     rng = np.random.default_rng(6)
     w0 = 1.4
     th = rng.uniform(-3.0, 3.0, m)
     om = 2 * w0 * np.cos(th / 2) * rng.uniform(-0.99, 0.99, m)
     t = rng.uniform(0, 100, m)
-    return harness.best_times_interleaved([lambda: pendula.undamped(t, th, om, w0), scipy_undamped(t, th, om, w0)],
-                                          repeat, clock=time.process_time)
+    return harness.best_times_interleaved(
+        [lambda: pendula.undamped(t, th, om, w0), scipy_undamped(t, th, om, w0)], repeat, clock=time.process_time
+    )
 
 
 def main(argv=None):
@@ -120,33 +141,45 @@ def main(argv=None):
     if argv[:1] == ["--child"]:
         _child(int(argv[1]), int(argv[2]))
         return
-    ap = harness.parser(__doc__, "2,000 states, period over 1e5 amplitudes (seconds)",
-                        "also write bench_kernels.md here")
-    args, n, repeat = harness.parse_with_sizes(ap, argv, "states (default 10,000; --quick 2,000)",
-                                               n=(2_000, 10_000), repeat=(3, 5))
+    ap = harness.parser(
+        __doc__, "2,000 states, period over 1e5 amplitudes (seconds)", "also write bench_kernels.md here"
+    )
+    args, n, repeat = harness.parse_with_sizes(
+        ap, argv, "states (default 10,000; --quick 2,000)", n=(2_000, 10_000), repeat=(3, 5)
+    )
     import bench_ensembles as ens
+
     import pendula
 
     info = pendula.build_info()["kernel"]
-    print(f"pendula {pendula.__version__}; kernel paths {info['available']} (default {info['path']}); "
-          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}", flush=True)
+    print(
+        f"pendula {pendula.__version__}; kernel paths {info['available']} (default {info['path']}); "
+        f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}",
+        flush=True,
+    )
     paths = _paths(n, repeat)
     peer_cpu, peer_how = _c_peer(n, repeat)
     rows = []
     for path, r in paths.items():
-        rows.append((f"pendula batch, 1 thread, path {path}" + (" (default)" if path == info["path"] else ""),
-                     r["cpu1"], r["err"]))
+        rows.append(
+            (
+                f"pendula batch, 1 thread, path {path}" + (" (default)" if path == info["path"] else ""),
+                r["cpu1"],
+                r["err"],
+            )
+        )
     if peer_cpu is not None:
         rows.append((f"C loop, {peer_how}", peer_cpu, float("nan")))
     nb = ens.numba_kernels()
     th0, om0 = ens.scene(n)
     if nb is not None:
         nb1 = nb[0]
-        nb1(th0[:8], om0[:8])   # compile outside the timing
+        nb1(th0[:8], om0[:8])  # compile outside the timing
         _, nb_cpu, _, _ = harness.best_run(lambda: nb1(th0, om0), repeat)
         rows.append(("numba njit, 1 thread", nb_cpu, float("nan")))
     try:
         import heyoka  # noqa: F401
+
         heyoka_note = "heyoka.py installed: its batch mode is not timed by this script yet"
     except ImportError:
         heyoka_note = "heyoka.py not installed"
@@ -164,18 +197,24 @@ def main(argv=None):
         ratios.append(f"default path / C loop, 1 thread: {peer_cpu / best['cpu1']:.2f}x (target >= 1)")
     if nb is not None:
         ratios.append(f"default path / numba, 1 thread: {nb_cpu / best['cpu1']:.2f}x (target >= 7x)")
-    ratios.append(f"default path, 2 threads / 1 thread, wall: {best['wall1'] / best['wall2']:.2f}x (target >= 1.8x; "
-                  f"load average {os.getloadavg()[0]:.1f})")
+    ratios.append(
+        f"default path, 2 threads / 1 thread, wall: {best['wall1'] / best['wall2']:.2f}x (target >= 1.8x; "
+        f"load average {os.getloadavg()[0]:.1f})"
+    )
     ratios.append(heyoka_note)
     m = 100_000 if args.quick else 1_000_000
     tp, ts, dev = _period(m, repeat)
-    ratios.append(f"period over {m:,} amplitudes: pendula {tp / m * 1e9:.1f} ns, SciPy 4 ellipkm1(cos(theta0/2)**2)/w0 "
-                  f"{ts / m * 1e9:.1f} ns per point: {ts / tp:.2f}x (target >= 1; largest relative difference "
-                  f"{dev:.1e})")
+    ratios.append(
+        f"period over {m:,} amplitudes: pendula {tp / m * 1e9:.1f} ns, SciPy 4 ellipkm1(cos(theta0/2)**2)/w0 "
+        f"{ts / m * 1e9:.1f} ns per point: {ts / tp:.2f}x (target >= 1; largest relative difference "
+        f"{dev:.1e})"
+    )
     mu = 20_000 if args.quick else 100_000
     tu, tsu = _undamped(mu, repeat)
-    ratios.append(f"undamped over {mu:,} distinct states: pendula {tu / mu * 1e9:.1f} ns, SciPy closed form "
-                  f"{tsu / mu * 1e9:.1f} ns per state: {tsu / tu:.2f}x (target >= 3x)")
+    ratios.append(
+        f"undamped over {mu:,} distinct states: pendula {tu / mu * 1e9:.1f} ns, SciPy closed form "
+        f"{tsu / mu * 1e9:.1f} ns per state: {tsu / tu:.2f}x (target >= 3x)"
+    )
     text = "\n".join(lines + [""] + ["- " + r for r in ratios])
     print()
     print(text)

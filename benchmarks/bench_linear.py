@@ -14,15 +14,16 @@ eps * (|theta| + |Omega|/max(w0, gamma)).
 
 Prints a table and, with --out, writes bench_linear.md and bench_linear.csv there.
 """
+
 from __future__ import annotations
 
 import math
 import platform
 
+import harness
 import mpmath as mp
 import numpy as np
 
-import harness
 import pendula
 
 try:
@@ -45,7 +46,7 @@ def numpy_text(t, th0, om0, w0, gamma):
     """The text's formulas (eqs 2.27-2.29, 2.45-2.47) and the textbook under-damped one."""
     a = gamma / 2.0
     if gamma > 2 * w0:
-        beta = np.sqrt(gamma ** 2 / 4.0 - w0 ** 2)
+        beta = np.sqrt(gamma**2 / 4.0 - w0**2)
         l1, l2 = -a - beta, -a + beta
         A = (th0 * l2 - om0) / (l2 - l1)
         B = (om0 - th0 * l1) / (l2 - l1)
@@ -56,15 +57,14 @@ def numpy_text(t, th0, om0, w0, gamma):
         B = om0 - th0 * lam
         e = np.exp(lam * t)
         return e * (th0 + B * t), e * (om0 + B * lam * t)
-    wd = np.sqrt(w0 ** 2 - a ** 2)
+    wd = np.sqrt(w0**2 - a**2)
     e = np.exp(-a * t)
     c, s = np.cos(wd * t), np.sin(wd * t)
-    return (e * (th0 * c + (om0 + a * th0) / wd * s),
-            e * (om0 * c - (w0 ** 2 * th0 + a * om0) / wd * s))
+    return (e * (th0 * c + (om0 + a * th0) / wd * s), e * (om0 * c - (w0**2 * th0 + a * om0) / wd * s))
 
 
 def scipy_expm(t, th0, om0, w0, gamma):
-    m = np.array([[0.0, 1.0], [-w0 ** 2, -gamma]])
+    m = np.array([[0.0, 1.0], [-(w0**2), -gamma]])
     e = scipy.linalg.expm(t[:, None, None] * m)
     return e[:, 0, 0] * th0 + e[:, 0, 1] * om0, e[:, 1, 0] * th0 + e[:, 1, 1] * om0
 
@@ -115,28 +115,64 @@ def main(argv=None):
         err_s = max_error(scipy_expm, sample, th0, om0, W0, gamma) if scipy else math.nan
         for n in sizes:
             t = np.linspace(0.0, tmax, n)
-            tp, tn = harness.best_times_interleaved([lambda: pendula.linear_damped(t, th0, om0, W0, gamma),
-                                                     lambda: numpy_text(t, th0, om0, W0, gamma)], repeats)
+            tp, tn = harness.best_times_interleaved(
+                [lambda: pendula.linear_damped(t, th0, om0, W0, gamma), lambda: numpy_text(t, th0, om0, W0, gamma)],
+                repeats,
+            )
             ts = math.nan
             if scipy and n == sizes[0]:
                 ts_n = 200 if args.quick else n
                 ts = harness.best_time(lambda: scipy_expm(t[:ts_n], th0, om0, W0, gamma), 2) * n / ts_n
-            rows.append(dict(regime=label, n=n,
-                             pendula_ns=1e9 * tp / n, numpy_text_ns=1e9 * tn / n, scipy_expm_ns=1e9 * ts / n,
-                             ratio_numpy=tn / tp, ratio_scipy=ts / tp,
-                             err_pendula=err_p, err_numpy_text=err_n, err_scipy_expm=err_s))
-    head = ["regime", "N", "pendula ns/pt", "numpy text ns/pt", "scipy expm ns/pt",
-            "numpy/pendula", "scipy/pendula", "err pendula", "err text", "err expm"]
-    fmt = lambda r: [r["regime"], f"{r['n']:,}", f"{r['pendula_ns']:.1f}", f"{r['numpy_text_ns']:.1f}",  # noqa: E731
-                     f"{r['scipy_expm_ns']:.0f}", f"{r['ratio_numpy']:.2f}", f"{r['ratio_scipy']:.0f}",
-                     f"{r['err_pendula']:.3g}", f"{r['err_numpy_text']:.3g}", f"{r['err_scipy_expm']:.3g}"]
-    text = "\n".join([
-        "# pendula.linear_damped: speed and accuracy", "",
-        f"pendula.linear_damped vs numpy (text formulas) and scipy.linalg.expm, this run; "
-        f"{platform.machine()}, numpy {np.__version__}.",
-        "ns per point (best of repeats); ratios > 1 mean pendula is faster. Errors: max over "
-        "a sample vs mpmath (50 digits), in eps * (|theta| + |Omega|/max(w0, gamma)).", "",
-        harness.markdown_table(head, [fmt(r) for r in rows])])
+            rows.append(
+                dict(
+                    regime=label,
+                    n=n,
+                    pendula_ns=1e9 * tp / n,
+                    numpy_text_ns=1e9 * tn / n,
+                    scipy_expm_ns=1e9 * ts / n,
+                    ratio_numpy=tn / tp,
+                    ratio_scipy=ts / tp,
+                    err_pendula=err_p,
+                    err_numpy_text=err_n,
+                    err_scipy_expm=err_s,
+                )
+            )
+    head = [
+        "regime",
+        "N",
+        "pendula ns/pt",
+        "numpy text ns/pt",
+        "scipy expm ns/pt",
+        "numpy/pendula",
+        "scipy/pendula",
+        "err pendula",
+        "err text",
+        "err expm",
+    ]
+    fmt = lambda r: [
+        r["regime"],
+        f"{r['n']:,}",
+        f"{r['pendula_ns']:.1f}",
+        f"{r['numpy_text_ns']:.1f}",  # noqa: E731
+        f"{r['scipy_expm_ns']:.0f}",
+        f"{r['ratio_numpy']:.2f}",
+        f"{r['ratio_scipy']:.0f}",
+        f"{r['err_pendula']:.3g}",
+        f"{r['err_numpy_text']:.3g}",
+        f"{r['err_scipy_expm']:.3g}",
+    ]
+    text = "\n".join(
+        [
+            "# pendula.linear_damped: speed and accuracy",
+            "",
+            f"pendula.linear_damped vs numpy (text formulas) and scipy.linalg.expm, this run; "
+            f"{platform.machine()}, numpy {np.__version__}.",
+            "ns per point (best of repeats); ratios > 1 mean pendula is faster. Errors: max over "
+            "a sample vs mpmath (50 digits), in eps * (|theta| + |Omega|/max(w0, gamma)).",
+            "",
+            harness.markdown_table(head, [fmt(r) for r in rows]),
+        ]
+    )
     print(text)
     harness.write_outputs(args.out, "bench_linear", text, [(list(rows[0]), [list(r.values()) for r in rows])])
 

@@ -28,6 +28,7 @@ table) and scenes-benchmark-scenes.csv (one row per graded scene: its data, mode
 estimate, true errors, tol_met, wall time, cheapest adequate model, its time, the ratio,
 the reference's build time).
 """
+
 import csv
 import hashlib
 import json
@@ -36,25 +37,33 @@ import pathlib
 import sys
 import time
 
+import harness
 import mpmath as mp
 import numpy as np
-
-import harness
 import scene_grid_draw
 import scene_reference as ref
 
 import pendula
 from pendula.integrate import TURNING_POINT, ZERO_CROSSING, rk4_max_stable_step
 
-REF_VERSION = 4   # 2: zero crossings are theta = 0 mod 2 pi; 3: settled events in closed form;
+REF_VERSION = 4  # 2: zero crossings are theta = 0 mod 2 pi; 3: settled events in closed form;
 #                   4: undamped events from the elliptic solution
 HAVE_CVODE = pendula.scene.HAVE_CVODE
 
 
 def _key(sc):
-    blob = json.dumps([REF_VERSION, sc["theta0"].hex(), sc["omega0"].hex(), float(sc["g"]).hex(),
-                       float(sc["length"]).hex(), float(sc["gamma"]).hex(),
-                       np.atleast_1d(sc["t"]).astype(float).tobytes().hex(), sc["want"] == "events"])
+    blob = json.dumps(
+        [
+            REF_VERSION,
+            sc["theta0"].hex(),
+            sc["omega0"].hex(),
+            float(sc["g"]).hex(),
+            float(sc["length"]).hex(),
+            float(sc["gamma"]).hex(),
+            np.atleast_1d(sc["t"]).astype(float).tobytes().hex(),
+            sc["want"] == "events",
+        ]
+    )
     return hashlib.sha1(blob.encode()).hexdigest()
 
 
@@ -62,8 +71,7 @@ def _reference_for(sc, w0, max_steps, max_seconds):
     t = [float(x) for x in np.atleast_1d(sc["t"])]
     events = sc["want"] == "events"
     out = {}
-    closed_events = (ref.undamped_events(t[-1], sc["theta0"], sc["omega0"], w0)
-                     if sc["gamma"] == 0 and events else None)
+    closed_events = ref.undamped_events(t[-1], sc["theta0"], sc["omega0"], w0) if sc["gamma"] == 0 and events else None
     if sc["gamma"] == 0 and (not events or closed_events is not None):
         th, om, period = ref.undamped(t, sc["theta0"], sc["omega0"], w0)
         out["period"] = str(period)
@@ -110,8 +118,16 @@ def reference(sc, cache, max_steps, max_seconds=math.inf):
 
 
 def make_scene(sc):
-    return pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"],
-                         length=sc["length"], gamma=sc["gamma"], tol=sc["tol"], want=sc["want"])
+    return pendula.Scene(
+        theta0=sc["theta0"],
+        omega0=sc["omega0"],
+        t=sc["t"],
+        g=sc["g"],
+        length=sc["length"],
+        gamma=sc["gamma"],
+        tol=sc["tol"],
+        want=sc["want"],
+    )
 
 
 def true_error(sc, res, r, w0):
@@ -121,7 +137,7 @@ def true_error(sc, res, r, w0):
         w0 = mp.mpf(w0)
         if want == "events":
             ev = res.events
-            kinds = [TURNING_POINT if k == 1 else ZERO_CROSSING for k in r["ev_k"]]   # the reference's 1 / 2
+            kinds = [TURNING_POINT if k == 1 else ZERO_CROSSING for k in r["ev_k"]]  # the reference's 1 / 2
             if ev is None or len(ev.t) != len(kinds) or list(ev.kind) != kinds:
                 return math.inf
             return max((float(abs(mp.mpf(a) - mp.mpf(b))) for a, b in zip(ev.t, r["ev_t"])), default=0.0)
@@ -138,8 +154,9 @@ def true_error(sc, res, r, w0):
             e = np.atleast_1d(res.energy)
             if len(e) == 1 and len(th) > 1:
                 e = np.repeat(e, len(th))
-            return float(max(abs(mp.mpf(a) - (o ** 2 / 2 + w0 ** 2 * (1 - mp.cos(x)))) / w0 ** 2
-                             for a, x, o in zip(e, th, om)))
+            return float(
+                max(abs(mp.mpf(a) - (o**2 / 2 + w0**2 * (1 - mp.cos(x)))) / w0**2 for a, x, o in zip(e, th, om))
+            )
         a = np.atleast_1d(res.theta)
         err = max(abs(mp.mpf(x) - y) for x, y in zip(a, th))
         if want == "state":
@@ -162,7 +179,7 @@ def _ladder(sc, scene):
     while t_end / h <= 2e6 and len(rk4) < 22:
         rk4.append(("rk4", h))
         h /= 2
-    cv = [("cvode", 10.0 ** -k) for k in range(2, 14)] if HAVE_CVODE else []
+    cv = [("cvode", 10.0**-k) for k in range(2, 14)] if HAVE_CVODE else []
     return out, rk4, cv
 
 
@@ -185,11 +202,12 @@ def cheapest_adequate(sc, scene, r, w0, repeat):
                     res = pendula.run_model(scene, model, setting, max_steps=2_000_000)
                     t_first = time.perf_counter() - t0
                     err = true_error(sc, res, r, w0)
-                except Exception:       # noqa: BLE001 -- a model that refuses or fails is not adequate
+                except Exception:  # noqa: BLE001 -- a model that refuses or fails is not adequate
                     continue
                 if err <= sc["tol"]:
-                    wall = _timed(lambda: pendula.run_model(scene, model, setting, max_steps=2_000_000),
-                                  t_first, repeat)
+                    wall = _timed(
+                        lambda: pendula.run_model(scene, model, setting, max_steps=2_000_000), t_first, repeat
+                    )
                     found.append((wall, model, setting, res.cost["rhs_evals"] + res.cost["closed_form_evals"]))
                     break
     if not found:
@@ -205,20 +223,42 @@ def grade(sc, cache, max_steps, repeat=3, economy=True, max_seconds=math.inf):
         return None
     scene = make_scene(sc)
     w_exact = float(ref.exact_w0(sc["g"], sc["length"]))
-    row = dict(id=sc["id"], want=sc["want"], damping=sc["damping"], start=sc["start"], grid=sc["grid"],
-               periods=sc["periods"], tol=sc["tol"], t_ref=r.get("seconds", math.nan))
+    row = dict(
+        id=sc["id"],
+        want=sc["want"],
+        damping=sc["damping"],
+        start=sc["start"],
+        grid=sc["grid"],
+        periods=sc["periods"],
+        tol=sc["tol"],
+        t_ref=r.get("seconds", math.nan),
+    )
     try:
         t0 = time.perf_counter()
         res = pendula.solve(scene)
         t_first = time.perf_counter() - t0
-    except Exception as exc:     # noqa: BLE001 -- a crash is a result to report
-        row.update(model="CRASH", reason=f"{type(exc).__name__}: {exc}", err=math.inf, err_r=math.inf,
-                   estimate=math.nan, tol_met=False, t_solve=math.nan, cheapest="", t_cheapest=math.nan)
+    except Exception as exc:  # noqa: BLE001 -- a crash is a result to report
+        row.update(
+            model="CRASH",
+            reason=f"{type(exc).__name__}: {exc}",
+            err=math.inf,
+            err_r=math.inf,
+            estimate=math.nan,
+            tol_met=False,
+            t_solve=math.nan,
+            cheapest="",
+            t_cheapest=math.nan,
+        )
         return row
     est = estimate_of(res, sc["want"])
-    row.update(model=res.model, reason=res.reason, estimate=est, tol_met=res.tol_met,
-               err=true_error(sc, res, r["exact"], w_exact),
-               err_r=true_error(sc, res, r["rounded"], scene.w0))
+    row.update(
+        model=res.model,
+        reason=res.reason,
+        estimate=est,
+        tol_met=res.tol_met,
+        err=true_error(sc, res, r["exact"], w_exact),
+        err_r=true_error(sc, res, r["rounded"], scene.w0),
+    )
     row["t_solve"] = _timed(lambda: pendula.solve(scene), t_first, repeat) if economy else math.nan
     best = cheapest_adequate(sc, scene, r["exact"], w_exact, repeat) if economy else None
     row["cheapest"] = "" if best is None else f"{best[0]}" + ("" if best[1] is None else f"@{best[1]:.3g}")
@@ -229,17 +269,34 @@ def grade(sc, cache, max_steps, repeat=3, economy=True, max_seconds=math.inf):
 def describe(sc):
     """The scene's data in one line (the output times as grid kind, count and end)."""
     t = np.atleast_1d(sc["t"])
-    return (f"Scene(theta0={sc['theta0']!r}, omega0={sc['omega0']!r}, g={sc['g']!r}, length={sc['length']!r}, "
-            f"gamma={sc['gamma']!r}, t={sc['grid']}[{t.size}] to {float(t[-1])!r}, tol={sc['tol']:.3g}, "
-            f"want={sc['want']!r})")
+    return (
+        f"Scene(theta0={sc['theta0']!r}, omega0={sc['omega0']!r}, g={sc['g']!r}, length={sc['length']!r}, "
+        f"gamma={sc['gamma']!r}, t={sc['grid']}[{t.size}] to {float(t[-1])!r}, tol={sc['tol']:.3g}, "
+        f"want={sc['want']!r})"
+    )
 
 
 def reproducer(sc):
     return f"python benchmarks/bench_scenes.py --scene {sc['id']}  # {describe(sc)}"
 
 
-SCENE_COLUMNS = ["id", "scene", "want", "model", "reason", "tol", "estimate", "err", "err_r", "tol_met",
-                 "t_solve", "cheapest", "t_cheapest", "ratio", "t_ref"]
+SCENE_COLUMNS = [
+    "id",
+    "scene",
+    "want",
+    "model",
+    "reason",
+    "tol",
+    "estimate",
+    "err",
+    "err_r",
+    "tol_met",
+    "t_solve",
+    "cheapest",
+    "t_cheapest",
+    "ratio",
+    "t_ref",
+]
 
 
 def scene_rows(rows, by_id):
@@ -264,22 +321,28 @@ def summary(rows, skipped, total):
     honest = sum(r["err"] <= r["estimate"] for r in rows)
     liars = sum(bool(r["tol_met"]) and r["err"] > 10 * r["tol"] for r in rows)
     crashes = sum(r["model"] == "CRASH" for r in rows)
-    ratio = np.array([r["t_solve"] / r["t_cheapest"] for r in rows
-                      if math.isfinite(r["t_cheapest"]) and math.isfinite(r["t_solve"])])
+    ratio = np.array(
+        [r["t_solve"] / r["t_cheapest"] for r in rows if math.isfinite(r["t_cheapest"]) and math.isfinite(r["t_solve"])]
+    )
     none = sum(not math.isfinite(r["t_cheapest"]) for r in rows)
     if ratio.size:
         q = np.percentile(ratio, [50, 90])
         econ = f"{q[0]:.2g}x / {q[1]:.2g}x / {ratio.max():.3g}x ({ratio.size} scenes)"
     else:
         econ = "n/a"
-    table = [["true error <= tol (data exactly as given: w0 = sqrt(g/l))", _pct(ok / n), ">= 99.5 %"],
-             ["true error <= tol, graded with pendula's rounded w0 = fl(sqrt(g/l))", _pct(ok_r / n), ">= 99.5 %"],
-             ["true error <= reported estimate", _pct(honest / n), ">= 99 %"],
-             ["scenes claiming tol met while > 10x tol", str(liars), "0"],
-             ["wall time / cheapest adequate model: median / p90 / worst", econ, "<= 1.5x / 3x / 10x"],
-             ["scenes graded / without reference (Taylor budget) / crashes",
-              f"{n} / {skipped} / {crashes} (of {total})", ""],
-             ["scenes where no model run met tol (no economy ratio)", str(none), ""]]
+    table = [
+        ["true error <= tol (data exactly as given: w0 = sqrt(g/l))", _pct(ok / n), ">= 99.5 %"],
+        ["true error <= tol, graded with pendula's rounded w0 = fl(sqrt(g/l))", _pct(ok_r / n), ">= 99.5 %"],
+        ["true error <= reported estimate", _pct(honest / n), ">= 99 %"],
+        ["scenes claiming tol met while > 10x tol", str(liars), "0"],
+        ["wall time / cheapest adequate model: median / p90 / worst", econ, "<= 1.5x / 3x / 10x"],
+        [
+            "scenes graded / without reference (Taylor budget) / crashes",
+            f"{n} / {skipped} / {crashes} (of {total})",
+            "",
+        ],
+        ["scenes where no model run met tol (no economy ratio)", str(none), ""],
+    ]
     return ["measure", "now", "target"], table
 
 
@@ -287,17 +350,24 @@ def rounding_note(rows):
     """Why the rounded-w0 grading differs: near the separatrix solve answers for the data
     as given (issue finding 2), which a reference built on fl(sqrt(g/l)) counts against it."""
     only = [r for r in rows if r["err"] <= r["tol"] < r["err_r"]]
-    return (f"{len(only)} scene(s) meet tol against the data as given but not against the rounded "
-            "w0: near the separatrix the rounding of w0 moves 1 - m by up to ~0.25 %, and solve "
-            "answers for the data the user gave (g, length), not for fl(sqrt(g/l)).")
+    return (
+        f"{len(only)} scene(s) meet tol against the data as given but not against the rounded "
+        "w0: near the separatrix the rounding of w0 moves 1 - m by up to ~0.25 %, and solve "
+        "answers for the data the user gave (g, length), not for fl(sqrt(g/l))."
+    )
 
 
 def economy_by_model(rows):
     """Wall-time ratio solve / cheapest adequate run_model, by the model solve chose."""
     table = []
     for model in ("small_angle", "exact", "linear", "rk4", "cvode"):
-        x = np.array([r["t_solve"] / r["t_cheapest"] for r in rows if r["model"] == model
-                      and math.isfinite(r["t_cheapest"]) and math.isfinite(r["t_solve"])])
+        x = np.array(
+            [
+                r["t_solve"] / r["t_cheapest"]
+                for r in rows
+                if r["model"] == model and math.isfinite(r["t_cheapest"]) and math.isfinite(r["t_solve"])
+            ]
+        )
         if x.size:
             q = np.percentile(x, [50, 90])
             table.append([model, str(x.size), f"{q[0]:.2g}x", f"{q[1]:.2g}x", f"{x.max():.3g}x"])
@@ -305,15 +375,29 @@ def economy_by_model(rows):
 
 
 def main():
-    ap = harness.parser(__doc__, "24 short scenes (about a minute)", "write scenes-benchmark.md, .csv and -scenes.csv here")
-    ap.add_argument("--cache", type=pathlib.Path, default=harness.ROOT / "out" / "scene-refs",
-                    help="reference cache directory (never committed)")
-    ap.add_argument("--max-steps", type=int, default=None,
-                    help="Taylor-step budget of one reference (default 3000 quick, 4000 full)")
+    ap = harness.parser(
+        __doc__, "24 short scenes (about a minute)", "write scenes-benchmark.md, .csv and -scenes.csv here"
+    )
+    ap.add_argument(
+        "--cache",
+        type=pathlib.Path,
+        default=harness.ROOT / "out" / "scene-refs",
+        help="reference cache directory (never committed)",
+    )
+    ap.add_argument(
+        "--max-steps",
+        type=int,
+        default=None,
+        help="Taylor-step budget of one reference (default 3000 quick, 4000 full)",
+    )
     ap.add_argument("--scene", type=int, default=None, help="grade only this scene id, verbosely")
     ap.add_argument("--ids", default=None, metavar="A:B", help="grade only scenes A .. B-1 of the grid (a slice)")
-    ap.add_argument("--ref-seconds", type=float, default=120.0,
-                    help="wall-time budget [s] of one Taylor reference run (beyond it the scene is left out)")
+    ap.add_argument(
+        "--ref-seconds",
+        type=float,
+        default=120.0,
+        help="wall-time budget [s] of one Taylor reference run (beyond it the scene is left out)",
+    )
     ap.add_argument("--no-economy", action="store_true", help="honesty only (no timing, no model ladder)")
     args = ap.parse_args()
     grid = scene_grid_draw.draw()
@@ -336,8 +420,11 @@ def main():
             row["t_scene"] = time.perf_counter() - t0
             rows.append(row)
             if row["t_scene"] > 10:
-                print(f"  scene {sc['id']}: {row['t_scene']:.0f} s (reference {row['t_ref']:.1f} s, solve "
-                      f"{row['t_solve']:.2g} s, {row['model']})", file=sys.stderr)
+                print(
+                    f"  scene {sc['id']}: {row['t_scene']:.0f} s (reference {row['t_ref']:.1f} s, solve "
+                    f"{row['t_solve']:.2g} s, {row['model']})",
+                    file=sys.stderr,
+                )
         if args.scene is not None or (k + 1) % 20 == 0:
             print(f"[{k + 1}/{len(grid)} scenes, {time.perf_counter() - start:.0f} s]", file=sys.stderr)
     runtime = time.perf_counter() - start
@@ -348,37 +435,73 @@ def main():
     header, table = summary(rows, len(skipped), len(grid))
     by_id = {s["id"]: s for s in grid}
     worst = sorted(rows, key=lambda r: -(r["err"] / r["tol"]))[:10]
-    costly = sorted((r for r in rows if math.isfinite(r["t_cheapest"])),
-                    key=lambda r: -(r["t_solve"] / r["t_cheapest"]))[:5]
+    costly = sorted(
+        (r for r in rows if math.isfinite(r["t_cheapest"])), key=lambda r: -(r["t_solve"] / r["t_cheapest"])
+    )[:5]
     which = "--quick subset" if args.quick else (f"scenes {args.ids}" if args.ids else "full grid")
     t_ref = [r["t_ref"] for r in rows if math.isfinite(r["t_ref"])]
     slow = sorted(rows, key=lambda r: -r["t_scene"])[:5]
-    lines = ["# Scenes benchmark: honesty and economy", "",
-             f"{len(grid)} seeded scenes ({which}), "
-             f"references without pendula code; generated by benchmarks/bench_scenes.py.", "",
-             f"Runtime {runtime:.0f} s ({len(grid)} scenes; building their references took (when not "
-             f"cached) {sum(t_ref):.0f} s in all, at most {max(t_ref, default=0):.1f} s for one scene; cached ones cost "
-             f"nothing here). Slowest scenes (reference build + grading): "
-             + ", ".join(f"{r['id']} ({r['t_scene']:.1f} s, reference {r['t_ref']:.1f} s)" for r in slow) + ".", "",
-             harness.markdown_table(header, table, "lrr"), "",
-             rounding_note(rows), "",
-             "## Economy by the model solve chose", "",
-             harness.markdown_table(*economy_by_model(rows), "lrrrr"), "",
-             "## Worst scenes (true error / tol)", ""]
+    lines = [
+        "# Scenes benchmark: honesty and economy",
+        "",
+        f"{len(grid)} seeded scenes ({which}), "
+        f"references without pendula code; generated by benchmarks/bench_scenes.py.",
+        "",
+        f"Runtime {runtime:.0f} s ({len(grid)} scenes; building their references took (when not "
+        f"cached) {sum(t_ref):.0f} s in all, at most {max(t_ref, default=0):.1f} s for one scene; cached ones cost "
+        f"nothing here). Slowest scenes (reference build + grading): "
+        + ", ".join(f"{r['id']} ({r['t_scene']:.1f} s, reference {r['t_ref']:.1f} s)" for r in slow)
+        + ".",
+        "",
+        harness.markdown_table(header, table, "lrr"),
+        "",
+        rounding_note(rows),
+        "",
+        "## Economy by the model solve chose",
+        "",
+        harness.markdown_table(*economy_by_model(rows), "lrrrr"),
+        "",
+        "## Worst scenes (true error / tol)",
+        "",
+    ]
     for r in worst:
-        lines.append(f"- {r['err'] / r['tol']:.3g}x tol, estimate {r['estimate']:.2g}, model {r['model']}, "
-                     f"tol_met {r['tol_met']}: `{reproducer(by_id[r['id']])}`")
+        lines.append(
+            f"- {r['err'] / r['tol']:.3g}x tol, estimate {r['estimate']:.2g}, model {r['model']}, "
+            f"tol_met {r['tol_met']}: `{reproducer(by_id[r['id']])}`"
+        )
     lines += ["", "## Costliest scenes (wall time / cheapest adequate)", ""]
     for r in costly:
-        lines.append(f"- {r['t_solve'] / r['t_cheapest']:.3g}x ({r['model']} {r['t_solve'] * 1e3:.3g} ms vs "
-                     f"{r['cheapest']} {r['t_cheapest'] * 1e3:.3g} ms): `{reproducer(by_id[r['id']])}`")
+        lines.append(
+            f"- {r['t_solve'] / r['t_cheapest']:.3g}x ({r['model']} {r['t_solve'] * 1e3:.3g} ms vs "
+            f"{r['cheapest']} {r['t_cheapest'] * 1e3:.3g} ms): `{reproducer(by_id[r['id']])}`"
+        )
     if skipped:
-        lines += ["", f"Without reference (more than {max_steps} Taylor steps or {args.ref_seconds:g} s): scenes "
-                  + ", ".join(str(s["id"]) for s in skipped)]
+        lines += [
+            "",
+            f"Without reference (more than {max_steps} Taylor steps or {args.ref_seconds:g} s): scenes "
+            + ", ".join(str(s["id"]) for s in skipped),
+        ]
     text = "\n".join(lines)
     print(text)
-    cols = ["id", "want", "damping", "start", "grid", "periods", "tol", "model", "estimate", "tol_met",
-            "err", "err_r", "t_solve", "cheapest", "t_cheapest", "t_ref", "t_scene"]
+    cols = [
+        "id",
+        "want",
+        "damping",
+        "start",
+        "grid",
+        "periods",
+        "tol",
+        "model",
+        "estimate",
+        "tol_met",
+        "err",
+        "err_r",
+        "t_solve",
+        "cheapest",
+        "t_cheapest",
+        "t_ref",
+        "t_scene",
+    ]
     csv_rows = [[f"{r[c]:.3g}" if isinstance(r[c], float) else r[c] for c in cols] for r in rows]
     harness.write_outputs(args.out, "scenes-benchmark", text, [(header, table), (cols, csv_rows)])
     if args.out is not None:

@@ -22,11 +22,12 @@ and stragglers; the measured 2-worker row shows how close it is at W = 2.
 
 Usage: python3 benchmarks/bench_sweep.py [--quick] [--out DIR]
 """
+
 import time
 
+import harness
 import numpy as np
 
-import harness
 import pendula
 from pendula._many import kernels as _batch
 
@@ -38,8 +39,11 @@ def grid(n_side):
 
 
 def main(argv=None):
-    ap = harness.parser(__doc__, "a 40x40 grid and fewer overhead tasks (about half a minute)",
-                        "also write sweep_bench.md and .csv there")
+    ap = harness.parser(
+        __doc__,
+        "a 40x40 grid and fewer overhead tasks (about half a minute)",
+        "also write sweep_bench.md and .csv there",
+    )
     args = ap.parse_args(argv)
     try:
         import distributed
@@ -58,16 +62,24 @@ def main(argv=None):
     om0 = np.broadcast_to(om, (n_side, n_side)).reshape(-1)[:chunk].copy()
     c = harness.best_time(lambda: _batch.rk4_batch(t, th0, om0, W0, 0.1, 0.025, threads=1), 3)
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None, worker_dashboard_address=None) as lc, \
-            distributed.Client(lc) as client:
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            worker_dashboard_address=None,
+        ) as lc,
+        distributed.Client(lc) as client,
+    ):
         tiny_t = np.array([0.0, 1e-3])
         tiny = np.zeros(n_tiny)
-        pendula.sweep(tiny_t, tiny[:4], 0.0, W0, 0.1, h=1e-3, chunk_states=1, client=client)   # warm up
+        pendula.sweep(tiny_t, tiny[:4], 0.0, W0, 0.1, h=1e-3, chunk_states=1, client=client)  # warm up
         t0 = time.perf_counter()
         pendula.sweep(tiny_t, tiny, 0.0, W0, 0.1, h=1e-3, chunk_states=1, client=client)
         o = (time.perf_counter() - t0) * 2 / n_tiny
-        client.gather(client.map(abs, range(-20, 0)))                      # warm up
+        client.gather(client.map(abs, range(-20, 0)))  # warm up
         t0 = time.perf_counter()
         client.gather(client.map(abs, range(-5 * n_tiny, 0)))
         s_rate = 5 * n_tiny / (time.perf_counter() - t0)
@@ -84,21 +96,29 @@ def main(argv=None):
         rate = workers * chunk / (c + o)
         proj = min(rate, sched_cap)
         rows.append((str(workers), f"{proj:,.0f}", "scheduler" if rate > sched_cap else "workers"))
-    text = "\n".join([
-        f"pendula.sweep on a 2-process LocalCluster: {n_states} states x 601 outputs (RK4, h = 0.025 s), "
-        f"chunks of {chunk} states", "",
-        harness.markdown_table(["quantity", "value"], [
-            ("chunk cost c (one thread)", f"{c * 1e3:.1f} ms ({c / chunk * 1e6:.0f} us/state)"),
-            ("per-task overhead on a worker o_w", f"{o * 1e3:.2f} ms"),
-            ("scheduler rate s (no-op tasks, lower bound)", f"{s_rate:,.0f} tasks/s"),
-            ("measured, 2 workers", f"{measured:,.0f} states/s"),
-            ("cluster result == local result", "bit-identical" if identical else "DIFFERENT"),
-        ]), "",
-        "Projected throughput, W * chunk / (c + o_w), capped by the scheduler at s * chunk:", "",
-        harness.markdown_table(["workers", "states/s", "limited by"], rows)])
+    text = "\n".join(
+        [
+            f"pendula.sweep on a 2-process LocalCluster: {n_states} states x 601 outputs (RK4, h = 0.025 s), "
+            f"chunks of {chunk} states",
+            "",
+            harness.markdown_table(
+                ["quantity", "value"],
+                [
+                    ("chunk cost c (one thread)", f"{c * 1e3:.1f} ms ({c / chunk * 1e6:.0f} us/state)"),
+                    ("per-task overhead on a worker o_w", f"{o * 1e3:.2f} ms"),
+                    ("scheduler rate s (no-op tasks, lower bound)", f"{s_rate:,.0f} tasks/s"),
+                    ("measured, 2 workers", f"{measured:,.0f} states/s"),
+                    ("cluster result == local result", "bit-identical" if identical else "DIFFERENT"),
+                ],
+            ),
+            "",
+            "Projected throughput, W * chunk / (c + o_w), capped by the scheduler at s * chunk:",
+            "",
+            harness.markdown_table(["workers", "states/s", "limited by"], rows),
+        ]
+    )
     print(text)
-    harness.write_outputs(args.out, "sweep_bench", text, [
-        (["workers", "states_per_s", "limited_by"], rows)])
+    harness.write_outputs(args.out, "sweep_bench", text, [(["workers", "states_per_s", "limited_by"], rows)])
 
 
 if __name__ == "__main__":

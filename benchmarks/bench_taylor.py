@@ -21,12 +21,13 @@ dependency: without it the script prints pendula's rows alone.
 
     python3 benchmarks/bench_taylor.py [--quick] [--out DIR]
 """
+
 import math
 import sys
 
+import harness
 import numpy as np
 
-import harness
 import pendula
 
 W0 = math.sqrt(2.0)
@@ -35,7 +36,7 @@ WINDOWS = ((30.0, 0.1, 31), (1000.0, 0.001, 101))
 
 try:
     import heyoka as hy
-except ImportError:   # optional peer
+except ImportError:  # optional peer
     hy = None
 
 
@@ -47,8 +48,7 @@ def _system():
 def reference(t, gamma, theta0=2.5):
     """heyoka in long double at tol 1e-19 (the problem's extended-precision reference)."""
     ld = np.longdouble
-    ta = hy.taylor_adaptive(_system(), [ld(theta0), ld(0)], tol=ld(1e-19), pars=[ld(2), ld(gamma)],
-                            fp_type=ld)
+    ta = hy.taylor_adaptive(_system(), [ld(theta0), ld(0)], tol=ld(1e-19), pars=[ld(2), ld(gamma)], fp_type=ld)
     states = ta.propagate_grid(np.asarray(t, dtype=ld))[-1]
     return states[:, 0], states[:, 1]
 
@@ -75,18 +75,37 @@ def single_rows(repeat):
 
                 fns.append(run_heyoka)
             times = harness.best_times_interleaved(fns, repeat)
-            row = [f"{t_end:g}", f"{gamma:g}", f"{tol:.0e}", f"{times[0] * 1e6:.1f}", str(r.stats["steps"]),
-                   str(r.stats["order"]), f"{r.error.max():.1e}"]
+            row = [
+                f"{t_end:g}",
+                f"{gamma:g}",
+                f"{tol:.0e}",
+                f"{times[0] * 1e6:.1f}",
+                str(r.stats["steps"]),
+                str(r.stats["order"]),
+                f"{r.error.max():.1e}",
+            ]
             if hy:
                 out = run_heyoka()
                 row[4:4] = []
-                row += [f"{error(r.theta, r.omega, ref):.1e}", f"{times[1] * 1e6:.1f}", str(out[3]), str(ta.order),
-                        f"{error(out[-1][:, 0], out[-1][:, 1], ref):.1e}", f"{times[0] / times[1]:.2f}"]
+                row += [
+                    f"{error(r.theta, r.omega, ref):.1e}",
+                    f"{times[1] * 1e6:.1f}",
+                    str(out[3]),
+                    str(ta.order),
+                    f"{error(out[-1][:, 0], out[-1][:, 1], ref):.1e}",
+                    f"{times[0] / times[1]:.2f}",
+                ]
             rows.append(row)
     header = ["window [s]", "gamma", "tol", "pendula [us]", "steps", "order", "estimate"]
     if hy:
-        header += ["pendula error", "heyoka [us]", "heyoka steps", "heyoka order", "heyoka error",
-                   "time ratio pendula/heyoka"]
+        header += [
+            "pendula error",
+            "heyoka [us]",
+            "heyoka steps",
+            "heyoka order",
+            "heyoka error",
+            "time ratio pendula/heyoka",
+        ]
     return header, rows
 
 
@@ -103,8 +122,9 @@ def batch_rows(n_states, repeat):
         pad = nb * width - n_states
         th_p = np.concatenate([th0, th0[:pad]]).reshape(nb, width)
         om_p = np.concatenate([om0, om0[:pad]]).reshape(nb, width)
-        ta = hy.taylor_adaptive_batch(_system(), np.zeros((2, width)), tol=tol,
-                                      pars=np.array([[2.0] * width, [gamma] * width]))
+        ta = hy.taylor_adaptive_batch(
+            _system(), np.zeros((2, width)), tol=tol, pars=np.array([[2.0] * width, [gamma] * width])
+        )
         grid = np.repeat(t[:, None], width, axis=1)
 
         def run_heyoka():
@@ -124,12 +144,16 @@ def batch_rows(n_states, repeat):
     if hy:
         out = fns[1]()
         ref_err = 0.0
-        for i in (0, n_states // 2, n_states - 1):   # three states checked against each other
+        for i in (0, n_states // 2, n_states - 1):  # three states checked against each other
             b, lane = divmod(i, width)
             ref_err = max(ref_err, float(np.max(abs(out[b][:, 0, lane] - r.theta[i]))))
         row += [f"{n_states / times[1]:,.0f}", str(width), f"{ref_err:.1e}", f"{times[0] / times[1]:.2f}"]
-        header += ["heyoka states/s (batch)", "heyoka SIMD width", "max |pendula - heyoka| theta",
-                   "time ratio pendula/heyoka"]
+        header += [
+            "heyoka states/s (batch)",
+            "heyoka SIMD width",
+            "max |pendula - heyoka| theta",
+            "time ratio pendula/heyoka",
+        ]
     return header, [row]
 
 
@@ -138,8 +162,11 @@ def main(argv=None):
     args = ap.parse_args(argv)
     repeat = 5 if args.quick else 25
     n_states = 500 if args.quick else 2000
-    parts = ["Single state: damped pendulum, theta0 = 2.5 rad, w0 = sqrt(2) 1/s"
-             + ("" if hy else " (heyoka.py not installed: pendula only)"), ""]
+    parts = [
+        "Single state: damped pendulum, theta0 = 2.5 rad, w0 = sqrt(2) 1/s"
+        + ("" if hy else " (heyoka.py not installed: pendula only)"),
+        "",
+    ]
     h1, r1 = single_rows(repeat)
     parts += [harness.markdown_table(h1, r1), "", f"Batch: {n_states} states, 30 s, 601 outputs", ""]
     h2, r2 = batch_rows(n_states, max(3, repeat // 5))

@@ -15,6 +15,7 @@ counting while the Fortran calls run, relative to its free rate -- near 0 if
 the GIL were held, whatever the machine's load) and, with --out,
 writes bench_threads.md and bench_threads.csv there.
 """
+
 from __future__ import annotations
 
 import concurrent.futures as cf
@@ -22,9 +23,9 @@ import os
 import platform
 import time
 
+import harness
 import numpy as np
 
-import harness
 import pendula
 
 
@@ -39,51 +40,69 @@ def _workloads(n):
 
     # Elementwise closed forms: n points per chunk.
     if have("small_angle_period"):
+
         def mk(i):
             w0 = 0.5 + rng.random(n)
             return lambda: pendula.small_angle_period(w0)
+
         out["small_angle_period"] = (n, mk)
     if have("ellipk"):
+
         def mk(i):
             m = rng.random(n) * 0.999
             return lambda: pendula.ellipk(m)
+
         out["ellipk"] = (n, mk)
     if have("ellipj"):
+
         def mk(i):
             u = rng.random(n) * 4
             m = rng.random(n) * 0.999
             return lambda: pendula.ellipj(u, m)
+
         out["ellipj"] = (n, mk)
     if have("ellipf"):
+
         def mk(i):
             phi = rng.random(n) * 10
             return lambda: pendula.ellipf(phi, 0.7)
+
         out["ellipf"] = (n, mk)
     if have("undamped"):
+
         def mk(i):
             t = np.linspace(0.0, 100.0, n)
             return lambda: pendula.undamped(t, 1.0 + 0.1 * i, 0.0, 1.4)
+
         out["undamped"] = (n, mk)
     if have("period"):
+
         def mk(i):
             th = rng.random(max(n // 50, 10)) * 3
             return lambda: pendula.period(th, 0.0, 1.4)
+
         out["period"] = (max(n // 50, 10), mk)
     if have("linear_damped"):
+
         def mk(i):
             t = np.linspace(0.0, 100.0, n)
             return lambda: pendula.linear_damped(t, 0.1, 0.5 + 0.1 * i, 1.4, 0.3)
+
         out["linear_damped"] = (n, mk)
     # Integrators: a long window sampled at n // 10 points (the stepping dominates).
     if have("rk4"):
+
         def mk(i):
             t = np.linspace(0.0, 2000.0, max(n // 10, 10))
             return lambda: pendula.rk4(t, 0.0, 2.0 + 0.1 * i, 1.4, 0.1, 0.005)
+
         out["rk4"] = (max(n // 10, 10), mk)
     if have("cvode") and pendula.build_info()["cvode"]:
+
         def mk(i):
             t = np.linspace(0.0, 2000.0, max(n // 10, 10))
             return lambda: pendula.cvode(t, 0.0, 2.0 + 0.1 * i, 1.4, 0.1, rtol=1e-10, atol=1e-12)
+
         out["cvode"] = (max(n // 10, 10), mk)
     return out
 
@@ -94,6 +113,7 @@ def _python_progress(call):
     free core), ~0 when it is held.  Independent of how fast the call is."""
     import sys
     import threading
+
     stop = threading.Event()
     count = [0]
 
@@ -112,7 +132,7 @@ def _python_progress(call):
         free = (count[0] - c0) / (time.perf_counter() - t0)
         c0, t0 = count[0], time.perf_counter()
         call()
-        while time.perf_counter() - t0 < 0.1:   # at least 0.1 s of calls
+        while time.perf_counter() - t0 < 0.1:  # at least 0.1 s of calls
             call()
         dt = time.perf_counter() - t0
         ran = (count[0] - c0) / dt
@@ -124,8 +144,9 @@ def _python_progress(call):
 
 
 def main(argv=None):
-    ap = harness.parser(__doc__, "small sizes, few repeats (a few seconds)",
-                        "also write bench_threads.md/.csv into this folder")
+    ap = harness.parser(
+        __doc__, "small sizes, few repeats (a few seconds)", "also write bench_threads.md/.csv into this folder"
+    )
     ap.add_argument("--threads", type=int, default=2, help="threads (and chunks); default 2")
     args = ap.parse_args(argv)
     n = 100_000 if args.quick else 1_000_000
@@ -141,10 +162,18 @@ def main(argv=None):
                 for c in chunks:
                     c()  # warm up; also proves the call works in this build
             except Exception as exc:  # noqa: BLE001 - report, do not hide
-                rows.append(dict(entry=name, points=points * k, serial_ns=float("nan"),
-                                 threaded_ns=float("nan"), speedup=float("nan"), cpu_per_wall=float("nan"),
-                                 python_progress=float("nan"),
-                                 note=f"failed: {exc}"))
+                rows.append(
+                    dict(
+                        entry=name,
+                        points=points * k,
+                        serial_ns=float("nan"),
+                        threaded_ns=float("nan"),
+                        speedup=float("nan"),
+                        cpu_per_wall=float("nan"),
+                        python_progress=float("nan"),
+                        note=f"failed: {exc}",
+                    )
+                )
                 continue
 
             def serial():
@@ -160,20 +189,49 @@ def main(argv=None):
             tt, _, par, _ = harness.best_run(threaded, repeats)
             prog = _python_progress(serial)
             total = points * k
-            rows.append(dict(entry=name, points=total, serial_ns=ts / total * 1e9,
-                             threaded_ns=tt / total * 1e9, speedup=ts / tt, cpu_per_wall=par,
-                             python_progress=prog, note=""))
+            rows.append(
+                dict(
+                    entry=name,
+                    points=total,
+                    serial_ns=ts / total * 1e9,
+                    threaded_ns=tt / total * 1e9,
+                    speedup=ts / tt,
+                    cpu_per_wall=par,
+                    python_progress=prog,
+                    note="",
+                )
+            )
 
     cores = os.cpu_count()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    head = (f"GIL release: {k} threads vs 1 on {cores} logical cores "
-            f"({platform.processor() or platform.machine()}), best of {repeats}; "
-            f"load average {load0:.1f} -> {load:.1f} (speed-ups need idle cores)")
+    head = (
+        f"GIL release: {k} threads vs 1 on {cores} logical cores "
+        f"({platform.processor() or platform.machine()}), best of {repeats}; "
+        f"load average {load0:.1f} -> {load:.1f} (speed-ups need idle cores)"
+    )
     table = harness.markdown_table(
-        ["entry point", "points", "serial ns/point", "threaded ns/point", "speed-up", "CPU/wall (threaded)",
-         "Python thread progress during the call"],
-        [(r["entry"], r["points"], f"{r['serial_ns']:.1f}", f"{r['threaded_ns']:.1f}", f"{r['speedup']:.2f}",
-          f"{r['cpu_per_wall']:.2f}", f"{r['python_progress']:.0%}") for r in rows])
+        [
+            "entry point",
+            "points",
+            "serial ns/point",
+            "threaded ns/point",
+            "speed-up",
+            "CPU/wall (threaded)",
+            "Python thread progress during the call",
+        ],
+        [
+            (
+                r["entry"],
+                r["points"],
+                f"{r['serial_ns']:.1f}",
+                f"{r['threaded_ns']:.1f}",
+                f"{r['speedup']:.2f}",
+                f"{r['cpu_per_wall']:.2f}",
+                f"{r['python_progress']:.0%}",
+            )
+            for r in rows
+        ],
+    )
     notes = [f"{r['entry']}: {r['note']}" for r in rows if r["note"]]
     text = "\n".join([head, "", table] + ([""] + notes if notes else []))
     print(text)

@@ -35,15 +35,16 @@ SciPy's closed form (ratio <= 1/3).
 
 Usage: python3 benchmarks/bench_undamped.py [--quick] [--n N] [--out DIR]
 """
+
 import math
 import time
 
+import harness
 import mpmath as mp
 import numpy as np
 import scipy
 import scipy.special as sc
 
-import harness
 import pendula
 
 ref = harness.load_generator("gen_undamped_reference")
@@ -59,11 +60,16 @@ def listing(t, theta0, w0):
 def speed_rows(n, repeat, rng):
     w0 = math.sqrt(2.0)
     rows = []
-    for label, theta0 in [("theta0 = 0.25 pi", 0.25 * math.pi), ("theta0 = 0.75 pi", 0.75 * math.pi),
-                          ("theta0 = 0.999 pi", 0.999 * math.pi)]:
+    for label, theta0 in [
+        ("theta0 = 0.25 pi", 0.25 * math.pi),
+        ("theta0 = 0.75 pi", 0.75 * math.pi),
+        ("theta0 = 0.999 pi", 0.999 * math.pi),
+    ]:
         T = pendula.period(theta0, 0.0, w0)
         t = np.sort(rng.uniform(0, 100 * T, n))
-        tp, ts = harness.best_times_interleaved([lambda: pendula.undamped(t, theta0, 0.0, w0), listing(t, theta0, w0)], repeat)
+        tp, ts = harness.best_times_interleaved(
+            [lambda: pendula.undamped(t, theta0, 0.0, w0), listing(t, theta0, w0)], repeat
+        )
         rows.append((f"libration, {label}", tp / n * 1e9, ts / n * 1e9))
     for label, omega0 in [("rotation, Omega0 = 3 w0", 3 * w0), ("rotation, 1 - m = -1e-12", 2 * w0 * (1 + 5e-13))]:
         T = pendula.period(0.0, omega0, w0)
@@ -79,6 +85,7 @@ def scipy_period(theta0, w0, ellipkm1=sc.ellipkm1):
 
 def scipy_undamped(t, theta0, omega0, w0):
     """The user's vectorised closed form for libration (see the module text)."""
+
     def run():
         s, q = np.sin(theta0 / 2), omega0 / (2 * w0)
         m = s * s + q * q
@@ -86,6 +93,7 @@ def scipy_undamped(t, theta0, omega0, w0):
         sn, cn, _, _ = sc.ellipj(w0 * t + u0, m)
         k = np.sqrt(m)
         return 2 * np.arcsin(k * sn), 2 * k * w0 * cn
+
     return run
 
 
@@ -107,10 +115,13 @@ def many_state_rows(n, m, repeat, rng):
     per = pendula.period(th, om, w0)
     worst = 0.0
     for label, t in (("t within one period", rng.uniform(0, 1, m) * per), ("t in 0..100 s", rng.uniform(0, 100, m))):
-        tp, ts = harness.best_times_interleaved([lambda: pendula.undamped(t, th, om, w0), scipy_undamped(t, th, om, w0)],
-                                                repeat, clock=cpu)
+        tp, ts = harness.best_times_interleaved(
+            [lambda: pendula.undamped(t, th, om, w0), scipy_undamped(t, th, om, w0)], repeat, clock=cpu
+        )
         rows.append((f"undamped, {m} distinct states, {label}", tp / m * 1e9, ts / m * 1e9, "SciPy closed form"))
-        worst = max(worst, float(np.max(np.abs(pendula.undamped(t, th, om, w0)[0] - scipy_undamped(t, th, om, w0)()[0]))))
+        worst = max(
+            worst, float(np.max(np.abs(pendula.undamped(t, th, om, w0)[0] - scipy_undamped(t, th, om, w0)()[0])))
+        )
     return rows, worst
 
 
@@ -121,11 +132,23 @@ def target_rows(many):
     cells = []
     for name, tp, ts, _ in many:
         if name.startswith("period,"):
-            cells.append(("period / SciPy 4*ellipkm1(cos^2(theta0/2))/w0 (time ratio)", "<= 1",
-                          f"{tp / ts:.2f}", "yes" if tp <= ts else "no"))
+            cells.append(
+                (
+                    "period / SciPy 4*ellipkm1(cos^2(theta0/2))/w0 (time ratio)",
+                    "<= 1",
+                    f"{tp / ts:.2f}",
+                    "yes" if tp <= ts else "no",
+                )
+            )
         elif name.startswith("undamped,"):
-            cells.append((f"SciPy closed form / undamped (speed-up), {name.split(', ', 2)[2]}", ">= 3",
-                          f"{ts / tp:.2f}x", "yes" if ts >= 3 * tp else "no"))
+            cells.append(
+                (
+                    f"SciPy closed form / undamped (speed-up), {name.split(', ', 2)[2]}",
+                    ">= 3",
+                    f"{ts / tp:.2f}x",
+                    "yes" if ts >= 3 * tp else "no",
+                )
+            )
     return cells
 
 
@@ -150,8 +173,9 @@ def accuracy_rows(npts):
 
 
 def main(argv=None):
-    ap = harness.parser(__doc__, "1e5 points, 3 repeats, fewer reference points",
-                        "also write undamped_bench.md and .csv there")
+    ap = harness.parser(
+        __doc__, "1e5 points, 3 repeats, fewer reference points", "also write undamped_bench.md and .csv there"
+    )
     ap.add_argument("--states", type=int, default=None, help="distinct states for undamped (default 1e5)")
     args, n, repeat = harness.parse_with_sizes(ap, argv, "times per state (default 1e6)")
     rng = np.random.default_rng(1)
@@ -159,32 +183,67 @@ def main(argv=None):
     many, many_diff = many_state_rows(n, args.states or (20_000 if args.quick else 100_000), repeat, rng)
     acc = accuracy_rows(40 if args.quick else 200)
 
-    speed_cells = [(name, f"{tp:.1f}", f"{ts:.1f}" if np.isfinite(ts) else "-",
-                    f"{ts / tp:.2f}x" if np.isfinite(ts) else "n/a (no answer)") for name, tp, ts in speed]
+    speed_cells = [
+        (
+            name,
+            f"{tp:.1f}",
+            f"{ts:.1f}" if np.isfinite(ts) else "-",
+            f"{ts / tp:.2f}x" if np.isfinite(ts) else "n/a (no answer)",
+        )
+        for name, tp, ts in speed
+    ]
     many_cells = [(name, f"{tp:.1f}", f"{ts:.1f}", rname, f"{tp / ts:.2f}") for name, tp, ts, rname in many]
     target_cells = target_rows(many)
-    acc_cells = [(f"{delta:.0e}", f"{eo:.2e}", f"{el:.2e}" if np.isfinite(el) else "NaN", f"{nf:.2f}")
-                 for delta, eo, el, nf in acc]
-    text = "\n".join([
-        f"pendula.undamped vs the text's listing (scipy {scipy.__version__}), {n} times per state, w0 = sqrt(2)", "",
-        harness.markdown_table(["case", "pendula ns/pt (theta and Omega)", "listing ns/pt (theta only)", "speed-up"],
-                               speed_cells),
-        "", "Many states, one call (pendula vs SciPy in the same run):", "",
-        harness.markdown_table(["case", "pendula ns/pt", "reference ns/pt", "reference", "ratio pendula/reference"],
-                               many_cells),
-        "", f"(max |theta_pendula - theta_SciPy| over those states: {many_diff:.1e} rad)",
-        "", "The targets, as ratios measured in this run:", "",
-        harness.markdown_table(["target", "goal", "measured", "met"], target_cells),
-        "", "Max |theta - mpmath| over two periods, Omega0 = 0, theta0 = pi - delta:", "",
-        harness.markdown_table(["delta", "pendula", "listing", "listing NaN fraction"], acc_cells, align="rrrr")])
+    acc_cells = [
+        (f"{delta:.0e}", f"{eo:.2e}", f"{el:.2e}" if np.isfinite(el) else "NaN", f"{nf:.2f}")
+        for delta, eo, el, nf in acc
+    ]
+    text = "\n".join(
+        [
+            f"pendula.undamped vs the text's listing (scipy {scipy.__version__}), {n} times per state, w0 = sqrt(2)",
+            "",
+            harness.markdown_table(
+                ["case", "pendula ns/pt (theta and Omega)", "listing ns/pt (theta only)", "speed-up"], speed_cells
+            ),
+            "",
+            "Many states, one call (pendula vs SciPy in the same run):",
+            "",
+            harness.markdown_table(
+                ["case", "pendula ns/pt", "reference ns/pt", "reference", "ratio pendula/reference"], many_cells
+            ),
+            "",
+            f"(max |theta_pendula - theta_SciPy| over those states: {many_diff:.1e} rad)",
+            "",
+            "The targets, as ratios measured in this run:",
+            "",
+            harness.markdown_table(["target", "goal", "measured", "met"], target_cells),
+            "",
+            "Max |theta - mpmath| over two periods, Omega0 = 0, theta0 = pi - delta:",
+            "",
+            harness.markdown_table(["delta", "pendula", "listing", "listing NaN fraction"], acc_cells, align="rrrr"),
+        ]
+    )
     print(text)
-    harness.write_outputs(args.out, "undamped_bench", text, [
-        (["case", "pendula_ns", "listing_ns", "speedup"],
-         [(name, f"{tp:.2f}", f"{ts:.2f}", f"{ts / tp:.3f}") for name, tp, ts in speed]),
-        (["case", "pendula_ns", "reference_ns", "reference", "ratio"],
-         [(name, f"{tp:.2f}", f"{ts:.2f}", rname, f"{tp / ts:.3f}") for name, tp, ts, rname in many]),
-        (["delta", "pendula_max_err", "listing_max_err", "listing_nan_fraction"],
-         [(f"{delta:.0e}", f"{eo:.3e}", f"{el:.3e}", f"{nf:.3f}") for delta, eo, el, nf in acc])])
+    harness.write_outputs(
+        args.out,
+        "undamped_bench",
+        text,
+        [
+            (
+                ["case", "pendula_ns", "listing_ns", "speedup"],
+                [(name, f"{tp:.2f}", f"{ts:.2f}", f"{ts / tp:.3f}") for name, tp, ts in speed],
+            ),
+            (
+                ["case", "pendula_ns", "reference_ns", "reference", "ratio"],
+                [(name, f"{tp:.2f}", f"{ts:.2f}", rname, f"{tp / ts:.3f}") for name, tp, ts, rname in many],
+            ),
+            (
+                ["delta", "pendula_max_err", "listing_max_err", "listing_nan_fraction"],
+                [(f"{delta:.0e}", f"{eo:.3e}", f"{el:.3e}", f"{nf:.3f}") for delta, eo, el, nf in acc],
+            ),
+        ],
+    )
+
 
 if __name__ == "__main__":
     main()

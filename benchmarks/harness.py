@@ -7,6 +7,7 @@ mpmath reference generators of tools/gen without editing sys.path.
 A script in this folder imports it as ``import harness`` (Python puts the
 script's folder first on sys.path when it runs a script).
 """
+
 import argparse
 import csv
 import importlib.util
@@ -30,8 +31,9 @@ def parse_with_sizes(ap, argv, n_help, n=(100_000, 1_000_000), repeat=(3, 7)):
     """Add --n (points or states: n_help) and --repeat to ap and parse argv.
     Returns (args, n, repeat), each size the given one or its (quick, full) default."""
     ap.add_argument("--n", type=int, default=None, help=n_help)
-    ap.add_argument("--repeat", type=int, default=None,
-                    help=f"best of this many runs (default {repeat[1]}; --quick {repeat[0]})")
+    ap.add_argument(
+        "--repeat", type=int, default=None, help=f"best of this many runs (default {repeat[1]}; --quick {repeat[0]})"
+    )
     args = ap.parse_args(argv)
     pick = 0 if args.quick else 1
     return args, args.n or n[pick], args.repeat or repeat[pick]

@@ -15,6 +15,7 @@ Scene i (of 432, seed 17) takes
 - time grid: uniform, shifted (from a random start), random, geometric
   (from 1e-6 of the window) or scalar, with 2 .. 200 points.
 """
+
 import math
 
 import mpmath as mp
@@ -92,7 +93,22 @@ def draw(n=432, seed=17):
         want = wants[rng.integers(len(wants))]
         grid = GRIDS[rng.integers(len(GRIDS))]
         t = _grid(rng, grid, t_end)
-        scenes.append(dict(id=i, theta0=float(theta0), omega0=float(omega0), g=g, length=length,
-                           gamma=gamma, t=t, tol=float(tol), want=want, damping=damping, start=start,
-                           shift=shift, grid=grid, periods=float(periods)))
+        scenes.append(
+            dict(
+                id=i,
+                theta0=float(theta0),
+                omega0=float(omega0),
+                g=g,
+                length=length,
+                gamma=gamma,
+                t=t,
+                tol=float(tol),
+                want=want,
+                damping=damping,
+                start=start,
+                shift=shift,
+                grid=grid,
+                periods=float(periods),
+            )
+        )
     return scenes

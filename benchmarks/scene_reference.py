@@ -22,15 +22,16 @@ theta'' + gamma theta' + w0^2 sin(theta) = 0, theta(0) = theta0, theta'(0) = ome
 Every function takes plain floats (the scene's data) and returns floats or
 mpmath numbers; nothing here imports pendula.
 """
+
 import math
 import time
 
 import mpmath as mp
 
-PREC = 200          # fixed-point bits of the Taylor integrator
-ORDER = 30          # Taylor order
-EPS = 1e-30         # tail bound per step
-SETTLED = 1e-12     # hand-over to the linear solution below this size [rad]
+PREC = 200  # fixed-point bits of the Taylor integrator
+ORDER = 30  # Taylor order
+EPS = 1e-30  # tail bound per step
+SETTLED = 1e-12  # hand-over to the linear solution below this size [rad]
 ONE = 1 << PREC
 
 
@@ -47,6 +48,7 @@ def exact_w0(g, length, dps=50):
 # ---------------------------------------------------------------------------
 # undamped: elliptic functions
 # ---------------------------------------------------------------------------
+
 
 def _ellipf_any(phi, m, K):
     # F(phi | m) for any real phi: F(phi + j pi) = F(phi) + 2 j K
@@ -68,7 +70,7 @@ def undamped(t, theta0, omega0, w0, dps=40):
         th0 = mp.mpf(theta0)
         om0 = mp.mpf(omega0)
         n = mp.nint(th0 / (2 * mp.pi))
-        r = th0 - 2 * mp.pi * n                 # in [-pi, pi]
+        r = th0 - 2 * mp.pi * n  # in [-pi, pi]
         base = 2 * mp.pi * n
         m = energy_parameter(theta0, omega0, w0)
         ts = [mp.mpf(x) for x in t]
@@ -76,12 +78,11 @@ def undamped(t, theta0, omega0, w0, dps=40):
         if m == 0:
             return [base] * len(ts), [mp.mpf(0)] * len(ts), 2 * mp.pi / w0
         if abs(m - 1) < mp.mpf(10) ** (-(dps + 5)):
-            if om0 == 0:                          # at rest on top
+            if om0 == 0:  # at rest on top
                 return [th0] * len(ts), [mp.mpf(0)] * len(ts), mp.inf
             u0 = mp.atanh(mp.sin(r / 2))
             u = [sig * w0 * x + u0 for x in ts]
-            return ([base + 2 * mp.asin(mp.tanh(v)) for v in u],
-                    [2 * sig * w0 * mp.sech(v) for v in u], mp.inf)
+            return ([base + 2 * mp.asin(mp.tanh(v)) for v in u], [2 * sig * w0 * mp.sech(v) for v in u], mp.inf)
         if m < 1:
             k = mp.sqrt(m)
             K = mp.ellipk(m)
@@ -93,7 +94,7 @@ def undamped(t, theta0, omega0, w0, dps=40):
                 th.append(base + 2 * mp.asin(k * mp.ellipfun("sn", u, m=m)))
                 om.append(2 * k * w0 * mp.ellipfun("cn", u, m=m))
             return th, om, 4 * K / w0
-        q = 1 / m                                 # rotation
+        q = 1 / m  # rotation
         K1 = mp.ellipk(q)
         v0 = _ellipf_any(r / 2, q, K1)
         rate = sig * mp.sqrt(m) * w0
@@ -125,7 +126,7 @@ def undamped_events(t_end, theta0, omega0, w0, dps=40):
             k = mp.sqrt(m)
             K = mp.ellipk(m)
             u0 = _ellipf_any(mp.atan2(mp.sin(r / 2) / k, om0 / (2 * k * w0)), m, K)
-            step, rate, first, kinds = K, w0, u0, (2, 1)      # u = j K: j even a crossing, odd a turn
+            step, rate, first, kinds = K, w0, u0, (2, 1)  # u = j K: j even a crossing, odd a turn
         else:
             q = 1 / m
             K = mp.ellipk(q)
@@ -135,7 +136,7 @@ def undamped_events(t_end, theta0, omega0, w0, dps=40):
         # only to the working precision, so events within 1e-20 of a quarter period count as t = 0
         floor = mp.mpf(10) ** -20 * abs(step / rate)
         times, out_kinds = [], []
-        j = mp.floor(first / step) + (-1 if rate > 0 else 1)   # the first step lands on floor(first/step)
+        j = mp.floor(first / step) + (-1 if rate > 0 else 1)  # the first step lands on floor(first/step)
         while True:
             j += 1 if rate > 0 else -1
             t = (j * step - first) / rate
@@ -149,6 +150,7 @@ def undamped_events(t_end, theta0, omega0, w0, dps=40):
 # ---------------------------------------------------------------------------
 # damped (and events): Taylor series in fixed point
 # ---------------------------------------------------------------------------
+
 
 def _fix(x):
     return int(mp.floor(mp.mpf(x) * ONE))
@@ -199,7 +201,7 @@ class Taylor:
             self.w0 = mp.mpf(w0)
             self.gamma = mp.mpf(gamma)
             self.G = _fix(self.gamma)
-            self.W2 = _fix(self.w0 ** 2)
+            self.W2 = _fix(self.w0**2)
             self.two_pi = _fix(2 * mp.pi)
         self.order, self.eps, self.max_steps, self.relative = order, eps, max_steps, relative
         self.max_seconds = max_seconds
@@ -268,14 +270,14 @@ class Taylor:
                 # roots of theta - 2 pi k for every k the step's samples span
                 vals = [_horner(a, H * j // 16) for j in range(17)]
                 ks = range(min(vals) // self.two_pi, max(vals) // self.two_pi + 2)
-                if len(ks) > 64:     # the step's polynomial cannot sweep that far: a broken step
+                if len(ks) > 64:  # the step's polynomial cannot sweep that far: a broken step
                     raise BudgetExceeded(f"a step spans {len(ks)} multiples of 2 pi at t = {float(_mpf(t_now))}")
                 for k in ks:
                     ev.extend(_roots([a[0] - k * self.two_pi] + list(a[1:]), H, t_now, 2))
             th, om = _horner(a, H), _horner(_deriv(a), H)
             t_now += H
         ev.sort()
-        conv = (lambda v: [_mpf(x) for x in v])
+        conv = lambda v: [_mpf(x) for x in v]
         with mp.workprec(PREC):
             res = (conv(out_th), conv(out_om))
             if events:
@@ -311,7 +313,7 @@ def _linear(tay, th, om, n, t_now, targets):
         x0 = _mpf(th - n * tay.two_pi)
         v0 = _mpf(om)
         g2 = tay.gamma / 2
-        mu2 = g2 ** 2 - tay.w0 ** 2
+        mu2 = g2**2 - tay.w0**2
         mu = mp.sqrt(mu2) if mu2 >= 0 else mp.mpc(0, mp.sqrt(-mu2))
         base = _mpf(n * tay.two_pi)
         tt, oo = [], []
@@ -339,13 +341,13 @@ def _linear_events(tay, th, om, n, t_now, t_end):
     with mp.workprec(PREC + 40):
         x0, v0 = _mpf(th - n * tay.two_pi), _mpf(om)
         g2 = tay.gamma / 2
-        d2 = tay.w0 ** 2 - g2 ** 2
+        d2 = tay.w0**2 - g2**2
         t0, span = _mpf(t_now), _mpf(t_end - t_now)
-        for kind, y0, y1 in ((2, x0, v0), (1, v0, -tay.gamma * v0 - tay.w0 ** 2 * x0)):
+        for kind, y0, y1 in ((2, x0, v0), (1, v0, -tay.gamma * v0 - tay.w0**2 * x0)):
             b = y1 + g2 * y0
             if y0 == 0 and b == 0:
                 continue
-            if d2 > 0:                  # y0 cos(w tau) + (b/w) sin(w tau) = R cos(w tau - phi)
+            if d2 > 0:  # y0 cos(w tau) + (b/w) sin(w tau) = R cos(w tau - phi)
                 w = mp.sqrt(d2)
                 phi = mp.atan2(b / w, y0)
                 j = mp.ceil((-phi - mp.pi / 2) / mp.pi)
@@ -366,4 +368,3 @@ def _linear_events(tay, th, om, n, t_now, t_end):
             if 0 < tau <= span:
                 out.append((_fix(t0 + tau), kind))
     return out
-

@@ -5,14 +5,15 @@ The Python API pages are generated from pendula.__all__ and the docstrings
 which runs each examples/python/*.py in quick mode; the Fortran API is a FORD site
 copied under fortran/ by tools/build_docs.sh and linked from fortran.md.
 """
+
 import importlib.util
 import os
 import pathlib
 import shutil
 
-import pendula  # the installed (or staged) package being documented
-
 from sphinx.util import logging
+
+import pendula  # the installed (or staged) package being documented
 
 HERE = pathlib.Path(__file__).resolve().parent
 

@@ -5,6 +5,7 @@ quick mode, its console output and figures shown beside its source).
 Called by docs/conf.py when Sphinx starts; the pages land in docs/api/ and
 docs/gallery/, which are build output (ignored by git).
 """
+
 import ast
 import os
 import pathlib
@@ -99,17 +100,25 @@ def write_gallery(gallery, examples):
     gallery = pathlib.Path(gallery)
     gallery.mkdir(parents=True, exist_ok=True)
     # a leading underscore marks a module the examples share, not an example
-    scripts = sorted(p for p in pathlib.Path(examples).glob("*.py") if p.name not in SKIP and not p.name.startswith("_"))
+    scripts = sorted(
+        p for p in pathlib.Path(examples).glob("*.py") if p.name not in SKIP and not p.name.startswith("_")
+    )
     total = 0.0
     for script in scripts:
         out = gallery / "_out" / script.stem
         console, took = _run(script, out)
         total += took
         (gallery / f"{script.stem}.md").write_text(_page(script, out, console))
-    index = ["# Example gallery", "",
-             "Each example script of `examples/python/`, run in quick mode while the documentation",
-             "is built (`python examples/python/NAME.py --out DIR` runs the full version).", "",
-             "```{toctree}", ":maxdepth: 1", ""]
+    index = [
+        "# Example gallery",
+        "",
+        "Each example script of `examples/python/`, run in quick mode while the documentation",
+        "is built (`python examples/python/NAME.py --out DIR` runs the full version).",
+        "",
+        "```{toctree}",
+        ":maxdepth: 1",
+        "",
+    ]
     index += [s.stem for s in scripts] + ["```", ""]
     (gallery / "index.md").write_text("\n".join(index))
     print(f"docs gallery: {len(scripts)} examples run in {total:.1f} s")
@@ -122,5 +131,7 @@ def write_gallery_placeholder(gallery):
     if index.exists():
         return
     index.parent.mkdir(parents=True, exist_ok=True)
-    index.write_text("# Example gallery\n\nThis build skipped running the examples "
-                     "(`PENDULA_DOCS_GALLERY=skip`); the scripts are in `examples/python/`.\n")
+    index.write_text(
+        "# Example gallery\n\nThis build skipped running the examples "
+        "(`PENDULA_DOCS_GALLERY=skip`); the scripts are in `examples/python/`.\n"
+    )

@@ -5,6 +5,7 @@ Meson installs libraries but not the module files gfortran writes, and Fortran
 users need them for `use pendula`.  Arguments: the build directory that holds
 the .mod files, and the install directory relative to the prefix.
 """
+
 import os
 import shutil
 import sys

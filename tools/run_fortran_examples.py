@@ -4,6 +4,7 @@
 Usage: run_fortran_examples.py BUILD_DIR OUT_DIR.  Used by the main job
 (quickstart.sh run); exits non-zero if a driver fails.
 """
+
 import json
 import subprocess
 import sys
@@ -11,10 +12,12 @@ from pathlib import Path
 
 build, out = Path(sys.argv[1]), Path(sys.argv[2])
 out.mkdir(parents=True, exist_ok=True)
-info = json.loads(subprocess.run(["meson", "introspect", "--tests", str(build)],
-                                 capture_output=True, text=True, check=True).stdout)
-examples = [t for t in info if "examples" in t.get("suite", []) or
-            any(s.endswith(":examples") for s in t.get("suite", []))]
+info = json.loads(
+    subprocess.run(["meson", "introspect", "--tests", str(build)], capture_output=True, text=True, check=True).stdout
+)
+examples = [
+    t for t in info if "examples" in t.get("suite", []) or any(s.endswith(":examples") for s in t.get("suite", []))
+]
 failed = 0
 for t in examples:
     res = subprocess.run(t["cmd"], capture_output=True, text=True, cwd=out)

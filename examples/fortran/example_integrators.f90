@@ -23,7 +23,7 @@ program example_integrators
   logical :: have_cvode
 
   have_cvode = cvode_available()
-  t = [(real(i, wp), i = 0, n - 1)]
+  t = [(real(i, wp), i=0, n - 1)]
   call natural_frequency(9.8_wp, 4.9_wp, w0, st)
   call require(st)
   write (*, '(a, l1)') 'CVODE (SUNDIALS) built: ', have_cvode
@@ -38,19 +38,19 @@ program example_integrators
     call require(st)
     call text_listing(0.0_wp, 2.0_wp, gamma, 0.05_wp, th_txt, om_txt)
     write (*, '(f10.2, f12.3, es15.3, a19, es22.3, i18)', advance='no') b(i), gamma, &
-        maxval(abs(th - th_ref)), cvode_error(0.0_wp, 2.0_wp, gamma, th_ref), &
-        maxval(abs(th_txt - th_ref)), stats%steps
+      maxval(abs(th - th_ref)), cvode_error(0.0_wp, 2.0_wp, gamma, th_ref), &
+      maxval(abs(th_txt - th_ref)), stats%steps
     write (*, *)
   end do
 
   write (*, '(/, a)') '2. Undamped (gamma = 0), theta0 = 0.9 pi, Omega0 = 0: max |theta - exact elliptic| [rad]'
-  call undamped_init(exact, 0.9_wp * pi, 0.0_wp, w0, st)
+  call undamped_init(exact, 0.9_wp*pi, 0.0_wp, w0, st)
   call require(st)
   call undamped_eval(exact, t, th_ref, om_ref)
-  call rk4_solve(t, 0.9_wp * pi, 0.0_wp, w0, 0.0_wp, 0.01_wp, th, om, stats, st)
+  call rk4_solve(t, 0.9_wp*pi, 0.0_wp, w0, 0.0_wp, 0.01_wp, th, om, stats, st)
   call require(st)
   write (*, '(a, es10.3, a, a)') '   RK4 h = 0.01 s: ', maxval(abs(th - th_ref)), &
-      '   CVODE Adams 1e-8:', cvode_error(0.9_wp * pi, 0.0_wp, 0.0_wp, th_ref)
+    '   CVODE Adams 1e-8:', cvode_error(0.9_wp*pi, 0.0_wp, 0.0_wp, th_ref)
 
   write (*, '(/, a)') '3. Small amplitude, theta0 = 1e-3 rad, gamma = 0.5 1/s: max |theta - linear closed form| [rad]'
   write (*, '(a)') '   (the nonlinearity itself is ~theta0^3/16 ~ 6e-11 rad)'
@@ -60,7 +60,7 @@ program example_integrators
   call rk4_solve(t, 1.0e-3_wp, 0.0_wp, w0, 0.5_wp, 0.01_wp, th, om, stats, st)
   call require(st)
   write (*, '(a, es10.3, a, a)') '   RK4 h = 0.01 s: ', maxval(abs(th - th_ref)), &
-      '   CVODE Adams 1e-8:', cvode_error(1.0e-3_wp, 0.0_wp, 0.5_wp, th_ref)
+    '   CVODE Adams 1e-8:', cvode_error(1.0e-3_wp, 0.0_wp, 0.5_wp, th_ref)
 
 contains
 
@@ -72,7 +72,7 @@ contains
     type(status_t) :: stat
     if (have_cvode) then
       call cvode_solve(t, theta0, omega0, w0, gam, 1.0e-12_wp, 1.0e-14_wp, PENDULA_CVODE_BDF, &
-          10000000_i8, theta, omega, s, stat)
+                       10000000_i8, theta, omega, s, stat)
     else
       call rk4_solve(t, theta0, omega0, w0, gam, 1.0e-4_wp, theta, omega, s, stat)
     end if
@@ -91,7 +91,7 @@ contains
       return
     end if
     call cvode_solve(t, theta0, omega0, w0, gam, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, &
-        10000000_i8, theta, omega, s, stat)
+                     10000000_i8, theta, omega, s, stat)
     call require(stat)
     write (text, '(es19.3)') maxval(abs(theta - ref))
   end function cvode_error
@@ -108,19 +108,19 @@ contains
     tt = 0
     theta(1) = y
     omega(1) = u
-    per_output = nint((t(2) - t(1)) / h)
+    per_output = nint((t(2) - t(1))/h)
     do j = 2, size(t)
       do step = 1, per_output
         m1 = u
-        k1 = -gam * u - w0**2 * sin(y)
-        m2 = m1 * h * k1 / 2          ! the typo: should be m1 + h * k1 / 2
-        k2 = -gam * m2 - w0**2 * sin(y + h * m1 / 2)
-        m3 = m1 + h * k2 / 2
-        k3 = -gam * m3 - w0**2 * sin(y + h * m2 / 2)
-        m4 = m1 + h * k3
-        k4 = -gam * m4 - w0**2 * sin(y + h * m3)
-        y = y + h * (m1 + 2 * m2 + 2 * m3 + m4) / 6
-        u = u + h * (k1 + 2 * k2 + 2 * k3 + k4) / 6
+        k1 = -gam*u - w0**2*sin(y)
+        m2 = m1*h*k1/2          ! the typo: should be m1 + h * k1 / 2
+        k2 = -gam*m2 - w0**2*sin(y + h*m1/2)
+        m3 = m1 + h*k2/2
+        k3 = -gam*m3 - w0**2*sin(y + h*m2/2)
+        m4 = m1 + h*k3
+        k4 = -gam*m4 - w0**2*sin(y + h*m3)
+        y = y + h*(m1 + 2*m2 + 2*m3 + m4)/6
+        u = u + h*(k1 + 2*k2 + 2*k3 + k4)/6
         tt = tt + h
       end do
       theta(j) = y

@@ -25,15 +25,15 @@ program example_linear_damping
   write (*, '(a, f0.12, a)') 'Linear damped pendulum, w0 = sqrt(g/l) = ', w0, ' 1/s (g = 9.8 m/s^2, l = 4.9 m)'
 
   do i = 1, size(ratios)
-    gamma = ratios(i) * w0
+    gamma = ratios(i)*w0
     call damping_regime(w0, gamma, info, st)
     call require(st)
     write (*, '(/, a, f4.1, a, f8.6, a, a)') 'gamma = ', ratios(i), ' w0 = ', gamma, ' 1/s: ', &
-        regime_name(info%regime)
+      regime_name(info%regime)
     write (*, '(a, 2(" (", es12.5, ",", es12.5, ")"))') '  eigenvalues lambda1, lambda2 [1/s]:', &
-        info%lambda1, info%lambda2
+      info%lambda1, info%lambda2
     write (*, '(a, es12.5, a, es12.5, a, es12.5)') '  Q = ', info%quality_factor, &
-        '   omega_d [1/s] = ', info%omega_d, '   log decrement = ', info%log_decrement
+      '   omega_d [1/s] = ', info%omega_d, '   log decrement = ', info%log_decrement
     write (*, '(a, es12.5, a, es12.5)') '  decay rates slow/fast [1/s] = ', info%decay_slow, ' / ', info%decay_fast
     write (*, '(a)') '    Omega0 [rad/s]     t [s]      theta [rad]    Omega [rad/s]'
     do j = 1, size(omega0s)
@@ -50,9 +50,9 @@ program example_linear_damping
   write (*, '(/, a)') 'Through critical damping (theta0 = 0.1 rad, Omega0 = 0.5 rad/s, t = 2 s):'
   write (*, '(a)') '   gamma/(2 w0) - 1     regime          theta [rad]'
   do k = -3, 3
-    eps_rel = sign(10.0_wp**(-4 * (4 - abs(k))), real(k, wp))
+    eps_rel = sign(10.0_wp**(-4*(4 - abs(k))), real(k, wp))
     if (k == 0) eps_rel = 0
-    gamma = 2 * w0 * (1 + eps_rel)
+    gamma = 2*w0*(1 + eps_rel)
     call linear_damped_init(sol, theta0, 0.5_wp, w0, gamma, st)
     call require(st)
     write (*, '(3x, es12.3, 4x, a12, 4x, es22.15)') eps_rel, regime_name(sol%info%regime), sol%theta(2.0_wp)

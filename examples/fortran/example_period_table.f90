@@ -14,7 +14,7 @@ program example_period_table
   use example_support, only: require
   implicit none
   real(wp), parameter :: degrees(14) = [1.0_wp, 5.0_wp, 10.0_wp, 20.0_wp, 30.0_wp, 45.0_wp, &
-      60.0_wp, 90.0_wp, 120.0_wp, 150.0_wp, 170.0_wp, 179.0_wp, 179.9_wp, 179.999_wp]
+                                        60.0_wp, 90.0_wp, 120.0_wp, 150.0_wp, 170.0_wp, 179.0_wp, 179.9_wp, 179.999_wp]
   type(status_t) :: st
   type(undamped_motion_t) :: motion
   real(wp) :: w0, t0, theta0, k, c, t_exact, t_series, t_kf, t_la
@@ -26,30 +26,30 @@ program example_period_table
   call require(st)
   write (*, '(a, f0.12, a, f0.12, a)') 'w0 = ', w0, ' 1/s, small-angle period T0 = ', t0, ' s'
   write (*, '(a)') 'Released from rest (Omega0 = 0); errors are (approximation - exact)/exact.'
-  write (*, '(a)') ' theta0[deg]  k=sin(th0/2)   T exact [s]     T/T0    small-angle    series' // &
-      '    Kidd-Fogg   Lima-Arun'
+  write (*, '(a)') ' theta0[deg]  k=sin(th0/2)   T exact [s]     T/T0    small-angle    series'// &
+    '    Kidd-Fogg   Lima-Arun'
   do i = 1, size(degrees)
-    theta0 = degrees(i) * pi / 180
+    theta0 = degrees(i)*pi/180
     call undamped_init(motion, theta0, 0.0_wp, w0, st)
     call require(st)
     t_exact = undamped_period(motion)
-    k = sin(theta0 / 2)
-    c = cos(theta0 / 2)
+    k = sin(theta0/2)
+    c = cos(theta0/2)
     call period_series(k**2, w0, t_series, st)
     call require(st)
-    t_kf = t0 / sqrt(c)
-    t_la = -t0 * log(c) / (1 - c)
-    write (*, '(f11.3, f13.8, f15.9, f9.4, 4es12.3)') degrees(i), k, t_exact, t_exact / t0, &
-        (t0 - t_exact) / t_exact, (t_series - t_exact) / t_exact, (t_kf - t_exact) / t_exact, &
-        (t_la - t_exact) / t_exact
+    t_kf = t0/sqrt(c)
+    t_la = -t0*log(c)/(1 - c)
+    write (*, '(f11.3, f13.8, f15.9, f9.4, 4es12.3)') degrees(i), k, t_exact, t_exact/t0, &
+      (t0 - t_exact)/t_exact, (t_series - t_exact)/t_exact, (t_kf - t_exact)/t_exact, &
+      (t_la - t_exact)/t_exact
   end do
 
   write (*, '(/, a)') 'Any initial state (the text covers only Omega0 = 0 and theta0 = 0):'
   write (*, '(a)') '  theta0 [rad]  Omega0 [rad/s]   E/E_sep     motion        period or time per turn [s]'
   call show(0.5_wp, 1.0_wp)
-  call show(0.0_wp, 1.999_wp * w0)
-  call show(0.0_wp, 2.0_wp * w0)
-  call show(0.0_wp, 2.001_wp * w0)
+  call show(0.0_wp, 1.999_wp*w0)
+  call show(0.0_wp, 2.0_wp*w0)
+  call show(0.0_wp, 2.001_wp*w0)
   call show(1.0_wp, 4.0_wp)
   call show(pi - 1.0e-10_wp, 0.0_wp)
 
@@ -62,7 +62,7 @@ contains
     call undamped_init(mo, th0, om0, w0, s)
     call require(s)
     write (*, '(f14.10, f14.8, f13.8, 3x, a12, es26.16)') th0, om0, mo%m, &
-        undamped_regime_name(undamped_regime(mo)), undamped_period(mo)
+      undamped_regime_name(undamped_regime(mo)), undamped_period(mo)
   end subroutine show
 
 end program example_period_table

@@ -12,7 +12,7 @@ contains
   subroutine require(status)
     type(status_t), intent(in) :: status
     if (status%code /= PENDULA_OK) then
-      write (*, '(a)') 'error: ' // trim(status%message)
+      write (*, '(a)') 'error: '//trim(status%message)
       error stop 1
     end if
   end subroutine require

@@ -5,6 +5,7 @@ A script in this folder imports it as ``import _example_support`` (Python puts
 the script's folder first on sys.path when it runs a script); the leading
 underscore keeps run_all.py and the docs gallery from running it as an example.
 """
+
 import argparse
 import csv
 from pathlib import Path

@@ -7,14 +7,15 @@ generalised to any initial state).  For each state it prints theta [rad], Omega
 own expression (1.52), theta = 2 asin(k sn(K - w0 t | k^2)), against the library.
 Writes exact_motion.csv into --out.
 """
-import numpy as np
 
 import _example_support
+import numpy as np
+
 import pendula
 
 STATES = [
     ("libration, text fig 7: theta0 = 0.9 pi, Omega0 = 0", 0.9 * np.pi, 0.0),
-    ("libration, text fig 9: theta0 = 0, v0 = 1.9 w0 l", 0.0, 1.9),       # Omega0 in units of w0
+    ("libration, text fig 9: theta0 = 0, v0 = 1.9 w0 l", 0.0, 1.9),  # Omega0 in units of w0
     ("near the top: theta0 = pi - 1e-10, Omega0 = 0", np.pi - 1e-10, 0.0),
     ("separatrix: theta0 = 0, Omega0 = 2 w0", 0.0, 2.0),
     ("rotation: theta0 = 0, Omega0 = 2.5 w0 (theta unwrapped)", 0.0, 2.5),
@@ -36,7 +37,7 @@ def main(argv=None):
     for title, theta0, om in STATES:
         omega0 = om * w0
         period = pendula.period(theta0, omega0, w0)
-        span = period if np.isfinite(period) else 8 / w0   # separatrix: infinite period
+        span = period if np.isfinite(period) else 8 / w0  # separatrix: infinite period
         t = span * np.array([0, 0.125, 0.25, 0.5, 0.75, 1.0, 10.0])
         theta, omega = pendula.undamped(t, theta0, omega0, w0)
         e0 = energy(theta0, omega0, w0)

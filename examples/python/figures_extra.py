@@ -8,6 +8,7 @@ through the separatrix; figA4 work-precision diagram (error vs wall time) of eve
 model on the text's §2.2 scene, from pendula.tradeoff; figA5 how far the text's printed
 RK4 listing drifts, against pendula.rk4 at the same step.
 """
+
 from pendula import figures
 
 EXTRA_FIGURES = ["figA1", "figA2", "figA3", "figA4", "figA5"]

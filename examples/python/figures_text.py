@@ -7,6 +7,7 @@ phase plane; fig13 critical damping; fig14-15 nonlinear damped, correct integrat
 with the text's printed (mistyped) RK4 listing overlaid.  The drawing code is in
 pendula/figures.py: each figure is one short function you can read and adapt.
 """
+
 from pendula import figures
 
 TEXT_FIGURES = [f"fig{n:02d}" for n in range(3, 16)]

@@ -11,6 +11,7 @@ Writes both CSVs and the figures fit_periods.png and fit_swing.png into --out,
 and prints the fits (pendula.fit_period, pendula.fit_motion).  With
 --data-dir examples/data it also refreshes the copies kept in the repository.
 """
+
 import argparse
 import csv
 from pathlib import Path
@@ -20,7 +21,7 @@ import numpy as np
 import pendula
 
 LENGTH, G, BOB = 0.750, 9.81, 0.020
-L_EFF = LENGTH + 2 * BOB ** 2 / (5 * LENGTH)    # the finite bob (see fit_period's docstring)
+L_EFF = LENGTH + 2 * BOB**2 / (5 * LENGTH)  # the finite bob (see fit_period's docstring)
 W0 = np.sqrt(G / L_EFF)
 GAMMA, OFFSET = 0.03, 0.010
 
@@ -31,7 +32,7 @@ def make_data(seed=2026):
     deg = np.arange(10.0, 151.0, 10.0)
     true_theta0 = np.radians(deg)
     T = pendula.period(true_theta0, w0=W0) + rng.normal(0.0, 2e-3, deg.size)
-    read = deg + rng.normal(0.0, 0.5, deg.size)             # the amplitude as read off the scale
+    read = deg + rng.normal(0.0, 0.5, deg.size)  # the amplitude as read off the scale
     periods = [[f"{a:.2f}", f"{p:.5f}", "0.002", "0.5"] for a, p in zip(read, T)]
     t = np.arange(0.0, 30.0, 0.02)
     r = pendula.rk4(t, np.radians(120.0), 0.0, W0, GAMMA, h=1e-3)
@@ -63,8 +64,14 @@ def main(argv=None):
         write(folder, "swing.csv", heads[1], swing)
 
     p = np.array(periods, dtype=float)
-    fit = pendula.fit_period(np.radians(p[:, 0]), p[:, 1], sigma_period=p[:, 2],
-                             sigma_theta0=np.radians(p[:, 3]), length=LENGTH, bob_radius=BOB)
+    fit = pendula.fit_period(
+        np.radians(p[:, 0]),
+        p[:, 1],
+        sigma_period=p[:, 2],
+        sigma_theta0=np.radians(p[:, 3]),
+        length=LENGTH,
+        bob_radius=BOB,
+    )
     print(f"\nPeriods at 10..150 deg, l = {LENGTH} m, bob radius {BOB} m (true g = {G}):\n{fit!r}")
     print(f"  the small-angle formula at 150 deg alone: g = {fit.small_angle['g_per_point'][-1]:.3f} m/s^2")
     fit.plot(args.out / "fit_periods.png")

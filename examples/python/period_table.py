@@ -9,14 +9,23 @@ Kidd-Fogg T0/sqrt(cos(theta0/2)) and Lima-Arun -T0 ln(c)/(1 - c), c = cos(theta0
 then periods of states the text cannot handle (Omega0 != 0, rotation).
 Writes period_table.csv into --out.
 """
-import numpy as np
 
 import _example_support
+import numpy as np
+
 import pendula
 
 DEGREES = [1, 5, 10, 20, 30, 45, 60, 90, 120, 150, 170, 179, 179.9, 179.999]
-COLUMNS = ["theta0_deg", "theta0_rad", "T_exact_s", "T0_small_angle_s", "T_small_angle_s", "T_series_s",
-           "T_kidd_fogg_s", "T_lima_arun_s"]
+COLUMNS = [
+    "theta0_deg",
+    "theta0_rad",
+    "T_exact_s",
+    "T0_small_angle_s",
+    "T_small_angle_s",
+    "T_series_s",
+    "T_kidd_fogg_s",
+    "T_lima_arun_s",
+]
 
 
 def main(argv=None):
@@ -25,7 +34,7 @@ def main(argv=None):
     w0 = pendula.natural_frequency(9.8, 4.9)
     t0 = pendula.small_angle_period(w0)
     theta0 = np.radians(DEGREES)
-    t_exact = pendula.period(theta0, 0.0, w0)          # array in, array out
+    t_exact = pendula.period(theta0, 0.0, w0)  # array in, array out
     k = np.sin(theta0 / 2)
     c = np.cos(theta0 / 2)
     approx = {
@@ -36,13 +45,13 @@ def main(argv=None):
     }
     print(f"w0 = {w0:.12f} 1/s, small-angle period T0 = {t0:.12f} s")
     print("Released from rest; relative errors (approximation - exact)/exact")
-    print(f"{'theta0 [deg]':>12} {'T exact [s]':>16} {'T/T0':>8} " +
-          " ".join(f"{name:>12}" for name in approx))
+    print(f"{'theta0 [deg]':>12} {'T exact [s]':>16} {'T/T0':>8} " + " ".join(f"{name:>12}" for name in approx))
     rows = []
     for i, deg in enumerate(DEGREES):
         errs = {name: (a[i] - t_exact[i]) / t_exact[i] for name, a in approx.items()}
-        print(f"{deg:12.3f} {t_exact[i]:16.10f} {t_exact[i] / t0:8.4f} " +
-              " ".join(f"{e:12.3e}" for e in errs.values()))
+        print(
+            f"{deg:12.3f} {t_exact[i]:16.10f} {t_exact[i] / t0:8.4f} " + " ".join(f"{e:12.3e}" for e in errs.values())
+        )
         rows.append([deg, theta0[i], t_exact[i], t0] + [approx[n][i] for n in approx])
 
     print("\nAny initial state (the text covers only Omega0 = 0 and theta0 = 0):")

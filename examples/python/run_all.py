@@ -12,6 +12,7 @@ Layout of DIR:
 Needs no display: every step runs with MPLBACKEND=Agg.  Exit status 0 when every
 step succeeded, 1 otherwise (the other steps still run).
 """
+
 import argparse
 import os
 import subprocess
@@ -68,8 +69,7 @@ def _run(label, path, out_dir, extra, log_dir, timeout):
     env = dict(os.environ, MPLBACKEND="Agg")
     t0 = time.perf_counter()
     try:
-        proc = subprocess.run(cmd, cwd=str(out_dir), env=env, capture_output=True, text=True,
-                              timeout=timeout)
+        proc = subprocess.run(cmd, cwd=str(out_dir), env=env, capture_output=True, text=True, timeout=timeout)
         code, stdout, stderr = proc.returncode, proc.stdout, proc.stderr
     except subprocess.TimeoutExpired as exc:
         code = "timeout"
@@ -91,31 +91,41 @@ def _integrator_highlights(rows):
     for b in ("0.01", "0.05"):
         lst = float(by[("text scene", b, "text listing as printed h=0.05")]["max_theta_error_rad"])
         rk4 = float(by[("text scene", b, "rk4 h=0.05")]["max_theta_error_rad"])
-        yield (f"| text §2.2 scene, b = {b} kg/s: max abs θ error, t = 0, 1, ..., 30 s | "
-               f"printed listing {lst:.3g} rad | pendula.rk4 (same h = 0.05 s) {rk4:.2g} rad |")
+        yield (
+            f"| text §2.2 scene, b = {b} kg/s: max abs θ error, t = 0, 1, ..., 30 s | "
+            f"printed listing {lst:.3g} rad | pendula.rk4 (same h = 0.05 s) {rk4:.2g} rad |"
+        )
 
 
 def _scene_highlights(rows):
     for r in rows:
-        yield (f"| scene: {r['scene']} (tol {float(r['tol_rad']):g} rad) | model {r['model']} | "
-               f"estimate {float(r['error_estimate_rad']):.2g}, true {float(r['true_error_rad']):.2g} rad |")
+        yield (
+            f"| scene: {r['scene']} (tol {float(r['tol_rad']):g} rad) | model {r['model']} | "
+            f"estimate {float(r['error_estimate_rad']):.2g}, true {float(r['true_error_rad']):.2g} rad |"
+        )
 
 
 def _period_highlights(rows):
     for r in rows:
         if r["theta0_deg"] in ("90", "179"):
             t, t0 = float(r["T_exact_s"]), float(r["T0_small_angle_s"])
-            yield (f"| period at θ0 = {r['theta0_deg']}° | exact {t:.6f} s | "
-                   f"small-angle {t0:.6f} s ({(t0 - t) / t:+.1%}) |")
+            yield (
+                f"| period at θ0 = {r['theta0_deg']}° | exact {t:.6f} s | "
+                f"small-angle {t0:.6f} s ({(t0 - t) / t:+.1%}) |"
+            )
 
 
 def _highlights(out):
     """A few headline numbers read back from the tables (lines for the summary; empty if absent)."""
     import csv
+
     lines = []
-    for table, highlights in (("integrators_comparison.csv", _integrator_highlights),
-                              ("scene_solver.csv", _scene_highlights), ("period_table.csv", _period_highlights)):
-        try:   # a missing or malformed table gives fewer lines, never a failure
+    for table, highlights in (
+        ("integrators_comparison.csv", _integrator_highlights),
+        ("scene_solver.csv", _scene_highlights),
+        ("period_table.csv", _period_highlights),
+    ):
+        try:  # a missing or malformed table gives fewer lines, never a failure
             with open(out / "tables" / table, newline="") as fh:
                 lines.extend(highlights(list(csv.DictReader(fh))))
         except (OSError, KeyError, ValueError):
@@ -128,10 +138,10 @@ def _highlights(out):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", required=True, help="output folder (created if missing)")
-    ap.add_argument("--quick", action="store_true",
-                    help="quick mode for the examples (fewer points, fewer settings)")
-    ap.add_argument("--full-benchmarks", action="store_true",
-                    help="run the benchmarks without --quick (minutes instead of seconds)")
+    ap.add_argument("--quick", action="store_true", help="quick mode for the examples (fewer points, fewer settings)")
+    ap.add_argument(
+        "--full-benchmarks", action="store_true", help="run the benchmarks without --quick (minutes instead of seconds)"
+    )
     ap.add_argument("--skip-benchmarks", action="store_true", help="do not run benchmarks/bench_*.py")
     ap.add_argument("--timeout", type=float, default=900.0, help="seconds allowed per step (default 900)")
     args = ap.parse_args(argv)
@@ -146,14 +156,14 @@ def main(argv=None):
         print(f"  running {label} ...", end="", flush=True)
         res = _run(label, path, out / sub, extra, log_dir, args.timeout)
         results.append(res)
-        print(f" {'ok' if res['ok'] else 'FAILED'} ({res['seconds']:.1f} s, {len(res['new'])} file(s))",
-              flush=True)
+        print(f" {'ok' if res['ok'] else 'FAILED'} ({res['seconds']:.1f} s, {len(res['new'])} file(s))", flush=True)
 
     lines = ["| step | status | time (s) | files written | notes |", "|---|---|---:|---:|---|"]
     for r in results:
         notes = "; ".join(r["notes"]).replace("|", "/")
-        lines.append(f"| {r['label']} | {'ok' if r['ok'] else 'FAILED'} | {r['seconds']:.1f} | "
-                     f"{len(r['new'])} | {notes} |")
+        lines.append(
+            f"| {r['label']} | {'ok' if r['ok'] else 'FAILED'} | {r['seconds']:.1f} | {len(r['new'])} | {notes} |"
+        )
     table = "\n".join(lines)
     listing = []
     for folder in ("figures", "tables", "benchmarks", "fortran"):
@@ -162,9 +172,13 @@ def main(argv=None):
             listing.append(f"\n{folder}/ ({len(files)} file(s)):")
             listing += [f"  {p.relative_to(out)}  ({p.stat().st_size} bytes)" for p in files]
     highlights = "\n".join(_highlights(out))
-    summary = (f"# pendula main job\n\nOutput folder: {out}\n\n{table}\n\n"
-               + (f"{highlights}\n\n" if highlights else "")
-               + f"Logs of every step: {log_dir}\n" + "\n".join(listing) + "\n")
+    summary = (
+        f"# pendula main job\n\nOutput folder: {out}\n\n{table}\n\n"
+        + (f"{highlights}\n\n" if highlights else "")
+        + f"Logs of every step: {log_dir}\n"
+        + "\n".join(listing)
+        + "\n"
+    )
     (out / "summary.md").write_text(summary)
 
     print(f"\nEverything is in {out}")

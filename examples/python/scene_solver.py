@@ -7,6 +7,7 @@ l = 4.9 m); for each, the model pendula.solve chose, why, its error estimate,
 its cost, and the true error against an independent answer (the exact solution
 when undamped, CVODE BDF at rtol 1e-12 otherwise).  Writes scene_solver.csv into --out.
 """
+
 import argparse
 import csv
 import sys
@@ -37,8 +38,7 @@ def true_theta(kw, t):
     if not gamma:
         return pendula.undamped(t, kw["theta0"], kw["omega0"], W0)[0]
     if pendula.build_info()["cvode"]:
-        return pendula.cvode(t, kw["theta0"], kw["omega0"], W0, gamma, rtol=1e-12, atol=1e-14,
-                             method="bdf").theta
+        return pendula.cvode(t, kw["theta0"], kw["omega0"], W0, gamma, rtol=1e-12, atol=1e-14, method="bdf").theta
     return pendula.rk4(t, kw["theta0"], kw["omega0"], W0, gamma, 1e-4).theta
 
 

@@ -12,11 +12,12 @@ CVODE's events (zero crossings and turning points).
 
     python3 examples/python/text_listing_drift.py [--out DIR]   (writes text_listing_drift.csv)
 """
+
 import math
 
+import _example_support
 import numpy as np
 
-import _example_support
 import pendula
 from pendula.textbook import text_listing_rk4
 
@@ -28,8 +29,10 @@ def main(argv=None):
     a = _example_support.parse_args(__doc__, "text_listing_drift.csv", argv, default_out=None)
     rows = []
     print("sup over t in [0, 30] s of |theta - reference| [rad], h = 0.05 s")
-    print(f"{'b [kg/s]':>9} {'listing as printed':>19} {'at t = 30 s':>12} {'listing fixed':>14} {'pendula.rk4':>12}"
-          f"  {'first t with drift > 0.1 rad':>28}")
+    print(
+        f"{'b [kg/s]':>9} {'listing as printed':>19} {'at t = 30 s':>12} {'listing fixed':>14} {'pendula.rk4':>12}"
+        f"  {'first t with drift > 0.1 rad':>28}"
+    )
     for b, gamma in _example_support.text_damping():
         ref, ref_name = _example_support.tight_reference(T, 0.0, 2.0, W0, gamma)
         _, th_typo, _ = text_listing_rk4(30.0, 0.05, 0.0, 2.0, W0, gamma, typo=True)
@@ -37,12 +40,21 @@ def main(argv=None):
         ours = pendula.rk4(T, 0.0, 2.0, W0, gamma, 0.05)
         d_typo = np.abs(th_typo[:601] - ref)
         first = T[np.argmax(d_typo > 0.1)] if np.any(d_typo > 0.1) else float("nan")
-        row = dict(b=b, gamma=gamma, reference=ref_name, printed_sup=d_typo.max(), printed_at_30=d_typo[-1],
-                   fixed_sup=np.abs(th_fix[:601] - ref).max(), rk4_sup=np.abs(ours.theta - ref).max(),
-                   first_t_over_0_1=first)
+        row = dict(
+            b=b,
+            gamma=gamma,
+            reference=ref_name,
+            printed_sup=d_typo.max(),
+            printed_at_30=d_typo[-1],
+            fixed_sup=np.abs(th_fix[:601] - ref).max(),
+            rk4_sup=np.abs(ours.theta - ref).max(),
+            first_t_over_0_1=first,
+        )
         rows.append(row)
-        print(f"{b:9.2f} {row['printed_sup']:19.3f} {row['printed_at_30']:12.3f} {row['fixed_sup']:14.2e} "
-              f"{row['rk4_sup']:12.2e}  {first:28.2f}")
+        print(
+            f"{b:9.2f} {row['printed_sup']:19.3f} {row['printed_at_30']:12.3f} {row['fixed_sup']:14.2e} "
+            f"{row['rk4_sup']:12.2e}  {first:28.2f}"
+        )
     print(f"(reference: {rows[0]['reference']})")
 
     if pendula.build_info()["cvode"]:
@@ -55,8 +67,10 @@ def main(argv=None):
         print("toward the small-angle 2 pi / w0 = %.6f s):" % (2 * math.pi / W0))
         print("  " + " ".join(f"{p:.6f}" for p in periods[:8]))
         print("  amplitudes |theta| at turning points [rad]: " + " ".join(f"{abs(x):.5f}" for x in amp[:8]))
-        print("  log decrement per half swing ln|theta_k/theta_k+1|: "
-              + " ".join(f"{math.log(abs(amp[k] / amp[k + 1])):.5f}" for k in range(min(7, len(amp) - 1))))
+        print(
+            "  log decrement per half swing ln|theta_k/theta_k+1|: "
+            + " ".join(f"{math.log(abs(amp[k] / amp[k + 1])):.5f}" for k in range(min(7, len(amp) - 1)))
+        )
     if a.out:
         _example_support.write_csv(a.out, "text_listing_drift.csv", list(rows[0]), [list(r.values()) for r in rows])
 

@@ -5,7 +5,7 @@
 ! flag in `control` (pendula_control).  No numerics here.
 
 subroutine driven_f2py(nt, n, no, nw, ng, na, nf, np, t, theta0, omega0, w0, gamma, kind, amp, freq, phase, &
-    nsteps, richardson, threads, control, theta, omega, err_theta, err_omega, codes, first_failed, code, msg)
+                       nsteps, richardson, threads, control, theta, omega, err_theta, err_omega, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven, only: driven_batch_solve
@@ -22,10 +22,10 @@ subroutine driven_f2py(nt, n, no, nw, ng, na, nf, np, t, theta0, omega0, w0, gam
   integer :: ff
   if (richardson /= 0) then
     call driven_batch_solve(t, theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), theta, omega, &
-        codes, st, threads=int(threads), control=control, first_failed=ff, err_theta=err_theta, err_omega=err_omega)
+                            codes, st, threads=int(threads), control=control, first_failed=ff, err_theta=err_theta, err_omega=err_omega)
   else
     call driven_batch_solve(t, theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), theta, omega, &
-        codes, st, threads=int(threads), control=control, first_failed=ff)
+                            codes, st, threads=int(threads), control=control, first_failed=ff)
     err_theta = 0
     err_omega = 0
   end if
@@ -34,7 +34,7 @@ subroutine driven_f2py(nt, n, no, nw, ng, na, nf, np, t, theta0, omega0, w0, gam
 end subroutine driven_f2py
 
 subroutine poincare_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-    section_phase, transient, nrec, threads, control, theta_s, omega_s, mean_omega, codes, first_failed, code, msg)
+                         section_phase, transient, nrec, threads, control, theta_s, omega_s, mean_omega, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_maps, only: driven_poincare
@@ -51,14 +51,14 @@ subroutine poincare_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, k
   type(status_t) :: st
   integer :: ff
   call driven_poincare(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), section_phase, &
-      int(transient), int(nrec), theta_s, omega_s, mean_omega, codes, st, threads=int(threads), control=control, &
-      first_failed=ff)
+                       int(transient), int(nrec), theta_s, omega_s, mean_omega, codes, st, threads=int(threads), control=control, &
+                       first_failed=ff)
   first_failed = ff
   call status_unpack(st, code, msg)
 end subroutine poincare_f2py
 
 subroutine lyapunov_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-    transient, periods, threads, control, lyap, lyap_err, codes, first_failed, code, msg)
+                         transient, periods, threads, control, lyap, lyap_err, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_maps, only: driven_lyapunov
@@ -74,14 +74,14 @@ subroutine lyapunov_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, k
   type(status_t) :: st
   integer :: ff
   call driven_lyapunov(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
-      int(periods), lyap, lyap_err, codes, st, threads=int(threads), control=control, first_failed=ff)
+                       int(periods), lyap, lyap_err, codes, st, threads=int(threads), control=control, first_failed=ff)
   first_failed = ff
   call status_unpack(st, code, msg)
 end subroutine lyapunov_f2py
 
 subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-    period_in, transient, nmax, tol, threads, control, period, winding, theta_p, omega_p, mult, residual, codes, &
-    first_failed, code, msg)
+                       period_in, transient, nmax, tol, threads, control, period, winding, theta_p, omega_p, mult, residual, codes, &
+                       first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_orbits, only: driven_orbits
@@ -101,8 +101,8 @@ subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma
   integer, allocatable :: per(:), wnd(:), cds(:)
   allocate (per(n), wnd(n), cds(n))
   call driven_orbits(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(period_in), &
-      int(transient), int(nmax), tol, per, wnd, theta_p, omega_p, mult, residual, cds, st, threads=int(threads), &
-      control=control, first_failed=ff)
+                     int(transient), int(nmax), tol, per, wnd, theta_p, omega_p, mult, residual, cds, st, threads=int(threads), &
+                     control=control, first_failed=ff)
   period = per
   winding = wnd
   codes = cds
@@ -111,8 +111,8 @@ subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma
 end subroutine orbits_f2py
 
 subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0, gamma, kind, amp, freq, phase, &
-    nsteps, transient, nmax, tol, threads, control, labels, period, winding, natt, att_period, att_winding, &
-    att_theta, att_omega, att_mean_omega, cyc, codes, first_failed, code, msg)
+                       nsteps, transient, nmax, tol, threads, control, labels, period, winding, natt, att_period, att_winding, &
+                       att_theta, att_omega, att_mean_omega, cyc, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_orbits, only: driven_basins
@@ -135,12 +135,12 @@ subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0,
   cyc = 0
   if (ncyc == n) then
     call driven_basins(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
-        int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
-        threads=int(threads), control=control, first_failed=ff, cycles=cyc)
+                       int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
+                       threads=int(threads), control=control, first_failed=ff, cycles=cyc)
   else
     call driven_basins(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
-        int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
-        threads=int(threads), control=control, first_failed=ff)
+                       int(nmax), tol, lab, per, wnd, na_, ap, aw, att_theta, att_omega, att_mean_omega, cds, st, &
+                       threads=int(threads), control=control, first_failed=ff)
   end if
   labels = lab
   period = per
@@ -154,7 +154,7 @@ subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0,
 end subroutine basins_f2py
 
 subroutine basin_table_f2py(n, nmax, nf, cap, period, winding, cyc, freq, tol, labels, natt, att_period, &
-    att_winding, att_theta, att_omega, att_mean_omega, code, msg)
+                            att_winding, att_theta, att_omega, att_mean_omega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_orbits, only: basin_table

@@ -74,7 +74,7 @@ subroutine ellipj_one_into_f2py(which, how, n, u, x, sn, cn, dn, ph)
   ! plan pays off, GLUE_JACOBI_PLAN always uses one.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval_array, &
-      ellipj_one_m_array, ellipjm1_one_m_array
+                              ellipj_one_m_array, ellipjm1_one_m_array
   use pendula_status, only: status_t
   implicit none
   include 'pendula_glue_codes.inc'

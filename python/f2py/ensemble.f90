@@ -7,7 +7,7 @@
 ! flag in `control`, other batch calls) run meanwhile.  No numerics here.
 
 subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h, max_steps, threads, control, &
-    theta, omega, codes, steps, first_failed, code, msg)
+                          theta, omega, codes, steps, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_status, only: status_t, status_unpack, check_alloc
@@ -41,7 +41,7 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
     return
   end if
   call rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, nsteps, st, &
-      threads=int(threads), control=control, first_failed=first, max_steps=int(max_steps, i8))
+                       threads=int(threads), control=control, first_failed=first, max_steps=int(max_steps, i8))
   steps = real(nsteps, c_double)
   first_failed = first
   call status_unpack(st, code, msg)
@@ -72,7 +72,7 @@ subroutine kernel_path_f2py(path, available)
 end subroutine kernel_path_f2py
 
 subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, gamma, rtol, atol, method, &
-    max_steps, threads, control, theta, omega, codes, stats, first_failed, code, msg)
+                            max_steps, threads, control, theta, omega, codes, stats, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_status, only: status_t, status_unpack, check_alloc
@@ -94,7 +94,7 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
   allocate (s(n), stat=ist)
   if (ist /= 0) then
     ! the whole call is refused (first_failed = 0): Python raises MemoryError
-    call check_alloc(ist, 'the CVODE counters', 7_i8 * n, 8, st)
+    call check_alloc(ist, 'the CVODE counters', 7_i8*n, 8, st)
     theta = 0
     omega = 0
     codes = st%code
@@ -106,7 +106,7 @@ subroutine cvode_batch_f2py(nt, n, no, nw, ng, nr, na, t, theta0, omega0, w0, ga
   ! max_steps arrives as a double (Python int of any size); step_budget clamps it to int64.
   budget = step_budget(max_steps)
   call cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, codes, &
-      s, st, threads=int(threads), control=control, first_failed=first)
+                         s, st, threads=int(threads), control=control, first_failed=first)
   do i = 1, n
     stats(:, i) = ode_stats_values(s(i))
   end do

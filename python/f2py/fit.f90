@@ -3,7 +3,7 @@
 ! code + message; no numerics: each routine is one call into the library.
 
 subroutine sensitivity_f2py(n, t, t_ref, theta0, omega0, w0, gamma, tol, theta, omega, &
-    jac_theta, jac_omega, steps, code, msg)
+                            jac_theta, jac_omega, steps, code, msg)
   ! theta, omega and their derivatives with respect to (theta0, omega0, w0,
   ! gamma) at the n sample times t of the damped pendulum started at t_ref.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
@@ -22,13 +22,13 @@ subroutine sensitivity_f2py(n, t, t_ref, theta0, omega0, w0, gamma, tol, theta, 
   type(status_t) :: st
   integer(i8) :: nsteps
   call sensitivity_solve(t, t_ref, theta0, omega0, w0, gamma, tol, theta, omega, jac_theta, jac_omega, &
-      st, nsteps)
+                         st, nsteps)
   steps = real(nsteps, c_double)
   call status_unpack(st, code, msg)
 end subroutine sensitivity_f2py
 
 subroutine fit_period_f2py(n, theta0, period, sigma_period, sigma_theta0, w0, se_w0, chi2, &
-    iterations, w0_small_angle, code, msg)
+                           iterations, w0_small_angle, code, msg)
   ! The weighted period fit: w0, its standard error from the given sigmas,
   ! chi-square, iterations and the small-angle model's w0.
   use, intrinsic :: iso_c_binding, only: c_double, c_int

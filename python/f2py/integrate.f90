@@ -44,7 +44,7 @@ subroutine rk4_max_stable_step_f2py(w0, gamma, h_max, code, msg)
 end subroutine rk4_max_stable_step_f2py
 
 subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, m, control, &
-    theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
+                      theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_status, only: status_t, status_unpack
@@ -72,7 +72,7 @@ subroutine cvode_f2py(n, t, theta0, omega0, w0, gamma, rtol, atol, method, max_s
   budget = step_budget(max_steps)
   if (m > 0) then
     call cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, &
-        theta, omega, ev_t, ev_kind, ev_theta, ev_omega, nev, trunc, s, st, control)
+                            theta, omega, ev_t, ev_kind, ev_theta, ev_omega, nev, trunc, s, st, control)
   else
     call cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, int(method), budget, theta, omega, s, st, control)
     nev = 0

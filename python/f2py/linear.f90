@@ -47,8 +47,8 @@ subroutine linear_damped_envelope_f2py(n, t, theta0, omega0, w0, gamma, env, cod
 end subroutine linear_damped_envelope_f2py
 
 subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, beta, &
-    decay_slow, decay_fast, quality_factor, log_decrement, damped_period, &
-    gamma_critical, damping_ratio, code, msg)
+                               decay_slow, decay_fast, quality_factor, log_decrement, damped_period, &
+                               gamma_critical, damping_ratio, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_linear_damped, only: damping_regime_t, damping_regime
@@ -59,7 +59,7 @@ subroutine damping_regime_f2py(w0, gamma, regime, lambda1, lambda2, omega_d, bet
   integer(c_int), intent(out) :: regime
   real(c_double), intent(out) :: lambda1(2), lambda2(2)
   real(c_double), intent(out) :: omega_d, beta, decay_slow, decay_fast, quality_factor, &
-      log_decrement, damped_period, gamma_critical, damping_ratio
+                                 log_decrement, damped_period, gamma_critical, damping_ratio
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st

@@ -5,7 +5,7 @@
 ! in pendula_scene.
 
 subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass, has_b, &
-    w0, gamma, w0lo, code, msg)
+                              w0, gamma, w0lo, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, status_unpack
@@ -81,8 +81,8 @@ end subroutine scene_event_bound_f2py
 ! numbers of the result, at the SCENE_INFO_* slots of pendula_scene_codes
 ! (ninfo = SCENE_INFO_SIZE, which Python reads from pendula/_codes.py).
 subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, m, ninfo, &
-    max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
-    info, reason, code, msg)
+                            max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
+                            info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_ode, only: step_budget
@@ -90,9 +90,9 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   use pendula_format, only: format_int
   use pendula_scene, only: scene_t, scene_result_t, scene_solve, scene_run_model
   use pendula_scene_codes, only: SCENE_INFO_SIZE, SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, &
-      SCENE_INFO_PERIOD, SCENE_INFO_WALL_TIME, SCENE_INFO_CLOSED_FORM_EVALS, SCENE_INFO_RHS_EVALS, &
-      SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
-      SCENE_INFO_RTOL
+                                 SCENE_INFO_PERIOD, SCENE_INFO_WALL_TIME, SCENE_INFO_CLOSED_FORM_EVALS, SCENE_INFO_RHS_EVALS, &
+                                 SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
+                                 SCENE_INFO_RTOL
   implicit none
   include 'pendula_msg_len.inc'
   !f2py threadsafe
@@ -127,13 +127,13 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   ev_kind = 0
   info = 0
   reason = ''
-  if (ninfo /= SCENE_INFO_SIZE) call set_error(st, PENDULA_ERR_SIZE, 'info has ' // format_int(ninfo) // &
-      ' slots, the result has ' // format_int(SCENE_INFO_SIZE) // ': pendula/_codes.py is stale, rebuild')
+  if (ninfo /= SCENE_INFO_SIZE) call set_error(st, PENDULA_ERR_SIZE, 'info has '//format_int(ninfo)// &
+                                               ' slots, the result has '//format_int(SCENE_INFO_SIZE)//': pendula/_codes.py is stale, rebuild')
   call status_unpack(st, code, msg)
   if (st%code /= PENDULA_OK) return
   ! the times copied into a checked allocation (not by the constructor)
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
-      model=merge(0, int(model), fixed /= 0))
+                  model=merge(0, int(model), fixed /= 0))
   allocate (scene%t(n), stat=ist)
   call check_alloc(ist, 'the output times t', int(n, i8), 8, st)
   call status_unpack(st, code, msg)
@@ -192,7 +192,7 @@ subroutine scene_work_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mod
   type(scene_t) :: scene
   integer :: ist
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
-      model=merge(0, int(model), fixed /= 0))
+                  model=merge(0, int(model), fixed /= 0))
   ! times that cannot be copied: predicted short (0), so that the solve runs
   ! inline and reports PENDULA_ERR_MEMORY itself
   allocate (scene%t(n), stat=ist)

@@ -4,7 +4,7 @@
 ! 2**53).  threadsafe: the GIL is released during the call.  No numerics here.
 
 subroutine taylor_f2py(n, t, theta0, omega0, w0, gamma, tol, max_steps, m, control, &
-    theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
+                       theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_events, truncated, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_ode, only: ode_stats_t, ode_stats_values, step_budget
@@ -27,7 +27,7 @@ subroutine taylor_f2py(n, t, theta0, omega0, w0, gamma, tol, max_steps, m, contr
   logical :: trunc
   if (m > 0) then
     call taylor_solve_events(t, theta0, omega0, w0, gamma, tol, theta, omega, err, ev_t, ev_kind, ev_theta, &
-        ev_omega, nev, trunc, s, st, p, control, step_budget(max_steps))
+                             ev_omega, nev, trunc, s, st, p, control, step_budget(max_steps))
   else
     call taylor_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, s, st, p, control, step_budget(max_steps))
     nev = 0
@@ -42,7 +42,7 @@ subroutine taylor_f2py(n, t, theta0, omega0, w0, gamma, tol, max_steps, m, contr
 end subroutine taylor_f2py
 
 subroutine taylor_batch_f2py(nt, n, no, nw, ng, nr, t, theta0, omega0, w0, gamma, tol, max_steps, threads, control, &
-    theta, omega, err, codes, steps, order, first_failed, code, msg)
+                             theta, omega, err, codes, steps, order, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_status, only: status_t, status_unpack
@@ -62,7 +62,7 @@ subroutine taylor_batch_f2py(nt, n, no, nw, ng, nr, t, theta0, omega0, w0, gamma
   integer :: first
   allocate (nsteps(n))
   call taylor_batch_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, codes, nsteps, order, st, &
-      threads=int(threads), control=control, first_failed=first, max_steps=step_budget(max_steps))
+                          threads=int(threads), control=control, first_failed=first, max_steps=step_budget(max_steps))
   steps = real(nsteps, c_double)
   first_failed = first
   call status_unpack(st, code, msg)

@@ -9,6 +9,7 @@ scenes answered by the cheapest model that meets a tolerance.
 Units throughout: angles in rad, angular velocities in rad/s, times in s,
 rates (w0, gamma) in 1/s, g in m/s^2, lengths in m, masses in kg, b in kg/s.
 """
+
 from __future__ import annotations
 
 import os as _os
@@ -41,40 +42,61 @@ from .physics import *  # noqa: F401,F403
 # Each concern module defines __all__; the package's public API is their union.
 from . import elliptic as _elliptic
 from .elliptic import *  # noqa: F401,F403
-from . import undamped as _undamped; from .undamped import *  # noqa: E702,F401,F403
-from . import linear as _linear; from .linear import *  # noqa: E702,F401,F403
-from . import integrate as _integrate_api; from .integrate import *  # noqa: E702,F401,F403
-from . import scene as _scene_api; from .scene import *  # noqa: E702,F401,F403
-from . import _tradeoff; from ._tradeoff import *  # noqa: E702,F401,F403
-# the function pendula.sweep shadows its module's attribute (the module stays in sys.modules)
-from . import sweep as _sweep_api; from .sweep import *  # noqa: E702,F401,F403
-from . import driven as _driven_api; from .driven import *  # noqa: E702,F401,F403
-from . import chaos as _chaos_api; from .chaos import *  # noqa: E702,F401,F403
-# the function pendula.taylor shadows its module's attribute, as sweep does
-from . import taylor as _taylor_api; from .taylor import *  # noqa: E702,F401,F403
-# plot helpers: matplotlib is imported only when one is called
-from . import motion_plots as _motion_plots; from .motion_plots import *  # noqa: E702,F401,F403
-# fits of measured pendulums: SciPy is imported only when one is called
-from . import fit as _fit_api; from .fit import *  # noqa: E702,F401,F403
+from . import undamped as _undamped
+from .undamped import *  # noqa: E702,F401,F403
+from . import linear as _linear
+from .linear import *  # noqa: E702,F401,F403
+from . import integrate as _integrate_api
+from .integrate import *  # noqa: E702,F401,F403
+from . import scene as _scene_api
+from .scene import *  # noqa: E702,F401,F403
+from . import _tradeoff
+from ._tradeoff import *  # noqa: E702,F401,F403
 
-__all__ = sorted(set(_physics.__all__ + ["PendulaSolverError", "build_info", "have_cvode"]
-                     + _elliptic.__all__
-                     + _undamped.__all__
-                     + _linear.__all__
-                     + _integrate_api.__all__
-                     + _scene_api.__all__
-                     + _tradeoff.__all__
-                     + _sweep_api.__all__
-                     + _taylor_api.__all__
-                     + _motion_plots.__all__
-                     + _fit_api.__all__
-                     + _driven_api.__all__ + _chaos_api.__all__
-                     ))
+# the function pendula.sweep shadows its module's attribute (the module stays in sys.modules)
+from . import sweep as _sweep_api
+from .sweep import *  # noqa: E702,F401,F403
+from . import driven as _driven_api
+from .driven import *  # noqa: E702,F401,F403
+from . import chaos as _chaos_api
+from .chaos import *  # noqa: E702,F401,F403
+
+# the function pendula.taylor shadows its module's attribute, as sweep does
+from . import taylor as _taylor_api
+from .taylor import *  # noqa: E702,F401,F403
+
+# plot helpers: matplotlib is imported only when one is called
+from . import motion_plots as _motion_plots
+from .motion_plots import *  # noqa: E702,F401,F403
+
+# fits of measured pendulums: SciPy is imported only when one is called
+from . import fit as _fit_api
+from .fit import *  # noqa: E702,F401,F403
+
+__all__ = sorted(
+    set(
+        _physics.__all__
+        + ["PendulaSolverError", "build_info", "have_cvode"]
+        + _elliptic.__all__
+        + _undamped.__all__
+        + _linear.__all__
+        + _integrate_api.__all__
+        + _scene_api.__all__
+        + _tradeoff.__all__
+        + _sweep_api.__all__
+        + _taylor_api.__all__
+        + _motion_plots.__all__
+        + _fit_api.__all__
+        + _driven_api.__all__
+        + _chaos_api.__all__
+    )
+)
 
 
 def _kernel_info():
     """build_info()["kernel"]: the batch kernels' compiled variant in use and those available."""
     from ._fortran import kernel_path_f2py
+
     names = ("baseline", "v3", "v4")
     path, available = kernel_path_f2py()
     return {"path": names[int(path)], "available": [p for p, a in zip(names, available) if a]}
@@ -113,11 +135,13 @@ def build_info() -> dict:
     >>> info["version"] == pendula.__version__
     True
     """
-    return {"version": __version__, "cvode": bool(_HAVE_CVODE),
-            "sundials": dict(_config.SUNDIALS),
-            "compiler": {k: (list(v) if isinstance(v, list) else v)
-                         for k, v in _config.COMPILER.items()},
-            "kernel": _kernel_info()}
+    return {
+        "version": __version__,
+        "cvode": bool(_HAVE_CVODE),
+        "sundials": dict(_config.SUNDIALS),
+        "compiler": {k: (list(v) if isinstance(v, list) else v) for k, v in _config.COMPILER.items()},
+        "kernel": _kernel_info(),
+    }
 
 
 def have_cvode() -> bool:

@@ -1,4 +1,5 @@
 """``python -m pendula``: the command line (see pendula.cli)."""
+
 import sys
 
 from .cli import main

@@ -3,6 +3,7 @@
 Used by the functions of ``undamped`` where theta0 is an amplitude; the test
 for a swinging state asks the Fortran core for m (no second formula here).
 """
+
 import math
 import warnings
 
@@ -43,17 +44,20 @@ def warn_if_degrees(theta0, omega0, w0):
     Flat float64 inputs of n or 1 elements; called from a public function
     through one helper, hence stacklevel 4 (the user's line)."""
     if theta0.size == 0 or (theta0.max() <= 2 * np.pi and theta0.min() >= -2 * np.pi):
-        return   # two reductions, no temporaries: the common case costs ~1 ns per element less
+        return  # two reductions, no temporaries: the common case costs ~1 ns per element less
     big = np.abs(theta0) > 2 * np.pi
     n = max(theta0.size, omega0.size, w0.size)
     m, _, code, _ = _fortran.parameter_f2py(n, theta0, omega0, w0)
     if code != OK:
-        return   # bad input: the caller's kernel raises for it
+        return  # bad input: the caller's kernel raises for it
     swings = np.broadcast_to(big, m.shape) & (m <= 1)
     if swings.any():
         x = float(np.broadcast_to(theta0, m.shape)[int(np.flatnonzero(swings)[0])])
-        warnings.warn(AngleWarning(
-            f"theta0 = {x!r} rad is more than 2 pi for a swinging pendulum: it looks like degrees "
-            f"(radians expected; numpy.radians({x!r}) = {math.radians(x)!r}).  If large angles are meant, "
-            f"silence this with warnings.filterwarnings('ignore', category=pendula.AngleWarning)"),
-            stacklevel=4)
+        warnings.warn(
+            AngleWarning(
+                f"theta0 = {x!r} rad is more than 2 pi for a swinging pendulum: it looks like degrees "
+                f"(radians expected; numpy.radians({x!r}) = {math.radians(x)!r}).  If large angles are meant, "
+                f"silence this with warnings.filterwarnings('ignore', category=pendula.AngleWarning)"
+            ),
+            stacklevel=4,
+        )

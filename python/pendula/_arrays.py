@@ -16,6 +16,7 @@ bool where a time, an angle or a parameter is wanted is a mistake (a flag
 passed in the wrong position), and accepting it in one place and not another
 made the answer depend on the path taken.
 """
+
 import numbers
 
 import numpy as np
@@ -25,8 +26,16 @@ MAX_ELEMENTS = 2**31 - 1
 default (4-byte) integers, so a larger array would reach the core with a
 wrapped, negative size."""
 
-_KIND_WORDS = {"b": "a bool", "c": "complex", "m": "a timedelta64", "M": "a datetime64",
-               "U": "a str", "S": "bytes", "V": "a structured value", "O": "a Python object"}
+_KIND_WORDS = {
+    "b": "a bool",
+    "c": "complex",
+    "m": "a timedelta64",
+    "M": "a datetime64",
+    "U": "a str",
+    "S": "bytes",
+    "V": "a structured value",
+    "O": "a Python object",
+}
 
 
 def _not_real(name, what):
@@ -36,8 +45,10 @@ def _not_real(name, what):
 def check_size(n, name):
     """Refuse ``n`` elements for ``name`` when the Fortran core cannot index them."""
     if n > MAX_ELEMENTS:
-        raise ValueError(f"{name} has {n} elements: at most 2**31 - 1 = {MAX_ELEMENTS} per call "
-                         f"(the Fortran core indexes with 4-byte integers); split the input")
+        raise ValueError(
+            f"{name} has {n} elements: at most 2**31 - 1 = {MAX_ELEMENTS} per call "
+            f"(the Fortran core indexes with 4-byte integers); split the input"
+        )
 
 
 def as_array(x, name):
@@ -47,7 +58,7 @@ def as_array(x, name):
     if isinstance(x, (str, bytes)) or x is None:
         raise _not_real(name, type(x).__name__)
     if isinstance(x, numbers.Integral) and not isinstance(x, (bool, np.bool_, np.integer)):
-        if not -2**63 <= x < 2**63:    # NumPy would make an object array of a huge int
+        if not -(2**63) <= x < 2**63:  # NumPy would make an object array of a huge int
             try:
                 return np.asarray(float(x))
             except OverflowError:
@@ -56,8 +67,10 @@ def as_array(x, name):
         arr = np.asarray(x)
     except ValueError as exc:
         if "inhomogeneous" in str(exc) or "sequence" in str(exc):
-            raise ValueError(f"{name} is a ragged nested sequence (rows of different lengths): it must be "
-                             f"a real number or a rectangular array of real numbers") from None
+            raise ValueError(
+                f"{name} is a ragged nested sequence (rows of different lengths): it must be "
+                f"a real number or a rectangular array of real numbers"
+            ) from None
         raise ValueError(f"{name} cannot be read as an array of real numbers: {exc}") from None
     except TypeError as exc:
         raise _not_real(name, f"{type(x).__name__} ({exc})") from None
@@ -103,9 +116,12 @@ def broadcast_real(size1=False, **named):
         check_size(n, f"the broadcast of {shapes}")
     scalar = all(a.ndim == 0 for a in arrays.values())
     # one contiguous float64 copy each: the core never holds a user's array
-    flats = {k: np.array(a if size1 and a.size == 1 else np.broadcast_to(a, shape), dtype=np.float64,
-                         order="C", copy=True).reshape(-1)
-             for k, a in arrays.items()}
+    flats = {
+        k: np.array(
+            a if size1 and a.size == 1 else np.broadcast_to(a, shape), dtype=np.float64, order="C", copy=True
+        ).reshape(-1)
+        for k, a in arrays.items()
+    }
     return shape, scalar, flats
 
 
@@ -126,7 +142,7 @@ def real_scalar(x, name):
             raise ValueError(f"{name} = {x} is out of range: it exceeds the largest double") from None
     if isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_, np.generic)):
         try:
-            return float(x)    # fractions.Fraction, decimal-like numbers.Real
+            return float(x)  # fractions.Fraction, decimal-like numbers.Real
         except OverflowError:
             raise ValueError(f"{name} = {x} is out of range: it exceeds the largest double") from None
     arr = _real_array(x, name)
@@ -151,7 +167,7 @@ def integer_arg(x, name, lo, hi, scalar=False):
     if isinstance(x, (bool, np.bool_)):
         raise TypeError(f"{name} must be an integer, got bool")
     if isinstance(x, (numbers.Integral, np.integer)):
-        v = int(x)                      # exact: Python ints do not wrap
+        v = int(x)  # exact: Python ints do not wrap
         if not lo <= v <= hi:
             raise ValueError(f"{name} = {v} is out of range: it must be an integer in [{lo}, {hi}]")
         return v

@@ -7,6 +7,7 @@ An angle is a number with an optional unit written right after it: ``1.2`` or
 velocity likewise: ``0.5``, ``0.5rad/s``, ``30deg/s`` or ``30°/s``.  One parser
 for every option, so that ``--theta0 90deg`` means the same in every subcommand.
 """
+
 import argparse
 import math
 import re
@@ -78,12 +79,12 @@ def threads(text):
 
 def _with_unit(text, units, what, examples):
     """The value of ``text`` in rad (or rad/s): a number with at most one unit suffix from ``units``."""
-    if not isinstance(text, str):          # a default given as a number
+    if not isinstance(text, str):  # a default given as a number
         return float(text)
     s = text.strip()
-    for suffix in sorted(units, key=len, reverse=True):     # "deg/s" before "deg"
+    for suffix in sorted(units, key=len, reverse=True):  # "deg/s" before "deg"
         if s.lower().endswith(suffix):
-            number = s[:-len(suffix)].strip()
+            number = s[: -len(suffix)].strip()
             try:
                 x = float(number)
             except ValueError:
@@ -93,8 +94,9 @@ def _with_unit(text, units, what, examples):
             # degrees by math.radians: 90deg is pi/2 and 180deg is pi to the last bit
             return math.radians(x) if units[suffix] else x
     if s and (s[-1].isalpha() or s[-1] in "°/") and not s.lower().endswith(("inf", "nan", "infinity")):
-        raise argparse.ArgumentTypeError(f"{text!r} is not {'an' if what[0] in 'aeiou' else 'a'} {what}: "
-                                         f"give {examples}")
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not {'an' if what[0] in 'aeiou' else 'a'} {what}: give {examples}"
+        )
     return finite(text)
 
 

@@ -6,15 +6,37 @@ Fortran; this module re-exports them next to the choices the Python layer makes
 itself (tolerances, step budgets, method, the thread policy), so that a
 signature, a docstring's default and the command line all read one value.
 """
+
 import numbers
 import os
 
 from ._codes import CVODE_ADAMS, CVODE_BDF, G_DEFAULT, LENGTH_DEFAULT, STEP_CAP
 
-__all__ = ["G_DEFAULT", "LENGTH_DEFAULT", "STEP_CAP", "TOL", "CVODE_RTOL", "CVODE_ATOL", "CVODE_METHOD",
-           "CVODE_MAX_STEPS", "CVODE_METHODS", "RK4_MAX_STEPS", "TAYLOR_TOL", "TAYLOR_MAX_STEPS", "MAX_EVENTS", "SWEEP_H", "CHUNK_STATES",
-           "STAT_NAMES", "THREADS", "SERIAL_WORK", "POOL_STATE_WORK", "WELL_NONE", "SETTLE_MARGIN", "check_threads",
-           "choose_threads"]
+__all__ = [
+    "G_DEFAULT",
+    "LENGTH_DEFAULT",
+    "STEP_CAP",
+    "TOL",
+    "CVODE_RTOL",
+    "CVODE_ATOL",
+    "CVODE_METHOD",
+    "CVODE_MAX_STEPS",
+    "CVODE_METHODS",
+    "RK4_MAX_STEPS",
+    "TAYLOR_TOL",
+    "TAYLOR_MAX_STEPS",
+    "MAX_EVENTS",
+    "SWEEP_H",
+    "CHUNK_STATES",
+    "STAT_NAMES",
+    "THREADS",
+    "SERIAL_WORK",
+    "POOL_STATE_WORK",
+    "WELL_NONE",
+    "SETTLE_MARGIN",
+    "check_threads",
+    "choose_threads",
+]
 
 TOL = 1e-6
 """A scene's tolerance [rad] when none is given (``Scene``, ``pendula solve``)."""
@@ -61,7 +83,7 @@ events), in RK4 steps: its ~30 us of Python around the Fortran call.  A batch
 of more than SERIAL_WORK / POOL_STATE_WORK such states takes threads without
 asking Fortran for each state's prediction."""
 
-WELL_NONE = -2**31
+WELL_NONE = -(2**31)
 """The ``well`` of a state that has none (failed, or still above or at the
 separatrix at t[-1]): never a number of turns."""
 SETTLE_MARGIN = 1e-9
@@ -82,8 +104,10 @@ def check_threads(threads):
     if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
         raise TypeError(f"threads must be an integer or None, got {type(threads).__name__}")
     if threads < 0 or threads > 4096:
-        raise ValueError(f"threads = {int(threads)} is out of range: it must be None (chosen from the work), "
-                         f"0 (the OpenMP default) or in [1, 4096]")
+        raise ValueError(
+            f"threads = {int(threads)} is out of range: it must be None (chosen from the work), "
+            f"0 (the OpenMP default) or in [1, 4096]"
+        )
     return int(threads)
 
 
@@ -98,7 +122,7 @@ def choose_threads(threads, work):
     global _pool_pid
     threads = check_threads(threads)
     if threads is None:
-        threads = 1 if not work > SERIAL_WORK else 0   # NaN work: threads
+        threads = 1 if not work > SERIAL_WORK else 0  # NaN work: threads
     if threads == 1:
         return 1
     pid = os.getpid()
@@ -115,5 +139,5 @@ def default_threads():
         return int(env)
     try:
         return len(os.sched_getaffinity(0))
-    except AttributeError:   # not Linux
+    except AttributeError:  # not Linux
         return os.cpu_count() or 1

@@ -6,6 +6,7 @@ stops it and progress=True draws a bar (pendula._longcall's watched call),
 with the failure contract of docs/robustness.md: argument errors raise
 ValueError before any work, a state that fails gets its code and NaN, and
 the call raises only when every state failed."""
+
 import re
 
 import numpy as np
@@ -19,9 +20,12 @@ from .physics import pendulum_gamma, pendulum_w0
 
 STATE_NAMES = ("theta0", "omega0", "w0", "gamma")
 """The per-state arguments of the driven calls (named with their index in messages)."""
-_RULES = {"theta0": (lambda a: np.isfinite(a), "finite"), "omega0": (lambda a: np.isfinite(a), "finite"),
-          "w0": (lambda a: np.isfinite(a) & (a > 0), "finite and > 0"),
-          "gamma": (lambda a: np.isfinite(a) & (a >= 0), "finite and >= 0")}
+_RULES = {
+    "theta0": (lambda a: np.isfinite(a), "finite"),
+    "omega0": (lambda a: np.isfinite(a), "finite"),
+    "w0": (lambda a: np.isfinite(a) & (a > 0), "finite and > 0"),
+    "gamma": (lambda a: np.isfinite(a) & (a >= 0), "finite and >= 0"),
+}
 _FORTRAN_STATE = re.compile(r"^state \d+ of \d+(?: \(\d+ failed, see codes\))?: ")
 
 
@@ -49,6 +53,7 @@ def check_states(flats, shape):
 def drive_arg(drive):
     """The drive argument checked: a pendula.Drive."""
     from .driven import Drive
+
     if not isinstance(drive, Drive):
         raise TypeError(f"drive must be a pendula.Drive, got {type(drive).__name__}")
     return drive
@@ -87,9 +92,16 @@ def states(drive, **named):
     returns (shape, scalar, kwargs for the glue, inputs: each broadcast to the shape)."""
     shape, scalar, flats = broadcast_real(**named)
     check_states(flats, shape)
-    args = dict(theta0=flats["theta0"], omega0=flats["omega0"], w0=flats["w0"], gamma=flats["gamma"],
-                kind=drive.code, amp=np.array([drive.amplitude]), freq=np.array([drive.frequency]),
-                phase=np.array([drive.phase]))
+    args = dict(
+        theta0=flats["theta0"],
+        omega0=flats["omega0"],
+        w0=flats["w0"],
+        gamma=flats["gamma"],
+        kind=drive.code,
+        amp=np.array([drive.amplitude]),
+        freq=np.array([drive.frequency]),
+        phase=np.array([drive.phase]),
+    )
     return shape, scalar, args, inputs(drive, shape, flats)
 
 
@@ -118,8 +130,14 @@ def watched(fn, work, n, progress, shape=(), **kwargs):
     ``work`` (RK4 lane steps) is large or a progress bar is wanted; then
     ``settle`` its status.  Returns (outputs without codes and status, Outcome)."""
     control = _longcall.new_control()
-    out = _longcall.run(lambda: fn(control=control, **kwargs), control,
-                        long=work > _longcall.RK4_LONG_STEPS, progress=progress, total=n, unit="state")
+    out = _longcall.run(
+        lambda: fn(control=control, **kwargs),
+        control,
+        long=work > _longcall.RK4_LONG_STEPS,
+        progress=progress,
+        total=n,
+        unit="state",
+    )
     return settle(list(out), shape)
 
 
@@ -149,6 +167,7 @@ def check_client(client):
 def run_chunk(name, kwargs):
     """One chunk on a Dask worker: the glue ``pendula._fortran.<name>`` on one thread."""
     from . import _fortran
+
     return list(getattr(_fortran, name)(control=_longcall.new_control(), **kwargs))
 
 
@@ -160,9 +179,12 @@ def dask_chunks(client, name, chunks, progress, total):
     progress bar counts the states of the chunks done; Ctrl-C (or any
     error) cancels the futures still pending."""
     from distributed import as_completed  # optional dependency: imported only here
+
     sizes = [len(c["theta0"]) for c in chunks]
-    futures = [client.submit(run_chunk, name, c, pure=False, key=f"pendula-{name}-{i}-{id(chunks)}")
-               for i, c in enumerate(chunks)]
+    futures = [
+        client.submit(run_chunk, name, c, pure=False, key=f"pendula-{name}-{i}-{id(chunks)}")
+        for i, c in enumerate(chunks)
+    ]
     index = {f.key: i for i, f in enumerate(futures)}
     parts = [None] * len(chunks)
     update, close = _longcall._progress_sink(progress, total, "state")

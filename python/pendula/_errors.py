@@ -6,13 +6,25 @@ become ``ValueError``, solver failures ``RuntimeError``, a feature missing
 from this build ``NotImplementedError``, an allocation that failed
 ``MemoryError`` (its message names the size asked for).
 """
+
 import numbers
 import re
 
 import numpy as np
 
-from ._codes import (OK, ERR_NONFINITE, ERR_DOMAIN, ERR_SIZE, ERR_ORDER, ERR_UNSTABLE, ERR_SOLVER,  # noqa: F401
-                     ERR_UNAVAILABLE, ERR_MAXSTEPS, ERR_CANCELLED, ERR_MEMORY)
+from ._codes import (  # noqa: F401
+    ERR_CANCELLED,
+    ERR_DOMAIN,
+    ERR_MAXSTEPS,
+    ERR_MEMORY,
+    ERR_NONFINITE,
+    ERR_ORDER,
+    ERR_SIZE,
+    ERR_SOLVER,
+    ERR_UNAVAILABLE,
+    ERR_UNSTABLE,
+    OK,
+)
 
 
 class PendulaSolverError(RuntimeError):
@@ -73,7 +85,7 @@ def raise_for_status(code, msg):
     if code == OK:
         return
     exc = _EXCEPTIONS.get(code, RuntimeError)(_text(msg) or f"pendula error code {code}")
-    exc.pendula_code = code   # the batch layer reports it per state
+    exc.pendula_code = code  # the batch layer reports it per state
     raise exc
 
 
@@ -112,7 +124,7 @@ def for_state(detail, i, shape, names=None):
     at = index_text(i, shape)
     m = _NAME_IS.match(detail)
     if m and (names is None or m.group(1) in names):
-        return f"{m.group(1)}{at} = {detail[m.end():]}"
+        return f"{m.group(1)}{at} = {detail[m.end() :]}"
     return f"state {at}: {detail}"
 
 

@@ -5,22 +5,33 @@ The numbers are computed by the fit functions (pendula.fit); this module only
 holds and shows them.  pandas and matplotlib are imported when a conversion
 or a figure is asked for.
 """
+
 import math
 
 import numpy as np
 
-_UNITS = {"w0": "1/s", "g": "m/s^2", "length": "m", "gamma": "1/s", "theta0": "rad", "omega0": "rad/s",
-          "theta_offset": "rad", "omega_offset": "rad/s"}
+_UNITS = {
+    "w0": "1/s",
+    "g": "m/s^2",
+    "length": "m",
+    "gamma": "1/s",
+    "theta0": "rad",
+    "omega0": "rad/s",
+    "theta_offset": "rad",
+    "omega_offset": "rad/s",
+}
 
 
 def _optional(module, extra, what):
     """Import an optional module or raise ImportError naming the extra."""
     import importlib
+
     try:
         return importlib.import_module(module)
     except ImportError:
-        raise ImportError(f"FitResult.{what} needs {module.split('.')[0]}, an optional dependency: "
-                          f"pip install 'pendula[{extra}]'") from None
+        raise ImportError(
+            f"FitResult.{what} needs {module.split('.')[0]}, an optional dependency: pip install 'pendula[{extra}]'"
+        ) from None
 
 
 class FitResult:
@@ -90,9 +101,26 @@ class FitResult:
     (('w0', 'length'), 2.4525, 'normal')
     """
 
-    def __init__(self, *, kind, names, values, covariance, sigma_known, dof, chi2, confidence,
-                 residuals, data, model, residuals_omega=None, small_angle=None, info=None):
+    def __init__(
+        self,
+        *,
+        kind,
+        names,
+        values,
+        covariance,
+        sigma_known,
+        dof,
+        chi2,
+        confidence,
+        residuals,
+        data,
+        model,
+        residuals_omega=None,
+        small_angle=None,
+        info=None,
+    ):
         from scipy import stats
+
         self.kind = kind
         self.names = tuple(names)
         values = np.asarray(values, dtype=float)
@@ -154,16 +182,22 @@ class FitResult:
         return self.estimates[name]
 
     def __repr__(self):
-        head = (f"FitResult({self.kind} fit: {np.size(self.residuals)} points, chi2 = {self.chi2:.4g}, "
-                f"dof = {self.dof}, chi2/dof = {self.reduced_chi2:.4g}"
-                + (f", p = {self.pvalue:.3g}" if self.sigma_known else ", uncertainties from the scatter")
-                + ")")
+        head = (
+            f"FitResult({self.kind} fit: {np.size(self.residuals)} points, chi2 = {self.chi2:.4g}, "
+            f"dof = {self.dof}, chi2/dof = {self.reduced_chi2:.4g}"
+            + (f", p = {self.pvalue:.3g}" if self.sigma_known else ", uncertainties from the scatter")
+            + ")"
+        )
         pct = f"{100 * self.confidence:g}%"
-        rows = [f"  {'parameter':<13}{'estimate':>16}{'std error':>12}   {pct + ' interval (' + self.interval_kind + ')':<34}unit"]
+        rows = [
+            f"  {'parameter':<13}{'estimate':>16}{'std error':>12}   {pct + ' interval (' + self.interval_kind + ')':<34}unit"
+        ]
         for n in self.names:
             lo, hi = self.intervals[n]
-            rows.append(f"  {n:<13}{self.estimates[n]:>16.10g}{self.stderr[n]:>12.3g}   "
-                        f"[{lo:.8g}, {hi:.8g}]".ljust(33 + 44) + f" {self.units[n]}")
+            rows.append(
+                f"  {n:<13}{self.estimates[n]:>16.10g}{self.stderr[n]:>12.3g}   [{lo:.8g}, {hi:.8g}]".ljust(33 + 44)
+                + f" {self.units[n]}"
+            )
         sa = self.small_angle
         if sa:
             key = "g" if "g" in sa else ("length" if "length" in sa else "w0")
@@ -206,14 +240,25 @@ class FitResult:
         """
         pd = _optional("pandas", "tables", "to_pandas")
         if what == "parameters":
-            df = pd.DataFrame({"estimate": [self.estimates[n] for n in self.names],
-                               "stderr": [self.stderr[n] for n in self.names],
-                               "ci_low": [self.intervals[n][0] for n in self.names],
-                               "ci_high": [self.intervals[n][1] for n in self.names],
-                               "unit": [self.units[n] for n in self.names]},
-                              index=pd.Index(self.names, name="parameter"))
-            df.attrs.update(kind=self.kind, chi2=self.chi2, dof=self.dof, reduced_chi2=self.reduced_chi2,
-                            pvalue=self.pvalue, confidence=self.confidence, interval_kind=self.interval_kind)
+            df = pd.DataFrame(
+                {
+                    "estimate": [self.estimates[n] for n in self.names],
+                    "stderr": [self.stderr[n] for n in self.names],
+                    "ci_low": [self.intervals[n][0] for n in self.names],
+                    "ci_high": [self.intervals[n][1] for n in self.names],
+                    "unit": [self.units[n] for n in self.names],
+                },
+                index=pd.Index(self.names, name="parameter"),
+            )
+            df.attrs.update(
+                kind=self.kind,
+                chi2=self.chi2,
+                dof=self.dof,
+                reduced_chi2=self.reduced_chi2,
+                pvalue=self.pvalue,
+                confidence=self.confidence,
+                interval_kind=self.interval_kind,
+            )
             return df
         if what == "data":
             cols = {k: np.asarray(v) for k, v in self.data.items() if v is not None and k != "sigma_effective"}
@@ -272,15 +317,16 @@ class FitResult:
         th, per = np.asarray(self.data["theta0"]), np.asarray(self.data["period"])
         sp, st = self.data.get("sigma_period"), self.data.get("sigma_theta0")
         deg = np.degrees
-        top.errorbar(deg(th), per, yerr=sp, xerr=None if st is None else deg(st), fmt="o", ms=4,
-                     color="k", label="measured")
+        top.errorbar(
+            deg(th), per, yerr=sp, xerr=None if st is None else deg(st), fmt="o", ms=4, color="k", label="measured"
+        )
         grid = np.linspace(0.0, max(float(np.max(np.abs(th))), 0.1), 400)
         top.plot(deg(grid), self.model(grid), color="C0", label=f"exact, w0 = {self.estimates['w0']:.6g} 1/s")
-        top.axhline(2 * np.pi / self.estimates["w0"], color="0.4", ls=":",
-                    label="this pendulum's small-angle period 2π/w0")
+        top.axhline(
+            2 * np.pi / self.estimates["w0"], color="0.4", ls=":", label="this pendulum's small-angle period 2π/w0"
+        )
         w_sa = self.small_angle["w0"]
-        top.axhline(2 * np.pi / w_sa, color="C3", ls="--",
-                    label=f"small-angle fit, T = 2π/w0 with w0 = {w_sa:.5g} 1/s")
+        top.axhline(2 * np.pi / w_sa, color="C3", ls="--", label=f"small-angle fit, T = 2π/w0 with w0 = {w_sa:.5g} 1/s")
         top.set_ylabel("period T  (s)")
         top.legend(loc="upper left", fontsize=8)
         # residual error bars: the effective sigma (period and amplitude errors together)

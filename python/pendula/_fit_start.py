@@ -8,6 +8,7 @@ decays as exp(-gamma t / 2)), and the state at t_ref from the data there and
 the energy of the first swing.  Only rough values are needed: the least
 squares refine them.
 """
+
 import math
 
 import numpy as np
@@ -45,6 +46,7 @@ def start_values(t, theta, omega, t_ref, offset, noise=None):
     crossings carry no period.  Raises ValueError when the data hold no half
     swing to time (the caller may then give p0)."""
     from .elliptic import ellipk
+
     y = theta - offset
     noise = _noise(y) if noise is None else float(noise)
     tc = _crossings(t, y)
@@ -55,10 +57,10 @@ def start_values(t, theta, omega, t_ref, offset, noise=None):
             break
         k = int(np.argmax(np.abs(y[inside])))
         if np.abs(y[inside])[k] < 5.0 * noise:
-            break          # the swing has decayed into the noise: later crossings are noise
+            break  # the swing has decayed into the noise: later crossings are noise
         amps.append(float(np.abs(y[inside])[k]))
         times.append(float(t[inside][k]))
-    tc = tc[:len(amps) + 1]
+    tc = tc[: len(amps) + 1]
     if tc.size >= 2:
         halves = np.diff(tc)
         amps, times = np.array(amps), np.array(times)
@@ -77,15 +79,17 @@ def start_values(t, theta, omega, t_ref, offset, noise=None):
         w0 = 4.0 * float(ellipk(math.sin(amp0 / 2) ** 2)) / period
         gamma = 0.0
     else:
-        raise ValueError("cannot find a starting period: theta does not cross its centre twice; "
-                         "record at least one full swing or give p0={'w0': ...}")
+        raise ValueError(
+            "cannot find a starting period: theta does not cross its centre twice; "
+            "record at least one full swing or give p0={'w0': ...}"
+        )
     theta0 = float(np.interp(t_ref, t, y))
     if omega is not None:
         omega0 = float(np.interp(t_ref, t, omega))
     else:
         # |Omega0| from the energy of the first swing, its sign from the data's slope near t_ref.
-        e = 2.0 * w0 ** 2 * (math.cos(theta0) - math.cos(max(amp0, abs(theta0))))
-        near = np.argsort(np.abs(t - t_ref))[:max(3, min(8, t.size // 20))]
+        e = 2.0 * w0**2 * (math.cos(theta0) - math.cos(max(amp0, abs(theta0))))
+        near = np.argsort(np.abs(t - t_ref))[: max(3, min(8, t.size // 20))]
         slope = np.polyfit(t[near] - t[near].mean(), y[near], 1)[0] if near.size >= 2 else 0.0
         omega0 = math.copysign(math.sqrt(max(e, 0.0)), slope)
     return theta0, omega0, w0, gamma

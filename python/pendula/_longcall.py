@@ -11,6 +11,7 @@ waits for it with ``join(timeout)``: Ctrl-C interrupts the wait, the flag is
 set, the worker returns promptly, and KeyboardInterrupt is raised again.
 Short calls run inline, with no thread.
 """
+
 import threading
 
 import numpy as np
@@ -55,17 +56,19 @@ def _progress_sink(progress, total, unit):
         try:
             from tqdm.auto import tqdm
         except ImportError as exc:
-            raise ImportError("progress=True needs the optional package tqdm (pip install tqdm); "
-                              "or pass progress=callable(done, total) instead") from exc
+            raise ImportError(
+                "progress=True needs the optional package tqdm (pip install tqdm); "
+                "or pass progress=callable(done, total) instead"
+            ) from exc
         bar = tqdm(total=total, unit=unit, unit_scale=True, leave=False)
 
         def update(done):
             bar.update(max(done - bar.n, 0))
+
         return update, bar.close
     if callable(progress):
         return (lambda done: progress(done, total)), None
-    raise TypeError(f"progress must be True, False, None or a callable(done, total), "
-                    f"got {type(progress).__name__}")
+    raise TypeError(f"progress must be True, False, None or a callable(done, total), got {type(progress).__name__}")
 
 
 def stop(controls, threads):
@@ -102,7 +105,7 @@ def run(call, control, long, progress=None, total=None, unit="step"):
         def worker():
             try:
                 box["result"] = call()
-            except BaseException as exc:   # re-raised in the caller's thread
+            except BaseException as exc:  # re-raised in the caller's thread
                 box["error"] = exc
 
         th = threading.Thread(target=worker, name="pendula-longcall", daemon=True)

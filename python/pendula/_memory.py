@@ -7,6 +7,7 @@ A batch call's outputs are known before it runs (states x output times x
 fields); asking for them first turns a call that could never finish into an
 error in milliseconds rather than after the work.
 """
+
 import numpy as np
 
 #: Most bytes of trajectory one sweep chunk keeps at a time (theta and omega of

@@ -3,6 +3,7 @@ a user would otherwise pick, on the same reference and error measure.
 
 SciPy is optional: imported only when rows are asked for.
 """
+
 import importlib.util
 import math
 import time
@@ -31,6 +32,7 @@ def _timed(fn, repeat):
         best = min(best, time.perf_counter() - t0)
     return out, best
 
+
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 # a method's tighter rtols are skipped once one run takes longer than this [s]
 _SLOW_RUN = 1.0
@@ -48,8 +50,10 @@ def methods(scipy, default_all):
     if isinstance(scipy, str):
         raise ValueError(f"scipy = {scipy!r} must be a list of solve_ivp method names, e.g. [{scipy!r}]")
     if not isinstance(scipy, (list, tuple)) or not all(isinstance(m, str) for m in scipy):
-        raise TypeError(f"scipy must be True, False, None or a list of solve_ivp method names "
-                        f"(e.g. {list(SCIPY_METHODS[:2])}), got {scipy!r}")
+        raise TypeError(
+            f"scipy must be True, False, None or a list of solve_ivp method names "
+            f"(e.g. {list(SCIPY_METHODS[:2])}), got {scipy!r}"
+        )
     bad = [m for m in scipy if m not in SCIPY_METHODS + ("BDF",)]
     if bad:
         raise ValueError(f"scipy methods {bad} are unknown: use some of {list(SCIPY_METHODS) + ['BDF']}")
@@ -60,11 +64,13 @@ def methods(scipy, default_all):
 def rhs_and_jacobian(w0, gamma):
     """solve_ivp's fun(t, y) and jac(t, y) for theta'' = -gamma theta' - w0^2 sin(theta),
     y = (theta [rad], omega [rad/s]); w0, gamma [1/s]."""
+
     def rhs(_, y):
         return [y[1], -gamma * y[1] - w0 * w0 * math.sin(y[0])]
 
     def jac(_, y):
         return [[0.0, 1.0], [-w0 * w0 * math.cos(y[0]), -gamma]]
+
     return rhs, jac
 
 
@@ -83,15 +89,33 @@ def rows(st, method, rtols, ref, repeat, max_steps):
         kw = {"jac": jac} if method in _IMPLICIT else {}
 
         def run(r=r, kw=kw):
-            return solve_ivp(rhs, (0.0, tend), [st.theta0, st.omega0], method=method, t_eval=st.t, rtol=r,
-                             atol=[r * scale / 100, r * w0 * scale / 100], **kw)
+            return solve_ivp(
+                rhs,
+                (0.0, tend),
+                [st.theta0, st.omega0],
+                method=method,
+                t_eval=st.t,
+                rtol=r,
+                atol=[r * scale / 100, r * w0 * scale / 100],
+                **kw,
+            )
+
         sol, wall = _timed(run, repeat)
         if sol.status != 0:
-            break   # tighter rtols fail too
-        out.append({"model": f"scipy {method}", "setting": f"rtol={r:.0e}",
-                    "sup_error": _sup_error(sol.y[0], sol.y[1], ref.theta, ref.omega, w0), "wall_time": wall,
-                    "rhs_evals": int(sol.nfev), "closed_form_evals": 0, "error_estimate": 0.0,
-                    "step_used": None, "steps": None})
+            break  # tighter rtols fail too
+        out.append(
+            {
+                "model": f"scipy {method}",
+                "setting": f"rtol={r:.0e}",
+                "sup_error": _sup_error(sol.y[0], sol.y[1], ref.theta, ref.omega, w0),
+                "wall_time": wall,
+                "rhs_evals": int(sol.nfev),
+                "closed_form_evals": 0,
+                "error_estimate": 0.0,
+                "step_used": None,
+                "steps": None,
+            }
+        )
         if wall > _SLOW_RUN:
             break
     return out

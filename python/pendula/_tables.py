@@ -15,16 +15,32 @@ repeated along t.  Datasets: dims ``batch`` (one batch dimension) or
 ``batch_0``, ``batch_1``, ... (several), then ``t``; units in each
 variable's ``attrs``.
 """
+
 import importlib
 
 import numpy as np
 
 from ._codes import OK
 
-UNITS = {"t": "s", "theta": "rad", "omega": "rad/s", "energy": "1/s^2", "period": "s",
-         "error_estimate": "rad", "event_time_error": "s"}
-INPUT_UNITS = {"theta0": "rad", "omega0": "rad/s", "w0": "1/s", "gamma": "1/s", "h": "s", "tol": "rad",
-               "rtol": "1", "atol": "1"}
+UNITS = {
+    "t": "s",
+    "theta": "rad",
+    "omega": "rad/s",
+    "energy": "1/s^2",
+    "period": "s",
+    "error_estimate": "rad",
+    "event_time_error": "s",
+}
+INPUT_UNITS = {
+    "theta0": "rad",
+    "omega0": "rad/s",
+    "w0": "1/s",
+    "gamma": "1/s",
+    "h": "s",
+    "tol": "rad",
+    "rtol": "1",
+    "atol": "1",
+}
 _REASON_CHARS = 100
 
 
@@ -33,11 +49,13 @@ def optional(name):
     try:
         return importlib.import_module(name)
     except ImportError as exc:
-        raise ImportError(f"this conversion needs the optional package {name!r}, which is not installed: "
-                          f"pip install {name}") from exc
+        raise ImportError(
+            f"this conversion needs the optional package {name!r}, which is not installed: pip install {name}"
+        ) from exc
 
 
 # ------------------------------------------------------------------ reprs
+
 
 def span(a, unit=""):
     """'[lo, hi] unit' of the finite values of a (or 'empty' / 'no finite values')."""
@@ -73,7 +91,7 @@ def codes_line(codes, message=""):
 def clip(text, n=_REASON_CHARS):
     """text cut to n characters (an ellipsis says it was cut)."""
     text = str(text)
-    return text if len(text) <= n else text[:n - 3] + "..."
+    return text if len(text) <= n else text[: n - 3] + "..."
 
 
 def block(name, lines):
@@ -89,6 +107,7 @@ def counts(names):
 
 
 # ------------------------------------------------------------ conversions
+
 
 def batch_dims(shape):
     """Dimension names of a batch shape: ('batch',) or ('batch_0', 'batch_1', ...)."""

@@ -10,6 +10,7 @@ on a grid spaced dt, every h >= dt runs the same steps.  The table shows the
 step actually used (``step_used``, the window over the steps taken) and keeps
 one row per distinct run.
 """
+
 from __future__ import annotations
 
 import csv as _csv
@@ -26,7 +27,7 @@ from .scene import Scene, _model_code, run_model, solve
 
 SCIPY_RTOLS = (1e-3, 1e-6, 1e-9)
 """Default rtols of the SciPy rows (atol = rtol * state scale / 100, as CVODE's)."""
-_RK4_ROWS = 14   # default RK4 rows: distinct used steps, halving
+_RK4_ROWS = 14  # default RK4 rows: distinct used steps, halving
 
 
 class TradeoffTable:
@@ -74,8 +75,17 @@ class TradeoffTable:
     model ...
     """
 
-    COLUMNS = ("model", "setting", "sup_error", "wall_time", "rhs_evals", "closed_form_evals",
-               "error_estimate", "step_used", "steps")
+    COLUMNS = (
+        "model",
+        "setting",
+        "sup_error",
+        "wall_time",
+        "rhs_evals",
+        "closed_form_evals",
+        "error_estimate",
+        "step_used",
+        "steps",
+    )
 
     def __init__(self, scene, rows, reference, reference_result=None):
         self.scene = scene
@@ -127,18 +137,41 @@ class TradeoffTable:
         return ", ".join(f"{m} {r['sup_error']:.2g} rad in {r['wall_time']:.2g} s" for m, r in best.items())
 
     def __repr__(self):
-        return _tables.block("TradeoffTable", [
-            f"{len(self.rows)} rows, models: {_tables.counts([r['model'] for r in self.rows])}",
-            f"scene: {self.scene!r}", f"reference: {self.reference}",
-            f"smallest sup_error per model: {self._best() or 'none'}",
-            "print(table) shows the rows; table.to_pandas() gives a DataFrame"])
+        return _tables.block(
+            "TradeoffTable",
+            [
+                f"{len(self.rows)} rows, models: {_tables.counts([r['model'] for r in self.rows])}",
+                f"scene: {self.scene!r}",
+                f"reference: {self.reference}",
+                f"smallest sup_error per model: {self._best() or 'none'}",
+                "print(table) shows the rows; table.to_pandas() gives a DataFrame",
+            ],
+        )
 
     def __str__(self):
-        head = ("model", "setting", "step_used_s", "sup_error_rad", "wall_time_s", "rhs_evals",
-                "closed_form_evals", "error_estimate")
-        body = [(r["model"], r["setting"], "-" if r["step_used"] is None else f"{r['step_used']:.4g}",
-                 f"{r['sup_error']:.3g}", f"{r['wall_time']:.3g}", str(r["rhs_evals"]),
-                 str(r["closed_form_evals"]), f"{r['error_estimate']:.3g}") for r in self.rows]
+        head = (
+            "model",
+            "setting",
+            "step_used_s",
+            "sup_error_rad",
+            "wall_time_s",
+            "rhs_evals",
+            "closed_form_evals",
+            "error_estimate",
+        )
+        body = [
+            (
+                r["model"],
+                r["setting"],
+                "-" if r["step_used"] is None else f"{r['step_used']:.4g}",
+                f"{r['sup_error']:.3g}",
+                f"{r['wall_time']:.3g}",
+                str(r["rhs_evals"]),
+                str(r["closed_form_evals"]),
+                f"{r['error_estimate']:.3g}",
+            )
+            for r in self.rows
+        ]
         widths = [max(len(x) for x in col) for col in zip(head, *body)]
         lines = ["  ".join(x.ljust(w) for x, w in zip(line, widths)).rstrip() for line in [head] + body]
         return "\n".join(lines + [f"reference: {self.reference}"])
@@ -237,8 +270,10 @@ class TradeoffTable:
         'wp.png'
         """
         from .figures import tradeoff_rows, work_precision_plot
-        return work_precision_plot(tradeoff_rows(self), path, title=title or "Work-precision",
-                                   tol=self.scene.tol, ax=ax)
+
+        return work_precision_plot(
+            tradeoff_rows(self), path, title=title or "Work-precision", tol=self.scene.tol, ax=ax
+        )
 
 
 def _count(x, name):
@@ -257,8 +292,18 @@ def _positive_list(xs, name):
     return [float(v) for v in arr]
 
 
-def tradeoff(scene: Scene | SceneBatch, models=None, rk4_steps=None, cvode_rtols=None, repeat: int = 3, csv=None,
-             plot=None, max_steps: int = 2000000, scipy=None, scipy_rtols=None) -> TradeoffTable | np.ndarray:
+def tradeoff(
+    scene: Scene | SceneBatch,
+    models=None,
+    rk4_steps=None,
+    cvode_rtols=None,
+    repeat: int = 3,
+    csv=None,
+    plot=None,
+    max_steps: int = 2000000,
+    scipy=None,
+    scipy_rtols=None,
+) -> TradeoffTable | np.ndarray:
     """Measure the speed/accuracy trade of every applicable model on ``scene``.
 
     Parameters
@@ -339,8 +384,16 @@ def tradeoff(scene: Scene | SceneBatch, models=None, rk4_steps=None, cvode_rtols
         # the scenes one after another: their wall times must not compete for cores
         out = np.empty(scene.scenes.size, dtype=object)
         for i, sc in enumerate(scene.scenes.reshape(-1)):
-            out[i] = tradeoff(sc, models=models, rk4_steps=rk4_steps, cvode_rtols=cvode_rtols, repeat=repeat,
-                              max_steps=max_steps, scipy=scipy, scipy_rtols=scipy_rtols)
+            out[i] = tradeoff(
+                sc,
+                models=models,
+                rk4_steps=rk4_steps,
+                cvode_rtols=cvode_rtols,
+                repeat=repeat,
+                max_steps=max_steps,
+                scipy=scipy,
+                scipy_rtols=scipy_rtols,
+            )
         return out.reshape(scene.shape)
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a pendula.Scene, got {type(scene).__name__}")
@@ -354,15 +407,23 @@ def tradeoff(scene: Scene | SceneBatch, models=None, rk4_steps=None, cvode_rtols
     cvode_rtols = _positive_list(cvode_rtols, "cvode_rtols")
     methods = _scipy_rows.methods(scipy, models is None)
     scipy_rtols = _positive_list(scipy_rtols, "scipy_rtols") or list(SCIPY_RTOLS)
-    st = Scene(theta0=scene.theta0, omega0=scene.omega0, t=scene.t, g=scene.g, length=scene.length,
-               gamma=scene.gamma, tol=scene.tol, want="state")
+    st = Scene(
+        theta0=scene.theta0,
+        omega0=scene.omega0,
+        t=scene.t,
+        g=scene.g,
+        length=scene.length,
+        gamma=scene.gamma,
+        tol=scene.tol,
+        want="state",
+    )
     models = _models(st, models)
     ref, reference = _reference(st)
     rows = []
     seen = set()
 
     def add(name, setting, fn):
-        res, wall = _timed(fn, 1)   # one run says whether it repeats another row's
+        res, wall = _timed(fn, 1)  # one run says whether it repeats another row's
         integrated = name in ("rk4", "cvode")
         steps = res.cost["steps"] if integrated else None
         used = float(st.t[-1]) / steps if name == "rk4" and steps else None
@@ -373,11 +434,19 @@ def tradeoff(scene: Scene | SceneBatch, models=None, rk4_steps=None, cvode_rtols
         if repeat > 1:
             res, wall2 = _timed(fn, repeat - 1)
             wall = min(wall, wall2)
-        rows.append({"model": name, "setting": setting,
-                     "sup_error": _sup_error(res.theta, res.omega, ref.theta, ref.omega, st.w0),
-                     "wall_time": wall, "rhs_evals": res.cost["rhs_evals"],
-                     "closed_form_evals": res.cost["closed_form_evals"],
-                     "error_estimate": res.error_estimate, "step_used": used, "steps": steps})
+        rows.append(
+            {
+                "model": name,
+                "setting": setting,
+                "sup_error": _sup_error(res.theta, res.omega, ref.theta, ref.omega, st.w0),
+                "wall_time": wall,
+                "rhs_evals": res.cost["rhs_evals"],
+                "closed_form_evals": res.cost["closed_form_evals"],
+                "error_estimate": res.error_estimate,
+                "step_used": used,
+                "steps": steps,
+            }
+        )
         return True
 
     tend = float(st.t[-1])
@@ -398,7 +467,7 @@ def tradeoff(scene: Scene | SceneBatch, models=None, rk4_steps=None, cvode_rtols
                 try:
                     add("cvode", f"rtol={r:.0e}", lambda r=r: run_model(st, "cvode", r))
                 except RuntimeError:
-                    pass   # budget exhausted at this setting: no point to plot
+                    pass  # budget exhausted at this setting: no point to plot
     for m in methods:
         rows += _scipy_rows.rows(st, m, scipy_rtols, ref, repeat, max_steps)
     table = TradeoffTable(st, rows, reference, ref)
@@ -428,8 +497,9 @@ def _reference(st):
     if st.gamma == 0:
         ref = run_model(st, "exact")
         return ref, f"exact elliptic solution (rounding estimate {ref.error_estimate:.2g} rad)"
-    ref_scene = Scene(theta0=st.theta0, omega0=st.omega0, t=st.t, g=st.g, length=st.length,
-                      gamma=st.gamma, tol=1e-12, want="state")
+    ref_scene = Scene(
+        theta0=st.theta0, omega0=st.omega0, t=st.t, g=st.g, length=st.length, gamma=st.gamma, tol=1e-12, want="state"
+    )
     # RK4 first (fixed steps, verified at 2h; its many cheap steps are fine for a
     # reference), the automatic choice when RK4 cannot meet 1e-12 (stiff, long)
     ref = solve(ref_scene, model="rk4")
@@ -437,8 +507,10 @@ def _reference(st):
         alt = solve(ref_scene)
         if alt.error_estimate < ref.error_estimate:
             ref = alt
-    return ref, (f"converged integration: solve(tol=1e-12) -> {ref.model} at setting {ref.setting:.3g}, "
-                 f"its a posteriori estimate {ref.error_estimate:.2g} rad")
+    return ref, (
+        f"converged integration: solve(tol=1e-12) -> {ref.model} at setting {ref.setting:.3g}, "
+        f"its a posteriori estimate {ref.error_estimate:.2g} rad"
+    )
 
 
 __all__ = ["tradeoff", "TradeoffTable"]

@@ -7,6 +7,7 @@ sampled stroboscopically on the RK4 grid of N steps per drive period
 (pendula.driven); each takes ``threads`` and ``progress`` and stops on
 Ctrl-C.  See docs/guide/driven.md.
 """
+
 import dataclasses
 import math
 
@@ -20,8 +21,20 @@ from ._defaults import CHUNK_STATES, THREADS, WELL_NONE, check_threads
 from ._errors import number, raise_for_status
 from .driven import _state_columns
 
-__all__ = ["Section", "poincare", "bifurcation", "LyapunovResult", "lyapunov", "PeriodicOrbits",
-           "periodic_orbits", "find_periodic_orbit", "Basins", "basins", "UNSETTLED", "FAILED"]
+__all__ = [
+    "Section",
+    "poincare",
+    "bifurcation",
+    "LyapunovResult",
+    "lyapunov",
+    "PeriodicOrbits",
+    "periodic_orbits",
+    "find_periodic_orbit",
+    "Basins",
+    "basins",
+    "UNSETTLED",
+    "FAILED",
+]
 
 UNSETTLED = BASIN_UNSETTLED
 """Basin label of a state that settled on no periodic attractor of period <= nmax
@@ -109,20 +122,37 @@ class Section(_Outcome):
         3
         """
         import pandas as pd
+
         th = self.theta.reshape(-1, self.theta.shape[-1])
         m, k = th.shape
         first = np.repeat(self.values if self.values is not None else np.arange(m), k)
-        return pd.DataFrame({self.parameter or "state": first, "k": np.tile(np.arange(k), m),
-                             "theta": th.ravel(), "omega": self.omega.reshape(-1, k).ravel(),
-                             **_state_columns(self, k)})
+        return pd.DataFrame(
+            {
+                self.parameter or "state": first,
+                "k": np.tile(np.arange(k), m),
+                "theta": th.ravel(),
+                "omega": self.omega.reshape(-1, k).ravel(),
+                **_state_columns(self, k),
+            }
+        )
 
 
 def _section_call(drive, args, shape, steps, section_phase, transient, points, threads, progress):
     n = args["theta0"].size
     work = _work(n, steps, transient + points + 1)
     (ts, os_, mo), res = _dc.watched(
-        _fortran.poincare_f2py, work, n, progress, shape, nsteps=steps, section_phase=section_phase,
-        transient=transient, nrec=points, threads=_dc.threads_arg(threads, work), **args)
+        _fortran.poincare_f2py,
+        work,
+        n,
+        progress,
+        shape,
+        nsteps=steps,
+        section_phase=section_phase,
+        transient=transient,
+        nrec=points,
+        threads=_dc.threads_arg(threads, work),
+        **args,
+    )
     theta = np.ascontiguousarray(ts.T).reshape(shape + (points,))
     omega = np.ascontiguousarray(os_.T).reshape(shape + (points,))
     mo = mo.reshape(shape)
@@ -132,9 +162,24 @@ def _section_call(drive, args, shape, steps, section_phase, transient, points, t
     return theta, omega, mo, rot, res
 
 
-def poincare(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=300,
-             points=200, section_phase=None,
-             steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None):
+def poincare(
+    theta0,
+    omega0,
+    *,
+    drive,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    transient=300,
+    points=200,
+    section_phase=None,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    threads=THREADS,
+    progress=None,
+):
     """Poincare (stroboscopic) sections of driven pendulums after a transient.
 
     Parameters
@@ -202,10 +247,28 @@ def poincare(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None,
     return Section(theta, omega, mo, rot, None, None, res.codes, res.message, inputs)
 
 
-def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
-                theta0=0.2, omega0=0.0, transient=300,
-                points=200, section_phase=None, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None,
-                client=None, chunk_states=CHUNK_STATES):
+def bifurcation(
+    parameter,
+    values,
+    *,
+    drive,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    theta0=0.2,
+    omega0=0.0,
+    transient=300,
+    points=200,
+    section_phase=None,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    threads=THREADS,
+    progress=None,
+    client=None,
+    chunk_states=CHUNK_STATES,
+):
     """A bifurcation diagram: Poincare section points over values of one parameter.
 
     Every value starts from the same (theta0, omega0) at t = 0 (no
@@ -279,8 +342,11 @@ def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length
         raise ValueError("values is empty: it needs at least one value")
     if not np.all(np.isfinite(vals)):
         raise ValueError(f"values[{int(np.argmax(~np.isfinite(vals)))}] is invalid: every value must be finite")
-    rule = {"w0": (lambda v: v > 0, "> 0"), "frequency": (lambda v: v > 0, "> 0"),
-            "gamma": (lambda v: v >= 0, ">= 0")}.get(parameter)
+    rule = {
+        "w0": (lambda v: v > 0, "> 0"),
+        "frequency": (lambda v: v > 0, "> 0"),
+        "gamma": (lambda v: v >= 0, ">= 0"),
+    }.get(parameter)
     if rule is not None and not rule[0](vals).all():
         i = int(np.argmax(~rule[0](vals)))
         raise ValueError(f"values[{i}] = {number(vals[i])} is out of range: {parameter} must be {rule[1]}")
@@ -294,12 +360,23 @@ def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length
     if not math.isfinite(ph):
         raise ValueError(f"section_phase = {ph!r} is invalid: it must be finite")
     w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
-    base = dict(theta0=real_scalar(theta0, "theta0"), omega0=real_scalar(omega0, "omega0"),
-                w0=real_scalar(w0, "w0"), gamma=real_scalar(gamma, "gamma"))
+    base = dict(
+        theta0=real_scalar(theta0, "theta0"),
+        omega0=real_scalar(omega0, "omega0"),
+        w0=real_scalar(w0, "w0"),
+        gamma=real_scalar(gamma, "gamma"),
+    )
     _dc.check_states({k: np.array([v]) for k, v in base.items()}, ())
-    args = dict(theta0=np.full(vals.size, base["theta0"]), omega0=np.array([base["omega0"]]),
-                w0=np.array([base["w0"]]), gamma=np.array([base["gamma"]]), kind=drive.code,
-                amp=np.array([drive.amplitude]), freq=np.array([drive.frequency]), phase=np.array([drive.phase]))
+    args = dict(
+        theta0=np.full(vals.size, base["theta0"]),
+        omega0=np.array([base["omega0"]]),
+        w0=np.array([base["w0"]]),
+        gamma=np.array([base["gamma"]]),
+        kind=drive.code,
+        amp=np.array([drive.amplitude]),
+        freq=np.array([drive.frequency]),
+        phase=np.array([drive.phase]),
+    )
     key = {"amplitude": "amp", "frequency": "freq", "phase": "phase", "gamma": "gamma", "w0": "w0"}[parameter]
     args[key] = vals.copy()
     flats = {k: np.broadcast_to(args[k], vals.shape) for k in ("theta0", "omega0", "w0", "gamma")}
@@ -307,12 +384,17 @@ def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length
     if parameter in ("amplitude", "frequency", "phase"):
         inputs[parameter] = vals.copy()
     if client is None:
-        theta, omega, mo, rot, res = _section_call(drive, args, (vals.size,), steps, ph, transient, points,
-                                                   threads, progress)
+        theta, omega, mo, rot, res = _section_call(
+            drive, args, (vals.size,), steps, ph, transient, points, threads, progress
+        )
         return Section(theta, omega, mo, rot, vals, parameter, res.codes, res.message, inputs)
     n = vals.size
-    chunks = [_chunk_args(args, s0, chunk_states, n, nsteps=steps, section_phase=ph, transient=transient,
-                          nrec=points, threads=1) for s0 in range(0, n, chunk_states)]
+    chunks = [
+        _chunk_args(
+            args, s0, chunk_states, n, nsteps=steps, section_phase=ph, transient=transient, nrec=points, threads=1
+        )
+        for s0 in range(0, n, chunk_states)
+    ]
     (ts, os_, mo), res = _dc.settle(_dc.dask_chunks(client, "poincare_f2py", chunks, progress, n), (n,))
     theta, omega = np.ascontiguousarray(ts.T), np.ascontiguousarray(os_.T)
     rot = mo / np.broadcast_to(args["freq"], (n,))
@@ -322,8 +404,10 @@ def bifurcation(parameter, values, *, drive, w0=None, gamma=None, g=None, length
 
 def _chunk_args(args, start, size, n, **extra):
     """The glue's kwargs for states [start, start + size): per-state arrays sliced, the others as they are."""
-    out = {k: (v[start:start + size] if isinstance(v, np.ndarray) and v.size == n and n > 1 else v)
-           for k, v in args.items()}
+    out = {
+        k: (v[start : start + size] if isinstance(v, np.ndarray) and v.size == n and n > 1 else v)
+        for k, v in args.items()
+    }
     out.update(extra)
     return out
 
@@ -378,10 +462,18 @@ class LyapunovResult(_Outcome):
         ['lambda1', 'lambda1_err', 'lambda2', 'lambda2_err', 'theta0', 'omega0', 'w0', 'gamma', 'code']
         """
         import pandas as pd
+
         e = self.exponents.reshape(-1, 2)
         s = self.errors.reshape(-1, 2)
-        return pd.DataFrame({"lambda1": e[:, 0], "lambda1_err": s[:, 0], "lambda2": e[:, 1],
-                             "lambda2_err": s[:, 1], **_state_columns(self)})
+        return pd.DataFrame(
+            {
+                "lambda1": e[:, 0],
+                "lambda1_err": s[:, 0],
+                "lambda2": e[:, 1],
+                "lambda2_err": s[:, 1],
+                **_state_columns(self),
+            }
+        )
 
     def to_xarray(self):
         """The exponents as an xarray Dataset.
@@ -401,16 +493,37 @@ class LyapunovResult(_Outcome):
         [0.5, 0.5]
         """
         shape = np.shape(self.codes)
-        per_state = {"lambda1": self.exponents[..., 0], "lambda1_err": self.errors[..., 0],
-                     "lambda2": self.exponents[..., 1], "lambda2_err": self.errors[..., 1], "codes": self.codes}
+        per_state = {
+            "lambda1": self.exponents[..., 0],
+            "lambda1_err": self.errors[..., 0],
+            "lambda2": self.exponents[..., 1],
+            "lambda2_err": self.errors[..., 1],
+            "codes": self.codes,
+        }
         coords = {k: v for k, v in (self.inputs or {}).items() if k in ("theta0", "omega0", "w0", "gamma")}
         attrs = {k: v for k, v in (self.inputs or {}).items() if k in ("kind", "amplitude", "frequency", "phase")}
         return _tables.dataset(None, {}, shape, per_state=per_state, attrs=attrs, coords=coords)
 
 
-def lyapunov(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=100,
-             periods=2000, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None, client=None,
-             chunk_states=CHUNK_STATES):
+def lyapunov(
+    theta0,
+    omega0,
+    *,
+    drive,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    transient=100,
+    periods=2000,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    threads=THREADS,
+    progress=None,
+    client=None,
+    chunk_states=CHUNK_STATES,
+):
     """Both Lyapunov exponents of driven pendulums, with error estimates.
 
     Two tangent vectors follow the derivative of the RK4 map and are
@@ -484,8 +597,9 @@ def lyapunov(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None,
     work = _work(n, 3 * steps, transient + periods)
     opts = dict(nsteps=steps, transient=transient, periods=periods)
     if client is None:
-        (ly, le), res = _dc.watched(_fortran.lyapunov_f2py, work, n, progress, shape,
-                                    threads=_dc.threads_arg(threads, work), **opts, **args)
+        (ly, le), res = _dc.watched(
+            _fortran.lyapunov_f2py, work, n, progress, shape, threads=_dc.threads_arg(threads, work), **opts, **args
+        )
     else:
         chunks = [_chunk_args(args, s0, chunk_states, n, threads=1, **opts) for s0 in range(0, n, chunk_states)]
         (ly, le), res = _dc.settle(_dc.dask_chunks(client, "lyapunov_f2py", chunks, progress, n), shape)
@@ -562,11 +676,20 @@ class PeriodicOrbits(_Outcome):
         1
         """
         import pandas as pd
+
         mu = np.abs(self.multipliers.reshape(-1, 2))
-        return pd.DataFrame({"period": self.period.ravel(), "winding": self.winding.ravel(),
-                             "theta": self.theta.ravel(), "omega": self.omega.ravel(),
-                             "abs_mu1": mu[:, 0], "abs_mu2": mu[:, 1], "stable": self.stable.ravel(),
-                             **_state_columns(self)})
+        return pd.DataFrame(
+            {
+                "period": self.period.ravel(),
+                "winding": self.winding.ravel(),
+                "theta": self.theta.ravel(),
+                "omega": self.omega.ravel(),
+                "abs_mu1": mu[:, 0],
+                "abs_mu2": mu[:, 1],
+                "stable": self.stable.ravel(),
+                **_state_columns(self),
+            }
+        )
 
 
 def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, threads, progress):
@@ -574,8 +697,19 @@ def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, 
     per_in = np.asarray(period_in, dtype=np.int32).reshape(-1)
     work = _work(n, 3 * steps, transient + 2 * nmax + 40 * max(int(per_in.max()), nmax))
     (per, wnd, tp, op, mult, resid), res = _dc.watched(
-        _fortran.orbits_f2py, work, n, progress, shape, period_in=per_in, nsteps=steps, transient=transient,
-        nmax=nmax, tol=tol, threads=_dc.threads_arg(threads, work), **args)
+        _fortran.orbits_f2py,
+        work,
+        n,
+        progress,
+        shape,
+        period_in=per_in,
+        nsteps=steps,
+        transient=transient,
+        nmax=nmax,
+        tol=tol,
+        threads=_dc.threads_arg(threads, work),
+        **args,
+    )
     mu = (mult[0::2] + 1j * mult[1::2]).T.reshape(shape + (2,))
     per = per.reshape(shape)
     T = 2 * math.pi / np.broadcast_to(args["freq"], (n,)).reshape(shape)
@@ -589,9 +723,24 @@ def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, 
     return PeriodicOrbits(per, wnd, tp, op, mu, stable & ~bad, fe, resid, res.codes, res.message, inputs)
 
 
-def periodic_orbits(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
-                    transient=200, nmax=8, tol=1e-6,
-                    steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS, progress=None):
+def periodic_orbits(
+    theta0,
+    omega0,
+    *,
+    drive,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    transient=200,
+    nmax=8,
+    tol=1e-6,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    threads=THREADS,
+    progress=None,
+):
     """Detect the periodic attractor each state settles on and locate it by Newton's method.
 
     After ``transient`` periods the strobe points (t = k T) are tested for a
@@ -659,8 +808,21 @@ def periodic_orbits(theta0, omega0, *, drive, w0=None, gamma=None, g=None, lengt
     return _orbits(drive, args, inputs, shape, [0], steps, transient, nmax, tol, threads, progress)
 
 
-def find_periodic_orbit(theta0, omega0, *, drive, period=1, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
-                        steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS):
+def find_periodic_orbit(
+    theta0,
+    omega0,
+    *,
+    drive,
+    period=1,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    threads=THREADS,
+):
     """Locate a periodic orbit of a given period by Newton's method from a guess (stable or not).
 
     Parameters
@@ -780,14 +942,33 @@ class Basins(_Outcome):
         'label'
         """
         import pandas as pd
+
         df = pd.DataFrame(self.attractors)
         df.index = pd.RangeIndex(1, len(df) + 1, name="label")
         return df
 
 
-def basins(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None, transient=200,
-           nmax=8, tol=1e-6, max_attractors=64, steps_per_period=DRIVEN_DEFAULT_STEPS, threads=THREADS,
-           progress=None, client=None, chunk_states=CHUNK_STATES):
+def basins(
+    theta0,
+    omega0,
+    *,
+    drive,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    transient=200,
+    nmax=8,
+    tol=1e-6,
+    max_attractors=64,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    threads=THREADS,
+    progress=None,
+    client=None,
+    chunk_states=CHUNK_STATES,
+):
     """Which attractor each initial state settles on: a basin map.
 
     Parameters
@@ -866,24 +1047,40 @@ def basins(theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b
     work = _work(n, steps, transient + 2 * nmax)
     opts = dict(cap=cap, nsteps=steps, transient=transient, nmax=nmax, tol=tol)
     if client is None:
-        out, res = _dc.watched(_fortran.basins_f2py, work, n, progress, shape, ncyc=1,
-                               threads=_dc.threads_arg(threads, work), **opts, **args)
+        out, res = _dc.watched(
+            _fortran.basins_f2py,
+            work,
+            n,
+            progress,
+            shape,
+            ncyc=1,
+            threads=_dc.threads_arg(threads, work),
+            **opts,
+            **args,
+        )
         lab, per, wnd, natt, ap, aw, at, ao, am, _ = out
     else:
         # each chunk returns its states' periods, windings and strobe cycles; the table
         # is then built from all of them in state order by the same Fortran (basin_table)
-        chunks = [_chunk_args(args, s0, chunk_states, n, threads=1, **dict(opts, cap=1)) for s0 in
-                  range(0, n, chunk_states)]
+        chunks = [
+            _chunk_args(args, s0, chunk_states, n, threads=1, **dict(opts, cap=1)) for s0 in range(0, n, chunk_states)
+        ]
         for c in chunks:
             c["ncyc"] = len(c["theta0"])
         out, res = _dc.settle(_dc.dask_chunks(client, "basins_f2py", chunks, progress, n), shape)
         per, wnd, cyc = out[1], out[2], out[9]
         lab, natt, ap, aw, at, ao, am, code, msg = _fortran.basin_table_f2py(
-            cap=cap, period=per, winding=wnd, cyc=cyc, freq=args["freq"], tol=tol)
+            cap=cap, period=per, winding=wnd, cyc=cyc, freq=args["freq"], tol=tol
+        )
         raise_for_status(code, msg)
     natt = int(natt)
-    table = dict(period=ap[:natt].copy(), winding=aw[:natt].copy(), theta=at[:natt].copy(),
-                 omega=ao[:natt].copy(), mean_omega=am[:natt].copy())
+    table = dict(
+        period=ap[:natt].copy(),
+        winding=aw[:natt].copy(),
+        theta=at[:natt].copy(),
+        omega=ao[:natt].copy(),
+        mean_omega=am[:natt].copy(),
+    )
     bad = res.codes != OK
     lab, per, wnd = (np.where(bad, FAILED, np.asarray(a).reshape(shape)) for a in (lab, per, wnd))
     return Basins(lab, per, wnd, table, res.codes, res.message, inputs)

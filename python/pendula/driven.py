@@ -12,6 +12,7 @@ million periods lose none of it.  The chaos tools (Poincare sections,
 bifurcation diagrams, Lyapunov exponents, periodic orbits, basins) are in
 pendula.chaos.
 """
+
 import dataclasses
 import math
 
@@ -152,9 +153,14 @@ class DrivenResult:
         ['state', 't', 'theta', 'omega', 'theta0', 'omega0', 'w0', 'gamma', 'code']
         """
         import pandas as pd
+
         th = self.theta.reshape(-1, len(self.t))
-        cols = {"state": np.repeat(np.arange(th.shape[0]), len(self.t)), "t": np.tile(self.t, th.shape[0]),
-                "theta": th.ravel(), "omega": self.omega.reshape(-1, len(self.t)).ravel()}
+        cols = {
+            "state": np.repeat(np.arange(th.shape[0]), len(self.t)),
+            "t": np.tile(self.t, th.shape[0]),
+            "theta": th.ravel(),
+            "omega": self.omega.reshape(-1, len(self.t)).ravel(),
+        }
         if self.theta_err is not None:
             cols["theta_err"] = self.theta_err.ravel()
             cols["omega_err"] = self.omega_err.ravel()
@@ -180,8 +186,9 @@ class DrivenResult:
         fields = {"theta": self.theta, "omega": self.omega, "theta_err": self.theta_err, "omega_err": self.omega_err}
         coords = {k: v for k, v in (self.inputs or {}).items() if k in ("theta0", "omega0", "w0", "gamma")}
         attrs = {k: v for k, v in (self.inputs or {}).items() if k in ("kind", "amplitude", "frequency", "phase")}
-        return _tables.dataset(self.t, fields, np.shape(self.codes), per_state={"codes": self.codes}, attrs=attrs,
-                               coords=coords)
+        return _tables.dataset(
+            self.t, fields, np.shape(self.codes), per_state={"codes": self.codes}, attrs=attrs, coords=coords
+        )
 
 
 def _state_columns(result, repeat=1):
@@ -195,8 +202,23 @@ def _state_columns(result, repeat=1):
     return cols
 
 
-def driven(t, theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None, b=None, mass=None,
-           steps_per_period=DRIVEN_DEFAULT_STEPS, error=False, threads=THREADS, progress=None):
+def driven(
+    t,
+    theta0,
+    omega0,
+    *,
+    drive,
+    w0=None,
+    gamma=None,
+    g=None,
+    length=None,
+    b=None,
+    mass=None,
+    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    error=False,
+    threads=THREADS,
+    progress=None,
+):
     """Integrate driven damped pendulums by RK4 with a whole number of steps per drive period.
 
     Parameters
@@ -272,8 +294,17 @@ def driven(t, theta0, omega0, *, drive, w0=None, gamma=None, g=None, length=None
     work = n * steps * max(tt[-1] - tt[0], 0.0) / drive.period if tt.size else 0
     th = _dc.threads_arg(threads, work)
     (theta, omega, et, eo), res = _dc.watched(
-        _fortran.driven_f2py, work * (3 if error else 1), n, progress, shape, t=tt, nsteps=steps,
-        richardson=int(error), threads=th, **args)
+        _fortran.driven_f2py,
+        work * (3 if error else 1),
+        n,
+        progress,
+        shape,
+        t=tt,
+        nsteps=steps,
+        richardson=int(error),
+        threads=th,
+        **args,
+    )
     out = [np.ascontiguousarray(a.T).reshape(shape + (tt.size,)) for a in (theta, omega, et, eo)]
     if not error:
         out[2] = out[3] = None
@@ -337,8 +368,9 @@ def driven_linear(t, theta0, omega0, *, drive, w0=None, gamma=None, g=None, leng
     g = real_scalar(gamma, "gamma")
     if drive.kind != "torque":
         raise ValueError("drive kind is 'pivot': the linear closed form exists for a torque drive only")
-    theta, omega, code, msg = _fortran.driven_linear_f2py(tt.reshape(-1), th0, om0, w, g, drive.amplitude,
-                                                          drive.frequency, drive.phase)
+    theta, omega, code, msg = _fortran.driven_linear_f2py(
+        tt.reshape(-1), th0, om0, w, g, drive.amplitude, drive.frequency, drive.phase
+    )
     raise_for_status(code, msg)
     return theta.reshape(tt.shape), omega.reshape(tt.shape)
 

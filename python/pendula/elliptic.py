@@ -30,19 +30,18 @@ Where they differ from ``scipy.special`` (docs/guide/elliptic.md lists it all):
   subclasses (masked arrays lose their mask);
 * bool and complex input raise TypeError (SciPy reads True as 1.0).
 """
+
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _fortran as _elliptic
-from ._codes import (GLUE_ELLIPE, GLUE_ELLIPEM1, GLUE_ELLIPK, GLUE_ELLIPKM1, GLUE_JACOBI_AUTO,
-                     GLUE_PARAM_M, GLUE_PARAM_P)
 from ._arrays import as_array, broadcast_real, check_size, real_scalar, restore
+from ._codes import GLUE_ELLIPE, GLUE_ELLIPEM1, GLUE_ELLIPK, GLUE_ELLIPKM1, GLUE_JACOBI_AUTO, GLUE_PARAM_M, GLUE_PARAM_P
 from .physics import documented
 
-__all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc",
-           "ellipfm1", "ellipj", "ellipjm1"]
+__all__ = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipkinc", "ellipfm1", "ellipj", "ellipjm1"]
 
 
 def _prepare(**named):
@@ -50,8 +49,14 @@ def _prepare(**named):
     float64 contiguous array (the common large case) is passed on without a copy;
     the f2py routines take it intent(in) and never write to it."""
     vals = list(named.values())
-    if all(isinstance(v, np.ndarray) and v.dtype == np.float64 and v.flags.c_contiguous
-           and v.ndim >= 1 and v.shape == vals[0].shape for v in vals):
+    if all(
+        isinstance(v, np.ndarray)
+        and v.dtype == np.float64
+        and v.flags.c_contiguous
+        and v.ndim >= 1
+        and v.shape == vals[0].shape
+        for v in vals
+    ):
         check_size(vals[0].size, next(iter(named)))
         return vals[0].shape, False, {k: v.reshape(-1) for k, v in named.items()}
     return broadcast_real(**named)
@@ -69,7 +74,7 @@ def _first_bad(bad, **arrays):
 
 def _check_nan_domain(out, message, **inputs):
     """NaN from non-NaN input means the Fortran core met a domain error."""
-    if not np.isnan(np.sum(out)):   # one fast pass: no NaN at all (Inf alone sums to Inf)
+    if not np.isnan(np.sum(out)):  # one fast pass: no NaN at all (Inf alone sums to Inf)
         return
     bad = np.isnan(out)
     if bad.any():
@@ -84,8 +89,10 @@ def _raise_on_domain(errors):
     if not isinstance(errors, str):
         raise TypeError(f"errors must be the str 'raise' or 'nan', got {type(errors).__name__}")
     if errors not in ("raise", "nan"):
-        raise ValueError(f"errors = {errors!r} is not one of 'raise' (the default: a domain error "
-                         f"raises ValueError) or 'nan' (NaN for that element, like scipy.special)")
+        raise ValueError(
+            f"errors = {errors!r} is not one of 'raise' (the default: a domain error "
+            f"raises ValueError) or 'nan' (NaN for that element, like scipy.special)"
+        )
     return errors == "raise"
 
 
@@ -202,8 +209,7 @@ def ellipkm1(p: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     >>> round(pendula.ellipkm1(1e-300), 6)          # ln(4/sqrt(p)) + O(p ln p)
     346.774058
     """
-    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPKM1,
-                        "ellipkm1: p = 1 - m must be >= 0", errors, p=p)
+    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPKM1, "ellipkm1: p = 1 - m must be >= 0", errors, p=p)
 
 
 @_elliptic_doc
@@ -276,8 +282,7 @@ def ellipem1(p: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     >>> round(pendula.ellipem1(0.5), 12)
     1.350643881048
     """
-    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPEM1,
-                        "ellipem1: p = 1 - m must be >= 0", errors, p=p)
+    return _one_output(_elliptic.ellip_ke_f2py, GLUE_ELLIPEM1, "ellipem1: p = 1 - m must be >= 0", errors, p=p)
 
 
 @_elliptic_doc
@@ -324,8 +329,7 @@ def ellipf(phi: ArrayLike, m: ArrayLike, *, errors: str = "raise") -> float | np
     >>> pendula.ellipf([0.5, 1.5], 2.0, errors="nan").round(6)
     array([0.551359,      nan])
     """
-    return _one_output(_elliptic.ellipf_f2py, GLUE_PARAM_M,
-                        "ellipf: need m*sin(phi)**2 <= 1", errors, phi=phi, m=m)
+    return _one_output(_elliptic.ellipf_f2py, GLUE_PARAM_M, "ellipf: need m*sin(phi)**2 <= 1", errors, phi=phi, m=m)
 
 
 ellipkinc = ellipf
@@ -365,8 +369,9 @@ def ellipfm1(phi: ArrayLike, p: ArrayLike, *, errors: str = "raise") -> float | 
     >>> round(pendula.ellipfm1(1.0, 0.5), 12) == round(pendula.ellipf(1.0, 0.5), 12)
     True
     """
-    return _one_output(_elliptic.ellipf_f2py, GLUE_PARAM_P,
-                        "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", errors, phi=phi, p=p)
+    return _one_output(
+        _elliptic.ellipf_f2py, GLUE_PARAM_P, "ellipfm1: need (1 - p)*sin(phi)**2 <= 1", errors, phi=phi, p=p
+    )
 
 
 def _check_finite_jacobi(sn, u, m, name):
@@ -377,8 +382,9 @@ def _check_finite_jacobi(sn, u, m, name):
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         arg, val = ("u", u[i]) if np.isinf(u[i]) else (name, m[i])
-        raise ValueError(f"ellipj: {arg} = {float(val)!r} is out of range: it must be finite "
-                         f"(sn, cn, dn have no limit there)")
+        raise ValueError(
+            f"ellipj: {arg} = {float(val)!r} is out of range: it must be finite (sn, cn, dn have no limit there)"
+        )
 
 
 def _outputs(n):

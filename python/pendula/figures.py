@@ -20,14 +20,30 @@ The drawing code is split by concern: ``_plotting.text_figures`` (the text's fig
 (the text's parameters and the plumbing they share); this module is the
 registry and the entry points, and re-exports every figure function.
 """
-from ._plotting.base import _TEXT_H, _TEXT_TEND, G, LENGTH, MASS, FigureUnavailable  # noqa: F401 (re-exported)
-from ._plotting.extra_figures import (figA1_underdamped_linear, figA2_phase_portrait, figA3_period_vs_energy,
-                             figA4_work_precision, figA5_text_listing_error)
-from ._plotting.text_figures import (fig03_complete_elliptic_K, fig04_period_vs_amplitude, fig05_theta_small_theta0,
-                            fig06_theta_medium_theta0, fig07_theta_large_theta0, fig08_theta_all_theta0,
-                            fig09_launch_speed_series, fig10_overdamped_gamma3, fig11_overdamped_gamma5,
-                            fig12_overdamped_phase_plane, fig13_critical_damping, fig14_nonlinear_damped,
-                            fig15_nonlinear_damped_phase_plane)
+
+from ._plotting.base import _TEXT_H, _TEXT_TEND, LENGTH, MASS, FigureUnavailable, G  # noqa: F401 (re-exported)
+from ._plotting.extra_figures import (
+    figA1_underdamped_linear,
+    figA2_phase_portrait,
+    figA3_period_vs_energy,
+    figA4_work_precision,
+    figA5_text_listing_error,
+)
+from ._plotting.text_figures import (
+    fig03_complete_elliptic_K,
+    fig04_period_vs_amplitude,
+    fig05_theta_small_theta0,
+    fig06_theta_medium_theta0,
+    fig07_theta_large_theta0,
+    fig08_theta_all_theta0,
+    fig09_launch_speed_series,
+    fig10_overdamped_gamma3,
+    fig11_overdamped_gamma5,
+    fig12_overdamped_phase_plane,
+    fig13_critical_damping,
+    fig14_nonlinear_damped,
+    fig15_nonlinear_damped_phase_plane,
+)
 from .plots import DPI, _figure, basin_map_plot, tradeoff_rows, work_precision_plot  # noqa: F401 (re-exported)
 
 # --------------------------------------------------------------------------
@@ -100,4 +116,6 @@ def figures_main(argv, only, description, quick_help="fewer points per curve (fa
         raise SystemExit(f"figure(s) failed: {', '.join(failed)}")
 
 
-__all__ = ["make_figures", "figures_main", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [fn.__name__ for _, fn in FIGURES]
+__all__ = ["make_figures", "figures_main", "FIGURES", "FigureUnavailable", "tradeoff_rows", "work_precision_plot"] + [
+    fn.__name__ for _, fn in FIGURES
+]

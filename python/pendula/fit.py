@@ -11,6 +11,7 @@ Jacobian is exact to the integrator's tolerance, never a finite difference.
 The least-squares engine is SciPy's ``least_squares`` (the optional extra
 ``fit``), imported when a fit is asked for.
 """
+
 import math
 
 import numpy as np
@@ -30,8 +31,10 @@ def _scipy():
     try:
         from scipy import optimize, stats  # noqa: F401
     except ImportError:
-        raise ImportError("pendula's fits need SciPy (least squares and distributions), an optional "
-                          f"dependency: pip install 'pendula[{EXTRA}]' (or pip install scipy)") from None
+        raise ImportError(
+            "pendula's fits need SciPy (least squares and distributions), an optional "
+            f"dependency: pip install 'pendula[{EXTRA}]' (or pip install scipy)"
+        ) from None
     return optimize
 
 
@@ -64,8 +67,9 @@ def _in_scale(a, name, unit, zero=False):
     if np.any(bad):
         i = int(np.argmax(bad.ravel()))
         where = f"{name}[{i}]" if a.ndim else name
-        raise ValueError(f"{where} = {a.ravel()[i]:.6g} {unit} must lie in [{lo:g}, {hi:g}]"
-                         + (" or be 0" if zero else ""))
+        raise ValueError(
+            f"{where} = {a.ravel()[i]:.6g} {unit} must lie in [{lo:g}, {hi:g}]" + (" or be 0" if zero else "")
+        )
 
 
 def _positive_scalar(x, name, zero=False, unit=""):
@@ -91,15 +95,18 @@ def _pendulum(length, g, bob_radius):
     length = _positive_scalar(length, "length", unit="m")
     g = _positive_scalar(g, "g", unit="m/s^2")
     if length is not None and g is not None:
-        raise ValueError("give length (to estimate g) or g (to estimate the length), not both: "
-                         "with both, w0 = sqrt(g/l) is known and there is nothing to fit")
+        raise ValueError(
+            "give length (to estimate g) or g (to estimate the length), not both: "
+            "with both, w0 = sqrt(g/l) is known and there is nothing to fit"
+        )
     bob_radius = _positive_scalar(bob_radius, "bob_radius", zero=True, unit="m")
     if bob_radius is not None:
         if length is None and g is None:
             raise ValueError("bob_radius corrects g or the length: give length= or g= with it")
         if length is not None and bob_radius >= length:
-            raise ValueError(f"bob_radius = {bob_radius} m must be smaller than length = {length} m "
-                             "(the pivot-to-centre distance)")
+            raise ValueError(
+                f"bob_radius = {bob_radius} m must be smaller than length = {length} m (the pivot-to-centre distance)"
+            )
     return length, g, bob_radius or 0.0
 
 
@@ -129,8 +136,10 @@ def _derived(names, values, cov, length, g, r):
 
 # ------------------------------------------------------------------ periods
 
-def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=None, g=None,
-               bob_radius=None, confidence=0.95):
+
+def fit_period(
+    theta0, period, *, sigma_period=None, sigma_theta0=None, length=None, g=None, bob_radius=None, confidence=0.95
+):
     r"""Fit w0, g or the length to periods measured at several amplitudes.
 
     The model is the exact period of the swing, T = 4 K(m)/w0 with
@@ -226,14 +235,20 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
         _in_scale(st, "sigma_theta0", "rad", zero=True)
     need = 1 if known else 2
     if n < need:
-        raise ValueError(f"{n} period(s) cannot determine w0 " +
-                         ("" if known else "and its uncertainty ") + f"(need at least {need}"
-                         + ("" if known else ", or give sigma_period") + ")")
+        raise ValueError(
+            f"{n} period(s) cannot determine w0 "
+            + ("" if known else "and its uncertainty ")
+            + f"(need at least {need}"
+            + ("" if known else ", or give sigma_period")
+            + ")"
+        )
     conf = _confidence(confidence)
     length, g, r = _pendulum(length, g, bob_radius)
     if not known and sigma_theta0 is not None:
-        raise ValueError("sigma_theta0 needs sigma_period: amplitude errors are propagated into "
-                         "period errors, which must then be known too")
+        raise ValueError(
+            "sigma_theta0 needs sigma_period: amplitude errors are propagated into "
+            "period errors, which must then be known too"
+        )
     w0, se, chi2, _, w0_sa, code, msg = _fortran.fit_period_f2py(theta0, period, sp, st)
     raise_for_status(code, msg)
     f, dfdth = _fortran.period_factor_f2py(theta0)
@@ -247,25 +262,39 @@ def fit_period(theta0, period, *, sigma_period=None, sigma_theta0=None, length=N
     sa = {"w0": float(w0_sa), "w0_per_point": 2.0 * np.pi / period}
     if length is not None:
         leff = length + 0.4 * r * r / length
-        sa["g"] = w0_sa ** 2 * leff
+        sa["g"] = w0_sa**2 * leff
         sa["g_per_point"] = sa["w0_per_point"] ** 2 * leff
     elif g is not None:
         for key, w in (("length", w0_sa), ("length_per_point", sa["w0_per_point"])):
             leff = g / np.square(w)
             sa[key] = 0.5 * (leff + np.sqrt(np.maximum(leff * leff - 1.6 * r * r, 0.0)))
-    s_eff = np.sqrt(sp ** 2 + (dfdth / w0 * st) ** 2)
+    s_eff = np.sqrt(sp**2 + (dfdth / w0 * st) ** 2)
     chi2_out = float(np.sum((resid / s_eff) ** 2))
-    return FitResult(kind="period", names=names, values=values, covariance=cov, sigma_known=known,
-                     dof=dof, chi2=chi2_out, confidence=conf, residuals=resid, model=model,
-                     data={"theta0": theta0, "period": period,
-                           "sigma_period": sp if known else None,
-                           "sigma_theta0": None if sigma_theta0 is None else st,
-                           "sigma_effective": s_eff if known else None},
-                     small_angle=sa, info={"engine": "pendula Fortran fit_period (weighted least squares)",
-                                           "bob_radius": r})
+    return FitResult(
+        kind="period",
+        names=names,
+        values=values,
+        covariance=cov,
+        sigma_known=known,
+        dof=dof,
+        chi2=chi2_out,
+        confidence=conf,
+        residuals=resid,
+        model=model,
+        data={
+            "theta0": theta0,
+            "period": period,
+            "sigma_period": sp if known else None,
+            "sigma_theta0": None if sigma_theta0 is None else st,
+            "sigma_effective": s_eff if known else None,
+        },
+        small_angle=sa,
+        info={"engine": "pendula Fortran fit_period (weighted least squares)", "bob_radius": r},
+    )
 
 
 # ------------------------------------------------------------------ motion
+
 
 def _rk4_sensitivity(t, t_ref, theta0, omega0, w0, gamma, tol):
     """theta, omega (n,) and their Jacobians (n, 4) in (theta0, omega0, w0,
@@ -274,8 +303,7 @@ def _rk4_sensitivity(t, t_ref, theta0, omega0, w0, gamma, tol):
     (ValueError naming t and tol), not a solver failure."""
     th, om, jt, jo, _, code, msg = _fortran.sensitivity_f2py(t, t_ref, theta0, omega0, w0, gamma, tol)
     if code == ERR_MAXSTEPS:
-        raise ValueError(f"the record is too long to fit at this tol: {_text(msg)}; "
-                         "or check the times t (in s?)")
+        raise ValueError(f"the record is too long to fit at this tol: {_text(msg)}; or check the times t (in s?)")
     raise_for_status(code, msg)
     return th, om, jt, jo
 
@@ -299,8 +327,10 @@ def _motion_data(t, theta, omega, sigma, sigma_omega):
     sig_om = None
     if omega is not None:
         if (sigma is None) != (sigma_omega is None):
-            raise ValueError("give sigma and sigma_omega together (or neither): angles and angular "
-                             "velocities need their own uncertainties")
+            raise ValueError(
+                "give sigma and sigma_omega together (or neither): angles and angular "
+                "velocities need their own uncertainties"
+            )
         sig_om = None if sigma_omega is None else _data(sigma_omega, "sigma_omega", n, "t")
     if omega is None and sigma_omega is not None:
         raise ValueError("sigma_omega was given without omega: give the angular velocities too")
@@ -312,14 +342,33 @@ def _motion_data(t, theta, omega, sigma, sigma_omega):
     step = np.diff(t)
     if np.any(step <= 0):
         i = int(np.nonzero(step <= 0)[0][0]) + 1
-        raise ValueError(f"t must be strictly increasing (sort the samples by time, one per time): "
-                         f"t[{i}] = {t[i]} does not exceed t[{i - 1}] = {t[i - 1]}")
+        raise ValueError(
+            f"t must be strictly increasing (sort the samples by time, one per time): "
+            f"t[{i}] = {t[i]} does not exceed t[{i - 1}] = {t[i - 1]}"
+        )
     return t, theta, omega, sig, sig_om
 
 
-def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="linear", fit_offsets=False,
-               length=None, g=None, t_ref=None, p0=None, loss="linear", f_scale=1.0, tol=None,
-               integrator="rk4", confidence=0.95, max_nfev=None):
+def fit_motion(
+    t,
+    theta,
+    *,
+    omega=None,
+    sigma=None,
+    sigma_omega=None,
+    damping="linear",
+    fit_offsets=False,
+    length=None,
+    g=None,
+    t_ref=None,
+    p0=None,
+    loss="linear",
+    f_scale=1.0,
+    tol=None,
+    integrator="rk4",
+    confidence=0.95,
+    max_nfev=None,
+):
     r"""Fit w0 (or g, or the length), the damping and the initial state to a recorded swing.
 
     Least squares on the exact model: theta(t) of the undamped pendulum in
@@ -455,9 +504,12 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
     nres = n * (1 if omega is None else 2)
     known = sig is not None
     if nres < npar + (0 if known else 1):
-        raise ValueError(f"{n} sample(s) cannot determine the {npar} parameters {', '.join(names)}"
-                         + ("" if known else " and the noise") + f": need at least {npar + (0 if known else 1)}"
-                         + (" values" if omega is not None else " samples"))
+        raise ValueError(
+            f"{n} sample(s) cannot determine the {npar} parameters {', '.join(names)}"
+            + ("" if known else " and the noise")
+            + f": need at least {npar + (0 if known else 1)}"
+            + (" values" if omega is not None else " samples")
+        )
     t_ref = float(t[0]) if t_ref is None else real_scalar(t_ref, "t_ref")
     if not math.isfinite(t_ref) or t_ref > t[0]:
         raise ValueError(f"t_ref = {t_ref} must be finite and not later than the first sample t = {t[0]}")
@@ -470,21 +522,26 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
     reach = np.abs(theta - offset)
     if reach.max() >= math.pi:
         i = int(np.argmax(reach))
-        raise ValueError(f"theta[{i}] = {theta[i]:.6g} rad is {reach[i]:.6g} rad from the centre (>= pi): "
-                         "the data show a rotation (over the top), and fit_motion fits a swing; "
-                         "unwrapped angles of a rotating pendulum cannot be fitted")
+        raise ValueError(
+            f"theta[{i}] = {theta[i]:.6g} rad is {reach[i]:.6g} rad from the centre (>= pi): "
+            "the data show a rotation (over the top), and fit_motion fits a swing; "
+            "unwrapped angles of a rotating pendulum cannot be fitted"
+        )
     if not {"theta0", "omega0", "w0"} <= set(p0) or (damped and "gamma" not in p0):
         from ._fit_start import start_values
+
         s = start_values(t, theta, omega, t_ref, offset, None if sig is None else float(np.median(sig)))
         start = dict(zip(["theta0", "omega0", "w0", "gamma"], s))
     else:
         start = {}
     if omega is not None and start:
         fast = np.abs(omega).max()
-        if fast > 3.0 * start["w0"]:   # a swing is slower than 2 w0 at the bottom (the separatrix)
-            raise ValueError(f"omega reaches {fast:.6g} rad/s, beyond the separatrix speed 2 w0 ~ "
-                             f"{2 * start['w0']:.4g} rad/s of a swing: the data show a rotation "
-                             "(or omega is not in rad/s)")
+        if fast > 3.0 * start["w0"]:  # a swing is slower than 2 w0 at the bottom (the separatrix)
+            raise ValueError(
+                f"omega reaches {fast:.6g} rad/s, beyond the separatrix speed 2 w0 ~ "
+                f"{2 * start['w0']:.4g} rad/s of a swing: the data show a rotation "
+                "(or omega is not in rad/s)"
+            )
     start.update(theta_offset=offset, omega_offset=0.0)
     start.update(p0)
     x0 = np.array([start[k] for k in names], dtype=float)
@@ -500,8 +557,10 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
         tol = float(np.clip(1e-3 * np.min(sig), 1e-11, 1e-7)) if known else 1e-9
     tol = _positive_scalar(tol, "tol")
     if not 1e-15 <= tol <= 1.0:
-        raise ValueError(f"tol = {tol:.6g} rad must lie in [1e-15, 1] (below 1e-15 double precision "
-                         "cannot follow; above 1 rad there is no fit)")
+        raise ValueError(
+            f"tol = {tol:.6g} rad must lie in [1e-15, 1] (below 1e-15 double precision "
+            "cannot follow; above 1 rad there is no fit)"
+        )
     solve = SENSITIVITY_INTEGRATORS[integrator]
     w_th = 1.0 / sig if known else np.ones(n)
     w_om = None if omega is None else (1.0 / sig_om if known else np.ones(n))
@@ -509,8 +568,14 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
 
     def unpack(x):
         p = dict(zip(names, x))
-        return (p["theta0"], p["omega0"], p["w0"], p.get("gamma", 0.0),
-                p.get("theta_offset", 0.0), p.get("omega_offset", 0.0))
+        return (
+            p["theta0"],
+            p["omega0"],
+            p["w0"],
+            p.get("gamma", 0.0),
+            p.get("theta_offset", 0.0),
+            p.get("omega_offset", 0.0),
+        )
 
     cache = {}
 
@@ -526,6 +591,7 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
                 # the exact elliptic solution for the values; the variational
                 # equations (integrated at gamma = 0) for the Jacobian
                 from .undamped import undamped
+
                 th, om = undamped(tt - t_ref, th0, om0, w0)
             res = [(th + dth - theta[:m]) * w_th[:m]]
             jac = [jt[:, cols] * w_th[:m, None]]
@@ -543,9 +609,18 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
         return cache[key]
 
     def run(x, m, **tols):
-        return optimize.least_squares(lambda x: evaluate(x, m)[0], x, jac=lambda x: evaluate(x, m)[1],
-                                      bounds=(lower, np.full(npar, np.inf)), method="trf", x_scale="jac",
-                                      loss=loss, f_scale=f_scale, max_nfev=max_nfev, **tols)
+        return optimize.least_squares(
+            lambda x: evaluate(x, m)[0],
+            x,
+            jac=lambda x: evaluate(x, m)[1],
+            bounds=(lower, np.full(npar, np.inf)),
+            method="trf",
+            x_scale="jac",
+            loss=loss,
+            f_scale=f_scale,
+            max_nfev=max_nfev,
+            **tols,
+        )
 
     # Continuation over the record: a w0 off by a fraction of a percent puts
     # a long record's later swings out of phase, a local minimum the solver
@@ -580,9 +655,11 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
     _, s, vt = np.linalg.svd(jac / norms, full_matrices=False)
     if s[-1] <= s[0] * 1e-12:
         bad = names[int(np.argmax(np.abs(vt[-1])))]
-        raise ValueError(f"the data cannot determine {bad}: the Jacobian is singular (too short a record, "
-                         "or parameters that trade off exactly)")
-    cov = (vt.T / s ** 2) @ vt / np.outer(norms, norms)
+        raise ValueError(
+            f"the data cannot determine {bad}: the Jacobian is singular (too short a record, "
+            "or parameters that trade off exactly)"
+        )
+    cov = (vt.T / s**2) @ vt / np.outer(norms, norms)
     if not known:
         cov *= chi2 / dof
     th0, om0, w0, gam, dth, dom = unpack(x)
@@ -594,19 +671,37 @@ def fit_motion(t, theta, *, omega=None, sigma=None, sigma_omega=None, damping="l
         tt = np.atleast_1d(tt)
         if not damped:
             from .undamped import undamped
+
             return undamped(tt - t_ref, th0, om0, w0)[0] + dth
-        out = np.full(tt.shape, np.nan)   # the damped model runs forward from t_ref only
+        out = np.full(tt.shape, np.nan)  # the damped model runs forward from t_ref only
         keep = np.nonzero(tt >= t_ref)[0]
         keep = keep[np.argsort(tt[keep], kind="stable")]
         if keep.size:
             out[keep] = solve(tt[keep], t_ref, th0, om0, w0, gam, tol)[0]
         return out + dth
 
-    return FitResult(kind="motion", names=out_names, values=values, covariance=cov, sigma_known=known,
-                     dof=dof, chi2=chi2,
-                     confidence=conf, residuals=resid, residuals_omega=resid_om, model=model,
-                     data={"t": t, "theta": theta, "omega": omega, "sigma": sig},
-                     info={"engine": "scipy.optimize.least_squares (trf)", "nfev": nfev, "njev": sol.njev,
-                           "message": sol.message, "loss": loss, "integrator": integrator if damped else
-                           "elliptic (values), " + integrator + " variational (Jacobian)",
-                           "t_ref": t_ref, "start": dict(zip(names, x_start.tolist())), "tol": tol})
+    return FitResult(
+        kind="motion",
+        names=out_names,
+        values=values,
+        covariance=cov,
+        sigma_known=known,
+        dof=dof,
+        chi2=chi2,
+        confidence=conf,
+        residuals=resid,
+        residuals_omega=resid_om,
+        model=model,
+        data={"t": t, "theta": theta, "omega": omega, "sigma": sig},
+        info={
+            "engine": "scipy.optimize.least_squares (trf)",
+            "nfev": nfev,
+            "njev": sol.njev,
+            "message": sol.message,
+            "loss": loss,
+            "integrator": integrator if damped else "elliptic (values), " + integrator + " variational (Jacobian)",
+            "t_ref": t_ref,
+            "start": dict(zip(names, x_start.tolist())),
+            "tol": tol,
+        },
+    )

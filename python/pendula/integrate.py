@@ -30,6 +30,7 @@ Examples
 >>> [int(k) == pendula.TURNING_POINT for k in ev.kind]
 [False, True, False, True]
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -42,8 +43,18 @@ from . import _fortran, _longcall, _tables
 from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
 from ._codes import CVODE_ADAMS, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
-from ._defaults import (CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL, MAX_EVENTS,
-                        RK4_MAX_STEPS, STAT_NAMES, THREADS, check_threads)
+from ._defaults import (
+    CVODE_ATOL,
+    CVODE_MAX_STEPS,
+    CVODE_METHOD,
+    CVODE_METHODS,
+    CVODE_RTOL,
+    MAX_EVENTS,
+    RK4_MAX_STEPS,
+    STAT_NAMES,
+    THREADS,
+    check_threads,
+)
 from ._errors import raise_for_status
 from ._many import ensemble as _ensemble
 from ._many.ensemble import BatchIntegrationResult
@@ -89,6 +100,7 @@ class Events:
     >>> ev
     Events(4 events (2 turning points, 2 zero crossings), t in [1.675, 6.7] s)
     """
+
     t: np.ndarray
     kind: np.ndarray
     theta: np.ndarray
@@ -150,8 +162,10 @@ class Events:
         '4 events (2 turning points, 2 zero crossings), t in [1.675, 6.7] s'
         """
         n_turn = int(np.count_nonzero(self.kind == TURNING_POINT))
-        text = (f"{self.t.size} events ({n_turn} turning points, {self.t.size - n_turn} zero crossings), "
-                f"t in {_tables.span(self.t, 's')}")
+        text = (
+            f"{self.t.size} events ({n_turn} turning points, {self.t.size - n_turn} zero crossings), "
+            f"t in {_tables.span(self.t, 's')}"
+        )
         return text + (", truncated at max_events" if self.truncated else "")
 
     def __repr__(self):
@@ -184,8 +198,10 @@ class Events:
         """
         pd = _tables.optional("pandas")
         kind = np.where(self.kind == TURNING_POINT, "turning_point", "zero_crossing")
-        out = pd.DataFrame({"t": self.t, "kind": kind, "theta": self.theta, "omega": self.omega},
-                           index=pd.RangeIndex(self.t.size, name="event"))
+        out = pd.DataFrame(
+            {"t": self.t, "kind": kind, "theta": self.theta, "omega": self.omega},
+            index=pd.RangeIndex(self.t.size, name="event"),
+        )
         out.attrs["truncated"] = bool(self.truncated)
         return out
 
@@ -224,6 +240,7 @@ class IntegrationResult(_tables.Tabular):
       theta in [...] rad, omega in [...] rad/s
       stats: steps=20, rhs_evals=80)
     """
+
     t: np.ndarray
     theta: np.ndarray
     omega: np.ndarray
@@ -233,14 +250,19 @@ class IntegrationResult(_tables.Tabular):
 
     def __repr__(self):
         st = self.stats
-        return _tables.block("IntegrationResult", [
-            f"method={self.method!r}, " + _tables.series(self.t, {}),
-            _tables.series(None, {"theta": self.theta, "omega": self.omega}),
-            f"stats: steps={st.get('steps')}, rhs_evals={st.get('rhs_evals')}",
-            None if self.events is None else "events: " + self.events.summary()])
+        return _tables.block(
+            "IntegrationResult",
+            [
+                f"method={self.method!r}, " + _tables.series(self.t, {}),
+                _tables.series(None, {"theta": self.theta, "omega": self.omega}),
+                f"stats: steps={st.get('steps')}, rhs_evals={st.get('rhs_evals')}",
+                None if self.events is None else "events: " + self.events.summary(),
+            ],
+        )
 
     def _table(self):
         return dict(t=self.t, fields={"theta": self.theta, "omega": self.omega}, attrs={"method": self.method})
+
 
 _grid = time_grid
 
@@ -252,8 +274,15 @@ def _stats(raw):
 def _rk4_stats(raw):
     # RK4 fills only steps and rhs_evals (the others are zero by definition);
     # reading two values keeps this off the cost of short runs.
-    return {"steps": int(raw.item(0)), "rhs_evals": int(raw.item(1)), "jac_evals": 0, "err_test_fails": 0,
-            "nonlin_iters": 0, "nonlin_fails": 0, "root_evals": 0}
+    return {
+        "steps": int(raw.item(0)),
+        "rhs_evals": int(raw.item(1)),
+        "jac_evals": 0,
+        "err_test_fails": 0,
+        "nonlin_iters": 0,
+        "nonlin_fails": 0,
+        "root_evals": 0,
+    }
 
 
 def _real(x, name):
@@ -271,9 +300,17 @@ def _result(t, theta, omega, stats, method):
     return r
 
 
-def rk4(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gamma: ArrayLike, h: ArrayLike,
-        max_steps: int = RK4_MAX_STEPS, progress: bool | Callable[[int, int | None], object] | None = None,
-        threads: int | None = THREADS) -> IntegrationResult | BatchIntegrationResult:
+def rk4(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike,
+    w0: ArrayLike,
+    gamma: ArrayLike,
+    h: ArrayLike,
+    max_steps: int = RK4_MAX_STEPS,
+    progress: bool | Callable[[int, int | None], object] | None = None,
+    threads: int | None = THREADS,
+) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
     Parameters
@@ -353,16 +390,23 @@ def rk4(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gamma
     if _ensemble.is_batch(theta0, omega0, w0, gamma, h):
         return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads)
     if threads is not None:
-        check_threads(threads)   # checked, unused: one state runs on one thread
+        check_threads(threads)  # checked, unused: one state runs on one thread
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
         check_size(t.size, "t")
-        tt = t.copy()   # the result keeps its own grid; Fortran gets a contiguous one
+        tt = t.copy()  # the result keeps its own grid; Fortran gets a contiguous one
     else:
         tt = _grid(t)
     hh = _real(h, "h")
     budget = max_steps if type(max_steps) is int and 1 <= max_steps <= 2**62 else _step_budget(max_steps)
-    args = (tt, _real(theta0, "theta0"), _real(omega0, "omega0"), _real(w0, "w0"), _real(gamma, "gamma"),
-            hh, float(budget))
+    args = (
+        tt,
+        _real(theta0, "theta0"),
+        _real(omega0, "omega0"),
+        _real(w0, "w0"),
+        _real(gamma, "gamma"),
+        hh,
+        float(budget),
+    )
     # Predicted steps in plain float arithmetic (inf/NaN propagate without
     # warnings; h <= 0 or NaN gives no prediction: Fortran refuses it).
     steps = (tt.item(-1) - tt.item(0)) / hh + tt.size if hh > 0 else 0.0
@@ -371,8 +415,9 @@ def rk4(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gamma
         theta, omega, stats, code, msg = _fortran.rk4_f2py(*args, _longcall.scratch_control())
     else:
         control = _longcall.new_control()
-        theta, omega, stats, code, msg = _longcall.run(lambda: _fortran.rk4_f2py(*args, control), control,
-                                                      long, progress, total=int(min(steps, 2**62)))
+        theta, omega, stats, code, msg = _longcall.run(
+            lambda: _fortran.rk4_f2py(*args, control), control, long, progress, total=int(min(steps, 2**62))
+        )
     if code:
         raise_for_status(code, msg)
     return _result(tt, theta, omega, _rk4_stats(stats), "rk4")
@@ -421,11 +466,21 @@ def rk4_max_stable_step(w0: float, gamma: float) -> float:
     return float(h)
 
 
-def cvode(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gamma: ArrayLike,
-          rtol: float = CVODE_RTOL, atol: float = CVODE_ATOL, method: str = CVODE_METHOD,
-          max_steps: int = CVODE_MAX_STEPS, events: bool = False, max_events: int = MAX_EVENTS,
-          progress: bool | Callable[[int, int | None], object] | None = None,
-          threads: int | None = THREADS) -> IntegrationResult | BatchIntegrationResult:
+def cvode(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike,
+    w0: ArrayLike,
+    gamma: ArrayLike,
+    rtol: float = CVODE_RTOL,
+    atol: float = CVODE_ATOL,
+    method: str = CVODE_METHOD,
+    max_steps: int = CVODE_MAX_STEPS,
+    events: bool = False,
+    max_events: int = MAX_EVENTS,
+    progress: bool | Callable[[int, int | None], object] | None = None,
+    threads: int | None = THREADS,
+) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
     Parameters
@@ -512,7 +567,8 @@ def cvode(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gam
         # The Fortran stub says the same; checking here first keeps the
         # message independent of the other arguments.
         _, _, _, _, _, _, _, _, _, code, msg = _fortran.cvode_f2py(
-            np.zeros(1), 0.0, 0.0, 1.0, 0.0, CVODE_RTOL, CVODE_ATOL, CVODE_ADAMS, 1.0, 0, _longcall.new_control())
+            np.zeros(1), 0.0, 0.0, 1.0, 0.0, CVODE_RTOL, CVODE_ATOL, CVODE_ADAMS, 1.0, 0, _longcall.new_control()
+        )
         raise_for_status(code, msg)
     tt = _grid(t)
     if _ensemble.is_batch(theta0, omega0, w0, gamma):
@@ -520,21 +576,55 @@ def cvode(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike, w0: ArrayLike, gam
             raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
         if not isinstance(events, bool):
             raise TypeError(f"events must be True or False, got {type(events).__name__}")
-        return _ensemble.cvode_batch(tt, theta0, omega0, w0, gamma, real_scalar(rtol, "rtol"),
-                                     real_scalar(atol, "atol"), method, max_steps, events, max_events, progress,
-                                     threads, _cvode_one)
+        return _ensemble.cvode_batch(
+            tt,
+            theta0,
+            omega0,
+            w0,
+            gamma,
+            real_scalar(rtol, "rtol"),
+            real_scalar(atol, "atol"),
+            method,
+            max_steps,
+            events,
+            max_events,
+            progress,
+            threads,
+            _cvode_one,
+        )
     if threads is not None:
-        check_threads(threads)   # checked, unused: one state runs on one thread
+        check_threads(threads)  # checked, unused: one state runs on one thread
     return _cvode_one(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress)
 
 
-def _cvode_one(tt, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, method=CVODE_METHOD,
-               max_steps=CVODE_MAX_STEPS, events=False, max_events=MAX_EVENTS, progress=None, control=None):
+def _cvode_one(
+    tt,
+    theta0,
+    omega0,
+    w0,
+    gamma,
+    rtol=CVODE_RTOL,
+    atol=CVODE_ATOL,
+    method=CVODE_METHOD,
+    max_steps=CVODE_MAX_STEPS,
+    events=False,
+    max_events=MAX_EVENTS,
+    progress=None,
+    control=None,
+):
     """``cvode`` for one state on the checked grid tt; control: the caller's
     (a batch pool thread's) control array, watched by the caller."""
-    args = [real_scalar(x, name) for x, name in
-            ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"),
-             (rtol, "rtol"), (atol, "atol"))]
+    args = [
+        real_scalar(x, name)
+        for x, name in (
+            (theta0, "theta0"),
+            (omega0, "omega0"),
+            (w0, "w0"),
+            (gamma, "gamma"),
+            (rtol, "rtol"),
+            (atol, "atol"),
+        )
+    ]
     if not isinstance(method, str) or method.lower() not in _METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
     max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
@@ -550,18 +640,31 @@ def _cvode_one(tt, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, 
     # CVODE's step count is not known up front: any run that may take more
     # than ~50 ms (a long window in periods, or many outputs) runs watched.
     periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
-    long = watched and not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS    # NaN/inf: long
+    long = watched and not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS  # NaN/inf: long
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
-        lambda: _fortran.cvode_f2py(*call_args), control, long, progress, unit="rhs")
+        lambda: _fortran.cvode_f2py(*call_args), control, long, progress, unit="rhs"
+    )
     raise_for_status(code, msg)
     ev = None
     if events:
         n = int(n_ev)
-        ev = Events(t=ev_t[:n].copy(), kind=ev_kind[:n].astype(np.int64), theta=ev_theta[:n].copy(),
-                    omega=ev_omega[:n].copy(), truncated=bool(trunc))
-    return IntegrationResult(t=tt, theta=theta, omega=omega, stats=_stats(stats), method=method.lower(),
-                             events=ev)
+        ev = Events(
+            t=ev_t[:n].copy(),
+            kind=ev_kind[:n].astype(np.int64),
+            theta=ev_theta[:n].copy(),
+            omega=ev_omega[:n].copy(),
+            truncated=bool(trunc),
+        )
+    return IntegrationResult(t=tt, theta=theta, omega=omega, stats=_stats(stats), method=method.lower(), events=ev)
 
 
-__all__ = ["rk4", "rk4_max_stable_step", "cvode", "IntegrationResult", "BatchIntegrationResult", "Events",
-           "TURNING_POINT", "ZERO_CROSSING"]
+__all__ = [
+    "rk4",
+    "rk4_max_stable_step",
+    "cvode",
+    "IntegrationResult",
+    "BatchIntegrationResult",
+    "Events",
+    "TURNING_POINT",
+    "ZERO_CROSSING",
+]

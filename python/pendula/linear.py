@@ -12,6 +12,7 @@ gamma = 2 w0, for gamma >> w0, and never overflows (see the Fortran module
 ``length=`` (default the text's, w0 = sqrt(2)), the damping ``gamma=`` or ``b=`` and
 ``mass=`` (default none), as everywhere in pendula (``pendula.physics``).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -42,10 +43,18 @@ def _params(w0, gamma, g, length, b, mass):
 
 
 @documented(start=_START)
-def linear_damped(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None,
-                  gamma: ArrayLike | None = None, *, g: ArrayLike | None = None, length: ArrayLike | None = None,
-                  b: ArrayLike | None = None,
-                  mass: ArrayLike | None = None) -> tuple[float | np.ndarray, float | np.ndarray]:
+def linear_damped(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    gamma: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+    b: ArrayLike | None = None,
+    mass: ArrayLike | None = None,
+) -> tuple[float | np.ndarray, float | np.ndarray]:
     """Angle and angular velocity of the linear damped pendulum.
 
     The solution of theta'' + gamma theta' + w0^2 theta = 0 (text eq. 2.4)
@@ -101,22 +110,30 @@ def linear_damped(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: 
         if tt.size == 0:
             return np.empty(shape), np.empty(shape)
         theta, omega, code, msg = _fortran.linear_damped_one_f2py(
-            tt.reshape(-1), p["theta0"], p["omega0"], p["w0"], p["gamma"])
+            tt.reshape(-1), p["theta0"], p["omega0"], p["w0"], p["gamma"]
+        )
     else:
         shape, scalar, f = broadcast_real(t=t, **params)
         if f["t"].size == 0:
             return np.empty(shape), np.empty(shape)
-        theta, omega, code, msg = _fortran.linear_damped_f2py(
-            f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
+        theta, omega, code, msg = _fortran.linear_damped_f2py(f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
     return restore(theta, shape, scalar), restore(omega, shape, scalar)
 
 
 @documented(start=_START)
-def linear_damped_envelope(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None,
-                           gamma: ArrayLike | None = None, *, g: ArrayLike | None = None,
-                           length: ArrayLike | None = None, b: ArrayLike | None = None,
-                           mass: ArrayLike | None = None) -> float | np.ndarray:
+def linear_damped_envelope(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    gamma: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+    b: ArrayLike | None = None,
+    mass: ArrayLike | None = None,
+) -> float | np.ndarray:
     """Under-damped envelope R exp(-gamma t/2), with abs(theta(t)) <= envelope.
 
     R = sqrt(theta0^2 + ((omega0 + gamma theta0/2)/omega_d)^2), so that
@@ -155,8 +172,7 @@ def linear_damped_envelope(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 
     shape, scalar, f = broadcast_real(t=t, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
     if f["t"].size == 0:
         return np.empty(shape)
-    env, code, msg = _fortran.linear_damped_envelope_f2py(
-        f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
+    env, code, msg = _fortran.linear_damped_envelope_f2py(f["t"], f["theta0"], f["omega0"], f["w0"], f["gamma"])
     raise_for_status(code, msg)
     return restore(env, shape, scalar)
 
@@ -202,6 +218,7 @@ class DampingRegime:
     >>> r.regime, round(r.omega_d, 6), r.quality_factor
     ('underdamped', 0.968246, 2.0)
     """
+
     regime: str
     w0: float
     gamma: float
@@ -219,9 +236,15 @@ class DampingRegime:
 
 
 @documented
-def damping_regime(w0: ArrayLike | None = None, gamma: ArrayLike | None = None, *, g: ArrayLike | None = None,
-                   length: ArrayLike | None = None, b: ArrayLike | None = None,
-                   mass: ArrayLike | None = None) -> DampingRegime:
+def damping_regime(
+    w0: ArrayLike | None = None,
+    gamma: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+    b: ArrayLike | None = None,
+    mass: ArrayLike | None = None,
+) -> DampingRegime:
     """The regime of the linear damped pendulum and its numbers.
 
     Classifies theta'' + gamma theta' + w0^2 theta = 0 (text eq. 2.4) by its
@@ -265,15 +288,26 @@ def damping_regime(w0: ArrayLike | None = None, gamma: ArrayLike | None = None, 
     w0, gamma = _params(w0, gamma, g, length, b, mass)
     w0 = real_scalar(w0, "w0")
     gamma = real_scalar(gamma, "gamma")
-    (regime, l1, l2, omega_d, beta, slow, fast, q, logdec, td, gcrit, zeta,
-     code, msg) = _fortran.damping_regime_f2py(w0, gamma)
+    (regime, l1, l2, omega_d, beta, slow, fast, q, logdec, td, gcrit, zeta, code, msg) = _fortran.damping_regime_f2py(
+        w0, gamma
+    )
     raise_for_status(code, msg)
     return DampingRegime(
-        regime=_REGIMES[int(regime)], w0=w0, gamma=gamma,
-        lambda1=complex(float(l1[0]), float(l1[1])), lambda2=complex(float(l2[0]), float(l2[1])),
-        omega_d=float(omega_d), beta=float(beta), decay_slow=float(slow), decay_fast=float(fast),
-        quality_factor=float(q), log_decrement=float(logdec), damped_period=float(td),
-        gamma_critical=float(gcrit), damping_ratio=float(zeta))
+        regime=_REGIMES[int(regime)],
+        w0=w0,
+        gamma=gamma,
+        lambda1=complex(float(l1[0]), float(l1[1])),
+        lambda2=complex(float(l2[0]), float(l2[1])),
+        omega_d=float(omega_d),
+        beta=float(beta),
+        decay_slow=float(slow),
+        decay_fast=float(fast),
+        quality_factor=float(q),
+        log_decrement=float(logdec),
+        damped_period=float(td),
+        gamma_critical=float(gcrit),
+        damping_ratio=float(zeta),
+    )
 
 
 __all__ = ["linear_damped", "linear_damped_envelope", "damping_regime", "DampingRegime"]

@@ -7,6 +7,7 @@ on the Agg canvas: no pyplot state, no display needed, safe from threads) and
 return the Figure; ``ax=`` draws into Axes you already have and returns their
 figure instead.  Units: θ in rad, Ω in rad/s, t in s, w0 in 1/s.
 """
+
 import math
 
 import numpy as np
@@ -16,7 +17,7 @@ from ._errors import number
 from .physics import pendulum_w0
 
 KINDS = ("time", "phase", "both")
-EXTRA = "examples"   # the pyproject extra that brings matplotlib
+EXTRA = "examples"  # the pyproject extra that brings matplotlib
 
 _T_LABEL = "time t  (s)"
 _THETA_T = "θ(t)  (rad)"
@@ -31,8 +32,10 @@ def _matplotlib(fname):
         from matplotlib.axes import Axes
         from matplotlib.figure import Figure
     except ImportError:
-        raise ImportError(f"pendula.{fname} needs matplotlib, an optional dependency: "
-                          f"pip install 'pendula[{EXTRA}]' (or pip install matplotlib)") from None
+        raise ImportError(
+            f"pendula.{fname} needs matplotlib, an optional dependency: "
+            f"pip install 'pendula[{EXTRA}]' (or pip install matplotlib)"
+        ) from None
     return Figure, Axes
 
 
@@ -43,8 +46,10 @@ def _axes_list(ax, n, what, axes_cls):
     if bad:
         raise TypeError(f"ax must be a matplotlib Axes or a sequence of them, got {bad[0]}")
     if len(axs) != n:
-        raise ValueError(f"ax: {what} draws {n} panel(s), got {len(axs)} Axes "
-                         f"(pass {n} Axes, e.g. fig.subplots({n}, 1), or ax=None for a new figure)")
+        raise ValueError(
+            f"ax: {what} draws {n} panel(s), got {len(axs)} Axes "
+            f"(pass {n} Axes, e.g. fig.subplots({n}, 1), or ax=None for a new figure)"
+        )
     return axs
 
 
@@ -65,23 +70,29 @@ def _motion_data(result, t, theta, omega):
     if result is None:
         missing = [k for k in ("t", "theta") if k not in given]
         if missing:
-            raise TypeError(f"plot_motion needs a result, or the arrays t and theta (and omega): "
-                            f"{' and '.join(missing)} missing")
+            raise TypeError(
+                f"plot_motion needs a result, or the arrays t and theta (and omega): {' and '.join(missing)} missing"
+            )
         label = None
     else:
         if given:
             raise ValueError(f"give a result or the arrays t, theta, omega, not both ({', '.join(given)} given)")
         from . import scene as _scene
+
         if isinstance(result, _scene.Scene):
             result = _scene.solve(result)
         if not all(hasattr(result, k) for k in ("t", "theta", "omega")):
-            raise TypeError(f"result must be a SceneResult, IntegrationResult or Scene, got "
-                            f"{type(result).__name__} (or pass the arrays t=, theta=, omega=)")
+            raise TypeError(
+                f"result must be a SceneResult, IntegrationResult or Scene, got "
+                f"{type(result).__name__} (or pass the arrays t=, theta=, omega=)"
+            )
         t, theta, omega = result.t, result.theta, result.omega
         if t is None or theta is None or np.ndim(theta) != 1:
-            raise ValueError(f"result holds no single time series of theta to plot (theta has shape "
-                             f"{np.shape(theta)}): solve the Scene with want='state' or 'theta', or pass "
-                             f"one state of a batch as arrays, t=r.t, theta=r.theta[i], omega=r.omega[i]")
+            raise ValueError(
+                f"result holds no single time series of theta to plot (theta has shape "
+                f"{np.shape(theta)}): solve the Scene with want='state' or 'theta', or pass "
+                f"one state of a batch as arrays, t=r.t, theta=r.theta[i], omega=r.omega[i]"
+            )
         label = getattr(result, "model", None) or getattr(result, "method", None)
     t = _series(t, "t")
     theta = _series(theta, "theta", t.size)
@@ -163,14 +174,15 @@ def plot_motion(result=None, *, t=None, theta=None, omega=None, kind="time", ax=
     t, theta, omega, default_label = _motion_data(result, t, theta, omega)
     label = default_label if label is None else label
     if omega is None and kind != "time":
-        raise ValueError(f"kind={kind!r} needs omega (the angular velocity), and there is none"
-                         " (the result was solved for theta only, or omega was not given)")
+        raise ValueError(
+            f"kind={kind!r} needs omega (the angular velocity), and there is none"
+            " (the result was solved for theta only, or omega was not given)"
+        )
     panels = ["theta", "omega"] if omega is not None else ["theta"]
     panels = {"time": panels, "phase": ["phase"], "both": panels + ["phase"]}[kind]
     if ax is None:
-        fig = Figure(figsize=(9.0 if kind == "both" else 7.0, 5.6 if len(panels) > 1 else 4.4),
-                     layout="constrained")
-        if kind == "both":   # theta(t) above Omega(t) on the left, the phase plane on the right
+        fig = Figure(figsize=(9.0 if kind == "both" else 7.0, 5.6 if len(panels) > 1 else 4.4), layout="constrained")
+        if kind == "both":  # theta(t) above Omega(t) on the left, the phase plane on the right
             gs = fig.add_gridspec(2, 2)
             a_theta = fig.add_subplot(gs[0, 0])
             axs = [a_theta, fig.add_subplot(gs[1, 0], sharex=a_theta), fig.add_subplot(gs[:, 1])]
@@ -179,11 +191,14 @@ def plot_motion(result=None, *, t=None, theta=None, omega=None, kind="time", ax=
     else:
         axs = _axes_list(ax, len(panels), f"kind={kind!r}", Axes)
         fig = axs[0].figure
-    data = {"theta": (t, theta, _T_LABEL, _THETA_T), "omega": (t, omega, _T_LABEL, _OMEGA_T),
-            "phase": (theta, omega, _THETA, _OMEGA)}
+    data = {
+        "theta": (t, theta, _T_LABEL, _THETA_T),
+        "omega": (t, omega, _T_LABEL, _OMEGA_T),
+        "phase": (theta, omega, _THETA, _OMEGA),
+    }
     for a, p in zip(axs, panels):
         x, y, xlabel, ylabel = data[p]
-        line, = a.plot(x, y, lw=1.6, label=label)
+        (line,) = a.plot(x, y, lw=1.6, label=label)
         if p == "phase":
             a.plot(x[:1], y[:1], "o", color=line.get_color(), label="_start")
         a.set(xlabel=xlabel, ylabel=ylabel)
@@ -201,7 +216,7 @@ def _levels(levels):
     if not np.all(np.isfinite(arr) & (arr > 0)):
         bad = np.flatnonzero(~(np.isfinite(arr) & (arr > 0)))[0]
         raise ValueError(f"levels[{bad}] = {number(arr[bad])} is out of range: levels (E/E_sep) must be finite and > 0")
-    return arr[arr != 1.0]   # E = E_sep is the separatrix, always drawn
+    return arr[arr != 1.0]  # E = E_sep is the separatrix, always drawn
 
 
 def _pair_range(theta_range):
@@ -236,10 +251,10 @@ def _portrait_curves(w0, levels, theta_range, n):
             # theta = 2 asin(sqrt(e) sin phi), Omega = 2 w0 sqrt(e) cos phi: closed, smooth at the turning points
             rel = 2.0 * np.arcsin(math.sqrt(e) * np.sin(phi))
             om = 2.0 * w0 * math.sqrt(e) * np.cos(phi)
-            rel[-1], om[-1] = rel[0], om[0]   # phi = 2 pi is phi = 0: closed exactly, not to sin(2 pi) ~ 1e-16
+            rel[-1], om[-1] = rel[0], om[0]  # phi = 2 pi is phi = 0: closed exactly, not to sin(2 pi) ~ 1e-16
             amp = 2.0 * math.asin(math.sqrt(e))
             for k in range(math.floor((lo - amp) / (2 * np.pi)), math.ceil((hi + amp) / (2 * np.pi)) + 1):
-                if 2 * np.pi * k + amp > lo and 2 * np.pi * k - amp < hi:   # the island shows in the window
+                if 2 * np.pi * k + amp > lo and 2 * np.pi * k - amp < hi:  # the island shows in the window
                     curves.append(("libration", e, rel + 2 * np.pi * k, om))
         else:
             om = 2.0 * w0 * np.sqrt(e - np.sin(th / 2) ** 2)
@@ -250,13 +265,24 @@ def _portrait_curves(w0, levels, theta_range, n):
 
 
 # light colours outside matplotlib's default cycle: a motion drawn over the portrait stands out
-_STYLE = {"libration": ("#8fb3d9", 1.1, "librations (E < E_sep)"),
-          "separatrix": ("#b03a2e", 1.6, "separatrix (E = E_sep = 2 m g l)"),
-          "rotation": ("#93c993", 1.1, "rotations (E > E_sep)")}
+_STYLE = {
+    "libration": ("#8fb3d9", 1.1, "librations (E < E_sep)"),
+    "separatrix": ("#b03a2e", 1.6, "separatrix (E = E_sep = 2 m g l)"),
+    "rotation": ("#93c993", 1.1, "rotations (E > E_sep)"),
+}
 
 
-def plot_phase_portrait(*, w0=None, g=None, length=None, levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
-                        theta_range=(-3 * math.pi, 3 * math.pi), omega_max=None, n=400, ax=None):
+def plot_phase_portrait(
+    *,
+    w0=None,
+    g=None,
+    length=None,
+    levels=(0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.2),
+    theta_range=(-3 * math.pi, 3 * math.pi),
+    omega_max=None,
+    n=400,
+    ax=None,
+):
     """Phase portrait of the undamped pendulum: the separatrix and level curves of the energy.
 
     Every curve is exact: E/E_sep = sin²(θ/2) + (Ω/2w0)² = e, with
@@ -339,15 +365,31 @@ def plot_phase_portrait(*, w0=None, g=None, length=None, levels=(0.1, 0.3, 0.5, 
         seen.add(family)
     k = np.arange(math.floor(lo / np.pi), math.ceil(hi / np.pi) + 1)
     k = k[(k * np.pi >= lo) & (k * np.pi <= hi)]
-    ax.plot(k[k % 2 == 0] * np.pi, 0 * k[k % 2 == 0], "ko", ms=5, gid="centres",
-            label="centres (2nπ, 0): stable")
-    ax.plot(k[k % 2 == 1] * np.pi, 0 * k[k % 2 == 1], "kx", ms=8, mew=2, gid="saddles",
-            label="saddles ((2n+1)π, 0): unstable")
+    ax.plot(k[k % 2 == 0] * np.pi, 0 * k[k % 2 == 0], "ko", ms=5, gid="centres", label="centres (2nπ, 0): stable")
+    ax.plot(
+        k[k % 2 == 1] * np.pi,
+        0 * k[k % 2 == 1],
+        "kx",
+        ms=8,
+        mew=2,
+        gid="saddles",
+        label="saddles ((2n+1)π, 0): unstable",
+    )
     shown = sorted(levels)
-    which = ("the separatrix" if not shown else "levels E/E_sep = " + ", ".join(f"{e:g}" for e in shown)
-             if len(shown) <= 10 else f"{len(shown)} levels E/E_sep from {shown[0]:g} to {shown[-1]:g}")
-    ax.set(xlim=(lo, hi), ylim=(-omega_max, omega_max), xlabel=_THETA, ylabel=_OMEGA,
-           title=f"Phase portrait, w0 = {w0:.4g} 1/s: {which}")
+    which = (
+        "the separatrix"
+        if not shown
+        else "levels E/E_sep = " + ", ".join(f"{e:g}" for e in shown)
+        if len(shown) <= 10
+        else f"{len(shown)} levels E/E_sep from {shown[0]:g} to {shown[-1]:g}"
+    )
+    ax.set(
+        xlim=(lo, hi),
+        ylim=(-omega_max, omega_max),
+        xlabel=_THETA,
+        ylabel=_OMEGA,
+        title=f"Phase portrait, w0 = {w0:.4g} 1/s: {which}",
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     return fig

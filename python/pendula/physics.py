@@ -7,6 +7,7 @@ default as ``Scene``.  A damping rate is ``gamma=`` or ``b=`` and ``mass=``
 (gamma = b/mass, text eq. 2.2); given none, gamma = 0.  The defaults live in the
 Fortran module ``pendula_physics`` and reach Python through ``_codes``.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -159,8 +160,10 @@ def _disagree(given, name, derived, what):
     bad = np.isfinite(a) & (np.abs(a - derived) > PARAM_RTOL * np.maximum(np.abs(a), derived))
     if bad.any():
         x = float(a.reshape(-1)[int(np.flatnonzero(bad)[0])])
-        raise ValueError(f"{name} = {x!r} and {what} = {derived!r} disagree: give {name}, "
-                         f"or {'g and length' if name == 'w0' else 'mass and b'}, not both")
+        raise ValueError(
+            f"{name} = {x!r} and {what} = {derived!r} disagree: give {name}, "
+            f"or {'g and length' if name == 'w0' else 'mass and b'}, not both"
+        )
 
 
 def pendulum_w0(w0=None, g=None, length=None):
@@ -186,8 +189,9 @@ def pendulum_gamma(gamma=None, b=None, mass=None):
         return 0.0 if gamma is None else gamma
     if b is None or mass is None:
         given, missing = ("mass", "b") if b is None else ("b", "mass")
-        raise ValueError(f"{given} is given without {missing}: give both mass and b "
-                         f"(gamma = b/mass, eq. 2.1), or gamma alone")
+        raise ValueError(
+            f"{given} is given without {missing}: give both mass and b (gamma = b/mass, eq. 2.1), or gamma alone"
+        )
     derived = damping_rate(b, mass)
     if gamma is None:
         return derived
@@ -196,8 +200,9 @@ def pendulum_gamma(gamma=None, b=None, mass=None):
 
 
 @documented
-def small_angle_period(w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-                       length: ArrayLike | None = None) -> float | np.ndarray:
+def small_angle_period(
+    w0: ArrayLike | None = None, *, g: ArrayLike | None = None, length: ArrayLike | None = None
+) -> float | np.ndarray:
     """Small-angle period T0 = 2 pi / w0 = 2 pi sqrt(length/g) (text eq. 1.8).
 
     The period of the harmonic model theta0 cos(w0 t), the limit of the
@@ -241,8 +246,9 @@ def small_angle_period(w0: ArrayLike | None = None, *, g: ArrayLike | None = Non
 
 
 @documented
-def period_series(m: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-                  length: ArrayLike | None = None) -> float | np.ndarray:
+def period_series(
+    m: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None, length: ArrayLike | None = None
+) -> float | np.ndarray:
     """The textbook's amplitude correction to the period, T0 (1 + m/4 + 9 m^2/64).
 
     T0 = 2 pi / w0 is the small-angle period (text eq. 1.8) and m = k^2 the

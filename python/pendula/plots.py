@@ -4,6 +4,7 @@ work-precision diagram of a tradeoff table and the basin map of a damped sweep.
 They draw with matplotlib's object API on an Agg canvas (no pyplot state), like
 :mod:`pendula.figures`, which re-exports them.
 """
+
 from pathlib import Path
 
 import numpy as np
@@ -13,10 +14,10 @@ DPI = 110
 
 def _figure(nrows=1, ncols=1, size=(7.0, 4.6), **kw):
     from matplotlib.figure import Figure
+
     fig = Figure(figsize=size, dpi=DPI, layout="constrained")
     axs = fig.subplots(nrows, ncols, squeeze=False, **kw)
     return fig, axs
-
 
 
 _TRADEOFF_KEYS = {
@@ -55,8 +56,15 @@ def tradeoff_rows(table):
     rows = []
     for rec in table:
         evals = pick(rec, "evals")
-        rows.append((str(pick(rec, "model")), str(pick(rec, "setting")), float(pick(rec, "error")),
-                     float(pick(rec, "time")), "" if evals is None else int(evals)))
+        rows.append(
+            (
+                str(pick(rec, "model")),
+                str(pick(rec, "setting")),
+                float(pick(rec, "error")),
+                float(pick(rec, "time")),
+                "" if evals is None else int(evals),
+            )
+        )
     return rows
 
 
@@ -81,17 +89,31 @@ def work_precision_plot(rows, path, title="Work-precision", tol=None, note=None,
     for i, m in enumerate(models):
         pts = [(r[3], max(r[2], floor)) for r in rows if r[0] == m]  # in setting order
         x, y = zip(*pts)
-        ax.loglog(x, y, marker=markers[i % len(markers)], lw=1.3, ls="-" if len(pts) > 1 else "none",
-                  label=m if len(pts) > 1 else f"{m} (closed form)")
+        ax.loglog(
+            x,
+            y,
+            marker=markers[i % len(markers)],
+            lw=1.3,
+            ls="-" if len(pts) > 1 else "none",
+            label=m if len(pts) > 1 else f"{m} (closed form)",
+        )
     if tol is not None:
         ax.axhline(tol, color="grey", ls=":", label=f"tol = {tol:g} rad")
     ax.set_title(title, fontsize=10.5)
     if note:
         import textwrap
-        ax.text(0.01, 0.01, "\n".join(textwrap.wrap(note, 95)), transform=ax.transAxes, fontsize=7.5,
-                va="bottom", ha="left", color="0.3")
-    ax.set(xlabel="wall time per solve  (s)",
-           ylabel="sup over the grid of max(|Δθ|, |ΔΩ|/w0)  (rad)")
+
+        ax.text(
+            0.01,
+            0.01,
+            "\n".join(textwrap.wrap(note, 95)),
+            transform=ax.transAxes,
+            fontsize=7.5,
+            va="bottom",
+            ha="left",
+            color="0.3",
+        )
+    ax.set(xlabel="wall time per solve  (s)", ylabel="sup over the grid of max(|Δθ|, |ΔΩ|/w0)  (rad)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     if path is None:
@@ -109,14 +131,15 @@ def basin_map_plot(theta0, omega0, well, path, w0=None, gamma=None):
     without a well (``WELL_NONE``: failed, or not settled at t[-1]) are left
     blank, never coloured as a well."""
     from matplotlib.colors import BoundaryNorm
+
     from ._defaults import WELL_NONE
+
     fig, axs = _figure(size=(7.0, 5.4))
     ax = axs[0, 0]
     well = np.ma.masked_equal(np.asarray(well), WELL_NONE)
     lo, hi = (int(well.min()), int(well.max())) if well.count() else (0, 0)
     ks = np.arange(lo, hi + 2) - 0.5
-    mesh = ax.pcolormesh(theta0, omega0, well.T, shading="nearest", cmap="coolwarm",
-                         norm=BoundaryNorm(ks, 256))
+    mesh = ax.pcolormesh(theta0, omega0, well.T, shading="nearest", cmap="coolwarm", norm=BoundaryNorm(ks, 256))
     fig.colorbar(mesh, ax=ax, ticks=np.arange(lo, hi + 1), label="well k: ends near θ = 2πk (full turns made)")
     sub = "" if w0 is None else f"  (w0 = {w0:.4g} 1/s, γ = {gamma:.4g} 1/s)"
     ax.set(xlabel="θ0  (rad)", ylabel="Ω0  (rad/s)", title="Basin map: where each start comes to rest" + sub)

@@ -37,22 +37,23 @@ scene: this module passes its arguments through.
 Units: angles rad, Omega rad/s, t s, g m/s^2, length m, mass kg, b kg/s,
 gamma and w0 1/s, energies per unit m l^2 in 1/s^2.
 """
+
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import time
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran as _scene, _longcall, _memory, _tables
+from . import _fortran as _scene
+from . import _longcall, _memory, _tables
 from ._arrays import SharedTimes, as_real, real_scalar, step_budget
 from ._codes import INFO, INFO_SIZE, MODEL_ALIASES, MODEL_CODES, WANT_CODES
 from ._config import HAVE_CVODE  # noqa: F401 (read by benchmarks/bench_scenes.py)
-from ._defaults import (G_DEFAULT, LENGTH_DEFAULT, POOL_STATE_WORK, SERIAL_WORK, STEP_CAP, THREADS, TOL,
-                        check_threads)
-from ._errors import PendulaSolverError, _text, raise_for_status
+from ._defaults import G_DEFAULT, LENGTH_DEFAULT, POOL_STATE_WORK, SERIAL_WORK, STEP_CAP, THREADS, TOL, check_threads
+from ._errors import _text, raise_for_status
 from ._many import scenes as _scene_batch
 from ._many.ensemble import is_batch as _is_batch
 from ._many.scenes import SceneBatch, SceneBatchResult
@@ -70,8 +71,7 @@ def _model_code(model, name="model"):
     if model is None:
         return 0
     if not isinstance(model, str):
-        raise TypeError(f"{name} must be a string, one of {', '.join(('auto',) + MODELS)}; "
-                        f"got {type(model).__name__}")
+        raise TypeError(f"{name} must be a string, one of {', '.join(('auto',) + MODELS)}; got {type(model).__name__}")
     key = model.strip().lower()
     key = MODEL_ALIASES.get(key, key)
     if key not in MODEL_CODES:
@@ -143,18 +143,38 @@ class Scene:
     6.752
     """
 
-    def __new__(cls, theta0=None, omega0=0.0, t=None, g=G_DEFAULT, length=LENGTH_DEFAULT, gamma=None,
-                mass=None, b=None, tol=TOL, want="state"):
+    def __new__(
+        cls,
+        theta0=None,
+        omega0=0.0,
+        t=None,
+        g=G_DEFAULT,
+        length=LENGTH_DEFAULT,
+        gamma=None,
+        mass=None,
+        b=None,
+        tol=TOL,
+        want="state",
+    ):
         # (theta0 defaults to None here only so that pickle and copy, which call
         # __new__ with no arguments, work; __init__ still requires it)
         if cls is Scene and _is_batch(theta0, omega0, g, length, gamma, mass, b, tol):
             return SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want, make=Scene)
         return object.__new__(cls)
 
-    def __init__(self, theta0: ArrayLike, omega0: ArrayLike = 0.0, t: ArrayLike | None = None,
-                 g: ArrayLike = G_DEFAULT, length: ArrayLike = LENGTH_DEFAULT, gamma: ArrayLike | None = None,
-                 mass: ArrayLike | None = None, b: ArrayLike | None = None, tol: ArrayLike = TOL,
-                 want: str = "state") -> None:
+    def __init__(
+        self,
+        theta0: ArrayLike,
+        omega0: ArrayLike = 0.0,
+        t: ArrayLike | None = None,
+        g: ArrayLike = G_DEFAULT,
+        length: ArrayLike = LENGTH_DEFAULT,
+        gamma: ArrayLike | None = None,
+        mass: ArrayLike | None = None,
+        b: ArrayLike | None = None,
+        tol: ArrayLike = TOL,
+        want: str = "state",
+    ) -> None:
         self.theta0 = real_scalar(theta0, "theta0")
         self.omega0 = real_scalar(omega0, "omega0")
         self.g = real_scalar(g, "g")
@@ -169,11 +189,15 @@ class Scene:
             raise ValueError(f"want = {want!r} is unknown: it must be one of {', '.join(WANTS)}")
         self.want = want.strip().lower()
         w0, gam, w0lo, code, msg = _scene.scene_physics_f2py(
-            self.g, self.length,
+            self.g,
+            self.length,
             0.0 if self.gamma_given is None else self.gamma_given,
             1.0 if self.mass is None else self.mass,
             0.0 if self.b is None else self.b,
-            int(self.gamma_given is not None), int(self.mass is not None), int(self.b is not None))
+            int(self.gamma_given is not None),
+            int(self.mass is not None),
+            int(self.b is not None),
+        )
         raise_for_status(code, msg)
         self.w0 = float(w0)
         # w0 = fl(sqrt(g/length)); the closed forms take the energy of the data
@@ -181,7 +205,7 @@ class Scene:
         self._w0lo = float(w0lo)
         self.gamma = float(gam)
         if isinstance(t, SharedTimes):
-            tt = t.array   # a batch's checked, read-only grid: shared, not copied
+            tt = t.array  # a batch's checked, read-only grid: shared, not copied
         elif t is None:
             if self.want != "period":
                 raise ValueError("t is missing: give the output times (only want='period' needs none)")
@@ -196,8 +220,16 @@ class Scene:
                 raise ValueError("t has 0 elements: it needs at least 1 output time (>= 0, increasing)")
             tt.setflags(write=False)
         self.t = tt
-        code, msg = _scene.scene_check_f2py(self._t_arg(), self.theta0, self.omega0, self.w0, self.gamma,
-                                            self.tol, WANT_CODES[self.want], MODEL_CODES["auto"])
+        code, msg = _scene.scene_check_f2py(
+            self._t_arg(),
+            self.theta0,
+            self.omega0,
+            self.w0,
+            self.gamma,
+            self.tol,
+            WANT_CODES[self.want],
+            MODEL_CODES["auto"],
+        )
         raise_for_status(code, msg)
 
     def _t_arg(self):
@@ -229,8 +261,10 @@ class Scene:
             damping += f" (b={self.b:g}, mass={self.mass:g})"
         n = self.t.size
         window = f"t[{n}] in [{self.t[0]:g}, {self.t[-1]:g}]" if n else "no t"
-        return (f"Scene(theta0={self.theta0:g}, omega0={self.omega0:g}, w0={self.w0:.6g}, {damping}, "
-                f"{window}, tol={self.tol:g}, want={self.want!r})")
+        return (
+            f"Scene(theta0={self.theta0:g}, omega0={self.omega0:g}, w0={self.w0:.6g}, {damping}, "
+            f"{window}, tol={self.tol:g}, want={self.want!r})"
+        )
 
 
 @dataclass(frozen=True, repr=False)
@@ -295,6 +329,7 @@ class SceneResult(_tables.Tabular):
     >>> round(float(r.theta[-1]), 6)
     -0.886993
     """
+
     model: str
     reason: str
     error_estimate: float
@@ -316,27 +351,36 @@ class SceneResult(_tables.Tabular):
 
     def _table(self):
         attrs = {"model": self.model, "error_estimate": self.error_estimate, "tol_met": int(self.tol_met)}
-        if self.period is not None:   # want "period": one row, the period [s]
+        if self.period is not None:  # want "period": one row, the period [s]
             return dict(t=None, fields={"period": np.array(self.period)}, attrs=attrs)
         if self.t is None:
-            raise ValueError("this result has no time series to convert (want='events'): "
-                             "use result.events.to_pandas()")
+            raise ValueError("this result has no time series to convert (want='events'): use result.events.to_pandas()")
         return dict(t=self.t, fields=self._series(), attrs=attrs)
 
     def __repr__(self):
-        setting = (f", step h={self.step:.4g} s" if self.step is not None else
-                   f", rtol={self.rtol:.3g}" if self.rtol is not None else "")
+        setting = (
+            f", step h={self.step:.4g} s"
+            if self.step is not None
+            else f", rtol={self.rtol:.3g}"
+            if self.rtol is not None
+            else ""
+        )
         c = self.cost
         quantities = _tables.series(self.t, self._series()) if self.t is not None else ""
         if self.period is not None:
             quantities = f"period={self.period:.17g} s"
         if self.events is not None:
             quantities = f"events: {self.events.summary()}, time error ~{self.event_time_error:.2g} s"
-        return _tables.block("SceneResult", [
-            f"model={self.model!r}{setting}, error_estimate={self.error_estimate:.3g} rad, tol_met={self.tol_met}",
-            f"reason: {_tables.clip(self.reason)}", quantities,
-            f"cost: runs={c.get('runs')}, steps={c.get('steps')}, rhs_evals={c.get('rhs_evals')}, "
-            f"closed_form_evals={c.get('closed_form_evals')}, wall_time={c.get('python_wall_time', 0.0):.3g} s"])
+        return _tables.block(
+            "SceneResult",
+            [
+                f"model={self.model!r}{setting}, error_estimate={self.error_estimate:.3g} rad, tol_met={self.tol_met}",
+                f"reason: {_tables.clip(self.reason)}",
+                quantities,
+                f"cost: runs={c.get('runs')}, steps={c.get('steps')}, rhs_evals={c.get('rhs_evals')}, "
+                f"closed_form_evals={c.get('closed_form_evals')}, wall_time={c.get('python_wall_time', 0.0):.3g} s",
+            ],
+        )
 
 
 def _long_scene(scene, tt, model_code, fixed, setting):
@@ -344,8 +388,19 @@ def _long_scene(scene, tt, model_code, fixed, setting):
     # the call in RK4 steps from the scene (scene_solve_work / scene_run_work:
     # the model the choice would take, its span, e.g. up to the hand-over of a
     # decaying motion, its steps, the event grid and the outputs).  NaN: long.
-    work = _scene.scene_work_f2py(tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol,
-                                  WANT_CODES[scene.want], model_code, int(fixed), float(setting))
+    work = _scene.scene_work_f2py(
+        tt,
+        scene.theta0,
+        scene.omega0,
+        scene.w0,
+        scene._w0lo,
+        scene.gamma,
+        scene.tol,
+        WANT_CODES[scene.want],
+        model_code,
+        int(fixed),
+        float(setting),
+    )
     return not work <= _longcall.SCENE_LONG_STEPS
 
 
@@ -365,8 +420,9 @@ def _event_slots(scene, tt):
     # at most Fortran's rigorous bound on the events of the window (scene_event_bound)
     if scene.want != "events":
         return 1
-    return int(min(_FIRST_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]), scene.theta0,
-                                                                      scene.omega0)))
+    return int(
+        min(_FIRST_EVENT_SLOTS, _scene.scene_event_bound_f2py(scene.w0, float(tt[-1]), scene.theta0, scene.omega0))
+    )
 
 
 def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, control=None):
@@ -383,27 +439,73 @@ def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, c
         # a short call with no progress to watch runs inline: this thread's scratch array
         control = _longcall.new_control() if long or progress else _longcall.scratch_control()
     while True:
-        args = (tt, scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma, scene.tol,
-                WANT_CODES[scene.want], model_code, int(fixed), float(setting), m, INFO_SIZE, budget, control)
+        args = (
+            tt,
+            scene.theta0,
+            scene.omega0,
+            scene.w0,
+            scene._w0lo,
+            scene.gamma,
+            scene.tol,
+            WANT_CODES[scene.want],
+            model_code,
+            int(fixed),
+            float(setting),
+            m,
+            INFO_SIZE,
+            budget,
+            control,
+        )
         # f2py allocates the outputs (3 series of t, energy, m event slots of 28 bytes) before the solve
         out = _memory.guard(
-            lambda: _longcall.run(lambda: _scene.scene_solve_f2py(*args), control, long,
-                                  progress if watched else None, unit="step"),
-            "the scene's outputs and event slots", 8 * 4 * tt.size + 28 * m)
-        (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info,
-         reason, code, msg) = out
+            lambda: _longcall.run(
+                lambda: _scene.scene_solve_f2py(*args), control, long, progress if watched else None, unit="step"
+            ),
+            "the scene's outputs and event slots",
+            8 * 4 * tt.size + 28 * m,
+        )
+        (
+            nout,
+            tout,
+            theta,
+            omega,
+            energy,
+            ev_t,
+            ev_kind,
+            ev_theta,
+            ev_omega,
+            n_ev,
+            model_out,
+            info,
+            reason,
+            code,
+            msg,
+        ) = out
         raise_for_status(code, msg)
         if int(n_ev) <= m:
             break
-        m = int(n_ev)   # more events than slots: once more with room for every one (same solve, same events)
+        m = int(n_ev)  # more events than slots: once more with room for every one (same solve, same events)
     wall = time.perf_counter() - start
-    return (int(nout), tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, int(n_ev),
-            int(model_out), info, reason, wall)
+    return (
+        int(nout),
+        tout,
+        theta,
+        omega,
+        energy,
+        ev_t,
+        ev_kind,
+        ev_theta,
+        ev_omega,
+        int(n_ev),
+        int(model_out),
+        info,
+        reason,
+        wall,
+    )
 
 
 def _result(scene, raw):
-    (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info, reason,
-     wall) = raw
+    (nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_ev, model_out, info, reason, wall) = raw
     num = {name: float(info[i]) for name, i in INFO.items()}
     model = _MODEL_NAME.get(model_out, "unknown")
     cost = {name: int(num[name]) for name in ("closed_form_evals", "rhs_evals", "steps", "runs")}
@@ -412,11 +514,12 @@ def _result(scene, raw):
     want = scene.want
     if want in ("state", "theta", "energy"):
         # always 1-D arrays, also for a scalar t (shape (1,)): one type per field
-        kw.update(t=tout[:nout].copy(), theta=theta[:nout].copy(),
-                  omega=None if want == "theta" else omega[:nout].copy())
+        kw.update(
+            t=tout[:nout].copy(), theta=theta[:nout].copy(), omega=None if want == "theta" else omega[:nout].copy()
+        )
         if want == "energy":
             kw.update(energy=energy[:nout].copy())
-            if model == "exact":   # conserved: no time series was evaluated
+            if model == "exact":  # conserved: no time series was evaluated
                 kw.update(theta=None, omega=None)
     elif want == "final":
         # shape (1,): the state at t[-1], indexable as r.theta[-1] like a history
@@ -425,19 +528,37 @@ def _result(scene, raw):
         kw.update(period=num["period"])
     elif want == "events":
         n = n_ev
-        kw.update(events=Events(t=ev_t[:n].copy(), kind=ev_kind[:n].astype(np.int64),
-                                theta=ev_theta[:n].copy(), omega=ev_omega[:n].copy(), truncated=False),
-                  event_time_error=num["event_time_error"])
+        kw.update(
+            events=Events(
+                t=ev_t[:n].copy(),
+                kind=ev_kind[:n].astype(np.int64),
+                theta=ev_theta[:n].copy(),
+                omega=ev_omega[:n].copy(),
+                truncated=False,
+            ),
+            event_time_error=num["event_time_error"],
+        )
     integrated = model in ("rk4", "cvode")
-    return SceneResult(model=model, reason=_text(reason), error_estimate=num["error_estimate"],
-                       tol_met=bool(num["tol_met"]), setting=num["setting"] if integrated else None,
-                       step=num["step"] if model == "rk4" else None,
-                       rtol=num["rtol"] if model == "cvode" else None, cost=cost, **kw)
+    return SceneResult(
+        model=model,
+        reason=_text(reason),
+        error_estimate=num["error_estimate"],
+        tol_met=bool(num["tol_met"]),
+        setting=num["setting"] if integrated else None,
+        step=num["step"] if model == "rk4" else None,
+        rtol=num["rtol"] if model == "cvode" else None,
+        cost=cost,
+        **kw,
+    )
 
 
-def solve(scene: Scene | SceneBatch, model: str | None = None, max_steps: int = STEP_CAP,
-          progress: bool | Callable[[int, int | None], object] | None = None,
-          threads: int | None = THREADS) -> SceneResult | SceneBatchResult:
+def solve(
+    scene: Scene | SceneBatch,
+    model: str | None = None,
+    max_steps: int = STEP_CAP,
+    progress: bool | Callable[[int, int | None], object] | None = None,
+    threads: int | None = THREADS,
+) -> SceneResult | SceneBatchResult:
     """Answer ``scene`` with the cheapest model whose error estimate is <= scene.tol.
 
     Parameters
@@ -512,9 +633,14 @@ def solve(scene: Scene | SceneBatch, model: str | None = None, max_steps: int = 
     return _result(scene, _run(scene, code, False, 0.0, max_steps, progress))
 
 
-def run_model(scene: Scene | SceneBatch, model: str, setting: float | None = None, max_steps: int = STEP_CAP,
-              progress: bool | Callable[[int, int | None], object] | None = None,
-              threads: int | None = THREADS) -> SceneResult | SceneBatchResult:
+def run_model(
+    scene: Scene | SceneBatch,
+    model: str,
+    setting: float | None = None,
+    max_steps: int = STEP_CAP,
+    progress: bool | Callable[[int, int | None], object] | None = None,
+    threads: int | None = THREADS,
+) -> SceneResult | SceneBatchResult:
     """Run one model on ``scene`` at a fixed setting, with no choice and no verification.
 
     For work-precision studies (``tradeoff``).
@@ -576,19 +702,31 @@ def run_model(scene: Scene | SceneBatch, model: str, setting: float | None = Non
 
 def _batch_run(batch, model_code, fixed, setting, max_steps, progress, threads):
     """solve / run_model of every scene of a SceneBatch on a thread pool."""
-    step_budget(max_steps)   # the call's own argument: ValueError/TypeError for the whole call
+    step_budget(max_steps)  # the call's own argument: ValueError/TypeError for the whole call
     check_threads(threads)
     work = batch.scenes.size * POOL_STATE_WORK
     if threads is None and not work > SERIAL_WORK:
         # a small batch: Fortran's prediction of each scene's work, summed until it is enough for threads
         for sc in batch.scenes.reshape(-1):
-            work += _scene.scene_work_f2py(sc._t_arg(), sc.theta0, sc.omega0, sc.w0, sc._w0lo, sc.gamma, sc.tol,
-                                           WANT_CODES[sc.want], model_code, int(fixed), float(setting))
+            work += _scene.scene_work_f2py(
+                sc._t_arg(),
+                sc.theta0,
+                sc.omega0,
+                sc.w0,
+                sc._w0lo,
+                sc.gamma,
+                sc.tol,
+                WANT_CODES[sc.want],
+                model_code,
+                int(fixed),
+                float(setting),
+            )
             if not work <= SERIAL_WORK:
                 break
 
     def one(sc, control):
         return _result(sc, _run(sc, model_code, fixed, setting, max_steps, control=control))
+
     return _scene_batch.run(batch, one, progress, threads, work)
 
 
@@ -601,5 +739,6 @@ def __getattr__(name):
     # on first use instead of imported here, so imports run one way.
     if name in ("tradeoff", "TradeoffTable"):
         from . import _tradeoff
+
         return getattr(_tradeoff, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

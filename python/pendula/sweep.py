@@ -17,6 +17,7 @@ mapped to the same batch kernel on the workers; results come back as NumPy
 arrays assembled in place (each chunk exactly once).  Dask is imported only
 there: importing pendula never imports dask (optional extra ``cluster``).
 """
+
 from __future__ import annotations
 
 import math
@@ -28,13 +29,24 @@ from numpy.typing import ArrayLike
 
 from . import _fortran, _longcall, _memory, _tables
 from ._arrays import broadcast_real, integer_arg, time_grid
-from ._defaults import (CHUNK_STATES, CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL,
-                        SETTLE_MARGIN, SWEEP_H, THREADS, check_threads)
+from ._defaults import (
+    CHUNK_STATES,
+    CVODE_ATOL,
+    CVODE_MAX_STEPS,
+    CVODE_METHOD,
+    CVODE_METHODS,
+    CVODE_RTOL,
+    SETTLE_MARGIN,
+    SWEEP_H,
+    THREADS,
+    check_threads,
+)
 from ._defaults import WELL_NONE as _WELL_NONE
 from ._errors import OK, batch_summary, for_state, number, raise_if_all_failed
 from ._many import kernels
 from .physics import pendulum_gamma, pendulum_w0
-from .undamped import REGIMES, _state_property, period as _period
+from .undamped import REGIMES, _state_property
+from .undamped import period as _period
 
 WANTS = ("final", "trajectory", "period")
 METHODS = ("rk4", "cvode")
@@ -86,6 +98,7 @@ class SweepResult(_tables.Tabular):
     >>> r.want, r.theta.shape, r.n_chunks
     ('final', (2,), 1)
     """
+
     want: str
     t: object
     theta: object
@@ -125,18 +138,28 @@ class SweepResult(_tables.Tabular):
         per_state = {"code": self.codes}
         if self.want != "period":
             per_state.update(well=self.well, settled=self.settled)
-        return dict(t=self.t if self.want == "trajectory" else None, fields=self._fields(),
-                    shape=self.codes.shape, per_state=per_state, attrs=attrs, coords=self.inputs)
+        return dict(
+            t=self.t if self.want == "trajectory" else None,
+            fields=self._fields(),
+            shape=self.codes.shape,
+            per_state=per_state,
+            attrs=attrs,
+            coords=self.inputs,
+        )
 
     def __repr__(self):
         good = self.ok
         fields = {k: None if v is None else v[good] for k, v in self._fields().items()}
         at = "" if self.t is None else f" at t={self.t[-1]:.4g} s" if self.want == "final" else ""
-        return _tables.block("SweepResult", [
-            f"want={self.want!r}, batch shape {self.codes.shape}, {self.n_chunks} chunks"
-            + ("" if self.t is None else f", t[{self.t.size}] in {_tables.span(self.t, 's')}"),
-            _tables.series(None, fields) + at + " (states that succeeded)",
-            _tables.codes_line(self.codes, self.message)])
+        return _tables.block(
+            "SweepResult",
+            [
+                f"want={self.want!r}, batch shape {self.codes.shape}, {self.n_chunks} chunks"
+                + ("" if self.t is None else f", t[{self.t.size}] in {_tables.span(self.t, 's')}"),
+                _tables.series(None, fields) + at + " (states that succeeded)",
+                _tables.codes_line(self.codes, self.message),
+            ],
+        )
 
     def _final(self):
         if self.want == "period":
@@ -255,18 +278,33 @@ def _chunk(kind, t, cols, opts, want, threads):
         return {"period": per, "codes": np.zeros(per.size, dtype=np.int64), "code": 0, "message": ""}
     control = opts.pop("control", None)
     if kind == "rk4":
-        r = kernels.rk4_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["h"],
-                              threads=threads, control=control)
+        r = kernels.rk4_batch(
+            t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["h"], threads=threads, control=control
+        )
     else:
-        r = kernels.cvode_batch(t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["rtol"],
-                                cols["atol"], threads=threads, control=control, **opts)
+        r = kernels.cvode_batch(
+            t,
+            cols["theta0"],
+            cols["omega0"],
+            cols["w0"],
+            cols["gamma"],
+            cols["rtol"],
+            cols["atol"],
+            threads=threads,
+            control=control,
+            **opts,
+        )
     keep = (lambda a: a) if want == "trajectory" else (lambda a: np.ascontiguousarray(a[:, -1]))
-    return {"theta": keep(r.theta), "omega": keep(r.omega), "codes": r.codes, "code": r.code,
-            "message": r.message}
+    return {"theta": keep(r.theta), "omega": keep(r.omega), "codes": r.codes, "code": r.code, "message": r.message}
 
 
-_RULES = {"w0": (lambda a: a > 0, "> 0"), "gamma": (lambda a: a >= 0, ">= 0"), "h": (lambda a: a > 0, "> 0"),
-          "rtol": (lambda a: a > 0, "> 0"), "atol": (lambda a: a >= 0, ">= 0")}
+_RULES = {
+    "w0": (lambda a: a > 0, "> 0"),
+    "gamma": (lambda a: a >= 0, ">= 0"),
+    "h": (lambda a: a > 0, "> 0"),
+    "rtol": (lambda a: a > 0, "> 0"),
+    "atol": (lambda a: a >= 0, ">= 0"),
+}
 
 
 def _check(flats, shape, want):
@@ -274,28 +312,54 @@ def _check(flats, shape, want):
     for name, a in flats.items():
         bad = np.flatnonzero(~np.isfinite(a))
         if bad.size:
-            raise ValueError(for_state(f"{name} = {number(a[bad[0]])} is not finite: every element must be finite",
-                                       int(bad[0]), shape))
+            raise ValueError(
+                for_state(
+                    f"{name} = {number(a[bad[0]])} is not finite: every element must be finite", int(bad[0]), shape
+                )
+            )
     for name, (good, rng) in _RULES.items():
         if name in flats:
             bad = np.flatnonzero(~good(flats[name]))
             if bad.size:
                 i = int(bad[0])
-                raise ValueError(for_state(f"{name} = {number(flats[name][i])} is out of range: it must be {rng}",
-                                           i, shape))
+                raise ValueError(
+                    for_state(f"{name} = {number(flats[name][i])} is out of range: it must be {rng}", i, shape)
+                )
     if want == "period" and (flats["gamma"] != 0).any():
         i = int(np.flatnonzero(flats["gamma"] != 0)[0])
-        raise ValueError(for_state(f"gamma = {number(flats['gamma'][i])} is not 0: want='period' needs "
-                                   "gamma = 0 everywhere (the closed-form period is undamped)", i, shape))
+        raise ValueError(
+            for_state(
+                f"gamma = {number(flats['gamma'][i])} is not 0: want='period' needs "
+                "gamma = 0 everywhere (the closed-form period is undamped)",
+                i,
+                shape,
+            )
+        )
 
 
-def sweep(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None,
-          gamma: ArrayLike | None = None, *, g: float | None = None, length: float | None = None,
-          b: float | None = None, mass: float | None = None, want: str = "final", method: str = "rk4",
-          h: ArrayLike = SWEEP_H, rtol: ArrayLike = CVODE_RTOL, atol: ArrayLike = CVODE_ATOL,
-          cvode_method: str = CVODE_METHOD, max_steps: int = CVODE_MAX_STEPS, chunk_states: int = CHUNK_STATES,
-          threads: int | None = THREADS, progress: bool | Callable[[int, int | None], object] | None = None,
-          client: object | None = None) -> SweepResult:
+def sweep(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    gamma: ArrayLike | None = None,
+    *,
+    g: float | None = None,
+    length: float | None = None,
+    b: float | None = None,
+    mass: float | None = None,
+    want: str = "final",
+    method: str = "rk4",
+    h: ArrayLike = SWEEP_H,
+    rtol: ArrayLike = CVODE_RTOL,
+    atol: ArrayLike = CVODE_ATOL,
+    cvode_method: str = CVODE_METHOD,
+    max_steps: int = CVODE_MAX_STEPS,
+    chunk_states: int = CHUNK_STATES,
+    threads: int | None = THREADS,
+    progress: bool | Callable[[int, int | None], object] | None = None,
+    client: object | None = None,
+) -> SweepResult:
     """Integrate (or, for want="period", answer in closed form) every state of a sweep.
 
     Parameters
@@ -419,14 +483,15 @@ def sweep(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLik
             both = _memory.empty((2, n, tt.size), what)
             out = {"theta": both[0], "omega": both[1]}
     starts = list(range(0, n, chunk_states))
-    chunks = [{k: v[s:s + chunk_states] for k, v in flats.items()} for s in starts]
+    chunks = [{k: v[s : s + chunk_states] for k, v in flats.items()} for s in starts]
     update, close = _longcall._progress_sink(progress, n, "state")
     try:
         if client is None:
             parts = _run_local(method, tt, chunks, opts, want, threads, update, out, starts)
         else:
-            parts = _run_dask(client, method, tt, chunks, opts, want, 1 if threads is None else threads, update,
-                              out, starts)
+            parts = _run_dask(
+                client, method, tt, chunks, opts, want, 1 if threads is None else threads, update, out, starts
+            )
     finally:
         if close is not None:
             close()
@@ -439,7 +504,7 @@ def _store(part, out, start):
     front), so that no chunk's copy outlives its arrival."""
     if out is not None:
         for k in ("theta", "omega"):
-            out[k][start:start + len(part[k])] = part[k]
+            out[k][start : start + len(part[k])] = part[k]
             part[k] = None
     return part
 
@@ -453,9 +518,18 @@ def _run_local(method, tt, chunks, opts, want, threads, update, out=None, starts
         else:
             control = _longcall.new_control()
             sink = None if update is None else (lambda k, _tot, d=done: update(d + k))
-            parts.append(_store(_longcall.run(lambda: _chunk(method, tt, cols, dict(opts, control=control), want,
-                                                             threads), control, long=True, progress=sink),
-                                out, starts[i] if out is not None else 0))
+            parts.append(
+                _store(
+                    _longcall.run(
+                        lambda: _chunk(method, tt, cols, dict(opts, control=control), want, threads),
+                        control,
+                        long=True,
+                        progress=sink,
+                    ),
+                    out,
+                    starts[i] if out is not None else 0,
+                )
+            )
         done += size
         if update is not None:
             update(done)
@@ -463,9 +537,14 @@ def _run_local(method, tt, chunks, opts, want, threads, update, out=None, starts
 
 
 def _run_dask(client, method, tt, chunks, opts, want, threads, update, out=None, starts=()):
-    from distributed import wait   # optional dependency: imported only here
-    futures = [client.submit(_chunk, method, tt, cols, dict(opts), want, threads, pure=False,
-                             key=f"pendula-sweep-{i}-{id(chunks)}") for i, cols in enumerate(chunks)]
+    from distributed import wait  # optional dependency: imported only here
+
+    futures = [
+        client.submit(
+            _chunk, method, tt, cols, dict(opts), want, threads, pure=False, key=f"pendula-sweep-{i}-{id(chunks)}"
+        )
+        for i, cols in enumerate(chunks)
+    ]
     index = {f.key: i for i, f in enumerate(futures)}
     parts = [None] * len(chunks)
     arrivals = np.zeros(len(chunks), dtype=np.int64)
@@ -483,7 +562,7 @@ def _run_dask(client, method, tt, chunks, opts, want, threads, update, out=None,
     except BaseException:
         client.cancel(futures)
         raise
-    if not (arrivals == 1).all():   # never expected: Dask resolves each future once
+    if not (arrivals == 1).all():  # never expected: Dask resolves each future once
         raise RuntimeError(f"sweep: chunks placed {arrivals.tolist()} times, expected each exactly once")
     return parts
 
@@ -509,15 +588,20 @@ def _assemble(parts, shape, tt, want, n_chunks, inputs, out=None):
         raise_if_all_failed(codes, code, message)
     if want == "period":
         per = np.concatenate([p["period"] for p in parts]) if parts else np.zeros(0)
-        return SweepResult(want, None, None, None, per.reshape(shape), codes.reshape(shape), code, message,
-                           n_chunks, inputs)
+        return SweepResult(
+            want, None, None, None, per.reshape(shape), codes.reshape(shape), code, message, n_chunks, inputs
+        )
     tail = (tt.size,) if want == "trajectory" else ()
-    join = (lambda key: np.concatenate([p[key] for p in parts]).reshape(shape + tail)) if parts \
+    join = (
+        (lambda key: np.concatenate([p[key] for p in parts]).reshape(shape + tail))
+        if parts
         else (lambda key: np.zeros(shape + tail))
-    if out is not None:   # the trajectories, already in place
-        join = (lambda key: out[key].reshape(shape + tail))
-    return SweepResult(want, tt, join("theta"), join("omega"), None, codes.reshape(shape), code, message,
-                       n_chunks, inputs)
+    )
+    if out is not None:  # the trajectories, already in place
+        join = lambda key: out[key].reshape(shape + tail)
+    return SweepResult(
+        want, tt, join("theta"), join("omega"), None, codes.reshape(shape), code, message, n_chunks, inputs
+    )
 
 
 __all__ = ["sweep", "SweepResult", "WELL_NONE"]

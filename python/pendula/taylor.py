@@ -14,14 +14,14 @@ Examples
 >>> r.method, bool(r.error.max() <= 1e-12)
 ('taylor', True)
 """
+
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _fortran, _longcall, _tables
+from . import _fortran, _longcall
 from ._arrays import broadcast_real, integer_arg, real_scalar, time_grid
-from ._defaults import (MAX_EVENTS, POOL_STATE_WORK, TAYLOR_MAX_STEPS, TAYLOR_TOL, THREADS, check_threads,
-                        choose_threads)
+from ._defaults import MAX_EVENTS, POOL_STATE_WORK, TAYLOR_MAX_STEPS, TAYLOR_TOL, THREADS, check_threads, choose_threads
 from ._errors import ERR_CANCELLED, OK, _text, batch_summary, for_state, raise_for_status, raise_if_all_failed
 from ._many import pool
 from ._many.ensemble import BatchIntegrationResult, inputs, is_batch, summary
@@ -68,12 +68,15 @@ class TaylorResult(IntegrationResult):
     >>> r.stats["order"] >= 10, bool(r.error[-1] < 1e-10)
     (True, True)
     """
+
     error: np.ndarray = field(default=None)
     tol: float = field(default=None)
 
     def __repr__(self):
-        return IntegrationResult.__repr__(self)[:-1] + f"\n  order={self.stats.get('order')}, " \
+        return (
+            IntegrationResult.__repr__(self)[:-1] + f"\n  order={self.stats.get('order')}, "
             f"error estimate <= {float(np.max(self.error)):.3g} rad (tol {self.tol:.3g}))"
+        )
 
 
 @dataclass(frozen=True, repr=False)
@@ -111,12 +114,25 @@ class TaylorBatchResult(BatchIntegrationResult):
     >>> b.error.shape, bool(b.ok.all())
     ((2, 2), True)
     """
+
     error: np.ndarray = field(default=None)
     tol: np.ndarray = field(default=None)
 
 
-def taylor(t, theta0, omega0, w0, gamma, *, tol=TAYLOR_TOL, events=False, max_events=MAX_EVENTS,
-           max_steps=TAYLOR_MAX_STEPS, progress=None, threads=THREADS):
+def taylor(
+    t,
+    theta0,
+    omega0,
+    w0,
+    gamma,
+    *,
+    tol=TAYLOR_TOL,
+    events=False,
+    max_events=MAX_EVENTS,
+    max_steps=TAYLOR_MAX_STEPS,
+    progress=None,
+    threads=THREADS,
+):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by a Taylor method to accuracy tol.
 
     Parameters
@@ -204,7 +220,7 @@ def taylor(t, theta0, omega0, w0, gamma, *, tol=TAYLOR_TOL, events=False, max_ev
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and 1 <= t.size < 2**31:
-        tt = t.copy()   # the result keeps its own grid
+        tt = t.copy()  # the result keeps its own grid
     else:
         tt = time_grid(t)
     if type(max_steps) is int and 1 <= max_steps <= 2**62:
@@ -214,9 +230,11 @@ def taylor(t, theta0, omega0, w0, gamma, *, tol=TAYLOR_TOL, events=False, max_ev
     m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True) if events else 0
     if is_batch(theta0, omega0, w0, gamma, tol):
         return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads)
-    check_threads(threads)   # checked, unused: one state runs on one thread
-    args = [x if type(x) is float else real_scalar(x, name) for x, name in
-            ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"), (tol, "tol"))]
+    check_threads(threads)  # checked, unused: one state runs on one thread
+    args = [
+        x if type(x) is float else real_scalar(x, name)
+        for x, name in ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"), (tol, "tol"))
+    ]
     return _one(tt, *args, budget, m, progress)
 
 
@@ -225,22 +243,28 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     with np.errstate(all="ignore"):
         steps = float(abs(tt[-1] - tt[0]) * (w0 + gamma) * _STEPS_PER_RADIAN) if w0 > 0 else 0.0
     if not np.isfinite(steps):
-        steps = 0.0   # a bad t, w0 or gamma: refused by the Fortran checks
+        steps = 0.0  # a bad t, w0 or gamma: refused by the Fortran checks
     long = watched and steps > _longcall.RK4_LONG_STEPS / 20
     if watched and not long and progress is None:
-        (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = \
+        (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = (
             _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control())
+        )
     else:
         control = _longcall.new_control() if watched else control
         call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control)
-        (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = \
-            _longcall.run(lambda: _fortran.taylor_f2py(*call), control, long, progress,
-                          total=int(min(steps, 2**62)))
+        (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
+            lambda: _fortran.taylor_f2py(*call), control, long, progress, total=int(min(steps, 2**62))
+        )
     ev = None
     if m:
         n = int(n_ev)
-        ev = Events(t=ev_t[:n].copy(), kind=ev_kind[:n].astype(np.int64), theta=ev_theta[:n].copy(),
-                    omega=ev_omega[:n].copy(), truncated=bool(trunc))
+        ev = Events(
+            t=ev_t[:n].copy(),
+            kind=ev_kind[:n].astype(np.int64),
+            theta=ev_theta[:n].copy(),
+            omega=ev_omega[:n].copy(),
+            truncated=bool(trunc),
+        )
     if code:
         raise_for_status(code, msg)
     st = _stats(stats)
@@ -258,17 +282,29 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     given = inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, tol=tol)
     if n == 0:
         empty = np.zeros(shape + (tt.size,))
-        return TaylorBatchResult(t=tt, theta=empty, omega=empty.copy(), stats={}, method="taylor",
-                                 codes=np.zeros(shape, dtype=np.int64), message="", first_failed=-1,
-                                 error=empty.copy(), tol=np.zeros(shape), inputs=given)
-    th0 = np.ascontiguousarray(np.broadcast_to(flats["theta0"], (n,)) if flats["theta0"].size == 1 and n != 1
-                               else flats["theta0"])
+        return TaylorBatchResult(
+            t=tt,
+            theta=empty,
+            omega=empty.copy(),
+            stats={},
+            method="taylor",
+            codes=np.zeros(shape, dtype=np.int64),
+            message="",
+            first_failed=-1,
+            error=empty.copy(),
+            tol=np.zeros(shape),
+            inputs=given,
+        )
+    th0 = np.ascontiguousarray(
+        np.broadcast_to(flats["theta0"], (n,)) if flats["theta0"].size == 1 and n != 1 else flats["theta0"]
+    )
     rest = [flats[k] for k in ("omega0", "w0", "gamma", "tol")]
     # the per-state checks alone (t[0]): a bad value is a mistake in the input
     _, _, _, codes, _, _, first, code, msg = _fortran.taylor_batch_f2py(
-        tt[:1], th0, *rest, budget, 1, _longcall.new_control())
+        tt[:1], th0, *rest, budget, 1, _longcall.new_control()
+    )
     if int(code) != OK:
-        if int(first) > 0:   # a bad value in one state: a mistake in the input, for the whole call
+        if int(first) > 0:  # a bad value in one state: a mistake in the input, for the whole call
             raise ValueError(for_state(_text(msg), int(first) - 1, shape))
         raise_for_status(int(code), _text(msg))
     with np.errstate(all="ignore"):
@@ -276,17 +312,25 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     if not np.isfinite(work):
         work = float("nan")
     if m:
+
         def one(i, control):
             return _one(tt, *(float(a[i if a.size > 1 else 0]) for a in [th0] + rest), budget, m, None, control)
-        values, codes, messages = pool.map_states(one, n, threads, progress, work=work + n * POOL_STATE_WORK,
-                                                  shape=shape, names=_BATCH_ARGS)
+
+        values, codes, messages = pool.map_states(
+            one, n, threads, progress, work=work + n * POOL_STATE_WORK, shape=shape, names=_BATCH_ARGS
+        )
         return _from_states(tt, shape, values, codes, messages, flats["tol"], given)
     nthreads = choose_threads(threads, work)
     control = _longcall.new_control()
     long = bool(work > _longcall.RK4_LONG_STEPS / 20)
     theta, omega, err, codes, steps, order, first, code, msg = _longcall.run(
-        lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control), control, long, progress,
-        total=n, unit="state")
+        lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control),
+        control,
+        long,
+        progress,
+        total=n,
+        unit="state",
+    )
     code = int(code)
     if code == ERR_CANCELLED:
         raise_for_status(code, _text(msg))
@@ -297,18 +341,33 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
         raise_if_all_failed(codes, int(codes[int(first) - 1]) if int(first) > 0 else code, message)
     theta, omega, err = theta.T.copy(), omega.T.copy(), err.T.copy()
     bad = codes != OK
-    theta[bad], omega[bad], err[bad] = np.nan, np.nan, np.nan   # a failed state is never a plausible number
+    theta[bad], omega[bad], err[bad] = np.nan, np.nan, np.nan  # a failed state is never a plausible number
     n_t = tt.size
     steps = steps.astype(np.int64)
     zero = np.zeros(n, dtype=np.int64)
-    stats = {"steps": steps, "rhs_evals": steps * order, "jac_evals": zero, "err_test_fails": zero.copy(),
-             "nonlin_iters": zero.copy(), "nonlin_fails": zero.copy(), "root_evals": zero.copy(),
-             "order": order.astype(np.int64)}
-    return TaylorBatchResult(t=tt, theta=theta.reshape(shape + (n_t,)), omega=omega.reshape(shape + (n_t,)),
-                             stats={k: v.reshape(shape) for k, v in stats.items()}, method="taylor",
-                             codes=codes.reshape(shape), message=message, first_failed=int(first) - 1,
-                             error=err.reshape(shape + (n_t,)),
-                             tol=np.broadcast_to(flats["tol"], (n,)).reshape(shape).copy(), inputs=given)
+    stats = {
+        "steps": steps,
+        "rhs_evals": steps * order,
+        "jac_evals": zero,
+        "err_test_fails": zero.copy(),
+        "nonlin_iters": zero.copy(),
+        "nonlin_fails": zero.copy(),
+        "root_evals": zero.copy(),
+        "order": order.astype(np.int64),
+    }
+    return TaylorBatchResult(
+        t=tt,
+        theta=theta.reshape(shape + (n_t,)),
+        omega=omega.reshape(shape + (n_t,)),
+        stats={k: v.reshape(shape) for k, v in stats.items()},
+        method="taylor",
+        codes=codes.reshape(shape),
+        message=message,
+        first_failed=int(first) - 1,
+        error=err.reshape(shape + (n_t,)),
+        tol=np.broadcast_to(flats["tol"], (n,)).reshape(shape).copy(),
+        inputs=given,
+    )
 
 
 def _from_states(tt, shape, values, codes, messages, tol, given):
@@ -323,12 +382,20 @@ def _from_states(tt, shape, values, codes, messages, tol, given):
         for k, v in r.stats.items():
             stats.setdefault(k, np.zeros(n, dtype=np.int64))[i] = v
     first, message = summary(codes, messages, shape, _BATCH_ARGS)
-    return TaylorBatchResult(t=tt, theta=out["theta"].reshape(shape + (tt.size,)),
-                             omega=out["omega"].reshape(shape + (tt.size,)),
-                             stats={k: v.reshape(shape) for k, v in stats.items()}, method="taylor",
-                             codes=codes.reshape(shape), message=message, first_failed=first,
-                             events=ev.reshape(shape), error=out["error"].reshape(shape + (tt.size,)),
-                             tol=np.broadcast_to(tol, (n,)).reshape(shape).copy(), inputs=given)
+    return TaylorBatchResult(
+        t=tt,
+        theta=out["theta"].reshape(shape + (tt.size,)),
+        omega=out["omega"].reshape(shape + (tt.size,)),
+        stats={k: v.reshape(shape) for k, v in stats.items()},
+        method="taylor",
+        codes=codes.reshape(shape),
+        message=message,
+        first_failed=first,
+        events=ev.reshape(shape),
+        error=out["error"].reshape(shape + (tt.size,)),
+        tol=np.broadcast_to(tol, (n,)).reshape(shape).copy(),
+        inputs=given,
+    )
 
 
 __all__ = ["taylor", "TaylorResult", "TaylorBatchResult"]

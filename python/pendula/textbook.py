@@ -19,6 +19,7 @@ pure-Python RK4 loop".  With ``typo=False`` it is the correct classic RK4 --
 the same scheme as ``pendula.rk4`` -- and agrees with it to rounding.
 This module is a reference for comparisons, not an integrator to use.
 """
+
 import numpy as np
 
 from ._arrays import real_scalar
@@ -62,7 +63,7 @@ def text_listing_rk4(t_end, h, theta0, omega0, w0, gamma, typo=True):
     while t < t_end:
         m1 = u
         k1 = f(y, u)
-        m2 = m1 * h * k1 / 2.0 if typo else m1 + h * k1 / 2.0   # line 67
+        m2 = m1 * h * k1 / 2.0 if typo else m1 + h * k1 / 2.0  # line 67
         y_2 = y + h * m1 / 2.0
         u_2 = m2
         k2 = f(y_2, u_2)

@@ -18,6 +18,7 @@ raises ValueError naming the argument.
 The numerics live in the Fortran modules pendula_undamped, pendula_small_angle
 and pendula_equilibria; this module only converts.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,8 +27,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _fortran as _undamped
-from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
 from ._angle_warning import AngleWarning, warn_if_degrees
+from ._arrays import as_real, broadcast_real, check_size, integer_arg, restore
 from ._codes import GLUE_AMPLITUDE, GLUE_PERIOD, GLUE_SMALL_ANGLE_BOUND, GLUE_SMALL_ANGLE_MOTION
 from ._errors import raise_for_status
 from .physics import documented, pendulum_w0
@@ -51,9 +52,15 @@ N_MAX = 2**31 - 1
 
 
 @_documented
-def undamped(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
-             g: ArrayLike | None = None,
-             length: ArrayLike | None = None) -> tuple[float | np.ndarray, float | np.ndarray]:
+def undamped(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> tuple[float | np.ndarray, float | np.ndarray]:
     """Exact motion (theta(t), omega(t)) of the undamped pendulum from any state.
 
     Solves theta'' + w0^2 sin(theta) = 0 (text eq. 1.3) in closed form for
@@ -134,9 +141,15 @@ def _small_angle(which, **named):
 
 
 @_documented
-def small_angle(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
-                g: ArrayLike | None = None,
-                length: ArrayLike | None = None) -> tuple[float | np.ndarray, float | np.ndarray]:
+def small_angle(
+    t: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> tuple[float | np.ndarray, float | np.ndarray]:
     """Small-angle (harmonic) model theta0 cos(w0 t) + (omega0/w0) sin(w0 t).
 
     The solution of the linearised equation theta'' + w0^2 theta = 0 (text
@@ -174,13 +187,19 @@ def small_angle(t: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: Ar
     >>> theta.round(6), omega.round(6)
     (array([0.1    , 0.05403]), array([ 0.      , -0.084147]))
     """
-    return _small_angle(GLUE_SMALL_ANGLE_MOTION, t=t, theta0=theta0, omega0=omega0,
-                        w0=pendulum_w0(w0, g, length))
+    return _small_angle(GLUE_SMALL_ANGLE_MOTION, t=t, theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length))
 
 
 @_documented
-def small_angle_error(tmax: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
-                      g: ArrayLike | None = None, length: ArrayLike | None = None) -> float | np.ndarray:
+def small_angle_error(
+    tmax: ArrayLike,
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> float | np.ndarray:
     """Rigorous bounds on the small-angle model's error over all abs(t) <= abs(tmax).
 
     How far :func:`small_angle` (text eq. 1.18) is from the exact motion
@@ -216,8 +235,7 @@ def small_angle_error(tmax: ArrayLike, theta0: ArrayLike, omega0: ArrayLike = 0.
     >>> bool(dtheta < 2e-3), bool(domega < 3e-3)
     (True, True)
     """
-    return _small_angle(GLUE_SMALL_ANGLE_BOUND, tmax=tmax, theta0=theta0, omega0=omega0,
-                        w0=pendulum_w0(w0, g, length))
+    return _small_angle(GLUE_SMALL_ANGLE_BOUND, tmax=tmax, theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length))
 
 
 def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=None, amplitude=False):
@@ -236,8 +254,14 @@ def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=N
 
 
 @_documented
-def period(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-           length: ArrayLike | None = None) -> float | np.ndarray:
+def period(
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> float | np.ndarray:
     """Exact period of the undamped pendulum from the state (theta0, omega0).
 
     Libration: T = 4 K(m)/w0 (text eq. 1.53, here for any start, not only
@@ -275,14 +299,21 @@ def period(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = No
     >>> round(pendula.period(1.0, g=9.8, length=1.0), 6)
     2.140229
     """
-    shape, scalar, (per,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_PERIOD,
-                                            g=g, length=length, amplitude=True)
+    shape, scalar, (per,) = _state_property(
+        _undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_PERIOD, g=g, length=length, amplitude=True
+    )
     return restore(per, shape, scalar)
 
 
 @_documented
-def amplitude(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-              length: ArrayLike | None = None) -> float | np.ndarray:
+def amplitude(
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> float | np.ndarray:
     """Amplitude of the swing from the state (theta0, omega0).
 
     max abs(theta - 2 pi N) over the motion: 2 asin(k) for a libration (the
@@ -312,14 +343,21 @@ def amplitude(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None =
     >>> pendula.amplitude(0.0, omega0=5.0, w0=1.0)      # rotation
     inf
     """
-    shape, scalar, (amp,) = _state_property(_undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_AMPLITUDE,
-                                            g=g, length=length, amplitude=True)
+    shape, scalar, (amp,) = _state_property(
+        _undamped.period_amplitude_f2py, 1, theta0, omega0, w0, GLUE_AMPLITUDE, g=g, length=length, amplitude=True
+    )
     return restore(amp, shape, scalar)
 
 
 @_documented
-def elliptic_parameter(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *,
-                       g: ArrayLike | None = None, length: ArrayLike | None = None) -> float | np.ndarray:
+def elliptic_parameter(
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> float | np.ndarray:
     """Elliptic parameter m = E / E_separatrix of a state, and 1 - m.
 
     m = sin^2(theta0/2) + (omega0/(2 w0))^2 (the text's k^2 of eqs 1.52 and
@@ -362,8 +400,14 @@ def elliptic_parameter(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike
 
 
 @_documented
-def regime(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-           length: ArrayLike | None = None) -> str | np.ndarray:
+def regime(
+    theta0: ArrayLike,
+    omega0: ArrayLike = 0.0,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> str | np.ndarray:
     """Kind of motion from a state: 'libration', 'separatrix' or 'rotation'.
 
     From m = E / E_separatrix (:func:`elliptic_parameter`): swinging (m < 1,
@@ -402,15 +446,21 @@ def regime(theta0: ArrayLike, omega0: ArrayLike = 0.0, w0: ArrayLike | None = No
     shape, scalar, (codes,) = _state_property(_undamped.regime_f2py, 1, theta0, omega0, w0, g=g, length=length)
     if scalar:
         return REGIMES[int(codes[0])]
-    names = np.array([""] + [REGIMES[k] for k in sorted(REGIMES)])   # codes are 1, 2, 3
+    names = np.array([""] + [REGIMES[k] for k in sorted(REGIMES)])  # codes are 1, 2, 3
     if len(codes) == 0:
         return np.empty(shape, dtype=names.dtype)
     return names.take(codes).reshape(shape)
 
 
 @_documented
-def energy(theta: ArrayLike, omega: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-           length: ArrayLike | None = None) -> float | np.ndarray:
+def energy(
+    theta: ArrayLike,
+    omega: ArrayLike,
+    w0: ArrayLike | None = None,
+    *,
+    g: ArrayLike | None = None,
+    length: ArrayLike | None = None,
+) -> float | np.ndarray:
     """Energy per unit m l^2, omega^2/2 + w0^2 (1 - cos theta).
 
     K + U of the text's Lagrangian (eq. 1.1) over m l^2.  0 at rest at the
@@ -457,8 +507,9 @@ def energy(theta: ArrayLike, omega: ArrayLike, w0: ArrayLike | None = None, *, g
 
 
 @_documented
-def equilibria(n: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None,
-               length: ArrayLike | None = None) -> float | np.ndarray:
+def equilibria(
+    n: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None = None, length: ArrayLike | None = None
+) -> float | np.ndarray:
     """Equilibria (n pi, 0) of the pendulum and their linearisation (text §1.1).
 
     The Jacobian [[0, 1], [-w0^2 cos(n pi), 0]] (eqs 1.9-1.24) has
@@ -501,7 +552,7 @@ def equilibria(n: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None
     >>> round(theta, 6), lam.real.tolist(), kind
     (3.141593, [1.0, -1.0], 'saddle')
     """
-    narr = np.asarray(integer_arg(n, "n", -N_MAX, N_MAX))   # checked before any narrowing cast
+    narr = np.asarray(integer_arg(n, "n", -N_MAX, N_MAX))  # checked before any narrowing cast
     w0a = as_real(pendulum_w0(w0, g, length), "w0")
     try:
         shape = np.broadcast_shapes(narr.shape, w0a.shape)
@@ -524,5 +575,15 @@ def equilibria(n: ArrayLike, w0: ArrayLike | None = None, *, g: ArrayLike | None
     return theta.reshape(shape), lam.reshape(shape + (2,)), kinds.reshape(shape).astype(str)
 
 
-__all__ = ["undamped", "small_angle", "small_angle_error", "period", "amplitude", "elliptic_parameter",
-           "regime", "energy", "equilibria", "AngleWarning"]
+__all__ = [
+    "undamped",
+    "small_angle",
+    "small_angle_error",
+    "period",
+    "amplitude",
+    "elliptic_parameter",
+    "regime",
+    "energy",
+    "equilibria",
+    "AngleWarning",
+]

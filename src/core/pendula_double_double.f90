@@ -36,15 +36,15 @@ contains
     real(wp), intent(out) :: e  !< exact error a*b - p
     real(wp), parameter :: big = 2.0_wp**996
     real(wp) :: ps
-    p = a * b
+    p = a*b
     if (abs(a) <= big .and. abs(b) <= big) then
       e = prod_err(a, b, p)
     else if (abs(p) <= huge(p)) then      ! one factor big (both big would overflow p)
       if (abs(a) > big) then
-        ps = scale(a, -28) * b
+        ps = scale(a, -28)*b
         e = scale(prod_err(scale(a, -28), b, ps), 28)
       else
-        ps = a * scale(b, -28)
+        ps = a*scale(b, -28)
         e = scale(prod_err(a, scale(b, -28), ps), 28)
       end if
     else
@@ -58,7 +58,7 @@ contains
     real(wp) :: ah, al, bh, bl
     call veltkamp_split(a, ah, al)
     call veltkamp_split(b, bh, bl)
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
   end function prod_err
 
   !> Veltkamp split a = hi + lo, each with at most 26 significant bits, so that products
@@ -69,7 +69,7 @@ contains
     real(wp), intent(out) :: lo  !< tail a - hi
     real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
     real(wp) :: t
-    t = split * a
+    t = split*a
     hi = t - (t - a)
     lo = a - hi
   end subroutine veltkamp_split
@@ -111,7 +111,7 @@ contains
     real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the product
     real(wp) :: p, e
     call two_prod(ah, bh, p, e)
-    e = e + (ah * bl + al * bh)
+    e = e + (ah*bl + al*bh)
     call two_sum(p, e, ch, cl)
   end subroutine dd_mul
 
@@ -121,10 +121,10 @@ contains
     real(wp), intent(in) :: bh, bl  !< bh, bl: high and low parts of the divisor (bh /= 0)
     real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the quotient
     real(wp) :: q1, q2, ph, pl, rh, rl
-    q1 = ah / bh
+    q1 = ah/bh
     call dd_mul(q1, 0.0_wp, bh, bl, ph, pl)
     call dd_add(ah, al, -ph, -pl, rh, rl)
-    q2 = rh / bh
+    q2 = rh/bh
     call two_sum(q1, q2, ch, cl)
   end subroutine dd_div
 
@@ -134,9 +134,9 @@ contains
     real(wp), intent(in) :: b  !< double divisor, /= 0
     real(wp), intent(out) :: ch, cl  !< ch, cl: high and low parts of the quotient
     real(wp) :: q1, p, e, q2
-    q1 = ah / b
+    q1 = ah/b
     call two_prod(q1, b, p, e)
-    q2 = (((ah - p) - e) + al) / b
+    q2 = (((ah - p) - e) + al)/b
     ch = q1 + q2
     cl = q2 - (ch - q1)          ! |q2| << |q1|: the fast two-sum is exact
   end subroutine dd_div_d
@@ -154,10 +154,10 @@ contains
     ! above 2**1000, s*s may round to +Inf: work on a / 2**100 and scale the root back
     sh = 0
     if (ah > 2.0_wp**1000) sh = 50
-    xh = scale(ah, -2 * sh); xl = scale(al, -2 * sh)
+    xh = scale(ah, -2*sh); xl = scale(al, -2*sh)
     s = sqrt(xh)
     call two_prod(s, s, p, e)
-    r = ((xh - p) - e + xl) / (2 * s)
+    r = ((xh - p) - e + xl)/(2*s)
     call two_sum(s, r, ch, cl)
     ch = scale(ch, sh); cl = scale(cl, sh)
   end subroutine dd_sqrt

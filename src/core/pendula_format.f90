@@ -212,7 +212,7 @@ contains
     character(len=*), intent(inout) :: buf
     integer, intent(inout) :: n
     character(len=*), intent(in) :: text
-    buf(n+1:n+len(text)) = text
+    buf(n + 1:n + len(text)) = text
     n = n + len(text)
   end subroutine put
 
@@ -223,7 +223,7 @@ contains
     integer, intent(in) :: count
     integer :: i
     do i = 1, count
-      buf(n+i:n+i) = '0'
+      buf(n + i:n + i) = '0'
     end do
     n = n + max(0, count)
   end subroutine put_zeros
@@ -235,7 +235,7 @@ contains
     integer, intent(in) :: d(:)
     integer :: i
     do i = 1, size(d)
-      buf(n+i:n+i) = achar(iachar('0') + d(i))
+      buf(n + i:n + i) = achar(iachar('0') + d(i))
     end do
     n = n + size(d)
   end subroutine put_digits
@@ -265,12 +265,12 @@ contains
     if (nd <= dec) then
       call put(buf, n, '0')
     else
-      call put_digits(buf, n, d(1:nd-dec))
+      call put_digits(buf, n, d(1:nd - dec))
     end if
     if (dec > 0) then
       call put(buf, n, '.')
       call put_zeros(buf, n, dec - nd)
-      call put_digits(buf, n, d(max(1, nd-dec+1):nd))
+      call put_digits(buf, n, d(max(1, nd - dec + 1):nd))
     end if
   end subroutine fixed_text
 
@@ -296,9 +296,9 @@ contains
         call put_digits(buf, n, d(1:last))
         call put_zeros(buf, n, e10 + 1 - last)
       else
-        call put_digits(buf, n, d(1:e10+1))
+        call put_digits(buf, n, d(1:e10 + 1))
         call put(buf, n, '.')
-        call put_digits(buf, n, d(e10+2:last))
+        call put_digits(buf, n, d(e10 + 2:last))
       end if
     else
       call put_sci(buf, n, d(1:last), e10, 'e', 1)
@@ -356,7 +356,7 @@ contains
     do
       p = p - 1
       b(p:p) = achar(iachar('0') - int(mod(v, 10_i8)))
-      v = v / 10
+      v = v/10
       if (v == 0) exit
     end do
     if (n < 0) then

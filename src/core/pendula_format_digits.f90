@@ -34,7 +34,7 @@ module pendula_format_digits
 
   integer, parameter :: LIMB_DIGITS = 9
   integer(i8), parameter :: LIMB = 1000000000_i8   ! base 10**9 limbs of the big integer
-  integer, parameter :: NLIMB = DIGITS_MAX / LIMB_DIGITS
+  integer, parameter :: NLIMB = DIGITS_MAX/LIMB_DIGITS
 
   ! Fast path: at most 18 significant digits (10**18 < 2**62 fits i8 with room
   ! for a carry); the scaled value's fraction must be this far from 1/2.
@@ -42,7 +42,7 @@ module pendula_format_digits
   real(wp), parameter :: HALF_MARGIN = 2.0_wp**(-30)
   real(wp), parameter :: LOG10_2 = 0.30102999566398120_wp
   integer, parameter :: ZERO_TO_21(0:21) = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, &
-      15, 16, 17, 18, 19, 20, 21]
+                                            15, 16, 17, 18, 19, 20, 21]
   integer(i8), parameter :: POW10_INT(0:FAST_MAX_SIG) = 10_i8**ZERO_TO_21(0:FAST_MAX_SIG)
   real(wp), parameter :: POW10(0:FAST_MAX_SIG) = real(POW10_INT, wp)   ! exact doubles
   ! 5**r for r = 0..21, exact doubles (5**21 < 2**49)
@@ -99,7 +99,7 @@ contains
     if (.not. ok) then
       call exact_digits(x, d, n, e10)
       call round_to(d, n, e10, k)
-      if (n < k) d(n+1:k) = 0
+      if (n < k) d(n + 1:k) = 0
     end if
     if (present(fast)) fast = ok
   end subroutine sig_digits
@@ -124,7 +124,7 @@ contains
       call round_to(d, nd, e10, e10 + 1 + dec)
       n = 0
       if (nd > 0) n = e10 + 1 + dec            ! >= nd; the rest are zeros
-      d(nd+1:n) = 0
+      d(nd + 1:n) = 0
     end if
     if (present(fast)) fast = ok
   end subroutine fixed_digits
@@ -160,7 +160,7 @@ contains
     ! is floor(log10|x|) or one less (b log10 2 is never within 1e-4 of a
     ! nonzero integer for |b| <= 1074, far above its rounding error)
     call binary_parts(x, m, e2)
-    g = floor(real(e2 + int(bit_size(m)) - 1 - leadz(m), wp) * LOG10_2)
+    g = floor(real(e2 + int(bit_size(m)) - 1 - leadz(m), wp)*LOG10_2)
     call scaled(m, e2, k - 1 - g, yh, yl, ok)
     ! y >= 10**k (yh alone can round up to 10**k from a unit below): |x| >=
     ! 10**(g+1), or so little below that it rounds to 10**(g+1) anyway
@@ -171,7 +171,7 @@ contains
     if (ok) call round_scaled(yh, yl, v, ok)
     if (.not. ok) return
     if (v == POW10_INT(k)) then                   ! 9.99..95 carried into a new digit
-      v = v / 10
+      v = v/10
       g = g + 1
     end if
     ok = v >= POW10_INT(k - 1) .and. v < POW10_INT(k)    ! else the guess of g was off
@@ -195,7 +195,7 @@ contains
     if (x == 0) return
     ! |x| * 10**dec < 2**bound (|x| < 2**(e2 + bits of m), 10 < 2**(10/3))
     call binary_parts(x, m, e2)
-    bound = e2 + int(bit_size(m)) - leadz(m) + (10 * dec + 2) / 3
+    bound = e2 + int(bit_size(m)) - leadz(m) + (10*dec + 2)/3
     if (bound <= -1) return                   ! below 1/2: rounds to zero
     ok = .false.
     if (bound > 62) return
@@ -223,7 +223,7 @@ contains
     yh = 0
     yl = 0
     r = modulo(s, POW5_STEP)
-    q = (s - r) / POW5_STEP
+    q = (s - r)/POW5_STEP
     ok = q >= POW5_QMIN .and. q <= POW5_QMAX
     if (.not. ok) return
     ! 10**s = 5**r * 5**(22 q) * 2**s
@@ -235,8 +235,8 @@ contains
     ok = abs(t) < 1000
     if (.not. ok) return
     p2 = transfer(ishft(int(t + 1023, i8), 52), p2)
-    yh = yh * p2
-    yl = yl * p2
+    yh = yh*p2
+    yl = yl*p2
   end subroutine scaled
 
   ! v = round(y) for y = yh + yl in [0, 2**62] known to within 2**-40; ok =
@@ -283,7 +283,7 @@ contains
     w = v
     do i = size(d), 1, -1
       d(i) = int(mod(w, 10_i8))
-      w = w / 10
+      w = w/10
     end do
   end subroutine int_digits
 
@@ -304,9 +304,9 @@ contains
       return
     end if
     ! the dropped part vs half a unit of the last kept place
-    if (d(k+1) /= 5) then
-      up = d(k+1) > 5
-    else if (any(d(k+2:n) /= 0)) then
+    if (d(k + 1) /= 5) then
+      up = d(k + 1) > 5
+    else if (any(d(k + 2:n) /= 0)) then
       up = .true.
     else if (k == 0) then
       up = .false.                        ! tie with an (even) zero before it
@@ -346,12 +346,12 @@ contains
     ! |x| = m * 2**e2 with m an odd integer (< 2**53)
     call binary_parts(x, m, e2)
     do while (mod(m, 2_i8) == 0)
-      m = m / 2
+      m = m/2
       e2 = e2 + 1
     end do
     big = 0
     big(1) = mod(m, LIMB)
-    big(2) = m / LIMB
+    big(2) = m/LIMB
     nl = 2
     if (e2 >= 0) then
       ! m * 2**e2, 29 doublings at a time (limb * 2**29 < 2**63)
@@ -376,7 +376,7 @@ contains
       v = big(i)
       do j = LIMB_DIGITS, 1, -1
         d(n + j) = int(mod(v, 10_i8))
-        v = v / 10
+        v = v/10
       end do
       n = n + LIMB_DIGITS
     end do
@@ -384,7 +384,7 @@ contains
     do while (d(i) == 0)
       i = i + 1
     end do
-    d(1:n-i+1) = d(i:n)
+    d(1:n - i + 1) = d(i:n)
     n = n - i + 1
     e10 = n - 1 + shift
     do while (d(n) == 0)
@@ -401,14 +401,14 @@ contains
     integer :: i
     carry = 0
     do i = 1, nl
-      p = big(i) * f + carry
+      p = big(i)*f + carry
       big(i) = mod(p, LIMB)
-      carry = p / LIMB
+      carry = p/LIMB
     end do
     do while (carry > 0)
       nl = nl + 1
       big(nl) = mod(carry, LIMB)
-      carry = carry / LIMB
+      carry = carry/LIMB
     end do
   end subroutine multiply
 

@@ -56,7 +56,7 @@ contains
     integer, intent(in) :: method  !< ROOT_BISECT or ROOT_ILLINOIS
     integer, intent(in) :: maxit  !< most function evaluations
     br = bracket_t(a=a, b=b, fa=fa, fb=fb, root=b, atol=atol, rtol=rtol, method=method, maxit=maxit, &
-        done=fb == 0)
+                   done=fb == 0)
     if (.not. br%done) call next_point(br)
   end subroutine bracket_start
 
@@ -77,15 +77,15 @@ contains
     if (sign(1.0_wp, fc) == sign(1.0_wp, br%fa)) then
       br%a = br%c
       br%fa = fc
-      if (illinois .and. br%side == -1) br%fb = br%fb / 2
+      if (illinois .and. br%side == -1) br%fb = br%fb/2
       br%side = -1
     else
       br%b = br%c
       br%fb = fc
-      if (illinois .and. br%side == 1) br%fa = br%fa / 2
+      if (illinois .and. br%side == 1) br%fa = br%fa/2
       br%side = 1
     end if
-    if (br%b - br%a <= max(br%atol, br%rtol * abs(br%b)) .or. br%evals >= br%maxit) then
+    if (br%b - br%a <= max(br%atol, br%rtol*abs(br%b)) .or. br%evals >= br%maxit) then
       br%done = .true.
       if (illinois) then
         br%root = merge(br%a, br%b, abs(br%fa) < abs(br%fb))
@@ -101,10 +101,10 @@ contains
     type(bracket_t), intent(inout) :: br
     real(wp) :: c
     if (br%method == ROOT_ILLINOIS) then
-      c = (br%a * br%fb - br%b * br%fa) / (br%fb - br%fa)
-      if (.not. (c > br%a .and. c < br%b)) c = 0.5_wp * (br%a + br%b)
+      c = (br%a*br%fb - br%b*br%fa)/(br%fb - br%fa)
+      if (.not. (c > br%a .and. c < br%b)) c = 0.5_wp*(br%a + br%b)
     else
-      c = 0.5_wp * (br%a + br%b)
+      c = 0.5_wp*(br%a + br%b)
     end if
     br%c = c
   end subroutine next_point

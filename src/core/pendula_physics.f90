@@ -5,7 +5,7 @@ module pendula_physics
   use pendula_kinds, only: wp
   use pendula_constants, only: pi   ! re-exported: user code has used pendula_physics' pi
   use pendula_status, only: status_t, check_positive, check_nonnegative, check_range, set_error, PENDULA_OK, &
-      PENDULA_ERR_DOMAIN
+                            PENDULA_ERR_DOMAIN
   implicit none
   private
   public :: natural_frequency, damping_rate, small_angle_period, period_series, pi
@@ -41,21 +41,21 @@ contains
     if (status%code /= PENDULA_OK) return
     e = exponent(g) - exponent(length)
     if (abs(e) < 1000 .and. exponent(g) > -1000 .and. exponent(length) > -1000) then
-      w0 = sqrt(g / length)
+      w0 = sqrt(g/length)
     else
       ! g/l would overflow or lose bits below the normal range: divide the
       ! significands, take the root and put half the (even) exponent back.
-      fq = fraction(g) / fraction(length)
+      fq = fraction(g)/fraction(length)
       if (modulo(e, 2) /= 0) then
-        fq = 2 * fq
+        fq = 2*fq
         e = e - 1
       end if
       fq = sqrt(fq)
-      if (exponent(fq) + e / 2 > maxexponent(fq)) then   ! before scale(): no overflow flag
-        call set_error(status, PENDULA_ERR_DOMAIN, 'g and length are out of range together: w0 = sqrt(g/length) ' // &
-            'would exceed the largest double; need sqrt(g)/sqrt(length) <= 1.8e308')
+      if (exponent(fq) + e/2 > maxexponent(fq)) then   ! before scale(): no overflow flag
+        call set_error(status, PENDULA_ERR_DOMAIN, 'g and length are out of range together: w0 = sqrt(g/length) '// &
+                       'would exceed the largest double; need sqrt(g)/sqrt(length) <= 1.8e308')
       else
-        w0 = scale(fq, e / 2)
+        w0 = scale(fq, e/2)
       end if
     end if
   end subroutine natural_frequency
@@ -75,13 +75,13 @@ contains
     ! b/mass > huge only when mass < 1; decided before dividing, since the
     ! overflowing division would trap in the checked build
     if (mass < 1) then
-      if (b > huge(b) * mass) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 'b and mass are out of range together: gamma = b/mass ' // &
-            'exceeds the largest double')
+      if (b > huge(b)*mass) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'b and mass are out of range together: gamma = b/mass '// &
+                       'exceeds the largest double')
         return
       end if
     end if
-    gamma = b / mass
+    gamma = b/mass
   end subroutine damping_rate
 
   !> Small-angle period T0 = 2 pi / w0 [s] (eq. 1.8). w0 finite and at least
@@ -93,10 +93,10 @@ contains
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     t0 = 0
-    call check_range('w0', w0, 2 * pi / huge(w0), huge(w0), &
-        '[3.5e-308, 1.8e308] (T0 = 2 pi/w0 exceeds the largest double below)', status)
+    call check_range('w0', w0, 2*pi/huge(w0), huge(w0), &
+                     '[3.5e-308, 1.8e308] (T0 = 2 pi/w0 exceeds the largest double below)', status)
     if (status%code /= PENDULA_OK) return
-    t0 = 2 * pi / w0
+    t0 = 2*pi/w0
   end subroutine small_angle_period
 
   !> The textbook's amplitude correction to the period, T0 (1 + m/4 + 9 m^2/64)
@@ -117,7 +117,7 @@ contains
     if (status%code /= PENDULA_OK) return
     call small_angle_period(w0, t, status)
     if (status%code /= PENDULA_OK) return
-    t = t * (1 + m / 4 + 9 * m**2 / 64)
+    t = t*(1 + m/4 + 9*m**2/64)
   end subroutine period_series
 
 end module pendula_physics

@@ -44,11 +44,11 @@ module pendula_status
 
   ! code_name's table
   integer, parameter :: STATUS_CODES(11) = [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SIZE, PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
-      PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY]
+                                            PENDULA_ERR_SIZE, PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
+                                            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY]
   character(len=27), parameter :: STATUS_NAMES(11) = [character(len=27) :: 'ok', 'non-finite argument', &
-      'argument out of range', 'bad array size', 'times not increasing', 'unstable step', &
-      'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled', 'out of memory']
+                                                                 'argument out of range', 'bad array size', 'times not increasing', 'unstable step', &
+                                               'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled', 'out of memory']
 
   !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
   !> the table above and a message naming the argument and its valid range.
@@ -108,7 +108,7 @@ contains
     !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (.not. ieee_is_finite(x)) call set_error(status, PENDULA_ERR_NONFINITE, &
-        name // ' = ' // fmt(x) // ' is invalid: it must be a finite real number')
+                                                name//' = '//fmt(x)//' is invalid: it must be a finite real number')
   end subroutine check_finite
 
   !> Require `x` finite and > 0.
@@ -142,11 +142,11 @@ contains
     ! .not. ieee_is_finite first, as the other checks: the form that stays
     ! quiet on a NaN under -ffpe-trap=invalid (the checked build)
     if (.not. ieee_is_finite(x)) then
-      call set_error(status, PENDULA_ERR_NONFINITE, name // ' = ' // fmt(x) // &
-          ' is invalid: it must be finite and ' // trim(merge('> 0 ', '>= 0', strict)))
+      call set_error(status, PENDULA_ERR_NONFINITE, name//' = '//fmt(x)// &
+                     ' is invalid: it must be finite and '//trim(merge('> 0 ', '>= 0', strict)))
     else if ((strict .and. .not. x > 0) .or. (.not. strict .and. .not. x >= 0)) then
-      call set_error(status, PENDULA_ERR_DOMAIN, name // ' = ' // fmt(x) // &
-          ' is out of range: it must be finite and ' // trim(merge('> 0 ', '>= 0', strict)))
+      call set_error(status, PENDULA_ERR_DOMAIN, name//' = '//fmt(x)// &
+                     ' is out of range: it must be finite and '//trim(merge('> 0 ', '>= 0', strict)))
     end if
   end subroutine check_sign
 
@@ -163,10 +163,10 @@ contains
     if (status%code /= PENDULA_OK) return
     if (.not. ieee_is_finite(x)) then
       call set_error(status, PENDULA_ERR_NONFINITE, &
-          name // ' = ' // fmt(x) // ' is invalid: it must be finite and in ' // range_text)
+                     name//' = '//fmt(x)//' is invalid: it must be finite and in '//range_text)
     else if (x < lo .or. x > hi) then
       call set_error(status, PENDULA_ERR_DOMAIN, &
-          name // ' = ' // fmt(x) // ' is out of range: it must be in ' // range_text)
+                     name//' = '//fmt(x)//' is out of range: it must be in '//range_text)
     end if
   end subroutine check_range
 
@@ -180,8 +180,8 @@ contains
     if (status%code /= PENDULA_OK) return
     do i = 1, size(x)
       if (.not. ieee_is_finite(x(i))) then
-        call set_error(status, PENDULA_ERR_NONFINITE, name // '[' // format_int(i - 1) // '] = ' // &
-            fmt(x(i)) // ' is invalid: every element must be a finite real number')
+        call set_error(status, PENDULA_ERR_NONFINITE, name//'['//format_int(i - 1)//'] = '// &
+                       fmt(x(i))//' is invalid: every element must be a finite real number')
         return
       end if
     end do
@@ -198,10 +198,10 @@ contains
     call check_all_finite(name, x, status)
     if (status%code /= PENDULA_OK) return
     do i = 2, size(x)
-      if (.not. x(i) > x(i-1)) then
-        call set_error(status, PENDULA_ERR_ORDER, name // ' must be strictly increasing, but ' // &
-            name // '[' // format_int(i - 1) // '] = ' // fmt(x(i)) // ' does not exceed the previous value ' // &
-            fmt(x(i-1)))
+      if (.not. x(i) > x(i - 1)) then
+        call set_error(status, PENDULA_ERR_ORDER, name//' must be strictly increasing, but '// &
+                       name//'['//format_int(i - 1)//'] = '//fmt(x(i))//' does not exceed the previous value '// &
+                       fmt(x(i - 1)))
         return
       end if
     end do
@@ -216,8 +216,8 @@ contains
     !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (n < min_size) then
-      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
-          ' element(s): it needs at least ' // format_int(min_size))
+      call set_error(status, PENDULA_ERR_SIZE, name//' has '//format_int(n)// &
+                     ' element(s): it needs at least '//format_int(min_size))
     end if
   end subroutine check_size
 
@@ -234,8 +234,8 @@ contains
     !< receives the error if the check fails and no earlier error is set
     if (status%code /= PENDULA_OK) return
     if (n /= n_like) then
-      call set_error(status, PENDULA_ERR_SIZE, name // ' has ' // format_int(n) // &
-          ' element(s): it must have the same size as ' // like // ' (' // format_int(n_like) // ')')
+      call set_error(status, PENDULA_ERR_SIZE, name//' has '//format_int(n)// &
+                     ' element(s): it must have the same size as '//like//' ('//format_int(n_like)//')')
     end if
   end subroutine check_same_size
 
@@ -253,15 +253,15 @@ contains
     real(wp) :: bytes
     if (stat == 0 .or. status%code /= PENDULA_OK) return
     ! 3 significant digits of MiB or GiB: 7.45 GiB, 0.0153 MiB (the exact count follows)
-    bytes = real(elements, wp) * bytes_each
+    bytes = real(elements, wp)*bytes_each
     if (bytes >= GIB) then
-      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
-          format_general(bytes / GIB, 3) // ' GiB (' // format_int(elements) // &
-          ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: '//what//' need '// &
+                     format_general(bytes/GIB, 3)//' GiB ('//format_int(elements)// &
+                     ' values of '//format_int(bytes_each)//' bytes), which could not be allocated')
     else
-      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: ' // what // ' need ' // &
-          format_general(bytes / MIB, 3) // ' MiB (' // format_int(elements) // &
-          ' values of ' // format_int(bytes_each) // ' bytes), which could not be allocated')
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: '//what//' need '// &
+                     format_general(bytes/MIB, 3)//' MiB ('//format_int(elements)// &
+                     ' values of '//format_int(bytes_each)//' bytes), which could not be allocated')
     end if
   end subroutine check_alloc
 

@@ -26,7 +26,7 @@ module pendula_linear_damped
   use pendula_kinds, only: wp
   use pendula_format, only: format_int, code_text
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_same_size, PENDULA_OK
+                            check_nonnegative, check_same_size, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_small_angle, only: harmonic_state
   implicit none
@@ -59,17 +59,16 @@ module pendula_linear_damped
   !> ln 2 = LN2_HI + LN2_LO, LN2_HI with trailing zero bits so n LN2_HI is exact
   !> for |n| < 2^20 (Cody and Waite's argument reduction).
   real(wp), parameter :: LN2_HI = 6.93147180369123816490e-01_wp, &
-      LN2_LO = 1.90821492927058770002e-10_wp
+                         LN2_LO = 1.90821492927058770002e-10_wp
   ! C(z) = cosh(sqrt z) = sum_{k<=8} z^k/(2k)!, S(z)/t = sinh(sqrt z)/sqrt z =
   ! sum_{k<=8} z^k/(2k+1)!: truncation < 1e-18 for |z| <= 1/4; Horner with the
   ! reciprocal factorials (each within half an ulp) keeps the sum within ~1 ulp.
-  real(wp), parameter :: C_COEF(0:8) = [1.0_wp, 1.0_wp / 2, 1.0_wp / 24, 1.0_wp / 720, &
-      1.0_wp / 40320, 1.0_wp / 3628800, 1.0_wp / 479001600, 1.0_wp / 87178291200.0_wp, &
-      1.0_wp / 20922789888000.0_wp]
-  real(wp), parameter :: S_COEF(0:8) = [1.0_wp, 1.0_wp / 6, 1.0_wp / 120, 1.0_wp / 5040, &
-      1.0_wp / 362880, 1.0_wp / 39916800, 1.0_wp / 6227020800.0_wp, 1.0_wp / 1307674368000.0_wp, &
-      1.0_wp / 355687428096000.0_wp]
-
+  real(wp), parameter :: C_COEF(0:8) = [1.0_wp, 1.0_wp/2, 1.0_wp/24, 1.0_wp/720, &
+                                        1.0_wp/40320, 1.0_wp/3628800, 1.0_wp/479001600, 1.0_wp/87178291200.0_wp, &
+                                        1.0_wp/20922789888000.0_wp]
+  real(wp), parameter :: S_COEF(0:8) = [1.0_wp, 1.0_wp/6, 1.0_wp/120, 1.0_wp/5040, &
+                                        1.0_wp/362880, 1.0_wp/39916800, 1.0_wp/6227020800.0_wp, 1.0_wp/1307674368000.0_wp, &
+                                        1.0_wp/355687428096000.0_wp]
 
   !> The numbers of a regime (all rates in 1/s, times in s).
   type :: damping_regime_t
@@ -147,14 +146,14 @@ contains
     call check_nonnegative('gamma', gamma, status)
     if (status%code /= PENDULA_OK) return
     inf = ieee_value(1.0_wp, ieee_positive_inf)
-    a = gamma / 2
+    a = gamma/2
     info%w0 = w0
     info%gamma = gamma
-    info%gamma_critical = 2 * w0
-    info%damping_ratio = a / w0
+    info%gamma_critical = 2*w0
+    info%damping_ratio = a/w0
     ! Q = w0/gamma, +Inf when gamma = 0 or when w0/gamma exceeds the double range.
-    if (gamma > w0 / huge(1.0_wp)) then
-      info%quality_factor = w0 / gamma
+    if (gamma > w0/huge(1.0_wp)) then
+      info%quality_factor = w0/gamma
     else
       info%quality_factor = inf
     end if
@@ -162,11 +161,11 @@ contains
     ! (a - w0 is exact near the critical point) and without overflow.
     if (gamma == 0) then
       kappa = w0
-    else if (max(a, w0) < 0.25_wp * huge(1.0_wp)) then
-      kappa = sqrt(abs(a - w0)) * sqrt(a + w0)
+    else if (max(a, w0) < 0.25_wp*huge(1.0_wp)) then
+      kappa = sqrt(abs(a - w0))*sqrt(a + w0)
     else
       ! a + w0 could overflow: halve both (exact at this size)
-      kappa = 2 * (sqrt(abs(0.5_wp * a - 0.5_wp * w0)) * sqrt(0.5_wp * a + 0.5_wp * w0))
+      kappa = 2*(sqrt(abs(0.5_wp*a - 0.5_wp*w0))*sqrt(0.5_wp*a + 0.5_wp*w0))
     end if
     if (a < w0) then
       info%regime = DAMPING_UNDERDAMPED
@@ -175,8 +174,8 @@ contains
       info%lambda2 = cmplx(-a, kappa, wp)
       info%decay_slow = a
       info%decay_fast = a
-      info%log_decrement = pi * (gamma / kappa)
-      info%damped_period = 2 * pi / kappa
+      info%log_decrement = pi*(gamma/kappa)
+      info%damped_period = 2*pi/kappa
     else if (a == w0) then
       info%regime = DAMPING_CRITICAL
       info%lambda1 = cmplx(-a, 0, wp)
@@ -190,8 +189,8 @@ contains
       info%beta = kappa
       ! lambda2 = -a + beta cancels for gamma >> w0; lambda1 lambda2 = w0^2.
       info%lambda1 = cmplx(-(a + kappa), 0, wp)
-      info%lambda2 = cmplx(-(w0 * (w0 / (a + kappa))), 0, wp)
-      info%decay_slow = w0 * (w0 / (a + kappa))
+      info%lambda2 = cmplx(-(w0*(w0/(a + kappa))), 0, wp)
+      info%decay_slow = w0*(w0/(a + kappa))
       info%decay_fast = a + kappa
       info%log_decrement = inf
       info%damped_period = inf
@@ -232,22 +231,22 @@ contains
     sol%om0 = omega0
     sol%w0 = w0
     sol%gamma = gamma
-    a = gamma / 2
+    a = gamma/2
     sol%a = a
     sol%undamped = gamma == 0
-    sol%b = omega0 + a * theta0
-    sol%w0th = w0 * theta0
-    sol%aom = a * omega0
+    sol%b = omega0 + a*theta0
+    sol%w0th = w0*theta0
+    sol%aom = a*omega0
     select case (sol%info%regime)
     case (DAMPING_UNDERDAMPED)
       k = sol%info%omega_d
       sol%kappa = k
       sol%zsign = -1
-      sol%bs = omega0 / k + theta0 * (a / k)
-      sol%ds = sol%w0th * (w0 / k) + omega0 * (a / k)
+      sol%bs = omega0/k + theta0*(a/k)
+      sol%ds = sol%w0th*(w0/k) + omega0*(a/k)
       if (sol%undamped) then
-        sol%bs = omega0 / w0
-        sol%ds = w0 * theta0
+        sol%bs = omega0/w0
+        sol%ds = w0*theta0
       end if
       ! theta = R e^{-at} cos(omega_d t - phi) with R = |(theta0, b/omega_d)|.
       sol%amp = hypot(theta0, sol%bs)
@@ -261,11 +260,11 @@ contains
       ! Eq. 2.29 with lambda2 - lambda1 = 2 beta, each term formed without
       ! cancellation or overflow: A = (theta0 l2 - Omega0)/(2 beta),
       ! B = (Omega0 - theta0 l1)/(2 beta) = Omega0/(2 beta) + theta0 (a + beta)/(2 beta).
-      inv2k = 0.5_wp / k
-      sol%ca = theta0 * (sol%l2 * inv2k) - omega0 * inv2k
-      sol%cb = omega0 * inv2k + theta0 * ((a + k) * inv2k)
-      sol%l1ca = sol%l1 * sol%ca
-      sol%l2cb = sol%l2 * sol%cb
+      inv2k = 0.5_wp/k
+      sol%ca = theta0*(sol%l2*inv2k) - omega0*inv2k
+      sol%cb = omega0*inv2k + theta0*((a + k)*inv2k)
+      sol%l1ca = sol%l1*sol%ca
+      sol%l2cb = sol%l2*sol%cb
     case default
       sol%kappa = 0
       sol%zsign = 0
@@ -288,7 +287,7 @@ contains
     k = max(info%omega_d, info%beta)
     e_ratio = 0
     if (k > 0) e_ratio = max(0, e_rate - exponent(k))
-    ns = min(NS_MAX, max(0, e_state + 2 * max(0, e_rate) + e_ratio + 16 - maxexponent(1.0_wp)))
+    ns = min(NS_MAX, max(0, e_state + 2*max(0, e_rate) + e_ratio + 16 - maxexponent(1.0_wp)))
   end function state_scaling
 
   ! x 2^n, +-inf when beyond the double range (without raising overflow:
@@ -309,7 +308,7 @@ contains
     integer :: k
     p = coef(ubound(coef, 1))
     do k = ubound(coef, 1) - 1, 0, -1
-      p = coef(k) + z * p
+      p = coef(k) + z*p
     end do
   end function horner
 
@@ -323,8 +322,8 @@ contains
     m = 0
     n = 0
     if (x < X_SPLIT) return
-    n = ceiling(x / LN2_HI)
-    r = (x - n * LN2_HI) - n * LN2_LO
+    n = ceiling(x/LN2_HI)
+    r = (x - n*LN2_HI) - n*LN2_LO
     m = exp(r)
   end subroutine split_exp
 
@@ -333,12 +332,12 @@ contains
   elemental real(wp) function mul_sat(r, t) result(x)
     real(wp), intent(in) :: r, t
     if (r > 1) then
-      if (t > huge(1.0_wp) / r) then
+      if (t > huge(1.0_wp)/r) then
         x = huge(1.0_wp)
         return
       end if
     end if
-    x = r * t
+    x = r*t
   end function mul_sat
 
   !> theta(t) [rad] and Omega(t) [rad/s] at t >= 0 [s] for a trajectory set up
@@ -364,63 +363,63 @@ contains
       ! theta = e^{-at} p, Omega = e^{-at} q, with the series (near critical,
       ! small t) or cos/sin (under-damped) in the brackets p and q.
       xe = -mul_sat(sol%a, t)
-      if (xe < X_ZERO - LN2_HI * sol%ns) return
+      if (xe < X_ZERO - LN2_HI*sol%ns) return
       if (x <= X_SERIES) then
         if (sol%zsign == 0) then     ! critical: C = 1, S = t exactly (eq. 2.45)
           c = 1
           s = 1
         else
-          z = sol%zsign * (x * x)
+          z = sol%zsign*(x*x)
           c = horner(C_COEF, z)
           s = horner(S_COEF, z)      ! S(t)/t
         end if
         ! b t would overflow only for extreme b, t: then fold e^{-at} into t first.
         if (t > 1) then
-          if (abs(sol%b) > huge(1.0_wp) / t) then
+          if (abs(sol%b) > huge(1.0_wp)/t) then
             e = exp(xe)
-            et = e * t
-            theta = scale_sat(sol%th0 * (e * c) + sol%b * (et * s), sol%ns)
-            omega = scale_sat(sol%om0 * (e * c) - (sol%w0th * (sol%w0 * et) + sol%aom * et) * s, sol%ns)
+            et = e*t
+            theta = scale_sat(sol%th0*(e*c) + sol%b*(et*s), sol%ns)
+            omega = scale_sat(sol%om0*(e*c) - (sol%w0th*(sol%w0*et) + sol%aom*et)*s, sol%ns)
             return
           end if
         end if
-        p = sol%th0 * c + (sol%b * t) * s
-        q = sol%om0 * c - (sol%w0th * (sol%w0 * t) + sol%aom * t) * s
+        p = sol%th0*c + (sol%b*t)*s
+        q = sol%om0*c - (sol%w0th*(sol%w0*t) + sol%aom*t)*s
       else
         ! Under-damped (§2.1.3).
         c = cos(x)
         s = sin(x)
-        p = sol%th0 * c + sol%bs * s
-        q = sol%om0 * c - sol%ds * s
+        p = sol%th0*c + sol%bs*s
+        q = sol%om0*c - sol%ds*s
       end if
       if (xe >= X_NORMAL .and. sol%ns == 0) then
         e = exp(xe)
-        theta = e * p
-        omega = e * q
+        theta = e*p
+        omega = e*q
       else
         ! e^{-at} itself would be subnormal: multiply by its significand and
         ! scale by its power of 2 last, so a representable answer keeps its digits.
         call split_exp(xe, m1, n1)
-        theta = scale_sat(m1 * p, n1 + sol%ns)
-        omega = scale_sat(m1 * q, n1 + sol%ns)
+        theta = scale_sat(m1*p, n1 + sol%ns)
+        omega = scale_sat(m1*q, n1 + sol%ns)
       end if
     else
       ! Over-damped (eq. 2.27): e^{lambda t} never overflows for t >= 0.
       xe = -mul_sat(-sol%l2, t)      ! lambda2 t, the slow mode
-      if (xe < X_ZERO - LN2_HI * sol%ns) return
+      if (xe < X_ZERO - LN2_HI*sol%ns) return
       x = -mul_sat(-sol%l1, t)       ! lambda1 t <= lambda2 t
       if (xe >= X_NORMAL .and. x >= X_NORMAL .and. sol%ns == 0) then
         m1 = exp(x)
         m2 = exp(xe)
-        theta = sol%ca * m1 + sol%cb * m2
-        omega = sol%l1ca * m1 + sol%l2cb * m2
+        theta = sol%ca*m1 + sol%cb*m2
+        omega = sol%l1ca*m1 + sol%l2cb*m2
       else
         call split_exp(x, m1, n1)
         call split_exp(xe, m2, n2)
         ! sum at the larger power of 2 (n2 >= n1: lambda1 t <= lambda2 t), scale once:
         ! two overflowing terms of opposite sign must not give inf - inf
-        theta = scale_sat(scale(sol%ca * m1, n1 - n2) + sol%cb * m2, n2 + sol%ns)
-        omega = scale_sat(scale(sol%l1ca * m1, n1 - n2) + sol%l2cb * m2, n2 + sol%ns)
+        theta = scale_sat(scale(sol%ca*m1, n1 - n2) + sol%cb*m2, n2 + sol%ns)
+        omega = scale_sat(scale(sol%l1ca*m1, n1 - n2) + sol%l2cb*m2, n2 + sol%ns)
       end if
     end if
   end subroutine linear_damped_state
@@ -451,10 +450,10 @@ contains
     env = 0
     if (sol%info%regime /= DAMPING_UNDERDAMPED .or. .not. sol%amp > 0) return
     if (sol%ns == 0) then
-      env = sol%amp * exp(-mul_sat(sol%a, t))
+      env = sol%amp*exp(-mul_sat(sol%a, t))
     else
       call split_exp(-mul_sat(sol%a, t), m, n)
-      env = scale_sat(sol%amp * m, n + sol%ns)
+      env = scale_sat(sol%amp*m, n + sol%ns)
     end if
   end function linear_damped_envelope
 
@@ -507,13 +506,13 @@ contains
     if (status%code /= PENDULA_OK) return
     fresh = .true.
     do i = 1, n
-      if (i > 1) fresh = theta0(i) /= theta0(i-1) .or. omega0(i) /= omega0(i-1) .or. &
-          w0(i) /= w0(i-1) .or. gamma(i) /= gamma(i-1)
+      if (i > 1) fresh = theta0(i) /= theta0(i - 1) .or. omega0(i) /= omega0(i - 1) .or. &
+                         w0(i) /= w0(i - 1) .or. gamma(i) /= gamma(i - 1)
       if (fresh) then
         call linear_damped_init(sol, theta0(i), omega0(i), w0(i), gamma(i), status)
         if (status%code /= PENDULA_OK) then
           if (n > 1) then
-            status%message = trim(status%message) // ' (element ' // format_int(i - 1) // ')'
+            status%message = trim(status%message)//' (element '//format_int(i - 1)//')'
           end if
           theta = 0
           omega = 0
@@ -533,10 +532,10 @@ contains
     do i = 1, size(t)
       ! ieee_is_finite first: an ordered comparison with NaN may trap.
       if (.not. ieee_is_finite(t(i))) then
-        call check_finite('t[' // format_int(i - 1) // ']', t(i), status)
+        call check_finite('t['//format_int(i - 1)//']', t(i), status)
         return
       else if (t(i) < 0) then
-        call check_nonnegative('t[' // format_int(i - 1) // ']', t(i), status)
+        call check_nonnegative('t['//format_int(i - 1)//']', t(i), status)
         return
       end if
     end do

@@ -14,11 +14,11 @@ module pendula_drive
   use pendula_constants, only: pi
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
-      PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE
+                            PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE
   implicit none
   private
   public :: drive_t, DRIVE_TORQUE, DRIVE_PIVOT, check_drive, check_driven, check_drive_kind, &
-      drive_period, drive_coefficients, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS, DRIVEN_DEFAULT_STEPS
+            drive_period, drive_coefficients, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS, DRIVEN_DEFAULT_STEPS
 
   !> A torque F cos(Omega t + phi) [rad/s**2] on the bob.
   integer, parameter :: DRIVE_TORQUE = 1
@@ -49,8 +49,8 @@ contains
     type(status_t), intent(inout) :: status  !< receives the error unless one is set already
     if (status%code /= PENDULA_OK) return
     if (kind /= DRIVE_TORQUE .and. kind /= DRIVE_PIVOT) call set_error(status, PENDULA_ERR_DOMAIN, &
-        'drive kind = ' // format_int(kind) // ' is out of range: it must be ' // format_int(DRIVE_TORQUE) // &
-        ' (torque) or ' // format_int(DRIVE_PIVOT) // ' (pivot)')
+                                                      'drive kind = '//format_int(kind)//' is out of range: it must be '//format_int(DRIVE_TORQUE)// &
+                                                                       ' (torque) or '//format_int(DRIVE_PIVOT)//' (pivot)')
   end subroutine check_drive_kind
 
   !> Check a drive: a known kind, finite amplitude and phase, frequency > 0.
@@ -80,24 +80,24 @@ contains
     call check_drive(drive, status)
     if (status%code /= PENDULA_OK) return
     if (nsteps < DRIVEN_MIN_STEPS .or. nsteps > DRIVEN_MAX_STEPS) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'steps_per_period = ' // format_int(nsteps) // &
-          ' is out of range: it must be in [' // format_int(DRIVEN_MIN_STEPS) // ', ' // &
-          format_int(DRIVEN_MAX_STEPS) // ']')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'steps_per_period = '//format_int(nsteps)// &
+                     ' is out of range: it must be in ['//format_int(DRIVEN_MIN_STEPS)//', '// &
+                     format_int(DRIVEN_MAX_STEPS)//']')
       return
     end if
-    h = drive_period(drive) / nsteps
-    rate = w0 * w0
-    if (drive%kind == DRIVE_PIVOT) rate = rate + abs(drive%amplitude) * drive%frequency**2
+    h = drive_period(drive)/nsteps
+    rate = w0*w0
+    if (drive%kind == DRIVE_PIVOT) rate = rate + abs(drive%amplitude)*drive%frequency**2
     rate = max(sqrt(rate), gamma)
-    if (.not. h * rate <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'steps_per_period = ' // &
-        format_int(nsteps) // ' is too few for these w0, gamma and drive: it must be at least ' // &
-        format_int(int(min(2 * pi / drive%frequency * rate / 1.5_wp, 1.0e9_wp)) + 1))
+    if (.not. h*rate <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'steps_per_period = '// &
+                                               format_int(nsteps)//' is too few for these w0, gamma and drive: it must be at least '// &
+                                               format_int(int(min(2*pi/drive%frequency*rate/1.5_wp, 1.0e9_wp)) + 1))
   end subroutine check_driven
 
   !> The drive period 2 pi/Omega [s].
   elemental real(wp) function drive_period(drive)
     type(drive_t), intent(in) :: drive  !< the drive (frequency > 0)
-    drive_period = 2 * pi / drive%frequency
+    drive_period = 2*pi/drive%frequency
   end function drive_period
 
   !> P(t) and Q(t) of theta'' = -gamma theta' - P sin(theta) + Q at drive phase
@@ -108,12 +108,12 @@ contains
     real(wp), intent(in) :: psi  !< drive phase Omega t + phi [rad]
     real(wp), intent(out) :: p  !< coefficient of sin(theta) [1/s**2]
     real(wp), intent(out) :: q  !< torque term [rad/s**2]
-    p = w0 * w0
+    p = w0*w0
     q = 0
     if (drive%kind == DRIVE_PIVOT) then
-      p = p + drive%amplitude * drive%frequency**2 * cos(psi)
+      p = p + drive%amplitude*drive%frequency**2*cos(psi)
     else
-      q = drive%amplitude * cos(psi)
+      q = drive%amplitude*cos(psi)
     end if
   end subroutine drive_coefficients
 

@@ -15,13 +15,13 @@ module pendula_driven
   use pendula_format, only: format_int, format_general
   use pendula_constants, only: pi
   use pendula_status, only: status_t, set_error, check_increasing, check_size, check_same_size, PENDULA_OK, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
+                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_drive, only: drive_t, DRIVEN_DEFAULT_STEPS
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_partial, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, params_lanes, &
-      params_summary, first_message
+                                    params_summary, first_message
   implicit none
   private
   public :: driven_solve, driven_batch_solve
@@ -60,18 +60,18 @@ contains
     n = DRIVEN_DEFAULT_STEPS
     if (present(nsteps)) n = nsteps
     if (size(theta) /= size(t) .or. size(omega) /= size(t)) then
-      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have the size of t (' // &
-          format_int(size(t)) // ')')
+      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have the size of t ('// &
+                     format_int(size(t))//')')
       return
     end if
     if (present(err_theta) .or. present(err_omega)) then
       call driven_batch_solve(t, [theta0], [omega0], [w0], [gamma], drive%kind, [drive%amplitude], &
-          [drive%frequency], [drive%phase], n, th, om, codes, status, threads=1, err_theta=et, err_omega=eo)
+                              [drive%frequency], [drive%phase], n, th, om, codes, status, threads=1, err_theta=et, err_omega=eo)
       if (present(err_theta)) err_theta = et(:, 1)
       if (present(err_omega)) err_omega = eo(:, 1)
     else
       call driven_batch_solve(t, [theta0], [omega0], [w0], [gamma], drive%kind, [drive%amplitude], &
-          [drive%frequency], [drive%phase], n, th, om, codes, status, threads=1)
+                              [drive%frequency], [drive%phase], n, th, om, codes, status, threads=1)
     end if
     theta = th(:, 1)
     omega = om(:, 1)
@@ -91,7 +91,7 @@ contains
   !> states.  err_theta, err_omega (optional, shaped like theta): Richardson
   !> error estimates (a second pass with 2 nsteps).
   subroutine driven_batch_solve(t, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, theta, omega, &
-      codes, status, threads, control, first_failed, err_theta, err_omega)
+                                codes, status, threads, control, first_failed, err_theta, err_omega)
     real(wp), intent(in) :: t(:)  !< output times [s], finite, strictly increasing, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t(1), n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
@@ -138,10 +138,10 @@ contains
     if (present(err_omega)) err_omega = 0
     ! the step budget: at most DRIVEN_MAX_GRID_STEPS grid steps for any state
     if (status%code == PENDULA_OK .and. p%n > 0) then
-      if (.not. (t(size(t)) - t(1)) * maxval(freq) / (2 * pi) * nsteps <= DRIVEN_MAX_GRID_STEPS) &
-          call set_error(status, PENDULA_ERR_DOMAIN, 't spans ' // format_general(t(size(t)) - t(1), 6) // &
-          ' s: more than ' // format_general(DRIVEN_MAX_GRID_STEPS, 3) // ' RK4 steps at ' // format_int(nsteps) // &
-          ' steps per drive period; split the window')
+      if (.not. (t(size(t)) - t(1))*maxval(freq)/(2*pi)*nsteps <= DRIVEN_MAX_GRID_STEPS) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 't spans '//format_general(t(size(t)) - t(1), 6)// &
+                       ' s: more than '//format_general(DRIVEN_MAX_GRID_STEPS, 3)//' RK4 steps at '//format_int(nsteps)// &
+                       ' steps per drive period; split the window')
     end if
     if (status%code /= PENDULA_OK) then
       codes = status%code
@@ -154,23 +154,23 @@ contains
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg)
-    nblocks = (nlive + nl - 1) / nl
+    nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call run_block(p, t, live((b - 1) * nl + 1:min(b * nl, nlive)), p%nsteps, theta, omega, codes, control)
+      call run_block(p, t, live((b - 1)*nl + 1:min(b*nl, nlive)), p%nsteps, theta, omega, codes, control)
       if (richardson) then
-        where (codes(live((b - 1) * nl + 1:min(b * nl, nlive))) == PENDULA_OK) &
-            codes(live((b - 1) * nl + 1:min(b * nl, nlive))) = PENDULA_ERR_CANCELLED
-        call run_block(p, t, live((b - 1) * nl + 1:min(b * nl, nlive)), 2 * p%nsteps, th2, om2, &
-            codes, control)
+        where (codes(live((b - 1)*nl + 1:min(b*nl, nlive))) == PENDULA_OK) &
+          codes(live((b - 1)*nl + 1:min(b*nl, nlive))) = PENDULA_ERR_CANCELLED
+        call run_block(p, t, live((b - 1)*nl + 1:min(b*nl, nlive)), 2*p%nsteps, th2, om2, &
+                       codes, control)
       end if
     end do
     !$omp end parallel do
     if (richardson) then
       do i = 1, p%n
         if (codes(i) /= PENDULA_OK) cycle
-        if (present(err_theta)) err_theta(:, i) = abs(theta(:, i) - th2(:, i)) * (16.0_wp / 15)
-        if (present(err_omega)) err_omega(:, i) = abs(omega(:, i) - om2(:, i)) * (16.0_wp / 15)
+        if (present(err_theta)) err_theta(:, i) = abs(theta(:, i) - th2(:, i))*(16.0_wp/15)
+        if (present(err_omega)) err_omega(:, i) = abs(omega(:, i) - om2(:, i))*(16.0_wp/15)
       end do
     end if
     do i = 1, p%n
@@ -257,7 +257,7 @@ contains
         mk(k) = huge(mk(k))
         return
       end if
-      r = (t(nxt(k)) - t(1)) / b%h(k)
+      r = (t(nxt(k)) - t(1))/b%h(k)
       mk(k) = int(r, i8)
       fr(k) = r - real(mk(k), wp)
     end subroutine next_output

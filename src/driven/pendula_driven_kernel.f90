@@ -26,7 +26,7 @@ module pendula_driven_kernel
   implicit none
   private
   public :: DRIVEN_LANES, lanes_t, lanes_setup, lanes_steps, lanes_steps_tangent, lane_sincos, &
-      lanes_partial, lanes_finite
+            lanes_partial, lanes_finite
 
   !> States per block: SIMD lanes of the kernel.
   integer, parameter :: DRIVEN_LANES = 8
@@ -35,7 +35,7 @@ module pendula_driven_kernel
   ! Cody-Waite split of pi (fdlibm's pio2_1, pio2_2, pio2_3 doubled): k pi1
   ! and k pi2 are exact for |k| < 2**20.
   real(wp), parameter :: pi1 = 3.14159265346825122833_wp, pi2 = 1.21542010130079319532e-10_wp, &
-      pi3 = 4.04453249742233291160e-21_wp
+                         pi3 = 4.04453249742233291160e-21_wp
   real(wp), parameter :: inv_pi = 0.318309886183790671538_wp
   ! Adding and subtracting 1.5 * 2**52 rounds to the nearest integer (vectorises; anint may not).
   real(wp), parameter :: round_magic = 6755399441055744.0_wp
@@ -68,29 +68,29 @@ contains
     integer :: m, l
     real(wp) :: c
     if (allocated(b%p)) then
-      if (size(b%p, 2) /= 2 * nsteps + 1) deallocate (b%p, b%q)
+      if (size(b%p, 2) /= 2*nsteps + 1) deallocate (b%p, b%q)
     end if
-    if (.not. allocated(b%p)) allocate (b%p(nl, 0:2 * nsteps), b%q(nl, 0:2 * nsteps))
+    if (.not. allocated(b%p)) allocate (b%p(nl, 0:2*nsteps), b%q(nl, 0:2*nsteps))
     b%nsteps = nsteps
     b%kind = kind
     do l = 1, nl
-      b%h(l) = (2 * pi / freq(l)) / nsteps
-      b%hh(l) = 0.5_wp * b%h(l)
-      b%h6(l) = b%h(l) / 6
+      b%h(l) = (2*pi/freq(l))/nsteps
+      b%hh(l) = 0.5_wp*b%h(l)
+      b%h6(l) = b%h(l)/6
       b%gam(l) = gamma(l)
       b%phase(l) = phase0(l)
       b%amp(l) = amp(l)
       b%freq(l) = freq(l)
-      b%wsq(l) = w0(l) * w0(l)
-      do m = 0, 2 * nsteps
+      b%wsq(l) = w0(l)*w0(l)
+      do m = 0, 2*nsteps
         ! the half-step phase from integers: exact whatever the period count
-        c = cos(phase0(l) + (2 * pi) * (real(m, wp) / (2 * nsteps)))
+        c = cos(phase0(l) + (2*pi)*(real(m, wp)/(2*nsteps)))
         if (kind == DRIVE_PIVOT) then
-          b%p(l, m) = b%wsq(l) + amp(l) * freq(l)**2 * c
+          b%p(l, m) = b%wsq(l) + amp(l)*freq(l)**2*c
           b%q(l, m) = 0
         else
           b%p(l, m) = b%wsq(l)
-          b%q(l, m) = amp(l) * c
+          b%q(l, m) = amp(l)*c
         end if
       end do
     end do
@@ -146,23 +146,23 @@ contains
     real(wp), dimension(nl) :: y2, u2, y3, u3, y4, u4, s, k1, k2, k3, k4
     integer :: j, m
     do j = j0, j1 - 1
-      m = 2 * j
+      m = 2*j
       call lanes_s(y, s)
-      k1 = (b%q(:, m) - b%gam * u) - b%p(:, m) * s
-      y2 = y + b%hh * u
-      u2 = u + b%hh * k1
+      k1 = (b%q(:, m) - b%gam*u) - b%p(:, m)*s
+      y2 = y + b%hh*u
+      u2 = u + b%hh*k1
       call lanes_s(y2, s)
-      k2 = (b%q(:, m + 1) - b%gam * u2) - b%p(:, m + 1) * s
-      y3 = y + b%hh * u2
-      u3 = u + b%hh * k2
+      k2 = (b%q(:, m + 1) - b%gam*u2) - b%p(:, m + 1)*s
+      y3 = y + b%hh*u2
+      u3 = u + b%hh*k2
       call lanes_s(y3, s)
-      k3 = (b%q(:, m + 1) - b%gam * u3) - b%p(:, m + 1) * s
-      y4 = y + b%h * u3
-      u4 = u + b%h * k3
+      k3 = (b%q(:, m + 1) - b%gam*u3) - b%p(:, m + 1)*s
+      y4 = y + b%h*u3
+      u4 = u + b%h*k3
       call lanes_s(y4, s)
-      k4 = (b%q(:, m + 2) - b%gam * u4) - b%p(:, m + 2) * s
-      y = y + b%h6 * ((u + 2 * (u2 + u3)) + u4)
-      u = u + b%h6 * ((k1 + 2 * (k2 + k3)) + k4)
+      k4 = (b%q(:, m + 2) - b%gam*u4) - b%p(:, m + 2)*s
+      y = y + b%h6*((u + 2*(u2 + u3)) + u4)
+      u = u + b%h6*((k1 + 2*(k2 + k3)) + k4)
     end do
   end subroutine lanes_steps
 
@@ -179,42 +179,42 @@ contains
     real(wp), dimension(nl) :: p, q, e2, f2, e3, f3, e4, f4, l1, l2, l3, l4
     integer :: j, m, i
     do j = j0, j1 - 1
-      m = 2 * j
+      m = 2*j
       call lanes_sc(y, s, c)
-      a1 = b%p(:, m) * c
-      k1 = (b%q(:, m) - b%gam * u) - b%p(:, m) * s
-      y2 = y + b%hh * u
-      u2 = u + b%hh * k1
+      a1 = b%p(:, m)*c
+      k1 = (b%q(:, m) - b%gam*u) - b%p(:, m)*s
+      y2 = y + b%hh*u
+      u2 = u + b%hh*k1
       call lanes_sc(y2, s, c)
-      a2 = b%p(:, m + 1) * c
-      k2 = (b%q(:, m + 1) - b%gam * u2) - b%p(:, m + 1) * s
-      y3 = y + b%hh * u2
-      u3 = u + b%hh * k2
+      a2 = b%p(:, m + 1)*c
+      k2 = (b%q(:, m + 1) - b%gam*u2) - b%p(:, m + 1)*s
+      y3 = y + b%hh*u2
+      u3 = u + b%hh*k2
       call lanes_sc(y3, s, c)
-      a3 = b%p(:, m + 1) * c
-      k3 = (b%q(:, m + 1) - b%gam * u3) - b%p(:, m + 1) * s
-      y4 = y + b%h * u3
-      u4 = u + b%h * k3
+      a3 = b%p(:, m + 1)*c
+      k3 = (b%q(:, m + 1) - b%gam*u3) - b%p(:, m + 1)*s
+      y4 = y + b%h*u3
+      u4 = u + b%h*k3
       call lanes_sc(y4, s, c)
-      a4 = b%p(:, m + 2) * c
-      k4 = (b%q(:, m + 2) - b%gam * u4) - b%p(:, m + 2) * s
-      y = y + b%h6 * ((u + 2 * (u2 + u3)) + u4)
-      u = u + b%h6 * ((k1 + 2 * (k2 + k3)) + k4)
+      a4 = b%p(:, m + 2)*c
+      k4 = (b%q(:, m + 2) - b%gam*u4) - b%p(:, m + 2)*s
+      y = y + b%h6*((u + 2*(u2 + u3)) + u4)
+      u = u + b%h6*((k1 + 2*(k2 + k3)) + k4)
       do i = 1, 3, 2
         p = v(:, i)
         q = v(:, i + 1)
-        l1 = -b%gam * q - a1 * p
-        e2 = p + b%hh * q
-        f2 = q + b%hh * l1
-        l2 = -b%gam * f2 - a2 * e2
-        e3 = p + b%hh * f2
-        f3 = q + b%hh * l2
-        l3 = -b%gam * f3 - a3 * e3
-        e4 = p + b%h * f3
-        f4 = q + b%h * l3
-        l4 = -b%gam * f4 - a4 * e4
-        v(:, i) = p + b%h6 * ((q + 2 * (f2 + f3)) + f4)
-        v(:, i + 1) = q + b%h6 * ((l1 + 2 * (l2 + l3)) + l4)
+        l1 = -b%gam*q - a1*p
+        e2 = p + b%hh*q
+        f2 = q + b%hh*l1
+        l2 = -b%gam*f2 - a2*e2
+        e3 = p + b%hh*f2
+        f3 = q + b%hh*l2
+        l3 = -b%gam*f3 - a3*e3
+        e4 = p + b%h*f3
+        f4 = q + b%h*l3
+        l4 = -b%gam*f4 - a4*e4
+        v(:, i) = p + b%h6*((q + 2*(f2 + f3)) + f4)
+        v(:, i + 1) = q + b%h6*((l1 + 2*(l2 + l3)) + l4)
       end do
     end do
   end subroutine lanes_steps_tangent
@@ -238,30 +238,30 @@ contains
       uo = u
       return
     end if
-    h = frac * b%h(l)
-    psi0 = b%phase(l) + (2 * pi) * (real(j, wp) / b%nsteps)
+    h = frac*b%h(l)
+    psi0 = b%phase(l) + (2*pi)*(real(j, wp)/b%nsteps)
     do i = 0, 2
-      c = cos(psi0 + (0.5_wp * i) * (h * b%freq(l)))
+      c = cos(psi0 + (0.5_wp*i)*(h*b%freq(l)))
       if (b%kind == DRIVE_PIVOT) then
-        pp(i) = b%wsq(l) + b%amp(l) * b%freq(l)**2 * c
+        pp(i) = b%wsq(l) + b%amp(l)*b%freq(l)**2*c
         qq(i) = 0
       else
         pp(i) = b%wsq(l)
-        qq(i) = b%amp(l) * c
+        qq(i) = b%amp(l)*c
       end if
     end do
-    k1 = (qq(0) - b%gam(l) * u) - pp(0) * sin(y)
-    y2 = y + 0.5_wp * h * u
-    u2 = u + 0.5_wp * h * k1
-    k2 = (qq(1) - b%gam(l) * u2) - pp(1) * sin(y2)
-    y3 = y + 0.5_wp * h * u2
-    u3 = u + 0.5_wp * h * k2
-    k3 = (qq(1) - b%gam(l) * u3) - pp(1) * sin(y3)
-    y4 = y + h * u3
-    u4 = u + h * k3
-    k4 = (qq(2) - b%gam(l) * u4) - pp(2) * sin(y4)
-    yo = y + h / 6 * ((u + 2 * (u2 + u3)) + u4)
-    uo = u + h / 6 * ((k1 + 2 * (k2 + k3)) + k4)
+    k1 = (qq(0) - b%gam(l)*u) - pp(0)*sin(y)
+    y2 = y + 0.5_wp*h*u
+    u2 = u + 0.5_wp*h*k1
+    k2 = (qq(1) - b%gam(l)*u2) - pp(1)*sin(y2)
+    y3 = y + 0.5_wp*h*u2
+    u3 = u + 0.5_wp*h*k2
+    k3 = (qq(1) - b%gam(l)*u3) - pp(1)*sin(y3)
+    y4 = y + h*u3
+    u4 = u + h*k3
+    k4 = (qq(2) - b%gam(l)*u4) - pp(2)*sin(y4)
+    yo = y + h/6*((u + 2*(u2 + u3)) + u4)
+    uo = u + h/6*((k1 + 2*(k2 + k3)) + k4)
   end subroutine lanes_partial
 
   !> 1 where the lane's state is finite and |theta| < 2**50 rad (the

@@ -11,7 +11,7 @@
 module pendula_driven_linear
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, set_error, check_finite, check_all_finite, check_same_size, PENDULA_OK, &
-      PENDULA_ERR_DOMAIN
+                            PENDULA_ERR_DOMAIN
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
   use pendula_drive, only: drive_t, DRIVE_TORQUE, check_drive
   implicit none
@@ -31,9 +31,9 @@ contains
     real(wp), intent(out) :: gain  !< steady amplitude per unit torque amplitude [s**2]
     real(wp), intent(out) :: lag  !< phase lag of the response behind the drive [rad]
     real(wp) :: re, im
-    re = (w0 - freq) * (w0 + freq)
-    im = gamma * freq
-    gain = 1 / hypot(re, im)
+    re = (w0 - freq)*(w0 + freq)
+    im = gamma*freq
+    gain = 1/hypot(re, im)
     lag = atan2(im, re)
   end subroutine driven_linear_response
 
@@ -58,7 +58,7 @@ contains
     omega = 0
     call check_drive(drive, status)
     if (status%code == PENDULA_OK .and. drive%kind /= DRIVE_TORQUE) call set_error(status, PENDULA_ERR_DOMAIN, &
-        'drive kind is pivot: the linear closed form exists for a torque drive only')
+                                                                         'drive kind is pivot: the linear closed form exists for a torque drive only')
     call check_all_finite('t', t, status)
     if (status%code == PENDULA_OK .and. size(t) > 0) then
       if (minval(t) < 0) call set_error(status, PENDULA_ERR_DOMAIN, 't has a negative time: every time must be >= 0')
@@ -72,19 +72,19 @@ contains
     if (status%code /= PENDULA_OK) return
     call driven_linear_response(w0, gamma, drive%frequency, gain, lag)
     if (.not. gain <= huge(gain)) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'frequency equals w0 with gamma = 0: the undamped resonance ' // &
-          'has no bounded steady state')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'frequency equals w0 with gamma = 0: the undamped resonance '// &
+                     'has no bounded steady state')
       return
     end if
-    a = drive%amplitude * gain
-    ys = a * cos(drive%phase - lag)
-    us = -a * drive%frequency * sin(drive%phase - lag)
+    a = drive%amplitude*gain
+    ys = a*cos(drive%phase - lag)
+    us = -a*drive%frequency*sin(drive%phase - lag)
     call linear_damped_init(free, theta0 - ys, omega0 - us, w0, gamma, status)
     if (status%code /= PENDULA_OK) return
     do i = 1, size(t)
       call linear_damped_state(free, t(i), theta(i), omega(i))
-      theta(i) = theta(i) + a * cos(drive%frequency * t(i) + drive%phase - lag)
-      omega(i) = omega(i) - a * drive%frequency * sin(drive%frequency * t(i) + drive%phase - lag)
+      theta(i) = theta(i) + a*cos(drive%frequency*t(i) + drive%phase - lag)
+      omega(i) = omega(i) - a*drive%frequency*sin(drive%frequency*t(i) + drive%phase - lag)
     end do
   end subroutine driven_linear_solve
 

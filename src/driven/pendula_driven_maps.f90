@@ -18,16 +18,16 @@ module pendula_driven_maps
   use pendula_constants, only: pi
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, params_lanes, &
-      params_summary, first_message, wrap_angle, pick
+                                    params_summary, first_message, wrap_angle, pick
   implicit none
   private
   public :: driven_poincare, driven_bifurcation, driven_lyapunov, LYAPUNOV_BLOCKS, &
-      PARAM_AMPLITUDE, PARAM_FREQUENCY, PARAM_PHASE, PARAM_GAMMA, PARAM_W0
+            PARAM_AMPLITUDE, PARAM_FREQUENCY, PARAM_PHASE, PARAM_GAMMA, PARAM_W0
 
   integer, parameter :: nl = DRIVEN_LANES
   !> Blocks of the measured periods whose means give the Lyapunov error estimate.
@@ -47,7 +47,7 @@ contains
   !> turns per drive period).  codes, status, threads, control (progress =
   !> finished states) and first_failed as driven_batch_solve.
   subroutine driven_poincare(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, section_phase, &
-      transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
+                             transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n or 1
@@ -84,19 +84,19 @@ contains
     call check_counts(transient, nrec, 1, 'nrec', status)
     call check_same_size('codes', size(codes), 'theta0', size(theta0), status)
     call check_same_size('mean_omega', size(mean_omega), 'theta0', size(theta0), status)
-    call check_same_size('theta_s', size(theta_s), 'nrec * size(theta0)', nrec * size(theta0), status)
-    call check_same_size('omega_s', size(omega_s), 'nrec * size(theta0)', nrec * size(theta0), status)
+    call check_same_size('theta_s', size(theta_s), 'nrec * size(theta0)', nrec*size(theta0), status)
+    call check_same_size('omega_s', size(omega_s), 'nrec * size(theta0)', nrec*size(theta0), status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
       return
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg)
-    nblocks = (nlive + nl - 1) / nl
+    nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call section_block(p, live((b - 1) * nl + 1:min(b * nl, nlive)), section_phase, transient, nrec, &
-          theta_s, omega_s, mean_omega, codes, control)
+      call section_block(p, live((b - 1)*nl + 1:min(b*nl, nlive)), section_phase, transient, nrec, &
+                         theta_s, omega_s, mean_omega, codes, control)
     end do
     !$omp end parallel do
     do i = 1, p%n
@@ -117,11 +117,11 @@ contains
     type(status_t), intent(inout) :: status
     if (status%code /= PENDULA_OK) return
     if (transient < 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'transient = ' // format_int(transient) // &
-          ' is out of range: it must be >= 0 (drive periods)')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'transient = '//format_int(transient)// &
+                     ' is out of range: it must be >= 0 (drive periods)')
     else if (count < least) then
-      call set_error(status, PENDULA_ERR_DOMAIN, name // ' = ' // format_int(count) // &
-          ' is out of range: it must be >= ' // format_int(least))
+      call set_error(status, PENDULA_ERR_DOMAIN, name//' = '//format_int(count)// &
+                     ' is out of range: it must be >= '//format_int(least))
     end if
   end subroutine check_counts
 
@@ -146,7 +146,7 @@ contains
     end if
     call params_lanes(p, idx, 0.0_wp, b, y, u)
     do l = 1, nl
-      j0(l) = modulo(nint(p%nsteps * (modulo(section_phase - b%phase(l), 2 * pi) / (2 * pi))), p%nsteps)
+      j0(l) = modulo(nint(p%nsteps*(modulo(section_phase - b%phase(l), 2*pi)/(2*pi))), p%nsteps)
     end do
     rec = 0
     yfirst = 0
@@ -162,7 +162,7 @@ contains
                 omega_s(rec(l) + 1, idx(l)) = u(l)
               end if
               if (rec(l) == 0) yfirst(l) = y(l)
-              if (rec(l) == nrec) mean_omega(idx(l)) = (y(l) - yfirst(l)) / (nrec * b%h(l) * p%nsteps)
+              if (rec(l) == nrec) mean_omega(idx(l)) = (y(l) - yfirst(l))/(nrec*b%h(l)*p%nsteps)
               rec(l) = rec(l) + 1
             end if
           end do
@@ -202,7 +202,7 @@ contains
   !> from the same (theta0, omega0).  Outputs as driven_poincare with
   !> n = size(values).
   subroutine driven_bifurcation(which, values, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-      section_phase, transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
+                                section_phase, transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
     integer, intent(in) :: which  !< the parameter varied (PARAM_* code)
     real(wp), intent(in) :: values(:)  !< its values, size >= 1
     real(wp), intent(in) :: theta0  !< initial angle [rad] at t = 0
@@ -230,8 +230,8 @@ contains
     integer :: n
     n = size(values)
     if (which < PARAM_AMPLITUDE .or. which > PARAM_W0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'parameter = ' // format_int(which) // &
-          ' is out of range: it must be in [1, 5] (amplitude, frequency, phase, gamma, w0)')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'parameter = '//format_int(which)// &
+                     ' is out of range: it must be in [1, 5] (amplitude, frequency, phase, gamma, w0)')
       codes = status%code
       theta_s = 0
       omega_s = 0
@@ -242,8 +242,8 @@ contains
     allocate (th0(n))
     th0 = theta0
     call driven_poincare(th0, [omega0], sel(PARAM_W0, w0), sel(PARAM_GAMMA, gamma), kind, &
-        sel(PARAM_AMPLITUDE, amp), sel(PARAM_FREQUENCY, freq), sel(PARAM_PHASE, phase), nsteps, section_phase, &
-        transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
+                         sel(PARAM_AMPLITUDE, amp), sel(PARAM_FREQUENCY, freq), sel(PARAM_PHASE, phase), nsteps, section_phase, &
+                         transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
   contains
     pure function sel(code, base) result(a)
       integer, intent(in) :: code
@@ -270,7 +270,7 @@ contains
   !> with half the gap between the means of the two halves (a running
   !> average still drifting); periods >= LYAPUNOV_BLOCKS.
   subroutine driven_lyapunov(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, transient, periods, &
-      lyap, lyap_err, codes, status, threads, control, first_failed)
+                             lyap, lyap_err, codes, status, threads, control, first_failed)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n or 1
@@ -302,19 +302,19 @@ contains
     call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
     call check_counts(transient, periods, LYAPUNOV_BLOCKS, 'periods', status)
     call check_same_size('codes', size(codes), 'theta0', size(theta0), status)
-    call check_same_size('lyap', size(lyap), '2 * size(theta0)', 2 * size(theta0), status)
-    call check_same_size('lyap_err', size(lyap_err), '2 * size(theta0)', 2 * size(theta0), status)
+    call check_same_size('lyap', size(lyap), '2 * size(theta0)', 2*size(theta0), status)
+    call check_same_size('lyap_err', size(lyap_err), '2 * size(theta0)', 2*size(theta0), status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
       return
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg)
-    nblocks = (nlive + nl - 1) / nl
+    nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call lyapunov_block(p, live((b - 1) * nl + 1:min(b * nl, nlive)), transient, periods, lyap, lyap_err, &
-          codes, control)
+      call lyapunov_block(p, live((b - 1)*nl + 1:min(b*nl, nlive)), transient, periods, lyap, lyap_err, &
+                          codes, control)
     end do
     !$omp end parallel do
     do i = 1, p%n
@@ -358,38 +358,38 @@ contains
     cnt = 0
     do k = 0, periods - 1
       call lanes_steps_tangent(b, 0, p%nsteps, y, u, v)
-      kb = min(k * nbk / periods + 1, nbk)
+      kb = min(k*nbk/periods + 1, nbk)
       cnt(kb) = cnt(kb) + 1
       do l = 1, nl
         ! Gram-Schmidt (QR): v1 <- v1/r11; v2 <- (v2 - r12 v1)/r22
         r11 = hypot(v(l, 1), v(l, 2))
         if (.not. r11 > 0) r11 = 1   ! a degenerate lane (dead or padding): flagged below
-        v(l, 1) = v(l, 1) / r11
-        v(l, 2) = v(l, 2) / r11
-        r12 = v(l, 1) * v(l, 3) + v(l, 2) * v(l, 4)
-        v(l, 3) = v(l, 3) - r12 * v(l, 1)
-        v(l, 4) = v(l, 4) - r12 * v(l, 2)
+        v(l, 1) = v(l, 1)/r11
+        v(l, 2) = v(l, 2)/r11
+        r12 = v(l, 1)*v(l, 3) + v(l, 2)*v(l, 4)
+        v(l, 3) = v(l, 3) - r12*v(l, 1)
+        v(l, 4) = v(l, 4) - r12*v(l, 2)
         r22 = hypot(v(l, 3), v(l, 4))
         if (.not. r22 > 0) r22 = 1
-        v(l, 3) = v(l, 3) / r22
-        v(l, 4) = v(l, 4) / r22
+        v(l, 3) = v(l, 3)/r22
+        v(l, 4) = v(l, 4)/r22
         bsum(1, kb, l) = bsum(1, kb, l) + log(r11)
         bsum(2, kb, l) = bsum(2, kb, l) + log(r22)
       end do
       if (.not. poll()) return
     end do
-    half = nbk / 2
+    half = nbk/2
     do l = 1, nb
       if (dead(l)) cycle
-      tper = b%h(l) * p%nsteps
+      tper = b%h(l)*p%nsteps
       do e = 1, 2
-        mb = bsum(e, :, l) / (cnt * tper)
-        lyap(e, idx(l)) = sum(bsum(e, :, l)) / (periods * tper)
-        se = sqrt(sum((mb - sum(mb) / nbk)**2) / (nbk - 1) / nbk)
-        m1 = sum(bsum(e, 1:half, l)) / (sum(cnt(1:half)) * tper)
-        m2 = sum(bsum(e, half + 1:nbk, l)) / (sum(cnt(half + 1:nbk)) * tper)
-        drift = 0.5_wp * abs(m2 - m1)
-        lyap_err(e, idx(l)) = sqrt(se * se + drift * drift)
+        mb = bsum(e, :, l)/(cnt*tper)
+        lyap(e, idx(l)) = sum(bsum(e, :, l))/(periods*tper)
+        se = sqrt(sum((mb - sum(mb)/nbk)**2)/(nbk - 1)/nbk)
+        m1 = sum(bsum(e, 1:half, l))/(sum(cnt(1:half))*tper)
+        m2 = sum(bsum(e, half + 1:nbk, l))/(sum(cnt(half + 1:nbk))*tper)
+        drift = 0.5_wp*abs(m2 - m1)
+        lyap_err(e, idx(l)) = sqrt(se*se + drift*drift)
       end do
       if (codes(idx(l)) == PENDULA_ERR_CANCELLED) codes(idx(l)) = PENDULA_OK
     end do

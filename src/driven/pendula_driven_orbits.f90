@@ -19,16 +19,16 @@ module pendula_driven_orbits
   use pendula_constants, only: pi
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_positive, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_MEMORY
+                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_MEMORY
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, params_lanes, &
-      params_summary, first_message, wrap_angle
+                                    params_summary, first_message, wrap_angle
   implicit none
   private
   public :: driven_orbits, driven_basins, basin_table, BASIN_UNSETTLED, BASIN_UNLISTED, &
-      ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD
+            ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD
 
   integer, parameter :: nl = DRIVEN_LANES
   !> Basin label of a state that settled on no periodic attractor of period <= nmax (chaotic or slow).
@@ -50,16 +50,16 @@ contains
     real(wp), intent(out) :: mult(4)  !< eigenvalues (real and imaginary parts), largest modulus first
     real(wp) :: tr, det, disc, mu1, mu2
     tr = m(1, 1) + m(2, 2)
-    det = m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1)
-    disc = tr * tr - 4 * det
+    det = m(1, 1)*m(2, 2) - m(1, 2)*m(2, 1)
+    disc = tr*tr - 4*det
     if (disc >= 0) then
-      mu1 = 0.5_wp * (tr + sign(sqrt(disc), tr))
+      mu1 = 0.5_wp*(tr + sign(sqrt(disc), tr))
       mu2 = 0
-      if (mu1 /= 0) mu2 = det / mu1
+      if (mu1 /= 0) mu2 = det/mu1
       mult = [mu1, 0.0_wp, mu2, 0.0_wp]
       if (abs(mu2) > abs(mu1)) mult = [mu2, 0.0_wp, mu1, 0.0_wp]
     else
-      mult = [0.5_wp * tr, 0.5_wp * sqrt(-disc), 0.5_wp * tr, -0.5_wp * sqrt(-disc)]
+      mult = [0.5_wp*tr, 0.5_wp*sqrt(-disc), 0.5_wp*tr, -0.5_wp*sqrt(-disc)]
     end if
   end subroutine floquet_multipliers
 
@@ -70,11 +70,11 @@ contains
     type(status_t), intent(inout) :: status
     if (status%code /= PENDULA_OK) return
     if (transient < 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'transient = ' // format_int(transient) // &
-          ' is out of range: it must be >= 0 (drive periods)')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'transient = '//format_int(transient)// &
+                     ' is out of range: it must be >= 0 (drive periods)')
     else if (nmax < 1 .or. nmax > ORBIT_MAX_PERIOD) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'nmax = ' // format_int(nmax) // &
-          ' is out of range: it must be in [1, ' // format_int(ORBIT_MAX_PERIOD) // ']')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'nmax = '//format_int(nmax)// &
+                     ' is out of range: it must be in [1, '//format_int(ORBIT_MAX_PERIOD)//']')
     end if
     call check_positive('tol', tol, status)
   end subroutine check_search
@@ -94,11 +94,11 @@ contains
     integer, intent(inout) :: codes(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     logical, intent(out) :: cancelled
-    real(wp) :: ry(2 * nmax, nl), ru(2 * nmax, nl), d
+    real(wp) :: ry(2*nmax, nl), ru(2*nmax, nl), d
     integer :: k, l, n, i, kk
     logical :: ok(nl), good
     cancelled = .false.
-    kk = 2 * nmax
+    kk = 2*nmax
     do k = 1, transient + kk
       call lanes_steps(b, 0, b%nsteps, y, u)
       ok = lanes_finite(y, u)
@@ -139,7 +139,7 @@ contains
         end do
         if (good) then
           period(l) = n
-          winding(l) = nint((ry(kk, l) - ry(kk - n, l)) / (2 * pi))
+          winding(l) = nint((ry(kk, l) - ry(kk - n, l))/(2*pi))
           do i = 1, n
             cyc(1, i, l) = wrap_angle(ry(kk - n + i, l))
             cyc(2, i, l) = ru(kk - n + i, l)
@@ -163,7 +163,7 @@ contains
   !> period_in has n elements or one.  codes, status, threads, control
   !> (progress = finished states) and first_failed as driven_poincare.
   subroutine driven_orbits(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, period_in, transient, &
-      nmax, tol, period, winding, theta_p, omega_p, mult, residual, codes, status, threads, control, first_failed)
+                           nmax, tol, period, winding, theta_p, omega_p, mult, residual, codes, status, threads, control, first_failed)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n or 1
@@ -206,29 +206,29 @@ contains
     call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
     call check_search(transient, nmax, tol, status)
     if (status%code == PENDULA_OK .and. size(period_in) /= 1 .and. size(period_in) /= n) call set_error(status, &
-        PENDULA_ERR_SIZE, 'period_in has ' // format_int(size(period_in)) // &
-        ' element(s): it must have one or as many as theta0 (' // format_int(n) // ')')
+                                                                                   PENDULA_ERR_SIZE, 'period_in has '//format_int(size(period_in))// &
+                                                                           ' element(s): it must have one or as many as theta0 ('//format_int(n)//')')
     if (status%code == PENDULA_OK .and. (minval(period_in) < 0 .or. maxval(period_in) > ORBIT_MAX_PERIOD)) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'period = ' // format_int(maxval(abs(period_in))) // &
-        ' is out of range: it must be in [0, ' // format_int(ORBIT_MAX_PERIOD) // '] (0: detect)')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'period = '//format_int(maxval(abs(period_in)))// &
+                     ' is out of range: it must be in [0, '//format_int(ORBIT_MAX_PERIOD)//'] (0: detect)')
     call check_same_size('codes', size(codes), 'theta0', n, status)
     call check_same_size('period', size(period), 'theta0', n, status)
     call check_same_size('winding', size(winding), 'theta0', n, status)
     call check_same_size('theta_p', size(theta_p), 'theta0', n, status)
     call check_same_size('omega_p', size(omega_p), 'theta0', n, status)
     call check_same_size('residual', size(residual), 'theta0', n, status)
-    call check_same_size('mult', size(mult), '4 * size(theta0)', 4 * n, status)
+    call check_same_size('mult', size(mult), '4 * size(theta0)', 4*n, status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
       return
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg)
-    nblocks = (nlive + nl - 1) / nl
+    nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call orbit_block(p, live((b - 1) * nl + 1:min(b * nl, nlive)), period_in, transient, nmax, tol, period, &
-          winding, theta_p, omega_p, mult, residual, codes, control)
+      call orbit_block(p, live((b - 1)*nl + 1:min(b*nl, nlive)), period_in, transient, nmax, tol, period, &
+                       winding, theta_p, omega_p, mult, residual, codes, control)
     end do
     !$omp end parallel do
     do i = 1, n
@@ -246,7 +246,7 @@ contains
   end subroutine driven_orbits
 
   subroutine orbit_block(p, idx, period_in, transient, nmax, tol, period, winding, theta_p, omega_p, mult, &
-      residual, codes, control)
+                         residual, codes, control)
     type(driven_params_t), intent(in) :: p
     integer, intent(in) :: idx(:), period_in(:), transient, nmax
     real(wp), intent(in) :: tol
@@ -310,9 +310,9 @@ contains
       end do
       do l = 1, nb
         if (conv(l)) cycle
-        m = nint((fy(l) - y(l)) / (2 * pi))
+        m = nint((fy(l) - y(l))/(2*pi))
         if (given(l) .and. it == 1) wnd(l) = m
-        r1 = fy(l) - y(l) - 2 * pi * wnd(l)
+        r1 = fy(l) - y(l) - 2*pi*wnd(l)
         r2 = fu(l) - u(l)
         res(l) = max(abs(r1), abs(r2))
         if (.not. res(l) < huge(1.0_wp)) then
@@ -330,14 +330,14 @@ contains
         bb = mm(1, 2, l)
         c = mm(2, 1, l)
         d = mm(2, 2, l) - 1
-        det = a * d - bb * c
+        det = a*d - bb*c
         if (det == 0) then
           conv(l) = .true.
           per(l) = 0
           cycle
         end if
-        d1 = -(d * r1 - bb * r2) / det
-        d2 = -(a * r2 - c * r1) / det
+        d1 = -(d*r1 - bb*r2)/det
+        d2 = -(a*r2 - c*r1)/det
         y(l) = y(l) + d1
         u(l) = u(l) + d2
       end do
@@ -374,8 +374,8 @@ contains
   !> winding(i): state i's.  codes, status, threads, control and
   !> first_failed as driven_poincare.
   subroutine driven_basins(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, transient, nmax, tol, &
-      labels, period, winding, natt, att_period, att_winding, att_theta, att_omega, att_mean_omega, codes, &
-      status, threads, control, first_failed, cycles)
+                           labels, period, winding, natt, att_period, att_winding, att_theta, att_omega, att_mean_omega, codes, &
+                           status, threads, control, first_failed, cycles)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n or 1
@@ -432,7 +432,7 @@ contains
     call check_same_size('period', size(period), 'theta0', n, status)
     call check_same_size('winding', size(winding), 'theta0', n, status)
     if (status%code == PENDULA_OK .and. cap < 1) call set_error(status, PENDULA_ERR_SIZE, &
-        'att_period has 0 elements: the attractor table needs at least 1')
+                                                                'att_period has 0 elements: the attractor table needs at least 1')
     call check_same_size('att_winding', size(att_winding), 'att_period', cap, status)
     call check_same_size('att_theta', size(att_theta), 'att_period', cap, status)
     call check_same_size('att_omega', size(att_omega), 'att_period', cap, status)
@@ -445,11 +445,11 @@ contains
     call params_prepare(p, codes, live, nlive, first_bad, msg)
     allocate (cyc(2, nmax, n))
     cyc = 0
-    nblocks = (nlive + nl - 1) / nl
+    nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call basin_block(p, live((b - 1) * nl + 1:min(b * nl, nlive)), transient, nmax, tol, period, winding, cyc, &
-          codes, control)
+      call basin_block(p, live((b - 1)*nl + 1:min(b*nl, nlive)), transient, nmax, tol, period, winding, cyc, &
+                       codes, control)
     end do
     !$omp end parallel do
     do i = 1, n
@@ -465,7 +465,7 @@ contains
     end if
     if (present(cycles)) cycles = cyc
     call basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
-        att_omega, att_mean_omega, status)
+                     att_omega, att_mean_omega, status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
       return
@@ -481,7 +481,7 @@ contains
   !> the table is full); period 0 leaves BASIN_UNSETTLED.  Serial, so the labels
   !> depend neither on the threads nor on how the states were split into calls.
   pure subroutine basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
-      att_omega, att_mean_omega, status)
+                              att_omega, att_mean_omega, status)
     integer, intent(in) :: period(:)  !< period of each state's attractor (0: none), n
     integer, intent(in) :: winding(:)  !< its winding, n
     real(wp), intent(in) :: cyc(:, :, :)  !< strobe cycles (2, nmax, n) [rad, rad/s]
@@ -508,8 +508,8 @@ contains
     att_mean_omega = 0
     allocate (first(cap), stat=ios)
     if (ios /= 0) then
-      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: the attractor table of ' // format_int(cap) // &
-          ' entries could not be allocated')
+      call set_error(status, PENDULA_ERR_MEMORY, 'out of memory: the attractor table of '//format_int(cap)// &
+                     ' entries could not be allocated')
       return
     end if
     do i = 1, size(period)
@@ -520,9 +520,9 @@ contains
         dmin = huge(1.0_wp)
         do k = 1, period(i)
           dmin = min(dmin, max(abs(wrap_angle(cyc(1, k, first(a)) - cyc(1, 1, i))), &
-              abs(cyc(2, k, first(a)) - cyc(2, 1, i))))
+                               abs(cyc(2, k, first(a)) - cyc(2, 1, i))))
         end do
-        if (dmin <= 10 * tol) then
+        if (dmin <= 10*tol) then
           labels(i) = a
           exit
         end if
@@ -536,7 +536,7 @@ contains
         j = minloc(cyc(1, 1:period(i), i), 1)
         att_theta(natt) = cyc(1, j, i)
         att_omega(natt) = cyc(2, j, i)
-        att_mean_omega(natt) = 2 * pi * winding(i) * pick1(freq, i) / (2 * pi * period(i))
+        att_mean_omega(natt) = 2*pi*winding(i)*pick1(freq, i)/(2*pi*period(i))
       end if
     end do
   contains

@@ -9,14 +9,14 @@ module pendula_driven_support
   use pendula_constants, only: pi
   use pendula_format, only: format_int, format_general
   use pendula_status, only: status_t, set_error, check_finite, PENDULA_OK, PENDULA_ERR_SIZE, &
-      PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED, PENDULA_ERR_UNSTABLE
+                            PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED, PENDULA_ERR_UNSTABLE
   use pendula_drive, only: drive_t, check_driven, check_drive_kind
   use pendula_batch_support, only: set_batch_error
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup
   implicit none
   private
   public :: driven_params_t, params_check, params_state, params_prepare, first_message, params_lanes, &
-      params_summary, wrap_angle, pick
+            params_summary, wrap_angle, pick
 
   !> The parameters of a batch call (pointers-free copies of the caller's arrays).
   type :: driven_params_t
@@ -36,9 +36,9 @@ contains
   !> theta wrapped to (-pi, pi] [rad].
   elemental real(wp) function wrap_angle(theta)
     real(wp), intent(in) :: theta  !< angle [rad], finite
-    wrap_angle = theta - 2 * pi * anint(theta / (2 * pi))
-    if (wrap_angle <= -pi) wrap_angle = wrap_angle + 2 * pi
-    if (wrap_angle > pi) wrap_angle = wrap_angle - 2 * pi
+    wrap_angle = theta - 2*pi*anint(theta/(2*pi))
+    if (wrap_angle <= -pi) wrap_angle = wrap_angle + 2*pi
+    if (wrap_angle > pi) wrap_angle = wrap_angle - 2*pi
   end function wrap_angle
 
   !> Check the call as a whole (sizes, kind, threads) and copy its parameters.
@@ -64,14 +64,14 @@ contains
     sz = [size(omega0), size(w0), size(gamma), size(amp), size(freq), size(phase)]
     do i = 1, 6
       if (sz(i) /= 1 .and. sz(i) /= n) then
-        call set_error(status, PENDULA_ERR_SIZE, trim(names(i)) // ' has ' // format_int(sz(i)) // &
-            ' element(s): it must have one or as many as theta0 (' // format_int(n) // ')')
+        call set_error(status, PENDULA_ERR_SIZE, trim(names(i))//' has '//format_int(sz(i))// &
+                       ' element(s): it must have one or as many as theta0 ('//format_int(n)//')')
         return
       end if
     end do
     if (threads < 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'threads = ' // format_int(threads) // &
-          ' is out of range: it must be >= 0 (0: the OpenMP default)')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'threads = '//format_int(threads)// &
+                     ' is out of range: it must be >= 0 (0: the OpenMP default)')
       return
     end if
     p%kind = kind
@@ -99,12 +99,12 @@ contains
     if (status%code /= PENDULA_OK) return
     ! the kernels' sine takes |theta| < 1e15 (pendula_driven_kernel); a start
     ! that turns by more than 1.5 rad in one step is not resolved
-    if (.not. abs(p%theta0(i)) < 1.0e15_wp) call set_error(status, PENDULA_ERR_DOMAIN, 'theta0 = ' // &
-        format_general(p%theta0(i), 15) // ' is out of range: |theta0| must be < 1e15 rad')
-    h = 2 * pi / (pick(p%freq, i) * p%nsteps)
-    if (.not. abs(pick(p%omega0, i)) * h <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'omega0 = ' // &
-        format_general(pick(p%omega0, i), 15) // ' is too fast for steps_per_period = ' // format_int(p%nsteps) // &
-        ': |omega0| h must be <= 1.5 (h = 2 pi/(Omega steps_per_period) = ' // format_general(h, 6) // ' s)')
+    if (.not. abs(p%theta0(i)) < 1.0e15_wp) call set_error(status, PENDULA_ERR_DOMAIN, 'theta0 = '// &
+                                                           format_general(p%theta0(i), 15)//' is out of range: |theta0| must be < 1e15 rad')
+    h = 2*pi/(pick(p%freq, i)*p%nsteps)
+    if (.not. abs(pick(p%omega0, i))*h <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'omega0 = '// &
+                                               format_general(pick(p%omega0, i), 15)//' is too fast for steps_per_period = '//format_int(p%nsteps)// &
+                                                     ': |omega0| h must be <= 1.5 (h = 2 pi/(Omega steps_per_period) = '//format_general(h, 6)//' s)')
   end subroutine params_state
 
   !> Check every state: codes(i) = its status code (PENDULA_ERR_CANCELLED for
@@ -182,7 +182,7 @@ contains
       amp(l) = pick(p%amp, s)
       freq(l) = pick(p%freq, s)
       ! the drive phase at t0, reduced to [0, 2 pi) (the tables add integer steps to it)
-      ph(l) = modulo(freq(l) * t0 + pick(p%phase, s), 2 * pi)
+      ph(l) = modulo(freq(l)*t0 + pick(p%phase, s), 2*pi)
     end do
     if (present(nsteps)) then
       call lanes_setup(b, p%kind, nsteps, w0, gam, amp, freq, ph)

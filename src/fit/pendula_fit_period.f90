@@ -15,7 +15,7 @@ module pendula_fit_period
   use pendula_constants, only: pi
   use pendula_format, only: format_general, format_int
   use pendula_status, only: status_t, set_error, check_size, check_same_size, check_all_finite, &
-      PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER
+                            PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER
   use pendula_elliptic, only: ellipkm1, ellipem1
   implicit none
   private
@@ -46,16 +46,16 @@ contains
     real(wp), intent(out) :: f  !< 4 K(m), m = sin(theta0/2)**2
     real(wp), intent(out) :: dfdtheta  !< d f / d theta0 [1/rad]
     real(wp) :: m, mc, k, e
-    m = sin(theta0 / 2)**2
-    mc = cos(theta0 / 2)**2
+    m = sin(theta0/2)**2
+    mc = cos(theta0/2)**2
     k = ellipkm1(mc)
     e = ellipem1(mc)
-    f = 4 * k
+    f = 4*k
     if (m < 1.0e-6_wp) then
       ! dK/dm = pi/8 (1 + 9 m / 8 + ...) (DLMF 19.5.1): the closed form cancels here.
-      dfdtheta = 4 * (pi / 8) * (1 + 9 * m / 8) * sin(theta0) / 2
+      dfdtheta = 4*(pi/8)*(1 + 9*m/8)*sin(theta0)/2
     else
-      dfdtheta = 4 * (e - mc * k) / (2 * m * mc) * sin(theta0) / 2
+      dfdtheta = 4*(e - mc*k)/(2*m*mc)*sin(theta0)/2
     end if
   end subroutine period_factor
 
@@ -91,8 +91,8 @@ contains
     if (status%code /= PENDULA_OK) return
     do i = 1, n
       if (.not. abs(theta0(i)) < pi) then
-        call bad(status, 'theta0', i, theta0(i), 'an amplitude must satisfy |theta0| < pi rad: ' // &
-            'a pendulum that goes over the top rotates and has no swing period')
+        call bad(status, 'theta0', i, theta0(i), 'an amplitude must satisfy |theta0| < pi rad: '// &
+                 'a pendulum that goes over the top rotates and has no swing period')
       else if (.not. period(i) > 0) then
         call bad(status, 'period', i, period(i), 'periods must be > 0 s')
       else if (.not. sigma_period(i) > 0) then
@@ -108,37 +108,37 @@ contains
     ! finite for any positive sigma (a subnormal sigma_period would overflow them).
     s0 = minval(sigma_period)
     ! Small-angle model: f = 2 pi for every point.
-    w = (s0 / sigma_period)**2
-    fit%w0_small_angle = sum(w * 2 * pi) / sum(w * period)
-    s2 = (sigma_period / s0)**2
-    u = sum(f * period / s2) / sum(f**2 / s2)
+    w = (s0/sigma_period)**2
+    fit%w0_small_angle = sum(w*2*pi)/sum(w*period)
+    s2 = (sigma_period/s0)**2
+    u = sum(f*period/s2)/sum(f**2/s2)
     it = 1
     if (any(sigma_theta0 > 0)) then
       do it = 1, FIT_PERIOD_MAX_ITER
-        s2 = (sigma_period / s0)**2 + (u * df * (sigma_theta0 / s0))**2
-        u_new = sum(f * period / s2) / sum(f**2 / s2)
-        if (abs(u_new - u) <= 4 * epsilon(u) * u) then
+        s2 = (sigma_period/s0)**2 + (u*df*(sigma_theta0/s0))**2
+        u_new = sum(f*period/s2)/sum(f**2/s2)
+        if (abs(u_new - u) <= 4*epsilon(u)*u) then
           u = u_new
           exit
         end if
         u = u_new
       end do
       if (it > FIT_PERIOD_MAX_ITER) then
-        call set_error(status, PENDULA_ERR_SOLVER, 'the effective-variance iteration did not converge in ' // &
-            format_int(FIT_PERIOD_MAX_ITER) // ' steps: are sigma_theta0 much larger than the amplitudes?')
+        call set_error(status, PENDULA_ERR_SOLVER, 'the effective-variance iteration did not converge in '// &
+                       format_int(FIT_PERIOD_MAX_ITER)//' steps: are sigma_theta0 much larger than the amplitudes?')
         return
       end if
-      s2 = (sigma_period / s0)**2 + (u * df * (sigma_theta0 / s0))**2
+      s2 = (sigma_period/s0)**2 + (u*df*(sigma_theta0/s0))**2
     end if
-    sw = sum(f**2 / s2)
+    sw = sum(f**2/s2)
     fit%iterations = min(it, FIT_PERIOD_MAX_ITER)
-    fit%w0 = 1 / u
+    fit%w0 = 1/u
     ! var(u) = s0**2 / sw, and w0 = 1/u: se(w0) = se(u) / u**2.
-    fit%se_w0 = s0 * sqrt(1 / sw) / u**2
-    fit%chi2 = sum(((period - f * u) / s0)**2 / s2)
+    fit%se_w0 = s0*sqrt(1/sw)/u**2
+    fit%chi2 = sum(((period - f*u)/s0)**2/s2)
     fit%dof = n - 1
     if (n > 1) then
-      fit%se_w0_scatter = fit%se_w0 * sqrt(fit%chi2 / fit%dof)
+      fit%se_w0_scatter = fit%se_w0*sqrt(fit%chi2/fit%dof)
     else
       fit%se_w0_scatter = 0
     end if
@@ -149,8 +149,8 @@ contains
     character(len=*), intent(in) :: name, why
     integer, intent(in) :: i
     real(wp), intent(in) :: x
-    call set_error(status, PENDULA_ERR_DOMAIN, name // '[' // format_int(i - 1) // '] = ' // &
-        format_general(x, 17) // ': ' // why)
+    call set_error(status, PENDULA_ERR_DOMAIN, name//'['//format_int(i - 1)//'] = '// &
+                   format_general(x, 17)//': '//why)
   end subroutine bad
 
 end module pendula_fit_period

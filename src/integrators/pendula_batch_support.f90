@@ -6,7 +6,7 @@
 module pendula_batch_support
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_CANCELLED
-  !$ use omp_lib, only: omp_get_max_threads
+!$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
   public :: batch_threads, set_batch_error
@@ -18,7 +18,7 @@ contains
   integer function batch_threads(threads) result(nthreads)
     integer, intent(in), optional :: threads  !< optional requested thread count (> 0 to use it)
     nthreads = 1
-    !$ nthreads = omp_get_max_threads()
+!$  nthreads = omp_get_max_threads()
     if (present(threads)) then
       if (threads > 0) nthreads = threads
     end if
@@ -39,11 +39,11 @@ contains
     nfail = count(codes /= PENDULA_OK)
     ncancel = count(codes == PENDULA_ERR_CANCELLED)
     if (ncancel > 0) then
-      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: ' // format_int(ncancel) // ' of ' // &
-          format_int(n) // ' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
+      call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled: '//format_int(ncancel)//' of '// &
+                     format_int(n)//' states unfinished (codes = PENDULA_ERR_CANCELLED), the others are complete')
     else
-      call set_error(status, codes(first), 'state ' // format_int(first) // ' of ' // format_int(n) // ' (' // &
-          format_int(nfail) // ' failed, see codes): ' // trim(message))
+      call set_error(status, codes(first), 'state '//format_int(first)//' of '//format_int(n)//' ('// &
+                     format_int(nfail)//' failed, see codes): '//trim(message))
     end if
   end subroutine set_batch_error
 

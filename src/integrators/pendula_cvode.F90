@@ -28,10 +28,10 @@ module pendula_cvode
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_same_size, PENDULA_OK, &
-      check_alloc, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+                            check_alloc, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
   use pendula_ode, only: ode_stats_t, check_problem, check_cvode_options, check_span, &
-      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
+                         PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
   use fsundials_nvector_mod, only: N_Vector, FN_VGetArrayPointer, FN_VDestroy
   use fsundials_matrix_mod, only: SUNMatrix, FSUNMatDestroy
@@ -42,7 +42,7 @@ module pendula_cvode
   use fcvode_mod
   use pendula_cvode_vector, only: specialise_pair_ops
   use pendula_cvode_glue, only: cv_data_t, rhs, jacobian, relative_weights, root_functions, capture_error, &
-      failed, collect_stats, poll, CV_POLL_EVALS
+                                failed, collect_stats, poll, CV_POLL_EVALS
   implicit none
   private
   public :: cvode_solve, cvode_solve_events, cvode_available
@@ -91,7 +91,7 @@ contains
   !> returns PENDULA_ERR_CANCELLED like a failure (outputs reached kept, the
   !> solver memory freed).  Progress counts right-hand-side evaluations.
   subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, stats, status, control)
+                         theta, omega, stats, status, control)
     real(wp), intent(in) :: t(:)
     !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -114,7 +114,7 @@ contains
     integer :: ek(0), n_events
     logical :: truncated
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .false., &
-        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+               theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
   end subroutine cvode_solve
 
   !> As cvode_solve, and also locate the events: turning points (Omega = 0,
@@ -126,7 +126,7 @@ contains
   !> more occurred.  Event times are accurate to about the integration error.
   !> control: as for cvode_solve.
   subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                                theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
@@ -151,11 +151,11 @@ contains
     !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
     !< pendula_control)
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .true., &
-        theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+               theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
   end subroutine cvode_solve_events
 
   subroutine solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, with_events, &
-      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                   theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -191,8 +191,8 @@ contains
     ! A solver of its own for this one call, freed on every path.
     call cvode_work_open(work, method, status)
     if (status%code == PENDULA_OK) call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
-        with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
-        stats, status, control)
+                                            with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
+                                            stats, status, control)
     call cvode_work_close(work, status)
   end subroutine solve
 
@@ -236,7 +236,7 @@ contains
       return
     end if
     allocate (work%data, stat=ierr)
-    call check_alloc(int(ierr), 'the CVODE work''s data', 1_i8, int(storage_size(work%data) / 8), status)
+    call check_alloc(int(ierr), 'the CVODE work''s data', 1_i8, int(storage_size(work%data)/8), status)
     if (status%code /= PENDULA_OK) return
     work%method = method
     ! One pass through the set-up; the first failure skips the rest (the
@@ -309,16 +309,16 @@ contains
     work%mem = c_null_ptr
     if (associated(work%ls)) then
       ierr = FSUNLinSolFree(work%ls)
-      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag ' // &
-          format_int(ierr))
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNLinSolFree failed with flag '// &
+                                    format_int(ierr))
     end if
     if (associated(work%amat)) call FSUNMatDestroy(work%amat)
     if (associated(work%y)) call FN_VDestroy(work%y)
     nullify (work%ls, work%amat, work%y)
     if (c_associated(work%ctx)) then
       ierr = FSUNContext_Free(work%ctx)
-      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag ' // &
-          format_int(ierr))
+      if (ierr /= 0) call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: SUNContext_Free failed with flag '// &
+                                    format_int(ierr))
     end if
     work%ctx = c_null_ptr
     if (associated(work%data)) deallocate (work%data)
@@ -334,7 +334,7 @@ contains
   !> Errors: as cvode_solve; a work that is not open: PENDULA_ERR_SOLVER
   !> (after the argument checks, which need no solver).
   subroutine cvode_work_solve(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
-      theta, omega, stats, status, control)
+                              theta, omega, stats, status, control)
     type(cvode_work_t), intent(inout) :: work  !< reusable CVODE solver state (opened by cvode_work_open)
     real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
     real(wp), intent(in) :: theta0, omega0  !< theta0, omega0: initial state [rad], [rad/s], finite
@@ -355,7 +355,7 @@ contains
     theta = 0
     omega = 0
     call check_call(t, theta0, omega0, w0, gamma, rtol, atol, PENDULA_CVODE_ADAMS, max_steps, size(theta), &
-        size(omega), status)
+                    size(omega), status)
     call check_span(t, status)
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0
@@ -368,7 +368,7 @@ contains
       return
     end if
     call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, .false., .false., &
-        theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+             theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
   end subroutine cvode_work_solve
 
   !> One problem on an open work, arguments already checked and size(t) >= 2:
@@ -377,7 +377,7 @@ contains
   !> right-hand-side evaluations as progress in control (else only poll its
   !> cancel flag).
   subroutine run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, with_events, eval_progress, &
-      theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                 theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     type(cvode_work_t), intent(inout) :: work
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer(i8), intent(in) :: max_steps
@@ -406,7 +406,7 @@ contains
     ! problem on this work survives (its message, counters, cancel state).
     cb => work%data
     cb = cv_data_t()
-    cb%w0sq = w0 * w0
+    cb%w0sq = w0*w0
     cb%gamma = gamma
     cb%w0 = w0
     cb%rtol = rtol
@@ -455,17 +455,17 @@ contains
         ierr = FCVodeGetNumSteps(work%mem, nst)
         if (fail(ierr, 'CVodeGetNumSteps')) exit steps
         if (int(nst(1), i8) >= max_steps) then
-          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
-              format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
-              ' or use method BDF if the problem is stiff')
+          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = '// &
+                         format_int(max_steps)//' before t = '//format_sci(t(i), 8)//': raise max_steps, loosen rtol/atol,'// &
+                         ' or use method BDF if the problem is stiff')
           exit steps
         end if
         ierr = FCVodeSetMaxNumSteps(work%mem, int(max_steps - int(nst(1), i8), c_long))
         if (fail(ierr, 'CVodeSetMaxNumSteps')) exit steps
         ierr = FCVode(work%mem, merge(tau_end, tau(t(i)), i == nt), work%y, tret, CV_NORMAL)
         if (ierr < 0 .and. cb%cancelled) then
-          call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = ' // format_sci(t(i), 8) // &
-              ' (interrupted by the caller)')
+          call set_error(status, PENDULA_ERR_CANCELLED, 'CVODE cancelled before t = '//format_sci(t(i), 8)// &
+                         ' (interrupted by the caller)')
           exit steps
         end if
         if (ierr == CV_ROOT_RETURN) then
@@ -486,9 +486,9 @@ contains
           cycle
         end if
         if (ierr == CV_TOO_MUCH_WORK) then
-          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = ' // &
-              format_int(max_steps) // ' before t = ' // format_sci(t(i), 8) // ': raise max_steps, loosen rtol/atol,' // &
-              ' or use method BDF if the problem is stiff')
+          call set_error(status, PENDULA_ERR_MAXSTEPS, 'CVODE used the whole step budget max_steps = '// &
+                         format_int(max_steps)//' before t = '//format_sci(t(i), 8)//': raise max_steps, loosen rtol/atol,'// &
+                         ' or use method BDF if the problem is stiff')
           exit steps
         end if
         if (ierr /= CV_SUCCESS .and. ierr /= CV_TSTOP_RETURN) then
@@ -501,7 +501,7 @@ contains
     end block steps
     ! progress: the evaluations since the last poll
     if (c_associated(cb%control)) &
-        call poll(cb%control, merge(mod(cb%evals, CV_POLL_EVALS), 0_i8, eval_progress), ok)
+      call poll(cb%control, merge(mod(cb%evals, CV_POLL_EVALS), 0_i8, eval_progress), ok)
 
     call collect_stats(work%mem, with_events, stats, status)
     if (status%code /= PENDULA_OK) then
@@ -525,7 +525,6 @@ contains
     end function tau
 
   end subroutine run
-
 
 end module pendula_cvode
 #else

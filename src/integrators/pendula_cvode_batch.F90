@@ -22,7 +22,7 @@ module pendula_cvode_batch
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options, check_batch_shapes, &
-      at => batch_index
+                         at => batch_index
   use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_cvode, only: cvode_available, cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
   implicit none
@@ -60,7 +60,7 @@ contains
   !> finished states keep their results, unfinished ones get zero outputs
   !> and PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS) counts finished states.
   subroutine cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-      theta, omega, codes, stats, status, threads, control, first_failed)
+                               theta, omega, codes, stats, status, threads, control, first_failed)
     real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
@@ -90,7 +90,7 @@ contains
     theta = 0
     omega = 0
     call check_call(t, n, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
-        threads, status)
+                    threads, status)
     if (status%code == PENDULA_OK .and. .not. cvode_available()) then
       call cvode_work_open(probe, method, status)   ! the stand-in's explanation
       call cvode_work_close(probe, status)
@@ -106,7 +106,7 @@ contains
     first_msg = ''
     !$omp parallel num_threads(nthreads) if(nthreads > 1 .and. n > 1) default(shared)
     call run_states(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
-        first, first_msg, control)
+                    first, first_msg, control)
     !$omp end parallel
 
     ! Summary: the first failed state, with cvode_solve's own message for it.
@@ -126,7 +126,7 @@ contains
   !> states from the shared loop, close it.  first/first_msg: the lowest failed
   !> state so far and its message (updated under a critical section).
   subroutine run_states(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, &
-      stats, first, first_msg, control)
+                        stats, first, first_msg, control)
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:)
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -148,7 +148,7 @@ contains
       end if
       if (opened%code == PENDULA_OK) then
         call cvode_work_solve(work, t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
-            rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control)
+                              rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control)
       else
         st = opened   ! this thread has no solver: its states carry the reason
       end if
@@ -170,7 +170,7 @@ contains
 
   !> Checks of the call as a whole: t, method, max_steps, sizes, threads.
   subroutine check_call(t, n, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
-      threads, status)
+                        threads, status)
     real(wp), intent(in) :: t(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:), theta(:, :), omega(:, :)
     integer, intent(in) :: n, method, codes(:)
     integer(i8), intent(in) :: max_steps
@@ -183,8 +183,8 @@ contains
     call check_cvode_options(method, max_steps, status)
     if (status%code /= PENDULA_OK) return
     call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), size(rtol), size(atol)] == 1 &
-        .or. [size(omega0), size(w0), size(gamma), size(rtol), size(atol)] == n), &
-        'omega0, w0, gamma, rtol and atol', theta, omega, size(codes), size(stats), 'stats', threads, status)
+                                            .or. [size(omega0), size(w0), size(gamma), size(rtol), size(atol)] == n), &
+                            'omega0, w0, gamma, rtol and atol', theta, omega, size(codes), size(stats), 'stats', threads, status)
   end subroutine check_call
 
 end module pendula_cvode_batch

@@ -54,22 +54,22 @@ module pendula_cvode_glue
 
   ! The names and meanings of CVODE's failure flags, for messages.
   integer, parameter :: FLAG_CODES(21) = [integer :: CV_TOO_MUCH_WORK, CV_TOO_MUCH_ACC, CV_ERR_FAILURE, &
-      CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
-      CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
-      CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
-      CV_NO_MALLOC, CV_BAD_T, CV_TOO_CLOSE]
+                                                                    CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
+                                                                   CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
+                                                           CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
+                                                                                             CV_NO_MALLOC, CV_BAD_T, CV_TOO_CLOSE]
   character(len=20), parameter :: FLAG_NAMES(21) = [character(len=20) :: 'CV_TOO_MUCH_WORK', &
-      'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
-      'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
-      'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
-      'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
-      'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE']
+                                                                                                                'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
+                                                          'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
+                                                           'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
+                                               'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
+                                                                                                           'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE']
   integer, parameter :: MEANING_CODES(5) = [integer :: CV_TOO_MUCH_ACC, CV_ERR_FAILURE, CV_CONV_FAILURE, &
-      CV_MEM_FAIL, CV_ILL_INPUT]
+                                                                                                 CV_MEM_FAIL, CV_ILL_INPUT]
   character(len=60), parameter :: MEANINGS(5) = [character(len=60) :: 'the requested accuracy could not be met', &
-      'repeated error-test failures (the step size hit its minimum)', &
-      'repeated nonlinear-solver convergence failures', 'out of memory', &
-      'an input to CVODE was invalid']
+                                                                                     'repeated error-test failures (the step size hit its minimum)', &
+                                                                                  'repeated nonlinear-solver convergence failures', 'out of memory', &
+                                                                                                                     'an input to CVODE was invalid']
   character(len=*), parameter :: MEANING_FALLBACK = 'see the SUNDIALS CVODE documentation'
 
 contains
@@ -87,9 +87,9 @@ contains
     if (.not. failed) return
     why = trim(errmsg)
     if (len(why) == 0) why = flag_meaning(flag)
-    if (flag == CV_TOO_MUCH_ACC) why = why // ' (rtol/atol are below what double precision can deliver)'
-    call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
-        format_int(flag) // ' (' // flag_name(flag) // '): ' // why)
+    if (flag == CV_TOO_MUCH_ACC) why = why//' (rtol/atol are below what double precision can deliver)'
+    call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: '//what//' failed with flag '// &
+                   format_int(flag)//' ('//flag_name(flag)//'): '//why)
   end function failed
 
   !> Copy CVODE's counters into stats; a failing getter is itself an error.
@@ -101,15 +101,15 @@ contains
     !< the first error of the call is kept: set here only if nothing failed before
     integer(c_long) :: v(1)
     integer(c_int) :: ierr
-    ierr = FCVodeGetNumSteps(mem, v);            call take(ierr, 'CVodeGetNumSteps', stats%steps)
-    ierr = FCVodeGetNumRhsEvals(mem, v);         call take(ierr, 'CVodeGetNumRhsEvals', stats%rhs_evals)
-    ierr = FCVodeGetNumJacEvals(mem, v);         call take(ierr, 'CVodeGetNumJacEvals', stats%jac_evals)
-    ierr = FCVodeGetNumErrTestFails(mem, v);     call take(ierr, 'CVodeGetNumErrTestFails', stats%err_test_fails)
-    ierr = FCVodeGetNumNonlinSolvIters(mem, v);  call take(ierr, 'CVodeGetNumNonlinSolvIters', stats%nonlin_iters)
+    ierr = FCVodeGetNumSteps(mem, v); call take(ierr, 'CVodeGetNumSteps', stats%steps)
+    ierr = FCVodeGetNumRhsEvals(mem, v); call take(ierr, 'CVodeGetNumRhsEvals', stats%rhs_evals)
+    ierr = FCVodeGetNumJacEvals(mem, v); call take(ierr, 'CVodeGetNumJacEvals', stats%jac_evals)
+    ierr = FCVodeGetNumErrTestFails(mem, v); call take(ierr, 'CVodeGetNumErrTestFails', stats%err_test_fails)
+    ierr = FCVodeGetNumNonlinSolvIters(mem, v); call take(ierr, 'CVodeGetNumNonlinSolvIters', stats%nonlin_iters)
     ierr = FCVodeGetNumNonlinSolvConvFails(mem, v)
     call take(ierr, 'CVodeGetNumNonlinSolvConvFails', stats%nonlin_fails)
     if (with_events) then
-      ierr = FCVodeGetNumGEvals(mem, v);         call take(ierr, 'CVodeGetNumGEvals', stats%root_evals)
+      ierr = FCVodeGetNumGEvals(mem, v); call take(ierr, 'CVodeGetNumGEvals', stats%root_evals)
     end if
   contains
     subroutine take(flag, what, dest)
@@ -118,8 +118,8 @@ contains
       integer(i8), intent(out) :: dest
       dest = 0
       if (flag < 0) then
-        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: ' // what // ' failed with flag ' // &
-            format_int(flag) // ' (' // flag_name(flag) // ')')
+        call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: '//what//' failed with flag '// &
+                       format_int(flag)//' ('//flag_name(flag)//')')
       else
         dest = int(v(1), i8)
       end if
@@ -143,7 +143,7 @@ contains
     yy => pair_of(sunvec_y)
     ff => pair_of(sunvec_f)
     ff%v(1) = yy%v(2)
-    ff%v(2) = -p%gamma * yy%v(2) - p%w0sq * sin(yy%v(1))
+    ff%v(2) = -p%gamma*yy%v(2) - p%w0sq*sin(yy%v(1))
     if (p%tscale /= 0) ff%v = scale(ff%v, p%tscale)   ! d/dtau = T d/dt
     ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
     ierr = 0
@@ -173,7 +173,7 @@ contains
 
   !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
   integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
-      result(ierr) bind(C, name='')
+    result(ierr) bind(C, name='')
     real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
     type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
     type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
@@ -190,7 +190,7 @@ contains
     first => FSUNDenseMatrix_Data(sunmat_j)
     call c_f_pointer(c_loc(first(1)), jd, [4])
     jd(1) = 0
-    jd(2) = -p%w0sq * cos(yy(1))
+    jd(2) = -p%w0sq*cos(yy(1))
     jd(3) = 1
     jd(4) = -p%gamma
     if (p%tscale /= 0) jd = scale(jd, p%tscale)
@@ -216,9 +216,9 @@ contains
     call c_f_pointer(user_data, p)
     yy => pair_of(sunvec_y)
     ww => pair_of(sunvec_w)
-    tol(1) = p%rtol * max(abs(yy%v(1)), abs(yy%v(2)) / p%w0)
-    tol(2) = p%rtol * max(p%w0 * abs(yy%v(1)), abs(yy%v(2)))
-    ww%v = 1 / min(max(tol, tiny(tol)), huge(tol))
+    tol(1) = p%rtol*max(abs(yy%v(1)), abs(yy%v(2))/p%w0)
+    tol(2) = p%rtol*max(p%w0*abs(yy%v(1)), abs(yy%v(2)))
+    ww%v = 1/min(max(tol, tiny(tol)), huge(tol))
     ierr = 0
   end function relative_weights
 
@@ -263,8 +263,8 @@ contains
   ! explicit lengths (not deferred): see pendula_format on gfortran's static lengths
   pure function flag_name(flag) result(s)
     integer(c_int), intent(in) :: flag
-    character(len=len(code_text(int(flag), FLAG_CODES, FLAG_NAMES, 'flag ' // format_int(flag)))) :: s
-    s = code_text(int(flag), FLAG_CODES, FLAG_NAMES, 'flag ' // format_int(flag))
+    character(len=len(code_text(int(flag), FLAG_CODES, FLAG_NAMES, 'flag '//format_int(flag)))) :: s
+    s = code_text(int(flag), FLAG_CODES, FLAG_NAMES, 'flag '//format_int(flag))
   end function flag_name
 
   pure function flag_meaning(flag) result(s)

@@ -145,17 +145,17 @@ contains
     end associate
     pz => pair(z)
     if (abs(a) == 1 .or. abs(b) == 1) then
-      pz%v(1) = a * x1 + b * y1
-      pz%v(2) = a * x2 + b * y2
+      pz%v(1) = a*x1 + b*y1
+      pz%v(2) = a*x2 + b*y2
     else if (a == b) then
-      pz%v(1) = a * (x1 + y1)
-      pz%v(2) = a * (x2 + y2)
+      pz%v(1) = a*(x1 + y1)
+      pz%v(2) = a*(x2 + y2)
     else if (a == -b) then
-      pz%v(1) = a * (x1 - y1)
-      pz%v(2) = a * (x2 - y2)
+      pz%v(1) = a*(x1 - y1)
+      pz%v(2) = a*(x2 - y2)
     else
-      pz%v(1) = a * x1 + b * y1
-      pz%v(2) = a * x2 + b * y2
+      pz%v(1) = a*x1 + b*y1
+      pz%v(2) = a*x2 + b*y2
     end if
   end subroutine linear_sum
 
@@ -174,7 +174,7 @@ contains
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
     associate (px => pair(x), py => pair(y))
-      r = px%v * py%v
+      r = px%v*py%v
     end associate
     pz => pair(z)
     pz%v = r
@@ -186,7 +186,7 @@ contains
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
     associate (px => pair(x), py => pair(y))
-      r = px%v / py%v
+      r = px%v/py%v
     end associate
     pz => pair(z)
     pz%v = r
@@ -199,7 +199,7 @@ contains
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
     associate (px => pair(x))
-      r = c * px%v
+      r = c*px%v
     end associate
     pz => pair(z)
     pz%v = r
@@ -223,7 +223,7 @@ contains
     real(c_double) :: r(2)
     type(pair_t), pointer :: pz
     associate (px => pair(x))
-      r = 1 / px%v
+      r = 1/px%v
     end associate
     pz => pair(z)
     pz%v = r
@@ -246,7 +246,7 @@ contains
   real(c_double) function dot_prod(x, y) result(s) bind(C, name='')
     type(N_Vector), intent(in) :: x, y
     associate (px => pair(x), py => pair(y))
-      s = (0 + px%v(1) * py%v(1)) + px%v(2) * py%v(2)
+      s = (0 + px%v(1)*py%v(1)) + px%v(2)*py%v(2)
     end associate
   end function dot_prod
 
@@ -268,16 +268,16 @@ contains
     type(N_Vector), intent(in) :: x, w
     real(c_double) :: p1, p2
     associate (px => pair(x), pw => pair(w))
-      p1 = px%v(1) * pw%v(1)
-      p2 = px%v(2) * pw%v(2)
+      p1 = px%v(1)*pw%v(1)
+      p2 = px%v(2)*pw%v(2)
     end associate
-    s = (0 + p1 * p1) + p2 * p2
+    s = (0 + p1*p1) + p2*p2
   end function wsqr_sum
 
   !> sqrt(sum of (x w)**2 / 2): CVODE's error norm (SUNRsqrt: 0 for a sum <= 0)
   real(c_double) function wrms_norm(x, w) result(s) bind(C, name='')
     type(N_Vector), intent(in) :: x, w
-    s = wsqr_sum(x, w) / 2
+    s = wsqr_sum(x, w)/2
     if (s <= 0) then
       s = 0
     else
@@ -308,12 +308,12 @@ contains
     ierr = -1
     if (nvec < 1) return
     px => pair_at(x(1))
-    r1 = c(1) * px%v(1)
-    r2 = c(1) * px%v(2)
+    r1 = c(1)*px%v(1)
+    r2 = c(1)*px%v(2)
     do i = 2, nvec
       px => pair_at(x(i))
-      r1 = r1 + c(i) * px%v(1)
-      r2 = r2 + c(i) * px%v(2)
+      r1 = r1 + c(i)*px%v(1)
+      r2 = r2 + c(i)*px%v(2)
     end do
     pz => pair(z)
     pz%v(1) = r1
@@ -340,8 +340,8 @@ contains
       py => pair_at(y(i))
       y1 = py%v(1); y2 = py%v(2)
       pz => pair_at(z(i))
-      pz%v(1) = a(i) * x1 + y1
-      pz%v(2) = a(i) * x2 + y2
+      pz%v(1) = a(i)*x1 + y1
+      pz%v(2) = a(i)*x2 + y2
     end do
     ierr = 0
   end function scale_add_multi
@@ -358,7 +358,7 @@ contains
     if (nvec < 1) return
     do i = 1, nvec
       px => pair_at(x(i))
-      r = c(i) * px%v
+      r = c(i)*px%v
       pz => pair_at(z(i))
       pz%v = r
     end do

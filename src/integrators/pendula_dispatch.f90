@@ -27,7 +27,7 @@ module pendula_dispatch
     end function c_kernel_available
     !> The batch RK4 block kernel of the running path (pendula_rk4_lanes.F90).
     subroutine rk4_lanes(nt, t, nb, idx, nw, w0, ng, gamma, nh, h, ldn, theta, omega, nsteps, dead, &
-        poll, ncontrol, control, icancel, done) bind(C, name='pendula_rk4_lanes')
+                         poll, ncontrol, control, icancel, done) bind(C, name='pendula_rk4_lanes')
       import :: c_int, c_int64_t, c_double
       integer(c_int), intent(in) :: nt  !< output times
       real(c_double), intent(in) :: t(nt)  !< output times [s]

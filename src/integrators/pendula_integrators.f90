@@ -5,7 +5,7 @@
 !> pendula_taylor_batch), with the shared definitions of pendula_ode.
 module pendula_integrators
   use pendula_ode, only: ode_stats_t, linear_eigenvalues, &
-      PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
+                         PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, bottom_sign
   use pendula_rk4, only: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
   use pendula_rk4_batch, only: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
   use pendula_cvode, only: cvode_solve, cvode_solve_events, cvode_available

@@ -8,7 +8,7 @@ module pendula_ode
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, &
-      check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE
+                            check_nonnegative, check_size, check_increasing, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_SIZE
   implicit none
   private
   public :: ode_stats_t, pendulum_rhs, pendulum_jacobian, check_problem, &
@@ -50,7 +50,7 @@ contains
   !> rotation counts one per turn).
   elemental real(wp) function bottom_sign(theta) result(f)
     real(wp), intent(in) :: theta  !< angle [rad]
-    f = sin(theta / 2)
+    f = sin(theta/2)
   end function bottom_sign
 
   !> Right-hand side of eq. 2.2 as a system: theta' = Omega,
@@ -63,7 +63,7 @@ contains
     real(wp), intent(out) :: dtheta  !< theta' = Omega [rad/s]
     real(wp), intent(out) :: domega  !< Omega' [rad/s^2]
     dtheta = omega
-    domega = -gamma * omega - w0sq * sin(theta)
+    domega = -gamma*omega - w0sq*sin(theta)
   end subroutine pendulum_rhs
 
   !> Jacobian d(theta', Omega')/d(theta, Omega) = [[0, 1], [-w0**2 cos(theta), -gamma]].
@@ -74,7 +74,7 @@ contains
     real(wp), intent(out) :: jac(2, 2)  !< the Jacobian [[0, 1], [-w0sq cos(theta), -gamma]]
     jac(1, 1) = 0
     jac(1, 2) = 1
-    jac(2, 1) = -w0sq * cos(theta)
+    jac(2, 1) = -w0sq*cos(theta)
     jac(2, 2) = -gamma
   end subroutine pendulum_jacobian
 
@@ -88,13 +88,13 @@ contains
     complex(wp), intent(out) :: lam1  !< eigenvalue of the larger modulus [1/s]
     complex(wp), intent(out) :: lam2  !< the other eigenvalue [1/s]
     real(wp) :: half, s
-    half = gamma / 2
+    half = gamma/2
     if (half >= w0) then
-      s = sqrt(half - w0) * sqrt(half + w0)
+      s = sqrt(half - w0)*sqrt(half + w0)
       lam1 = cmplx(-(half + s), 0, wp)
-      lam2 = cmplx((w0 / (half + s)) * (-w0), 0, wp)
+      lam2 = cmplx((w0/(half + s))*(-w0), 0, wp)
     else
-      s = sqrt(w0 - half) * sqrt(w0 + half)
+      s = sqrt(w0 - half)*sqrt(w0 + half)
       lam1 = cmplx(-half, s, wp)
       lam2 = cmplx(-half, -s, wp)
     end if
@@ -127,11 +127,11 @@ contains
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
     if (status%code == PENDULA_OK .and. method /= PENDULA_CVODE_ADAMS .and. method /= PENDULA_CVODE_BDF) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'method = ' // format_int(method) // &
-            ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'method = '//format_int(method)// &
+                     ' is out of range: it must be PENDULA_CVODE_ADAMS (1) or PENDULA_CVODE_BDF (2)')
     if (status%code == PENDULA_OK .and. max_steps < 1) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_int(max_steps) // &
-            ' is out of range: it must be >= 1')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = '//format_int(max_steps)// &
+                     ' is out of range: it must be >= 1')
   end subroutine check_cvode_options
 
   !> Require t(n) - t(1) to be finite (t already checked by check_problem).
@@ -143,8 +143,8 @@ contains
     ! t(n) - t(1) overflows only for t(1) < 0 < t(n); decided without
     ! forming it (the overflow would trap in the checked build)
     if (t(1) < 0 .and. t(size(t)) > huge(t) + t(1)) &
-        call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) ' // &
-            'overflows): no integration can cover that window')
+      call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t(n) - t(1) '// &
+                     'overflows): no integration can cover that window')
   end subroutine check_span
 
   !> The size and threads checks of a batch call (rk4_batch, cvode_batch) over
@@ -153,7 +153,7 @@ contains
   !> and omega of shape (nt, n), n_codes and n_counts (the array named in
   !> counts) equal to n, threads >= 0.  The first failed check sets status.
   pure subroutine check_batch_shapes(nt, n, params_ok, params, theta, omega, n_codes, n_counts, counts, &
-      threads, status)
+                                     threads, status)
     integer, intent(in) :: nt  !< number of output times
     integer, intent(in) :: n  !< number of states
     integer, intent(in) :: n_codes  !< size of the codes array
@@ -167,17 +167,17 @@ contains
     type(status_t), intent(inout) :: status
     !< the first error of the call is kept: set here only if nothing failed before
     if (.not. params_ok) then
-      call set_error(status, PENDULA_ERR_SIZE, params // ' must each have one ' // &
-          'element or one per state (size(theta0) = ' // format_int(n) // ')')
+      call set_error(status, PENDULA_ERR_SIZE, params//' must each have one '// &
+                     'element or one per state (size(theta0) = '//format_int(n)//')')
     else if (any(shape(theta) /= [nt, n]) .or. any(shape(omega) /= [nt, n])) then
-      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have shape (size(t), size(theta0)) = (' // &
-          format_int(nt) // ', ' // format_int(n) // ')')
+      call set_error(status, PENDULA_ERR_SIZE, 'theta and omega must have shape (size(t), size(theta0)) = ('// &
+                     format_int(nt)//', '//format_int(n)//')')
     else if (n_codes /= n .or. n_counts /= n) then
-      call set_error(status, PENDULA_ERR_SIZE, 'codes and ' // counts // ' must have one element per state (' // &
-          format_int(n) // ')')
+      call set_error(status, PENDULA_ERR_SIZE, 'codes and '//counts//' must have one element per state ('// &
+                     format_int(n)//')')
     else if (present(threads)) then
-      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = ' // format_int(threads) // &
-          ' is out of range: it must be >= 0 (0: the OpenMP default)')
+      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = '//format_int(threads)// &
+                                      ' is out of range: it must be >= 0 (0: the OpenMP default)')
     end if
   end subroutine check_batch_shapes
 
@@ -194,8 +194,8 @@ contains
     type(ode_stats_t), intent(in) :: stats  !< the counters
     real(wp) :: v(7)
     v = [real(stats%steps, wp), real(stats%rhs_evals, wp), real(stats%jac_evals, wp), &
-        real(stats%err_test_fails, wp), real(stats%nonlin_iters, wp), real(stats%nonlin_fails, wp), &
-        real(stats%root_evals, wp)]
+         real(stats%err_test_fails, wp), real(stats%nonlin_iters, wp), real(stats%nonlin_fails, wp), &
+         real(stats%root_evals, wp)]
   end function ode_stats_values
 
   !> A step budget given as a double (a Python int of any size) as int64,

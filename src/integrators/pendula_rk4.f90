@@ -15,7 +15,7 @@ module pendula_rk4
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_short
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, check_same_size, PENDULA_OK, &
-      PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
   use pendula_ode, only: ode_stats_t, check_problem, linear_eigenvalues
   use pendula_rk4_kernel, only: rk4_grid, substeps
@@ -36,7 +36,7 @@ contains
   !> multiplies a mode of y' = lambda y by R(h lambda).
   elemental complex(wp) function rk4_stability_function(z) result(r)
     complex(wp), intent(in) :: z  !< h lambda (step times eigenvalue)
-    r = 1 + z * (1 + z * (0.5_wp + z * (1.0_wp / 6 + z / 24)))
+    r = 1 + z*(1 + z*(0.5_wp + z*(1.0_wp/6 + z/24)))
   end function rk4_stability_function
 
   !> Largest step h_max [s] for which RK4 is absolutely stable on the pendulum
@@ -76,30 +76,30 @@ contains
     real(wp) :: a, b, m, mod_lam
     integer :: i, it
     mod_lam = abs(lam)
-    d = lam / mod_lam
+    d = lam/mod_lam
     a = 0
     b = smax
     do i = 1, nscan
-      if (.not. inside(d * (smax * i / nscan))) then
-        b = smax * i / nscan
+      if (.not. inside(d*(smax*i/nscan))) then
+        b = smax*i/nscan
         exit
       end if
-      a = smax * i / nscan
+      a = smax*i/nscan
     end do
     do it = 1, 200
-      m = (a + b) / 2
+      m = (a + b)/2
       if (m <= a .or. m >= b) exit
-      if (inside(d * m)) then
+      if (inside(d*m)) then
         a = m
       else
         b = m
       end if
     end do
     ! a is a stable |z|; dividing by a tiny |lambda| may overflow: cap at huge.
-    if (mod_lam < a / huge(1.0_wp)) then
+    if (mod_lam < a/huge(1.0_wp)) then
       h = huge(1.0_wp)
     else
-      h = a / mod_lam
+      h = a/mod_lam
     end if
   contains
     pure logical function inside(z)
@@ -108,7 +108,7 @@ contains
       r = rk4_stability_function(z)
       ! 4 eps: on the imaginary axis |R|**2 = 1 - y**6/72 + y**8/576 is 1 to
       ! rounding for small y; that is stable, not an exit.
-      inside = real(r)**2 + aimag(r)**2 <= 1 + 4 * epsilon(1.0_wp)
+      inside = real(r)**2 + aimag(r)**2 <= 1 + 4*epsilon(1.0_wp)
     end function inside
   end function ray_limit
 
@@ -134,44 +134,44 @@ contains
     ! finite span bounds every spacing; the sum of dt/h is span/h; and every
     ! substep is <= h (1 + 1e-9) (substeps), so a stable h settles stability.
     ! Anything else takes the exact per-interval pass below (for its message).
-    total = (t(size(t)) - t(1)) / h
+    total = (t(size(t)) - t(1))/h
     if (total <= max_total_steps) then
       call linear_eigenvalues(w0, gamma, lam1, lam2)
-      if (h * (1 + 1.0e-9_wp) * max(abs(lam1), abs(lam2)) <= 2.6_wp) return
+      if (h*(1 + 1.0e-9_wp)*max(abs(lam1), abs(lam2)) <= 2.6_wp) return
     end if
     total = 0
     h_used = 0
-    hinv = 1 / h
+    hinv = 1/h
     do i = 1, size(t) - 1
-      dt = t(i+1) - t(i)
+      dt = t(i + 1) - t(i)
       if (.not. ieee_is_finite(dt)) then
-        call set_error(status, PENDULA_ERR_ORDER, 't spans more than the largest real: ' // &
-            'consecutive output times must differ by a finite amount')
+        call set_error(status, PENDULA_ERR_ORDER, 't spans more than the largest real: '// &
+                       'consecutive output times must differ by a finite amount')
         return
       end if
-      total = total + dt * hinv   ! a bound only: no need for the division
+      total = total + dt*hinv   ! a bound only: no need for the division
       if (total > max_total_steps) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 'h = ' // format_short(h) // ' is too small for the window t = ' // &
-            format_short(t(1)) // ' .. ' // format_short(t(size(t))) // ': RK4 needs more than max_steps = ' // &
-            format_short(max_total_steps) // ' steps (2e9 ~ 1 min of CPU); use a larger h, a shorter window,' // &
-            ' or raise max_steps')
+        call set_error(status, PENDULA_ERR_DOMAIN, 'h = '//format_short(h)//' is too small for the window t = '// &
+                       format_short(t(1))//' .. '//format_short(t(size(t)))//': RK4 needs more than max_steps = '// &
+                       format_short(max_total_steps)//' steps (2e9 ~ 1 min of CPU); use a larger h, a shorter window,'// &
+                       ' or raise max_steps')
         return
       end if
       n = substeps(dt, h)
-      h_used = max(h_used, dt / real(n, wp))
+      h_used = max(h_used, dt/real(n, wp))
     end do
     if (size(t) == 1) return
     ! Every ray of the left half-plane leaves RK4's stability region at
     ! |z| >= 2.6156 (minimum near arg z = 122.7 deg; 20001 directions), so
     ! h |lambda| <= 2.6 is stable without the bisection of ray_limit.
     call linear_eigenvalues(w0, gamma, lam1, lam2)
-    if (h_used * max(abs(lam1), abs(lam2)) <= 2.6_wp) return
+    if (h_used*max(abs(lam1), abs(lam2)) <= 2.6_wp) return
     call rk4_max_stable_step(w0, gamma, h_max, st2)
     if (h_used > h_max) then
-      call set_error(status, PENDULA_ERR_UNSTABLE, 'h = ' // format_short(h) // ' is unstable for RK4 with w0 = ' // &
-          format_short(w0) // ', gamma = ' // format_short(gamma) // ' (substep ' // format_short(h_used) // &
-          '): h*lambda leaves the stability region for the eigenvalues lambda of the linearisation' // &
-          ' about theta = 0; the largest stable h is ' // format_short(h_max) // ' (or use CVODE BDF)')
+      call set_error(status, PENDULA_ERR_UNSTABLE, 'h = '//format_short(h)//' is unstable for RK4 with w0 = '// &
+                     format_short(w0)//', gamma = '//format_short(gamma)//' (substep '//format_short(h_used)// &
+                     '): h*lambda leaves the stability region for the eigenvalues lambda of the linearisation'// &
+                     ' about theta = 0; the largest stable h is '//format_short(h_max)//' (or use CVODE BDF)')
     end if
   end subroutine check_step
 
@@ -215,8 +215,8 @@ contains
     budget = real(RK4_DEFAULT_MAX_STEPS, wp)
     if (present(max_steps)) then
       budget = real(max_steps, wp)
-      if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_short(budget) // &
-          ' is out of range: it must be >= 1')
+      if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = '//format_short(budget)// &
+                                        ' is out of range: it must be >= 1')
     end if
     call check_problem(t, theta0, omega0, w0, gamma, status)
     call check_same_size('theta', size(theta), 't', size(t), status)
@@ -230,16 +230,16 @@ contains
     end if
     theta(1) = theta0
     omega(1) = omega0
-    call rk4_grid(t, w0 * w0, gamma, h, theta, omega, steps, fast, bad, control)
+    call rk4_grid(t, w0*w0, gamma, h, theta, omega, steps, fast, bad, control)
     stats%steps = steps
-    stats%rhs_evals = 4 * steps
+    stats%rhs_evals = 4*steps
     if (bad < 0) then
-      call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // format_short(t(-bad)) // &
-          ' (interrupted by the caller)')
+      call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = '//format_short(t(-bad))// &
+                     ' (interrupted by the caller)')
       theta = 0
       omega = 0
     else if (bad > 0) then
-      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = ' // format_short(t(bad)))
+      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 produced a non-finite state at t = '//format_short(t(bad)))
       theta = 0
       omega = 0
     end if
@@ -251,7 +251,7 @@ contains
   !> run (e.g. 1e5 periods).  Same checks, errors, accuracy, control and
   !> max_steps as rk4_solve.
   subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
-      stats, status, control, max_steps)
+                             stats, status, control, max_steps)
     real(wp), intent(in) :: t0  !< initial time [s], finite
     real(wp), intent(in) :: t_end  !< final time [s], >= t0
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -284,7 +284,7 @@ contains
       return
     end if
     if (t_end < t0) then
-      call set_error(status, PENDULA_ERR_ORDER, 't_end = ' // format_short(t_end) // ' must not precede t0 = ' // format_short(t0))
+      call set_error(status, PENDULA_ERR_ORDER, 't_end = '//format_short(t_end)//' must not precede t0 = '//format_short(t0))
       return
     end if
     call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status, control, max_steps)

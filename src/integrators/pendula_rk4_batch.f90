@@ -24,7 +24,7 @@ module pendula_rk4_batch
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, add_progress
   use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
   use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS
@@ -43,7 +43,7 @@ contains
   !> True when this build runs batch blocks on OpenMP threads.
   logical function rk4_batch_openmp()
     rk4_batch_openmp = .false.
-    !$ rk4_batch_openmp = .true.
+!$  rk4_batch_openmp = .true.
   end function rk4_batch_openmp
 
   !> RK4 for n = size(theta0) states over the shared output grid t [s]
@@ -75,7 +75,7 @@ contains
   !> budget, as rk4_solve's (default RK4_DEFAULT_MAX_STEPS); a state that needs
   !> more is refused before any work, with rk4_solve's code.
   subroutine rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, steps, status, &
-      threads, control, first_failed, max_steps)
+                             threads, control, first_failed, max_steps)
     real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
@@ -106,7 +106,7 @@ contains
     if (present(first_failed)) first_failed = 0
     call check_call(t, n, omega0, w0, gamma, h, theta, omega, codes, steps, threads, status)
     if (status%code == PENDULA_OK .and. budget < 1) call set_error(status, PENDULA_ERR_DOMAIN, &
-        'max_steps = ' // format_int(budget) // ' is out of range: it must be >= 1')
+                                                                   'max_steps = '//format_int(budget)//' is out of range: it must be >= 1')
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -151,7 +151,7 @@ contains
       call run_blocks(t, live(1:nlive), w0, gamma, h, theta, omega, codes, steps, nthreads, control)
     else
       allocate (th(size(theta, 1), size(theta, 2)), om(size(omega, 1), size(omega, 2)), stat=ist)
-      call check_alloc(ist, 'the contiguous copies of theta and omega', 2_i8 * size(theta, kind=i8), 8, status)
+      call check_alloc(ist, 'the contiguous copies of theta and omega', 2_i8*size(theta, kind=i8), 8, status)
       if (status%code /= PENDULA_OK) then
         theta = 0
         omega = 0
@@ -182,7 +182,7 @@ contains
     if (present(first_failed)) first_failed = first
     ! rk4_solve's message for the first failed state (run again: only when it is shown)
     if (ncancel == 0) st = state_status(t, theta0(first), omega0(at(omega0, first)), w0(at(w0, first)), &
-        gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
+                                        gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
     call set_batch_error(status, codes, first, st%message)
   end subroutine rk4_batch_solve
 
@@ -197,8 +197,8 @@ contains
     call check_problem(t, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, status)
     if (status%code /= PENDULA_OK) return
     call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), size(h)] == 1 .or. &
-        [size(omega0), size(w0), size(gamma), size(h)] == n), 'omega0, w0, gamma and h', theta, omega, &
-        size(codes), size(steps), 'steps', threads, status)
+                                            [size(omega0), size(w0), size(gamma), size(h)] == n), 'omega0, w0, gamma and h', theta, omega, &
+                            size(codes), size(steps), 'steps', threads, status)
   end subroutine check_call
 
   !> rk4_solve's status for one state (its message for the batch summary).
@@ -211,7 +211,7 @@ contains
     type(ode_stats_t) :: s
     integer :: ist
     allocate (th(size(t)), om(size(t)), stat=ist)
-    call check_alloc(ist, 'the failed state''s rerun', 2_i8 * size(t), 8, st)
+    call check_alloc(ist, 'the failed state''s rerun', 2_i8*size(t), 8, st)
     if (st%code /= PENDULA_OK) return
     call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, s, st, max_steps=budget)
     if (st%code == PENDULA_OK) call set_error(st, code, 'failed in the batch')   ! cannot happen: same kernel
@@ -228,11 +228,11 @@ contains
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer :: nblocks, b, nlive
     nlive = size(live)
-    nblocks = (nlive + nl - 1) / nl
+    nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call run_block(t, live((b - 1) * nl + 1:min(b * nl, nlive)), w0, gamma, h, theta, omega, &
-          codes, steps, control)
+      call run_block(t, live((b - 1)*nl + 1:min(b*nl, nlive)), w0, gamma, h, theta, omega, &
+                     codes, steps, control)
     end do
     !$omp end parallel do
   end subroutine run_blocks
@@ -254,13 +254,13 @@ contains
     if (nb == 0) return
     if (present(control)) then
       call rk4_lanes(int(size(t), c_int), t, nb, idx, int(size(w0), c_int), w0, int(size(gamma), c_int), gamma, &
-          int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 1_c_int, &
-          int(CONTROL_SIZE, c_int), control, int(CONTROL_CANCEL, c_int), done)
+                     int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 1_c_int, &
+                     int(CONTROL_SIZE, c_int), control, int(CONTROL_CANCEL, c_int), done)
     else
       no_control = 0
       call rk4_lanes(int(size(t), c_int), t, nb, idx, int(size(w0), c_int), w0, int(size(gamma), c_int), gamma, &
-          int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 0_c_int, &
-          int(CONTROL_SIZE, c_int), no_control, int(CONTROL_CANCEL, c_int), done)
+                     int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 0_c_int, &
+                     int(CONTROL_SIZE, c_int), no_control, int(CONTROL_CANCEL, c_int), done)
     end if
     if (done == 0) return   ! cancelled: codes stay PENDULA_ERR_CANCELLED
     do l = 1, nb

@@ -47,7 +47,7 @@ contains
     integer :: i
     i = iand(k, nnodes - 1)
     s = sin_taylor(node_sin(i), node_cos(i), taylor(2, i), taylor(3, i), taylor(4, i), taylor(5, i), &
-        taylor(6, i), taylor(7, i), taylor(8, i), taylor(9, i), r)
+                   taylor(6, i), taylor(7, i), taylor(8, i), taylor(9, i), r)
   end function sin_node
 
   !> sin(x + d) of the exact sum x + d (no rounding of the argument) by
@@ -130,14 +130,14 @@ contains
         nb = left
         if (polling) nb = min(left, poll_in)
         do i = 1, nb
-          p2 = half * u
-          p4 = hs * u
+          p2 = half*u
+          p4 = hs*u
           ! A priori bound on the stage offsets, so that the polynomials never
           ! see a huge argument (no overflow on extreme inputs); a posteriori
           ! check below.  It is |p4| + hh (2 gamma |u| + gamma hh (gamma |u| +
           ! w0sq) + 2 w0sq), regrouped as |u| bu1 + bu0 with the parts that do
           ! not change along the interval formed once (two flops per step).
-          ok = abs(rh) <= stage_rmax .and. abs(u) * bu1 + bu0 <= 1
+          ok = abs(rh) <= stage_rmax .and. abs(u)*bu1 + bu0 <= 1
           if (ok) then
             ik = iand(kk, nnodes - 1)
             sk = node_sin(ik)
@@ -154,8 +154,8 @@ contains
             ! predicted to O(h**2) by theta + 3 h Omega / 2; then all four stage
             ! offsets are within |h Omega|/2 + pi/256 + O(h**2) of it.
             a4 = y + p4
-            kfn = anint((a4 + p2) * nodes_per_radian)
-            kp23 = kfn * node_p2 + kfn * node_p3
+            kfn = anint((a4 + p2)*nodes_per_radian)
+            kp23 = kfn*node_p2 + kfn*node_p3
             ! The RK4 combinations are regrouped so that each stage sine enters
             ! its consumer through one multiply and one subtract (the parts
             ! without it are formed beside the sines): the same sums as
@@ -164,23 +164,23 @@ contains
             r2 = rh + p2
             s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rh)
             s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
-            k1 = -gamma * u - w0sq * s1
-            r3 = (r2 - h2q * gamma * u) - w1 * s1
-            m2 = u + half * k1
-            r4 = ((rh + p4) - hh * gamma * m2) - w2 * s2
-            k2 = -gamma * m2 - w0sq * s2
+            k1 = -gamma*u - w0sq*s1
+            r3 = (r2 - h2q*gamma*u) - w1*s1
+            m2 = u + half*k1
+            r4 = ((rh + p4) - hh*gamma*m2) - w2*s2
+            k2 = -gamma*m2 - w0sq*s2
             s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
-            m3 = u + half * k2
+            m3 = u + half*k2
             ! theta and Omega are each rounded once (as in the plain step): the
             ! increments are summed first, so rotations (|theta| >> 1) keep the
             ! rounding noise of the plain loop.  rho' is formed from the same
             ! increment beside theta' (it then carries theta + dy - x_k', which
             ! is theta' to within half an ulp of theta').
-            dy = (p4 + c6 * ((k1 + k2) - gamma * m3)) - cy * s3
+            dy = (p4 + c6*((k1 + k2) - gamma*m3)) - cy*s3
             yn = y + dy
             s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
-            un = u + (((sixth * ((k1 + 2 * k2) - gamma * u - g2 * m3)) - wa * s3) - wb * s4)
-            rn = ((y - kfn * node_p1) - kp23) + dy
+            un = u + (((sixth*((k1 + 2*k2) - gamma*u - g2*m3)) - wa*s3) - wb*s4)
+            rn = ((y - kfn*node_p1) - kp23) + dy
             ok = max(abs(r2), abs(r3), abs(r4)) <= stage_rmax .and. abs(a4) <= stage_xmax
           end if
           if (ok) then
@@ -211,8 +211,8 @@ contains
         end if
       end do
       ns = ns + n
-      theta(j+1) = y
-      omega(j+1) = u
+      theta(j + 1) = y
+      omega(j + 1) = u
       if (.not. (abs(y) <= huge(y) .and. abs(u) <= huge(u))) then
         bad = j + 1
         exit
@@ -229,11 +229,11 @@ contains
       integer, intent(in) :: jj
       integer(i8), intent(out) :: m
       real(wp), intent(out) :: hm
-      m = substeps(t(jj+1) - t(jj), h)
+      m = substeps(t(jj + 1) - t(jj), h)
       if (m == 1) then
-        hm = t(jj+1) - t(jj)
+        hm = t(jj + 1) - t(jj)
       else
-        hm = (t(jj+1) - t(jj)) / real(m, wp)
+        hm = (t(jj + 1) - t(jj))/real(m, wp)
       end if
     end subroutine interval
   end subroutine rk4_grid

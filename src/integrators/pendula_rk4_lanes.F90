@@ -49,7 +49,7 @@ contains
   !> every 0.25 ms and stops the block with done = 0; done = 1 when it ran to
   !> the end.  w0, gamma, h hold one value per state or one for all.
   subroutine PENDULA_LANES_ENTRY(nt, t, nb, idx, nw, w0, ng, gamma, nh, h, ldn, theta, omega, nsteps, dead, &
-      poll, ncontrol, control, icancel, done) bind(C)
+                                 poll, ncontrol, control, icancel, done) bind(C)
     integer(c_int), intent(in) :: nt  !< output times, >= 1
     real(c_double), intent(in) :: t(nt)  !< output times [s], strictly increasing
     integer(c_int), intent(in) :: nb  !< states in the block, 1..RK4_BATCH_LANES
@@ -71,7 +71,7 @@ contains
     integer(c_int), intent(in) :: icancel  !< index of the cancel flag in control
     integer(c_int), intent(out) :: done  !< 1 when the block ran to the end, 0 when cancelled
     real(wp), dimension(nl) :: y, u, rh, wsq, gam, hl, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
-        bu0, bu1, yn, un, rn
+                               bu0, bu1, yn, un, rn
     integer, dimension(nl) :: kk, kn
     integer(i8), dimension(nl) :: nsub, ns
     logical, dimension(nl) :: okv, dlane
@@ -90,7 +90,7 @@ contains
       s = idx(min(l, nb))
       y(l) = theta(1, s)
       u(l) = omega(1, s)
-      wsq(l) = w0(merge(1, s, nw == 1)) * w0(merge(1, s, nw == 1))
+      wsq(l) = w0(merge(1, s, nw == 1))*w0(merge(1, s, nw == 1))
       gam(l) = gamma(merge(1, s, ng == 1))
       hl(l) = h(merge(1, s, nh == 1))
       call node_reduce(y(l), kk(l), rh(l))
@@ -100,18 +100,18 @@ contains
     dlane = .false.
     work = 0
     do j = 1, nt - 1
-      dt = t(j+1) - t(j)
+      dt = t(j + 1) - t(j)
       if (uniform) then
         m = substeps(dt, hl(1))
         hm = dt
-        if (m /= 1) hm = dt / real(m, wp)
+        if (m /= 1) hm = dt/real(m, wp)
         nsub = m
         hs = hm
       else
         do l = 1, nl
           nsub(l) = substeps(dt, hl(l))
           hs(l) = dt
-          if (nsub(l) /= 1) hs(l) = dt / real(nsub(l), wp)
+          if (nsub(l) /= 1) hs(l) = dt/real(nsub(l), wp)
         end do
       end if
       where (dlane) nsub = 0
@@ -120,7 +120,7 @@ contains
       call step_constants(hs, wsq, gam, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
       do i = 1, nmax
         call fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1, &
-            yn, un, rn, kn, okv)
+                       yn, un, rn, kn, okv)
         if (.not. all(okv)) call plain_lanes(i, nsub, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
         if (uniform) then
           y = yn
@@ -139,8 +139,8 @@ contains
       ns = ns + nsub
       do l = 1, nb
         if (dlane(l)) cycle
-        theta(j+1, idx(l)) = y(l)
-        omega(j+1, idx(l)) = u(l)
+        theta(j + 1, idx(l)) = y(l)
+        omega(j + 1, idx(l)) = u(l)
       end do
       ! rk4_grid stops at the first output that is not finite and rk4_solve
       ! reports it; such a lane stops too.  One branch-free test per block.
@@ -203,9 +203,9 @@ contains
   !> products are formed here), then the arithmetic runs as branch-free loops
   !> over lanes, which gcc vectorises.
   pure subroutine fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
-      bu0, bu1, yn, un, rn, kn, okv)
+                            bu0, bu1, yn, un, rn, kn, okv)
     real(wp), dimension(nl), intent(in) :: y, u, rh, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
-        bu0, bu1
+                                           bu0, bu1
     integer, dimension(nl), intent(in) :: kk
     real(wp), dimension(nl), intent(out) :: yn, un, rn
     integer, dimension(nl), intent(out) :: kn
@@ -225,58 +225,58 @@ contains
     end do
     do l = 1, nl
       ! the rows of `taylor`, formed as it was (one rounded product each)
-      c2(l) = sk(l) * taylor_factor(2)
-      c3(l) = ck(l) * taylor_factor(3)
-      c4(l) = sk(l) * taylor_factor(4)
-      c5(l) = ck(l) * taylor_factor(5)
-      c6t(l) = sk(l) * taylor_factor(6)
-      c7(l) = ck(l) * taylor_factor(7)
-      c8(l) = sk(l) * taylor_factor(8)
-      c9(l) = ck(l) * taylor_factor(9)
+      c2(l) = sk(l)*taylor_factor(2)
+      c3(l) = ck(l)*taylor_factor(3)
+      c4(l) = sk(l)*taylor_factor(4)
+      c5(l) = ck(l)*taylor_factor(5)
+      c6t(l) = sk(l)*taylor_factor(6)
+      c7(l) = ck(l)*taylor_factor(7)
+      c8(l) = sk(l)*taylor_factor(8)
+      c9(l) = ck(l)*taylor_factor(9)
     end do
     do l = 1, nl
       yv = y(l)
       uv = u(l)
       rv = rh(l)
-      bnd = abs(uv) * bu1(l) + bu0(l)
+      bnd = abs(uv)*bu1(l) + bu0(l)
       ok0 = merge(1.0_wp, 0.0_wp, bnd <= 1)
       ok0 = merge(ok0, 0.0_wp, abs(rv) <= stage_rmax)
       yv = merge(yv, 0.0_wp, ok0 == 1)
       uv = merge(uv, 0.0_wp, ok0 == 1)
       rv = merge(rv, 0.0_wp, ok0 == 1)
-      p2 = half(l) * uv
-      p4 = hs(l) * uv
+      p2 = half(l)*uv
+      p4 = hs(l)*uv
       a4 = yv + p4
-      kfn = round_away((a4 + p2) * nodes_per_radian)
-      kp23 = kfn * node_p2 + kfn * node_p3
+      kfn = round_away((a4 + p2)*nodes_per_radian)
+      kp23 = kfn*node_p2 + kfn*node_p3
       r2 = rv + p2
       ! the stage sines: pendula_rk4_kernel's sin_taylor, written out
-      z = rv * rv
-      zz = z * z
-      s1 = ((sk(l) + ck(l) * rv) + z * (c2(l) + c3(l) * rv)) + zz * (((c4(l) + c5(l) * rv) + z * (c6t(l) &
-          + c7(l) * rv)) + zz * (c8(l) + c9(l) * rv))
-      z = r2 * r2
-      zz = z * z
-      s2 = ((sk(l) + ck(l) * r2) + z * (c2(l) + c3(l) * r2)) + zz * (((c4(l) + c5(l) * r2) + z * (c6t(l) &
-          + c7(l) * r2)) + zz * (c8(l) + c9(l) * r2))
-      k1 = -gam(l) * uv - wsq(l) * s1
-      r3 = (r2 - h2q(l) * gam(l) * uv) - w1(l) * s1
-      m2 = uv + half(l) * k1
-      r4 = ((rv + p4) - hh(l) * gam(l) * m2) - w2(l) * s2
-      k2 = -gam(l) * m2 - wsq(l) * s2
-      z = r3 * r3
-      zz = z * z
-      s3 = ((sk(l) + ck(l) * r3) + z * (c2(l) + c3(l) * r3)) + zz * (((c4(l) + c5(l) * r3) + z * (c6t(l) &
-          + c7(l) * r3)) + zz * (c8(l) + c9(l) * r3))
-      m3 = uv + half(l) * k2
-      dy = (p4 + c6(l) * ((k1 + k2) - gam(l) * m3)) - cy(l) * s3
+      z = rv*rv
+      zz = z*z
+      s1 = ((sk(l) + ck(l)*rv) + z*(c2(l) + c3(l)*rv)) + zz*(((c4(l) + c5(l)*rv) + z*(c6t(l) &
+                                                                                      + c7(l)*rv)) + zz*(c8(l) + c9(l)*rv))
+      z = r2*r2
+      zz = z*z
+      s2 = ((sk(l) + ck(l)*r2) + z*(c2(l) + c3(l)*r2)) + zz*(((c4(l) + c5(l)*r2) + z*(c6t(l) &
+                                                                                      + c7(l)*r2)) + zz*(c8(l) + c9(l)*r2))
+      k1 = -gam(l)*uv - wsq(l)*s1
+      r3 = (r2 - h2q(l)*gam(l)*uv) - w1(l)*s1
+      m2 = uv + half(l)*k1
+      r4 = ((rv + p4) - hh(l)*gam(l)*m2) - w2(l)*s2
+      k2 = -gam(l)*m2 - wsq(l)*s2
+      z = r3*r3
+      zz = z*z
+      s3 = ((sk(l) + ck(l)*r3) + z*(c2(l) + c3(l)*r3)) + zz*(((c4(l) + c5(l)*r3) + z*(c6t(l) &
+                                                                                      + c7(l)*r3)) + zz*(c8(l) + c9(l)*r3))
+      m3 = uv + half(l)*k2
+      dy = (p4 + c6(l)*((k1 + k2) - gam(l)*m3)) - cy(l)*s3
       yn(l) = yv + dy
-      z = r4 * r4
-      zz = z * z
-      s4 = ((sk(l) + ck(l) * r4) + z * (c2(l) + c3(l) * r4)) + zz * (((c4(l) + c5(l) * r4) + z * (c6t(l) &
-          + c7(l) * r4)) + zz * (c8(l) + c9(l) * r4))
-      un(l) = uv + (((sixth(l) * ((k1 + 2 * k2) - gam(l) * uv - g2(l) * m3)) - wa(l) * s3) - wb(l) * s4)
-      rn(l) = ((yv - kfn * node_p1) - kp23) + dy
+      z = r4*r4
+      zz = z*z
+      s4 = ((sk(l) + ck(l)*r4) + z*(c2(l) + c3(l)*r4)) + zz*(((c4(l) + c5(l)*r4) + z*(c6t(l) &
+                                                                                      + c7(l)*r4)) + zz*(c8(l) + c9(l)*r4))
+      un(l) = uv + (((sixth(l)*((k1 + 2*k2) - gam(l)*uv - g2(l)*m3)) - wa(l)*s3) - wb(l)*s4)
+      rn(l) = ((yv - kfn*node_p1) - kp23) + dy
       kn(l) = int(kfn)
       ! (a NaN offset fails here but passes rk4_grid's max(); either way the
       ! state is non-finite from this step on and reported the same)

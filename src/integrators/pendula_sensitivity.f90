@@ -16,7 +16,7 @@ module pendula_sensitivity
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_general
   use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, &
-      check_increasing, check_same_size, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_MAXSTEPS
+                            check_increasing, check_same_size, check_size, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_MAXSTEPS
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -26,7 +26,7 @@ module pendula_sensitivity
   integer, parameter :: SENSITIVITY_NPARAMS = 4
   !> Step budget of one call (about 20 s of CPU): a longer window is refused up front.
   integer(i8), parameter :: SENSITIVITY_MAX_STEPS = 200000000_i8
-  integer, parameter :: NY = 2 + 2 * SENSITIVITY_NPARAMS
+  integer, parameter :: NY = 2 + 2*SENSITIVITY_NPARAMS
 
 contains
 
@@ -44,8 +44,8 @@ contains
     real(wp), intent(in) :: tol  !< absolute error target on theta [rad], > 0
     real(wp) :: lam
     lam = max(w0, gamma)
-    h = 0.5_wp * (120 * tol / (1 + lam * span))**0.25_wp / lam
-    h = min(h, 2 / lam)
+    h = 0.5_wp*(120*tol/(1 + lam*span))**0.25_wp/lam
+    h = min(h, 2/lam)
   end function sensitivity_step
 
   !> theta, omega and their derivatives with respect to (theta0, omega0, w0,
@@ -55,7 +55,7 @@ contains
   !> Error in every output about tol or less (see sensitivity_step); cost about
   !> 10 (t(n) - t_ref) max(w0, gamma) tol**(-1/4) right-hand sides.
   pure subroutine sensitivity_solve(t, t_ref, theta0, omega0, w0, gamma, tol, theta, omega, &
-      jac_theta, jac_omega, status, steps)
+                                    jac_theta, jac_omega, status, steps)
     real(wp), intent(in) :: t(:)  !< sample times [s], finite, strictly increasing, t(1) >= t_ref
     real(wp), intent(in) :: t_ref  !< time [s] at which the state is (theta0, omega0), finite
     real(wp), intent(in) :: theta0  !< angle at t_ref [rad], finite
@@ -96,18 +96,18 @@ contains
     call check_same_size('jac_omega columns', size(jac_omega, 2), 'the parameters', SENSITIVITY_NPARAMS, status)
     if (status%code /= PENDULA_OK) return
     if (t(1) < t_ref) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 't_ref = ' // format_general(t_ref, 17) // &
-          ' must not exceed the first sample time t[0] = ' // format_general(t(1), 17))
+      call set_error(status, PENDULA_ERR_DOMAIN, 't_ref = '//format_general(t_ref, 17)// &
+                     ' must not exceed the first sample time t[0] = '//format_general(t(1), 17))
       return
     end if
     span = t(n) - t_ref
     h = sensitivity_step(w0, gamma, span, tol)
     ! The step count, before any work: a window that needs more than the
     ! budget is refused rather than run for minutes.
-    if (span / h > real(SENSITIVITY_MAX_STEPS, wp)) then
-      call set_error(status, PENDULA_ERR_MAXSTEPS, 'the window t[-1] - t_ref = ' // format_general(span, 6) // &
-          ' s needs about ' // format_general(span / h, 3) // ' RK4 steps at tol = ' // format_general(tol, 3) // &
-          ' rad, over the budget of ' // format_general(real(SENSITIVITY_MAX_STEPS, wp), 3) // ': raise tol')
+    if (span/h > real(SENSITIVITY_MAX_STEPS, wp)) then
+      call set_error(status, PENDULA_ERR_MAXSTEPS, 'the window t[-1] - t_ref = '//format_general(span, 6)// &
+                     ' s needs about '//format_general(span/h, 3)//' RK4 steps at tol = '//format_general(tol, 3)// &
+                     ' rad, over the budget of '//format_general(real(SENSITIVITY_MAX_STEPS, wp), 3)//': raise tol')
       return
     end if
     y = 0
@@ -119,8 +119,8 @@ contains
     do i = 1, n
       dt = t(i) - merge(t_ref, t(max(i - 1, 1)), i == 1)
       if (dt > 0) then
-        nsub = max(1_i8, ceiling(dt / h, i8))
-        hh = dt / real(nsub, wp)
+        nsub = max(1_i8, ceiling(dt/h, i8))
+        hh = dt/real(nsub, wp)
         do k = 1, nsub
           call rk4_step(y, hh, w0, gamma)
         end do
@@ -133,8 +133,8 @@ contains
     end do
     if (present(steps)) steps = total
     if (.not. all(ieee_is_finite(y))) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'the variational solution overflowed: w0 = ' // &
-          format_general(w0, 6) // ' 1/s, gamma = ' // format_general(gamma, 6) // ' 1/s')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'the variational solution overflowed: w0 = '// &
+                     format_general(w0, 6)//' 1/s, gamma = '//format_general(gamma, 6)//' 1/s')
     end if
   end subroutine sensitivity_solve
 
@@ -144,10 +144,10 @@ contains
     real(wp), intent(in) :: h, w0, gamma
     real(wp), dimension(NY) :: k1, k2, k3, k4
     k1 = rhs(y, w0, gamma)
-    k2 = rhs(y + 0.5_wp * h * k1, w0, gamma)
-    k3 = rhs(y + 0.5_wp * h * k2, w0, gamma)
-    k4 = rhs(y + h * k3, w0, gamma)
-    y = y + (h / 6) * (k1 + 2 * (k2 + k3) + k4)
+    k2 = rhs(y + 0.5_wp*h*k1, w0, gamma)
+    k3 = rhs(y + 0.5_wp*h*k2, w0, gamma)
+    k4 = rhs(y + h*k3, w0, gamma)
+    y = y + (h/6)*(k1 + 2*(k2 + k3) + k4)
   end subroutine rk4_step
 
   ! The pendulum and its variational equations: y = (theta, omega, S_theta(1:4), S_omega(1:4)).
@@ -157,12 +157,12 @@ contains
     real(wp) :: s, c, w2
     s = sin(y(1))
     c = cos(y(1))
-    w2 = w0 * w0
+    w2 = w0*w0
     f(1) = y(2)
-    f(2) = -gamma * y(2) - w2 * s
+    f(2) = -gamma*y(2) - w2*s
     f(3:6) = y(7:10)
-    f(7:10) = -gamma * y(7:10) - w2 * c * y(3:6)
-    f(9) = f(9) - 2 * w0 * s       ! d f / d w0
+    f(7:10) = -gamma*y(7:10) - w2*c*y(3:6)
+    f(9) = f(9) - 2*w0*s       ! d f / d w0
     f(10) = f(10) - y(2)           ! d f / d gamma
   end function rhs
 

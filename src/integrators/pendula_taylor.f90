@@ -24,13 +24,13 @@ module pendula_taylor
   use pendula_constants, only: two_pi, two_pi_lo
   use pendula_format, only: format_short
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, check_size, &
-      check_same_size, check_all_finite, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_SOLVER, &
-      PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+                            check_same_size, check_all_finite, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_SOLVER, &
+                            PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_double_double, only: two_sum, two_prod
   use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_order, taylor_step, &
-      taylor_shear
+                                   taylor_shear
   implicit none
   private
   public :: taylor_solve, taylor_solve_events, taylor_run, taylor_check, taylor_outcome
@@ -48,7 +48,7 @@ module pendula_taylor
   real(wp), parameter :: MAX_STEP_TAU = 2
   ! Smallest per-step tolerance: below it truncation is far under rounding.
   real(wp), parameter :: EPS_FLOOR = 1.0e-18_wp
-  real(wp), parameter :: ULP = epsilon(1.0_wp) / 2
+  real(wp), parameter :: ULP = epsilon(1.0_wp)/2
   integer, parameter :: POLL_STEPS = 128
 
 contains
@@ -63,11 +63,11 @@ contains
     real(wp), intent(in) :: gamma_over_w0  !< gamma/w0, >= 0
     real(wp), intent(in) :: e0  !< initial scaled energy Omega**2/(2 w0**2) + 1 - cos(theta)
     real(wp) :: n_est, growth
-    n_est = 1 + 3 * tau * (1 + gamma_over_w0)
+    n_est = 1 + 3*tau*(1 + gamma_over_w0)
     ! the error estimate is ~ TAYLOR_SAFETY sqrt(2) 0.3 eps per step (the
     ! omitted tail at the optimal order), grown on average by G tau/2
-    growth = 1 + min(taylor_shear(e0) * tau / 2, 1.0e12_wp)
-    eps = min(tol, max(EPS_FLOOR, tol / (n_est * growth)))
+    growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
+    eps = min(tol, max(EPS_FLOOR, tol/(n_est*growth)))
     if (.not. eps >= EPS_FLOOR) eps = EPS_FLOOR   ! NaN-proof
   end function taylor_step_tolerance
 
@@ -92,26 +92,26 @@ contains
     if (status%code == PENDULA_OK .and. n >= 2) then
       dir = sign(1.0_wp, t(2) - t(1))
       do i = 2, n
-        if (.not. dir * (t(i) - t(i-1)) > 0) then
-          call set_error(status, PENDULA_ERR_ORDER, 't must be strictly monotonic (increasing, or decreasing to ' // &
-              'integrate backwards), but t[' // format_short(real(i - 1, wp)) // '] = ' // format_short(t(i)) // &
-              ' does not continue from t[' // format_short(real(i - 2, wp)) // '] = ' // format_short(t(i-1)))
+        if (.not. dir*(t(i) - t(i - 1)) > 0) then
+          call set_error(status, PENDULA_ERR_ORDER, 't must be strictly monotonic (increasing, or decreasing to '// &
+                         'integrate backwards), but t['//format_short(real(i - 1, wp))//'] = '//format_short(t(i))// &
+                         ' does not continue from t['//format_short(real(i - 2, wp))//'] = '//format_short(t(i - 1)))
           exit
         end if
       end do
-      if (status%code == PENDULA_OK .and. abs(t(n) / 2 - t(1) / 2) > huge(1.0_wp) / 2) &
-          call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t[-1] - t[0] ' // &
-              'overflows): no integration can cover that window')
+      if (status%code == PENDULA_OK .and. abs(t(n)/2 - t(1)/2) > huge(1.0_wp)/2) &
+        call set_error(status, PENDULA_ERR_DOMAIN, 't spans more than the largest double (t[-1] - t[0] '// &
+                       'overflows): no integration can cover that window')
     end if
     call check_finite('theta0', theta0, status)
     call check_finite('omega0', omega0, status)
     call check_positive('w0', w0, status)
     call check_nonnegative('gamma', gamma, status)
     call check_positive('tol', tol, status)
-    if (status%code == PENDULA_OK .and. tol > 1) call set_error(status, PENDULA_ERR_DOMAIN, 'tol = ' // &
-        format_short(tol) // ' is out of range: it must be in (0, 1] (absolute accuracy in rad)')
+    if (status%code == PENDULA_OK .and. tol > 1) call set_error(status, PENDULA_ERR_DOMAIN, 'tol = '// &
+                                                               format_short(tol)//' is out of range: it must be in (0, 1] (absolute accuracy in rad)')
     if (status%code == PENDULA_OK .and. max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, &
-        'max_steps = ' // format_short(real(max_steps, wp)) // ' is out of range: it must be >= 1')
+                                                               'max_steps = '//format_short(real(max_steps, wp))//' is out of range: it must be >= 1')
   end subroutine taylor_check
 
   !> The status of a taylor_run outcome (PENDULA_OK, PENDULA_ERR_SOLVER,
@@ -124,16 +124,16 @@ contains
     !< the first error of the call is kept: set here only if nothing failed before
     select case (outcome)
     case (PENDULA_ERR_SOLVER)
-      call set_error(status, outcome, 'the Taylor integrator produced a non-finite state or a step lost in ' // &
-          'rounding at t = ' // format_short(t_fail) // ' (the state or the parameters are too large for ' // &
-          'double precision)')
+      call set_error(status, outcome, 'the Taylor integrator produced a non-finite state or a step lost in '// &
+                     'rounding at t = '//format_short(t_fail)//' (the state or the parameters are too large for '// &
+                     'double precision)')
     case (PENDULA_ERR_MAXSTEPS)
-      call set_error(status, outcome, 'the Taylor integrator needs more than max_steps = ' // &
-          format_short(real(max_steps, wp)) // ' steps (stopped at t = ' // format_short(t_fail) // &
-          '): raise max_steps, loosen tol or shorten the window')
+      call set_error(status, outcome, 'the Taylor integrator needs more than max_steps = '// &
+                     format_short(real(max_steps, wp))//' steps (stopped at t = '//format_short(t_fail)// &
+                     '): raise max_steps, loosen tol or shorten the window')
     case (PENDULA_ERR_CANCELLED)
-      call set_error(status, outcome, 'Taylor integration cancelled at t = ' // format_short(t_fail) // &
-          ' (interrupted by the caller)')
+      call set_error(status, outcome, 'Taylor integration cancelled at t = '//format_short(t_fail)// &
+                     ' (interrupted by the caller)')
     end select
   end subroutine taylor_outcome
 
@@ -153,7 +153,7 @@ contains
   !> tens of periods; near the separatrix the estimate grows with the phase
   !> sensitivity and tells).
   subroutine taylor_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, stats, status, order, &
-      control, max_steps)
+                          control, max_steps)
     real(wp), intent(in) :: t(:)
     !< output times [s]: finite, strictly increasing or decreasing, size >= 1; t(1) is the initial time
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -175,7 +175,7 @@ contains
     integer :: ev_k(1), nev
     logical :: trunc
     call solve(t, theta0, omega0, w0, gamma, tol, .false., theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, &
-        stats, status, order, control, max_steps)
+               stats, status, order, control, max_steps)
   end subroutine taylor_solve
 
   !> taylor_solve that also locates the events after t(1) (in the direction of
@@ -184,7 +184,7 @@ contains
   !> on the step polynomials to machine precision in time.  The first
   !> size(event_t) events are kept (truncated tells whether more occurred).
   subroutine taylor_solve_events(t, theta0, omega0, w0, gamma, tol, theta, omega, err, &
-      event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, control, max_steps)
+                                 event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, control, max_steps)
     real(wp), intent(in) :: t(:)  !< output times [s], as for taylor_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
@@ -223,11 +223,11 @@ contains
       return
     end if
     call solve(t, theta0, omega0, w0, gamma, tol, .true., theta, omega, err, event_t, event_kind, event_theta, &
-        event_omega, n_events, truncated, stats, status, order, control, max_steps)
+               event_omega, n_events, truncated, stats, status, order, control, max_steps)
   end subroutine taylor_solve_events
 
   subroutine solve(t, theta0, omega0, w0, gamma, tol, with_events, theta, omega, err, ev_t, ev_k, ev_th, ev_om, &
-      nev, trunc, stats, status, order, control, max_steps)
+                   nev, trunc, stats, status, order, control, max_steps)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, tol
     logical, intent(in) :: with_events
     real(wp), intent(out) :: theta(:), omega(:), err(:), ev_t(:), ev_th(:), ev_om(:)
@@ -257,9 +257,9 @@ contains
       return
     end if
     call taylor_run(t, theta0, omega0, w0, gamma, tol, with_events, budget, theta, omega, err, &
-        ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
+                    ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
     stats%steps = steps
-    stats%rhs_evals = steps * p
+    stats%rhs_evals = steps*p
     if (present(order)) order = p
     call taylor_outcome(outcome, t_fail, budget, status)
     if (status%code /= PENDULA_OK) then
@@ -277,7 +277,7 @@ contains
   !> the outputs from there on unset).  No allocation; the same arithmetic
   !> for every caller, so a batch state is bit-identical to the scalar call.
   subroutine taylor_run(t, theta0, omega0, w0, gamma, tol, with_events, max_steps, theta, omega, err, &
-      ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
+                        ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
     real(wp), intent(in) :: t(:)  !< output times [s], checked
     real(wp), intent(in) :: theta0  !< initial angle [rad]
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s]
@@ -315,23 +315,23 @@ contains
     steps = 0
     outcome = PENDULA_OK
     t_fail = t(1)
-    inv_w0 = 1 / max(w0, 1.0e-300_wp)   ! w0 = 5e-324: no overflow (the window is then one step)
-    w0sq = w0 * w0
+    inv_w0 = 1/max(w0, 1.0e-300_wp)   ! w0 = 5e-324: no overflow (the window is then one step)
+    w0sq = w0*w0
     tau = 0
-    if (n > 1) tau = w0 * abs(t(n) / 2 - t(1) / 2) * 2
+    if (n > 1) tau = w0*abs(t(n)/2 - t(1)/2)*2
     ! (ratios clamped to 1e150 each: no overflow for any finite input)
-    eps_s = taylor_step_tolerance(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp) * min(inv_w0, 1.0e150_wp), &
-        scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0) * min(inv_w0, 1.0e150_wp)))
+    eps_s = taylor_step_tolerance(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
+                                  scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)))
     p = taylor_order(eps_s)
     if (n == 1) return
     ! Steps are at most 2/w0 and, with damping, ~2/gamma long: a window that
     ! needs more than max_steps is refused before any work.
-    if (tau / MAX_STEP_TAU > real(max_steps, wp) .or. (abs(theta0) + abs(omega0) > 0 .and. &
-        gamma * abs(t(n) / 2 - t(1) / 2) > real(max_steps, wp))) then
+    if (tau/MAX_STEP_TAU > real(max_steps, wp) .or. (abs(theta0) + abs(omega0) > 0 .and. &
+                                                     gamma*abs(t(n)/2 - t(1)/2) > real(max_steps, wp))) then
       outcome = PENDULA_ERR_MAXSTEPS
       return
     end if
-    lgr = 1 + min(gamma * inv_w0, 1.0e300_wp)
+    lgr = 1 + min(gamma*inv_w0, 1.0e300_wp)
     xh = theta0
     xl = 0
     vh = omega0
@@ -350,12 +350,12 @@ contains
     i = 2
     do
       call taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
-      es = scaled_energy_sc(sn, cs, vh * inv_w0)
+      es = scaled_energy_sc(sn, cs, vh*inv_w0)
       call two_sum(t(n), -th, rs, re)
       rem = rs + (re - tl)
-      habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU * inv_w0))
+      habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU*inv_w0))
       ! a non-finite series (an overflowing state) or a step lost in the time's rounding
-      if (.not. (abs(x(p+1)) + abs(v(p+1)) <= huge(1.0_wp) .and. habs > 0) .or. &
+      if (.not. (abs(x(p + 1)) + abs(v(p + 1)) <= huge(1.0_wp) .and. habs > 0) .or. &
           (th + sign(habs, rem) == th .and. habs < abs(rem))) then
         outcome = PENDULA_ERR_SOLVER
         t_fail = th
@@ -373,8 +373,8 @@ contains
         if (abs(d) > abs(h) .and. h /= rem) exit
         call dense(d, theta(i), xel, omega(i), vel)
         call local_error(d, trc, rnd)
-        err(i) = TAYLOR_SAFETY * (sqrt(2.0_wp) * (big_a + big_d + rounding_part()) + trc + rnd) + &
-            ULP * max(abs(theta(i)), abs(omega(i)) * inv_w0)
+        err(i) = TAYLOR_SAFETY*(sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd) + &
+                 ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
         i = i + 1
       end do
       if (with_events) call events_in_step(h)
@@ -389,20 +389,20 @@ contains
       ! error model: growth of what was committed so far, then this step's share
       ! G varies like log|2 - e| and 1/|2 - e|: refreshed when e has moved by
       ! 5% of its distance to 0 or to the separatrix, with a 10% margin
-      if (abs(es - ec) > 0.05_wp * min(es, abs(2 - es)) .or. ec < 0) then
+      if (abs(es - ec) > 0.05_wp*min(es, abs(2 - es)) .or. ec < 0) then
         ec = es
-        g = 1.1_wp * min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
+        g = 1.1_wp*min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
       end if
-      big_d = big_d + w0 * habs * min(g * big_a, lgr * (big_a + big_d))
+      big_d = big_d + w0*habs*min(g*big_a, lgr*(big_a + big_d))
       call local_error(h, trc, rnd)
       big_a = big_a + trc
       ! rounding: independent from step to step, so summed in quadrature, each
       ! share grown by the integrated shear since it was made (gam)
-      gam = min(gam + g * w0 * habs, 1.0e100_wp)
-      lt = lt + lgr * w0 * habs
-      r0 = r0 + rnd * rnd
-      r1 = r1 + rnd * rnd * gam
-      r2 = r2 + rnd * rnd * gam * gam
+      gam = min(gam + g*w0*habs, 1.0e100_wp)
+      lt = lt + lgr*w0*habs
+      r0 = r0 + rnd*rnd
+      r1 = r1 + rnd*rnd*gam
+      r2 = r2 + rnd*rnd*gam*gam
       xh = xe
       xl = xel
       vh = ve
@@ -414,7 +414,7 @@ contains
       steps = steps + 1
       ! the budget: spent, or (checked every POLL_STEPS steps) certain to be at this pace
       if (steps >= max_steps .or. (mod(steps, int(POLL_STEPS, i8)) == 0 .and. &
-          abs(rem) / max(abs(th - t(1)) + abs(tl), tiny(1.0_wp)) > real(max_steps, wp) / real(steps, wp))) then
+                                   abs(rem)/max(abs(th - t(1)) + abs(tl), tiny(1.0_wp)) > real(max_steps, wp)/real(steps, wp))) then
         outcome = PENDULA_ERR_MAXSTEPS
         t_fail = th
         return
@@ -443,16 +443,16 @@ contains
       rest = x(p)
       rv = v(p)
       do k = p - 1, 2, -1
-        rest = rest * dd + x(k)
-        rv = rv * dd + v(k)
+        rest = rest*dd + x(k)
+        rv = rv*dd + v(k)
       end do
-      rest = rest * dd * dd
-      rv = (rv * dd + v(1)) * dd
+      rest = rest*dd*dd
+      rv = (rv*dd + v(1))*dd
       ! two_sum(xh, p1) and two_sum(vh, rv), written out
       s1 = xh + p1
       bb = s1 - xh
       e2 = (xh - (s1 - bb)) + (p1 - bb)
-      lo = e2 + (e1 + vl * dd + xl + rest)
+      lo = e2 + (e1 + vl*dd + xl + rest)
       xo = s1 + lo
       xol = lo - (xo - s1)
       s1 = vh + rv
@@ -473,17 +473,17 @@ contains
       real(wp) :: a, sx, sv, ap
       integer :: k
       a = abs(dd)
-      sx = abs(x(p+1)) * a
-      sv = abs(v(p+1)) * a
+      sx = abs(x(p + 1))*a
+      sv = abs(v(p + 1))*a
       ap = a
       do k = p, 2, -1
-        sx = (sx + abs(x(k))) * a
-        sv = (sv + abs(v(k))) * a
-        ap = ap * a
+        sx = (sx + abs(x(k)))*a
+        sv = (sv + abs(v(k)))*a
+        ap = ap*a
       end do
       ! sx = sum_{k=2..p+1} |x(k)| a**(k-1), ap = a**p; the first omitted terms alone:
-      trc_ = 2 * max(abs(x(p+1)), abs(v(p+1)) * inv_w0) * (ap * a)
-      rnd_ = ROUND_ULPS * ULP * (sx * a + (s0abs * a + sv * a) * inv_w0 + abs(xl) + abs(vl) * inv_w0)
+      trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*(ap*a)
+      rnd_ = ROUND_ULPS*ULP*(sx*a + (s0abs*a + sv*a)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
     end subroutine local_error
 
     ! The rounding so far, grown by the shear: sqrt(sum r_i**2 (1 + Gamma -
@@ -491,9 +491,9 @@ contains
     ! factor exp(L tau) (near the separatrix the shear model breaks down).
     real(wp) function rounding_part() result(r)
       real(wp) :: q
-      q = r0 * (1 + gam)**2 - 2 * (1 + gam) * r1 + r2
+      q = r0*(1 + gam)**2 - 2*(1 + gam)*r1 + r2
       r = sqrt(max(q, r0))
-      r = min(r, sqrt(r0) * exp(min(lt, 700.0_wp)))
+      r = min(r, sqrt(r0)*exp(min(lt, 700.0_wp)))
     end function rounding_part
 
     ! Events in (0, hh] of the current step, in time order.
@@ -506,8 +506,8 @@ contains
       pending = .false.
       dt_turn = 0
       f0 = vh
-      if (f0 == 0) f0 = v(1) * hh   ! starts at a turning point: the sign just after
-      if (f0 == 0) f0 = v(2) * hh * hh
+      if (f0 == 0) f0 = v(1)*hh   ! starts at a turning point: the sign just after
+      if (f0 == 0) f0 = v(2)*hh*hh
       call dense(hh, xend, xendl, f1, dummy)
       if (f0 /= 0 .and. (f1 == 0 .or. (f1 > 0) .neqv. (f0 > 0))) then
         dt_turn = root(v, vh + vl, hh)
@@ -516,17 +516,17 @@ contains
       ! bottom passes: theta crosses a level 2 pi j (monotonic within a step:
       ! a step is shorter than half a swing)
       if (xend > xh) then
-        j1 = floor(xh / two_pi) + 1
-        j2 = floor(xend / two_pi)
+        j1 = floor(xh/two_pi) + 1
+        j2 = floor(xend/two_pi)
         jstep = 1
       else
-        j1 = ceiling(xh / two_pi) - 1
-        j2 = ceiling(xend / two_pi)
+        j1 = ceiling(xh/two_pi) - 1
+        j2 = ceiling(xend/two_pi)
         jstep = -1
       end if
       do j = j1, j2, jstep
-        lev_h = two_pi * j
-        lev_l = two_pi_lo * j + (two_pi * real(j, wp) - lev_h)
+        lev_h = two_pi*j
+        lev_l = two_pi_lo*j + (two_pi*real(j, wp) - lev_h)
         fs = (xh - lev_h) + (xl - lev_l)
         fe = (xend - lev_h) + (xendl - lev_l)
         if (fs == 0 .or. .not. (fe == 0 .or. (fe > 0) .neqv. (fs > 0))) cycle
@@ -565,19 +565,19 @@ contains
       lo = 0
       hi = hh
       flo = c0
-      dr = hh / 2
+      dr = hh/2
       if (a(1) /= 0) then
-        dn = -c0 / a(1)
-        if ((dn - lo) * (dn - hi) < 0) dr = dn
+        dn = -c0/a(1)
+        if ((dn - lo)*(dn - hi) < 0) dr = dn
       end if
       do it = 1, 100
         f = a(p)
-        df = p * a(p)
+        df = p*a(p)
         do k = p - 1, 1, -1
-          f = f * dr + a(k)
-          df = df * dr + k * a(k)
+          f = f*dr + a(k)
+          df = df*dr + k*a(k)
         end do
-        f = f * dr + c0
+        f = f*dr + c0
         if (f == 0) return
         if ((f > 0) .eqv. (flo > 0)) then
           lo = dr
@@ -585,9 +585,9 @@ contains
         else
           hi = dr
         end if
-        dn = dr - f / df
-        if (.not. ((dn - lo) * (dn - hi) < 0)) dn = (lo + hi) / 2
-        if (abs(dn - dr) <= 2 * ULP * abs(dr) .or. dn == lo .or. dn == hi) then
+        dn = dr - f/df
+        if (.not. ((dn - lo)*(dn - hi) < 0)) dn = (lo + hi)/2
+        if (abs(dn - dr) <= 2*ULP*abs(dr) .or. dn == lo .or. dn == hi) then
           dr = dn
           return
         end if
@@ -601,16 +601,16 @@ contains
   ! 2 sin(x/2)**2 (no cancellation for small swings).
   pure real(wp) function scaled_energy(xx, u) result(e)
     real(wp), intent(in) :: xx, u
-    e = u * u / 2 + 2 * sin(xx / 2)**2
+    e = u*u/2 + 2*sin(xx/2)**2
   end function scaled_energy
 
   ! The same from sin(x), cos(x): 1 - cos = sin**2/(1 + cos) for cos > 0.
   pure real(wp) function scaled_energy_sc(sn, cs, u) result(e)
     real(wp), intent(in) :: sn, cs, u
     if (cs > 0) then
-      e = u * u / 2 + sn * sn / (1 + cs)
+      e = u*u/2 + sn*sn/(1 + cs)
     else
-      e = u * u / 2 + (1 - cs)
+      e = u*u/2 + (1 - cs)
     end if
   end function scaled_energy_sc
 

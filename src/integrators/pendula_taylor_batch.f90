@@ -35,7 +35,7 @@ contains
   !> their results, the rest get PENDULA_ERR_CANCELLED) and progress
   !> (finished states).  max_steps: per-state step budget (default 1e9).
   subroutine taylor_batch_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, codes, steps, order, &
-      status, threads, control, first_failed, max_steps)
+                                status, threads, control, first_failed, max_steps)
     real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly monotonic, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
@@ -65,8 +65,8 @@ contains
     if (present(first_failed)) first_failed = 0
     call taylor_check(t, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0_wp, budget, status)
     if (status%code == PENDULA_OK) call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), &
-        size(tol)] == 1 .or. [size(omega0), size(w0), size(gamma), size(tol)] == n), 'omega0, w0, gamma and tol', &
-        theta, omega, size(codes), size(steps), 'steps', threads, status)
+                                           size(tol)] == 1 .or. [size(omega0), size(w0), size(gamma), size(tol)] == n), 'omega0, w0, gamma and tol', &
+                                                           theta, omega, size(codes), size(steps), 'steps', threads, status)
     call check_same_size('err', size(err), 'theta', size(theta), status)
     call check_same_size('order', size(order), 'steps', size(steps), status)
     if (status%code /= PENDULA_OK) then
@@ -117,11 +117,11 @@ contains
         end if
       end if
       call taylor_check(t(1:1), theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), &
-          tol(at(tol, k)), budget, sk)
+                        tol(at(tol, k)), budget, sk)
       if (sk%code /= PENDULA_OK) return
       call taylor_run(t, theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), tol(at(tol, k)), &
-          .false., budget, theta(:, k), omega(:, k), err(:, k), ev1, evk, ev2, ev3, nev, trunc, steps(k), order(k), &
-          outcome, t_fail)
+                      .false., budget, theta(:, k), omega(:, k), err(:, k), ev1, evk, ev2, ev3, nev, trunc, steps(k), order(k), &
+                      outcome, t_fail)
       if (present(control)) then
         if (cancel_requested(control)) outcome = PENDULA_ERR_CANCELLED
         call add_progress(control, 1_i8)

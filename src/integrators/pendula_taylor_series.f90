@@ -24,10 +24,10 @@ module pendula_taylor_series
 
   ! 1/k, so that the recurrences multiply instead of dividing (a literal list:
   ! an implied-do would need a module variable)
-  real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = 1.0_wp / real([ &
-      1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, &
-      15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, &
-      29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41], wp)
+  real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = 1.0_wp/real([ &
+                                                                 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, &
+                                                                 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, &
+                                                                 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41], wp)
 
 contains
 
@@ -53,15 +53,15 @@ contains
     integer :: k, j
     sh = sin(xh)
     ch = cos(xh)
-    s(0) = sh + ch * xl
-    c(0) = ch - sh * xl
+    s(0) = sh + ch*xl
+    c(0) = ch - sh*xl
     sn = s(0)
     cs = c(0)
     x(0) = xh
     v(0) = vh
     x(1) = vh
-    v(1) = -gamma * vh - w0sq * s(0)
-    s0abs = abs(gamma * vh) + w0sq * abs(s(0))
+    v(1) = -gamma*vh - w0sq*s(0)
+    s0abs = abs(gamma*vh) + w0sq*abs(s(0))
     ! k x(k) = v(k-1), so s(k) = (1/k) sum_j v(j-1) c(k-j) (and c likewise).
     ! Four partial sums per series (j mod 4) break the add latency chain.
     do k = 1, p
@@ -74,23 +74,23 @@ contains
       as4 = 0
       ac4 = 0
       do j = 1, k - 3, 4
-        as = as + v(j-1) * c(k-j)
-        ac = ac + v(j-1) * s(k-j)
-        as2 = as2 + v(j) * c(k-j-1)
-        ac2 = ac2 + v(j) * s(k-j-1)
-        as3 = as3 + v(j+1) * c(k-j-2)
-        ac3 = ac3 + v(j+1) * s(k-j-2)
-        as4 = as4 + v(j+2) * c(k-j-3)
-        ac4 = ac4 + v(j+2) * s(k-j-3)
+        as = as + v(j - 1)*c(k - j)
+        ac = ac + v(j - 1)*s(k - j)
+        as2 = as2 + v(j)*c(k - j - 1)
+        ac2 = ac2 + v(j)*s(k - j - 1)
+        as3 = as3 + v(j + 1)*c(k - j - 2)
+        ac3 = ac3 + v(j + 1)*s(k - j - 2)
+        as4 = as4 + v(j + 2)*c(k - j - 3)
+        ac4 = ac4 + v(j + 2)*s(k - j - 3)
       end do
-      do j = 4 * (k / 4) + 1, k
-        as = as + v(j-1) * c(k-j)
-        ac = ac + v(j-1) * s(k-j)
+      do j = 4*(k/4) + 1, k
+        as = as + v(j - 1)*c(k - j)
+        ac = ac + v(j - 1)*s(k - j)
       end do
-      s(k) = ((as + as2) + (as3 + as4)) * INV(k)
-      c(k) = -((ac + ac2) + (ac3 + ac4)) * INV(k)
-      x(k+1) = v(k) * INV(k+1)
-      v(k+1) = (-gamma * v(k) - w0sq * s(k)) * INV(k+1)
+      s(k) = ((as + as2) + (as3 + as4))*INV(k)
+      c(k) = -((ac + ac2) + (ac3 + ac4))*INV(k)
+      x(k + 1) = v(k)*INV(k + 1)
+      v(k + 1) = (-gamma*v(k) - w0sq*s(k))*INV(k + 1)
     end do
   end subroutine taylor_coefficients
 
@@ -99,7 +99,7 @@ contains
   !> between 2 and TAYLOR_MAX_ORDER - 1.
   pure integer function taylor_order(eps) result(p)
     real(wp), intent(in) :: eps  !< per-step absolute tolerance, > 0
-    p = ceiling(-log(eps) / 2) + 1
+    p = ceiling(-log(eps)/2) + 1
     p = max(2, min(TAYLOR_MAX_ORDER - 1, p))
   end function taylor_order
 
@@ -118,13 +118,13 @@ contains
     real(wp), intent(in) :: h_cap  !< largest step wanted [s], > 0
     real(wp) :: n1, n2, l1, l2
     h = h_cap
-    n1 = max(abs(x(p-1)), abs(v(p-1)) * inv_w0)
-    n2 = max(abs(x(p)), abs(v(p)) * inv_w0)
+    n1 = max(abs(x(p - 1)), abs(v(p - 1))*inv_w0)
+    n2 = max(abs(x(p)), abs(v(p))*inv_w0)
     if (n1 <= 0 .and. n2 <= 0) return
     l1 = huge(1.0_wp)
     l2 = huge(1.0_wp)
-    if (n1 > 0) l1 = log(eps / n1) / (p - 1)
-    if (n2 > 0) l2 = log(eps / n2) / p
+    if (n1 > 0) l1 = log(eps/n1)/(p - 1)
+    if (n2 > 0) l2 = log(eps/n2)/p
     h = min(h, exp(min(l1, l2, 700.0_wp)))
   end function taylor_step
 
@@ -141,7 +141,7 @@ contains
   pure real(wp) function taylor_shear(e) result(g)
     real(wp), intent(in) :: e  !< scaled energy, >= 0
     real(wp) :: m, mu, kk_over, q, pp
-    m = e / 2
+    m = e/2
     if (m <= 0) then
       g = 0
     else if (.not. m <= 1.0e300_wp) then
@@ -150,16 +150,16 @@ contains
       ! d ln nu/dm = -K'(m)/K(m); max |d state/d phase| = 2 sqrt(m) (u at the
       ! bottom; |sin| is smaller); max |de/d state| <= |sin x| + |u|.
       kk_over = dlogk(m)
-      q = 2 * sqrt(m)
-      pp = min(1.0_wp, 2 * sqrt(m * (1 - m))) + q
-      g = 0.5_wp * q * pp * kk_over
+      q = 2*sqrt(m)
+      pp = min(1.0_wp, 2*sqrt(m*(1 - m))) + q
+      g = 0.5_wp*q*pp*kk_over
     else if (m > 1) then
-      mu = 1 / m
+      mu = 1/m
       ! nu = pi sqrt(m)/K(1/m): d ln nu/dm = 1/(2m) + K'(mu)/K(mu) / m**2
       kk_over = dlogk(mu)
-      q = 2 * sqrt(m)
+      q = 2*sqrt(m)
       pp = 1 + q
-      g = 0.5_wp * q * pp * (0.5_wp / m + kk_over / m**2)
+      g = 0.5_wp*q*pp*(0.5_wp/m + kk_over/m**2)
     else
       g = huge(1.0_wp)
     end if
@@ -179,15 +179,15 @@ contains
     tw = 1
     acc = 0
     do it = 1, 40
-      c = (a - b) / 2
-      an = (a + b) / 2
-      b = sqrt(a * b)
+      c = (a - b)/2
+      an = (a + b)/2
+      b = sqrt(a*b)
       a = an
-      acc = acc + tw * c * c
-      tw = 2 * tw
-      if (abs(c) <= 1.0e-6_wp * a) exit   ! the next term is ~c**2: 1e-12 relative
+      acc = acc + tw*c*c
+      tw = 2*tw
+      if (abs(c) <= 1.0e-6_wp*a) exit   ! the next term is ~c**2: 1e-12 relative
     end do
-    r = (m / 2 - acc) / (2 * m * (1 - m))
+    r = (m/2 - acc)/(2*m*(1 - m))
     r = max(r, 0.25_wp)   ! its minimum, at m -> 0; guards rounding in the numerator
   end function dlogk
 

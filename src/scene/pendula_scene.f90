@@ -44,16 +44,16 @@ module pendula_scene
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, cvode_available
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
-      scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-      SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
-      SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST
+                                 scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
+                                 SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
+                                 SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats
   use pendula_scene_setup, only: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, &
-      get_budget, alloc_outputs, finish_outputs
+                                 get_budget, alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model, integrator_rounding
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed, integrate
@@ -120,14 +120,14 @@ contains
       done = .false.
       ! the hang at the top in top-centred coordinates (pendula_scene_top)
       if (scene%model == SCENE_MODEL_AUTO .and. is_top) call solve_top(scene, tend, budget, why, result, done, &
-          status, control)
+                                                                       status, control)
       if (done) then
         model = SCENE_MODEL_RK4
       else if (status%code == PENDULA_OK) then
         call solve_integrated(scene, model, tend, budget, why, result, status, control)
         call fold_event_time(scene, result)
         if (scene%model == SCENE_MODEL_AUTO) call second_try(scene, tend, budget, model, why, result, status, &
-            control)
+                                                             control)
       end if
     end select
     call check_event_count(scene, tend, result, status)
@@ -138,11 +138,11 @@ contains
     result%tol_met = result%error_estimate <= scene%tol
     if (.not. result%tol_met) then
       ! first, so that a long reason cut to a message's length keeps it
-      why = 'tol NOT met, error estimate ' // format_sci(result%error_estimate, 4) // ' > tol: ' // why
+      why = 'tol NOT met, error estimate '//format_sci(result%error_estimate, 4)//' > tol: '//why
     end if
     result%reason = why
     call system_clock(c1)
-    result%cost%wall_time = real(c1 - c0, wp) / real(max(rate, 1_i8), wp)
+    result%cost%wall_time = real(c1 - c0, wp)/real(max(rate, 1_i8), wp)
   end subroutine scene_solve
 
   !> Run one model at a fixed setting, with no verification and no choice:
@@ -169,8 +169,8 @@ contains
     call check_scene(scene, status)
     call get_budget(budget, status, max_steps)
     if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_CVODE) call set_error(status, &
-        PENDULA_ERR_DOMAIN, 'model = ' // format_int(model) // ' is unknown: it must be one of ' // &
-        scene_model_list(SCENE_MODEL_SMALL_ANGLE))
+                                                              PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown: it must be one of '// &
+                                                                                       scene_model_list(SCENE_MODEL_SMALL_ANGLE))
     if (status%code /= PENDULA_OK) return
     call check_model_gamma(model, scene%gamma, status)
     call check_model_built(model, status)
@@ -183,14 +183,14 @@ contains
       call solve_closed(scene, model, est, result, status)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call check_positive('setting', setting, status)
-      if (scene%want == SCENE_WANT_PERIOD) call set_error(status, PENDULA_ERR_DOMAIN, 'want = period with ' // &
-          'model = ' // scene_model_name(model) // ': a fixed-setting run gives no period; the period ' // &
-          'comes from the exact closed form (model exact, or solve)')
+      if (scene%want == SCENE_WANT_PERIOD) call set_error(status, PENDULA_ERR_DOMAIN, 'want = period with '// &
+                                                         'model = '//scene_model_name(model)//': a fixed-setting run gives no period; the period '// &
+                                                          'comes from the exact closed form (model exact, or solve)')
       if (status%code /= PENDULA_OK) return
-      if (model == SCENE_MODEL_RK4 .and. tend / setting > budget) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 'setting = ' // format_sci(setting, 4) // ' is too small: ' // &
-            'the RK4 step h would need more than max_steps = ' // format_sci(budget, 4) // ' steps over t = 0 .. ' // &
-            format_sci(tend, 4) // ' (raise max_steps to allow it)')
+      if (model == SCENE_MODEL_RK4 .and. tend/setting > budget) then
+        call set_error(status, PENDULA_ERR_DOMAIN, 'setting = '//format_sci(setting, 4)//' is too small: '// &
+                       'the RK4 step h would need more than max_steps = '//format_sci(budget, 4)//' steps over t = 0 .. '// &
+                       format_sci(tend, 4)//' (raise max_steps to allow it)')
         return
       end if
       call run_fixed(scene, model, setting, budget, result, status, control)
@@ -201,7 +201,7 @@ contains
     result%want = scene%want
     result%reason = 'forced by the caller at a fixed setting (no verification)'
     call system_clock(c1)
-    result%cost%wall_time = real(c1 - c0, wp) / real(max(rate, 1_i8), wp)
+    result%cost%wall_time = real(c1 - c0, wp)/real(max(rate, 1_i8), wp)
   end subroutine scene_run_model
 
   ! Events: tol bounds the event times [s] too (the state estimate only
@@ -210,7 +210,7 @@ contains
     type(scene_t), intent(in) :: scene
     type(scene_result_t), intent(inout) :: result
     if (scene%want == SCENE_WANT_EVENTS) result%error_estimate = max(result%error_estimate, &
-        result%event_time_error)
+                                                                     result%event_time_error)
   end subroutine fold_event_time
 
   ! The small-angle closed form was chosen from its state bound, but its
@@ -237,8 +237,8 @@ contains
     call fold_event_time(scene, alt)
     call add_cost(alt%cost, result%cost)
     if (alt%error_estimate < result%error_estimate) then
-      why = why // '; but its answer is off by up to ' // format_sci(result%error_estimate, 4) // &
-          ' (event times from the bound over the rates) > tol: exact elliptic solution instead'
+      why = why//'; but its answer is off by up to '//format_sci(result%error_estimate, 4)// &
+            ' (event times from the bound over the rates) > tol: exact elliptic solution instead'
       result = alt
       model = SCENE_MODEL_EXACT
     else
@@ -266,9 +266,9 @@ contains
     integer :: other
     real(wp) :: used, floor(0)
     if (status%code /= PENDULA_OK .or. .not. result%error_estimate > scene%tol) return
-    if (.not. cvode_available() .or. integrator_rounding(scene, floor, 1.0_wp) > scene%tol / 2) return
+    if (.not. cvode_available() .or. integrator_rounding(scene, floor, 1.0_wp) > scene%tol/2) return
     other = merge(SCENE_MODEL_CVODE, SCENE_MODEL_RK4, model == SCENE_MODEL_RK4)
-    used = real(result%cost%steps, wp) * merge(SCENE_CVODE_STEP_COST, 1.0_wp, model == SCENE_MODEL_CVODE)
+    used = real(result%cost%steps, wp)*merge(SCENE_CVODE_STEP_COST, 1.0_wp, model == SCENE_MODEL_CVODE)
     if (used >= budget) return
     why2 = ''
     call solve_integrated(scene, other, tend, budget - used, why2, alt, st, control)
@@ -276,9 +276,9 @@ contains
     if (st%code /= PENDULA_OK) return
     call fold_event_time(scene, alt)
     call add_cost(alt%cost, result%cost)
-    why = why // '; ' // scene_model_name(model) // ' did not verify tol (estimate ' // &
-        format_sci(result%error_estimate, 4) // '): ' // scene_model_name(other) // ' ' // &
-        trim(merge('did better ', 'did no good', alt%error_estimate < result%error_estimate)) // why2
+    why = why//'; '//scene_model_name(model)//' did not verify tol (estimate '// &
+          format_sci(result%error_estimate, 4)//'): '//scene_model_name(other)//' '// &
+          trim(merge('did better ', 'did no good', alt%error_estimate < result%error_estimate))//why2
     if (alt%error_estimate < result%error_estimate) then
       result = alt
       model = other
@@ -298,11 +298,11 @@ contains
     if (status%code /= PENDULA_OK .or. scene%want /= SCENE_WANT_EVENTS) return
     if (.not. allocated(result%event_t)) return
     nmax = scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0)
-    if (size(result%event_t, kind=i8) > nmax) call set_error(status, PENDULA_ERR_SOLVER, 'found ' // &
-        format_int(size(result%event_t)) // ' events in t = 0 .. ' // format_sci(tend, 4) // &
-        ', more than the ' // format_int(nmax) // ' the motion can have (2 floor(w0 t/pi) + 3 + ' // &
-        'floor(Omega_max t/(2 pi))): ' // &
-        'the sampled trajectory is not resolved; give a smaller tol')
+    if (size(result%event_t, kind=i8) > nmax) call set_error(status, PENDULA_ERR_SOLVER, 'found '// &
+                                                             format_int(size(result%event_t))//' events in t = 0 .. '//format_sci(tend, 4)// &
+                                                             ', more than the '//format_int(nmax)//' the motion can have (2 floor(w0 t/pi) + 3 + '// &
+                                                             'floor(Omega_max t/(2 pi))): '// &
+                                                             'the sampled trajectory is not resolved; give a smaller tol')
   end subroutine check_event_count
 
 end module pendula_scene

@@ -8,13 +8,13 @@ module pendula_scene_closed
   use pendula_constants, only: pi
   use pendula_numeric, only: bracket_t, bracket_start, bracket_update, ROOT_ILLINOIS
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, pendulum_energy, &
-      undamped_plan_pays, undamped_add_plan, REGIME_SEPARATRIX
+                              undamped_plan_pays, undamped_add_plan, REGIME_SEPARATRIX
   use pendula_small_angle, only: small_angle_eval
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state, &
-      DAMPING_UNDERDAMPED
+                                   DAMPING_UNDERDAMPED
   use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-      SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
+                                 SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs, empty_outputs
   use pendula_scene_estimates, only: exact_time_error
@@ -65,8 +65,8 @@ contains
     select case (scene%want)
     case (SCENE_WANT_EVENTS)
       periods = 1
-      if (ieee_is_finite(motion%period) .and. motion%period > 0) periods = 1 + window_end(scene) / motion%period
-      n = int(min(periods * (16 + 4 * 20), 1.0e9_wp))
+      if (ieee_is_finite(motion%period) .and. motion%period > 0) periods = 1 + window_end(scene)/motion%period
+      n = int(min(periods*(16 + 4*20), 1.0e9_wp))
     case (SCENE_WANT_PERIOD, SCENE_WANT_ENERGY)
       n = 0
     case default
@@ -105,7 +105,7 @@ contains
     select case (scene%want)
     case (SCENE_WANT_PERIOD)
       if (model == SCENE_MODEL_SMALL_ANGLE) then
-        result%period = 2 * pi / scene%w0
+        result%period = 2*pi/scene%w0
       else
         result%period = cf%motion%period
       end if
@@ -118,7 +118,7 @@ contains
         result%theta = 0
         result%omega = 0
         result%energy = pendulum_energy(scene%theta0, scene%omega0, scene%w0)
-        result%error_estimate = max(est, 4 * eps * result%energy(1) / scene%w0**2)
+        result%error_estimate = max(est, 4*eps*result%energy(1)/scene%w0**2)
         result%cost%closed_form_evals = 1
         deallocate (result%theta, result%omega)
         allocate (result%theta(0), result%omega(0), stat=ist)
@@ -137,7 +137,7 @@ contains
       ! the exact solution's events sit at known phases: their times are
       ! off by its phase error, also at a turning point at the top
       if (model == SCENE_MODEL_EXACT) result%event_time_error = min(result%event_time_error, &
-          exact_time_error(cf%motion, window_end(scene)))
+                                                                    exact_time_error(cf%motion, window_end(scene)))
     case default
       call alloc_outputs(scene, result, status)
       if (status%code /= PENDULA_OK) return
@@ -168,21 +168,21 @@ contains
     per = ieee_value(1.0_wp, ieee_positive_inf)
     select case (cf%model)
     case (SCENE_MODEL_SMALL_ANGLE)
-      per = 2 * pi / cf%w0
+      per = 2*pi/cf%w0
     case (SCENE_MODEL_EXACT)
       if (cf%motion%regime /= REGIME_SEPARATRIX) per = cf%motion%period
     case (SCENE_MODEL_LINEAR)
       if (cf%lin%info%regime == DAMPING_UNDERDAMPED) per = cf%lin%info%damped_period
     end select
     if (ieee_is_finite(per)) then
-      step = per / 16
+      step = per/16
       growth = 1
       stepmax = step
     else
       ! no oscillation: at most one root of each; resolve the fast time scale first
-      step = 1 / (8 * max(cf%w0, cf%gamma))
+      step = 1/(8*max(cf%w0, cf%gamma))
       growth = 1.05_wp
-      stepmax = max(tend / 64, step)
+      stepmax = max(tend/64, step)
     end if
     nevals = 1
     ta = 0
@@ -197,7 +197,7 @@ contains
       ! over-damped or critical one has no events left (at most one of each
       ! kind, the last passed); an oscillating one has, uncounted: the event
       ! count is then unverified (an infinite time error)
-      if (cf%model == SCENE_MODEL_LINEAR .and. max(abs(thb), abs(omb) / cf%w0) < tiny(1.0_wp) / eps) then
+      if (cf%model == SCENE_MODEL_LINEAR .and. max(abs(thb), abs(omb)/cf%w0) < tiny(1.0_wp)/eps) then
         if (ieee_is_finite(per)) cut = next_linear_event(tha, oma) <= tend - ta
         exit
       end if
@@ -217,7 +217,7 @@ contains
       ta = tb
       tha = thb
       oma = omb
-      step = min(stepmax, step * growth)
+      step = min(stepmax, step*growth)
     end do
     call trim_events(result, nev, status)
     if (status%code /= PENDULA_OK) return
@@ -234,15 +234,15 @@ contains
     pure real(wp) function next_linear_event(x, v) result(tau)
       real(wp), intent(in) :: x, v
       real(wp) :: a, wd
-      a = cf%gamma / 2
+      a = cf%gamma/2
       wd = cf%lin%info%omega_d
-      tau = min(first_zero(x, (v + a * x) / wd), first_zero(v, -(cf%w0**2 * x + a * v) / wd)) / wd
-      tau = tau * (1 - 64 * eps)
+      tau = min(first_zero(x, (v + a*x)/wd), first_zero(v, -(cf%w0**2*x + a*v)/wd))/wd
+      tau = tau*(1 - 64*eps)
     end function next_linear_event
     ! smallest phase p > 0 with c cos(p) + s sin(p) = 0 (c, s not both 0)
     pure real(wp) function first_zero(c, s) result(p)
       real(wp), intent(in) :: c, s
-      p = modulo(atan2(s, c) + pi / 2, pi)
+      p = modulo(atan2(s, c) + pi/2, pi)
       if (.not. p > 0) p = pi
     end function first_zero
     real(wp) function refine(which, a0, b0, fa0, fb0) result(r)
@@ -250,7 +250,7 @@ contains
       real(wp), intent(in) :: a0, b0, fa0, fb0
       real(wp) :: th, om
       type(bracket_t) :: br
-      call bracket_start(br, a0, b0, fa0, fb0, ROOT_ILLINOIS, 200, 4 * eps * tiny(1.0_wp), 4 * eps)
+      call bracket_start(br, a0, b0, fa0, fb0, ROOT_ILLINOIS, 200, 4*eps*tiny(1.0_wp), 4*eps)
       do while (.not. br%done)
         call closed_eval(cf, br%c, th, om)
         nevals = nevals + 1

@@ -26,10 +26,10 @@ module pendula_scene_codes
 
   !> Model codes (0 = let scene_solve choose).
   integer, parameter :: SCENE_MODEL_AUTO = 0, SCENE_MODEL_SMALL_ANGLE = 1, SCENE_MODEL_EXACT = 2, &
-      SCENE_MODEL_LINEAR = 3, SCENE_MODEL_RK4 = 4, SCENE_MODEL_CVODE = 5
+                        SCENE_MODEL_LINEAR = 3, SCENE_MODEL_RK4 = 4, SCENE_MODEL_CVODE = 5
   !> Model names, indexed by code.
   character(len=*), parameter :: SCENE_MODEL_NAMES(0:5) = [character(len=11) :: &
-      'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode']
+                                                           'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode']
   !> Other names accepted for a model (scene_model_code), and their codes.
   character(len=*), parameter :: SCENE_MODEL_ALIAS_NAMES(1) = [character(len=13) :: 'linear_damped']
   integer, parameter :: SCENE_MODEL_ALIAS_CODES(1) = [SCENE_MODEL_LINEAR]
@@ -39,15 +39,15 @@ module pendula_scene_codes
   !> per revolution) [s]; turning points (Omega = 0) and zero crossings
   !> (theta = 0) in (0, t(n)].
   integer, parameter :: SCENE_WANT_STATE = 1, SCENE_WANT_THETA = 2, SCENE_WANT_FINAL = 3, &
-      SCENE_WANT_ENERGY = 4, SCENE_WANT_PERIOD = 5, SCENE_WANT_EVENTS = 6
+                        SCENE_WANT_ENERGY = 4, SCENE_WANT_PERIOD = 5, SCENE_WANT_EVENTS = 6
   !> Want names, indexed by code.
   character(len=*), parameter :: SCENE_WANT_NAMES(6) = [character(len=6) :: &
-      'state', 'theta', 'final', 'energy', 'period', 'events']
+                                                        'state', 'theta', 'final', 'energy', 'period', 'events']
   ! The codes in the order of the name tables, and room for a list of them.
   integer, parameter :: MODEL_CODES(0:5) = [SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
-      SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_MODEL_CVODE]
+                                            SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_MODEL_CVODE]
   integer, parameter :: WANT_CODES(6) = [SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
-      SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS]
+                                         SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS]
   integer, parameter :: LIST_MAX = 200
 
   !> RK4 runs longer than this many steps are left to CVODE when it is built.
@@ -75,13 +75,13 @@ module pendula_scene_codes
   !> error, and the setting again as step (RK4) and rtol (CVODE), 0 where
   !> the model has none.
   integer, parameter :: SCENE_INFO_ERROR_ESTIMATE = 1, SCENE_INFO_SETTING = 2, SCENE_INFO_PERIOD = 3, &
-      SCENE_INFO_WALL_TIME = 4, SCENE_INFO_CLOSED_FORM_EVALS = 5, SCENE_INFO_RHS_EVALS = 6, &
-      SCENE_INFO_STEPS = 7, SCENE_INFO_RUNS = 8, SCENE_INFO_TOL_MET = 9, SCENE_INFO_EVENT_TIME_ERROR = 10, &
-      SCENE_INFO_STEP = 11, SCENE_INFO_RTOL = 12, SCENE_INFO_SIZE = 12
+                        SCENE_INFO_WALL_TIME = 4, SCENE_INFO_CLOSED_FORM_EVALS = 5, SCENE_INFO_RHS_EVALS = 6, &
+                        SCENE_INFO_STEPS = 7, SCENE_INFO_RUNS = 8, SCENE_INFO_TOL_MET = 9, SCENE_INFO_EVENT_TIME_ERROR = 10, &
+                        SCENE_INFO_STEP = 11, SCENE_INFO_RTOL = 12, SCENE_INFO_SIZE = 12
   !> Names of the slots, indexed as above.
   character(len=*), parameter :: SCENE_INFO_NAMES(SCENE_INFO_SIZE) = [character(len=17) :: &
-      'error_estimate', 'setting', 'period', 'wall_time', 'closed_form_evals', 'rhs_evals', &
-      'steps', 'runs', 'tol_met', 'event_time_error', 'step', 'rtol']
+                                                               'error_estimate', 'setting', 'period', 'wall_time', 'closed_form_evals', 'rhs_evals', &
+                                                                      'steps', 'runs', 'tol_met', 'event_time_error', 'step', 'rtol']
 
 contains
 
@@ -94,7 +94,7 @@ contains
     integer :: i
     work = ''
     do i = 1, size(names)
-      work = work // merge(', ', '  ', i > 1) // trim(names(i)) // ' (' // format_int(codes(i)) // ')'
+      work = work//merge(', ', '  ', i > 1)//trim(names(i))//' ('//format_int(codes(i))//')'
     end do
     list = adjustl(work)
   end function list_text

@@ -13,12 +13,12 @@ module pendula_scene_estimates
   use pendula_undamped, only: undamped_motion_t, undamped_init, REGIME_LIBRATION, REGIME_SEPARATRIX
   use pendula_small_angle, only: small_angle_bound
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state, &
-      DAMPING_UNDERDAMPED
+                                   DAMPING_UNDERDAMPED
   use pendula_integrators, only: rk4_max_stable_step, cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-      SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS, &
-      SCENE_RK4_STEP_LIMIT, &
-      SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY, scene_want_name
+                                 SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS, &
+                                 SCENE_RK4_STEP_LIMIT, &
+                                 SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY, scene_want_name
   use pendula_scene_types, only: scene_t, window_end, is_stiff, swing
   use pendula_scene_setup, only: check_scene
   implicit none
@@ -67,7 +67,7 @@ contains
       if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_SMALL_ANGLE) then
         call small_angle_bound(motion, tend, dth, dom)
-        estimate = max(dth, dom / scene%w0)
+        estimate = max(dth, dom/scene%w0)
         if (scene%want == SCENE_WANT_PERIOD) estimate = period_small_angle_error(motion)
       else if (scene%want == SCENE_WANT_ENERGY) then
         ! conserved: only the rounding of E = Omega0^2/2 + w0^2 (1 - cos theta0)
@@ -81,8 +81,8 @@ contains
         ! ~11 eps), times w0 T (an infinite period, the separatrix, is exact)
         if (scene%want == SCENE_WANT_PERIOD) then
           dth = 1
-          if (ieee_is_finite(motion%period)) dth = max(1.0_wp, motion%w0 * motion%period)
-          estimate = 16 * eps * (1 + abs(log(max(abs(motion%mc), tiny(1.0_wp))))) * dth
+          if (ieee_is_finite(motion%period)) dth = max(1.0_wp, motion%w0*motion%period)
+          estimate = 16*eps*(1 + abs(log(max(abs(motion%mc), tiny(1.0_wp)))))*dth
         end if
       end if
     case (SCENE_MODEL_LINEAR)
@@ -90,7 +90,7 @@ contains
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       estimate = scene%tol
     case default
-      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // format_int(model) // ' is unknown')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown')
     end select
   end subroutine model_estimate
 
@@ -114,64 +114,64 @@ contains
       if (scene%want == SCENE_WANT_PERIOD .and. e_sa <= scene%tol) then
         model = SCENE_MODEL_SMALL_ANGLE
         est = e_sa
-        why = 'gamma = 0, want = period and the small-angle period 2 pi/w0 is off by w0 |T - T0| = ' // &
-            format_sci(e_sa, 4) // ' rad <= tol'
+        why = 'gamma = 0, want = period and the small-angle period 2 pi/w0 is off by w0 |T - T0| = '// &
+              format_sci(e_sa, 4)//' rad <= tol'
       else if (scene%want == SCENE_WANT_PERIOD .or. scene%want == SCENE_WANT_ENERGY) then
         ! K (or the conserved energy, one evaluation) comes with the motion's
         ! set-up: nothing cheaper exists.
         model = SCENE_MODEL_EXACT
         est = e_ex
-        why = 'gamma = 0 and want = ' // scene_want_name(scene%want) // &
-            ': the exact value costs one set-up (K once), no time series'
+        why = 'gamma = 0 and want = '//scene_want_name(scene%want)// &
+              ': the exact value costs one set-up (K once), no time series'
       else if (e_sa <= scene%tol .and. e_ev > scene%tol) then
         ! an event's time is off by the state bound over the rate there (as
         ! pendula_scene_events measures it once the events are found)
         model = SCENE_MODEL_EXACT
         est = e_ex
-        why = 'gamma = 0, want = events: the small-angle bound ' // format_sci(e_sa, 4) // &
-            ' rad moves its event times by ~' // format_sci(e_ev, 4) // ' > tol: exact elliptic solution'
+        why = 'gamma = 0, want = events: the small-angle bound '//format_sci(e_sa, 4)// &
+              ' rad moves its event times by ~'//format_sci(e_ev, 4)//' > tol: exact elliptic solution'
       else if (e_sa <= scene%tol) then
         model = SCENE_MODEL_SMALL_ANGLE
         est = e_sa
-        why = 'gamma = 0 and the small-angle bound over the window, ' // format_sci(e_sa, 4) // &
-            ' rad, is <= tol'
+        why = 'gamma = 0 and the small-angle bound over the window, '//format_sci(e_sa, 4)// &
+              ' rad, is <= tol'
       else
         model = SCENE_MODEL_EXACT
         est = e_ex
-        why = 'gamma = 0 and the small-angle bound ' // format_sci(e_sa, 4) // ' rad exceeds tol: exact ' // &
-            'elliptic solution'
+        why = 'gamma = 0 and the small-angle bound '//format_sci(e_sa, 4)//' rad exceeds tol: exact '// &
+              'elliptic solution'
       end if
       return
     end if
     if (scene%want == SCENE_WANT_EVENTS .and. no_events(scene)) then
       model = SCENE_MODEL_LINEAR
       est = 0
-      why = 'gamma >= 2 w0 and the start lies in the sector 0 <= -Omega sign(theta) <= lambda |theta|, ' // &
-          'which the pendulum never leaves: no event after t = 0 (the linear closed form, exact here)'
+      why = 'gamma >= 2 w0 and the start lies in the sector 0 <= -Omega sign(theta) <= lambda |theta|, '// &
+            'which the pendulum never leaves: no event after t = 0 (the linear closed form, exact here)'
       return
     end if
     e_lin = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend)
     if (e_lin <= scene%tol) then
       model = SCENE_MODEL_LINEAR
       est = e_lin
-      why = 'gamma > 0 and the nonlinearity estimate of the linear closed form over the window, ' // &
-          format_sci(e_lin, 4) // ' rad, is <= tol'
+      why = 'gamma > 0 and the nonlinearity estimate of the linear closed form over the window, '// &
+            format_sci(e_lin, 4)//' rad, is <= tol'
       return
     end if
     est = scene%tol
     model = SCENE_MODEL_RK4
     call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
-    nsteps = tend / min(0.9_wp * hmax, rk4_apriori_step(scene, tend))
+    nsteps = tend/min(0.9_wp*hmax, rk4_apriori_step(scene, tend))
     call integrator_rule(scene, tend, nsteps, scene%tol, use_cvode, rk4_round)
     if (use_cvode) then
       model = SCENE_MODEL_CVODE
-      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
-          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad): CVODE (' // &
-          trim(merge('BDF  ', 'Adams', is_stiff(scene))) // &
-          '), rtol from tol and the window, verified by a run 10x tighter'
+      why = 'gamma > 0, the linear model is off by ~'//format_sci(e_lin, 4)//' rad; RK4 would need ~'// &
+            format_sci(nsteps, 4)//' steps (rounding ~'//format_sci(rk4_round, 4)//' rad): CVODE ('// &
+            trim(merge('BDF  ', 'Adams', is_stiff(scene)))// &
+            '), rtol from tol and the window, verified by a run 10x tighter'
     else
-      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad: RK4 with h from ' // &
-          'tol and the window (C h^4 T), verified by a run at 2h'
+      why = 'gamma > 0, the linear model is off by ~'//format_sci(e_lin, 4)//' rad: RK4 with h from '// &
+            'tol and the window (C h^4 T), verified by a run at 2h'
     end if
   end subroutine choose_model
 
@@ -185,9 +185,9 @@ contains
     real(wp), intent(in) :: e_sa
     real(wp) :: a
     e = 0
-    if (scene%want /= SCENE_WANT_EVENTS .or. window_end(scene) < 0.5_wp * pi / scene%w0) return
-    a = hypot(scene%theta0, scene%omega0 / scene%w0)
-    e = e_sa / (scene%w0 * max(min(a, sin(min(a, pi / 2))), tiny(1.0_wp)))
+    if (scene%want /= SCENE_WANT_EVENTS .or. window_end(scene) < 0.5_wp*pi/scene%w0) return
+    a = hypot(scene%theta0, scene%omega0/scene%w0)
+    e = e_sa/(scene%w0*max(min(a, sin(min(a, pi/2))), tiny(1.0_wp)))
   end function small_angle_event_error
 
   !> Whether choose_model answers a damped scene with the linear closed form
@@ -215,14 +215,14 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp) :: x, half, lam
     no_events = .false.
-    half = scene%gamma / 2
+    half = scene%gamma/2
     if (half < scene%w0) return
     ! about the bottom theta = 0 only: the linear closed form that answers
     ! (no event either) is the one about 0
     x = scene%theta0
     if (.not. abs(x) < pi) return
-    lam = half + sqrt(half - scene%w0) * sqrt(half + scene%w0)
-    no_events = scene%omega0 * x <= 0 .and. abs(scene%omega0) <= lam * abs(x) * (1 - 1.0e-12_wp)
+    lam = half + sqrt(half - scene%w0)*sqrt(half + scene%w0)
+    no_events = scene%omega0*x <= 0 .and. abs(scene%omega0) <= lam*abs(x)*(1 - 1.0e-12_wp)
   end function no_events
 
   !> The integrator for an integrated span [0, span] of nsteps RK4 steps at
@@ -241,12 +241,12 @@ contains
     logical, intent(out) :: use_cvode  !< CVODE rather than RK4
     real(wp), intent(out) :: rk4_round  !< RK4's predicted rounding floor [rad]
     real(wp) :: big, msep
-    big = abs(scene%theta0) + 2 * pi
-    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
-    if (msep >= 1) big = big + hypot(scene%omega0, 2 * scene%w0) * min(span, 2 * (1 + log(msep)) / scene%gamma)
+    big = abs(scene%theta0) + 2*pi
+    msep = sin(scene%theta0/2)**2 + (scene%omega0/(2*scene%w0))**2
+    if (msep >= 1) big = big + hypot(scene%omega0, 2*scene%w0)*min(span, 2*(1 + log(msep))/scene%gamma)
     rk4_round = integrator_rounding(scene, [big], nsteps)
-    use_cvode = cvode_available() .and. (nsteps > SCENE_RK4_STEP_LIMIT .or. rk4_round > tol / 4 .or. &
-        (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))
+    use_cvode = cvode_available() .and. (nsteps > SCENE_RK4_STEP_LIMIT .or. rk4_round > tol/4 .or. &
+                                         (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))
   end subroutine integrator_rule
 
   !> CVODE's first rtol for tol over [0, tend]: a local tolerance is not a
@@ -257,16 +257,16 @@ contains
     real(wp), intent(in) :: tend  !< end of the integrated span [s], >= 0
     real(wp), intent(in) :: tol  !< tolerance [rad], > 0
     real(wp) :: periods, scale
-    periods = 1 + scene%w0 * tend / (2 * pi)
-    scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
-    rtol = max(0.1_wp * tol / (periods * scale), 1.0e-14_wp)
+    periods = 1 + scene%w0*tend/(2*pi)
+    scale = max(abs(scene%theta0) + abs(scene%omega0)/scene%w0, 1.0e-6_wp)
+    rtol = max(0.1_wp*tol/(periods*scale), 1.0e-14_wp)
   end function cvode_first_rtol
 
   ! Rounding of the energy per unit m l^2 of a state, divided by w0^2: each
   ! of the two terms Omega^2/2 and w0^2 (1 - cos theta) rounds by a few eps.
   pure real(wp) function energy_rounding(theta, omega, w0) result(e)
     real(wp), intent(in) :: theta, omega, w0
-    e = 4 * eps * ((omega / w0)**2 / 2 + (1 - cos(theta)) + eps)
+    e = 4*eps*((omega/w0)**2/2 + (1 - cos(theta)) + eps)
   end function energy_rounding
 
   ! Error of the small-angle period T0 = 2 pi/w0 as a phase w0 |T - T0| [rad],
@@ -277,8 +277,8 @@ contains
     if (motion%regime /= REGIME_LIBRATION) then
       e = ieee_value(1.0_wp, ieee_positive_inf)
     else
-      e = abs(motion%w0 * motion%period - 2 * pi) + 2 * pi * eps * (20 + 16 * abs(log(max(abs(motion%mc), &
-          tiny(1.0_wp)))))
+      e = abs(motion%w0*motion%period - 2*pi) + 2*pi*eps*(20 + 16*abs(log(max(abs(motion%mc), &
+                                                                              tiny(1.0_wp)))))
     end if
   end function period_small_angle_error
 
@@ -295,10 +295,10 @@ contains
       e = 0
       return
     end if
-    omax = 2 * sqrt(motion%m) * motion%w0          ! max |Omega| (libration and rotation)
-    e = 4 * eps * (abs(motion%theta0) + 2 * pi + omax / motion%w0) &
-        + 4 * omax * tend * frequency_error(motion)
-    e = min(e, 2 * (omax / motion%w0 + 2 * pi))
+    omax = 2*sqrt(motion%m)*motion%w0          ! max |Omega| (libration and rotation)
+    e = 4*eps*(abs(motion%theta0) + 2*pi + omax/motion%w0) &
+        + 4*omax*tend*frequency_error(motion)
+    e = min(e, 2*(omax/motion%w0 + 2*pi))
   end function exact_estimate
 
   !> Error [s] of the event times of the exact elliptic solution over
@@ -315,12 +315,12 @@ contains
     type(undamped_motion_t), intent(in) :: motion  !< the exact motion set up from the scene's initial state
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp) :: du
-    du = 8 * eps * (1 + motion%rate * tend)
-    if (motion%regime == REGIME_LIBRATION .and. motion%q /= 0) du = du + 2 * eps / max(abs(motion%ch), eps)
-    dt = du / motion%rate + 4 * tend * frequency_error(motion) + 8 * eps * tend
+    du = 8*eps*(1 + motion%rate*tend)
+    if (motion%regime == REGIME_LIBRATION .and. motion%q /= 0) du = du + 2*eps/max(abs(motion%ch), eps)
+    dt = du/motion%rate + 4*tend*frequency_error(motion) + 8*eps*tend
     ! a crossing is located on theta = center + theta_r, whose doubles are spaced
     ! ~eps |center| apart: that resolution over the speed at the bottom, 2 k w0
-    dt = dt + 2 * eps * abs(motion%center) / max(2 * motion%k * motion%w0, tiny(1.0_wp))
+    dt = dt + 2*eps*abs(motion%center)/max(2*motion%k*motion%w0, tiny(1.0_wp))
   end function exact_time_error
 
   ! Relative error of the exact solution's frequency: the rounding of w0 t
@@ -336,23 +336,23 @@ contains
     real(wp) :: dm, mc, dlnt, h, big, dr
     mc = motion%mc
     big = max(abs(motion%ch), abs(motion%q))
-    dr = 2.0_wp**(-98) * abs(motion%center)
-    if (abs(motion%theta0) > 2.0_wp**40) dr = 4 * eps * pi
-    dm = 4 * eps * abs(mc) + 2 * big * (8 * eps**2 * big + dr)
+    dr = 2.0_wp**(-98)*abs(motion%center)
+    if (abs(motion%theta0) > 2.0_wp**40) dr = 4*eps*pi
+    dm = 4*eps*abs(mc) + 2*big*(8*eps**2*big + dr)
     if (motion%regime == REGIME_SEPARATRIX .or. mc == 0) then
-      dlnt = 1 / max(abs(mc), dm)
+      dlnt = 1/max(abs(mc), dm)
     else
-      h = 1.0e-4_wp * abs(mc)
-      dlnt = abs(log(turn_time(mc + h) / turn_time(mc - h))) / (2 * h)
+      h = 1.0e-4_wp*abs(mc)
+      dlnt = abs(log(turn_time(mc + h)/turn_time(mc - h)))/(2*h)
     end if
-    f = eps + min(dlnt * dm, 1.0_wp)
+    f = eps + min(dlnt*dm, 1.0_wp)
   contains
     pure real(wp) function turn_time(c)
       real(wp), intent(in) :: c
       if (c > 0) then
-        turn_time = 4 * ellipkm1(c)
+        turn_time = 4*ellipkm1(c)
       else
-        turn_time = 2 * ellipkm1(-c / (1 - c)) / sqrt(1 - c)
+        turn_time = 2*ellipkm1(-c/(1 - c))/sqrt(1 - c)
       end if
     end function turn_time
   end function frequency_error
@@ -388,12 +388,12 @@ contains
       e = ieee_value(1.0_wp, ieee_positive_inf)
       return
     end if
-    scale = abs(theta0) + abs(omega0) / w0
+    scale = abs(theta0) + abs(omega0)/w0
     if (tend <= 0 .or. scale == 0) then
       e = 0
       return
     end if
-    a = gamma / 2
+    a = gamma/2
     if (lin%info%regime == DAMPING_UNDERDAMPED) then
       wd = lin%info%omega_d
       ! |theta| <= R e^(-a t) <= R, but R ~ 1/w_d blows up towards critical
@@ -401,24 +401,24 @@ contains
       ! + |Omega0 + a theta0| t) <= |theta0| + |Omega0 + a theta0| min(T, 1/(a e)),
       ! which is the critical-damping bound: the smaller keeps the estimate
       ! seamless across gamma = 2 w0
-      bmax = min(lin%amplitude, abs(theta0) + abs(omega0 + a * theta0) * min(tend, 1 / (a * exp(1.0_wp))))
+      bmax = min(lin%amplitude, abs(theta0) + abs(omega0 + a*theta0)*min(tend, 1/(a*exp(1.0_wp))))
       ! |G(s)| <= e^(-a s) min(s, 1/w_d), |G'(s)| <= e^(-a s) (1 + a min(s, 1/w_d))
-      jmin = min(int_exp_s(a, tend), int_exp(a, tend) / wd)
+      jmin = min(int_exp_s(a, tend), int_exp(a, tend)/wd)
       ig = jmin
-      igp = int_exp(a, tend) + a * jmin
-      ep = drift_sup(lin%amplitude, max(1.0_wp, (wd + a) / w0), (w0 * lin%amplitude)**2 / (16 * wd))
+      igp = int_exp(a, tend) + a*jmin
+      ep = drift_sup(lin%amplitude, max(1.0_wp, (wd + a)/w0), (w0*lin%amplitude)**2/(16*wd))
     else
       ! over-damped or critical (beta = 0): Omega = e^(-a t) (Omega0 C - d S)
       ! with C = cosh(beta t), S = sinh(beta t)/beta, so theta has at most one
       ! hump, where tanh(beta t)/beta = Omega0/d; without one (or with one
       ! beyond the window) |theta| is largest at t = 0 or at tend
       beta = lin%info%beta
-      d = w0 * (w0 * theta0) + a * omega0
+      d = w0*(w0*theta0) + a*omega0
       bmax = abs(theta0)
-      if (omega0 /= 0 .and. (d > 0 .eqv. omega0 > 0) .and. beta * abs(omega0) < abs(d)) then
+      if (omega0 /= 0 .and. (d > 0 .eqv. omega0 > 0) .and. beta*abs(omega0) < abs(d)) then
         t = tend    ! the hump lies beyond Omega0/d, so past tend when that is
-        if (abs(omega0) < abs(d) * tend) &
-            t = min(tend, hump_time(beta, abs(omega0), abs(d), abs(d) - beta * abs(omega0)))
+        if (abs(omega0) < abs(d)*tend) &
+          t = min(tend, hump_time(beta, abs(omega0), abs(d), abs(d) - beta*abs(omega0)))
         call linear_damped_state(lin, t, th, om)
         bmax = max(bmax, abs(th))
       end if
@@ -428,35 +428,35 @@ contains
       ! int |G'| <= 2 max G.
       call linear_damped_init(gl, 0.0_wp, 1.0_wp, w0, gamma, st)   ! G: theta0 = 0, Omega0 = 1
       call linear_damped_state(gl, tend, gt, gpt)
-      ig = max(0.0_wp, (1 - gpt - gamma * gt) / w0**2)
+      ig = max(0.0_wp, (1 - gpt - gamma*gt)/w0**2)
       t = hump_time(beta, 1.0_wp, a, lin%info%decay_slow)
       gmax = gt
-      if (t < tend) gmax = max(gt, exp(-a * t) / w0)
-      igp = 2 * gmax
+      if (t < tend) gmax = max(gt, exp(-a*t)/w0)
+      igp = 2*gmax
       ep = ieee_value(1.0_wp, ieee_positive_inf)
     end if
     ! (b) Green's function bound, any regime
-    eg = w0**2 * bmax**3 / 6 * max(ig, igp / w0)
-    round = 16 * eps * scale * (1 + (w0 + gamma) * tend)
-    e = SCENE_LINEAR_SAFETY * min(eg, ep) + round
+    eg = w0**2*bmax**3/6*max(ig, igp/w0)
+    round = 16*eps*scale*(1 + (w0 + gamma)*tend)
+    e = SCENE_LINEAR_SAFETY*min(eg, ep) + round
   contains
     ! int_0^T e^(-a s) ds and int_0^T s e^(-a s) ds, without cancellation
     pure real(wp) function int_exp(a, t) result(r)
       real(wp), intent(in) :: a, t
-      if (a * t < 1.0e-8_wp) then
+      if (a*t < 1.0e-8_wp) then
         r = t
       else
-        r = -expm1(-a * t) / a
+        r = -expm1(-a*t)/a
       end if
     end function int_exp
     pure real(wp) function int_exp_s(a, t) result(r)
       real(wp), intent(in) :: a, t
       real(wp) :: x
-      x = a * t
+      x = a*t
       if (x < 1.0e-3_wp) then
-        r = t**2 * (0.5_wp - x / 3 + x**2 / 8)
+        r = t**2*(0.5_wp - x/3 + x**2/8)
       else
-        r = (-expm1(-x) - x * exp(-x)) / a**2
+        r = (-expm1(-x) - x*exp(-x))/a**2
       end if
     end function int_exp_s
     ! sup over t in [0, tend] of the phase-drift error (a), the sup itself,
@@ -477,21 +477,21 @@ contains
         f = ieee_value(1.0_wp, ieee_positive_inf)
         return
       end if
-      f = a0**3 / 16                                         ! t = 0
-      phi = p * int_exp(gamma, tend)                         ! t = tend
-      f = max(f, drift(a0, c, exp(-a * tend), phi))
-      if (phi > 2) f = max(f, drift(a0, c, sqrt(max(0.0_wp, 1 - 2 * gamma / p)), 2.0_wp))
-      if (3 * a0**2 * gamma < 32 * c * p) then
-        q = a0**2 * gamma / (16 * c * p)
-        s = (2 - 3 * q) / (3 * (1 - q))                       ! 1 - u^2 at the stationary point
-        if (s * p < 2 * gamma .and. s <= -expm1(-gamma * tend)) &
-            f = max(f, drift(a0, c, sqrt(1 / (3 * (1 - q))), s * p / gamma))
+      f = a0**3/16                                         ! t = 0
+      phi = p*int_exp(gamma, tend)                         ! t = tend
+      f = max(f, drift(a0, c, exp(-a*tend), phi))
+      if (phi > 2) f = max(f, drift(a0, c, sqrt(max(0.0_wp, 1 - 2*gamma/p)), 2.0_wp))
+      if (3*a0**2*gamma < 32*c*p) then
+        q = a0**2*gamma/(16*c*p)
+        s = (2 - 3*q)/(3*(1 - q))                       ! 1 - u^2 at the stationary point
+        if (s*p < 2*gamma .and. s <= -expm1(-gamma*tend)) &
+          f = max(f, drift(a0, c, sqrt(1/(3*(1 - q))), s*p/gamma))
       end if
     end function drift_sup
     ! the phase-drift error at u = e^(-a t) with phase lag phi
     pure real(wp) function drift(a0, c, u, phi) result(y)
       real(wp), intent(in) :: a0, c, u, phi
-      y = a0 * u * min(2.0_wp, phi) * c + (a0 * u)**3 / 16
+      y = a0*u*min(2.0_wp, phi)*c + (a0*u)**3/16
     end function drift
     ! The t > 0 where w C(t) = v S(t), i.e. tanh(beta t)/beta = w/v (for
     ! 0 <= beta w < v): the hump of a motion whose velocity is e^(-a t) (w C -
@@ -501,12 +501,12 @@ contains
     pure real(wp) function hump_time(beta, w, v, vm) result(t)
       real(wp), intent(in) :: beta, w, v, vm
       real(wp) :: x, x2
-      x = beta * (w / v)
+      x = beta*(w/v)
       if (x < 1.0e-3_wp) then
-        x2 = x * x
-        t = (w / v) * (1 + x2 * (1.0_wp / 3 + x2 * (1.0_wp / 5 + x2 / 7)))
+        x2 = x*x
+        t = (w/v)*(1 + x2*(1.0_wp/3 + x2*(1.0_wp/5 + x2/7)))
       else
-        t = 0.5_wp * (log(v + beta * w) - log(vm)) / beta
+        t = 0.5_wp*(log(v + beta*w) - log(vm))/beta
       end if
     end function hump_time
   end function linear_estimate
@@ -524,18 +524,18 @@ contains
     real(wp) :: a, teff, c, slow
     ! the motion's size, not the raw angle: theta0 + 2 pi k is the same motion
     a = swing(scene)
-    a = min(max(a, 1.0e-3_wp), 2 * pi)
+    a = min(max(a, 1.0e-3_wp), 2*pi)
     teff = tend
     if (scene%gamma > 0) then
       slow = slow_rate(scene%w0, scene%gamma)
       ! the phase error accumulates for ever, but it moves theta by the
       ! amplitude times it: A0 e^(-slow t) t peaks at t = 1/slow (value
       ! A0/(e slow)); 2/slow leaves room for the slower decay of a large swing
-      teff = min(tend, 2 / slow)
+      teff = min(tend, 2/slow)
     end if
-    c = 2.0_wp / 120
-    h = (scene%tol / (c * a * max(scene%w0 * teff, 1.0_wp)))**0.25_wp / scene%w0
-    h = min(h, 0.5_wp / scene%w0)
+    c = 2.0_wp/120
+    h = (scene%tol/(c*a*max(scene%w0*teff, 1.0_wp)))**0.25_wp/scene%w0
+    h = min(h, 0.5_wp/scene%w0)
   end function rk4_apriori_step
 
   !> Decay rate [1/s] of the slowest mode of the linear damped equation:
@@ -545,9 +545,9 @@ contains
     real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
     real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
     real(wp) :: half
-    half = gamma / 2
+    half = gamma/2
     if (half > w0) then
-      rate = w0**2 / (half + sqrt(half - w0) * sqrt(half + w0))
+      rate = w0**2/(half + sqrt(half - w0)*sqrt(half + w0))
     else
       rate = half
     end if
@@ -570,17 +570,17 @@ contains
     real(wp), intent(in) :: rtol  !< CVODE relative tolerance of the run, > 0
     real(wp) :: xr, d0, msep, per, tres
     n = 0
-    if (is_stiff(scene) .or. scene%gamma >= 2 * scene%w0 .or. .not. rtol > 0) return
-    xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)
-    d0 = hypot(pi - xr, scene%omega0 / scene%w0)
-    if (d0 < 1.0e4_wp * rtol) return
-    per = scene%w0 / (2 * pi)
-    n = 4 * per * tend
-    msep = sin(scene%theta0 / 2)**2 + (scene%omega0 / (2 * scene%w0))**2
+    if (is_stiff(scene) .or. scene%gamma >= 2*scene%w0 .or. .not. rtol > 0) return
+    xr = abs(modulo(scene%theta0 + pi, 2*pi) - pi)
+    d0 = hypot(pi - xr, scene%omega0/scene%w0)
+    if (d0 < 1.0e4_wp*rtol) return
+    per = scene%w0/(2*pi)
+    n = 4*per*tend
+    msep = sin(scene%theta0/2)**2 + (scene%omega0/(2*scene%w0))**2
     if (msep >= 1) return
     tres = tend
-    if (scene%gamma > 0) tres = min(tend, log(1 / min(rtol, 0.5_wp)) / scene%gamma)
-    n = n + max(0.0_wp, 12 * (1.0e-3_wp / rtol)**(1.0_wp / 12) - 4) * per * tres
+    if (scene%gamma > 0) tres = min(tend, log(1/min(rtol, 0.5_wp))/scene%gamma)
+    n = n + max(0.0_wp, 12*(1.0e-3_wp/rtol)**(1.0_wp/12) - 4)*per*tres
   end function cvode_min_steps
 
   !> Rounding floor of an integration that the comparison of two runs cannot
@@ -599,15 +599,15 @@ contains
     real(wp), intent(in) :: theta(:)  !< angles [rad] of the run (for its largest |theta|); may be empty
     real(wp), intent(in) :: nsteps  !< number of steps of the run (values below 1 count as 1)
     real(wp) :: big, d0, xr, swing
-    swing = abs(scene%theta0) + abs(scene%omega0) / scene%w0 + 2 * pi   ! size of a swing
+    swing = abs(scene%theta0) + abs(scene%omega0)/scene%w0 + 2*pi   ! size of a swing
     big = swing
     if (size(theta) > 0) big = max(big, maxval(abs(theta)))
-    xr = abs(modulo(scene%theta0 + pi, 2 * pi) - pi)          ! |theta0| reduced to [0, pi]
-    d0 = hypot(pi - xr, scene%omega0 / scene%w0)
+    xr = abs(modulo(scene%theta0 + pi, 2*pi) - pi)          ! |theta0| reduced to [0, pi]
+    d0 = hypot(pi - xr, scene%omega0/scene%w0)
     ! a rotation's unwrapped angle (beyond a swing) grows steadily: adding nearly
     ! equal increments to it rounds with a bias, so that part grows like n
-    r = 4 * eps * swing * sqrt(max(nsteps, 1.0_wp)) &
-        + eps * (big - swing) * max(nsteps, 1.0_wp) / 2 + 16 * eps * pi / max(d0, eps)
+    r = 4*eps*swing*sqrt(max(nsteps, 1.0_wp)) &
+        + eps*(big - swing)*max(nsteps, 1.0_wp)/2 + 16*eps*pi/max(d0, eps)
   end function integrator_rounding
 
   ! e^x - 1 without cancellation for small |x| (accurate to ~1e-11 relative,
@@ -616,7 +616,7 @@ contains
   elemental real(wp) function expm1(x) result(r)
     real(wp), intent(in) :: x
     if (abs(x) < 1.0e-5_wp) then
-      r = x * (1 + x * (0.5_wp + x / 6))
+      r = x*(1 + x*(0.5_wp + x/6))
     else
       r = exp(x) - 1
     end if

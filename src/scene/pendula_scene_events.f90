@@ -35,7 +35,7 @@ module pendula_scene_events
   private
 
   public :: scene_event_bound, sign_change, bottom_sign, bottom_level, append_events, trim_events, event_time_error, &
-      event_grid, event_grid_intervals, grid_events, event_interp_error, linear_error_at, event_rate
+            event_grid, event_grid_intervals, grid_events, event_interp_error, linear_error_at, event_rate
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
@@ -52,10 +52,10 @@ contains
     real(wp), intent(in) :: theta0  !< initial angle [rad]
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s]
     real(wp) :: half_periods, turns
-    half_periods = w0 * tend / pi
-    turns = sqrt(omega0**2 + 4 * w0**2 * sin(theta0 / 2)**2) * tend / (2 * pi)
+    half_periods = w0*tend/pi
+    turns = sqrt(omega0**2 + 4*w0**2*sin(theta0/2)**2)*tend/(2*pi)
     if (half_periods >= 0 .and. half_periods < 2.0e18_wp .and. turns >= 0 .and. turns < 2.0e18_wp) then
-      n = 2 * int(half_periods, i8) + 3 + int(turns, i8)
+      n = 2*int(half_periods, i8) + 3 + int(turns, i8)
     else
       n = huge(1_i8)
     end if
@@ -67,7 +67,7 @@ contains
   elemental real(wp) function bottom_level(a, b) result(c)
     real(wp), intent(in) :: a  !< angle [rad] at the first sample
     real(wp), intent(in) :: b  !< angle [rad] at the next sample, |b - a| < 2 pi
-    c = 2 * pi * anint((a / 2 + b / 2) / (2 * pi))
+    c = 2*pi*anint((a/2 + b/2)/(2*pi))
   end function bottom_level
 
   !> An event between samples with values fa then fb: a sign change, or fb
@@ -75,7 +75,7 @@ contains
   pure logical function sign_change(fa, fb)
     real(wp), intent(in) :: fa  !< value at the first sample
     real(wp), intent(in) :: fb  !< value at the next sample
-    sign_change = fa * fb < 0 .or. (fb == 0 .and. fa /= 0)
+    sign_change = fa*fb < 0 .or. (fb == 0 .and. fa /= 0)
   end function sign_change
 
   !> Append the events of one sample interval (te(:) [s], kinds(:) of
@@ -94,21 +94,21 @@ contains
     integer :: cap, ist
     if (status%code /= PENDULA_OK) return
     if (nev + size(te) > size(result%event_t)) then
-      cap = int(min(max(16_i8, 2_i8 * (nev + size(te))), int(huge(1), i8)))
+      cap = int(min(max(16_i8, 2_i8*(nev + size(te))), int(huge(1), i8)))
       allocate (tmp(cap), itmp(cap), stat=ist)
-      call check_alloc(ist, 'the event list', 3_i8 * cap, 4, status)
+      call check_alloc(ist, 'the event list', 3_i8*cap, 4, status)
       if (status%code /= PENDULA_OK) return
       tmp(1:nev) = result%event_t(1:nev)
       itmp(1:nev) = result%event_kind(1:nev)
       call move_alloc(tmp, result%event_t)
       call move_alloc(itmp, result%event_kind)
     end if
-    result%event_t(nev+1:nev+size(te)) = te
-    result%event_kind(nev+1:nev+size(te)) = kinds
+    result%event_t(nev + 1:nev + size(te)) = te
+    result%event_kind(nev + 1:nev + size(te)) = kinds
     if (size(te) == 2) then
       if (te(2) < te(1)) then
-        result%event_t(nev+1:nev+2) = te([2, 1])
-        result%event_kind(nev+1:nev+2) = kinds([2, 1])
+        result%event_t(nev + 1:nev + 2) = te([2, 1])
+        result%event_kind(nev + 1:nev + 2) = kinds([2, 1])
       end if
     end if
     nev = nev + size(te)
@@ -134,7 +134,7 @@ contains
       if (allocated(result%event_omega)) deallocate (result%event_omega)
       allocate (result%event_theta(nev), result%event_omega(nev), stat=ist)
     end if
-    call check_alloc(ist, 'the event list', 7_i8 * nev, 4, status)
+    call check_alloc(ist, 'the event list', 7_i8*nev, 4, status)
   end subroutine trim_events
 
   !> Event time error from the state error est (the sup of |d theta| and
@@ -156,12 +156,12 @@ contains
       rate = event_rate(result%event_kind(i), result%event_theta(i), result%event_omega(i), w0)
       ei = est
       if (present(est_each)) ei = max(est, est_each(i))
-      e = max(e, ei / rate)
+      e = max(e, ei/rate)
     end do
     ! Times this uncertain could swap or merge neighbouring events: their
     ! number and kinds are then unverified (a count off is an infinite error)
     do i = 2, size(result%event_t)
-      if (e > (result%event_t(i) - result%event_t(i-1)) / 2) e = ieee_value(1.0_wp, ieee_positive_inf)
+      if (e > (result%event_t(i) - result%event_t(i - 1))/2) e = ieee_value(1.0_wp, ieee_positive_inf)
     end do
   end function event_time_error
 
@@ -190,47 +190,47 @@ contains
     real(wp), intent(in) :: gamma  !< damping rate [1/s], > 0
     real(wp), intent(in) :: tau  !< time since the start [s], >= 0
     real(wp) :: a, kap, rho, wd, c, g, e1, r2, env, amp, phi
-    a = gamma / 2
-    c = abs(v0 + a * x0)
+    a = gamma/2
+    c = abs(v0 + a*x0)
     if (a < w0) then
-      wd = sqrt(w0 - a) * sqrt(w0 + a)
+      wd = sqrt(w0 - a)*sqrt(w0 + a)
       rho = a
-      g = min(tau, 1 / wd)
+      g = min(tau, 1/wd)
     else
-      kap = sqrt(a - w0) * sqrt(a + w0)
-      rho = w0**2 / (a + kap)
+      kap = sqrt(a - w0)*sqrt(a + w0)
+      rho = w0**2/(a + kap)
       g = tau
     end if
-    r2 = abs(x0) + 2 * c / (rho * exp(1.0_wp))
-    e1 = bound(r2, rho / 2)
-    env = r2 * exp(-rho * tau / 2)
+    r2 = abs(x0) + 2*c/(rho*exp(1.0_wp))
+    e1 = bound(r2, rho/2)
+    env = r2*exp(-rho*tau/2)
     if (a < w0) then
-      amp = hypot(x0, c / wd)
+      amp = hypot(x0, c/wd)
       e1 = min(e1, bound(amp, a))
-      env = min(env, amp * exp(-a * tau))
+      env = min(env, amp*exp(-a*tau))
       ! phase drift (linear_estimate's (a)): the swing A(tau) = amp e^(-a tau)
       ! lags by phi = w0^2 amp^2 (1 - e^(-gamma tau))/(16 w_d gamma), off by
       ! A min(2, phi) max(1, (w_d + a)/w0) plus the harmonics A^3/16
-      phi = w0**2 * amp**2 * (1 - exp(-gamma * tau)) / (16 * wd * gamma)
-      if (gamma * tau < 1.0e-5_wp) phi = w0**2 * amp**2 * tau / (16 * wd)
-      e1 = min(e1, amp * exp(-a * tau) * min(2.0_wp, phi) * max(1.0_wp, (wd + a) / w0) + &
-          (amp * exp(-a * tau))**3 / 16)
+      phi = w0**2*amp**2*(1 - exp(-gamma*tau))/(16*wd*gamma)
+      if (gamma*tau < 1.0e-5_wp) phi = w0**2*amp**2*tau/(16*wd)
+      e1 = min(e1, amp*exp(-a*tau)*min(2.0_wp, phi)*max(1.0_wp, (wd + a)/w0) + &
+               (amp*exp(-a*tau))**3/16)
     end if
     ! the closed form's rounding is relative to the swing it evaluates
     ! (env bounds |theta_lin| and, with w0 + gamma, |Omega_lin|/w0)
-    e = SCENE_LINEAR_SAFETY * e1 + 16 * eps * env * (1 + (w0 + gamma) * tau) * (1 + gamma / w0)
+    e = SCENE_LINEAR_SAFETY*e1 + 16*eps*env*(1 + (w0 + gamma)*tau)*(1 + gamma/w0)
   contains
     pure real(wp) function bound(r, beta)
       real(wp), intent(in) :: r, beta
       real(wp) :: i2, x
       ! int_0^tau e^(-2 beta s) ds (1 - e^(-x) cancels at most to eps/x relative)
-      x = 2 * beta * tau
+      x = 2*beta*tau
       if (x < 1.0e-5_wp) then
-        i2 = tau * (1 - x / 2 + x**2 / 6)
+        i2 = tau*(1 - x/2 + x**2/6)
       else
-        i2 = (1 - exp(-x)) / (2 * beta)
+        i2 = (1 - exp(-x))/(2*beta)
       end if
-      bound = w0**2 * r**3 / 6 * exp(-beta * tau) * i2 * max(g, (1 + a * g) / w0)
+      bound = w0**2*r**3/6*exp(-beta*tau)*i2*max(g, (1 + a*g)/w0)
     end function bound
   end function linear_error_at
 
@@ -245,7 +245,7 @@ contains
     if (kind == PENDULA_EVENT_ZERO) then
       rate = abs(omega)
     else
-      rate = w0 * abs(sin(theta))
+      rate = w0*abs(sin(theta))
     end if
     rate = max(rate, tiny(1.0_wp))
   end function event_rate
@@ -267,7 +267,7 @@ contains
     call check_alloc(ist, 'the event sample grid', int(n + 1, i8), 8, status)
     if (status%code /= PENDULA_OK) return
     do i = 0, n
-      tg(i+1) = tend * (real(i, wp) / n)
+      tg(i + 1) = tend*(real(i, wp)/n)
     end do
   end subroutine event_grid
 
@@ -278,11 +278,11 @@ contains
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp) :: d, per
-    d = scene%tol / (10 * interp_bound(scene, 1.0_wp))
+    d = scene%tol/(10*interp_bound(scene, 1.0_wp))
     d = d**0.25_wp
-    per = max(64.0_wp, 2 * pi / (scene%w0 * d))
-    n = int(min(4.0e6_wp, max(64.0_wp, per * scene%w0 * tend / (2 * pi) + 1)))
-    if (scene%gamma > scene%w0) n = max(n, min(4000000, ceiling(8 * scene%gamma * tend) + 1))
+    per = max(64.0_wp, 2*pi/(scene%w0*d))
+    n = int(min(4.0e6_wp, max(64.0_wp, per*scene%w0*tend/(2*pi) + 1)))
+    if (scene%gamma > scene%w0) n = max(n, min(4000000, ceiling(8*scene%gamma*tend) + 1))
   end function event_grid_intervals
 
   !> Bound on the error of the cubic Hermite interpolant between the samples
@@ -292,7 +292,7 @@ contains
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tg(:)  !< sample times [s], increasing (event_grid)
     e = 0
-    if (size(tg) > 1) e = interp_bound(scene, maxval(tg(2:) - tg(:size(tg)-1)))
+    if (size(tg) > 1) e = interp_bound(scene, maxval(tg(2:) - tg(:size(tg) - 1)))
   end function event_interp_error
 
   ! h^4/384 max|theta''''| and h^4/384 max|Omega''''|/w0 for spacing h.
@@ -310,7 +310,7 @@ contains
     real(wp) :: a, w
     a = max(swing(scene), 1.0e-3_wp)
     w = max(scene%w0, scene%gamma)
-    e = (w * h)**4 / 384 * a * max(1.0_wp, a) * (w / scene%w0)
+    e = (w*h)**4/384*a*max(1.0_wp, a)*(w/scene%w0)
   end function interp_bound
 
   !> Events from samples of an integrated trajectory: a sign change of theta
@@ -332,20 +332,20 @@ contains
     if (status%code /= PENDULA_OK) return
     nev = 0
     do i = 1, size(tg) - 1
-      h = tg(i+1) - tg(i)
+      h = tg(i + 1) - tg(i)
       ne = 0
-      if (sign_change(bottom_sign(th(i)), bottom_sign(th(i+1)))) then
+      if (sign_change(bottom_sign(th(i)), bottom_sign(th(i + 1)))) then
         ne = ne + 1
         kinds(ne) = PENDULA_EVENT_ZERO
-        c = bottom_level(th(i), th(i+1))
-        te(ne) = tg(i) + h * hermite_root(th(i) - c, th(i+1) - c, h * om(i), h * om(i+1))
+        c = bottom_level(th(i), th(i + 1))
+        te(ne) = tg(i) + h*hermite_root(th(i) - c, th(i + 1) - c, h*om(i), h*om(i + 1))
       end if
-      if (sign_change(om(i), om(i+1))) then
-        da = h * accel(th(i), om(i))
-        db = h * accel(th(i+1), om(i+1))
+      if (sign_change(om(i), om(i + 1))) then
+        da = h*accel(th(i), om(i))
+        db = h*accel(th(i + 1), om(i + 1))
         ne = ne + 1
         kinds(ne) = PENDULA_EVENT_TURNING
-        te(ne) = tg(i) + h * hermite_root(om(i), om(i+1), da, db)
+        te(ne) = tg(i) + h*hermite_root(om(i), om(i + 1), da, db)
       end if
       if (ne > 0) call append_events(result, te(1:ne), kinds(1:ne), nev, status)
       if (status%code /= PENDULA_OK) return
@@ -358,7 +358,7 @@ contains
   contains
     pure real(wp) function accel(x, v)
       real(wp), intent(in) :: x, v
-      accel = -scene%gamma * v - scene%w0**2 * sin(x)
+      accel = -scene%gamma*v - scene%w0**2*sin(x)
     end function accel
     pure subroutine hermite_state(tq, x, v)
       real(wp), intent(in) :: tq
@@ -366,17 +366,17 @@ contains
       integer :: j
       real(wp) :: s, hh
       j = max(1, min(size(tg) - 1, count(tg <= tq)))
-      hh = tg(j+1) - tg(j)
-      s = (tq - tg(j)) / hh
-      x = hermite(th(j), th(j+1), hh * om(j), hh * om(j+1), s)
-      v = hermite(om(j), om(j+1), hh * accel(th(j), om(j)), hh * accel(th(j+1), om(j+1)), s)
+      hh = tg(j + 1) - tg(j)
+      s = (tq - tg(j))/hh
+      x = hermite(th(j), th(j + 1), hh*om(j), hh*om(j + 1), s)
+      v = hermite(om(j), om(j + 1), hh*accel(th(j), om(j)), hh*accel(th(j + 1), om(j + 1)), s)
     end subroutine hermite_state
   end subroutine grid_events
 
   pure real(wp) function hermite(f0, f1, d0, d1, s) result(f)
     real(wp), intent(in) :: f0, f1, d0, d1, s
-    f = (2 * s**3 - 3 * s**2 + 1) * f0 + (s**3 - 2 * s**2 + s) * d0 + (-2 * s**3 + 3 * s**2) * f1 &
-        + (s**3 - s**2) * d1
+    f = (2*s**3 - 3*s**2 + 1)*f0 + (s**3 - 2*s**2 + s)*d0 + (-2*s**3 + 3*s**2)*f1 &
+        + (s**3 - s**2)*d1
   end function hermite
 
   ! Root in (0, 1] of the cubic Hermite interpolant (f0, f1 of opposite
@@ -385,7 +385,7 @@ contains
   pure real(wp) function hermite_root(f0, f1, d0, d1) result(s)
     real(wp), intent(in) :: f0, f1, d0, d1
     type(bracket_t) :: br
-    call bracket_start(br, 0.0_wp, 1.0_wp, f0, f1, ROOT_BISECT, 100, 2 * eps, 0.0_wp)
+    call bracket_start(br, 0.0_wp, 1.0_wp, f0, f1, ROOT_BISECT, 100, 2*eps, 0.0_wp)
     do while (.not. br%done)
       call bracket_update(br, hermite(f0, f1, d0, d1, br%c))
     end do

@@ -38,14 +38,14 @@ module pendula_scene_handover
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: SCENE_LINEAR_SAFETY, SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_LINEAR, &
-      SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
+                                 SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate
   use pendula_scene_integrated, only: solve_rk4, solve_cvode
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error, linear_error_at, &
-      event_rate
+                                  event_rate
   implicit none
   private
 
@@ -104,10 +104,10 @@ contains
       call events_handover(done)
       if (done .or. status%code /= PENDULA_OK) return
     else if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
-        scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
+                                    scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
       ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
       do it = 1, MAX_TRIES
-        if (.not. ts < MAX_PART * tend) exit
+        if (.not. ts < MAX_PART*tend) exit
         call sub_scene(scene, ts, sub, k, status)
         if (status%code /= PENDULA_OK) return
         gain = carry_gain(scene, ts, k)
@@ -119,13 +119,13 @@ contains
         if (status%code /= PENDULA_OK) return
         ! the linear model about the equilibrium the motion has settled to,
         ! 2 pi k (to its rounding, eps |2 pi k|, added to its estimate)
-        center = 2 * pi * anint(part%theta(size(part%theta)) / (2 * pi))
+        center = 2*pi*anint(part%theta(size(part%theta))/(2*pi))
         xs = part%theta(size(part%theta)) - center
         vs = part%omega(size(part%omega))
         e1 = part%error_estimate
-        elin = linear_estimate(xs, vs, scene%w0, scene%gamma, tend - ts) + 2 * epsilon(1.0_wp) * abs(center)
+        elin = linear_estimate(xs, vs, scene%w0, scene%gamma, tend - ts) + 2*epsilon(1.0_wp)*abs(center)
         ! e1 bounds the outputs before ts too (when there are any)
-        est = elin + gain * e1
+        est = elin + gain*e1
         if (early) est = max(e1, est)
         if (est <= scene%tol) then
           call assemble(scene, part, k, ts, center, xs, vs, est, result, status)
@@ -135,14 +135,14 @@ contains
           result%setting = part%setting
           result%step = part%step
           result%rtol = part%rtol
-          why = why // '; the motion has decayed by t = ' // format_sci(ts, 4) // ' s: ' // &
-              trim(merge('RK4  ', 'CVODE', sub_model == SCENE_MODEL_RK4)) // ' up to there, then the linear ' // &
-              'closed form from that state (nonlinearity ~' // format_sci(elin, 4) // ' rad, carried error ~' // &
-              format_sci(gain * e1, 4) // ' rad)'
+          why = why//'; the motion has decayed by t = '//format_sci(ts, 4)//' s: '// &
+                trim(merge('RK4  ', 'CVODE', sub_model == SCENE_MODEL_RK4))//' up to there, then the linear '// &
+                'closed form from that state (nonlinearity ~'//format_sci(elin, 4)//' rad, carried error ~'// &
+                format_sci(gain*e1, 4)//' rad)'
           return
         end if
-        if (elin <= scene%tol / 4) exit   ! the integrator's part is what fails: no later ts helps
-        ts = ts + max(0.5_wp * ts, handover_time(xs, vs, scene%w0, scene%gamma, scene%tol, tend - ts))
+        if (elin <= scene%tol/4) exit   ! the integrator's part is what fails: no later ts helps
+        ts = ts + max(0.5_wp*ts, handover_time(xs, vs, scene%w0, scene%gamma, scene%tol, tend - ts))
       end do
     end if
     call run(scene, model, tend, result)
@@ -177,11 +177,11 @@ contains
       integer :: n, ni, nl, ist
       logical :: unverified
       done = .false.
-      ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol * scene%w0, tend)
+      ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol*scene%w0, tend)
       call scene_like(scene, sub, 0, status)
       if (status%code /= PENDULA_OK) return
       sub%want = SCENE_WANT_STATE
-      sub%tol = scene%tol / 2
+      sub%tol = scene%tol/2
       if (scene%gamma < scene%w0) then
         ! clearly under-damped: the linear part's time errors are its phase
         ! drift, ~ c rh^2 for a swing rh at ts (linear_error_at's estimate
@@ -189,15 +189,15 @@ contains
         ! that rh; the integrated part's last events (rates ~ w0 rh) need a
         ! state error of about tol w0 rh (its estimate is often well below its
         ! tol: no more margin than that)
-        wd = sqrt(scene%w0 - scene%gamma / 2) * sqrt(scene%w0 + scene%gamma / 2)
-        c = SCENE_LINEAR_SAFETY * scene%w0**2 * max(1.0_wp, (wd + scene%gamma / 2) / scene%w0) / (16 * wd**2 * scene%gamma)
-        rh = sqrt(0.25_wp * scene%tol / c)
+        wd = sqrt(scene%w0 - scene%gamma/2)*sqrt(scene%w0 + scene%gamma/2)
+        c = SCENE_LINEAR_SAFETY*scene%w0**2*max(1.0_wp, (wd + scene%gamma/2)/scene%w0)/(16*wd**2*scene%gamma)
+        rh = sqrt(0.25_wp*scene%tol/c)
         sw = min(swing(scene), pi)
-        ts = max(ts, log(max(1.0_wp, sw / rh)) / (scene%gamma / 2))
-        sub%tol = min(sub%tol, scene%tol * scene%w0 * rh)
+        ts = max(ts, log(max(1.0_wp, sw/rh))/(scene%gamma/2))
+        sub%tol = min(sub%tol, scene%tol*scene%w0*rh)
       end if
       do it = 1, MAX_TRIES_EVENTS
-        if (.not. ts < MAX_PART_EVENTS * tend) exit
+        if (.not. ts < MAX_PART_EVENTS*tend) exit
         call event_grid(sub, ts, tg, status)
         if (status%code /= PENDULA_OK) return
         deallocate (sub%t)
@@ -217,7 +217,7 @@ contains
         if (status%code /= PENDULA_OK) return
         ni = size(evs%event_t)
         eint = event_time_error(evs, e1 + event_interp_error(sub, tg), scene%w0)
-        center = 2 * pi * anint(part%theta(n) / (2 * pi))
+        center = 2*pi*anint(part%theta(n)/(2*pi))
         xs = part%theta(n) - center
         vs = part%omega(n)
         call scene_like(scene, ls, 1, status)
@@ -226,16 +226,16 @@ contains
         ls%omega0 = vs
         ! past the window's end too: an event within its time error of the
         ! end may be in or out (the count is unverified)
-        ls%t = [tend - ts + END_MARGIN * scene%tol]
+        ls%t = [tend - ts + END_MARGIN*scene%tol]
         lres = fresh
         st = status_t()
         call solve_closed(ls, SCENE_MODEL_LINEAR, 0.0_wp, lres, st)
         if (st%code /= PENDULA_OK) exit
         call add_cost(spent, lres%cost)
         elev = linear_error_at(xs, vs, scene%w0, scene%gamma, lres%event_t) + &
-            propagator_gain(scene%w0, scene%gamma, lres%event_t) * (e1 + 2 * epsilon(1.0_wp) * abs(center))
+               propagator_gain(scene%w0, scene%gamma, lres%event_t)*(e1 + 2*epsilon(1.0_wp)*abs(center))
         unverified = .not. lres%event_time_error < huge(1.0_wp) .or. any(abs(ts + lres%event_t - tend) <= &
-            elev / event_rate(lres%event_kind, lres%event_theta, lres%event_omega, scene%w0))
+                                                                       elev/event_rate(lres%event_kind, lres%event_theta, lres%event_omega, scene%w0))
         nl = count(ts + lres%event_t <= tend)
         cand = fresh
         cand%event_t = [evs%event_t, ts + lres%event_t(1:nl)]
@@ -246,7 +246,7 @@ contains
         ! (lres%event_t measured from ts) at theirs
         each = [spread(e1 + event_interp_error(sub, tg), 1, ni), elev(1:nl)]
         ! ts + tau rounds to eps (ts + tau)
-        e = event_time_error(cand, 0.0_wp, scene%w0, each) + 4 * epsilon(1.0_wp) * tend
+        e = event_time_error(cand, 0.0_wp, scene%w0, each) + 4*epsilon(1.0_wp)*tend
         if (unverified) e = ieee_value(1.0_wp, ieee_positive_inf)
         if (e < best%event_time_error) then
           best = cand
@@ -275,12 +275,12 @@ contains
         ! events then have rates smaller by about that decay, its tol with them)
         dts = 0
         if (e > eint .and. e < huge(1.0_wp)) then
-          dts = max(0.1_wp * ts, log(e / (0.5_wp * scene%tol)) / (2 * slow_rate(scene%w0, scene%gamma)))
+          dts = max(0.1_wp*ts, log(e/(0.5_wp*scene%tol))/(2*slow_rate(scene%w0, scene%gamma)))
         else if (e > eint) then
-          dts = max(0.5_wp * ts, 1 / max(scene%w0, scene%gamma))
+          dts = max(0.5_wp*ts, 1/max(scene%w0, scene%gamma))
         end if
-        sub%tol = sub%tol * max(1.0e-3_wp, min(1.0_wp, 0.25_wp * scene%tol / eint) * &
-            exp(-slow_rate(scene%w0, scene%gamma) * dts))
+        sub%tol = sub%tol*max(1.0e-3_wp, min(1.0_wp, 0.25_wp*scene%tol/eint)* &
+                              exp(-slow_rate(scene%w0, scene%gamma)*dts))
         ts = ts + dts
       end do
     end subroutine events_handover
@@ -288,9 +288,9 @@ contains
     ! The reason's part for an events hand-over kept (best), appended to why
     ! (a subroutine: no function returns a deferred-length text here).
     subroutine append_handover_why()
-      why = why // '; events: the motion has decayed by t = ' // format_sci(best_ts, 4) // ' s: ' // &
-          trim(merge('RK4  ', 'CVODE', best_model == SCENE_MODEL_RK4)) // ' up to there, then the linear ' // &
-          'closed form from that state (event times off by up to ' // format_sci(best%event_time_error, 4) // ' s)'
+      why = why//'; events: the motion has decayed by t = '//format_sci(best_ts, 4)//' s: '// &
+            trim(merge('RK4  ', 'CVODE', best_model == SCENE_MODEL_RK4))//' up to there, then the linear '// &
+            'closed form from that state (event times off by up to '//format_sci(best%event_time_error, 4)//' s)'
     end subroutine append_handover_why
 
     ! The integrated part: sub over [0, ts] into part, with the integrator
@@ -327,8 +327,8 @@ contains
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tol  !< the part's tolerance before loosening [rad], > 0
     real(wp), intent(in) :: gain  !< gain of the linear propagator after the hand-over, in [0, sqrt(2)]
-    loose = SUB_TOL_REL * min(swing(scene), pi)
-    if (tol < loose * gain) loose = tol / gain
+    loose = SUB_TOL_REL*min(swing(scene), pi)
+    if (tol < loose*gain) loose = tol/gain
     loose = max(tol, loose)
   end function loosened_tol
 
@@ -344,9 +344,9 @@ contains
     if (scene%want == SCENE_WANT_FINAL) k = 0
     call scene_like(scene, sub, k + 1, status)
     if (status%code /= PENDULA_OK) return
-    sub%tol = scene%tol / 2
+    sub%tol = scene%tol/2
     sub%t(1:k) = scene%t(1:k)
-    sub%t(k+1) = ts
+    sub%t(k + 1) = ts
     if (scene%want /= SCENE_WANT_FINAL) sub%want = SCENE_WANT_STATE
   end subroutine sub_scene
 
@@ -387,7 +387,7 @@ contains
     call linear_damped_init(ub, 0.0_wp, w0, w0, gamma, st)
     call linear_damped_state(ua, tau, xa, va)
     call linear_damped_state(ub, tau, xb, vb)
-    gain = min(sqrt(2.0_wp), max(abs(xa) + abs(xb), (abs(va) + abs(vb)) / w0) * (1 + 64 * epsilon(1.0_wp)))
+    gain = min(sqrt(2.0_wp), max(abs(xa) + abs(xb), (abs(va) + abs(vb))/w0)*(1 + 64*epsilon(1.0_wp)))
   end function propagator_gain
 
   ! The integrator for the part [0, ts] (the choice for the whole window may
@@ -424,8 +424,8 @@ contains
     result%theta(1:k) = part%theta(1:k)
     result%omega(1:k) = part%omega(1:k)
     call linear_damped_init(lin, xs, vs, scene%w0, scene%gamma, st)
-    call linear_damped_state(lin, result%t(k+1:n) - ts, result%theta(k+1:n), result%omega(k+1:n))
-    result%theta(k+1:n) = result%theta(k+1:n) + center
+    call linear_damped_state(lin, result%t(k + 1:n) - ts, result%theta(k + 1:n), result%omega(k + 1:n))
+    result%theta(k + 1:n) = result%theta(k + 1:n) + center
     result%cost%closed_form_evals = n - k
     result%error_estimate = est
     call finish_outputs(scene, result, status)
@@ -461,14 +461,14 @@ contains
     real(wp), intent(in) :: span  !< the rest of the window [s], >= 0
     real(wp) :: xr, msep, a0, ah, trot, thang, d0, el, half, rate, cap, x, eref
     integer :: i
-    xr = abs(modulo(x0 + pi, 2 * pi) - pi)
-    msep = sin(xr / 2)**2 + (v0 / (2 * w0))**2
+    xr = abs(modulo(x0 + pi, 2*pi) - pi)
+    msep = sin(xr/2)**2 + (v0/(2*w0))**2
     trot = 0
-    if (msep >= 1) trot = (1 + log(msep)) / gamma
-    d0 = hypot(pi - xr, v0 / w0)
+    if (msep >= 1) trot = (1 + log(msep))/gamma
+    d0 = hypot(pi - xr, v0/w0)
     thang = 0
-    if (msep < 1 .and. d0 < pi) thang = log(pi / max(d0, epsilon(1.0_wp))) / (hypot(gamma / 2, w0) - gamma / 2)
-    a0 = min(xr + abs(v0) / w0, pi)
+    if (msep < 1 .and. d0 < pi) thang = log(pi/max(d0, epsilon(1.0_wp)))/(hypot(gamma/2, w0) - gamma/2)
+    a0 = min(xr + abs(v0)/w0, pi)
     if (msep >= 1) a0 = pi
     rate = slow_rate(w0, gamma)
     eref = linear_estimate(AREF, 0.0_wp, w0, gamma, span)
@@ -476,20 +476,20 @@ contains
       ts = 0
       return
     end if
-    ah = 0.8_wp * AREF * (0.25_wp * tol / eref)**(1.0_wp / 3)
+    ah = 0.8_wp*AREF*(0.25_wp*tol/eref)**(1.0_wp/3)
     ! near critical damping the two modes' rates meet and the decay is
     ! (1 + rate t) e^(-rate t) until t ~ 1/delta, delta the rates' gap
     ! (theta0 + t (Omega0 + gamma theta0/2) at gamma = 2 w0): a few fixed-
     ! point steps of rate t = L + ln(1 + min(rate t, rate/delta))
-    el = max(0.0_wp, log(a0 / ah))
-    half = gamma / 2
-    cap = rate / max(sqrt(abs(half - w0)) * sqrt(half + w0), tiny(1.0_wp))
+    el = max(0.0_wp, log(a0/ah))
+    half = gamma/2
+    cap = rate/max(sqrt(abs(half - w0))*sqrt(half + w0), tiny(1.0_wp))
     x = el
     do i = 1, 3
       x = el + log(1 + min(x, cap))
     end do
-    ts = trot + thang + x / rate
-    ts = max(ts, 1 / max(w0, gamma))
+    ts = trot + thang + x/rate
+    ts = max(ts, 1/max(w0, gamma))
   end function handover_time
 
 end module pendula_scene_handover

@@ -10,10 +10,10 @@ module pendula_scene_integrated
   use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_constants, only: pi
   use pendula_integrators, only: ode_stats_t, rk4_solve, rk4_final_state, rk4_max_stable_step, &
-      cvode_solve, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
+                                 cvode_solve, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
   use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_scene_codes, only: SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_FINAL, SCENE_WANT_EVENTS, &
-      SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
+                                 SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs, empty_outputs
   use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding, cvode_min_steps, cvode_first_rtol
@@ -65,35 +65,35 @@ contains
     n = size(tout)
     if (scene%want == SCENE_WANT_FINAL .and. model == SCENE_MODEL_RK4) then
       call rk4_final_state(0.0_wp, tout(n), scene%theta0, scene%omega0, scene%w0, scene%gamma, &
-          setting, theta(n), omega(n), stats, status, control, int(min(budget, 9.0e18_wp), i8))
+                           setting, theta(n), omega(n), stats, status, control, int(min(budget, 9.0e18_wp), i8))
       return
     end if
     off = 0
     if (tout(1) > 0) off = 1
     allocate (tt(n + off), th(n + off), om(n + off), stat=ist)
-    call check_alloc(ist, 'the integrator''s times and states', 3_i8 * (n + off), 8, status)
+    call check_alloc(ist, 'the integrator''s times and states', 3_i8*(n + off), 8, status)
     if (status%code /= PENDULA_OK) return
     tt(1) = 0
-    tt(1+off:) = tout
+    tt(1 + off:) = tout
     if (model == SCENE_MODEL_RK4) then
       call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, th, om, stats, status, &
-          control, int(min(budget, 9.0e18_wp), i8))
+                     control, int(min(budget, 9.0e18_wp), i8))
     else
       method = merge(PENDULA_CVODE_BDF, PENDULA_CVODE_ADAMS, is_stiff(scene))
-      scale = max(abs(scene%theta0) + abs(scene%omega0) / scene%w0, 1.0e-6_wp)
+      scale = max(abs(scene%theta0) + abs(scene%omega0)/scene%w0, 1.0e-6_wp)
       call cvode_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, setting, &
-          setting * scale / 100, method, max(int(budget / SCENE_CVODE_STEP_COST, i8), 1_i8), th, om, stats, status, &
-          control)
+                       setting*scale/100, method, max(int(budget/SCENE_CVODE_STEP_COST, i8), 1_i8), th, om, stats, status, &
+                       control)
     end if
-    theta = th(1+off:)
-    omega = om(1+off:)
+    theta = th(1 + off:)
+    omega = om(1 + off:)
   end subroutine integrate
 
   ! sup over the outputs of max(|d theta|, |d Omega|/w0)
   pure real(wp) function state_diff(th1, om1, th2, om2, w0) result(d)
     real(wp), intent(in) :: th1(:), om1(:), th2(:), om2(:), w0
     d = 0
-    if (size(th1) > 0) d = max(maxval(abs(th1 - th2)), maxval(abs(om1 - om2)) / w0)
+    if (size(th1) > 0) d = max(maxval(abs(th1 - th2)), maxval(abs(om1 - om2))/w0)
   end function state_diff
 
   !> RK4 with h from tol and the window, verified by a run at 2h; refined
@@ -111,10 +111,10 @@ contains
     integer :: it, ist
     logical :: reuse
     call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
-    hmax = 0.9_wp * hmax
+    hmax = 0.9_wp*hmax
     ! the runs take the substeps of step hb on every interval times 1/f:
     ! h = hb f is the fine run's step, and halving f halves it exactly
-    hb = min(OPTIMISM * rk4_apriori_step(scene, tend), 0.5_wp / scene%w0, hmax / 2)
+    hb = min(OPTIMISM*rk4_apriori_step(scene, tend), 0.5_wp/scene%w0, hmax/2)
     f = 1
     reuse = .false.
     call sample_grid(scene, tend, result, tgrid, status)
@@ -125,20 +125,20 @@ contains
     ist = 0
     if (.not. allocated(result%theta)) allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), stat=ist)
     if (ist == 0) allocate (th2(size(tgrid)), om2(size(tgrid)), stat=ist)
-    call check_alloc(ist, 'the RK4 runs'' states', 4_i8 * size(tgrid), 8, status)
+    call check_alloc(ist, 'the RK4 runs'' states', 4_i8*size(tgrid), 8, status)
     if (status%code /= PENDULA_OK) return
     est = ieee_value(1.0_wp, ieee_positive_inf)
     do it = 1, MAX_REFINE
       ! the run at h and its check at 2h (1.5 tend/h steps), or only the run
       ! at h when the previous run at 2h is its check
-      h = hb * f
-      nrun = merge(1.0_wp, 1.5_wp, reuse) * tend / h
+      h = hb*f
+      nrun = merge(1.0_wp, 1.5_wp, reuse)*tend/h
       if (nrun > budget) then
-        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 needs ~' // format_sci(nrun, 4) // &
-            ' steps for tol = ' // format_sci(scene%tol, 4) // ' over t = 0 .. ' // format_sci(tend, 4) // &
-            ', over max_steps = ' // format_sci(budget, 4) // ' (' // format_sci(SCENE_STEP_CAP, 4) // &
-            ' ~ 1 min): use cvode, a larger tol,' // &
-            ' a shorter window, or raise max_steps')
+        call set_error(status, PENDULA_ERR_MAXSTEPS, 'rk4 needs ~'//format_sci(nrun, 4)// &
+                       ' steps for tol = '//format_sci(scene%tol, 4)//' over t = 0 .. '//format_sci(tend, 4)// &
+                       ', over max_steps = '//format_sci(budget, 4)//' ('//format_sci(SCENE_STEP_CAP, 4)// &
+                       ' ~ 1 min): use cvode, a larger tol,'// &
+                       ' a shorter window, or raise max_steps')
         return
       end if
       if (reuse) then
@@ -147,25 +147,25 @@ contains
       end if
       call rk4_run(scene, tgrid, hb, f, result%theta, result%omega, result%cost, status, control)
       if (status%code /= PENDULA_OK) return
-      if (.not. reuse) call rk4_run(scene, tgrid, hb, 2 * f, th2, om2, result%cost, status, control)
+      if (.not. reuse) call rk4_run(scene, tgrid, hb, 2*f, th2, om2, result%cost, status, control)
       if (status%code /= PENDULA_OK) return
       ! the step the fine run took (dense outputs may have set it below h)
       h = used_step(tgrid, hb, f)
       d = state_diff(result%theta, result%omega, th2, om2, scene%w0)
-      round = integrator_rounding(scene, result%theta, tend / h)
-      est = RK4_SAFETY * d / 15 + round
+      round = integrator_rounding(scene, result%theta, tend/h)
+      est = RK4_SAFETY*d/15 + round
       if (est <= scene%tol) exit
-      if (it == MAX_REFINE .or. round > 0.5_wp * est) exit   ! a smaller h only adds rounding
+      if (it == MAX_REFINE .or. round > 0.5_wp*est) exit   ! a smaller h only adds rounding
       ! e ~ C h^4: the step for 0.6 tol, at most /16.  When that is about one
       ! halving, halve exactly: the run just made checks the next, and one run
       ! at h/2 (2 units of the run at h) costs less than a new pair at q h
       ! (1.5/q units) for q <= 3/4.
-      q = (0.6_wp * scene%tol / est)**0.25_wp
+      q = (0.6_wp*scene%tol/est)**0.25_wp
       reuse = q >= 0.45_wp .and. q <= 0.75_wp
       if (reuse) then
-        f = f / 2
+        f = f/2
       else
-        hb = h * max(1.0_wp / 16, q)
+        hb = h*max(1.0_wp/16, q)
         f = 1
       end if
     end do
@@ -203,22 +203,22 @@ contains
     call check_alloc(ist, 'the RK4 run''s times', int(n + off, i8), 8, status)
     if (status%code /= PENDULA_OK) return
     tt(1) = 0
-    tt(1+off:) = tg
+    tt(1 + off:) = tg
     uniform = .true.
     dt = tt(min(2, size(tt))) - tt(1)
     do i = 2, size(tt)
-      if (abs((tt(i) - tt(i-1)) - dt) > 1.0e-12_wp * dt) uniform = .false.
+      if (abs((tt(i) - tt(i - 1)) - dt) > 1.0e-12_wp*dt) uniform = .false.
     end do
     if (size(tt) >= 2 .and. uniform) then
       nsub = substep_count(dt, h, factor)
       allocate (th1(size(tt)), om1(size(tt)), stat=ist)
-      call check_alloc(ist, 'the RK4 run''s states', 2_i8 * size(tt), 8, status)
+      call check_alloc(ist, 'the RK4 run''s states', 2_i8*size(tt), 8, status)
       if (status%code /= PENDULA_OK) return
-      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt / nsub, th1, om1, &
-          stats, status, control, huge(1_i8))
+      call rk4_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, dt/nsub, th1, om1, &
+                     stats, status, control, huge(1_i8))
       call add_stats(cost, stats)
-      th = th1(1+off:)
-      om = om1(1+off:)
+      th = th1(1 + off:)
+      om = om1(1 + off:)
       return
     end if
     x = scene%theta0
@@ -228,15 +228,15 @@ contains
       ! each short run polls only every 4096 steps of its own: look between runs too
       if (present(control)) then
         if (cancel_requested(control)) then
-          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = ' // format_sci(t0, 4) // &
-              ' (interrupted by the caller)')
+          call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled at t = '//format_sci(t0, 4)// &
+                         ' (interrupted by the caller)')
           return
         end if
       end if
       if (tg(i) > t0) then
         dt = tg(i) - t0
-        call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt / substep_count(dt, h, factor), x1, v1, &
-            stats, status, control, huge(1_i8))
+        call rk4_final_state(t0, tg(i), x, v, scene%w0, scene%gamma, dt/substep_count(dt, h, factor), x1, v1, &
+                             stats, status, control, huge(1_i8))
         x = x1
         v = v1
         call add_stats(cost, stats)
@@ -253,8 +253,8 @@ contains
   ! rk4_run's substeps on an interval of length d: 2 ceil(d/(2 h)) / factor.
   pure real(wp) function substep_count(d, h, factor) result(ns)
     real(wp), intent(in) :: d, h, factor
-    ns = 2 * ceiling(d / (2 * h), i8)
-    ns = anint(ns / factor)
+    ns = 2*ceiling(d/(2*h), i8)
+    ns = anint(ns/factor)
   end function substep_count
 
   ! The longest substep rk4_run takes on the grid tg (0 first when tg(1) > 0)
@@ -269,7 +269,7 @@ contains
     t0 = 0
     do i = 1, size(tg)
       d = tg(i) - t0
-      if (d > 0) hu = max(hu, d / substep_count(d, h, factor))
+      if (d > 0) hu = max(hu, d/substep_count(d, h, factor))
       t0 = tg(i)
     end do
     if (.not. hu > 0) hu = h
@@ -294,19 +294,19 @@ contains
     if (status%code /= PENDULA_OK) return
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
     allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), th1(size(tgrid)), om1(size(tgrid)), stat=ist)
-    call check_alloc(ist, 'the CVODE runs'' states', 4_i8 * size(tgrid), 8, status)
+    call check_alloc(ist, 'the CVODE runs'' states', 4_i8*size(tgrid), 8, status)
     if (status%code /= PENDULA_OK) return
-    periods = 1 + scene%w0 * tend / (2 * pi)
+    periods = 1 + scene%w0*tend/(2*pi)
     rtol = cvode_first_rtol(scene, tend, scene%tol)
     ! Up front: the two runs (rtol and rtol/10) need at least cvode_min_steps
     ! each (an underdamped, non-stiff scene; 0 otherwise)
-    predicted = (cvode_min_steps(scene, tend, rtol) + cvode_min_steps(scene, tend, rtol / 10)) * SCENE_CVODE_STEP_COST
+    predicted = (cvode_min_steps(scene, tend, rtol) + cvode_min_steps(scene, tend, rtol/10))*SCENE_CVODE_STEP_COST
     if (predicted > budget) then
-      call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. ' // format_sci(tend, 4) // ' spans ~' // &
-          format_sci(periods, 4) // ' periods: CVODE needs > ~' // format_sci(predicted / SCENE_CVODE_STEP_COST, 4) // &
-          ' steps for tol = ' // format_sci(scene%tol, 4) // ', over the budget max_steps = ' // &
-          format_sci(budget, 4) // ' (RK4 steps, a CVODE step counts ' // format_int(nint(SCENE_CVODE_STEP_COST)) // &
-          '; ' // format_sci(SCENE_STEP_CAP, 4) // ' ~ 1 min): use a larger tol, shorten the window or raise max_steps')
+      call set_error(status, PENDULA_ERR_MAXSTEPS, 'window t = 0 .. '//format_sci(tend, 4)//' spans ~'// &
+                     format_sci(periods, 4)//' periods: CVODE needs > ~'//format_sci(predicted/SCENE_CVODE_STEP_COST, 4)// &
+                     ' steps for tol = '//format_sci(scene%tol, 4)//', over the budget max_steps = '// &
+                     format_sci(budget, 4)//' (RK4 steps, a CVODE step counts '//format_int(nint(SCENE_CVODE_STEP_COST))// &
+                     '; '//format_sci(SCENE_STEP_CAP, 4)//' ~ 1 min): use a larger tol, shorten the window or raise max_steps')
       return
     end if
     est = ieee_value(1.0_wp, ieee_positive_inf)
@@ -314,17 +314,17 @@ contains
       call integrate(scene, SCENE_MODEL_CVODE, rtol, budget, tgrid, th1, om1, stats, status, control)
       call add_stats(result%cost, stats)
       if (status%code /= PENDULA_OK) return
-      call integrate(scene, SCENE_MODEL_CVODE, rtol / 10, budget, tgrid, result%theta, result%omega, stats, &
-          status, control)
+      call integrate(scene, SCENE_MODEL_CVODE, rtol/10, budget, tgrid, result%theta, result%omega, stats, &
+                     status, control)
       call add_stats(result%cost, stats)
       if (status%code /= PENDULA_OK) return
       est = state_diff(th1, om1, result%theta, result%omega, scene%w0) &
-          + integrator_rounding(scene, result%theta, real(stats%steps, wp))
+            + integrator_rounding(scene, result%theta, real(stats%steps, wp))
       if (est <= scene%tol .or. rtol <= 1.0e-14_wp .or. it == MAX_REFINE) exit
-      rtol = max(rtol * max(1.0e-3_wp, 0.3_wp * scene%tol / est), 1.0e-14_wp)
+      rtol = max(rtol*max(1.0e-3_wp, 0.3_wp*scene%tol/est), 1.0e-14_wp)
     end do
-    result%setting = rtol / 10
-    result%rtol = rtol / 10
+    result%setting = rtol/10
+    result%rtol = rtol/10
     result%error_estimate = est
     call finish_run(scene, tgrid, est, result, status)
   end subroutine solve_cvode
@@ -348,7 +348,7 @@ contains
     if (status%code /= PENDULA_OK) return
     if (allocated(result%theta)) deallocate (result%theta, result%omega)
     allocate (result%theta(size(tgrid)), result%omega(size(tgrid)), stat=ist)
-    call check_alloc(ist, 'the run''s states', 2_i8 * size(tgrid), 8, status)
+    call check_alloc(ist, 'the run''s states', 2_i8*size(tgrid), 8, status)
     if (status%code /= PENDULA_OK) return
     call integrate(scene, model, setting, budget, tgrid, result%theta, result%omega, stats, status, control)
     if (status%code /= PENDULA_OK) return

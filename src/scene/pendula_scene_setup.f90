@@ -6,14 +6,14 @@ module pendula_scene_setup
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
-      check_increasing, check_size, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
+                            check_increasing, check_size, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
   use pendula_physics, only: natural_frequency, damping_rate
   use pendula_double_double, only: dd_div_d, dd_sqrt
   use pendula_undamped, only: pendulum_energy
   use pendula_integrators, only: cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
-      SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, &
-      SCENE_WANT_EVENTS, SCENE_STEP_CAP, scene_model_name, scene_model_list, scene_want_list
+                                 SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, &
+                                 SCENE_WANT_EVENTS, SCENE_STEP_CAP, scene_model_name, scene_model_list, scene_want_list
   use pendula_scene_types, only: scene_t, scene_result_t
   implicit none
   private
@@ -55,11 +55,11 @@ contains
     end if
     if (present(mass) .neqv. present(b)) then
       if (present(mass)) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 'mass is given without b: give both mass and b ' // &
-            '(gamma = b/mass, eq. 2.1), or gamma alone')
+        call set_error(status, PENDULA_ERR_DOMAIN, 'mass is given without b: give both mass and b '// &
+                       '(gamma = b/mass, eq. 2.1), or gamma alone')
       else
-        call set_error(status, PENDULA_ERR_DOMAIN, 'b is given without mass: give both mass and b ' // &
-            '(gamma = b/mass, eq. 2.1), or gamma alone')
+        call set_error(status, PENDULA_ERR_DOMAIN, 'b is given without mass: give both mass and b '// &
+                       '(gamma = b/mass, eq. 2.1), or gamma alone')
       end if
       return
     end if
@@ -70,9 +70,9 @@ contains
         return
       end if
       if (present(gamma_in)) then
-        if (abs(gb - gamma_in) > 1.0e-12_wp * max(gb, gamma_in)) then
-          call set_error(status, PENDULA_ERR_DOMAIN, 'gamma = ' // format_sci(gamma_in, 4) // &
-              ' and b/mass = ' // format_sci(gb, 4) // ' disagree: give gamma, or mass and b, not both')
+        if (abs(gb - gamma_in) > 1.0e-12_wp*max(gb, gamma_in)) then
+          call set_error(status, PENDULA_ERR_DOMAIN, 'gamma = '//format_sci(gamma_in, 4)// &
+                         ' and b/mass = '//format_sci(gb, 4)//' disagree: give gamma, or mass and b, not both')
           return
         end if
       end if
@@ -146,7 +146,7 @@ contains
       return
     end if
     call check_fields(scene%theta0, scene%omega0, scene%t, scene%w0, scene%gamma, scene%tol, scene%want, &
-        scene%model, status)
+                      scene%model, status)
     call check_w0lo(scene%w0, scene%w0lo, status)
   end subroutine check_scene
 
@@ -155,9 +155,9 @@ contains
     real(wp), intent(in) :: w0, w0lo
     type(status_t), intent(inout) :: status
     if (status%code /= PENDULA_OK) return
-    if (.not. abs(w0lo) <= epsilon(w0) * w0) call set_error(status, PENDULA_ERR_DOMAIN, 'w0lo = ' // &
-        format_sci(w0lo, 4) // ' is out of range: the rounding residual of w0 must be within eps w0 = ' // &
-        format_sci(epsilon(w0) * w0, 4) // ' (from scene_physics; 0 when w0 is the datum)')
+    if (.not. abs(w0lo) <= epsilon(w0)*w0) call set_error(status, PENDULA_ERR_DOMAIN, 'w0lo = '// &
+                                                     format_sci(w0lo, 4)//' is out of range: the rounding residual of w0 must be within eps w0 = '// &
+                                                          format_sci(epsilon(w0)*w0, 4)//' (from scene_physics; 0 when w0 is the datum)')
   end subroutine check_w0lo
 
   ! The rules on a scene's fields (scene_init).
@@ -172,13 +172,13 @@ contains
     call check_positive('tol', tol, status)
     if (status%code /= PENDULA_OK) return
     if (want < SCENE_WANT_STATE .or. want > SCENE_WANT_EVENTS) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'want = ' // format_int(want) // ' is unknown: it must be ' // &
-          'one of ' // scene_want_list())
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = '//format_int(want)//' is unknown: it must be '// &
+                     'one of '//scene_want_list())
       return
     end if
     if (mdl < SCENE_MODEL_AUTO .or. mdl > SCENE_MODEL_CVODE) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // format_int(mdl) // ' is unknown: it must be ' // &
-          'one of ' // scene_model_list(SCENE_MODEL_AUTO))
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = '//format_int(mdl)//' is unknown: it must be '// &
+                     'one of '//scene_model_list(SCENE_MODEL_AUTO))
       return
     end if
     if (want /= SCENE_WANT_PERIOD) call check_size('t', size(t), 1, status)
@@ -186,14 +186,14 @@ contains
     if (status%code /= PENDULA_OK) return
     if (size(t) > 0) then
       if (t(1) < 0) then
-        call set_error(status, PENDULA_ERR_DOMAIN, 't[0] = ' // format_sci(t(1), 4) // &
-            ' is out of range: output times must be >= 0 (the initial state holds at t = 0)')
+        call set_error(status, PENDULA_ERR_DOMAIN, 't[0] = '//format_sci(t(1), 4)// &
+                       ' is out of range: output times must be >= 0 (the initial state holds at t = 0)')
         return
       end if
     end if
     if (want == SCENE_WANT_PERIOD .and. gamma > 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'want = period needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // &
-          ': the damped motion is not periodic); use want = events for its turning points')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = period needs gamma = 0 (gamma = '//format_sci(gamma, 4)// &
+                     ': the damped motion is not periodic); use want = events for its turning points')
       return
     end if
     call check_model_gamma(mdl, gamma, status)
@@ -206,8 +206,8 @@ contains
     real(wp), intent(in) :: gamma  !< damping rate of the scene [1/s], >= 0
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     if (gamma > 0 .and. (model == SCENE_MODEL_SMALL_ANGLE .or. model == SCENE_MODEL_EXACT)) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'model = ' // scene_model_name(model) // &
-          ' needs gamma = 0 (gamma = ' // format_sci(gamma, 4) // '): use linear, rk4 or cvode')
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = '//scene_model_name(model)// &
+                     ' needs gamma = 0 (gamma = '//format_sci(gamma, 4)//'): use linear, rk4 or cvode')
     end if
   end subroutine check_model_gamma
 
@@ -216,7 +216,7 @@ contains
     integer, intent(in) :: model  !< model code, SCENE_MODEL_*
     type(status_t), intent(inout) :: status  !< PENDULA_ERR_UNAVAILABLE for cvode without SUNDIALS, else left unchanged
     if (model == SCENE_MODEL_CVODE .and. .not. cvode_available()) call set_error(status, &
-        PENDULA_ERR_UNAVAILABLE, 'model = cvode is not available: this build has no SUNDIALS CVODE')
+                                                          PENDULA_ERR_UNAVAILABLE, 'model = cvode is not available: this build has no SUNDIALS CVODE')
   end subroutine check_model_built
 
   !> The work budget [RK4 steps] from the optional max_steps (>= 1; default SCENE_STEP_CAP).
@@ -227,8 +227,8 @@ contains
     budget = SCENE_STEP_CAP
     if (.not. present(max_steps)) return
     budget = real(max_steps, wp)
-    if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = ' // format_sci(budget, 4) // &
-        ' is out of range: it must be >= 1')
+    if (max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, 'max_steps = '//format_sci(budget, 4)// &
+                                      ' is out of range: it must be >= 1')
   end subroutine get_budget
 
   !> Output arrays for the want: every t, or only t(n) for want = final
@@ -253,8 +253,8 @@ contains
     if (allocated(result%energy)) deallocate (result%energy)
     allocate (result%t(m), result%theta(m), result%omega(m), stat=ist)
     if (ist == 0 .and. scene%want == SCENE_WANT_ENERGY) allocate (result%energy(m), stat=ist)
-    call check_alloc(ist, 'the outputs (t, theta, omega' // trim(merge(', energy', '        ', k == 4)) // ')', &
-        int(k, i8) * m, 8, status)
+    call check_alloc(ist, 'the outputs (t, theta, omega'//trim(merge(', energy', '        ', k == 4))//')', &
+                     int(k, i8)*m, 8, status)
     if (status%code /= PENDULA_OK) return
     if (m > 0) result%t(:) = scene%t(n - m + 1:n)
   end subroutine alloc_outputs
@@ -278,7 +278,7 @@ contains
     type(status_t), intent(inout) :: status  !< set when an allocation fails, else left unchanged
     integer :: ist
     if (scene%want == SCENE_WANT_ENERGY) &
-        result%energy(:) = pendulum_energy(result%theta, result%omega, scene%w0)
+      result%energy(:) = pendulum_energy(result%theta, result%omega, scene%w0)
     if (.not. allocated(result%event_t)) then
       allocate (result%event_t(0), result%event_theta(0), result%event_omega(0), result%event_kind(0), stat=ist)
       call check_alloc(ist, 'the (empty) event lists', 0_i8, 8, status)

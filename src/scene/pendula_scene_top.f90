@@ -33,7 +33,7 @@ module pendula_scene_top
   use pendula_double_double, only: two_prod
   use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_scene_codes, only: scene_model_name, SCENE_MODEL_LINEAR, SCENE_MODEL_AUTO, SCENE_WANT_PERIOD, &
-      SCENE_WANT_EVENTS
+                                 SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model
@@ -73,12 +73,12 @@ contains
     v0 = -scene%omega0
     if (.not. scene%gamma > 0 .or. abs(scene%theta0) > 2.0_wp**40) return
     if (scene%want == SCENE_WANT_PERIOD) return
-    k = anint(scene%theta0 / pi)
+    k = anint(scene%theta0/pi)
     if (modulo(k, 2.0_wp) /= 1) return
     ! k pi = p + e + k pi_lo + k pi_lo2 exactly to ~1e-32 |k pi|; p - theta0 is exact
     call two_prod(k, pi, p, e)
-    phi0 = (p - scene%theta0) + (e + (k * pi_lo + k * pi_lo2))
-    is_top = hypot(phi0, v0 / scene%w0) < TOP_NEAR
+    phi0 = (p - scene%theta0) + (e + (k*pi_lo + k*pi_lo2))
+    is_top = hypot(phi0, v0/scene%w0) < TOP_NEAR
     ! events: a turning point in the hang (a start towards the top that falls
     ! back, phi' = lp a e^(lp t) + lm b e^(lm t) = 0) is left to the ordinary path
     if (is_top .and. scene%want == SCENE_WANT_EVENTS) is_top = no_turn(scene, phi0, v0)
@@ -89,9 +89,9 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: phi0, v0
     real(wp), intent(out) :: lp, lm, a, b
-    lm = -(scene%gamma / 2 + hypot(scene%gamma / 2, scene%w0))
-    lp = scene%w0**2 / (-lm)
-    a = (v0 - lm * phi0) / (lp - lm)
+    lm = -(scene%gamma/2 + hypot(scene%gamma/2, scene%w0))
+    lp = scene%w0**2/(-lm)
+    a = (v0 - lm*phi0)/(lp - lm)
     b = phi0 - a
   end subroutine saddle
 
@@ -105,7 +105,7 @@ contains
     ! phi' = 0 at e^((lp - lm) t) = -lm b/(lp a): a root t > 0 needs the ratio > 1
     ! a start at rest turns at t = 0 only (no event); otherwise a root exists
     ! when a b > 0 and |lm b| > lp |a| (taken from half of that, a margin)
-    no_turn = v0 == 0 .or. .not. (a * b > 0 .and. abs(lm * b) >= 0.5_wp * lp * abs(a))
+    no_turn = v0 == 0 .or. .not. (a*b > 0 .and. abs(lm*b) >= 0.5_wp*lp*abs(a))
   end function no_turn
 
   ! The hang from the top-centred start (phi0, v0): the time tx [s] at which
@@ -124,12 +124,12 @@ contains
     ! the saddle's rates, and the growing mode's amplitude a
     call saddle(scene, phi0, v0, lp, lm, a, b)
     tx = tend
-    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT / abs(a)) / lp))
-    vmax = max(2 * scene%w0, 2 * scene%gamma + scene%w0)
-    near = min(1.0_wp, sqrt(4 * scene%gamma / scene%w0))
-    gain = TOP_SAFETY * vmax / (lp * PHI_EXIT) * (1 + 2 / near)
-    frac = min(0.5_wp, 0.05_wp + 0.1_wp * scene%gamma / scene%w0)
-    target = scene%tol / (4 * (TOP_SAFETY * vmax / (lp * PHI_EXIT) + frac * gain))
+    if (abs(a) > 0) tx = min(tend, max(0.0_wp, log(PHI_EXIT/abs(a))/lp))
+    vmax = max(2*scene%w0, 2*scene%gamma + scene%w0)
+    near = min(1.0_wp, sqrt(4*scene%gamma/scene%w0))
+    gain = TOP_SAFETY*vmax/(lp*PHI_EXIT)*(1 + 2/near)
+    frac = min(0.5_wp, 0.05_wp + 0.1_wp*scene%gamma/scene%w0)
+    target = scene%tol/(4*(TOP_SAFETY*vmax/(lp*PHI_EXIT) + frac*gain))
   end subroutine hang_plan
 
   ! The first RK4 step of the hang over [0, T] for an error target [rad].
@@ -148,9 +148,9 @@ contains
     real(wp), intent(in) :: phi0, target, t_end
     real(wp) :: lp, lm, a, b, phimax
     call saddle(scene, phi0, -scene%omega0, lp, lm, a, b)
-    phimax = max(abs(phi0), min(PHI_EXIT, abs(a) * exp(min(lp * t_end, 700.0_wp))) + abs(b), tiny(1.0_wp))
-    h = min((120 * target / (2 * phimax * max(1.0_wp, lp * t_end)))**0.25_wp, 0.5_wp) / lp
-    h = min(h, 1 / (-lm))
+    phimax = max(abs(phi0), min(PHI_EXIT, abs(a)*exp(min(lp*t_end, 700.0_wp))) + abs(b), tiny(1.0_wp))
+    h = min((120*target/(2*phimax*max(1.0_wp, lp*t_end)))**0.25_wp, 0.5_wp)/lp
+    h = min(h, 1/(-lm))
   end function hang_step
 
   !> Predicted work [RK4 steps] of the hang of a damped scene that starts near
@@ -169,12 +169,12 @@ contains
     call hang_plan(scene, phi0, v0, tend, tx, gain, vmax, target)
     ! as solve_top: the hang's own outputs at tol/2, all of them when it
     ! covers the window
-    if (scene%want /= SCENE_WANT_EVENTS) target = min(target, scene%tol / 2)
-    if (scene%want /= SCENE_WANT_EVENTS .and. tend <= tx) target = scene%tol / 2
+    if (scene%want /= SCENE_WANT_EVENTS) target = min(target, scene%tol/2)
+    if (scene%want /= SCENE_WANT_EVENTS .and. tend <= tx) target = scene%tol/2
     h = hang_step(scene, phi0, target, tx)
     ! at most 1.5e300 (no overflow: a start exactly at the top hangs for ever)
     work = 1.5e300_wp
-    if (tx / 1.0e300_wp <= h) work = 1.5_wp * tx / h
+    if (tx/1.0e300_wp <= h) work = 1.5_wp*tx/h
   end function top_hang_work
 
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi
@@ -218,61 +218,61 @@ contains
       tg(1) = tx
     else if (nk == n) then
       tg(:) = result%t
-      target = scene%tol / 2
+      target = scene%tol/2
     else
       tg(1:nk) = result%t(1:nk)
-      tg(nk+1) = tx
-      target = min(target, scene%tol / 2)
+      tg(nk + 1) = tx
+      target = min(target, scene%tol/2)
     end if
     allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)), stat=ist)
-    call check_alloc(ist, 'the runs from the top', 4_i8 * size(tg), 8, status)
+    call check_alloc(ist, 'the runs from the top', 4_i8*size(tg), 8, status)
     if (status%code /= PENDULA_OK) return
     h = hang_step(scene, phi0, target, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
     do it = 1, MAX_REFINE
-      if (1.5_wp * tg(size(tg)) / h > budget) exit
+      if (1.5_wp*tg(size(tg))/h > budget) exit
       call run(h, 1_i8, ph, vp)
       call run(h, 2_i8, ph2, vp2)
       if (status%code /= PENDULA_OK) return
-      d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2)) / scene%w0)
-      est = 2 * d / 15 + 4 * eps * maxval(abs(ph))
+      d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2))/scene%w0)
+      est = 2*d/15 + 4*eps*maxval(abs(ph))
       carried = carried_error(ph(size(ph)), vp(size(ph)), ph2(size(ph)), vp2(size(ph)))
       ! the hang's outputs at tol/2, the state handed over to tol/4 after the gain
       r = huge(1.0_wp)
-      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol / (2 * max(est, tiny(1.0_wp)))
-      if (handover) r = min(r, scene%tol / (4 * max(carried, tiny(1.0_wp))))
+      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol/(2*max(est, tiny(1.0_wp)))
+      if (handover) r = min(r, scene%tol/(4*max(carried, tiny(1.0_wp))))
       if (r >= 1) exit
-      h = h * max(1.0_wp / 16, 0.9_wp * r**0.25_wp)
+      h = h*max(1.0_wp/16, 0.9_wp*r**0.25_wp)
     end do
     if (est == huge(1.0_wp)) return   ! over the budget: the ordinary path
     done = .true.
     ! theta = k pi - phi (rounded once), Omega = -phi'
     call two_prod(k, pi, p, e)
-    result%theta(1:nk) = p - (ph(1:nk) - (e + k * pi_lo))
+    result%theta(1:nk) = p - (ph(1:nk) - (e + k*pi_lo))
     result%omega(1:nk) = -vp(1:nk)
-    result%error_estimate = est + eps * abs(p)
+    result%error_estimate = est + eps*abs(p)
     result%cost%steps = steps
-    result%cost%rhs_evals = 4 * steps
-    result%cost%runs = 2 * it
+    result%cost%rhs_evals = 4*steps
+    result%cost%runs = 2*it
     result%step = h
     result%setting = h
-    why = 'gamma > 0, start ' // format_sci(hypot(phi0, v0 / scene%w0), 3) // ' rad from a top: RK4 in ' // &
-        'phi = k pi - theta'
+    why = 'gamma > 0, start '//format_sci(hypot(phi0, v0/scene%w0), 3)//' rad from a top: RK4 in '// &
+          'phi = k pi - theta'
     if (handover) then
-      thx = p - (ph(size(ph)) - (e + k * pi_lo))
+      thx = p - (ph(size(ph)) - (e + k*pi_lo))
       omx = -vp(size(vp))
-      eround = eps * abs(thx)
+      eround = eps*abs(thx)
       call scene_like(scene, sub, merge(1, n - nk, scene%want == SCENE_WANT_EVENTS), status)
       if (status%code /= PENDULA_OK) return
       sub%theta0 = thx
       sub%omega0 = omx
-      sub%tol = scene%tol / 2
+      sub%tol = scene%tol/2
       sub%model = SCENE_MODEL_AUTO
       if (scene%want == SCENE_WANT_EVENTS) then
         sub%t(1) = tend - tx
       else
-        sub%t(:) = max(0.0_wp, result%t(nk+1:n) - tx)
+        sub%t(:) = max(0.0_wp, result%t(nk + 1:n) - tx)
       end if
       call choose_model(sub, sub%t(size(sub%t)), sub_model, sub_est, why2, status)
       if (status%code /= PENDULA_OK) return
@@ -282,34 +282,34 @@ contains
         if (sub_model == SCENE_MODEL_LINEAR) then
           call solve_closed(sub, sub_model, sub_est, rest, status)
         else
-          call solve_integrated(sub, sub_model, sub%t(size(sub%t)), budget - 1.5_wp * steps, why2, rest, &
-              status, control)
+          call solve_integrated(sub, sub_model, sub%t(size(sub%t)), budget - 1.5_wp*steps, why2, rest, &
+                                status, control)
         end if
         if (status%code /= PENDULA_OK) return
         ! events: the times' error is the state's over the speed there, which
         ! the state's tol does not bound: once more with tol scaled to it
         if (scene%want /= SCENE_WANT_EVENTS .or. .not. rest%event_time_error > sub%tol) exit
         if (it == 1) call add_cost(result%cost, rest%cost)
-        sub%tol = sub%tol * max(1.0e-3_wp, 0.5_wp * sub%tol / rest%event_time_error)
+        sub%tol = sub%tol*max(1.0e-3_wp, 0.5_wp*sub%tol/rest%event_time_error)
       end do
       if (scene%want == SCENE_WANT_EVENTS) then
         ! the handed-over error shifts the later motion in time by at most
         ! its size over the speed at tx (carried_error without the max speed)
-        tshift = (carried + gain * eround) / vmax
+        tshift = (carried + gain*eround)/vmax
         result%event_t = rest%event_t + tx
         result%event_kind = rest%event_kind
         result%event_theta = rest%event_theta
         result%event_omega = rest%event_omega
-        result%event_time_error = rest%event_time_error + tshift + 4 * eps * tend
+        result%event_time_error = rest%event_time_error + tshift + 4*eps*tend
       else
-        result%theta(nk+1:) = rest%theta
-        result%omega(nk+1:) = rest%omega
+        result%theta(nk + 1:) = rest%theta
+        result%omega(nk + 1:) = rest%omega
       end if
-      result%error_estimate = max(result%error_estimate, rest%error_estimate + carried + gain * eround + &
-          4 * eps * tend * (scene%w0 + scene%gamma))
+      result%error_estimate = max(result%error_estimate, rest%error_estimate + carried + gain*eround + &
+                                  4*eps*tend*(scene%w0 + scene%gamma))
       call add_cost(result%cost, rest%cost)
       result%rtol = rest%rtol
-      why = why // ' to t = ' // format_sci(tx, 4) // ' s, then ' // why2
+      why = why//' to t = '//format_sci(tx, 4)//' s, then '//why2
     end if
     call finish_outputs(scene, result, status)
   contains
@@ -335,9 +335,9 @@ contains
             return
           end if
         end if
-        ns = 2 * ceiling((tg(i) - t0) / (2 * hh), i8) / factor
+        ns = 2*ceiling((tg(i) - t0)/(2*hh), i8)/factor
         ns = max(1_i8, ns)
-        dt = (tg(i) - t0) / real(ns, wp)
+        dt = (tg(i) - t0)/real(ns, wp)
         do j = 1, ns
           ! a hang may take millions of substeps in one interval: poll there too
           if (present(control) .and. iand(j, 4095_i8) == 0) then
@@ -348,14 +348,14 @@ contains
           end if
           k1u = w
           k1w = f(u, w)
-          k2u = w + dt / 2 * k1w
-          k2w = f(u + dt / 2 * k1u, k2u)
-          k3u = w + dt / 2 * k2w
-          k3w = f(u + dt / 2 * k2u, k3u)
-          k4u = w + dt * k3w
-          k4w = f(u + dt * k3u, k4u)
-          u = u + dt / 6 * (k1u + 2 * k2u + 2 * k3u + k4u)
-          w = w + dt / 6 * (k1w + 2 * k2w + 2 * k3w + k4w)
+          k2u = w + dt/2*k1w
+          k2w = f(u + dt/2*k1u, k2u)
+          k3u = w + dt/2*k2w
+          k3w = f(u + dt/2*k2u, k3u)
+          k4u = w + dt*k3w
+          k4w = f(u + dt*k3u, k4u)
+          u = u + dt/6*(k1u + 2*k2u + 2*k3u + k4u)
+          w = w + dt/6*(k1w + 2*k2w + 2*k3w + k4w)
         end do
         if (tg(i) > t0) steps = steps + ns
         t0 = tg(i)
@@ -373,21 +373,21 @@ contains
     pure real(wp) function carried_error(x, y, x2, y2) result(c)
       real(wp), intent(in) :: x, y, x2, y2
       real(wp) :: dx, dy, fx, fy, fn
-      dx = 2 * (x - x2) / 15
-      dy = 2 * (y - y2) / (15 * scene%w0)
+      dx = 2*(x - x2)/15
+      dy = 2*(y - y2)/(15*scene%w0)
       fx = y
-      fy = f(x, y) / scene%w0
+      fy = f(x, y)/scene%w0
       fn = hypot(fx, fy)
       if (.not. fn > 0) then
-        c = gain * (hypot(dx, dy) + 4 * eps * abs(x))
+        c = gain*(hypot(dx, dy) + 4*eps*abs(x))
       else
-        c = TOP_SAFETY * vmax / fn * abs(dx * fx + dy * fy) / fn + &
-            gain * (abs(dx * fy - dy * fx) / fn + 4 * eps * abs(x))
+        c = TOP_SAFETY*vmax/fn*abs(dx*fx + dy*fy)/fn + &
+            gain*(abs(dx*fy - dy*fx)/fn + 4*eps*abs(x))
       end if
     end function carried_error
     pure real(wp) function f(u, w)
       real(wp), intent(in) :: u, w
-      f = -scene%gamma * w + scene%w0**2 * sin(u)
+      f = -scene%gamma*w + scene%w0**2*sin(u)
     end function f
   end subroutine solve_top
 

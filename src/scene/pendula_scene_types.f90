@@ -99,14 +99,14 @@ contains
   !> Stiff for the integrators: gamma > SCENE_STIFF_RATIO w0.
   pure logical function is_stiff(scene)
     type(scene_t), intent(in) :: scene  !< the scene (w0 > 0, gamma >= 0)
-    is_stiff = scene%gamma > SCENE_STIFF_RATIO * scene%w0
+    is_stiff = scene%gamma > SCENE_STIFF_RATIO*scene%w0
   end function is_stiff
 
   !> The motion's size [rad]: |theta0| about the nearest bottom 2 pi k (in
   !> [0, pi]) plus |Omega0|/w0, so theta0 + 2 pi k is the same motion.
   pure real(wp) function swing(scene)
     type(scene_t), intent(in) :: scene  !< the scene (w0 > 0)
-    swing = abs(modulo(scene%theta0 + pi, 2 * pi) - pi) + abs(scene%omega0) / scene%w0
+    swing = abs(modulo(scene%theta0 + pi, 2*pi) - pi) + abs(scene%omega0)/scene%w0
   end function swing
 
   !> Add one integrator run's counters to a cost.

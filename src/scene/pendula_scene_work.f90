@@ -22,13 +22,13 @@ module pendula_scene_work
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_LINEAR, &
-      SCENE_MODEL_EXACT, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, &
-      SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST, &
-      SCENE_RK4_STEP_LIMIT, SCENE_STIFF_RK4_STEPS
+                                 SCENE_MODEL_EXACT, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, &
+                                 SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST, &
+                                 SCENE_RK4_STEP_LIMIT, SCENE_STIFF_RK4_STEPS
   use pendula_scene_types, only: scene_t, window_end, is_stiff
   use pendula_scene_setup, only: check_scene
   use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, slow_rate, linear_answers, &
-      integrator_rule, cvode_first_rtol
+                                     integrator_rule, cvode_first_rtol
   use pendula_scene_events, only: scene_event_bound, event_grid_intervals
   use pendula_scene_top, only: top_hang_work
   use pendula_scene_handover, only: handover_time, loosened_tol, MAX_PART
@@ -89,15 +89,15 @@ contains
     span = tend
     tol = scene%tol
     if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
-        scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
+                               scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
       ! the hand-over to the linear form once decayed (pendula_scene_handover)
       span = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol, tend)
-      if (span < MAX_PART * tend) then
-        tol = scene%tol / 2
+      if (span < MAX_PART*tend) then
+        tol = scene%tol/2
         ! no output before the hand-over: the state there is needed only to
         ! tol over the gain of the linear propagator to t(n) (about its decay)
         if (scene%want == SCENE_WANT_FINAL .or. .not. scene%t(1) < span) then
-          gain = min(sqrt(2.0_wp), exp(-slow_rate(scene%w0, scene%gamma) * (tend - span)))
+          gain = min(sqrt(2.0_wp), exp(-slow_rate(scene%w0, scene%gamma)*(tend - span)))
           tol = loosened_tol(scene, tol, gain)
         end if
       else
@@ -138,11 +138,11 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
     if (scene%want == SCENE_WANT_EVENTS) then
-      work = CLOSED_EVENT_WORK * real(scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0), wp)
+      work = CLOSED_EVENT_WORK*real(scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0), wp)
     else if (scene%want == SCENE_WANT_PERIOD) then
       work = 0
     else
-      work = CLOSED_OUTPUT_WORK * size(scene%t)
+      work = CLOSED_OUTPUT_WORK*size(scene%t)
     end if
   end function closed_work
 
@@ -152,11 +152,11 @@ contains
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
     if (scene%want == SCENE_WANT_EVENTS) then
-      work = EVENT_SAMPLE_WORK * (event_grid_intervals(scene, tend) + 1)
+      work = EVENT_SAMPLE_WORK*(event_grid_intervals(scene, tend) + 1)
     else if (scene%want == SCENE_WANT_FINAL) then
       work = SAMPLE_WORK
     else
-      work = SAMPLE_WORK * size(scene%t)
+      work = SAMPLE_WORK*size(scene%t)
     end if
   end function sampling_work
 
@@ -181,21 +181,21 @@ contains
     real(wp), intent(in) :: span, tol, setting
     real(wp) :: rtol, grid
     grid = 0
-    if (scene%want == SCENE_WANT_EVENTS) grid = 2 * real(event_grid_intervals(scene, span), wp)
+    if (scene%want == SCENE_WANT_EVENTS) grid = 2*real(event_grid_intervals(scene, span), wp)
     if (model == SCENE_MODEL_RK4) then
       if (setting > 0) then
         work = max(steps(span, setting), grid)
       else
-        work = RK4_RUNS * max(steps(span, rk4_step(scene, span, tol)), grid / 2)
+        work = RK4_RUNS*max(steps(span, rk4_step(scene, span, tol)), grid/2)
       end if
     else
       if (setting > 0) then
         work = cvode_min_steps(scene, span, setting)
       else
         rtol = cvode_first_rtol(scene, span, tol)
-        work = CVODE_OVER_BOUND * (cvode_min_steps(scene, span, rtol) + cvode_min_steps(scene, span, rtol / 10))
+        work = CVODE_OVER_BOUND*(cvode_min_steps(scene, span, rtol) + cvode_min_steps(scene, span, rtol/10))
       end if
-      work = work * SCENE_CVODE_STEP_COST
+      work = work*SCENE_CVODE_STEP_COST
     end if
   end function integrator_work
 
@@ -212,17 +212,17 @@ contains
     real(wp) :: lam
     ! one output time: rk4_apriori_step reads the motion, tol and gamma only
     sub = scene_t(theta0=scene%theta0, omega0=scene%omega0, w0=scene%w0, w0lo=scene%w0lo, gamma=scene%gamma, &
-        tol=tol, want=scene%want, model=scene%model, t=[span])
-    lam = max(scene%w0, scene%gamma / 2 + sqrt(max(0.0_wp, scene%gamma / 2 - scene%w0)) * &
-        sqrt(scene%gamma / 2 + scene%w0))
-    h = min(rk4_apriori_step(sub, max(span, tiny(1.0_wp))), 0.5_wp / scene%w0, 0.45_wp * 2.78_wp / lam)
+                  tol=tol, want=scene%want, model=scene%model, t=[span])
+    lam = max(scene%w0, scene%gamma/2 + sqrt(max(0.0_wp, scene%gamma/2 - scene%w0))* &
+              sqrt(scene%gamma/2 + scene%w0))
+    h = min(rk4_apriori_step(sub, max(span, tiny(1.0_wp))), 0.5_wp/scene%w0, 0.45_wp*2.78_wp/lam)
   end function rk4_step
 
   ! span / h, at most 1e300 (a prediction has no use for more; no overflow).
   pure real(wp) function steps(span, h) result(n)
     real(wp), intent(in) :: span, h
     n = 1.0e300_wp
-    if (span / n <= h) n = span / h
+    if (span/n <= h) n = span/h
   end function steps
 
 end module pendula_scene_work

@@ -24,8 +24,8 @@ module pendula_elliptic
   use pendula_elliptic_ke, only: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array
   use pendula_elliptic_f, only: ellipf, ellipfm1
   use pendula_jacobi, only: ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
-      ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &
-      ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array
+                            ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &
+                            ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array
   implicit none
   private
 

@@ -28,18 +28,18 @@ contains
     ! the series below is exact through degree 7 in the deviations, so stopping at
     ! |dev| <= 5e-3 leaves a truncation ~ (5e-3)**8 ~ 4e-19 (Carlson 1995, DLMF 19.36.1)
     do i = 1, 200
-      a = (x + y + z) * (1.0_wp / 3)
+      a = (x + y + z)*(1.0_wp/3)
       dx = (a - x); dy = (a - y); dz = (a - z)
-      if (max(abs(dx), abs(dy), abs(dz)) <= 5.0e-3_wp * a) exit
+      if (max(abs(dx), abs(dy), abs(dz)) <= 5.0e-3_wp*a) exit
       sx = sqrt(x); sy = sqrt(y); sz = sqrt(z)
-      lam = sx * (sy + sz) + sy * sz
-      x = 0.25_wp * (x + lam); y = 0.25_wp * (y + lam); z = 0.25_wp * (z + lam)
+      lam = sx*(sy + sz) + sy*sz
+      x = 0.25_wp*(x + lam); y = 0.25_wp*(y + lam); z = 0.25_wp*(z + lam)
     end do
-    dx = dx / a; dy = dy / a; dz = -(dx + dy)
-    e2 = dx * dy - dz * dz
-    e3 = dx * dy * dz
-    rf = (1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44 - 5 * e2**3 / 208 &
-         + 3 * e3 * e3 / 104 + e2 * e2 * e3 / 16) / sqrt(a)
+    dx = dx/a; dy = dy/a; dz = -(dx + dy)
+    e2 = dx*dy - dz*dz
+    e3 = dx*dy*dz
+    rf = (1 - e2/10 + e3/14 + e2*e2/24 - 3*e2*e3/44 - 5*e2**3/208 &
+          + 3*e3*e3/104 + e2*e2*e3/16)/sqrt(a)
   end function carlson_rf
 
   !> (rh, rl) = (xh + xl) - n pi as a double-double, pi in three parts (pi, pi_lo, pi_lo2);
@@ -52,7 +52,7 @@ contains
     call two_prod(n, pi_lo, q, f)
     call two_sum(xh, -p, a, t1)         ! exact (Sterbenz) when n pi is within 2x of x
     call two_sum(a, -q, b, t2)
-    call two_sum(b, (((t1 + t2) - e) - f) + (xl - n * pi_lo2), rh, rl)
+    call two_sum(b, (((t1 + t2) - e) - f) + (xl - n*pi_lo2), rh, rl)
   end subroutine subtract_n_pi
 
   !> Reduce phi to r = rh + rl in [-pi/2, pi/2] with phi = (n1 + n2) pi + r exactly up
@@ -66,8 +66,8 @@ contains
     real(wp), intent(out) :: n1, n2, rh, rl
     real(wp) :: q, xh, xl
     integer :: i
-    n1 = anint(phi / pi)
-    if (abs(phi) > 2.0_wp**1022) n1 = anint(0.5_wp * (phi / pi))   ! n1*pi must not overflow
+    n1 = anint(phi/pi)
+    if (abs(phi) > 2.0_wp**1022) n1 = anint(0.5_wp*(phi/pi))   ! n1*pi must not overflow
     n2 = 0
     if (n1 == 0) then
       rh = phi; rl = 0
@@ -77,7 +77,7 @@ contains
     do i = 1, 40
       if (abs(rh) < 1.5_wp) exit                   ! cheap screen: pi/2 = 1.5708
       if (half_pi_minus(rh, rl) >= 0) exit
-      q = anint(rh / pi)
+      q = anint(rh/pi)
       if (q == 0) q = sign(1.0_wp, rh)
       xh = rh; xl = rl
       call subtract_n_pi(xh, xl, q, rh, rl)
@@ -88,7 +88,7 @@ contains
   !> pi/2 - |rh + rl| for a double-double; exact first difference for |rh| >= pi/4.
   pure elemental real(wp) function half_pi_minus(rh, rl) result(w)
     real(wp), intent(in) :: rh, rl
-    w = (half_pi - abs(rh)) + (half_pi_lo - sign(1.0_wp, rh) * rl)
+    w = (half_pi - abs(rh)) + (half_pi_lo - sign(1.0_wp, rh)*rl)
   end function half_pi_minus
 
   !> Incomplete elliptic integral of the first kind F(phi|m) for any real phi (rad)
@@ -130,14 +130,14 @@ contains
     ! the exact difference, so cos keeps its relative accuracy down to the 6e-17 of fl(pi/2)
     if (abs(rh) <= 0.79_wp) then
       s = sin(rh); c = cos(rh)
-      s = s + c * rl
+      s = s + c*rl
     else
       w = half_pi_minus(rh, rl)
       s = sign(cos(w), rh); c = sin(w)
     end if
     ! 1 - m sin^2 = cos^2 + mc sin^2: no cancellation near m = 1 (mc = 1 - m is exact for
     ! m in [0.5, 2], and for other m the sum does not cancel or cancels as 1 - m sin^2 does)
-    d2 = c * c + mc * (s * s)
+    d2 = c*c + mc*(s*s)
     if (d2 < 0 .or. ieee_is_nan(d2)) then
       f = quiet_nan(); return
     end if
@@ -146,7 +146,7 @@ contains
     else if (s == 0) then
       f = rh
     else
-      f = s * carlson_rf(c * c, d2, 1.0_wp)
+      f = s*carlson_rf(c*c, d2, 1.0_wp)
     end if
     if (n1 /= 0 .or. n2 /= 0) then
       ! F + 2 n K with K in double-double: the sum may cancel (phi in (-pi, -pi/2) etc.)
@@ -167,13 +167,13 @@ contains
           f = sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
           return
         end if
-        call two_prod(2 * n1, kh, p, e)
-        e = e + 2 * n1 * kl
+        call two_prod(2*n1, kh, p, e)
+        e = e + 2*n1*kl
         if (n2 /= 0) then
-          call two_prod(2 * n2, kh, p2, e2)
+          call two_prod(2*n2, kh, p2, e2)
           call two_sum(p, p2, ps, t)
           p = ps
-          e = e + (t + (e2 + 2 * n2 * kl))
+          e = e + (t + (e2 + 2*n2*kl))
         end if
         f = p + (f + e)
       end if
@@ -189,7 +189,7 @@ contains
     else if (exponent(a) + exponent(b) > maxexponent(b) + 1) then
       beyond = .true.
     else
-      beyond = scale(a, -8) * b >= scale(0.5_wp * huge(b), -8)
+      beyond = scale(a, -8)*b >= scale(0.5_wp*huge(b), -8)
     end if
   end function beyond_half_huge
 

@@ -45,42 +45,42 @@ contains
     ! b = sqrt(mc) with its residual; tiny mc is scaled so that the residual stays exact
     x = mch; xl = mcl
     if (mch < tiny_mc) then
-      x = mch * up; xl = mcl * up
+      x = mch*up; xl = mcl*up
     end if
     bh = sqrt(x)
-    bl = ((x - bh * bh) - sq_err(bh) + xl) / (2 * bh)
+    bl = ((x - bh*bh) - sq_err(bh) + xl)/(2*bh)
     if (mch < tiny_mc) then
-      bh = bh * down; bl = bl * down
+      bh = bh*down; bl = bl*down
     end if
     ah = 1; al = 0
     do i = 1, 80
-      if (abs(ah - bh) <= 2.0_wp**(-26) * ah) exit     ! t <= 2**-27
+      if (abs(ah - bh) <= 2.0_wp**(-26)*ah) exit     ! t <= 2**-27
       ! a' = (a + b)/2 (halving exact), b' = sqrt(a b): b'h = fl(sqrt(fl(a b))) and
       ! b'l = (a b - b'h^2) / (2 b'h) to first order, every residual exact
       s = ah + bh
       se = (ah - (s - (s - ah))) + (bh - (s - ah))
-      p = ah * bh
-      x = (prod_err(ah, bh, p) + ah * bl) + al * bh
-      ah = 0.5_wp * s
-      al = 0.5_wp * ((se + al) + bl)
+      p = ah*bh
+      x = (prod_err(ah, bh, p) + ah*bl) + al*bh
+      ah = 0.5_wp*s
+      al = 0.5_wp*((se + al) + bl)
       bh = sqrt(p)
-      bl = (((p - bh * bh) - sq_err(bh)) + x) / (2 * bh)
+      bl = (((p - bh*bh) - sq_err(bh)) + x)/(2*bh)
     end do
     ! A = (a + b)/2 and the series in t (a - b is exact: a and b agree to 26 bits)
     s = ah + bh
     se = (ah - (s - (s - ah))) + (bh - (s - ah))
-    t = ((ah - bh) + (al - bl)) / s
-    t = t * t
-    corr = t * (0.25_wp + t * (5.0_wp / 64))
-    ah = 0.5_wp * s
-    al = 0.5_wp * ((se + al) + bl) - ah * corr
+    t = ((ah - bh) + (al - bl))/s
+    t = t*t
+    corr = t*(0.25_wp + t*(5.0_wp/64))
+    ah = 0.5_wp*s
+    al = 0.5_wp*((se + al) + bl) - ah*corr
     ! M = ah + al normalised, then K = (pi/2)/M with one correction of the quotient
     s = ah + al
     al = al - (s - ah)
     ah = s
-    khi = half_pi / ah
-    p = khi * ah
-    klo = (((half_pi - p) - prod_err(khi, ah, p)) + (half_pi_lo - khi * al)) / ah
+    khi = half_pi/ah
+    p = khi*ah
+    klo = (((half_pi - p) - prod_err(khi, ah, p)) + (half_pi_lo - khi*al))/ah
     s = khi + klo
     klo = klo - (s - khi)
     khi = s
@@ -93,15 +93,15 @@ contains
     real(wp), intent(in) :: a, b, p
     real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
     real(wp) :: ah, al, bh, bl
-    ah = split * a; ah = ah - (ah - a); al = a - ah
-    bh = split * b; bh = bh - (bh - b); bl = b - bh
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    ah = split*a; ah = ah - (ah - a); al = a - ah
+    bh = split*b; bh = bh - (bh - b); bl = b - bh
+    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
   end function prod_err
 
   !> Exact error s*s - fl(s*s) of a square (prod_err with a = b = s).
   pure elemental real(wp) function sq_err(s) result(e)
     real(wp), intent(in) :: s
-    e = prod_err(s, s, s * s)
+    e = prod_err(s, s, s*s)
   end function sq_err
 
   !> Degree-12 polynomial p at y by Estrin's scheme.
@@ -109,10 +109,10 @@ contains
     real(wp), intent(in) :: p(0:12), y
     real(wp) :: y2, y4
     ! Estrin's scheme: a short dependency chain, the same accuracy for these small |y|
-    y2 = y * y
-    y4 = y2 * y2
-    r = ((p(0) + p(1) * y) + (p(2) + p(3) * y) * y2) + ((p(4) + p(5) * y) + (p(6) + p(7) * y) * y2) * y4 &
-        + (((p(8) + p(9) * y) + (p(10) + p(11) * y) * y2) + p(12) * y4) * (y4 * y4)
+    y2 = y*y
+    y4 = y2*y2
+    r = ((p(0) + p(1)*y) + (p(2) + p(3)*y)*y2) + ((p(4) + p(5)*y) + (p(6) + p(7)*y)*y2)*y4 &
+        + (((p(8) + p(9)*y) + (p(10) + p(11)*y)*y2) + p(12)*y4)*(y4*y4)
   end function estrin12
 
   !> Index i in 0..16 of the interval [i/20, (i+1)/20) holding m, for ANY m (NaN gives 0:
@@ -121,7 +121,7 @@ contains
   pure elemental integer function interval20(m) result(i)
     real(wp), intent(in) :: m
     real(wp) :: t
-    t = m * 20
+    t = m*20
     if (t >= 0 .and. t < 16) then
       i = int(t)
     else if (t >= 16) then
@@ -137,10 +137,10 @@ contains
     real(wp), intent(in) :: mc  !< 1 - m (accurate when m > 0.85)
     integer :: i
     if (mc <= 0.15_wp) then
-      k = estrin12(ke_log_poly(:, 0), mc) - log(mc) * estrin12(ke_log_poly(:, 1), mc)
+      k = estrin12(ke_log_poly(:, 0), mc) - log(mc)*estrin12(ke_log_poly(:, 1), mc)
     else
       i = interval20(m)
-      k = estrin12(k_poly(:, i), m - (0.025_wp + 0.05_wp * i))
+      k = estrin12(k_poly(:, i), m - (0.025_wp + 0.05_wp*i))
     end if
   end function k_unit
 
@@ -149,10 +149,10 @@ contains
     real(wp), intent(in) :: m, mc
     integer :: i
     if (mc <= 0.15_wp) then
-      e = estrin12(ke_log_poly(:, 2), mc) - log(mc) * mc * estrin12(ke_log_poly(:, 3), mc)
+      e = estrin12(ke_log_poly(:, 2), mc) - log(mc)*mc*estrin12(ke_log_poly(:, 3), mc)
     else
       i = interval20(m)
-      e = estrin12(e_poly(:, i), m - (0.025_wp + 0.05_wp * i))
+      e = estrin12(e_poly(:, i), m - (0.025_wp + 0.05_wp*i))
     end if
   end function e_unit
 
@@ -197,7 +197,7 @@ contains
       k = 0
     else
       ! imaginary modulus: K(m) = K(mu)/sqrt(1-m), mu = -m/(1-m), 1 - mu = 1/(1-m)
-      k = k_unit((mc - 1) / mc, 1 / mc) / sqrt(mc)
+      k = k_unit((mc - 1)/mc, 1/mc)/sqrt(mc)
     end if
   end function k_from_mc
 
@@ -234,7 +234,7 @@ contains
     integer :: i
     if (size(x) /= size(m)) then
       x = quiet_nan()
-      call set_error(status, PENDULA_ERR_SIZE, what // ' must have the size of m')
+      call set_error(status, PENDULA_ERR_SIZE, what//' must have the size of m')
       return
     end if
     do i = 1, size(m)
@@ -292,9 +292,9 @@ contains
     else
       ! imaginary modulus: E(m) = sqrt(1-m) E(-m/(1-m)) (DLMF 19.7.5)
       r = sqrt(mc)
-      muc = 1 / mc
-      mu = -m / mc
-      e = r * e_unit(mu, muc)
+      muc = 1/mc
+      mu = -m/mc
+      e = r*e_unit(mu, muc)
     end if
   end function e_from_m_mc
 

@@ -72,22 +72,22 @@ contains
       plan%kind = MODULUS_RECIPROCAL
       call two_sum(1.0_wp, -wh, ah, al)         ! m = 1 - w
       al = al - wl
-      mm = 1 / ah
+      mm = 1/ah
       call dd_div(-wh, -wl, ah, al, qh, ql)     ! core mc = (m - 1)/m
       plan%mc = qh; plan%mcl = ql
       call dd_sqrt(ah, al, qh, ql)
       plan%uscale = qh; plan%uscale_lo = ql
-      plan%oscale = 1 / qh
+      plan%oscale = 1/qh
     else
       ! imaginary modulus (DLMF 22.6.12): core mu = -m/(1-m), mc = 1/(1-m), u scaled by sqrt(1-m)
       plan%kind = MODULUS_IMAGINARY
-      mm = -m / wh
-      if (usemc) mm = (mc - 1) / mc
+      mm = -m/wh
+      if (usemc) mm = (mc - 1)/mc
       call dd_div(1.0_wp, 0.0_wp, wh, wl, qh, ql)
       plan%mc = qh; plan%mcl = ql
       call dd_sqrt(wh, wl, qh, ql)
       plan%uscale = qh; plan%uscale_lo = ql
-      plan%oscale = 1 / qh
+      plan%oscale = 1/qh
     end if
     plan%m = mm
     if (full) then

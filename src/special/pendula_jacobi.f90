@@ -15,9 +15,9 @@ module pendula_jacobi
   use pendula_status, only: status_t, set_error, PENDULA_ERR_SIZE
   use pendula_elliptic_ke, only: ellipk, ellipkm1
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_CORE, MODULUS_RECIPROCAL, &
-      MODULUS_IMAGINARY
+                                      MODULUS_IMAGINARY
   use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, taylor_row_at, &
-      ntay, tab_step, tab_inv_step, khi_tab_max
+                                   ntay, tab_step, tab_inv_step, khi_tab_max
   implicit none
   private
 
@@ -64,16 +64,16 @@ contains
     ! no table and the direct evaluation
     if ((plan%par%kind == MODULUS_CORE .or. plan%par%kind >= 2) .and. &
         plan%par%khi >= 1 .and. plan%par%khi <= khi_tab_max) then
-      plan%ntab = ceiling(plan%par%khi * tab_inv_step) + 1
+      plan%ntab = ceiling(plan%par%khi*tab_inv_step) + 1
       ! a table the memory cannot hold (at most a few hundred kB) is no
       ! error: the plan then evaluates directly, to the same accuracy
-      allocate(plan%tab(0:ntay, 4, 0:plan%ntab), stat=ist)
+      allocate (plan%tab(0:ntay, 4, 0:plan%ntab), stat=ist)
       if (ist /= 0) then
         plan%ntab = -1
         return
       end if
       do j = 0, plan%ntab
-        call taylor_row_at(plan%par, j * tab_step, plan%tab(:, :, j))
+        call taylor_row_at(plan%par, j*tab_step, plan%tab(:, :, j))
       end do
     end if
   end function build_plan
@@ -143,10 +143,10 @@ contains
     bad = size(sn) /= n .or. size(cn) /= n .or. size(dn) /= n
     if (present(am)) bad = bad .or. size(am) /= n
     if (bad) then
-      call set_error(status, PENDULA_ERR_SIZE, name // ': sn, cn, dn and am must have the size of u')
+      call set_error(status, PENDULA_ERR_SIZE, name//': sn, cn, dn and am must have the size of u')
     else if (present(param) .and. present(nparam)) then
       bad = nparam /= n
-      if (bad) call set_error(status, PENDULA_ERR_SIZE, name // ': ' // param // ' must have the size of u')
+      if (bad) call set_error(status, PENDULA_ERR_SIZE, name//': '//param//' must have the size of u')
     end if
     if (.not. bad) return
     sn = quiet_nan(); cn = quiet_nan(); dn = quiet_nan()
@@ -209,7 +209,7 @@ contains
     if (bad) return
     do i = 1, size(u)
       call eval_at_param(jacobi_param(1 - mc(i), mc(i), .true., .false.), u(i), .false., present(am), &
-          sn(i), cn(i), dn(i), a)
+                         sn(i), cn(i), dn(i), a)
       if (present(am)) am(i) = a
     end do
   end subroutine ellipjm1_array
@@ -245,12 +245,12 @@ contains
       if (m >= 0 .and. m < 1) then
         core_k = ellipk(m)
       else if (m > 1) then
-        core_k = ellipk(1 / m)              ! reciprocal modulus
+        core_k = ellipk(1/m)              ! reciprocal modulus
       else
-        core_k = ellipk(-m / (1 - m))       ! imaginary modulus
+        core_k = ellipk(-m/(1 - m))       ! imaginary modulus
       end if
     end if
-    pays = real(n, wp) >= 512 * core_k
+    pays = real(n, wp) >= 512*core_k
   end function ellipj_plan_pays
 
   !> ellipj_plan_pays for the complementary parameter mc = 1 - m.
@@ -267,12 +267,12 @@ contains
       if (mc > 0 .and. mc <= 1) then
         core_k = ellipkm1(mc)
       else if (mc > 1) then
-        core_k = ellipkm1(1 / mc)           ! m < 0: core complement 1/(1 - m)
+        core_k = ellipkm1(1/mc)           ! m < 0: core complement 1/(1 - m)
       else
-        core_k = ellipkm1(-mc / (1 - mc))   ! m > 1: core complement (m - 1)/m
+        core_k = ellipkm1(-mc/(1 - mc))   ! m > 1: core complement (m - 1)/m
       end if
     end if
-    pays = real(n, wp) >= 512 * core_k
+    pays = real(n, wp) >= 512*core_k
   end function ellipjm1_plan_pays
 
   !> sn, cn, dn, am (optional) at the points u for one parameter m: with a plan where

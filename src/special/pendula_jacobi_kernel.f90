@@ -16,7 +16,7 @@ module pendula_jacobi_kernel
   use pendula_elliptic_tables, only: atan_poly
   use pendula_elliptic_ke, only: k_unit, k_double_double
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
-      MODULUS_RECIPROCAL, MODULUS_IMAGINARY
+                                      MODULUS_RECIPROCAL, MODULUS_IMAGINARY
   implicit none
   private
 
@@ -49,19 +49,19 @@ contains
     integer :: n, i
     ! the number of halvings to w <= wmax, counted without a data-dependent loop exit
     ! for v <= 16 wmax (random v made that exit mispredict); exact: w = v / 2**n
-    n = merge(1, 0, v > wmax) + merge(1, 0, v > 2 * wmax) + merge(1, 0, v > 4 * wmax) &
-        + merge(1, 0, v > 8 * wmax)
-    w = v * halvings(n)
+    n = merge(1, 0, v > wmax) + merge(1, 0, v > 2*wmax) + merge(1, 0, v > 4*wmax) &
+        + merge(1, 0, v > 8*wmax)
+    w = v*halvings(n)
     do while (w > wmax)
-      w = 0.5_wp * w
+      w = 0.5_wp*w
       n = n + 1
     end do
-    w2 = w * w
-    w4 = w2 * w2
+    w2 = w*w
+    w4 = w2*w2
     ! Estrin's scheme (short dependency chains); terms fall by >= 400x each
-    s = w * (((cs(0) + cs(1) * w2) + (cs(2) + cs(3) * w2) * w4) + ((cs(4) + cs(5) * w2) + cs(6) * w4) * (w4 * w4))
-    x = w2 * (((cc(0) + cc(1) * w2) + (cc(2) + cc(3) * w2) * w4) + ((cc(4) + cc(5) * w2) + cc(6) * w4) * (w4 * w4))
-    y = w2 * (((cd(0) + cd(1) * w2) + (cd(2) + cd(3) * w2) * w4) + ((cd(4) + cd(5) * w2) + cd(6) * w4) * (w4 * w4))
+    s = w*(((cs(0) + cs(1)*w2) + (cs(2) + cs(3)*w2)*w4) + ((cs(4) + cs(5)*w2) + cs(6)*w4)*(w4*w4))
+    x = w2*(((cc(0) + cc(1)*w2) + (cc(2) + cc(3)*w2)*w4) + ((cc(4) + cc(5)*w2) + cc(6)*w4)*(w4*w4))
+    y = w2*(((cd(0) + cd(1)*w2) + (cd(2) + cd(3)*w2)*w4) + ((cd(4) + cd(5)*w2) + cd(6)*w4)*(w4*w4))
     i = 0
     ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u),
     ! kept as fractions x = xq/q, y = yq/q, s = sq/q so that the steps need no division:
@@ -72,28 +72,28 @@ contains
       q = 1
       do while (i < n)
         c = q - x; d = q - y
-        s2 = s * s
-        c2 = c * c; d2 = d * d
-        x = 2 * s2 * d2
-        y = 2 * m * s2 * c2
-        s = 2 * s * q * c * d
-        q = c2 * (q * q) + s2 * d2
+        s2 = s*s
+        c2 = c*c; d2 = d*d
+        x = 2*s2*d2
+        y = 2*m*s2*c2
+        s = 2*s*q*c*d
+        q = c2*(q*q) + s2*d2
         i = i + 1
-        if (x >= xswitch * q) exit
+        if (x >= xswitch*q) exit
       end do
-      r = 1 / q
-      x = x * r; y = y * r; s = s * r
+      r = 1/q
+      x = x*r; y = y*r; s = s*r
     end if
     c = 1 - x; d = 1 - y
     ! direct duplication, cancellation-free forms for 0 <= m <= 1
     do while (i < n)
-      s2 = s * s
-      c2 = c * c; d2 = d * d
-      den = c2 + s2 * d2
-      r = 1 / den
-      s = 2 * r * s * c * d
-      c = r * (c2 * d2 - mc * s2)
-      d = r * (mc + m * (c2 * c2))
+      s2 = s*s
+      c2 = c*c; d2 = d*d
+      den = c2 + s2*d2
+      r = 1/den
+      s = 2*r*s*c*d
+      c = r*(c2*d2 - mc*s2)
+      d = r*(mc + m*(c2*c2))
       i = i + 1
     end do
   end subroutine sncndn_duplication
@@ -103,11 +103,11 @@ contains
   pure elemental real(wp) function cd_ratio(s, c, d, mc) result(cd)
     real(wp), intent(in) :: s, c, d, mc
     real(wp) :: t
-    t = mc * (s * s) / (d * (d + c))
+    t = mc*(s*s)/(d*(d + c))
     if (t <= 0.5_wp) then
       cd = 1 - t
     else
-      cd = c / d
+      cd = c/d
     end if
   end function cd_ratio
 
@@ -122,16 +122,16 @@ contains
     ! formed directly from s and c with a single division
     as = abs(s)
     c1 = 1 + c
-    big = as > tan_pi8 * c1      ! merge, not a branch: the test is unpredictable
-    w = merge(as - c1, as, big) / merge(as + c1, c1, big)
-    base = merge(0.25_wp * pi, 0.0_wp, big)
-    t = w * w
-    t2 = t * t
-    t4 = t2 * t2
-    p = ((atan_poly(0) + atan_poly(1) * t) + (atan_poly(2) + atan_poly(3) * t) * t2) &
-        + ((atan_poly(4) + atan_poly(5) * t) + (atan_poly(6) + atan_poly(7) * t) * t2) * t4 &
-        + ((atan_poly(8) + atan_poly(9) * t) + atan_poly(10) * t2) * (t4 * t4)
-    am = sign(2 * (base + (w + w * t * p)), s)
+    big = as > tan_pi8*c1      ! merge, not a branch: the test is unpredictable
+    w = merge(as - c1, as, big)/merge(as + c1, c1, big)
+    base = merge(0.25_wp*pi, 0.0_wp, big)
+    t = w*w
+    t2 = t*t
+    t4 = t2*t2
+    p = ((atan_poly(0) + atan_poly(1)*t) + (atan_poly(2) + atan_poly(3)*t)*t2) &
+        + ((atan_poly(4) + atan_poly(5)*t) + (atan_poly(6) + atan_poly(7)*t)*t2)*t4 &
+        + ((atan_poly(8) + atan_poly(9)*t) + atan_poly(10)*t2)*(t4*t4)
+    am = sign(2*(base + (w + w*t*p)), s)
   end function am_from_sn_cn
 
   !> Core functions at 0 <= t <= K (+ one table step): s, c, d of the core parameter.
@@ -147,24 +147,24 @@ contains
     real(wp), intent(in) :: m, mc, khi, klo, cs(0:6), cc(0:6), cd(0:6), t
     real(wp), intent(out) :: s, c, d
     real(wp) :: w, rd, sq
-    if (t > 0.5_wp * khi) then
+    if (t > 0.5_wp*khi) then
       ! sn(K - w) = cd(w), cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w) (DLMF 22.4.3)
       w = (khi - t) + klo
       call sncndn_duplication(abs(w), m, mc, cs, cc, cd, s, c, d)
       if (w < 0) s = -s
       ! one division: rd = 1/(d (d + c)) gives 1/d = rd (d + c) and the cancellation-free
       ! cd = 1 - mc s^2 rd (see cd_ratio)
-      rd = 1 / (d * (d + c))
+      rd = 1/(d*(d + c))
       sq = sqrt(mc)
-      w = mc * (s * s) * rd
+      w = mc*(s*s)*rd
       if (w <= 0.5_wp) then
         w = 1 - w
       else
-        w = c * (d + c) * rd
+        w = c*(d + c)*rd
       end if
-      rd = rd * (d + c)
-      c = sq * s * rd
-      d = sq * rd
+      rd = rd*(d + c)
+      c = sq*s*rd
+      d = sq*rd
       s = w
     else
       call sncndn_duplication(t, m, mc, cs, cc, cd, s, c, d)
@@ -192,11 +192,11 @@ contains
     fa = 0
     select case (plan%kind)
     case (MODULUS_RECIPROCAL)   ! m > 1 (DLMF 22.6.11): sn = sn'/k, cn = dn', dn = cn'; am on the asin branch
-      fs = s * plan%oscale; fc = d; fd = c
+      fs = s*plan%oscale; fc = d; fd = c
     case (MODULUS_IMAGINARY)   ! m < 0 (DLMF 22.6.12): sn = k1' sd', cn = cd', dn = nd'
-      fs = plan%oscale * s / d
+      fs = plan%oscale*s/d
       fc = cd_ratio(s, c, d, plan%mc)
-      fd = 1 / d
+      fd = 1/d
     case default
       fs = s; fc = c; fd = d
     end select
@@ -215,46 +215,46 @@ contains
     do k = 0, ntay - 1
       acc1 = 0; acc2 = 0; acc3 = 0
       do i = 0, k
-        acc1 = acc1 + c(i) * d(k - i)
-        acc2 = acc2 + s(i) * d(k - i)
-        acc3 = acc3 + s(i) * c(k - i)
+        acc1 = acc1 + c(i)*d(k - i)
+        acc2 = acc2 + s(i)*d(k - i)
+        acc3 = acc3 + s(i)*c(k - i)
       end do
-      s(k + 1) = acc1 / (k + 1)
-      c(k + 1) = -acc2 / (k + 1)
-      d(k + 1) = -plan%m * acc3 / (k + 1)
+      s(k + 1) = acc1/(k + 1)
+      c(k + 1) = -acc2/(k + 1)
+      d(k + 1) = -plan%m*acc3/(k + 1)
     end do
     call apply_modulus(plan, s(0), c(0), d(0), .true., fs, fc, fd, fa)
     select case (plan%kind)
     case (MODULUS_RECIPROCAL)
-      tab(:, 1) = plan%oscale * s
+      tab(:, 1) = plan%oscale*s
       tab(:, 2) = d
       tab(:, 3) = c
-      tab(1:, 4) = plan%oscale * c(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+      tab(1:, 4) = plan%oscale*c(0:ntay - 1)/[(real(k, wp), k=1, ntay)]
     case (MODULUS_IMAGINARY)
-      r(0) = 1 / d(0)
+      r(0) = 1/d(0)
       do k = 1, ntay
         acc1 = 0
         do i = 1, k
-          acc1 = acc1 + d(i) * r(k - i)
+          acc1 = acc1 + d(i)*r(k - i)
         end do
-        r(k) = -acc1 * r(0)
+        r(k) = -acc1*r(0)
       end do
       do k = 0, ntay
         acc1 = 0; acc2 = 0
         do i = 0, k
-          acc1 = acc1 + s(i) * r(k - i)
-          acc2 = acc2 + c(i) * r(k - i)
+          acc1 = acc1 + s(i)*r(k - i)
+          acc2 = acc2 + c(i)*r(k - i)
         end do
-        tab(k, 1) = plan%oscale * acc1
+        tab(k, 1) = plan%oscale*acc1
         tab(k, 2) = acc2
       end do
       tab(:, 3) = r
-      tab(1:, 4) = plan%oscale * r(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+      tab(1:, 4) = plan%oscale*r(0:ntay - 1)/[(real(k, wp), k=1, ntay)]
     case default
       tab(:, 1) = s
       tab(:, 2) = c
       tab(:, 3) = d
-      tab(1:, 4) = d(0:ntay-1) / [(real(k, wp), k = 1, ntay)]
+      tab(1:, 4) = d(0:ntay - 1)/[(real(k, wp), k=1, ntay)]
     end select
     ! the values themselves from the accurate path (cancellation-free cd etc.)
     tab(0, 1) = fs; tab(0, 2) = fc; tab(0, 3) = fd; tab(0, 4) = fa
@@ -284,10 +284,10 @@ contains
       ! m = 1: sn = tanh, cn = dn = sech, am = gd(u)
       sn = tanh(u)
       if (abs(u) < 20) then
-        cn = 1 / cosh(u)
+        cn = 1/cosh(u)
       else
         ex = exp(-abs(u))      ! sech without overflow, subnormal tail kept
-        cn = 2 * ex / (1 + ex * ex)
+        cn = 2*ex/(1 + ex*ex)
       end if
       dn = cn
       am = 0
@@ -302,9 +302,9 @@ contains
     ! product would raise the overflow flag, which the checked build traps)
     if (plan%uscale > 1) then
       v = huge(v)
-      if (abs(u) <= huge(v) / plan%uscale) v = abs(u) * plan%uscale
+      if (abs(u) <= huge(v)/plan%uscale) v = abs(u)*plan%uscale
     else
-      v = abs(u) * plan%uscale
+      v = abs(u)*plan%uscale
     end if
     khi = plan%khi; klo = plan%klo
     n = 0
@@ -320,20 +320,20 @@ contains
       vl = 0
       if (plan%kind /= MODULUS_CORE) then
         call two_prod(abs(u), plan%uscale, v, vl)
-        vl = vl + abs(u) * plan%uscale_lo
+        vl = vl + abs(u)*plan%uscale_lo
       end if
-      n = anint(v / (2 * khi))
+      n = anint(v/(2*khi))
       if (.not. exact_k .and. n > 4) then
         call k_double_double(plan%mc, plan%mcl, khi, klo)
-        n = anint(v / (2 * khi))
+        n = anint(v/(2*khi))
       end if
       if (n < 2.0_wp**26) then
         ! Cody-Waite: 2K = c1 + c2 + 2 klo with c1, c2 of 26 bits, so n*c1, n*c2 are exact
-        call veltkamp_split(2 * khi, p, e)
-        r = (((v - n * p) - n * e) + vl) - n * (2 * klo)
+        call veltkamp_split(2*khi, p, e)
+        r = (((v - n*p) - n*e) + vl) - n*(2*klo)
       else
-        call two_prod(n, 2 * khi, p, e)
-        r = (((v - p) - e) + vl) - n * (2 * klo)
+        call two_prod(n, 2*khi, p, e)
+        r = (((v - p) - e) + vl) - n*(2*klo)
       end if
       if (n < 1.0e15_wp) then
         parity = int(mod(int(n, kind=8), 2_8))
@@ -341,17 +341,17 @@ contains
         parity = merge(1, 0, mod(n, 2.0_wp) /= 0)
       end if
     end if
-    if (.not. (abs(r) <= 1.5_wp * khi)) then
+    if (.not. (abs(r) <= 1.5_wp*khi)) then
       ! only when n*2K outruns the double-double K (|u| > ~1e15 K): the phase is then
       ! below the resolution of u itself (error within eps*cond); keep r in range
-      r = modulo(r, 2 * khi)
-      if (r > khi) r = r - 2 * khi
-      if (.not. (abs(r) <= 1.5_wp * khi)) r = 0
+      r = modulo(r, 2*khi)
+      if (r > khi) r = r - 2*khi
+      if (.not. (abs(r) <= 1.5_wp*khi)) r = 0
     end if
     t = abs(r)
     if (present(tab)) then
       j = tab_index(t, ntab)
-      del = t - j * tab_step
+      del = t - j*tab_step
       fs = estrin8(tab(:, 1, j), del)
       fc = estrin8(tab(:, 2, j), del)
       fd = estrin8(tab(:, 3, j), del)
@@ -370,7 +370,7 @@ contains
         fs = -fs; fc = -fc
       end select
     end if
-    if (plan%kind /= MODULUS_RECIPROCAL) fa = fa + n * pi
+    if (plan%kind /= MODULUS_RECIPROCAL) fa = fa + n*pi
     if (u < 0) then
       fs = -fs
       fa = -fa
@@ -409,7 +409,7 @@ contains
       if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
     end if
     if (.not. done) call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., &
-        want_am, sn, cn, dn, am)
+                                       want_am, sn, cn, dn, am)
   end subroutine ellipj_point
 
   !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) with all work inline; the
@@ -427,17 +427,17 @@ contains
     k = k_unit(m, mc)
     v = abs(u)
     ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
-    n = anint(v / (2 * k))
+    n = anint(v/(2*k))
     if (n <= 4) then
-      call veltkamp_split(2 * k, c1, c2)
-      r = (v - n * c1) - n * c2
+      call veltkamp_split(2*k, c1, c2)
+      r = (v - n*c1) - n*c2
     else if (n < nmax) then
       ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
       mcl = (1 - mc) - m
       call k_double_double(mc, mcl, khi, klo)
-      n = anint(v / (2 * khi))
-      call veltkamp_split(2 * khi, c1, c2)
-      r = ((v - n * c1) - n * c2) - n * (2 * klo)
+      n = anint(v/(2*khi))
+      call veltkamp_split(2*khi, c1, c2)
+      r = ((v - n*c1) - n*c2) - n*(2*klo)
     else
       done = .false.   ! beyond 2**26 half periods, or u = +-Inf
       sn = 0; cn = 0; dn = 0; am = 0
@@ -450,8 +450,8 @@ contains
     ps = merge(-1.0_wp, 1.0_wp, iand(int(n), 1) /= 0)
     su = merge(-1.0_wp, 1.0_wp, u < 0)
     am = 0
-    if (want_am) am = (sign(am_from_sn_cn(s, c), r) + n * pi) * su
-    sn = sign(s, r) * (ps * su); cn = c * ps; dn = d
+    if (want_am) am = (sign(am_from_sn_cn(s, c), r) + n*pi)*su
+    sn = sign(s, r)*(ps*su); cn = c*ps; dn = d
     done = .true.
   end subroutine ellipj_unit_short
 
@@ -461,7 +461,7 @@ contains
     real(wp), intent(in) :: t
     integer, intent(in) :: ntab
     real(wp) :: x
-    x = t * tab_inv_step + 0.5_wp
+    x = t*tab_inv_step + 0.5_wp
     if (x >= 0 .and. x < ntab) then
       j = int(x)
     else if (x >= 0) then
@@ -475,10 +475,10 @@ contains
   pure real(wp) function estrin8(p, x) result(y)
     real(wp), intent(in) :: p(0:ntay), x
     real(wp) :: x2, x4
-    x2 = x * x
-    x4 = x2 * x2
-    y = ((p(0) + p(1) * x) + (p(2) + p(3) * x) * x2) + ((p(4) + p(5) * x) + (p(6) + p(7) * x) * x2) * x4 &
-        + p(8) * (x4 * x4)
+    x2 = x*x
+    x4 = x2*x2
+    y = ((p(0) + p(1)*x) + (p(2) + p(3)*x)*x2) + ((p(4) + p(5)*x) + (p(6) + p(7)*x)*x2)*x4 &
+        + p(8)*(x4*x4)
   end function estrin8
 
   !> The loop of ellipj_eval_array for tabulated plans (here, next to the polynomial and
@@ -498,12 +498,12 @@ contains
     real(wp) :: c1, c2, c3, inv2k, vmax, v, vl, q, r, t, del, fs, fc, fd, fa, a
     integer :: i, j, parity
     logical :: big
-    call veltkamp_split(2 * par%khi, c1, c2)
-    c3 = 2 * par%klo
-    inv2k = 1 / (2 * par%khi)
-    vmax = 2.0_wp**25 * (2 * par%khi)
+    call veltkamp_split(2*par%khi, c1, c2)
+    c3 = 2*par%klo
+    inv2k = 1/(2*par%khi)
+    vmax = 2.0_wp**25*(2*par%khi)
     do i = 1, n
-      v = abs(u(i)) * par%uscale
+      v = abs(u(i))*par%uscale
       big = ieee_is_nan(v)
       if (.not. big) big = v >= vmax
       if (big) then
@@ -514,13 +514,13 @@ contains
       vl = 0
       if (par%kind /= MODULUS_CORE) then
         call two_prod(abs(u(i)), par%uscale, v, vl)
-        vl = vl + abs(u(i)) * par%uscale_lo
+        vl = vl + abs(u(i))*par%uscale_lo
       end if
-      q = anint(v * inv2k)
-      r = (((v - q * c1) - q * c2) + vl) - q * c3
+      q = anint(v*inv2k)
+      r = (((v - q*c1) - q*c2) + vl) - q*c3
       t = abs(r)
       j = tab_index(t, ntab)
-      del = t - j * tab_step
+      del = t - j*tab_step
       fs = sign(estrin8(tab(:, 1, j), del), r)
       fc = estrin8(tab(:, 2, j), del)
       fd = estrin8(tab(:, 3, j), del)
@@ -539,7 +539,7 @@ contains
         if (par%kind == MODULUS_RECIPROCAL) then
           if (parity /= 0) fa = -fa
         else
-          fa = fa + q * pi
+          fa = fa + q*pi
         end if
         if (u(i) < 0) fa = -fa
         am(i) = fa

@@ -34,29 +34,29 @@ contains
     real(wp), intent(out) :: cl  !< low part of cos(x)
     integer :: j
     real(wp), parameter :: cos_hi(0:8) = [1.0_wp, 0.5_wp, 0.041666666666666664_wp, 0.001388888888888889_wp, &
-        2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
-        4.779477332387385e-14_wp]
+                                          2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
+                                          4.779477332387385e-14_wp]
     real(wp), parameter :: cos_lo(0:8) = [0.0_wp, 0.0_wp, 2.3129646346357427e-18_wp, -5.300543954373577e-20_wp, &
-        2.1511947866775882e-23_wp, 2.3767714622250297e-23_wp, -1.20734505911326e-25_wp, 2.0655512752830745e-28_wp, &
-        4.399205485834081e-31_wp]
+                                          2.1511947866775882e-23_wp, 2.3767714622250297e-23_wp, -1.20734505911326e-25_wp, 2.0655512752830745e-28_wp, &
+                                          4.399205485834081e-31_wp]
     real(wp), parameter :: sin_hi(0:8) = [1.0_wp, 0.16666666666666666_wp, 0.008333333333333333_wp, &
-        0.0001984126984126984_wp, 2.7557319223985893e-06_wp, 2.505210838544172e-08_wp, &
-        1.6059043836821613e-10_wp, 7.647163731819816e-13_wp, 2.8114572543455206e-15_wp]
+                                          0.0001984126984126984_wp, 2.7557319223985893e-06_wp, 2.505210838544172e-08_wp, &
+                                          1.6059043836821613e-10_wp, 7.647163731819816e-13_wp, 2.8114572543455206e-15_wp]
     real(wp), parameter :: sin_lo(0:8) = [0.0_wp, 9.25185853854297e-18_wp, 1.1564823173178714e-19_wp, &
-        1.7209558293420705e-22_wp, -1.858393274046472e-22_wp, -1.448814070935912e-24_wp, &
-        1.2585294588752098e-26_wp, 7.03872877733453e-30_wp, 1.6508842730861433e-31_wp]
+                                          1.7209558293420705e-22_wp, -1.858393274046472e-22_wp, -1.448814070935912e-24_wp, &
+                                          1.2585294588752098e-26_wp, 7.03872877733453e-30_wp, 1.6508842730861433e-31_wp]
     ! (-1)^j/(2j)! and (-1)^j/(2j+1)!, j = 9..16, in double (mpmath; their rounding is ~1e-31 of cos)
     real(wp), parameter :: cos_tail(9:16) = [-1.5619206968586225e-16_wp, &
-        4.110317623312165e-19_wp, -8.896791392450574e-22_wp, 1.6117375710961184e-24_wp, &
-        -2.4795962632247976e-27_wp, 3.279889237069838e-30_wp, -3.7699876288159054e-33_wp, 3.8003907548547434e-36_wp]
+                                             4.110317623312165e-19_wp, -8.896791392450574e-22_wp, 1.6117375710961184e-24_wp, &
+                                          -2.4795962632247976e-27_wp, 3.279889237069838e-30_wp, -3.7699876288159054e-33_wp, 3.8003907548547434e-36_wp]
     real(wp), parameter :: sin_tail(9:16) = [-8.22063524662433e-18_wp, &
-        1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
-        -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
+                                             1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
+                                            -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
     real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, sgn
     logical :: use_sin
-    use_sin = abs(xh) > 0.25_wp * pi
+    use_sin = abs(xh) > 0.25_wp*pi
     if (use_sin) then
-      call add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh) * xl, yh, yl)
+      call add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh)*xl, yh, yl)
     else
       yh = xh
       yl = xl
@@ -65,20 +65,20 @@ contains
     th = 0
     do j = 16, 9, -1
       if (use_sin) then
-        th = sin_tail(j) + y2h * th
+        th = sin_tail(j) + y2h*th
       else
-        th = cos_tail(j) + y2h * th
+        th = cos_tail(j) + y2h*th
       end if
     end do
     tl = 0
     do j = 8, 0, -1
       ! t <- (-1)^j c_j + y^2 t
       call mul(y2h, y2l, th, tl, uh, ul)
-      sgn = 1 - 2 * modulo(j, 2)
+      sgn = 1 - 2*modulo(j, 2)
       if (use_sin) then
-        call add_fast(sgn * sin_hi(j), sgn * sin_lo(j), uh, ul, th, tl)
+        call add_fast(sgn*sin_hi(j), sgn*sin_lo(j), uh, ul, th, tl)
       else
-        call add_fast(sgn * cos_hi(j), sgn * cos_lo(j), uh, ul, th, tl)
+        call add_fast(sgn*cos_hi(j), sgn*cos_lo(j), uh, ul, th, tl)
       end if
     end do
     if (use_sin) then
@@ -110,10 +110,10 @@ contains
       ! (Payne-Hanek) reduction inside sin and cos do it; |r| to ~1 ulp of pi
       r_hi = atan2(sin(x), cos(x))
       r_lo = 0
-      n = anint((x - r_hi) / two_pi)
+      n = anint((x - r_hi)/two_pi)
       return
     end if
-    n = anint(x / two_pi)
+    n = anint(x/two_pi)
     if (n == 0) then
       r_hi = x
       r_lo = 0
@@ -135,7 +135,7 @@ contains
     real(wp) :: p, e, d, t
     call two_prod(n, two_pi, p, e)
     d = x - p                      ! exact (Sterbenz: x/p in [1/2, 2] for n /= 0)
-    t = -(e + n * two_pi_lo)
+    t = -(e + n*two_pi_lo)
     r_hi = d + t
     r_lo = t - (r_hi - d)           ! fast two-sum (|d| >= |t|)
   end subroutine reduce_angle_fixed
@@ -161,15 +161,15 @@ contains
     real(wp), intent(out) :: ch, cl
     real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1
     real(wp) :: p, e, t, a1, a2, b1, b2, bb
-    p = ah * bh
-    t = split * ah
+    p = ah*bh
+    t = split*ah
     a1 = t - (t - ah)
     a2 = ah - a1
-    t = split * bh
+    t = split*bh
     b1 = t - (t - bh)
     b2 = bh - b1
-    e = ((a1 * b1 - p) + a1 * b2 + a2 * b1) + a2 * b2
-    e = e + (ah * bl + al * bh)
+    e = ((a1*b1 - p) + a1*b2 + a2*b1) + a2*b2
+    e = e + (ah*bl + al*bh)
     ch = p + e
     bb = ch - p
     cl = (p - (ch - bb)) + (e - bb)

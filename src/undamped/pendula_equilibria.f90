@@ -27,7 +27,7 @@ contains
     integer, intent(in) :: n  !< equilibrium index: theta = n pi
     real(wp) :: x
     x = real(n, wp)
-    theta = x * pi + x * pi_lo
+    theta = x*pi + x*pi_lo
   end function equilibrium_angle
 
   !> EQUILIBRIUM_CENTRE for even n, EQUILIBRIUM_SADDLE for odd n.
@@ -80,7 +80,7 @@ contains
     integer, intent(in) :: kind  !< EQUILIBRIUM_CENTRE or EQUILIBRIUM_SADDLE
     ! explicit length (not deferred): see pendula_format on gfortran's static lengths
     character(len=len(code_text(kind, [EQUILIBRIUM_CENTRE, EQUILIBRIUM_SADDLE], ['centre', 'saddle'], &
-        'unknown'))) :: name
+                                'unknown'))) :: name
     name = code_text(kind, [EQUILIBRIUM_CENTRE, EQUILIBRIUM_SADDLE], ['centre', 'saddle'], 'unknown')
   end function equilibrium_type_name
 

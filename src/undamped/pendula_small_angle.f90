@@ -26,7 +26,7 @@ module pendula_small_angle
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_positive, check_all_finite, &
-      check_same_size, PENDULA_OK
+                            check_same_size, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
   use pendula_undamped, only: undamped_motion_t, REGIME_LIBRATION, reduce_angle_2pi
@@ -73,17 +73,17 @@ contains
     s = sin(x)
     if (abs(x) >= tiny(1.0_wp) .and. exponent(omega0) - exponent(w0) < 1000 &
         .and. exponent(r) + exponent(w0) < 1000) then
-      theta = center + (r * c + (omega0 / w0) * s)
-      omega = -(r * w0) * s + omega0 * c
+      theta = center + (r*c + (omega0/w0)*s)
+      omega = -(r*w0)*s + omega0*c
     else
       ! sin(w0 t)/w0 = t (1 - (w0 t)^2/6 + ...): exactly t in double below 2^-26
       if (abs(x) < 2.0_wp**(-26)) then
         sw = t
       else
-        sw = s / w0
+        sw = s/w0
       end if
-      theta = center + (r * c + omega0 * sw)
-      omega = -r * (w0 * s) + omega0 * c
+      theta = center + (r*c + omega0*sw)
+      omega = -r*(w0*s) + omega0*c
     end if
   end subroutine harmonic_state
 
@@ -127,9 +127,9 @@ contains
   elemental real(wp) function phase(w0, t) result(x)
     real(wp), intent(in) :: w0, t
     if (exponent(t) > 1000 - exponent(w0)) then
-      x = w0 * modulo(t, 2 * pi / w0)
+      x = w0*modulo(t, 2*pi/w0)
     else
-      x = w0 * t
+      x = w0*t
     end if
   end function phase
 
@@ -146,9 +146,9 @@ contains
     m = motion%m
     if (m < 1.0e-4_wp) then
       ! 2K/pi - 1 = m/4 + 9m^2/64 + 25m^3/256 + O(m^4) (DLMF 19.5.1) avoids 2K - pi cancelling
-      drift = (m * (0.25_wp + m * (9.0_wp / 64 + m * (25.0_wp / 256)))) / (2 * motion%kk / pi)
+      drift = (m*(0.25_wp + m*(9.0_wp/64 + m*(25.0_wp/256))))/(2*motion%kk/pi)
     else
-      drift = (2 * motion%kk - pi) / (2 * motion%kk)
+      drift = (2*motion%kk - pi)/(2*motion%kk)
     end if
   end function small_angle_phase_drift
 
@@ -177,22 +177,22 @@ contains
     end if
     w0 = motion%w0
     kp = ellipkm1(motion%m)                 ! K'(m) = K(1 - m)
-    q = exp(-pi * kp / motion%kk)
+    q = exp(-pi*kp/motion%kk)
     drift = small_angle_phase_drift(motion)
-    w = w0 * (1 - drift)
-    a1 = 8 * sqrt(q) / (1 + q)
-    amp = hypot(motion%theta_r, motion%omega0 / w0)
-    dphi = pi * motion%phase / (2 * motion%kk) - atan2(motion%theta_r, motion%omega0 / w0)
-    dphi = modulo(dphi + pi, 2 * pi) - pi
-    x = abs(dphi) + w0 * drift * abs(tmax)
-    ph = 2 * sin(0.5_wp * min(pi, x))
-    tail = 8 * q * sqrt(q) / (1 - q)
+    w = w0*(1 - drift)
+    a1 = 8*sqrt(q)/(1 + q)
+    amp = hypot(motion%theta_r, motion%omega0/w0)
+    dphi = pi*motion%phase/(2*motion%kk) - atan2(motion%theta_r, motion%omega0/w0)
+    dphi = modulo(dphi + pi, 2*pi) - pi
+    x = abs(dphi) + w0*drift*abs(tmax)
+    ph = 2*sin(0.5_wp*min(pi, x))
+    tail = 8*q*sqrt(q)/(1 - q)
     ! rounding of both computed solutions: phases w0 t, amplitudes, 2 pi N
-    slack = 16 * eps * (abs(motion%center) + motion%amplitude + amp) * (1 + w0 * abs(tmax))
-    dtheta = abs(a1 - amp) + amp * ph + tail / 3
-    dtheta = min(dtheta, motion%amplitude + amp) * (1 + 1.0e-12_wp) + slack
-    domega = abs(a1 * w - amp * w0) + amp * w0 * ph + w * tail
-    domega = min(domega, 2 * motion%k * w0 + amp * w0) * (1 + 1.0e-12_wp) + w0 * slack
+    slack = 16*eps*(abs(motion%center) + motion%amplitude + amp)*(1 + w0*abs(tmax))
+    dtheta = abs(a1 - amp) + amp*ph + tail/3
+    dtheta = min(dtheta, motion%amplitude + amp)*(1 + 1.0e-12_wp) + slack
+    domega = abs(a1*w - amp*w0) + amp*w0*ph + w*tail
+    domega = min(domega, 2*motion%k*w0 + amp*w0)*(1 + 1.0e-12_wp) + w0*slack
   end subroutine small_angle_bound
 
 end module pendula_small_angle

@@ -7,14 +7,13 @@ module pendula_undamped_eval
   use pendula_constants, only: pi, half_pi
   use pendula_elliptic, only: ellipj_eval, ellipj_eval_array, ellipjm1
   use pendula_undamped_motion, only: undamped_motion_t, period_needed, REGIME_LIBRATION, &
-      REGIME_SEPARATRIX, REGIME_ROTATION
+                                     REGIME_SEPARATRIX, REGIME_ROTATION
   implicit none
   private
 
   public :: undamped_eval, undamped_eval_many, undamped_theta, undamped_omega
 
 contains
-
 
   !> theta(t) [rad] and Omega(t) [rad/s] of the motion at any real time t [s]
   !> (negative, unsorted, arrays: elemental).  theta is continuous with theta0
@@ -38,13 +37,13 @@ contains
     tt = t
     turns = 0
     if (motion%free) then
-      theta = motion%theta0 + motion%omega0 * t
+      theta = motion%theta0 + motion%omega0*t
       omega = motion%omega0
       return
     end if
     if (motion%regime == REGIME_SEPARATRIX) then
       ! |w0 t| ~> 1e301 would overflow; theta is pi to the last bit long before
-      if (exponent(t) > 1000 - exponent(motion%rate)) tt = sign(1.0e300_wp, t) / motion%rate
+      if (exponent(t) > 1000 - exponent(motion%rate)) tt = sign(1.0e300_wp, t)/motion%rate
     else if (period_needed(motion, t)) then
       ! |rate t| >~ 5e11: take whole periods out first (modulo is exact; the
       ! period's rounding moves t by ~eps |t|, inside the condition number).
@@ -52,11 +51,11 @@ contains
       ! u ~ 1e17, a crash near 1e25-1e30), fixed in pendula_elliptic 495978f;
       ! it stays because it is exact and keeps rate t finite up to 1e308.
       tt = modulo(t, motion%period)
-      turns = anint((t - tt) / motion%period)
+      turns = anint((t - tt)/motion%period)
     end if
     select case (motion%regime)
     case (REGIME_LIBRATION)
-      a = motion%rate * tt
+      a = motion%rate*tt
       if (motion%planned) then
         call ellipj_eval(motion%plan, a, sa, ca, da)
       else
@@ -65,21 +64,21 @@ contains
       ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
       ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
       ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
-      y = sa * motion%q * motion%ch + motion%sh * ca * da
-      x = da * motion%ch - sa * ca * motion%sh * motion%q
-      z = ca * motion%q - sa * motion%sh * da * motion%ch
-      den = ca * ca + (sa * motion%ch)**2
+      y = sa*motion%q*motion%ch + motion%sh*ca*da
+      x = da*motion%ch - sa*ca*motion%sh*motion%q
+      z = ca*motion%q - sa*motion%sh*da*motion%ch
+      den = ca*ca + (sa*motion%ch)**2
       ! x = dn(a+b) D > 0 in exact arithmetic; atan(y/x) is cheaper than atan2
       ! (~1/4 of the evaluation time) and as accurate.  Rounding can make x <= 0
       ! only when 1 - m < eps^2 near a turning point: keep atan2 there.
       if (x > 0) then
-        theta = motion%center + 2 * atan(y / x)
+        theta = motion%center + 2*atan(y/x)
       else
-        theta = motion%center + 2 * atan2(y, x)
+        theta = motion%center + 2*atan2(y, x)
       end if
-      omega = 2 * (motion%w0 * (z / den))   ! w0 first: no spurious overflow
+      omega = 2*(motion%w0*(z/den))   ! w0 first: no spurious overflow
     case (REGIME_ROTATION)
-      a = motion%rate * tt
+      a = motion%rate*tt
       if (motion%planned) then
         call ellipj_eval(motion%plan, a, sa, ca, da, ama)
       else
@@ -89,27 +88,27 @@ contains
       ! sn b = s sh, cn b = ch, dn b = dnb; then am(a+b) = am(a) + delta where
       ! delta = int_a^{a+b} dn lies in (0, pi) for b > 0 (|b| <= K), so the
       ! branch of the atan2 is fixed by the sign of b.
-      sb = motion%s * motion%sh
-      ss = sa * motion%ch * motion%dnb + sb * ca * da
-      cc = ca * motion%ch - sa * sb * da * motion%dnb
-      delta = atan2(ss * ca - cc * sa, cc * ca + ss * sa)
-      if (sb > 0 .and. delta < -half_pi) delta = delta + 2 * pi
-      if (sb < 0 .and. delta > half_pi) delta = delta - 2 * pi
-      theta = motion%center + 2 * motion%s * (ama + delta)
-      if (turns /= 0) theta = theta + motion%s * (2 * pi) * turns
-      den = ca * ca + (sa * motion%dnb)**2
-      omega = 2 * (motion%s * motion%rate * ((da * motion%dnb - sa * sb * ca * motion%ch / motion%m) / den))
+      sb = motion%s*motion%sh
+      ss = sa*motion%ch*motion%dnb + sb*ca*da
+      cc = ca*motion%ch - sa*sb*da*motion%dnb
+      delta = atan2(ss*ca - cc*sa, cc*ca + ss*sa)
+      if (sb > 0 .and. delta < -half_pi) delta = delta + 2*pi
+      if (sb < 0 .and. delta > half_pi) delta = delta - 2*pi
+      theta = motion%center + 2*motion%s*(ama + delta)
+      if (turns /= 0) theta = theta + motion%s*(2*pi)*turns
+      den = ca*ca + (sa*motion%dnb)**2
+      omega = 2*(motion%s*motion%rate*((da*motion%dnb - sa*sb*ca*motion%ch/motion%m)/den))
     case default
       if (motion%s == 0) then
         theta = motion%center + motion%theta_r
         omega = 0
         return
       end if
-      x = motion%w0 * tt + motion%phase
+      x = motion%w0*tt + motion%phase
       ! gd(x) = 2 atan(tanh(x/2)), sech(x) = 2 e^-|x| / (1 + e^-2|x|): no overflow
       ex = exp(-abs(x))
-      theta = motion%center + motion%s * 4 * atan(tanh(0.5_wp * x))
-      omega = 2 * (motion%s * motion%w0 * (2 * ex / (1 + ex * ex)))
+      theta = motion%center + motion%s*4*atan(tanh(0.5_wp*x))
+      omega = 2*(motion%s*motion%w0*(2*ex/(1 + ex*ex)))
     end select
   end subroutine undamped_eval
 
@@ -136,7 +135,7 @@ contains
       call undamped_eval(motion, t, theta(1:size(t)), omega(1:size(t)))
       return
     end if
-    sb = motion%s * motion%sh
+    sb = motion%s*motion%sh
     do i0 = 1, size(t), nb
       nc = min(nb, size(t) - i0 + 1)
       i1 = i0 + nc - 1
@@ -145,7 +144,7 @@ contains
         call undamped_eval(motion, t(i0:i1), theta(i0:i1), omega(i0:i1))
         cycle
       end if
-      a(1:nc) = motion%rate * t(i0:i1)
+      a(1:nc) = motion%rate*t(i0:i1)
       if (motion%regime == REGIME_LIBRATION) then
         if (motion%planned) then
           call ellipj_eval_array(motion%plan, a(1:nc), sa(1:nc), ca(1:nc), da(1:nc), status)
@@ -154,17 +153,17 @@ contains
         end if
         do i = 1, nc
           j = i0 + i - 1
-          y(i) = sa(i) * motion%q * motion%ch + motion%sh * ca(i) * da(i)
-          x(i) = da(i) * motion%ch - sa(i) * ca(i) * motion%sh * motion%q
-          omega(j) = 2 * (motion%w0 * ((ca(i) * motion%q - sa(i) * motion%sh * da(i) * motion%ch) &
-              / (ca(i) * ca(i) + (sa(i) * motion%ch)**2)))
-          r(i) = y(i) / x(i)
+          y(i) = sa(i)*motion%q*motion%ch + motion%sh*ca(i)*da(i)
+          x(i) = da(i)*motion%ch - sa(i)*ca(i)*motion%sh*motion%q
+          omega(j) = 2*(motion%w0*((ca(i)*motion%q - sa(i)*motion%sh*da(i)*motion%ch) &
+                                   /(ca(i)*ca(i) + (sa(i)*motion%ch)**2)))
+          r(i) = y(i)/x(i)
         end do
         do i = 1, nc
-          theta(i0 + i - 1) = motion%center + 2 * atan(r(i))
+          theta(i0 + i - 1) = motion%center + 2*atan(r(i))
         end do
         do i = 1, nc
-          if (.not. x(i) > 0) theta(i0 + i - 1) = motion%center + 2 * atan2(y(i), x(i))
+          if (.not. x(i) > 0) theta(i0 + i - 1) = motion%center + 2*atan2(y(i), x(i))
         end do
       else
         if (motion%planned) then
@@ -175,21 +174,21 @@ contains
         do i = 1, nc
           j = i0 + i - 1
           ! ss, cc as in undamped_eval, kept in y, x; r <- the denominator
-          y(i) = sa(i) * motion%ch * motion%dnb + sb * ca(i) * da(i)
-          x(i) = ca(i) * motion%ch - sa(i) * sb * da(i) * motion%dnb
-          r(i) = ca(i) * ca(i) + (sa(i) * motion%dnb)**2
-          omega(j) = 2 * (motion%s * motion%rate * ((da(i) * motion%dnb - sa(i) * sb * ca(i) * motion%ch &
-              / motion%m) / r(i)))
-          r(i) = y(i) * ca(i) - x(i) * sa(i)
-          x(i) = x(i) * ca(i) + y(i) * sa(i)
+          y(i) = sa(i)*motion%ch*motion%dnb + sb*ca(i)*da(i)
+          x(i) = ca(i)*motion%ch - sa(i)*sb*da(i)*motion%dnb
+          r(i) = ca(i)*ca(i) + (sa(i)*motion%dnb)**2
+          omega(j) = 2*(motion%s*motion%rate*((da(i)*motion%dnb - sa(i)*sb*ca(i)*motion%ch &
+                                               /motion%m)/r(i)))
+          r(i) = y(i)*ca(i) - x(i)*sa(i)
+          x(i) = x(i)*ca(i) + y(i)*sa(i)
         end do
         do i = 1, nc
           y(i) = atan2(r(i), x(i))
         end do
         do i = 1, nc
-          if (sb > 0 .and. y(i) < -half_pi) y(i) = y(i) + 2 * pi
-          if (sb < 0 .and. y(i) > half_pi) y(i) = y(i) - 2 * pi
-          theta(i0 + i - 1) = motion%center + 2 * motion%s * (ama(i) + y(i))
+          if (sb > 0 .and. y(i) < -half_pi) y(i) = y(i) + 2*pi
+          if (sb < 0 .and. y(i) > half_pi) y(i) = y(i) - 2*pi
+          theta(i0 + i - 1) = motion%center + 2*motion%s*(ama(i) + y(i))
         end do
       end if
     end do

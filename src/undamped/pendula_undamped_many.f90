@@ -7,8 +7,8 @@ module pendula_undamped_many
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
-      check_state, set_geometry, set_period, period_needed, UNDAMPED_PLAN_MIN_TIMES, &
-      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
+                                     check_state, set_geometry, set_period, period_needed, UNDAMPED_PLAN_MIN_TIMES, &
+                                     REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
   use pendula_double_double, only: two_prod, dd_add_fast
@@ -73,7 +73,7 @@ contains
     n = size(theta)
     if (size(omega) /= n .or. .not. (fits(t, n) .and. fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))) then
       call set_error(status, PENDULA_ERR_SIZE, &
-          'theta and omega must have one size, and t, theta0, omega0, w0 that size or size 1')
+                     'theta and omega must have one size, and t, theta0, omega0, w0 that size or size 1')
       return
     end if
     theta = 0
@@ -177,12 +177,12 @@ contains
     if (present(regime)) bad = bad .or. size(regime) /= n
     if (bad) then
       call set_error(status, PENDULA_ERR_SIZE, &
-          'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
+                     'the outputs must have one size, and theta0, omega0, w0 that size or size 1')
       return
     end if
     want_m = present(m) .or. present(amplitude)
     amplitudes_only = present(period) .and. .not. (want_m .or. present(mc) .or. present(regime)) .and. &
-        size(omega0) == 1 .and. size(w0) == 1 .and. size(theta0) == n
+                      size(omega0) == 1 .and. size(w0) == 1 .and. size(theta0) == n
     if (amplitudes_only) amplitudes_only = omega0(1) == 0 .and. w0(1) > 0 .and. w0(1) <= huge(w0)
     do i0 = 1, n, nb
       i1 = min(n, i0 + nb - 1)
@@ -191,15 +191,15 @@ contains
         ! (what state_parameter gives there, q = qlo = 0), a libration; others below
         do i = i0, i1
           if (abs(theta0(i)) < pi) then
-            ch = cos(0.5_wp * theta0(i))
-            period(i) = 4 * ellipkm1(ch * ch)
+            ch = cos(0.5_wp*theta0(i))
+            period(i) = 4*ellipkm1(ch*ch)
             den(i - i0 + 1) = w0(1)
           else
             exit
           end if
         end do
         if (i > i1) then
-          period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
+          period(i0:i1) = period(i0:i1)/den(1:i1 - i0 + 1)
           cycle
         end if
       end if
@@ -224,7 +224,7 @@ contains
         if (present(amplitude)) then
           select case (reg)
           case (REGIME_LIBRATION)
-            amplitude(i) = 2 * atan2(sqrt(mi), sqrt(mci))
+            amplitude(i) = 2*atan2(sqrt(mi), sqrt(mci))
           case (REGIME_SEPARATRIX)
             amplitude(i) = pi
           case default
@@ -235,7 +235,7 @@ contains
         if (present(mc)) mc(i) = mci
         if (present(regime)) regime(i) = reg
       end do
-      if (present(period)) period(i0:i1) = period(i0:i1) / den(1:i1 - i0 + 1)
+      if (present(period)) period(i0:i1) = period(i0:i1)/den(1:i1 - i0 + 1)
     end do
   end subroutine undamped_properties
 
@@ -257,15 +257,15 @@ contains
     logical :: near, have_sin
     if (abs(theta0) < pi) then
       ! what reduce_angle_2pi returns for these angles, without the call
-      h = 0.5_wp * theta0
+      h = 0.5_wp*theta0
       hlo = 0
     else
       call reduce_angle_2pi(theta0, n, r_hi, r_lo)
-      h = 0.5_wp * r_hi
-      hlo = 0.5_wp * r_lo
+      h = 0.5_wp*r_hi
+      hlo = 0.5_wp*r_lo
     end if
-    w2 = omega0 / w0
-    q = 0.5_wp * w2
+    w2 = omega0/w0
+    q = 0.5_wp*w2
     m = 0
     if (abs(q) > 1.0e150_wp) then
       m = ieee_value(1.0_wp, ieee_positive_inf)
@@ -274,27 +274,27 @@ contains
       return
     end if
     ch0 = cos(h)
-    near = abs(q) >= 0.5_wp * ch0 .and. abs(q) <= 2 * ch0
+    near = abs(q) >= 0.5_wp*ch0 .and. abs(q) <= 2*ch0
     have_sin = want_m .or. hlo /= 0 .or. near
     sh0 = 0
     if (have_sin) sh0 = sin_apart(h)
     if (near) then
       call cos_dd(h, hlo, ch, chlo)
     else
-      ch = ch0 - sh0 * hlo      ! ch0 exactly when hlo = 0
+      ch = ch0 - sh0*hlo      ! ch0 exactly when hlo = 0
       chlo = 0
     end if
     qlo = 0
     if (w2 /= 0 .and. max(abs(w2), w0) < 1.0e290_wp) then
       call two_prod(w2, w0, p, e)
-      qlo = 0.5_wp * (((omega0 - p) - e) / w0)
+      qlo = 0.5_wp*(((omega0 - p) - e)/w0)
     end if
     a = ch + abs(q)
     if (chlo == 0 .and. qlo == 0) then
-      mc = (ch - abs(q)) * a
+      mc = (ch - abs(q))*a
     else
-      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
-      mc = (d + dlo) * a
+      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q)*qlo, d, dlo)
+      mc = (d + dlo)*a
     end if
     if (mc > 0) then
       regime = REGIME_LIBRATION
@@ -305,8 +305,8 @@ contains
     end if
     if (want_m .or. regime == REGIME_ROTATION) then
       if (.not. have_sin) sh0 = sin_apart(h)
-      sh = sh0 + ch0 * hlo
-      m = sh * sh + q * q
+      sh = sh0 + ch0*hlo
+      m = sh*sh + q*q
     end if
   end subroutine state_parameter
 
@@ -319,15 +319,15 @@ contains
     real(wp), intent(out) :: num, den
     select case (regime)
     case (REGIME_LIBRATION)
-      num = 4 * ellipkm1(mc)
+      num = 4*ellipkm1(mc)
       den = w0
     case (REGIME_ROTATION)
       if (m > huge(m)) then
-        num = 2 * pi
+        num = 2*pi
         den = abs(omega0)
       else
-        num = 2 * ellipkm1(-mc / m)
-        den = sqrt(m) * w0
+        num = 2*ellipkm1(-mc/m)
+        den = sqrt(m)*w0
       end if
     case default
       num = ieee_value(1.0_wp, ieee_positive_inf)

@@ -97,7 +97,7 @@ contains
     want_plan = .true.
     if (present(plan)) want_plan = plan
     if (status%code /= PENDULA_OK) then
-      motion%period = 2 * pi
+      motion%period = 2*pi
       return
     end if
     call set_geometry(motion, theta0, omega0, w0, w0lo)
@@ -109,7 +109,7 @@ contains
       motion%phase = ellipfm1(atan2(motion%sh, motion%q), motion%mc)
     case (REGIME_ROTATION)
       ! dF/dphi = 1/sqrt(1 - sin^2(phi)/m) = k/|q| carries the r_lo correction
-      motion%phase = ellipfm1(motion%s * motion%h, motion%pmc) + motion%s * motion%hlo * motion%k / abs(motion%q)
+      motion%phase = ellipfm1(motion%s*motion%h, motion%pmc) + motion%s*motion%hlo*motion%k/abs(motion%q)
     end select
     if (want_plan) call undamped_add_plan(motion)
   end subroutine undamped_init
@@ -124,7 +124,7 @@ contains
     type(undamped_motion_t), intent(in) :: motion  !< a motion from undamped_init (planned or light)
     integer, intent(in) :: times  !< number of times it will be evaluated at, >= 0
     pays = motion%regime /= REGIME_SEPARATRIX .and. .not. motion%free .and. &
-        real(times, wp) >= max(real(UNDAMPED_PLAN_MIN_TIMES, wp), 16 * motion%kk)
+           real(times, wp) >= max(real(UNDAMPED_PLAN_MIN_TIMES, wp), 16*motion%kk)
   end function undamped_plan_pays
 
   !> Give a light motion (undamped_init with plan = .false.) its Jacobi plan;
@@ -172,25 +172,25 @@ contains
       motion%center = theta0 - r_hi           ! 2 pi n to the rounding of theta0
     else if (n /= 0) then
       call two_prod(n, two_pi, p, e)
-      motion%center = p + (e + n * two_pi_lo)   ! the double nearest 2 pi n
+      motion%center = p + (e + n*two_pi_lo)   ! the double nearest 2 pi n
     end if
     motion%theta_r = r_hi
-    h = 0.5_wp * r_hi
-    hlo = 0.5_wp * r_lo
+    h = 0.5_wp*r_hi
+    hlo = 0.5_wp*r_lo
     motion%h = h
     motion%hlo = hlo
     sh0 = sin(h)
     ch0 = cos(h)
-    sh = sh0 + ch0 * hlo            ! sin(theta_r/2), first-order correction for r_lo
+    sh = sh0 + ch0*hlo            ! sin(theta_r/2), first-order correction for r_lo
     ! q = Omega0/(2 w0) with its rounding error qlo (exact residual by two_prod)
-    w2 = omega0 / w0                  ! Omega0/w0, halved below (exact); no 2 w0 overflow
-    q = 0.5_wp * w2
+    w2 = omega0/w0                  ! Omega0/w0, halved below (exact); no 2 w0 overflow
+    q = 0.5_wp*w2
     motion%sh = sh
     motion%q = q
     if (abs(q) > 1.0e150_wp) then
       ! m = q^2 would overflow; the pull of gravity is below 1e-300 of the
       ! motion, so the free rotor theta0 + Omega0 t is exact in double.
-      motion%ch = ch0 - sh0 * hlo
+      motion%ch = ch0 - sh0*hlo
       motion%regime = REGIME_ROTATION
       motion%free = .true.
       motion%s = sign(1.0_wp, q)
@@ -198,10 +198,10 @@ contains
       motion%m = ieee_value(1.0_wp, ieee_positive_inf)
       motion%mc = -motion%m
       motion%rate = abs(omega0)
-      motion%energy = 0.5_wp * omega0 * omega0
+      motion%energy = 0.5_wp*omega0*omega0
       return
     end if
-    if (abs(q) >= 0.5_wp * ch0 .and. abs(q) <= 2 * ch0) then
+    if (abs(q) >= 0.5_wp*ch0 .and. abs(q) <= 2*ch0) then
       ! cos(theta_r/2) in double-double: the separatrix distance 1 - m below
       ! cancels it against |q|, and over 100 periods its error is multiplied by
       ! ~t/(T (1-m) K); a double-double c keeps 1 - m relatively exact.
@@ -209,28 +209,28 @@ contains
     else
       ! c - |q| loses at most one bit: libm's cos (< 1 ulp) keeps 1 - m to a
       ! few ulps, at a twentieth of the cost of cos_dd
-      ch = ch0 - sh0 * hlo
+      ch = ch0 - sh0*hlo
       chlo = 0
     end if
     motion%ch = ch
     qlo = 0
     if (w2 /= 0 .and. max(abs(w2), w0) < 1.0e290_wp) then   ! the Veltkamp split would overflow beyond
       call two_prod(w2, w0, p, e)
-      qlo = 0.5_wp * (((omega0 - p) - e) / w0)
+      qlo = 0.5_wp*(((omega0 - p) - e)/w0)
     end if
     ! Omega0/(2 (w0 + w0lo)) = q (1 - w0lo/w0) + O(eps^2 q)
-    if (present(w0lo)) qlo = qlo - q * (w0lo / w0)
-    motion%m = sh * sh + q * q
+    if (present(w0lo)) qlo = qlo - q*(w0lo/w0)
+    motion%m = sh*sh + q*q
     motion%k = sqrt(motion%m)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double
     a = ch + abs(q)
     if (chlo == 0 .and. qlo == 0) then
-      motion%mc = (ch - abs(q)) * a             ! what the double-double sum gives then
+      motion%mc = (ch - abs(q))*a             ! what the double-double sum gives then
     else
-      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q) * qlo, d, dlo)
-      motion%mc = (d + dlo) * a
+      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q)*qlo, d, dlo)
+      motion%mc = (d + dlo)*a
     end if
-    motion%energy = 2 * (w0 * motion%k)**2
+    motion%energy = 2*(w0*motion%k)**2
 
     if (motion%mc > 0) then
       motion%regime = REGIME_LIBRATION
@@ -239,9 +239,9 @@ contains
     else if (motion%mc < 0) then
       motion%regime = REGIME_ROTATION
       motion%s = sign(1.0_wp, q)
-      motion%rate = motion%k * w0
-      motion%pmc = -motion%mc / motion%m      ! complement of the parameter 1/m
-      motion%dnb = abs(q) / motion%k
+      motion%rate = motion%k*w0
+      motion%pmc = -motion%mc/motion%m      ! complement of the parameter 1/m
+      motion%dnb = abs(q)/motion%k
     else
       motion%regime = REGIME_SEPARATRIX
       motion%rate = w0
@@ -253,7 +253,7 @@ contains
       else
         motion%s = sign(1.0_wp, q)
         ! gd^-1(x) = asinh(tan x); d/dx gd^-1 = 1/cos x carries r_lo
-        motion%phase = asinh(tan(motion%s * h)) + motion%s * hlo / ch
+        motion%phase = asinh(tan(motion%s*h)) + motion%s*hlo/ch
       end if
     end if
   end subroutine set_geometry
@@ -263,16 +263,16 @@ contains
   elemental subroutine set_period(motion)
     type(undamped_motion_t), intent(inout) :: motion  !< a motion with its geometry set
     if (motion%free) then
-      motion%period = 2 * pi / abs(motion%omega0)
+      motion%period = 2*pi/abs(motion%omega0)
       return
     end if
     select case (motion%regime)
     case (REGIME_LIBRATION)
       motion%kk = ellipkm1(motion%mc)
-      motion%period = 4 * motion%kk / motion%w0
+      motion%period = 4*motion%kk/motion%w0
     case (REGIME_ROTATION)
       motion%kk = ellipkm1(motion%pmc)
-      motion%period = 2 * motion%kk / motion%rate
+      motion%period = 2*motion%kk/motion%rate
     case default
       motion%period = ieee_value(1.0_wp, ieee_positive_inf)
       motion%kk = ieee_value(1.0_wp, ieee_positive_inf)
@@ -284,7 +284,7 @@ contains
     type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     select case (motion%regime)
     case (REGIME_LIBRATION)
-      amplitude = 2 * atan2(motion%k, sqrt(motion%mc))
+      amplitude = 2*atan2(motion%k, sqrt(motion%mc))
     case (REGIME_SEPARATRIX)
       amplitude = pi
     case default
@@ -297,7 +297,7 @@ contains
     type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     real(wp), intent(in) :: t  !< time [s]
     needed = .not. motion%free .and. motion%regime /= REGIME_SEPARATRIX &
-        .and. exponent(t) > 40 - exponent(motion%rate)
+             .and. exponent(t) > 40 - exponent(motion%rate)
   end function period_needed
 
   !> Period [s]: 4 K(m)/w0 for libration (eq. 1.53 generalised to any state),
@@ -337,8 +337,8 @@ contains
     real(wp), intent(in) :: omega  !< angular velocity [rad/s]
     real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s]
     real(wp) :: sh
-    sh = sin(0.5_wp * theta)
-    energy = 0.5_wp * omega * omega + 2 * (w0 * sh) * (w0 * sh)
+    sh = sin(0.5_wp*theta)
+    energy = 0.5_wp*omega*omega + 2*(w0*sh)*(w0*sh)
   end function pendulum_energy
 
   !> 'libration', 'separatrix' or 'rotation' for a regime code ('unknown' otherwise).

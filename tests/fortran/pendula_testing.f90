@@ -34,7 +34,7 @@ contains
       u = huge(1.0_wp)
     else
       scale = max(abs(a), abs(b), tiny(1.0_wp))
-      u = abs(a - b) / (epsilon(1.0_wp) * scale)
+      u = abs(a - b)/(epsilon(1.0_wp)*scale)
     end if
   end function ulps_between
 
@@ -46,7 +46,7 @@ contains
       self%passed = self%passed + 1
     else
       self%failed = self%failed + 1
-      write (*, '(a)') 'FAIL: ' // label
+      write (*, '(a)') 'FAIL: '//label
     end if
   end subroutine check_true
 
@@ -56,9 +56,9 @@ contains
     real(wp), intent(in) :: got, want, rel_tol, abs_tol
     character(len=*), intent(in) :: label
     logical :: ok
-    ok = abs(got - want) <= abs_tol + rel_tol * abs(want)
+    ok = abs(got - want) <= abs_tol + rel_tol*abs(want)
     if (ieee_is_nan(want)) ok = ieee_is_nan(got)
-    if (.not. ok) write (*, '(a, 2es26.17)') 'FAIL: ' // label // ' got, want =', got, want
+    if (.not. ok) write (*, '(a, 2es26.17)') 'FAIL: '//label//' got, want =', got, want
     call self%check_true(ok, label)
   end subroutine check_close
 
@@ -69,8 +69,8 @@ contains
     character(len=*), intent(in) :: label
     real(wp) :: u
     u = ulps_between(got, want)
-    if (u > max_ulps) write (*, '(a, 2es26.17, a, es10.3)') 'FAIL: ' // label // ' got, want =', &
-        got, want, ' ulps =', u
+    if (u > max_ulps) write (*, '(a, 2es26.17, a, es10.3)') 'FAIL: '//label//' got, want =', &
+      got, want, ' ulps =', u
     call self%check_true(u <= max_ulps, label)
   end subroutine check_ulps
 
@@ -81,8 +81,8 @@ contains
     type(status_t), intent(in) :: st
     integer, intent(in) :: code
     character(len=*), intent(in) :: fragment, label
-    call self%check_true(st%code == code, 'code: ' // label)
-    call self%check_true(index(st%message, fragment) > 0, 'message: ' // label // ' -> ' // trim(st%message))
+    call self%check_true(st%code == code, 'code: '//label)
+    call self%check_true(index(st%message, fragment) > 0, 'message: '//label//' -> '//trim(st%message))
   end subroutine check_status
 
   !> n equally spaced times t0, t0 + dt, ..., t0 + (n - 1) dt [s] (each t0 + dt*i, no accumulation).
@@ -91,7 +91,7 @@ contains
     integer, intent(in) :: n
     real(wp) :: t(n)
     integer :: i
-    t = [(t0 + dt * i, i = 0, n - 1)]
+    t = [(t0 + dt*i, i=0, n - 1)]
   end function time_grid
 
   !> True when PENDULA_TEST_QUICK is set and not '0' (tools/memcheck.sh and
@@ -108,7 +108,7 @@ contains
   subroutine report(self, name)
     class(checker_t), intent(in) :: self
     character(len=*), intent(in) :: name
-    write (*, '(a, i0, a, i0, a)') name // ': ', self%passed, ' passed, ', self%failed, ' failed'
+    write (*, '(a, i0, a, i0, a)') name//': ', self%passed, ' passed, ', self%failed, ' failed'
     if (self%failed > 0) error stop 1
   end subroutine report
 

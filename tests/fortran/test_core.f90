@@ -18,7 +18,7 @@ program test_core
   call t%check_ulps(w0, sqrt(2.0_wp), 1.0_wp, 'text w0 = sqrt(2)')
 
   call small_angle_period(w0, t0, st)
-  call t%check_ulps(t0, 2 * pi / sqrt(2.0_wp), 1.0_wp, 'T0 = 2 pi / w0 (eq. 1.8)')
+  call t%check_ulps(t0, 2*pi/sqrt(2.0_wp), 1.0_wp, 'T0 = 2 pi / w0 (eq. 1.8)')
 
   call damping_rate(0.01_wp, 0.1_wp, gamma, st)
   call t%check_ulps(gamma, 0.1_wp, 1.0_wp, 'gamma = b/m')
@@ -27,10 +27,10 @@ program test_core
   call natural_frequency(-9.8_wp, 4.9_wp, w0, st)
   call t%check_true(st%code == PENDULA_ERR_DOMAIN, 'g < 0 -> domain error')
   call t%check_true(index(st%message, 'g =') == 1 .and. index(st%message, '> 0') > 0, &
-      'message names g and its range: ' // trim(st%message))
+                    'message names g and its range: '//trim(st%message))
   call natural_frequency(9.8_wp, nan, w0, st)
   call t%check_true(st%code == PENDULA_ERR_NONFINITE .and. index(st%message, 'length =') == 1, &
-      'NaN length -> non-finite error: ' // trim(st%message))
+                    'NaN length -> non-finite error: '//trim(st%message))
   call damping_rate(-1.0_wp, 0.1_wp, gamma, st)
   call t%check_true(st%code == PENDULA_ERR_DOMAIN .and. index(st%message, 'b =') == 1, 'b < 0 rejected')
   call damping_rate(0.1_wp, 0.0_wp, gamma, st)

@@ -11,8 +11,8 @@ program test_cvode_batch
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_NONFINITE, &
-      PENDULA_ERR_ORDER, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SOLVER, &
-      PENDULA_ERR_UNAVAILABLE
+                            PENDULA_ERR_ORDER, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_SOLVER, &
+                            PENDULA_ERR_UNAVAILABLE
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_ode, only: ode_stats_t, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
   use pendula_cvode, only: cvode_solve, cvode_available
@@ -50,15 +50,15 @@ contains
     real(wp) :: th0(n), om0(n), w0(n), gam(n), rt(n), at(n)
     integer :: k, threads, method
     do k = 1, n
-      th0(k) = -3.1_wp + 6.2_wp * mod(k * 7, n) / real(n, wp)
-      om0(k) = -4.0_wp + 8.0_wp * mod(k * 13, n) / real(n, wp)
-      w0(k) = 0.5_wp + 2.5_wp * mod(k * 5, n) / real(n, wp)
-      gam(k) = 0.4_wp * mod(k * 11, n) / real(n, wp)
+      th0(k) = -3.1_wp + 6.2_wp*mod(k*7, n)/real(n, wp)
+      om0(k) = -4.0_wp + 8.0_wp*mod(k*13, n)/real(n, wp)
+      w0(k) = 0.5_wp + 2.5_wp*mod(k*5, n)/real(n, wp)
+      gam(k) = 0.4_wp*mod(k*11, n)/real(n, wp)
       rt(k) = 10.0_wp**(-4 - mod(k, 7))
-      at(k) = merge(0.0_wp, rt(k) * 1.0e-2_wp, mod(k, 3) == 0)
+      at(k) = merge(0.0_wp, rt(k)*1.0e-2_wp, mod(k, 3) == 0)
     end do
     gam(1:4) = 0                        ! undamped
-    gam(5:7) = 8 * w0(5:7)              ! overdamped
+    gam(5:7) = 8*w0(5:7)              ! overdamped
     om0(10) = 40.0_wp                   ! fast rotations: more steps than the budget
     om0(30) = -35.0_wp
     rt(10) = 1.0e-10_wp
@@ -73,7 +73,7 @@ contains
         ! quick mode (memcheck, checked build): the reversed order once
         if (quick() .and. (method /= PENDULA_CVODE_ADAMS .or. threads /= 2)) cycle
         call compare_with_scalar(th0(n:1:-1), om0(n:1:-1), w0(n:1:-1), gam(n:1:-1), rt(n:1:-1), at(n:1:-1), &
-            method, threads, 'reversed', expect_fail=.true.)
+                                 method, threads, 'reversed', expect_fail=.true.)
       end do
     end do
   end subroutine test_identity
@@ -102,7 +102,7 @@ contains
     type(status_t) :: st, sts, first_st
     character(len=24) :: tag
     call cvode_batch_solve(t, th0, om0, w0, gam, rt, at, method, budget, th, om, codes, stats, st, &
-        threads=threads, first_failed=first_failed)
+                           threads=threads, first_failed=first_failed)
     write (tag, '(a, i0, a, i0)') ' method=', method, ' thr=', threads
     bad = 0
     first = 0
@@ -112,7 +112,7 @@ contains
     nref = 0
     do k = 1, size(th0)
       call cvode_solve(t, th0(k), om0(at_(om0, k)), w0(at_(w0, k)), gam(at_(gam, k)), rt(at_(rt, k)), &
-          at(at_(at, k)), method, budget, ths, oms, s, sts)
+                       at(at_(at, k)), method, budget, ths, oms, s, sts)
       if (any(transfer(ths, 1_int64, nt) /= transfer(th(:, k), 1_int64, nt)) .or. &
           any(transfer(oms, 1_int64, nt) /= transfer(om(:, k), 1_int64, nt)) .or. &
           .not. same_stats(s, stats(k)) .or. sts%code /= codes(k)) bad = bad + 1
@@ -127,16 +127,16 @@ contains
         if (sts%code == PENDULA_ERR_NONFINITE .or. sts%code == PENDULA_ERR_DOMAIN) nref = nref + 1
       end if
     end do
-    call tc%check_true(bad == 0, label // ': every state bit-identical to cvode_solve' // trim(tag))
+    call tc%check_true(bad == 0, label//': every state bit-identical to cvode_solve'//trim(tag))
     if (expect_fail) then
       ! (the slowest Adams states need 1037-1483 steps; BDF fails more)
-      call tc%check_true(nmax >= 2 .and. nsolver == 1 .and. nref == 2 .and. nfail <= size(th0) / 2, &
-          label // ': failures in the middle (>= 2 budget, 1 CVODE, 2 refused), most succeed' // trim(tag))
+      call tc%check_true(nmax >= 2 .and. nsolver == 1 .and. nref == 2 .and. nfail <= size(th0)/2, &
+                         label//': failures in the middle (>= 2 budget, 1 CVODE, 2 refused), most succeed'//trim(tag))
       call tc%check_true(first_failed == first .and. st%code == first_st%code .and. &
-          index(st%message, trim(first_st%message)) > 0, label // ': summary is the first failure' // trim(tag))
+                         index(st%message, trim(first_st%message)) > 0, label//': summary is the first failure'//trim(tag))
     else
       call tc%check_true(nfail == 0 .and. st%code == PENDULA_OK .and. first_failed == 0, &
-          label // ': all states succeed' // trim(tag))
+                         label//': all states succeed'//trim(tag))
     end if
   end subroutine compare_with_scalar
 
@@ -148,18 +148,18 @@ contains
     integer :: codes(n), codes2(n), k
     type(ode_stats_t) :: stats(n), stats2(n)
     type(status_t) :: st, st2
-    th0 = [(0.3_wp * k, k = 1, n)]
+    th0 = [(0.3_wp*k, k=1, n)]
     call cvode_batch_solve(t, th0, [0.0_wp], [sqrt(2.0_wp)], [0.1_wp], [1.0e-8_wp], [1.0e-10_wp], &
-        PENDULA_CVODE_ADAMS, 100000_i8, th, om, codes, stats, st)
+                           PENDULA_CVODE_ADAMS, 100000_i8, th, om, codes, stats, st)
     call cvode_batch_solve(t, th0, spread(0.0_wp, 1, n), spread(sqrt(2.0_wp), 1, n), spread(0.1_wp, 1, n), &
-        spread(1.0e-8_wp, 1, n), spread(1.0e-10_wp, 1, n), PENDULA_CVODE_ADAMS, 100000_i8, th2, om2, codes2, &
-        stats2, st2)
+                           spread(1.0e-8_wp, 1, n), spread(1.0e-10_wp, 1, n), PENDULA_CVODE_ADAMS, 100000_i8, th2, om2, codes2, &
+                           stats2, st2)
     call tc%check_true(st%code == PENDULA_OK .and. st2%code == PENDULA_OK .and. all(codes == 0), 'shared: ok')
     call tc%check_true(all(th == th2) .and. all(om == om2) .and. all(stats%steps == stats2%steps), &
-        'shared: one value = the same value per state')
+                       'shared: one value = the same value per state')
     ! shared values through the scalar comparison too (2 threads)
     call compare_with_scalar(th0, [0.0_wp], [sqrt(2.0_wp)], [0.1_wp], [1.0e-8_wp], [1.0e-10_wp], &
-        PENDULA_CVODE_ADAMS, 2, 'shared', expect_fail=.false.)
+                             PENDULA_CVODE_ADAMS, 2, 'shared', expect_fail=.false.)
   end subroutine test_shared_parameters
 
   !> n = 0: nothing to do, status OK; size(t) = 1: each state is its start.
@@ -169,13 +169,13 @@ contains
     type(ode_stats_t) :: stats(0), stats1(3)
     type(status_t) :: st
     call cvode_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-8_wp], [0.0_wp], PENDULA_CVODE_ADAMS, &
-        10_i8, th, om, codes, stats, st, threads=2)
+                           10_i8, th, om, codes, stats, st, threads=2)
     call tc%check_true(st%code == PENDULA_OK, 'empty batch: ok')
     call cvode_batch_solve(t(1:1), [0.1_wp, 0.2_wp, 0.3_wp], [1.0_wp, 2.0_wp, 3.0_wp], [1.0_wp], [0.0_wp], &
-        [1.0e-8_wp], [0.0_wp], PENDULA_CVODE_ADAMS, 10_i8, th1, om1, codes1, stats1, st)
+                           [1.0e-8_wp], [0.0_wp], PENDULA_CVODE_ADAMS, 10_i8, th1, om1, codes1, stats1, st)
     call tc%check_true(st%code == PENDULA_OK .and. all(codes1 == 0) .and. &
-        all(th1(1, :) == [0.1_wp, 0.2_wp, 0.3_wp]) .and. all(om1(1, :) == [1.0_wp, 2.0_wp, 3.0_wp]) .and. &
-        all(stats1%steps == 0), 'one output time: the starts, no steps')
+                       all(th1(1, :) == [0.1_wp, 0.2_wp, 0.3_wp]) .and. all(om1(1, :) == [1.0_wp, 2.0_wp, 3.0_wp]) .and. &
+                       all(stats1%steps == 0), 'one output time: the starts, no steps')
   end subroutine test_empty_and_single_time
 
   !> A raised cancel flag: every state unfinished, zero outputs, progress 0;
@@ -187,20 +187,20 @@ contains
     type(ode_stats_t) :: stats(n)
     type(status_t) :: st
     integer(int64) :: control(CONTROL_SIZE)
-    th0 = [(0.1_wp * k, k = 1, n)]
+    th0 = [(0.1_wp*k, k=1, n)]
     do threads = 1, 2
       control = 0
       call cvode_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [1.0e-8_wp], [1.0e-10_wp], &
-          PENDULA_CVODE_ADAMS, 100000_i8, th, om, codes, stats, st, threads=threads, control=control)
+                             PENDULA_CVODE_ADAMS, 100000_i8, th, om, codes, stats, st, threads=threads, control=control)
       call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) == n, 'progress counts states')
       control(CONTROL_CANCEL) = 1
       control(CONTROL_PROGRESS) = 0
       call cvode_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [1.0e-8_wp], [1.0e-10_wp], &
-          PENDULA_CVODE_ADAMS, 100000_i8, th, om, codes, stats, st, threads=threads, control=control, &
-          first_failed=first)
+                             PENDULA_CVODE_ADAMS, 100000_i8, th, om, codes, stats, st, threads=threads, control=control, &
+                             first_failed=first)
       call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. all(codes == PENDULA_ERR_CANCELLED) .and. &
-          all(th == 0) .and. all(om == 0) .and. all(stats%steps == 0) .and. control(CONTROL_PROGRESS) == 0 &
-          .and. first == 1, 'cancelled before the start: nothing done')
+                         all(th == 0) .and. all(om == 0) .and. all(stats%steps == 0) .and. control(CONTROL_PROGRESS) == 0 &
+                         .and. first == 1, 'cancelled before the start: nothing done')
     end do
   end subroutine test_cancel_and_progress
 
@@ -216,13 +216,13 @@ contains
     call refuse(t, PENDULA_CVODE_ADAMS, 10_i8, [0.0_wp], -1, PENDULA_ERR_DOMAIN, 'threads -1')
     bad_t = [0.0_wp, 2.0_wp, 1.0_wp]
     call cvode_batch_solve(bad_t, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-8_wp], [0.0_wp], &
-        PENDULA_CVODE_ADAMS, 10_i8, th(1:3, :), om(1:3, :), codes, stats, st, first_failed=first)
+                           PENDULA_CVODE_ADAMS, 10_i8, th(1:3, :), om(1:3, :), codes, stats, st, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_ORDER .and. all(codes == PENDULA_ERR_ORDER) .and. first == 0, &
-        'refused: t not increasing')
+                       'refused: t not increasing')
     call cvode_batch_solve([-huge(1.0_wp), huge(1.0_wp)], [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.0_wp], &
-        [1.0e-8_wp], [0.0_wp], PENDULA_CVODE_ADAMS, 10_i8, th(1:2, :), om(1:2, :), codes, stats, st)
+                           [1.0e-8_wp], [0.0_wp], PENDULA_CVODE_ADAMS, 10_i8, th(1:2, :), om(1:2, :), codes, stats, st)
     call tc%check_true(st%code == PENDULA_ERR_DOMAIN .and. all(codes == PENDULA_ERR_DOMAIN) .and. &
-        index(st%message, 'overflows') > 0, 'refused: t(n) - t(1) overflows')
+                       index(st%message, 'overflows') > 0, 'refused: t(n) - t(1) overflows')
   end subroutine test_refused_calls
 
   subroutine refuse(tt, method, budget, om0, threads, code, label)
@@ -235,9 +235,9 @@ contains
     type(ode_stats_t) :: stats(2)
     type(status_t) :: st
     call cvode_batch_solve(tt, [0.1_wp, 0.2_wp], om0, [1.0_wp], [0.0_wp], [1.0e-8_wp], [0.0_wp], method, budget, &
-        th, om, codes, stats, st, threads=threads, first_failed=first)
+                           th, om, codes, stats, st, threads=threads, first_failed=first)
     call tc%check_true(st%code == code .and. all(codes == code) .and. first == 0 .and. all(th == 0), &
-        'refused: ' // label)
+                       'refused: '//label)
   end subroutine refuse
 
   !> Without SUNDIALS every call is refused with the stand-in's explanation.
@@ -247,16 +247,16 @@ contains
     type(ode_stats_t) :: stats(2)
     type(status_t) :: st
     call cvode_batch_solve(t, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-8_wp], [0.0_wp], &
-        PENDULA_CVODE_ADAMS, 10_i8, th, om, codes, stats, st)
+                           PENDULA_CVODE_ADAMS, 10_i8, th, om, codes, stats, st)
     call tc%check_true(st%code == PENDULA_ERR_UNAVAILABLE .and. all(codes == PENDULA_ERR_UNAVAILABLE) .and. &
-        index(st%message, 'SUNDIALS') > 0 .and. all(th == 0), 'no CVODE: refused with the reason')
+                       index(st%message, 'SUNDIALS') > 0 .and. all(th == 0), 'no CVODE: refused with the reason')
   end subroutine test_unavailable
 
   pure logical function same_stats(a, b)
     type(ode_stats_t), intent(in) :: a, b
     same_stats = a%steps == b%steps .and. a%rhs_evals == b%rhs_evals .and. a%jac_evals == b%jac_evals .and. &
-        a%err_test_fails == b%err_test_fails .and. a%nonlin_iters == b%nonlin_iters .and. &
-        a%nonlin_fails == b%nonlin_fails .and. a%root_evals == b%root_evals
+                 a%err_test_fails == b%err_test_fails .and. a%nonlin_iters == b%nonlin_iters .and. &
+                 a%nonlin_fails == b%nonlin_fails .and. a%root_evals == b%root_evals
   end function same_stats
 
   pure integer function at_(a, k)

@@ -15,9 +15,9 @@ program test_cvode_vector
   use pendula_testing, only: checker_t
   use fsundials_context_mod, only: FSUNContext_Create, FSUNContext_Free
   use fsundials_nvector_mod, only: N_Vector, N_Vector_Ops, FN_VGetArrayPointer, FN_VDestroy, FN_VClone, &
-      FN_VLinearSum, FN_VConst, FN_VProd, FN_VDiv, FN_VScale, FN_VAbs, FN_VInv, FN_VAddConst, &
-      FN_VDotProd, FN_VMaxNorm, FN_VWrmsNorm, FN_VMin, FN_VWSqrSumLocal, FN_VLinearCombination, &
-      FN_VScaleAddMulti, FN_VScaleVectorArray, FN_VLinearSumVectorArray
+                                   FN_VLinearSum, FN_VConst, FN_VProd, FN_VDiv, FN_VScale, FN_VAbs, FN_VInv, FN_VAddConst, &
+                                   FN_VDotProd, FN_VMaxNorm, FN_VWrmsNorm, FN_VMin, FN_VWSqrSumLocal, FN_VLinearCombination, &
+                                   FN_VScaleAddMulti, FN_VScaleVectorArray, FN_VLinearSumVectorArray
   use fnvector_serial_mod, only: FN_VNew_Serial
   use pendula_cvode_vector, only: specialise_pair_ops
   implicit none
@@ -30,15 +30,15 @@ program test_cvode_vector
   integer, parameter :: NV = 5
   ! Coefficients: N_VLinearSum_Serial's special cases and ordinary values.
   real(wp), parameter :: coefs(10) = [1.0_wp, -1.0_wp, 0.0_wp, -0.0_wp, 2.5_wp, -2.5_wp, &
-      0.3_wp, -0.3_wp, 1.7_wp, 1.0_wp / 3]
+                                      0.3_wp, -0.3_wp, 1.7_wp, 1.0_wp/3]
   ! Data sets (rows: vector 1..NV, columns: component); set 2 repeats values
   ! and their negatives so that sums and differences cancel to zeros.
   real(wp), parameter :: data(2, NV, 3) = reshape([ &
-      0.3_wp, -1.7_wp,   2.5_wp, 1.0_wp / 3,   -4.0e4_wp, 1.0e-3_wp,   7.1e-2_wp, -3.0e3_wp,   0.9_wp, 0.25_wp, &
-      1.0_wp / 3, -2.0_wp / 7,   1.0_wp / 3, 2.0_wp / 7,   -1.0_wp / 3, 2.0_wp / 7,   0.1_wp, -0.1_wp, &
-      2.0_wp / 7, 1.0_wp / 3, &
-      1.0e-5_wp, 3.0e4_wp,   -7.0_wp, 7.0_wp,   1.25_wp, -1.0e-4_wp,   6.0_wp, 6.0_wp,   -0.7_wp, 0.7_wp], &
-      [2, NV, 3])
+                                                  0.3_wp, -1.7_wp, 2.5_wp, 1.0_wp/3, -4.0e4_wp, 1.0e-3_wp, 7.1e-2_wp, -3.0e3_wp, 0.9_wp, 0.25_wp, &
+                                                  1.0_wp/3, -2.0_wp/7, 1.0_wp/3, 2.0_wp/7, -1.0_wp/3, 2.0_wp/7, 0.1_wp, -0.1_wp, &
+                                                  2.0_wp/7, 1.0_wp/3, &
+                                                  1.0e-5_wp, 3.0e4_wp, -7.0_wp, 7.0_wp, 1.25_wp, -1.0e-4_wp, 6.0_wp, 6.0_wp, -0.7_wp, 0.7_wp], &
+                                                  [2, NV, 3])
 
   type(checker_t) :: tc
   type(c_ptr) :: ctx
@@ -137,7 +137,7 @@ contains
             ok = same(3)
           end select
           if (.not. ok) then
-            call tc%check_true(.false., label('N_VLinearSum mode ' // achar(48 + mode), set, coefs(i), coefs(j)))
+            call tc%check_true(.false., label('N_VLinearSum mode '//achar(48 + mode), set, coefs(i), coefs(j)))
             all_same = .false.
           end if
         end do
@@ -191,16 +191,16 @@ contains
     call load(set)
     do i = 1, NV
       call tc%check_true(same_real(FN_VMaxNorm(plain(i)%p), FN_VMaxNorm(pair(i)%p)), &
-          label('N_VMaxNorm', set, real(i, wp), 0.0_wp))
+                         label('N_VMaxNorm', set, real(i, wp), 0.0_wp))
       call tc%check_true(same_real(FN_VMin(plain(i)%p), FN_VMin(pair(i)%p)), &
-          label('N_VMin', set, real(i, wp), 0.0_wp))
+                         label('N_VMin', set, real(i, wp), 0.0_wp))
       do j = 1, NV
         call tc%check_true(same_real(FN_VDotProd(plain(i)%p, plain(j)%p), FN_VDotProd(pair(i)%p, pair(j)%p)), &
-            label('N_VDotProd', set, real(i, wp), real(j, wp)))
+                           label('N_VDotProd', set, real(i, wp), real(j, wp)))
         call tc%check_true(same_real(FN_VWrmsNorm(plain(i)%p, plain(j)%p), FN_VWrmsNorm(pair(i)%p, pair(j)%p)), &
-            label('N_VWrmsNorm', set, real(i, wp), real(j, wp)))
+                           label('N_VWrmsNorm', set, real(i, wp), real(j, wp)))
         call tc%check_true(same_real(FN_VWSqrSumLocal(plain(i)%p, plain(j)%p), &
-            FN_VWSqrSumLocal(pair(i)%p, pair(j)%p)), label('N_VWSqrSumLocal', set, real(i, wp), real(j, wp)))
+                                     FN_VWSqrSumLocal(pair(i)%p, pair(j)%p)), label('N_VWSqrSumLocal', set, real(i, wp), real(j, wp)))
       end do
     end do
   end subroutine test_reductions
@@ -214,11 +214,11 @@ contains
     real(c_double), target :: c(NV)
     integer :: n, i, shift
     do shift = 0, 2
-      c = [(coefs(1 + mod(i + 3 * shift, size(coefs))), i = 1, NV)]
+      c = [(coefs(1 + mod(i + 3*shift, size(coefs))), i=1, NV)]
       do n = 1, 4
         ! linear combination of vectors 1..n into vector 5, then into vector 1
         call load(set)
-        call fill(xp, plain, [(i, i = 1, n)]); call fill(xs, pair, [(i, i = 1, n)])
+        call fill(xp, plain, [(i, i=1, n)]); call fill(xs, pair, [(i, i=1, n)])
         ierr = FN_VLinearCombination(int(n, c_int), c, c_loc(xp), plain(5)%p)
         ierr = FN_VLinearCombination(int(n, c_int), c, c_loc(xs), pair(5)%p)
         call tc%check_true(same(5), label('N_VLinearCombination', set, real(n, wp), real(shift, wp)))
@@ -229,27 +229,27 @@ contains
         if (n > 2) cycle
         ! scale-add-multi: x = vector 5, Y = vectors 1..n, Z = Y or vectors 3..
         call load(set)
-        call fill(yp, plain, [(i, i = 1, n)]); call fill(ys, pair, [(i, i = 1, n)])
+        call fill(yp, plain, [(i, i=1, n)]); call fill(ys, pair, [(i, i=1, n)])
         ierr = FN_VScaleAddMulti(int(n, c_int), c, plain(5)%p, c_loc(yp), c_loc(yp))
         ierr = FN_VScaleAddMulti(int(n, c_int), c, pair(5)%p, c_loc(ys), c_loc(ys))
-        call tc%check_true(all([(same(i), i = 1, n)]), label('N_VScaleAddMulti Z=Y', set, real(n, wp), &
-            real(shift, wp)))
+        call tc%check_true(all([(same(i), i=1, n)]), label('N_VScaleAddMulti Z=Y', set, real(n, wp), &
+                                                           real(shift, wp)))
         call load(set)
-        call fill(zp, plain, [(2 + i, i = 1, n)]); call fill(zs, pair, [(2 + i, i = 1, n)])
+        call fill(zp, plain, [(2 + i, i=1, n)]); call fill(zs, pair, [(2 + i, i=1, n)])
         ierr = FN_VScaleAddMulti(int(n, c_int), c, plain(5)%p, c_loc(yp), c_loc(zp))
         ierr = FN_VScaleAddMulti(int(n, c_int), c, pair(5)%p, c_loc(ys), c_loc(zs))
-        call tc%check_true(all([(same(2 + i), i = 1, n)]), label('N_VScaleAddMulti', set, real(n, wp), &
-            real(shift, wp)))
+        call tc%check_true(all([(same(2 + i), i=1, n)]), label('N_VScaleAddMulti', set, real(n, wp), &
+                                                               real(shift, wp)))
         ! vector arrays: X = 1..n, Y = 3..; Z = X (in place) for the scaling
         call load(set)
         ierr = FN_VScaleVectorArray(int(n, c_int), c, c_loc(yp), c_loc(yp))
         ierr = FN_VScaleVectorArray(int(n, c_int), c, c_loc(ys), c_loc(ys))
-        call tc%check_true(all([(same(i), i = 1, n)]), label('N_VScaleVectorArray', set, real(n, wp), &
-            real(shift, wp)))
+        call tc%check_true(all([(same(i), i=1, n)]), label('N_VScaleVectorArray', set, real(n, wp), &
+                                                           real(shift, wp)))
         call load(set)
         ierr = FN_VLinearSumVectorArray(int(n, c_int), c(1), c_loc(yp), c(2), c_loc(zp), c_loc(zp))
         ierr = FN_VLinearSumVectorArray(int(n, c_int), c(1), c_loc(ys), c(2), c_loc(zs), c_loc(zs))
-        call tc%check_true(all([(same(2 + i), i = 1, n)]), label('N_VLinearSumVectorArray', set, c(1), c(2)))
+        call tc%check_true(all([(same(2 + i), i=1, n)]), label('N_VLinearSumVectorArray', set, c(1), c(2)))
       end do
     end do
   end subroutine test_fused
@@ -277,15 +277,15 @@ contains
     call c_f_pointer(clone%ops, ops_clone)
     call c_f_pointer(plain(1)%p%ops, ops_plain)
     call tc%check_true(c_associated(ops_clone%nvlinearsum, ops_pair%nvlinearsum) .and. &
-        c_associated(ops_clone%nvlinearcombination, ops_pair%nvlinearcombination) .and. &
-        .not. c_associated(ops_clone%nvlinearsum, ops_plain%nvlinearsum), 'a clone inherits the kernels')
+                       c_associated(ops_clone%nvlinearcombination, ops_pair%nvlinearcombination) .and. &
+                       .not. c_associated(ops_clone%nvlinearsum, ops_plain%nvlinearsum), 'a clone inherits the kernels')
     call FN_VDestroy(clone)
     three => FN_VNew_Serial(3_c_int64_t, ctx)
     call specialise_pair_ops(three, accepted)
     call tc%check_true(.not. accepted, 'specialise_pair_ops refuses a vector of length 3')
     call c_f_pointer(three%ops, ops_three)
     call tc%check_true(c_associated(ops_three%nvlinearsum, ops_plain%nvlinearsum) .and. &
-        .not. c_associated(ops_three%nvlinearcombination), 'a refused vector keeps the serial table')
+                       .not. c_associated(ops_three%nvlinearcombination), 'a refused vector keeps the serial table')
     call FN_VDestroy(three)
   end subroutine test_clone_and_refusal
 

@@ -9,7 +9,7 @@
 program test_extremes
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_get_halting_mode, ieee_invalid, &
-    ieee_positive_inf, ieee_negative_inf
+                                                                              ieee_positive_inf, ieee_negative_inf
   use pendula
   use pendula_testing, only: checker_t
   implicit none
@@ -112,7 +112,7 @@ contains
     call tc%check_true(fin(ellipfm1(half_pi, 0.0_wp)), 'ellipfm1(fl(pi/2), 0) finite (38.03)')
     call tc%check_true(abs(ellipfm1(half_pi, 1.0e-300_wp) - 38.025003373828868_wp) < 1.0e-9_wp, &
                        'ellipfm1(fl(pi/2), 1e-300) = 38.025003373828868')
-    call tc%check_true(abs(ellipfm1(3 * half_pi, 1.0e-300_wp) - 730.47450770561424_wp) < 1.0e-8_wp, &
+    call tc%check_true(abs(ellipfm1(3*half_pi, 1.0e-300_wp) - 730.47450770561424_wp) < 1.0e-8_wp, &
                        'ellipfm1(fl(3 pi/2), 1e-300) = 730.47450770561424')
     call ellipj(0.7_wp, 1.0e308_wp, sn, cn, dn, am)
     call tc%check_true(fin(sn) .and. fin(cn) .and. fin(dn) .and. fin(am), 'ellipj(0.7, 1e308) finite')

@@ -52,9 +52,9 @@ contains
     ! Counted once (first repetition) so the totals do not depend on REPEAT;
     ! later repetitions still fail the run if the behaviour changes.
     if (first .or. st%code /= code .or. len_trim(st%message) == 0) then
-      call tc%check_true(st%code == code, label // ': status ' // code_name(st%code) // &
-          ' (expected ' // code_name(code) // '): ' // trim(st%message))
-      call tc%check_true(len_trim(st%message) > 10, label // ': a message says why')
+      call tc%check_true(st%code == code, label//': status '//code_name(st%code)// &
+                         ' (expected '//code_name(code)//'): '//trim(st%message))
+      call tc%check_true(len_trim(st%message) > 10, label//': a message says why')
     end if
   end subroutine expect_failure
 
@@ -71,7 +71,7 @@ contains
     type(linear_damped_t) :: sol
     type(ode_stats_t) :: s
     type(status_t) :: st
-    m = 0.5_wp; u = 0.25_wp; t = [(0.1_wp * i, i = 0, 9)]
+    m = 0.5_wp; u = 0.25_wp; t = [(0.1_wp*i, i=0, 9)]
     call ellipk_array(m, k, st)
     call expect_failure(st, PENDULA_ERR_SIZE, 'ellipk_array k(3) for m(10)', first)
     call ellipe_array(m(1:2), k, st)
@@ -108,13 +108,13 @@ contains
     call rk4_grid(t, 4.0_wp, 0.1_wp, 0.05_wp, th, short, steps, fast, bad)
     if (first .or. bad /= huge(bad)) call tc%check_true(bad == huge(bad) .and. steps == 0, 'rk4_grid short omega: bad = huge')
     call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, &
-        1000_i8, short, om, s, st)
+                     1000_i8, short, om, s, st)
     call tc%check_true(st%code == PENDULA_ERR_SIZE .or. st%code == PENDULA_ERR_UNAVAILABLE, &
-        'cvode_solve short theta: ' // trim(st%message))
+                       'cvode_solve short theta: '//trim(st%message))
     call cvode_solve_events(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, &
-        1000_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
+                            1000_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
     call tc%check_true(st%code == PENDULA_ERR_SIZE .or. st%code == PENDULA_ERR_UNAVAILABLE, &
-        'cvode_solve_events event_kind(3) for event_t(4): ' // trim(st%message))
+                       'cvode_solve_events event_kind(3) for event_t(4): '//trim(st%message))
   end subroutine wrong_sizes
 
   !> Elliptic functions at the inputs that once crashed: |m| near huge() (the plan's
@@ -127,7 +127,7 @@ contains
     integer :: i, j
     logical :: ok
     ms = [1.0e308_wp, -1.0e308_wp, huge(1.0_wp), -huge(1.0_wp), 1.4e300_wp, -1.4e300_wp]
-    u = [(0.7_wp * 3.0_wp**(i - 20), i = 1, 40)]
+    u = [(0.7_wp*3.0_wp**(i - 20), i=1, 40)]
     ok = .true.
     do j = 1, size(ms)
       call ellipj(0.7_wp, ms(j), sn(1), cn(1), dn(1), am(1))
@@ -149,7 +149,7 @@ contains
     end do
     if (first .or. .not. ok) call tc%check_true(ok, 'elliptic functions at |m| up to huge(): finite')
     ! phi near huge() and at the doubles nearest odd multiples of pi/2 with m -> 1
-    x = ellipf(huge(1.0_wp) / 3, 0.5_wp) + ellipfm1(1.5707963267948966_wp, 1.0e-300_wp) &
+    x = ellipf(huge(1.0_wp)/3, 0.5_wp) + ellipfm1(1.5707963267948966_wp, 1.0e-300_wp) &
         + ellipf(-4.71238898038469_wp, 0.999_wp)
     if (first .or. .not. ieee_is_finite(x)) call tc%check_true(ieee_is_finite(x), 'ellipf extreme phi: finite')
   end subroutine elliptic_extremes
@@ -165,7 +165,7 @@ contains
     call expect_failure(st, PENDULA_ERR_UNSTABLE, 'rk4 unstable h', first)
     ! h so small the window needs > 2e9 steps (the default budget): refused up front.
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-300_wp, th, om, s, st)
-    call tc%check_true(st%code /= PENDULA_OK, 'rk4 tiny h refused: ' // trim(st%message))
+    call tc%check_true(st%code /= PENDULA_OK, 'rk4 tiny h refused: '//trim(st%message))
     call tc%check_true(all_finite(th) .and. all_finite(om), 'rk4 refused: outputs finite')
     ! times not increasing
     call rk4_solve([0.0_wp, 2.0_wp, 1.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 0.05_wp, th, om, s, st)
@@ -198,13 +198,13 @@ contains
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th, om, s, st, control)
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th0, om0, s, st)
     call tc%check_true(st%code == PENDULA_OK .and. all(th == th0) .and. all(om == om0), &
-        'rk4 with a clear control: same results bit for bit')
+                       'rk4 with a clear control: same results bit for bit')
     call tc%check_true(control(CONTROL_PROGRESS) == 100000, 'rk4 progress counts every step')
     control = [1_i8, 0_i8]
     call rk4_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, th, om, s, st, control)
     call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4 cancelled', first)
     call tc%check_true(all(th == 0) .and. all(om == 0) .and. control(CONTROL_PROGRESS) == 4096, &
-        'rk4 cancelled: outputs zero, stopped at the first poll (4096 steps)')
+                       'rk4 cancelled: outputs zero, stopped at the first poll (4096 steps)')
     control = [1_i8, 0_i8]
     call rk4_final_state(0.0_wp, 100.0_wp, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-3_wp, e, f, s, st, control)
     call expect_failure(st, PENDULA_ERR_CANCELLED, 'rk4_final_state cancelled', first)
@@ -212,10 +212,10 @@ contains
     if (.not. cvode_available()) return
     control = [1_i8, 0_i8]
     call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-10_wp, 1.0e-12_wp, PENDULA_CVODE_BDF, &
-        1000000_i8, th, om, s, st, control)
+                     1000000_i8, th, om, s, st, control)
     call expect_failure(st, PENDULA_ERR_CANCELLED, 'cvode cancelled', first)
     call tc%check_true(all_finite(th) .and. all_finite(om) .and. control(CONTROL_PROGRESS) == 256, &
-        'cvode cancelled: outputs finite, stopped at the first poll (256 evaluations)')
+                       'cvode cancelled: outputs finite, stopped at the first poll (256 evaluations)')
   end subroutine cancelled_runs
 
   !> The scene solver (RK4 over an uneven grid: one short run per interval)
@@ -228,8 +228,8 @@ contains
     type(scene_result_t) :: res, res0
     type(status_t) :: st
     call scene_init(sc, 1.0_wp, 0.0_wp, [0.0_wp, 1.0_wp, 3.0_wp, 40.0_wp], 1.4_wp, 0.1_wp, 1.0e-10_wp, &
-        SCENE_WANT_STATE, st)
-    call tc%check_true(st%code == PENDULA_OK, 'scene for the cancel test: ' // trim(st%message))
+                    SCENE_WANT_STATE, st)
+    call tc%check_true(st%code == PENDULA_OK, 'scene for the cancel test: '//trim(st%message))
     control = [1_i8, 0_i8]
     call scene_solve(sc, res, st, control)
     call expect_failure(st, PENDULA_ERR_CANCELLED, 'scene_solve cancelled', first)
@@ -238,7 +238,7 @@ contains
     call scene_solve(sc, res0, st)
     call tc%check_true(st%code == PENDULA_OK .and. res%model == SCENE_MODEL_RK4, 'scene_solve with control: rk4 runs')
     call tc%check_true(all(res%theta == res0%theta) .and. all(res%omega == res0%omega) .and. &
-        control(CONTROL_PROGRESS) == res%cost%steps, 'scene_solve: same results, progress = steps')
+                       control(CONTROL_PROGRESS) == res%cost%steps, 'scene_solve: same results, progress = steps')
     call scene_solve(sc, res, st, max_steps=1000_i8)
     call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'scene_solve over its budget', first)
   end subroutine scene_cancelled
@@ -253,16 +253,16 @@ contains
     t = [0.0_wp, 500.0_wp, 1000.0_wp]
     ! 1. step budget exhausted (CV_TOO_MUCH_WORK or our own budget)
     call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, 10_i8, &
-        th, om, s, st)
+                     th, om, s, st)
     call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'cvode step budget', first)
     call tc%check_true(all_finite(th) .and. all_finite(om), 'cvode budget: outputs finite')
     ! 2. the same with BDF and events on
     call cvode_solve_events(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, PENDULA_CVODE_BDF, &
-        10_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
+                            10_i8, th, om, et, ek, eth, eom, n_ev, trunc, s, st)
     call expect_failure(st, PENDULA_ERR_MAXSTEPS, 'cvode events step budget', first)
     ! 3. tolerances below double precision: CVODE refuses (CV_TOO_MUCH_ACC)
     call cvode_solve(t, 0.0_wp, 1.0_wp, 1.4_wp, 0.1_wp, 1.0e-30_wp, 1.0e-30_wp, PENDULA_CVODE_ADAMS, 100000_i8, &
-        th, om, s, st)
+                     th, om, s, st)
     call expect_failure(st, PENDULA_ERR_SOLVER, 'cvode too much accuracy', first)
     ! 4. a stiff fast oscillation CVODE cannot follow: repeated error-test
     ! failures.  SUNDIALS' own C code overflows on the way (reported to the
@@ -271,29 +271,29 @@ contains
     call ieee_get_halting_mode(ieee_usual, halting)
     call ieee_set_halting_mode(ieee_usual, .false.)
     call cvode_solve([0.0_wp, 1.0_wp], 0.0_wp, 2.0_wp, 1.0e154_wp, 0.0_wp, 1.0e-8_wp, 1.0e-10_wp, &
-        PENDULA_CVODE_ADAMS, 100000_i8, th(1:2), om(1:2), s, st)
+                     PENDULA_CVODE_ADAMS, 100000_i8, th(1:2), om(1:2), s, st)
     call ieee_set_halting_mode(ieee_usual, halting)
     call tc%check_true(st%code == PENDULA_ERR_SOLVER .or. st%code == PENDULA_ERR_MAXSTEPS, &
-        'cvode w0 = 1e154 fails cleanly: ' // trim(st%message))
+                       'cvode w0 = 1e154 fails cleanly: '//trim(st%message))
     ! 4b. w0 = 1e300: w0**2 overflows, the right-hand side is not finite and
     ! reports an unrecoverable failure (CV_RHSFUNC_FAIL) -- its cleanup path.
     call ieee_set_halting_mode(ieee_usual, .false.)
     call cvode_solve([0.0_wp, 1.0_wp], 0.1_wp, 0.0_wp, 1.0e300_wp, 0.0_wp, 1.0e-8_wp, 1.0e-10_wp, &
-        PENDULA_CVODE_BDF, 100000_i8, th(1:2), om(1:2), s, st)
+                     PENDULA_CVODE_BDF, 100000_i8, th(1:2), om(1:2), s, st)
     call ieee_set_halting_mode(ieee_usual, halting)
-    call tc%check_true(st%code /= PENDULA_OK, 'cvode w0 = 1e300 fails cleanly: ' // trim(st%message))
+    call tc%check_true(st%code /= PENDULA_OK, 'cvode w0 = 1e300 fails cleanly: '//trim(st%message))
     call tc%check_true(all_finite(th(1:2)) .and. all_finite(om(1:2)), 'cvode w0 = 1e300: outputs finite')
     call tc%check_true(all_finite(th(1:2)) .and. all_finite(om(1:2)), 'cvode w0 = 1e154: outputs finite')
     ! 5. more events than room: truncated, not an error
     call cvode_solve_events([0.0_wp, 100.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, &
-        PENDULA_CVODE_ADAMS, 1000000_i8, th(1:2), om(1:2), et, ek, eth, eom, n_ev, trunc, s, st)
+                            PENDULA_CVODE_ADAMS, 1000000_i8, th(1:2), om(1:2), et, ek, eth, eom, n_ev, trunc, s, st)
     if (first .or. st%code /= PENDULA_OK .or. .not. trunc) then
       call tc%check_true(st%code == PENDULA_OK .and. trunc .and. n_ev == size(et), &
-          'cvode events truncated at the array size: ' // trim(st%message))
+                         'cvode events truncated at the array size: '//trim(st%message))
     end if
     ! 6. argument errors before any SUNDIALS object exists
     call cvode_solve(t, 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, -1.0_wp, 1.0e-10_wp, PENDULA_CVODE_ADAMS, 100_i8, &
-        th, om, s, st)
+                     th, om, s, st)
     call expect_failure(st, PENDULA_ERR_DOMAIN, 'cvode rtol < 0', first)
   end subroutine cvode_failures
 
@@ -302,7 +302,7 @@ contains
     type(ode_stats_t) :: s
     type(status_t) :: st
     call cvode_solve([0.0_wp, 1.0_wp], 0.0_wp, 2.0_wp, 1.4_wp, 0.1_wp, 1.0e-8_wp, 1.0e-10_wp, &
-        PENDULA_CVODE_ADAMS, 100_i8, th, om, s, st)
+                     PENDULA_CVODE_ADAMS, 100_i8, th, om, s, st)
     call expect_failure(st, PENDULA_ERR_UNAVAILABLE, 'cvode not built', .true.)
   end subroutine cvode_unavailable
 
@@ -321,9 +321,9 @@ contains
     if (ist == 0) return
     call check_alloc(ist, 'the test block', n, 8, st)
     call tc%check_true(st%code == PENDULA_ERR_MEMORY .and. code_name(st%code) == 'out of memory', &
-        'memory: status PENDULA_ERR_MEMORY, ' // code_name(st%code))
+                       'memory: status PENDULA_ERR_MEMORY, '//code_name(st%code))
     call tc%check_true(index(st%message, 'out of memory: the test block need') == 1 .and. &
-        index(st%message, ' GiB (288230376151711744 values of 8 bytes)') > 0, 'memory: message ' // trim(st%message))
+                       index(st%message, ' GiB (288230376151711744 values of 8 bytes)') > 0, 'memory: message '//trim(st%message))
     st = status_t()
     call check_alloc(0, 'nothing', 1_i8, 8, st)
     call tc%check_true(st%code == PENDULA_OK, 'memory: stat 0 is no error')

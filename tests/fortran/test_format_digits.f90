@@ -22,7 +22,7 @@ program test_format_digits
   type(checker_t) :: t
   integer, parameter :: KINDS = 6
   character(len=*), parameter :: kind_names(KINDS) = [character(len=14) :: 'random bits', &
-      'log-uniform', 'subnormal', 'power of ten', 'carry 9.9..95', 'exact tie']
+                                                                             'log-uniform', 'subnormal', 'power of ten', 'carry 9.9..95', 'exact tie']
   integer(i8) :: n_fast(KINDS), n_sig(KINDS), n_fix(KINDS), n_tie_sig, n_tie_fast, n_range, n_declined
   integer :: i, kind, bad, n_values, e
   logical :: declined
@@ -37,7 +37,7 @@ program test_format_digits
   ! every binary exponent (every entry of the power table, both ends of the
   ! range) with a random significand, to all fast digit counts
   do e = minexponent(x) - digits(x) + 1, maxexponent(x)
-    x = scale(0.5_wp + 0.5_wp * rnd(), e)
+    x = scale(0.5_wp + 0.5_wp*rnd(), e)
     do i = 1, 18
       call check_sig(x, i, 1)
     end do
@@ -48,7 +48,7 @@ program test_format_digits
     kind = 1 + mod(i, KINDS)
     x = draw(kind)
     call check_sig(x, 1 + mod(i, 40), kind)
-    call check_sig(x, 1 + mod(i / KINDS, 18), kind, declined)
+    call check_sig(x, 1 + mod(i/KINDS, 18), kind, declined)
     if (kind <= 3) then
       n_range = n_range + 1
       if (declined) n_declined = n_declined + 1
@@ -57,21 +57,21 @@ program test_format_digits
     if (kind == KINDS) call check_ties(x)
   end do
 
-  call t%check_true(bad == 0, 'fast digits equal the exact digits (' // format_int(sum(n_sig) + &
-      sum(n_fix)) // ' cases, ' // format_int(sum(n_fast)) // ' decided by the fast path)')
+  call t%check_true(bad == 0, 'fast digits equal the exact digits ('//format_int(sum(n_sig) + &
+                                                                       sum(n_fix))//' cases, '//format_int(sum(n_fast))//' decided by the fast path)')
   do kind = 1, KINDS
-    print '(a)', '  ' // kind_names(kind) // ': ' // format_int(n_sig(kind)) // ' sig + ' // &
-        format_int(n_fix(kind)) // ' fixed cases, ' // format_int(n_fast(kind)) // ' fast'
+    print '(a)', '  '//kind_names(kind)//': '//format_int(n_sig(kind))//' sig + '// &
+      format_int(n_fix(kind))//' fixed cases, '//format_int(n_fast(kind))//' fast'
   end do
   ! random values to at most 18 digits: the fast path declines only when the
   ! scaled fraction is within 2**-30 of 1/2 (or an exact tie), so nearly never
-  call t%check_true(n_declined * 10000 <= n_range, 'fast path declines ' // format_int(n_declined) // &
-      ' of ' // format_int(n_range) // ' random values to 1..18 digits')
-  call t%check_true(n_tie_sig > 0 .and. n_tie_fast == 0, 'exact ties (' // format_int(n_tie_sig) // &
-      ') all go to the exact path')
+  call t%check_true(n_declined*10000 <= n_range, 'fast path declines '//format_int(n_declined)// &
+                    ' of '//format_int(n_range)//' random values to 1..18 digits')
+  call t%check_true(n_tie_sig > 0 .and. n_tie_fast == 0, 'exact ties ('//format_int(n_tie_sig)// &
+                    ') all go to the exact path')
   call t%check_true(format_sci(1.0e23_wp, 16) == '9.999999999999999E+22' .and. &
-      format_sci(9.5_wp, 1) == '1E+01' .and. format_sci(0.125_wp, 2) == '1.2E-01', &
-      'carry and tie examples')
+                    format_sci(9.5_wp, 1) == '1E+01' .and. format_sci(0.125_wp, 2) == '1.2E-01', &
+                    'carry and tie examples')
   call t%report('test_format_digits')
 
 contains
@@ -79,7 +79,7 @@ contains
   subroutine random_seed_fixed()
     integer :: n, j
     call random_seed(size=n)
-    call random_seed(put=[(4242 + 13 * j, j = 1, n)])
+    call random_seed(put=[(4242 + 13*j, j=1, n)])
   end subroutine random_seed_fixed
 
   real(wp) function rnd()
@@ -94,26 +94,26 @@ contains
     select case (kind)
     case (1)                                     ! any finite bit pattern
       do
-        bits = ior(ishft(int(rnd() * 2.0_wp**32, i8), 32), int(rnd() * 2.0_wp**32, i8))
+        bits = ior(ishft(int(rnd()*2.0_wp**32, i8), 32), int(rnd()*2.0_wp**32, i8))
         if (ibits(bits, 52, 11) /= 2047) exit
       end do
       v = transfer(bits, v)
     case (2)                                     ! log-uniform over the finite range
-      v = 10.0_wp**(630 * rnd() - 322)
+      v = 10.0_wp**(630*rnd() - 322)
     case (3)                                     ! subnormal
-      v = tiny(v) * rnd()
+      v = tiny(v)*rnd()
     case (4)                                     ! 10**p and up to 3 ulps either side
-      p = int(632 * rnd()) - 323
+      p = int(632*rnd()) - 323
       v = 10.0_wp**real(p, wp)                    ! (10.0**p would overflow on the way)
-      v = v + spacing(v) * (int(7 * rnd()) - 3)
+      v = v + spacing(v)*(int(7*rnd()) - 3)
     case (5)                                     ! next to 9.99..95 * 10**p (k nines)
-      k = 1 + int(17 * rnd())
-      p = int(600 * rnd()) - 300
-      v = (1 - 5 * 10.0_wp**(-k - 1)) * 10.0_wp**real(p, wp)
-      v = v + spacing(v) * (int(5 * rnd()) - 2)
+      k = 1 + int(17*rnd())
+      p = int(600*rnd()) - 300
+      v = (1 - 5*10.0_wp**(-k - 1))*10.0_wp**real(p, wp)
+      v = v + spacing(v)*(int(5*rnd()) - 2)
     case default                                 ! odd integer * 2**-t: ends in 5
-      v = real(2 * int(rnd() * 2.0_wp**int(1 + 51 * rnd()), i8) + 1, wp)
-      v = scale(v, -1 - int(60 * rnd()))
+      v = real(2*int(rnd()*2.0_wp**int(1 + 51*rnd()), i8) + 1, wp)
+      v = scale(v, -1 - int(60*rnd()))
     end select
     if (rnd() < 0.5_wp) v = -v
   end function draw
@@ -180,7 +180,7 @@ contains
     real(wp), intent(in) :: x
     integer, intent(in) :: k
     bad = bad + 1
-    if (bad <= 10) print '(a, es25.17e3, a, i0)', what // ' mismatch: x = ', x, ' count ', k
+    if (bad <= 10) print '(a, es25.17e3, a, i0)', what//' mismatch: x = ', x, ' count ', k
   end subroutine mismatch
 
 end program test_format_digits

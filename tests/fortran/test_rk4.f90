@@ -5,7 +5,7 @@
 program test_rk4
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_NONFINITE, PENDULA_ERR_ORDER, PENDULA_ERR_SIZE
+                            PENDULA_ERR_NONFINITE, PENDULA_ERR_ORDER, PENDULA_ERR_SIZE
   use pendula_ode, only: ode_stats_t, linear_eigenvalues
   use pendula_rk4, only: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_eval
@@ -36,16 +36,16 @@ contains
     integer :: k
     character(len=80) :: line
     do k = 1, size(hs)
-      call rk4_solve([0.0_wp, 10.0_wp], 0.0_wp, 2.0_wp, w0, 0.01_wp / 0.1_wp, hs(k), th, om, s, st)
+      call rk4_solve([0.0_wp, 10.0_wp], 0.0_wp, 2.0_wp, w0, 0.01_wp/0.1_wp, hs(k), th, om, s, st)
       call tc%check_true(st%code == PENDULA_OK, 'order: solve ok')
       err(k) = max(abs(th(2) - ref_th(1, 1)), abs(om(2) - ref_om(1, 1)))
-      call tc%check_true(s%steps == nint(10 / hs(k), i8), 'order: steps = 10/h')
+      call tc%check_true(s%steps == nint(10/hs(k), i8), 'order: steps = 10/h')
       write (line, '(a, f6.3, a, es10.3)') '  h = ', hs(k), '  error at t=10: ', err(k)
       write (*, '(a)') trim(line)
     end do
     x = log(hs)
     y = log(err)
-    slope = sum((x - sum(x) / 7) * (y - sum(y) / 7)) / sum((x - sum(x) / 7)**2)
+    slope = sum((x - sum(x)/7)*(y - sum(y)/7))/sum((x - sum(x)/7)**2)
     write (*, '(a, f7.4)') '  order-of-convergence slope: ', slope
     call tc%check_true(abs(slope - 4) < 0.1_wp, 'order: slope within 0.1 of 4')
   end subroutine test_order
@@ -58,15 +58,15 @@ contains
     type(status_t) :: st
     integer :: i, ib, k
     do i = 1, 601
-      t(i) = (i - 1) * 0.05_wp
+      t(i) = (i - 1)*0.05_wp
     end do
     do ib = 1, 2
-      gam = merge(0.01_wp, 0.05_wp, ib == 1) / 0.1_wp
+      gam = merge(0.01_wp, 0.05_wp, ib == 1)/0.1_wp
       call rk4_solve(t, 0.0_wp, 2.0_wp, w0, gam, 0.05_wp, th, om, s, st)
       call tc%check_true(st%code == PENDULA_OK, 'text scenario: ok')
       call tc%check_true(s%steps == 600 .and. s%rhs_evals == 2400, 'text scenario: 600 steps, 2400 rhs')
       do k = 1, 3
-        i = 200 * k + 1
+        i = 200*k + 1
         call tc%check_close(th(i), ref_th(k, ib), 0.0_wp, 1.0e-5_wp, 'text scenario theta vs mpmath')
         call tc%check_close(om(i), ref_om(k, ib), 0.0_wp, 1.0e-5_wp, 'text scenario omega vs mpmath')
       end do
@@ -83,14 +83,14 @@ contains
     type(status_t) :: st
     integer :: i, k
     do i = 1, 1001
-      t(i) = (i - 1) * 0.1_wp
+      t(i) = (i - 1)*0.1_wp
     end do
     do k = 1, 3
       om0 = om0s(k)
       call rk4_solve(t, 0.3_wp, om0, w0, 0.0_wp, 0.01_wp, th, om, s, st)
       call tc%check_true(st%code == PENDULA_OK, 'energy: ok')
-      e = om**2 / 2 + w0**2 * (1 - cos(th))
-      call tc%check_true(maxval(abs(e - e(1))) < 1.0e-8_wp * e(1), 'energy conserved (gamma = 0)')
+      e = om**2/2 + w0**2*(1 - cos(th))
+      call tc%check_true(maxval(abs(e - e(1))) < 1.0e-8_wp*e(1), 'energy conserved (gamma = 0)')
     end do
   end subroutine test_energy_undamped
 
@@ -105,10 +105,10 @@ contains
     type(status_t) :: st, st2
     integer :: i, k
     do i = 1, 201
-      t(i) = (i - 1) * 0.1_wp
+      t(i) = (i - 1)*0.1_wp
     end do
     do k = 1, 3
-      gam = ratio(k) * w0
+      gam = ratio(k)*w0
       call rk4_solve(t, 1.0e-4_wp, -2.0e-4_wp, w0, gam, 0.01_wp, th, om, s, st)
       call linear_damped_init(sol, 1.0e-4_wp, -2.0e-4_wp, w0, gam, st2)
       call linear_damped_eval(sol, t, lt, lo, st2)
@@ -126,20 +126,20 @@ contains
     type(ode_stats_t) :: s
     type(status_t) :: st
     call rk4_max_stable_step(w0, 0.0_wp, hmax, st)
-    call tc%check_close(hmax * w0, 2 * sqrt(2.0_wp), 1.0e-13_wp, 0.0_wp, 'h_max w0 = 2 sqrt 2 (gamma = 0)')
-    gam = 1.0e4_wp * w0
+    call tc%check_close(hmax*w0, 2*sqrt(2.0_wp), 1.0e-13_wp, 0.0_wp, 'h_max w0 = 2 sqrt 2 (gamma = 0)')
+    gam = 1.0e4_wp*w0
     call rk4_max_stable_step(w0, gam, hmax, st)
     call linear_eigenvalues(w0, gam, l1, l2)
-    call tc%check_close(hmax * abs(l1), 2.785293563405281624_wp, 1.0e-12_wp, 0.0_wp, &
-        'h_max |lambda| = 2.7853 (real axis)')
-    call tc%check_close(abs(rk4_stability_function(hmax * l1)), 1.0_wp, 1.0e-12_wp, 0.0_wp, '|R| = 1 at h_max')
-    call tc%check_true(abs(rk4_stability_function(1.001_wp * hmax * l1)) > 1, '|R| > 1 beyond h_max')
+    call tc%check_close(hmax*abs(l1), 2.785293563405281624_wp, 1.0e-12_wp, 0.0_wp, &
+                        'h_max |lambda| = 2.7853 (real axis)')
+    call tc%check_close(abs(rk4_stability_function(hmax*l1)), 1.0_wp, 1.0e-12_wp, 0.0_wp, '|R| = 1 at h_max')
+    call tc%check_true(abs(rk4_stability_function(1.001_wp*hmax*l1)) > 1, '|R| > 1 beyond h_max')
     ! underdamped: check on the complex ray
-    call rk4_max_stable_step(w0, 0.5_wp * w0, hmax, st)
-    call linear_eigenvalues(w0, 0.5_wp * w0, l1, l2)
-    call tc%check_close(abs(rk4_stability_function(hmax * l1)), 1.0_wp, 1.0e-12_wp, 0.0_wp, &
-        '|R| = 1 at h_max (complex lambda)')
-    call tc%check_true(abs(rk4_stability_function(0.999_wp * hmax * l1)) <= 1, '|R| <= 1 below h_max')
+    call rk4_max_stable_step(w0, 0.5_wp*w0, hmax, st)
+    call linear_eigenvalues(w0, 0.5_wp*w0, l1, l2)
+    call tc%check_close(abs(rk4_stability_function(hmax*l1)), 1.0_wp, 1.0e-12_wp, 0.0_wp, &
+                        '|R| = 1 at h_max (complex lambda)')
+    call tc%check_true(abs(rk4_stability_function(0.999_wp*hmax*l1)) <= 1, '|R| <= 1 below h_max')
     ! stiff damping gamma = 1e4 w0: h = 0.05 is refused with the limit in the message
     call rk4_solve([0.0_wp, 0.05_wp, 0.1_wp], 0.1_wp, 0.0_wp, w0, gam, 0.05_wp, th, om, s, st)
     call tc%check_true(st%code == PENDULA_ERR_UNSTABLE, 'stiff: unstable refused')
@@ -147,7 +147,7 @@ contains
     call tc%check_true(all(th == 0) .and. all(om == 0), 'stiff: no garbage returned')
     ! just below the limit it runs and decays
     call rk4_max_stable_step(w0, gam, hmax, st)
-    call rk4_solve([0.0_wp, 1000 * hmax], 0.1_wp, 0.0_wp, w0, gam, 0.999_wp * hmax, th(1:2), om(1:2), s, st)
+    call rk4_solve([0.0_wp, 1000*hmax], 0.1_wp, 0.0_wp, w0, gam, 0.999_wp*hmax, th(1:2), om(1:2), s, st)
     call tc%check_true(st%code == PENDULA_OK .and. abs(th(2)) <= 0.1_wp, 'stiff: h below limit ok')
   end subroutine test_stability
 

@@ -8,7 +8,7 @@ program test_rk4_batch
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, &
-      PENDULA_ERR_NONFINITE, PENDULA_ERR_ORDER, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_NONFINITE, PENDULA_ERR_ORDER, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_ode, only: ode_stats_t
   use pendula_rk4, only: rk4_solve
@@ -41,14 +41,14 @@ contains
     real(wp) :: th0(n), om0(n), w0(n), gam(n), h(n)
     integer :: k, threads
     do k = 1, n
-      th0(k) = -3.1_wp + 6.2_wp * mod(k * 7, n) / real(n, wp)
-      om0(k) = -4.0_wp + 8.0_wp * mod(k * 13, n) / real(n, wp)
-      w0(k) = 0.5_wp + 2.5_wp * mod(k * 5, n) / real(n, wp)
-      gam(k) = 0.4_wp * mod(k * 11, n) / real(n, wp)
+      th0(k) = -3.1_wp + 6.2_wp*mod(k*7, n)/real(n, wp)
+      om0(k) = -4.0_wp + 8.0_wp*mod(k*13, n)/real(n, wp)
+      w0(k) = 0.5_wp + 2.5_wp*mod(k*5, n)/real(n, wp)
+      gam(k) = 0.4_wp*mod(k*11, n)/real(n, wp)
       h(k) = 0.05_wp
     end do
     gam(1:5) = 0                        ! undamped
-    gam(6:8) = 8 * w0(6:8)              ! heavily overdamped (h stays stable: 0.05 * 8 * 3 < 2.78)
+    gam(6:8) = 8*w0(6:8)              ! heavily overdamped (h stays stable: 0.05 * 8 * 3 < 2.78)
     th0(9) = 3.0e6_wp                   ! beyond stage_xmax: libm steps
     om0(10) = 40.0_wp                   ! fast rotation: bound fails, libm steps
     om0(11) = -9.0_wp                   ! rotation the other way
@@ -74,7 +74,7 @@ contains
     character(len=8) :: tag
     call rk4_batch_solve(t, th0, om0, w0, gam, h, th, om, codes, steps, st, threads=threads)
     write (tag, '(a, i0)') ' thr=', threads
-    call tc%check_true(st%code == PENDULA_OK, label // ': summary ok' // trim(tag))
+    call tc%check_true(st%code == PENDULA_OK, label//': summary ok'//trim(tag))
     bad_th = 0
     bad_code = 0
     do k = 1, size(th0)
@@ -82,9 +82,9 @@ contains
       if (codes(k) /= sts%code) bad_code = bad_code + 1
       if (any(th(:, k) /= ths) .or. any(om(:, k) /= oms) .or. steps(k) /= s%steps) bad_th = bad_th + 1
     end do
-    call tc%check_true(bad_code == 0, label // ': every code equals rk4_solve''s' // trim(tag))
-    call tc%check_true(bad_th == 0, label // ': every state bit-identical to rk4_solve (theta, omega, steps)' &
-        // trim(tag))
+    call tc%check_true(bad_code == 0, label//': every code equals rk4_solve''s'//trim(tag))
+    call tc%check_true(bad_th == 0, label//': every state bit-identical to rk4_solve (theta, omega, steps)' &
+                       //trim(tag))
   end subroutine compare_with_scalar
 
   !> Failing states among good ones: an unstable h, w0 = 0, a NaN theta0,
@@ -98,7 +98,7 @@ contains
     type(status_t) :: st, sts
     type(ode_stats_t) :: s
     integer :: first
-    th0 = [(0.1_wp * k, k = 1, n)]
+    th0 = [(0.1_wp*k, k=1, n)]
     om0 = 0.5_wp
     w0 = sqrt(2.0_wp)
     gam = 0.1_wp
@@ -113,9 +113,9 @@ contains
       call tc%check_true(index(st%message, 'state 4 of 20 (4 failed') == 1, 'failures: summary names state and count')
       call tc%check_true(index(st%message, 'largest stable h') > 0, 'failures: summary carries rk4_solve''s message')
       call tc%check_true(all(codes([4, 9, 13, 17]) == [PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, &
-          PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN]), 'failures: per-state codes')
+                                                       PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN]), 'failures: per-state codes')
       call tc%check_true(all(th(:, [4, 9, 13, 17]) == 0) .and. all(om(:, [4, 9, 13, 17]) == 0) .and. &
-          all(steps([4, 9, 13, 17]) == 0), 'failures: failed states have zero outputs')
+                         all(steps([4, 9, 13, 17]) == 0), 'failures: failed states have zero outputs')
       nbad = 0
       do k = 1, n
         if (any(k == [4, 9, 13, 17])) cycle
@@ -133,13 +133,13 @@ contains
     integer :: codes(n), codes2(n), k
     integer(i8) :: steps(n), steps2(n)
     type(status_t) :: st, st2
-    th0 = [(0.3_wp * k - 1.5_wp, k = 1, n)]
+    th0 = [(0.3_wp*k - 1.5_wp, k=1, n)]
     call rk4_batch_solve(t, th0, [0.2_wp], [1.3_wp], [0.05_wp], [0.04_wp], th, om, codes, steps, st)
     call rk4_batch_solve(t, th0, spread(0.2_wp, 1, n), spread(1.3_wp, 1, n), spread(0.05_wp, 1, n), &
-        spread(0.04_wp, 1, n), th2, om2, codes2, steps2, st2)
+                         spread(0.04_wp, 1, n), th2, om2, codes2, steps2, st2)
     call tc%check_true(st%code == PENDULA_OK .and. st2%code == PENDULA_OK, 'shared: both ok')
     call tc%check_true(all(th == th2) .and. all(om == om2) .and. all(steps == steps2), &
-        'shared: one-element parameters equal full arrays')
+                       'shared: one-element parameters equal full arrays')
   end subroutine test_shared_parameters
 
   !> No states: success and nothing written.  One output time: the initial state.
@@ -152,15 +152,15 @@ contains
     call rk4_batch_solve(t, empty, empty, [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, threads=2)
     call tc%check_true(st%code == PENDULA_OK, 'empty batch: ok')
     call rk4_batch_solve([2.0_wp], [0.5_wp, -0.5_wp], [1.0_wp, 2.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], &
-        th1, om1, codes1, steps1, st)
+                         th1, om1, codes1, steps1, st)
     call tc%check_true(st%code == PENDULA_OK .and. all(th1(1, :) == [0.5_wp, -0.5_wp]) .and. &
-        all(om1(1, :) == [1.0_wp, 2.0_wp]) .and. all(steps1 == 0), 'single output time: initial state')
+                       all(om1(1, :) == [1.0_wp, 2.0_wp]) .and. all(steps1 == 0), 'single output time: initial state')
   end subroutine test_empty_and_single_time
 
   !> A raised cancel flag stops the call: every state PENDULA_ERR_CANCELLED
   !> with zero outputs.  Without it, the progress counter ends at n.
   subroutine test_cancel_and_progress()
-    integer, parameter :: n = 3 * RK4_BATCH_LANES + 1
+    integer, parameter :: n = 3*RK4_BATCH_LANES + 1
     real(wp) :: th0(n), th(nt, n), om(nt, n)
     integer :: codes(n), first
     integer(i8) :: steps(n)
@@ -170,20 +170,20 @@ contains
     control = 0
     control(CONTROL_CANCEL) = 1
     call rk4_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
-        threads=2, control=control, first_failed=first)
+                         threads=2, control=control, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. first == 1, 'cancel: summary cancelled')
     call tc%check_true(all(codes == PENDULA_ERR_CANCELLED) .and. all(th == 0), 'cancel: every state cancelled')
     call tc%check_true(control(CONTROL_PROGRESS) == 0, 'cancel: no progress')
     ! a cancelled call reports the cancel first, even when a state failed before it
     th0(2) = ieee_value(1.0_wp, ieee_quiet_nan)
     call rk4_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
-        threads=1, control=control, first_failed=first)
+                         threads=1, control=control, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. first == 1 .and. codes(2) == PENDULA_ERR_NONFINITE &
-        .and. count(codes == PENDULA_ERR_CANCELLED) == n - 1, 'cancel: reported before a failed state')
+                       .and. count(codes == PENDULA_ERR_CANCELLED) == n - 1, 'cancel: reported before a failed state')
     th0(2) = 0.3_wp
     control = 0
     call rk4_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
-        threads=1, control=control)
+                         threads=1, control=control)
     call tc%check_true(st%code == PENDULA_OK .and. all(codes == PENDULA_OK), 'progress: ok')
     call tc%check_true(control(CONTROL_PROGRESS) == n, 'progress: counts every state')
   end subroutine test_cancel_and_progress
@@ -199,21 +199,21 @@ contains
     t_bad = t
     t_bad(5) = t_bad(4)
     call rk4_batch_solve(t_bad, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
-        first_failed=first)
+                         first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_ORDER .and. first == 0 .and. all(codes == PENDULA_ERR_ORDER), &
-        'refused: t not increasing')
+                       'refused: t not increasing')
     call rk4_batch_solve(t, [0.1_wp, 0.2_wp], [0.0_wp, 1.0_wp, 2.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, &
-        codes, steps, st, first_failed=first)
+                         codes, steps, st, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_SIZE .and. first == 0, 'refused: omega0 of a third size')
     call tc%check_true(index(st%message, 'omega0') > 0, 'refused: message names omega0')
     call rk4_batch_solve(t, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th3(:, 1:2), om, codes, &
-        steps, st, threads=-1, first_failed=first)
+                         steps, st, threads=-1, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_DOMAIN .and. index(st%message, 'threads = -1') == 1, &
-        'refused: threads = -1')
-    call rk4_batch_solve(t, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th(1:nt-1, :), &
-        om(1:nt-1, :), codes, steps, st)
+                       'refused: threads = -1')
+    call rk4_batch_solve(t, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th(1:nt - 1, :), &
+                         om(1:nt - 1, :), codes, steps, st)
     call tc%check_true(st%code == PENDULA_ERR_SIZE .and. index(st%message, 'theta and omega') == 1, &
-        'refused: theta shape')
+                       'refused: theta shape')
   end subroutine test_refused_calls
 
 end program test_rk4_batch

@@ -35,7 +35,7 @@ contains
 
   real(wp) function err_eps(got, x, d) result(e)
     real(wp), intent(in) :: got, x, d
-    e = real(abs(real(got, qp) - sin(real(x, qp) + real(d, qp))), wp) / eps
+    e = real(abs(real(got, qp) - sin(real(x, qp) + real(d, qp))), wp)/eps
   end function err_eps
 
   !> Every node k (and its aliases k + 256 m) with 801 offsets r across
@@ -47,10 +47,10 @@ contains
     real(qp) :: xk
     worst = 0
     do k = -300, 300, stride
-      xk = 2 * pi_q * k / 256
+      xk = 2*pi_q*k/256
       do j = -400, 400
-        r = stage_rmax * j / 400
-        e = real(abs(real(sin_node(k, r), qp) - sin(xk + real(r, qp))), wp) / eps
+        r = stage_rmax*j/400
+        e = real(abs(real(sin_node(k, r), qp) - sin(xk + real(r, qp))), wp)/eps
         worst = max(worst, e)
       end do
     end do
@@ -67,9 +67,9 @@ contains
     dmax = stage_rmax - 0.0123_wp
     worst = 0
     do i = -10000, 10000, stride
-      th = i * 1.0e-3_wp + 1.0e-7_wp * modulo(i, 7)
+      th = i*1.0e-3_wp + 1.0e-7_wp*modulo(i, 7)
       do j = -20, 20
-        d = dmax * j / 20
+        d = dmax*j/20
         worst = max(worst, err_eps(sin_shift(th, d), th, d))
       end do
     end do
@@ -95,17 +95,17 @@ contains
     do i = 1, n, stride
       call random_number(u)
       if (u(1) < 0.5_wp) then
-        th = sign(10.0_wp**(-8 + 14 * u(2)), u(3) - 0.5_wp)
+        th = sign(10.0_wp**(-8 + 14*u(2)), u(3) - 0.5_wp)
       else
-        th = 2.0e6_wp * (u(2) - 0.5_wp)
+        th = 2.0e6_wp*(u(2) - 0.5_wp)
       end if
-      d = (u(4) - 0.5_wp) * merge(0.22_wp, 1.0_wp, i <= 3 * n / 4)
+      d = (u(4) - 0.5_wp)*merge(0.22_wp, 1.0_wp, i <= 3*n/4)
       if (abs(d) <= stage_rmax - 0.0123_wp) then
         e = err_eps(sin_shift(th, d), th, d)
         worst = max(worst, e)
       else
         ! fallback or not, the result is libm's sin of the rounded sum at worst
-        e = abs(sin_shift(th, d) - sin(th + d)) / eps
+        e = abs(sin_shift(th, d) - sin(th + d))/eps
         if (abs(d) > stage_rmax) then
           worst_fb = max(worst_fb, e)
           nfb = nfb + 1
@@ -117,7 +117,7 @@ contains
     end do
     print '(a, f6.3, a)', 'sin_shift: max |error|, random |theta| <= 1e6 = ', worst, ' eps'
     print '(a, i0, a, f6.3, a)', 'sin_shift fallback (|d| > rmax, ', nfb, ' points): max |diff| to libm = ', &
-        worst_fb, ' eps'
+      worst_fb, ' eps'
     call tc%check_true(worst <= 2, 'sin_shift random theta within 2 eps of the exact sum')
     call tc%check_true(worst_fb <= 0, 'sin_shift beyond rmax is libm sin(theta + d)')
     call tc%check_true(nfb > 1000, 'fallback path exercised')
@@ -132,11 +132,11 @@ contains
     worst = 0
     do i = 1, n, stride
       call random_number(u)
-      th = sign(10.0_wp**(-1 + 7 * u(1)), u(2) - 0.5_wp)
-      if (i <= 1000) th = -12.0_wp + 0.024_wp * i
-      d = (u(3) - 0.5_wp) * 2 * (stage_rmax - 0.0123_wp)
+      th = sign(10.0_wp**(-1 + 7*u(1)), u(2) - 0.5_wp)
+      if (i <= 1000) th = -12.0_wp + 0.024_wp*i
+      d = (u(3) - 0.5_wp)*2*(stage_rmax - 0.0123_wp)
       d = (th + d) - th
-      worst = max(worst, abs(sin_shift(th, d) - sin(th + d)) / eps)
+      worst = max(worst, abs(sin_shift(th, d) - sin(th + d))/eps)
     end do
     print '(a, f6.3, a)', 'sin_shift vs libm sin at exactly representable arguments: max |diff| = ', worst, ' eps'
     call tc%check_true(worst <= 2, 'sin_shift within 2 eps of libm sin')
@@ -148,15 +148,15 @@ contains
     integer :: k
     real(wp) :: rho, xs(6)
     integer :: i
-    xs = [0.0_wp, -0.0_wp, 1.0e-300_wp, stage_xmax, -stage_xmax, 0.5_wp * stage_xmax + 0.3_wp]
+    xs = [0.0_wp, -0.0_wp, 1.0e-300_wp, stage_xmax, -stage_xmax, 0.5_wp*stage_xmax + 0.3_wp]
     do i = 1, size(xs)
       call node_reduce(xs(i), k, rho)
       call tc%check_true(abs(rho) <= 0.0123_wp, 'node_reduce |rho| <= pi/256')
-      call tc%check_true(abs(real(sin_node(k, rho), qp) - sin(real(xs(i), qp))) <= 2 * eps, &
-          'sin_node(node_reduce(x)) = sin x')
+      call tc%check_true(abs(real(sin_node(k, rho), qp) - sin(real(xs(i), qp))) <= 2*eps, &
+                         'sin_node(node_reduce(x)) = sin x')
     end do
-    call node_reduce(2 * stage_xmax, k, rho)
-    call tc%check_true(k == 0 .and. rho == 2 * stage_xmax, 'beyond stage_xmax: not reduced')
+    call node_reduce(2*stage_xmax, k, rho)
+    call tc%check_true(k == 0 .and. rho == 2*stage_xmax, 'beyond stage_xmax: not reduced')
     call node_reduce(huge(1.0_wp), k, rho)
     call tc%check_true(k == 0 .and. rho == huge(1.0_wp), 'huge: not reduced, no overflow')
   end subroutine test_reduce_extremes
@@ -170,18 +170,18 @@ contains
     integer(i8) :: i
     y = theta
     u = omega
-    half = hs / 2
-    sixth = hs / 6
+    half = hs/2
+    sixth = hs/6
     do i = 1, n
-      k1 = -gamma * u - w0sq * sin(y)
-      m2 = u + half * k1
-      k2 = -gamma * m2 - w0sq * sin(y + half * u)
-      m3 = u + half * k2
-      k3 = -gamma * m3 - w0sq * sin(y + half * m2)
-      m4 = u + hs * k3
-      k4 = -gamma * m4 - w0sq * sin(y + hs * m3)
-      y = y + sixth * (u + 2 * (m2 + m3) + m4)
-      u = u + sixth * (k1 + 2 * (k2 + k3) + k4)
+      k1 = -gamma*u - w0sq*sin(y)
+      m2 = u + half*k1
+      k2 = -gamma*m2 - w0sq*sin(y + half*u)
+      m3 = u + half*k2
+      k3 = -gamma*m3 - w0sq*sin(y + half*m2)
+      m4 = u + hs*k3
+      k4 = -gamma*m4 - w0sq*sin(y + hs*m3)
+      y = y + sixth*(u + 2*(m2 + m3) + m4)
+      u = u + sixth*(k1 + 2*(k2 + k3) + k4)
     end do
     theta = y
     omega = u
@@ -204,35 +204,35 @@ contains
     ! beyond the table path onto the libm step
     th0 = [0.0_wp, 0.0_wp, 1000.5_wp, 0.0_wp]
     om0 = [2.0_wp, 3.0_wp, 2.0_wp, 4.2_wp]
-    t = [(0.05_wp * i, i = 0, 600)]
+    t = [(0.05_wp*i, i=0, 600)]
     do icase = 1, 4
       do ig = 1, 2
         do ih = 1, 2
           hs = hv(ih)
-          nsub = nint(0.05_wp / hs, i8)
+          nsub = nint(0.05_wp/hs, i8)
           th(1) = th0(icase)
           om(1) = om0(icase)
           call rk4_grid(t, w0sq, gv(ig), hs, th, om, total, fast, bad)
-          call tc%check_true(bad == 0 .and. total == 600 * nsub, 'rk4_grid: steps and no failure')
+          call tc%check_true(bad == 0 .and. total == 600*nsub, 'rk4_grid: steps and no failure')
           y1 = th0(icase)
           u1 = om0(icase)
           dmax = 0
           scale = 1
           do i = 1, 600
             ! the plain loop with the substep rk4_grid uses (t(i+1) - t(i)) / n
-            call plain(y1, u1, w0sq, gv(ig), (t(i+1) - t(i)) / real(nsub, wp), nsub)
-            dmax = max(dmax, abs(y1 - th(i+1)), abs(u1 - om(i+1)))
+            call plain(y1, u1, w0sq, gv(ig), (t(i + 1) - t(i))/real(nsub, wp), nsub)
+            dmax = max(dmax, abs(y1 - th(i + 1)), abs(u1 - om(i + 1)))
             scale = max(scale, abs(y1))
           end do
           write (label, '(a, i0, a, f4.2, a, f5.3, a)') 'case ', icase, ' gamma ', gv(ig), ' h ', hs, ': '
           print '(a, a, es9.2, a, f9.2, a, i0, a, i0)', trim(label), ' max |fast - plain| = ', dmax, &
-              ' = ', dmax / (eps * scale), ' eps*max(1,|theta|); table steps ', fast, ' / ', total
+            ' = ', dmax/(eps*scale), ' eps*max(1,|theta|); table steps ', fast, ' / ', total
           ! A fast rotation is neutrally stable: the two rounding sequences
           ! drift apart as a random walk (~28 eps after 30000 steps, the same
           ! with the earlier kernel), hence its wider bound.
           tol = merge(64, 32, icase == 4)
-          call tc%check_true(dmax <= tol * eps * scale, trim(label) // ' within 32 (rotation: 64) eps of plain')
-          if (icase == 1) call tc%check_true(fast == total, trim(label) // ' all steps on the table path')
+          call tc%check_true(dmax <= tol*eps*scale, trim(label)//' within 32 (rotation: 64) eps of plain')
+          if (icase == 1) call tc%check_true(fast == total, trim(label)//' all steps on the table path')
         end do
       end do
     end do

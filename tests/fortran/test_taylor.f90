@@ -6,7 +6,7 @@
 program test_taylor
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_NONFINITE, &
-      PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, CONTROL_PROGRESS
   use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula, only: taylor_solve, taylor_solve_events, taylor_batch_solve, undamped_solve
@@ -43,8 +43,8 @@ contains
       call tc%check_true(st%code == PENDULA_OK, 'exact: status')
       call undamped_solve(t, th0(k), om0(k), w0, the, ome, st)
       do i = 1, nt
-        slack = 4 * epsilon(1.0_wp) * max(abs(the(i)), abs(ome(i)) / w0)
-        e = max(abs(th(i) - the(i)), abs(om(i) - ome(i)) / w0)
+        slack = 4*epsilon(1.0_wp)*max(abs(the(i)), abs(ome(i))/w0)
+        e = max(abs(th(i) - the(i)), abs(om(i) - ome(i))/w0)
         call tc%check_true(e <= er(i) + slack, 'exact: error within the estimate')
         call tc%check_true(er(i) <= tols(k), 'exact: estimate within tol')
       end do
@@ -63,7 +63,7 @@ contains
     call taylor_solve(tb, th(nt), om(nt), 1.3_wp, 0.2_wp, 1.0e-13_wp, thb, omb, erb, s, st)
     call tc%check_true(st%code == PENDULA_OK, 'backward: status')
     call tc%check_true(abs(thb(nt) - 2.0_wp) <= er(nt) + erb(nt), 'backward: theta returns')
-    call tc%check_true(abs(omb(nt) - 0.5_wp) <= 1.3_wp * (er(nt) + erb(nt)), 'backward: omega returns')
+    call tc%check_true(abs(omb(nt) - 0.5_wp) <= 1.3_wp*(er(nt) + erb(nt)), 'backward: omega returns')
     call tc%check_true(abs(thb(31) - th(31)) <= er(31) + er(nt) + erb(31), 'backward: midpoint')
   end subroutine test_backward
 
@@ -77,23 +77,23 @@ contains
     type(status_t) :: st
     period = 6.699975664370452712701211_wp   ! 4 K(sin(1/2)**2), mpmath at 30 digits
     call taylor_solve_events([0.0_wp, 20.0_wp], 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0e-13_wp, th, om, er, &
-        et, ek, eth, eom, nev, trunc, s, st)
+                             et, ek, eth, eom, nev, trunc, s, st)
     call tc%check_true(st%code == PENDULA_OK .and. .not. trunc, 'events: status')
-    call tc%check_true(nev == 2 * floor(20 / (period / 2)) + merge(1, 0, mod(20.0_wp, period / 2) > period / 4), &
-        'events: count')
+    call tc%check_true(nev == 2*floor(20/(period/2)) + merge(1, 0, mod(20.0_wp, period/2) > period/4), &
+                       'events: count')
     nz = 0
     ntp = 0
     do i = 1, nev
       if (ek(i) == PENDULA_EVENT_TURNING) then
         ntp = ntp + 1
-        call tc%check_close(et(i), ntp * period / 2, 0.0_wp, 1.0e-12_wp, 'events: turning time')
+        call tc%check_close(et(i), ntp*period/2, 0.0_wp, 1.0e-12_wp, 'events: turning time')
         call tc%check_close(abs(eth(i)), 1.0_wp, 0.0_wp, 1.0e-12_wp, 'events: amplitude')
       else
         call tc%check_true(ek(i) == PENDULA_EVENT_ZERO, 'events: kind')
-        call tc%check_close(et(i), period / 4 + nz * period / 2, 0.0_wp, 1.0e-12_wp, 'events: bottom time')
+        call tc%check_close(et(i), period/4 + nz*period/2, 0.0_wp, 1.0e-12_wp, 'events: bottom time')
         nz = nz + 1
       end if
-      if (i > 1) call tc%check_true(et(i) > et(i-1), 'events: in time order')
+      if (i > 1) call tc%check_true(et(i) > et(i - 1), 'events: in time order')
     end do
   end subroutine test_events
 
@@ -112,14 +112,14 @@ contains
     type(status_t) :: st
     do threads = 1, 2
       call taylor_batch_solve(t, th0, om0, [1.4_wp], gam, tols, th, om, er, codes, steps, ord, st, &
-          threads=threads, first_failed=first)
+                              threads=threads, first_failed=first)
       call tc%check_true(st%code == PENDULA_ERR_DOMAIN .and. first == n, 'batch: the bad state is reported')
       call tc%check_true(index(st%message, 'gamma') > 0, 'batch: message names gamma')
       do i = 1, n - 1
         call taylor_solve(t, th0(i), om0(i), 1.4_wp, gam(i), tols(i), th1, om1, er1, s, st, order=p)
         call tc%check_true(codes(i) == PENDULA_OK, 'batch: state ok')
         call tc%check_true(all(th(:, i) == th1) .and. all(om(:, i) == om1) .and. all(er(:, i) == er1), &
-            'batch: bit-identical to the scalar call')
+                           'batch: bit-identical to the scalar call')
         call tc%check_true(steps(i) == s%steps .and. ord(i) == p, 'batch: same steps and order')
       end do
       call tc%check_true(all(th(:, n) == 0), 'batch: failed state zero')
@@ -140,7 +140,7 @@ contains
     call tc%check_status(st, PENDULA_ERR_DOMAIN, 'w0', 'refused: w0 = 0')
     call tc%check_true(all(th == 0) .and. all(er == 0), 'refused: outputs zero')
     call taylor_solve([0.0_wp, 1.0e3_wp, 2.0e3_wp], 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0e-9_wp, th, om, er, s, st, &
-        max_steps=5_i8)
+                      max_steps=5_i8)
     call tc%check_status(st, PENDULA_ERR_MAXSTEPS, 'max_steps', 'refused: step budget')
   end subroutine test_refused
 
@@ -154,24 +154,24 @@ contains
     type(status_t) :: st
     control = 0
     call taylor_solve([0.0_wp, 1.0e3_wp], 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0e-9_wp, th, om, er, s, st, &
-        control=control)
+                      control=control)
     call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) > 0 .and. &
-        control(CONTROL_PROGRESS) <= s%steps, 'control: progress counts steps')
+                       control(CONTROL_PROGRESS) <= s%steps, 'control: progress counts steps')
     control = 0
     control(CONTROL_CANCEL) = 1
     call taylor_solve([0.0_wp, 1.0e3_wp], 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0e-9_wp, th, om, er, s, st, &
-        control=control)
+                      control=control)
     call tc%check_status(st, PENDULA_ERR_CANCELLED, 'cancelled', 'control: scalar cancel')
     call tc%check_true(all(th == 0) .and. all(er == 0), 'control: cancelled outputs zero')
     control = 0
     call taylor_batch_solve([0.0_wp, 1.0_wp], [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-9_wp], &
-        thb, omb, erb, codes, steps, ord, st, control=control)
+                            thb, omb, erb, codes, steps, ord, st, control=control)
     call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) == 3, 'control: batch progress')
     control(CONTROL_CANCEL) = 1
     call taylor_batch_solve([0.0_wp, 1.0_wp], [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-9_wp], &
-        thb, omb, erb, codes, steps, ord, st, control=control)
+                            thb, omb, erb, codes, steps, ord, st, control=control)
     call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. all(codes == PENDULA_ERR_CANCELLED), &
-        'control: batch cancel')
+                       'control: batch cancel')
   end subroutine test_cancel_and_progress
 
 end program test_taylor

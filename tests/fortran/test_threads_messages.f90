@@ -24,19 +24,19 @@ program test_threads_messages
 
   ! values of every magnitude and sign, zeros and subnormals among them
   do i = 1, N
-    x(i) = (-1.0_wp)**i * (1.0_wp + mod(i * 7919, 1000) / 997.0_wp) * 10.0_wp**(mod(i * 37, 600) - 300)
+    x(i) = (-1.0_wp)**i*(1.0_wp + mod(i*7919, 1000)/997.0_wp)*10.0_wp**(mod(i*37, 600) - 300)
   end do
   x(1) = 0
   x(2) = -0.0_wp
   x(3) = 4.9e-324_wp
   x(4) = huge(1.0_wp)
 
-  allocate(serial(N))
+  allocate (serial(N))
   do i = 1, N
     serial(i) = texts(i)
   end do
   call t%check_true(index(serial(5), 'w0 = ') > 0 .and. len_trim(serial(4)) > 300, &
-      'serial texts carry the messages and the 309-digit fixed form')
+                    'serial texts carry the messages and the 309-digit fixed form')
 
   bad = 0
   first_bad = 0
@@ -50,8 +50,8 @@ program test_threads_messages
     end do
     !$omp end parallel do
   end do
-  call t%check_true(bad == 0, 'texts built in ' // format_int(THREADS) // ' threads equal the serial ones: ' // &
-      format_int(bad) // ' of ' // format_int(N * REPEATS) // ' differ (e.g. item ' // format_int(first_bad) // ')')
+  call t%check_true(bad == 0, 'texts built in '//format_int(THREADS)//' threads equal the serial ones: '// &
+                    format_int(bad)//' of '//format_int(N*REPEATS)//' differ (e.g. item '//format_int(first_bad)//')')
   call t%report('test_threads_messages')
 
 contains
@@ -67,15 +67,15 @@ contains
     k = mod(i, 17)
     st = status_t()
     call check_positive('w0', -abs(x(i)), st)
-    s = format_sci(x(i), k + 1) // '|' // format_fixed(x(i), k) // '|' // format_general(x(i), 15) // '|' // &
-        format_short(x(i)) // '|' // format_int(i * 104729 - N) // '|' // trim(st%message) // '|' // &
-        code_name(mod(i, 12) - 1) // '|' // scene_model_name(mod(i, 8) - 1) // '|' // &
-        scene_want_name(mod(i, 8)) // '|' // scene_model_list(mod(i, 3)) // '|' // scene_want_list()
+    s = format_sci(x(i), k + 1)//'|'//format_fixed(x(i), k)//'|'//format_general(x(i), 15)//'|'// &
+        format_short(x(i))//'|'//format_int(i*104729 - N)//'|'//trim(st%message)//'|'// &
+        code_name(mod(i, 12) - 1)//'|'//scene_model_name(mod(i, 8) - 1)//'|'// &
+        scene_want_name(mod(i, 8))//'|'//scene_model_list(mod(i, 3))//'|'//scene_want_list()
     if (mod(i, 50) == 0) then
       ! a solve's reason (closed forms, quick), with an error estimate in it
-      call scene_init(sc, 0.1_wp * mod(i, 30), 0.0_wp, [1.0_wp], 1.0_wp, 0.0_wp, 1.0e-9_wp, SCENE_WANT_FINAL, st)
+      call scene_init(sc, 0.1_wp*mod(i, 30), 0.0_wp, [1.0_wp], 1.0_wp, 0.0_wp, 1.0e-9_wp, SCENE_WANT_FINAL, st)
       call scene_solve(sc, res, st)
-      s = trim(s) // '|' // trim(res%reason) // '|' // trim(st%message)
+      s = trim(s)//'|'//trim(res%reason)//'|'//trim(st%message)
     end if
   end function texts
 

@@ -2,6 +2,7 @@
 persistent worker process that runs each call (fuzz_worker.py), the hypothesis
 sources of adversarial arguments, and the judge of a call's outcome (see
 test_fuzz.py for what fails a call)."""
+
 import importlib.util
 import math
 import os
@@ -23,17 +24,23 @@ from hypothesis import strategies as st
 import pendula
 
 HERE = pathlib.Path(__file__).resolve().parent
-TIMEOUT = 20.0          # s per call; a hang, not slowness: the slowest legal call here takes < 2 s
-BIG = 1e300             # a-priori bounds below this must give finite results
+TIMEOUT = 20.0  # s per call; a hang, not slowness: the slowest legal call here takes < 2 s
+BIG = 1e300  # a-priori bounds below this must give finite results
 DBL_MAX = float(np.finfo(np.float64).max)
-HALF_PI = math.pi / 2   # the double below pi/2: F(HALF_PI | 1) = atanh(sin(HALF_PI)) ~ 38.03 is finite
+HALF_PI = math.pi / 2  # the double below pi/2: F(HALF_PI | 1) = atanh(sin(HALF_PI)) ~ 38.03 is finite
 
-SETTINGS = settings(derandomize=True, deadline=None, database=None, print_blob=False,
-                    phases=[Phase.explicit, Phase.generate],
-                    suppress_health_check=list(HealthCheck))
+SETTINGS = settings(
+    derandomize=True,
+    deadline=None,
+    database=None,
+    print_blob=False,
+    phases=[Phase.explicit, Phase.generate],
+    suppress_health_check=list(HealthCheck),
+)
 
 
 # ----------------------------------------------------------------- the worker
+
 
 class Worker:
     """A persistent subprocess running fuzz_worker.py; restarted after a death or hang."""
@@ -45,12 +52,16 @@ class Worker:
     def _start(self):
         spec = importlib.util.find_spec("pendula")
         env = dict(os.environ)
-        env["PYTHONPATH"] = os.pathsep.join([str(pathlib.Path(spec.origin).parents[1]),
-                                             env.get("PYTHONPATH", "")])
+        env["PYTHONPATH"] = os.pathsep.join([str(pathlib.Path(spec.origin).parents[1]), env.get("PYTHONPATH", "")])
         env.setdefault("MPLBACKEND", "Agg")
         self.stderr_file = open(os.devnull, "wb")
-        self.proc = subprocess.Popen([sys.executable, str(HERE / "fuzz_worker.py")], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, stderr=self.stderr_file, env=env)
+        self.proc = subprocess.Popen(
+            [sys.executable, str(HERE / "fuzz_worker.py")],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=self.stderr_file,
+            env=env,
+        )
 
     def stop(self):
         if self.proc is not None:
@@ -92,7 +103,7 @@ class Worker:
             if body:
                 return pickle.loads(body)
             head = body
-        if head is None:                     # no answer in time: a hang
+        if head is None:  # no answer in time: a hang
             self.stop()
             return {"kind": "hang"}
         rc = self.proc.wait()
@@ -111,9 +122,38 @@ def worker():
 
 # ----------------------------------------------------------------- argument sources
 
-SPECIAL = [0.0, -0.0, 1.0, -1.0, 0.5, 2.0, 0.7, 1e308, -1e308, DBL_MAX, -DBL_MAX, 1.34e300, 5e-324, -5e-324,
-           2.2250738585072014e-308, 1e-300, 1e-16, 1e-12, 1 - 2**-53, 1 + 2**-52, math.pi, HALF_PI,
-           3 * math.pi / 2, -HALF_PI, 1e16, 2.0**31, 2.0**63, float("nan"), float("inf"), float("-inf")]
+SPECIAL = [
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    0.5,
+    2.0,
+    0.7,
+    1e308,
+    -1e308,
+    DBL_MAX,
+    -DBL_MAX,
+    1.34e300,
+    5e-324,
+    -5e-324,
+    2.2250738585072014e-308,
+    1e-300,
+    1e-16,
+    1e-12,
+    1 - 2**-53,
+    1 + 2**-52,
+    math.pi,
+    HALF_PI,
+    3 * math.pi / 2,
+    -HALF_PI,
+    1e16,
+    2.0**31,
+    2.0**63,
+    float("nan"),
+    float("inf"),
+    float("-inf"),
+]
 
 
 def flt(v):
@@ -147,8 +187,9 @@ def scalar_src(draw, vals=None):
             forms.append("bool")
     form = draw(st.sampled_from(forms))
     if form in ("int", "i64", "u64", "bool"):
-        return {"int": "{}", "i64": "np.int64({})", "u64": "np.uint64({})",
-                "bool": "{!r}"}[form].format(bool(v) if form == "bool" else int(v))
+        return {"int": "{}", "i64": "np.int64({})", "u64": "np.uint64({})", "bool": "{!r}"}[form].format(
+            bool(v) if form == "bool" else int(v)
+        )
     return {"float": "{}", "f64": "np.float64({})", "f32": "np.float32({})", "0d": "np.array({})"}[form].format(flt(v))
 
 
@@ -197,7 +238,7 @@ def real_args(draw, names, vals=None):
 def evaluate(src):
     """What the library sees: the source evaluated and converted to float64 (None if it cannot be)."""
     with np.errstate(all="ignore"):
-        x = eval(src, {"np": np, "pendula": pendula})           # noqa: S307 - our own sources
+        x = eval(src, {"np": np, "pendula": pendula})  # noqa: S307 - our own sources
         try:
             return np.asarray(x, dtype=np.float64)
         except (TypeError, ValueError):
@@ -206,15 +247,49 @@ def evaluate(src):
 
 # ----------------------------------------------------------------- checking results
 
+
 def reproducer(fn, args, kwargs=None):
     parts = list(args) + [f"{k}={v}" for k, v in (kwargs or {}).items()]
     return f"python -c \"import numpy as np, pendula; print(pendula.{fn}({', '.join(parts)}))\""
 
 
-ALL_ARG_NAMES = {"m", "p", "phi", "u", "t", "theta0", "omega0", "w0", "gamma", "g", "length", "b", "mass",
-                 "tmax", "theta", "omega", "n", "h", "rtol", "atol", "method", "max_steps", "events",
-                 "max_events", "tol", "want", "model", "setting", "scene", "models", "repeat",
-                 "rk4_steps", "cvode_rtols", "arguments", "argument"}
+ALL_ARG_NAMES = {
+    "m",
+    "p",
+    "phi",
+    "u",
+    "t",
+    "theta0",
+    "omega0",
+    "w0",
+    "gamma",
+    "g",
+    "length",
+    "b",
+    "mass",
+    "tmax",
+    "theta",
+    "omega",
+    "n",
+    "h",
+    "rtol",
+    "atol",
+    "method",
+    "max_steps",
+    "events",
+    "max_events",
+    "tol",
+    "want",
+    "model",
+    "setting",
+    "scene",
+    "models",
+    "repeat",
+    "rk4_steps",
+    "cvode_rtols",
+    "arguments",
+    "argument",
+}
 
 
 def judge(out, names, checks=None):
@@ -274,16 +349,17 @@ class Recorder:
         if self.lines:
             uniq = list(dict.fromkeys(self.lines))
             print(f"\n{self.name}: {len(uniq)} failing call(s) of {self.calls}:\n" + "\n".join(uniq[:40]))
-            pytest.fail(f"{self.name}: {len(uniq)} failing call(s) of {self.calls}; first:\n{uniq[0]}",
-                        pytrace=False)
+            pytest.fail(f"{self.name}: {len(uniq)} failing call(s) of {self.calls}; first:\n{uniq[0]}", pytrace=False)
 
 
 def recorded_test(label, run):
     """The test function test_fuzz_<label>: runs the hypothesis-driven
     run(worker, rec) and fails once, listing every reproducer it recorded."""
+
     def test(worker):
         rec = Recorder(label)
         run(worker, rec)
         rec.verdict()
+
     test.__name__ = f"test_fuzz_{label}"
     return test

@@ -1,5 +1,6 @@
 """Helpers shared by the Python test modules (imported as `helpers`; pytest
 puts this folder on sys.path because tests/python has no __init__.py)."""
+
 import importlib.util
 import os
 import pathlib
@@ -91,8 +92,16 @@ def dop853_text_scene(t, theta0, omega0):
     w0 = sqrt(2) 1/s, gamma = 0.1 1/s) by SciPy's DOP853 at rtol 1e-12, atol 1e-13:
     an independent reference for the batch integrators."""
     from scipy.integrate import solve_ivp
-    ref = solve_ivp(lambda _, y: [y[1], -0.1 * y[1] - 2.0 * np.sin(y[0])], (t[0], t[-1]), [theta0, omega0],
-                    method="DOP853", t_eval=t, rtol=1e-12, atol=1e-13)
+
+    ref = solve_ivp(
+        lambda _, y: [y[1], -0.1 * y[1] - 2.0 * np.sin(y[0])],
+        (t[0], t[-1]),
+        [theta0, omega0],
+        method="DOP853",
+        t_eval=t,
+        rtol=1e-12,
+        atol=1e-13,
+    )
     return ref.y[0]
 
 
@@ -102,7 +111,7 @@ def forked_child_exit_code(call):
     parent's bit for bit, 3 when it differs, 1 on an exception.  Returns that code."""
     r = call()
     pid = os.fork()
-    if pid == 0:   # child
+    if pid == 0:  # child
         code = 1
         try:
             signal.alarm(20)
@@ -117,8 +126,13 @@ def interrupt_child(args, wait, timeout):
     """Start `python -c args...` (unbuffered), wait for its first line "started",
     sleep `wait` s and send SIGINT.  Returns (the monotonic time of the signal,
     the child's return code, its stdout, its stderr)."""
-    p = subprocess.Popen([sys.executable, "-c", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    p = subprocess.Popen(
+        [sys.executable, "-c", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, PYTHONUNBUFFERED="1"),
+    )
     try:
         assert p.stdout.readline().strip() == "started"
         time.sleep(wait)
@@ -137,10 +151,11 @@ def finished_states_of_cancelled_batch(r, n, control):
     finished, the progress counter equal to the finished count, theta NaN for the
     others (a state without an answer is never a number).  Returns the mask of finished states."""
     from pendula._errors import ERR_CANCELLED, OK
+
     assert r.code == ERR_CANCELLED and "cancelled" in r.message
     done = r.codes == OK
     assert ((r.codes == OK) | (r.codes == ERR_CANCELLED)).all()
     assert 0 < done.sum() < n, "the flag should land mid-run"
-    assert control[1] == done.sum()                     # progress counts finished states
+    assert control[1] == done.sum()  # progress counts finished states
     assert np.isnan(r.theta[~done]).all()
     return done

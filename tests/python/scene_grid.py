@@ -24,6 +24,7 @@ rounding-bound first (long unwrapped rotations), SciPy DOP853 at rtol 1e-13
 and 2.5e-14, its error estimated by their difference.  The test requires
 every reference error <= tol/20.
 """
+
 import numpy as np
 
 W0 = float(np.sqrt(2.0))
@@ -76,14 +77,16 @@ def make_grid(n=240, seed=20261122):
         tol = float(10 ** rng.uniform(-10, -3))
         npts = 41 if gamma == 0 else 201
         t = np.linspace(0.0, periods * T0, npts)
-        scenes.append(dict(index=i, theta0=float(theta0), omega0=float(omega0), gamma=float(gamma),
-                           periods=periods, tol=tol, t=t))
+        scenes.append(
+            dict(index=i, theta0=float(theta0), omega0=float(omega0), gamma=float(gamma), periods=periods, tol=tol, t=t)
+        )
     return scenes
 
 
 def mp_undamped(t, theta0, omega0, w0, dps=30):
     """theta(t), Omega(t) of theta'' + w0^2 sin theta = 0 by mpmath (any regime but m = 1)."""
     import mpmath as mp
+
     with mp.workdps(dps):
         th0, om0, w = mp.mpf(theta0), mp.mpf(omega0), mp.mpf(w0)
         n = mp.nint(th0 / (2 * mp.pi))
@@ -93,7 +96,7 @@ def mp_undamped(t, theta0, omega0, w0, dps=30):
         k = mp.sqrt(m)
         out_th, out_om = [], []
         if m < 1:
-            phi0 = mp.atan2(mp.sin(thr / 2), om0 / (2 * w))     # am(u0): sn = sin(thr/2)/k, cn = om0/(2 k w)
+            phi0 = mp.atan2(mp.sin(thr / 2), om0 / (2 * w))  # am(u0): sn = sin(thr/2)/k, cn = om0/(2 k w)
             u0 = mp.ellipf(phi0, m)
             for tt in t:
                 u = w * mp.mpf(tt) + u0
@@ -126,6 +129,7 @@ def rk4_reference(t, theta0, omega0, w0, gamma, want=0.0):
 
     Returns theta, omega at t and the estimated error of the reference."""
     import pendula
+
     hmax = pendula.rk4_max_stable_step(w0, gamma)
     h = min(2 * np.pi / w0 / 200, 0.4 * hmax)
     tt = np.concatenate(([0.0], t)) if t[0] > 0 else t
@@ -152,8 +156,11 @@ def rk4_reference(t, theta0, omega0, w0, gamma, want=0.0):
 
         def rhs(_, y):
             return [y[1], -gamma * y[1] - w0 * w0 * np.sin(y[0])]
-        sols = [solve_ivp(rhs, (0.0, t[-1]), [theta0, omega0], method="DOP853", t_eval=t, rtol=r,
-                          atol=1e-16) for r in (1e-13, 2.5e-14)]
+
+        sols = [
+            solve_ivp(rhs, (0.0, t[-1]), [theta0, omega0], method="DOP853", t_eval=t, rtol=r, atol=1e-16)
+            for r in (1e-13, 2.5e-14)
+        ]
         e2 = max(np.max(np.abs(sols[0].y[0] - sols[1].y[0])), np.max(np.abs(sols[0].y[1] - sols[1].y[1])) / w0)
         if e2 < err:
             th, om, err = sols[1].y[0], sols[1].y[1], e2
@@ -163,26 +170,37 @@ def rk4_reference(t, theta0, omega0, w0, gamma, want=0.0):
 def run_grid(scenes=None, verbose=False):
     """Solve every scene and measure its true error; returns a list of dicts."""
     import pendula
+
     scenes = make_grid() if scenes is None else scenes
     rows = []
     for sc in scenes:
-        s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], gamma=sc["gamma"],
-                          tol=sc["tol"])
+        s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], gamma=sc["gamma"], tol=sc["tol"])
         res = pendula.solve(s)
         if sc["gamma"] == 0:
             th, om = mp_undamped(sc["t"], sc["theta0"], sc["omega0"], s.w0)
             ref_err = 0.0
         else:
-            th, om, ref_err = rk4_reference(sc["t"], sc["theta0"], sc["omega0"], s.w0, sc["gamma"],
-                                             sc["tol"] / 20)
+            th, om, ref_err = rk4_reference(sc["t"], sc["theta0"], sc["omega0"], s.w0, sc["gamma"], sc["tol"] / 20)
         err = max(np.max(np.abs(res.theta - th)), np.max(np.abs(res.omega - om)) / s.w0)
         m = np.sin(sc["theta0"] / 2) ** 2 + (sc["omega0"] / (2 * s.w0)) ** 2
-        row = dict(sc, model=res.model, est=res.error_estimate, err=float(err), ratio=float(err / sc["tol"]),
-                   ref_err=ref_err, tol_met=res.tol_met, m=float(m), cost=res.cost, reason=res.reason)
+        row = dict(
+            sc,
+            model=res.model,
+            est=res.error_estimate,
+            err=float(err),
+            ratio=float(err / sc["tol"]),
+            ref_err=ref_err,
+            tol_met=res.tol_met,
+            m=float(m),
+            cost=res.cost,
+            reason=res.reason,
+        )
         row.pop("t")
         rows.append(row)
         if verbose:
-            print(f"{sc['index']:4d} g/w0={sc['gamma']/s.w0:8.2e} th0={sc['theta0']:+.6f} om0={sc['omega0']:+.3f} "
-                  f"P={sc['periods']:7.1f} tol={sc['tol']:.1e} {res.model:11s} est={res.error_estimate:.1e} "
-                  f"err={err:.1e} r={err/sc['tol']:.2g} ref={ref_err:.0e} {res.cost['python_wall_time']:.3f}s")
+            print(
+                f"{sc['index']:4d} g/w0={sc['gamma'] / s.w0:8.2e} th0={sc['theta0']:+.6f} om0={sc['omega0']:+.3f} "
+                f"P={sc['periods']:7.1f} tol={sc['tol']:.1e} {res.model:11s} est={res.error_estimate:.1e} "
+                f"err={err:.1e} r={err / sc['tol']:.2g} ref={ref_err:.0e} {res.cost['python_wall_time']:.3f}s"
+            )
     return rows

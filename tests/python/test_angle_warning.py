@@ -1,6 +1,7 @@
 """pendula.AngleWarning: an amplitude |theta0| > 2 pi on a swinging pendulum is
 almost surely degrees given as radians (period(90)); rotations and trajectory
 angles are legitimate and never warn."""
+
 import math
 import warnings
 
@@ -46,7 +47,7 @@ def test_degrees_as_radians_warn_once_naming_theta0_and_how_to_silence(name):
     msg = str(caught[0].message)
     assert "theta0 = 90.0" in msg and "degrees" in msg and "numpy.radians" in msg
     assert "filterwarnings('ignore', category=pendula.AngleWarning)" in msg
-    assert caught[0].filename == __file__      # points at the caller's line, not into pendula
+    assert caught[0].filename == __file__  # points at the caller's line, not into pendula
     # an array with one such element warns once, naming that element
     _, caught = _caught(AMPLITUDE_FUNCS[name], np.array([0.1, -45.0, 30.0]))
     assert len(caught) == 1 and "theta0 = -45.0" in str(caught[0].message)

@@ -20,6 +20,7 @@ A new public function without an entry here, or an entry that declares no
 checked argument, FAILS ``test_every_public_callable_has_an_entry``: add it to
 the table (that is the point).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -29,13 +30,21 @@ import re
 
 import numpy as np
 import pytest
-
-import pendula
+from api_table import (
+    ALL_CASES,
+    API,
+    NONNEG,
+    NOT_ENTRY_POINTS,
+    POS,
+    REAL,
+    _as_array_arg,
+    _call,
+    _materialise,
+    _walk_numbers,
+)
 from helpers import HAVE_CVODE, ROOT, fortran_statements
 
-from api_table import (ALL_CASES, API, NONNEG, NOT_ENTRY_POINTS, POS, REAL, _as_array_arg, _call,
-                       _materialise, _walk_numbers)
-
+import pendula
 
 # ---- helpers --------------------------------------------------------------------
 
@@ -51,6 +60,7 @@ def _public_callables():
             out[name] = obj
     return out
 
+
 def _all_nan(result):
     vals = list(_walk_numbers(result))
     return bool(vals) and all(isinstance(v, numbers.Number) and v != v for v in vals)
@@ -58,20 +68,22 @@ def _all_nan(result):
 
 def _snapshot(kwargs):
     # zero-stride views of 2**31 elements are read-only and never copied
-    return {k: np.array(v, copy=True) for k, v in kwargs.items()
-            if isinstance(v, np.ndarray) and v.size < 10**6}
+    return {k: np.array(v, copy=True) for k, v in kwargs.items() if isinstance(v, np.ndarray) and v.size < 10**6}
 
 
 def _assert_unmodified(kwargs, snap):
     for k, before in snap.items():
         after = kwargs[k]
-        assert after.shape == before.shape and after.dtype == before.dtype, \
+        assert after.shape == before.shape and after.dtype == before.dtype, (
             f"argument {k} changed shape/dtype in the call"
+        )
         if before.dtype.kind in "fc":
             assert np.array_equal(after, before, equal_nan=True), f"argument {k} was modified in place"
         else:
-            assert all(a is b or a == b for a, b in zip(after.ravel(), before.ravel())), \
+            assert all(a is b or a == b for a, b in zip(after.ravel(), before.ravel())), (
                 f"argument {k} was modified in place"
+            )
+
 
 def _skip_if_unavailable(entry):
     if entry.needs_cvode and not HAVE_CVODE:
@@ -82,15 +94,13 @@ def _skip_if_unavailable(entry):
 def test_every_public_callable_has_an_entry():
     public = _public_callables()
     missing = sorted(set(public) - set(API))
-    assert not missing, ("public functions without a bad-input entry in "
-                         f"tests/python/test_bad_input.py: {missing}")
+    assert not missing, f"public functions without a bad-input entry in tests/python/test_bad_input.py: {missing}"
     stale = sorted(set(API) - set(public))
     assert not stale, f"table entries that are not public callables: {stale}"
     for name, entry in API.items():
         assert entry.args, f"{name}: an entry must declare at least one checked argument"
         sig = inspect.signature(public[name])
-        params = {p.name for p in sig.parameters.values()
-                  if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)}
+        params = {p.name for p in sig.parameters.values() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)}
         unknown = set(entry.args) - params
         assert not unknown, f"{name}: table names arguments it does not have: {unknown}"
         # Every real-valued or array parameter must be checked (or excused).
@@ -102,7 +112,8 @@ def test_every_public_callable_has_an_entry():
             d = p.default
             assert d is None or isinstance(d, (bool, str)), (
                 f"{name}({p.name}=...) has no entry in the bad-input table "
-                "(add it to args, or to unchecked with a reason)")
+                "(add it to args, or to unchecked with a reason)"
+            )
 
 
 @pytest.mark.parametrize("fname", sorted(API))
@@ -119,7 +130,7 @@ def test_valid_call_gives_finite_results_and_keeps_inputs(fname):
     assert all(np.isfinite(v) for v in vals), f"{fname}: the valid call returned non-finite values"
     # Array variants of array arguments: broadcasting keeps them untouched too.
     for aname, spec in entry.args.items():
-        if spec.array and aname in entry.valid:   # (an optional one left out stays out)
+        if spec.array and aname in entry.valid:  # (an optional one left out stays out)
             kw = dict(kwargs)
             kw[aname] = _as_array_arg(entry.valid[aname])
             snap = _snapshot(kw)
@@ -145,8 +156,7 @@ def _result_or_named_error(case, kwargs, spec):
     try:
         return _call(case.func, kwargs)
     except ValueError as exc:
-        assert _names_argument(str(exc), case.arg, spec), \
-            f"{case.id}: message does not name {case.arg!r}: {exc}"
+        assert _names_argument(str(exc), case.arg, spec), f"{case.id}: message does not name {case.arg!r}: {exc}"
     return _RAISED
 
 
@@ -166,28 +176,31 @@ def test_bad_input(case):
     elif expect == "nan-element":
         result = _call(case.func, kwargs)
         arr = np.asarray(result, dtype=float)
-        assert np.isnan(arr[..., 1]).all() and np.isfinite(arr[..., 0]).all(), \
+        assert np.isnan(arr[..., 1]).all() and np.isfinite(arr[..., 0]).all(), (
             f"{case.id}: NaN element must give NaN only there, got {result!r}"
+        )
     elif expect == "error-or-empty":
         result = _result_or_named_error(case, kwargs, spec)
         if result is not _RAISED:
             vals = list(_walk_numbers(result))
             assert not vals or all(np.isfinite(v) for v in vals)
             parts = result if isinstance(result, tuple) else (result,)
-            if dataclasses.is_dataclass(result):   # a result object: its arrays
+            if dataclasses.is_dataclass(result):  # a result object: its arrays
                 parts = [v for v in vars(result).values() if isinstance(v, np.ndarray)]
             arrs = [np.asarray(r) for r in parts]
-            for attr in ("codes", "scenes"):   # a batch (result): its status or scene array is the batch
+            for attr in ("codes", "scenes"):  # a batch (result): its status or scene array is the batch
                 if hasattr(result, attr):
                     arrs.append(np.asarray(getattr(result, attr)))
-            assert any(a.size == 0 for a in arrs), \
+            assert any(a.size == 0 for a in arrs), (
                 f"{case.id}: empty input must give an empty result or ValueError, got {result!r}"
+            )
     elif expect == "error-or-defined":
         result = _result_or_named_error(case, kwargs, spec)
         if result is not _RAISED:
             vals = list(_walk_numbers(result))
-            assert vals and not any(v != v for v in vals), \
+            assert vals and not any(v != v for v in vals), (
                 f"{case.id}: must raise ValueError or give a defined (non-NaN) value, got {result!r}"
+            )
     else:
         exc_types = expect
         with pytest.raises(exc_types) as info:
@@ -197,8 +210,7 @@ def test_bad_input(case):
         if case.arg in case.others or case.label.startswith("shape-mismatch"):
             assert _names_argument(msg, case.arg, spec) or "shape" in msg.lower() or "broadcast" in msg.lower()
         else:
-            assert _names_argument(msg, case.arg, spec), \
-                f"{case.id}: message does not name {case.arg!r}: {msg!r}"
+            assert _names_argument(msg, case.arg, spec), f"{case.id}: message does not name {case.arg!r}: {msg!r}"
     _assert_unmodified(kwargs, snap)
 
 
@@ -208,16 +220,19 @@ EXTREMES = {
     POS: (1e-300, 5e-324, 1e300, 1e154, 1e-10, 1e10),
     NONNEG: (0.0, 5e-324, 1e300, 1e10),
 }
-EXTREME_CASES = [(f, a, x) for f, e in API.items() for a, spec in e.args.items()
-                 for x in (spec.extremes if spec.extremes is not None else EXTREMES.get(spec.kind, ()))
-                 if x not in spec.out_of_domain]
+EXTREME_CASES = [
+    (f, a, x)
+    for f, e in API.items()
+    for a, spec in e.args.items()
+    for x in (spec.extremes if spec.extremes is not None else EXTREMES.get(spec.kind, ()))
+    if x not in spec.out_of_domain
+]
 # A number printed without its exponent letter ("1.00000+300", Fortran's Ew.d
 # for 3-digit exponents) is garbage in a message.
 _MANGLED = re.compile(r"\d[+-]\d{3}(?![\d.])")
 
 
-@pytest.mark.parametrize("fname, arg, value", EXTREME_CASES,
-                         ids=[f"{f}-{a}-{x!r}" for f, a, x in EXTREME_CASES])
+@pytest.mark.parametrize("fname, arg, value", EXTREME_CASES, ids=[f"{f}-{a}-{x!r}" for f, a, x in EXTREME_CASES])
 def test_extreme_valid_values(fname, arg, value):
     """Huge, tiny and subnormal values inside the domain: a result without NaN,
     or a clear error (ValueError naming the argument, or PendulaSolverError
@@ -247,8 +262,7 @@ def test_case_count_report():
     """Not a check of the library: records how much this file tries."""
     n_entry = len(API)
     n_cases = len(ALL_CASES)
-    print(f"\nbad-input table: {n_entry} entry points, {n_cases} bad inputs, "
-          f"{len(EXTREME_CASES)} extreme valid values")
+    print(f"\nbad-input table: {n_entry} entry points, {n_cases} bad inputs, {len(EXTREME_CASES)} extreme valid values")
     assert n_cases >= 10 * n_entry
 
 
@@ -266,17 +280,21 @@ FORTRAN_NO_STATUS = {
     "regime_name": "total function of a regime code",
     "equilibrium_type_name": "total function of a type code",
     "undamped_regime_name": "total function of a regime code",
-    "scene_model_code": "total function of a name", "scene_model_name": "total function of a code",
-    "scene_want_code": "total function of a name", "scene_want_name": "total function of a code",
+    "scene_model_code": "total function of a name",
+    "scene_model_name": "total function of a code",
+    "scene_want_code": "total function of a name",
+    "scene_want_name": "total function of a code",
     "cvode_available": "no arguments",
     "kernel_path": "no arguments (chosen once at load time)",
     "kernel_path_available": "total function of a kernel path code",
     # the batch RK4 block kernel of the running path: rk4_batch_solve checks the states first
     "rk4_lanes": "unchecked kernel behind rk4_batch_solve (pendula_dispatch)",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
-    "ellipj_plan": "elliptic rule", "ellipj_planm1": "elliptic rule",
+    "ellipj_plan": "elliptic rule",
+    "ellipj_planm1": "elliptic rule",
     # whether a Jacobi plan pays off: a total decision on (m, n) for any m and n
-    "ellipj_plan_pays": "total decision", "ellipjm1_plan_pays": "total decision",
+    "ellipj_plan_pays": "total decision",
+    "ellipjm1_plan_pays": "total decision",
     # the same for a motion built (and checked) by undamped_init, and adding that plan to it
     "undamped_plan_pays": "total decision on a checked motion",
     "undamped_add_plan": "acts on a motion undamped_init built and checked",
@@ -298,13 +316,16 @@ def _fortran_public_procedures():
             m = re.match(r"module\s+(?!procedure)(\w+)\s*$", st, re.I)
             if m:
                 mod = m.group(1).lower()
-                module_file.setdefault(mod, set()).add(f)   # pendula_cvode has a stub twin
+                module_file.setdefault(mod, set()).add(f)  # pendula_cvode has a stub twin
                 public_of.setdefault(mod, set())
             m = re.match(r"public\s*::\s*(.*)", st, re.I)
             if m and mod:
                 public_of[mod] |= {x.strip().lower() for x in m.group(1).split(",")}
-    umbrella = [re.match(r"use\s+(\w+)", st, re.I).group(1).lower()
-                for _, st in parsed[ROOT / "src" / "pendula.f90"] if re.match(r"use\s+\w+", st, re.I)]
+    umbrella = [
+        re.match(r"use\s+(\w+)", st, re.I).group(1).lower()
+        for _, st in parsed[ROOT / "src" / "pendula.f90"]
+        if re.match(r"use\s+\w+", st, re.I)
+    ]
     exported = set().union(*(public_of.get(m, set()) for m in umbrella))
     out = []
     for f, lines in parsed.items():
@@ -312,9 +333,12 @@ def _fortran_public_procedures():
         procs = {}
         for _, st in lines:
             low = st.lower()
-            m = re.match(r"((?:(?:pure|elemental|impure|recursive|module)\s+)*)"
-                         r"(?:(?:real|integer|logical|character|type|class|complex)\b[^:]*?\s+)?"
-                         r"(subroutine|function)\s+(\w+)\s*\(", low)
+            m = re.match(
+                r"((?:(?:pure|elemental|impure|recursive|module)\s+)*)"
+                r"(?:(?:real|integer|logical|character|type|class|complex)\b[^:]*?\s+)?"
+                r"(subroutine|function)\s+(\w+)\s*\(",
+                low,
+            )
             if m and not low.startswith("end"):
                 cur = m.group(3)
                 procs[cur] = {"elemental": "elemental" in m.group(1), "status": False}
@@ -334,12 +358,21 @@ def _fortran_public_procedures():
 def test_fortran_public_procedures_report_a_status():
     procs = _fortran_public_procedures()
     assert len(procs) > 20, "the scan of src/ found too few public procedures"
-    bad = [f"{path}: {name}" for path, name, p in procs
-           if not p["elemental"] and not p["status"] and name not in FORTRAN_NO_STATUS
-           and not str(path).endswith("pendula_status.f90")]
-    assert not bad, ("public non-elemental Fortran procedures without a type(status_t) argument "
-                     "(add one, or an exemption with its reason to FORTRAN_NO_STATUS):\n" + "\n".join(bad))
-    uniq = {name: p for _, name, p in procs}   # the CVODE stub twin defines the same names
-    print(f"\nFortran API (use pendula): {len(uniq)} procedures, "
-          f"{sum(1 for p in uniq.values() if p['status'])} with a status, "
-          f"{sum(1 for p in uniq.values() if p['elemental'])} elemental")
+    bad = [
+        f"{path}: {name}"
+        for path, name, p in procs
+        if not p["elemental"]
+        and not p["status"]
+        and name not in FORTRAN_NO_STATUS
+        and not str(path).endswith("pendula_status.f90")
+    ]
+    assert not bad, (
+        "public non-elemental Fortran procedures without a type(status_t) argument "
+        "(add one, or an exemption with its reason to FORTRAN_NO_STATUS):\n" + "\n".join(bad)
+    )
+    uniq = {name: p for _, name, p in procs}  # the CVODE stub twin defines the same names
+    print(
+        f"\nFortran API (use pendula): {len(uniq)} procedures, "
+        f"{sum(1 for p in uniq.values() if p['status'])} with a status, "
+        f"{sum(1 for p in uniq.values() if p['elemental'])} elemental"
+    )

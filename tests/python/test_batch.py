@@ -8,6 +8,7 @@ stops the call with the finished states kept.  Accuracy itself is pendula.rk4's
 (tested against mpmath in test_integrators.py); here one ensemble is also
 checked against SciPy's DOP853 at rtol 1e-12.
 """
+
 import math
 import os
 import threading
@@ -15,12 +16,11 @@ import time
 
 import numpy as np
 import pytest
+from helpers import dop853_text_scene, finished_states_of_cancelled_batch, forked_child_exit_code, text_scene_ensemble
 
 import pendula
-from helpers import (dop853_text_scene, finished_states_of_cancelled_batch, forked_child_exit_code,
-                     text_scene_ensemble)
-from pendula._many import kernels as _batch
 from pendula._errors import ERR_DOMAIN, ERR_NONFINITE, ERR_SOLVER, ERR_UNSTABLE, OK
+from pendula._many import kernels as _batch
 
 T = np.linspace(0.0, 30.0, 121)
 W0 = math.sqrt(2.0)
@@ -83,8 +83,8 @@ def test_shapes(shape):
 
 
 def test_broadcast():
-    th0 = np.array([0.1, 0.5, 1.0])[:, None]        # (3, 1)
-    gam = np.array([0.0, 0.1, 0.5, 2.0])             # (4,)
+    th0 = np.array([0.1, 0.5, 1.0])[:, None]  # (3, 1)
+    gam = np.array([0.0, 0.1, 0.5, 2.0])  # (4,)
     r = _batch.rk4_batch(T, th0, 0.0, W0, gam, 0.05)
     assert r.theta.shape == (3, 4, T.size)
     for i in range(3):
@@ -100,10 +100,10 @@ def test_per_state_failures():
     w0 = np.full(n, W0)
     gam = np.full(n, 0.1)
     om0 = np.zeros(n)
-    w0[2] = 100.0           # unstable for h = 0.05
-    w0[5] = -1.0            # domain
-    th0[7] = np.nan         # non-finite
-    om0[9] = 1.7e308        # overflows during the run (solver failure)
+    w0[2] = 100.0  # unstable for h = 0.05
+    w0[5] = -1.0  # domain
+    th0[7] = np.nan  # non-finite
+    om0[9] = 1.7e308  # overflows during the run (solver failure)
     w0[9] = 1e-3
     gam[9] = 0.0
     before = [a.copy() for a in (th0, om0, w0, gam)]
@@ -113,7 +113,7 @@ def test_per_state_failures():
         assert r.code == ERR_UNSTABLE and r.first_failed == 2
         assert r.message.startswith("state 3 of 12 (4 failed") and "largest stable h" in r.message
         assert not r.ok[[2, 5, 7, 9]].any() and r.ok.sum() == n - 4
-        assert np.isnan(r.theta[[2, 5, 7, 9]]).all() and np.isnan(r.omega[[2, 5, 7, 9]]).all()   # never data
+        assert np.isnan(r.theta[[2, 5, 7, 9]]).all() and np.isnan(r.omega[[2, 5, 7, 9]]).all()  # never data
         for i in np.flatnonzero(r.ok):
             s = pendula.rk4(T, th0[i], om0[i], w0[i], gam[i], 0.05)
             assert np.array_equal(r.theta[i], s.theta) and np.array_equal(r.omega[i], s.omega)
@@ -122,7 +122,7 @@ def test_per_state_failures():
         pendula.rk4(T, th0[2], 0.0, w0[2], 0.1, 0.05)
     with pytest.raises(pendula.PendulaSolverError, match="non-finite"):
         pendula.rk4(T, th0[9], om0[9], w0[9], 0.0, 0.05)
-    for a, b in zip(before, (th0, om0, w0, gam)):   # inputs untouched
+    for a, b in zip(before, (th0, om0, w0, gam)):  # inputs untouched
         assert np.array_equal(a, b, equal_nan=True)
 
 
@@ -190,5 +190,6 @@ def test_openmp_flag_is_boolean():
 def test_forked_child_after_threaded_parent_does_not_hang():
     # GNU OpenMP's thread pool does not survive fork: the child must not try
     # to use it (it would hang); it runs on one thread with the same results.
-    assert forked_child_exit_code(lambda: _batch.rk4_batch(T, np.linspace(-1, 1, 64), 2.0, W0, 0.1, 0.05,
-                                                           threads=2)) == 0
+    assert (
+        forked_child_exit_code(lambda: _batch.rk4_batch(T, np.linspace(-1, 1, 64), 2.0, W0, 0.1, 0.05, threads=2)) == 0
+    )

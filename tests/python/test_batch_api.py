@@ -5,12 +5,13 @@ Every state of a batch must equal the scalar call for that state bit for bit
 and thread count; per-state failures are reported per state and never cost
 the other states their answers; a batch whose every state failed raises.
 """
+
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE
 
 import pendula
-from helpers import HAVE_CVODE
-from pendula._errors import OK, ERR_MAXSTEPS, ERR_UNSTABLE
+from pendula._errors import ERR_MAXSTEPS, ERR_UNSTABLE, OK
 
 T = np.linspace(0.0, 30.0, 61)
 # text's damped scene plus a rotating start and an extreme angle
@@ -38,8 +39,11 @@ def _check_states(res, fn, th0, om0, w0, gam, **kw):
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("shape", ["1-D", "2-D", "broadcast"])
 def test_rk4_batch_is_the_scalar_call_bit_for_bit(shape, threads):
-    th0, om0, w0, gam = {"1-D": (TH0[0], 0.5, 1.4, 0.1), "2-D": (TH0, 0.5, 1.4, np.full((2, 3), 0.1)),
-                         "broadcast": (TH0[:, :1], OM0, np.array([1.4, 2.0, 0.7]), 0.05)}[shape]
+    th0, om0, w0, gam = {
+        "1-D": (TH0[0], 0.5, 1.4, 0.1),
+        "2-D": (TH0, 0.5, 1.4, np.full((2, 3), 0.1)),
+        "broadcast": (TH0[:, :1], OM0, np.array([1.4, 2.0, 0.7]), 0.05),
+    }[shape]
     res = pendula.rk4(T, th0, om0, w0, gam, 0.05, threads=threads)
     assert isinstance(res, pendula.BatchIntegrationResult) and res.method == "rk4"
     _check_states(res, pendula.rk4, th0, om0, w0, gam, h=0.05)
@@ -88,7 +92,7 @@ def test_rk4_mixed_failures_keep_the_other_states():
     assert res.codes.tolist() == [OK, ERR_UNSTABLE, OK, ERR_UNSTABLE]
     assert res.ok.tolist() == [True, False, True, False] and res.first_failed == 1
     assert res.message.startswith("2 of 4 states failed (see codes); the first: h[1] = 0.05 is unstable")
-    assert np.isnan(res.theta[[1, 3]]).all() and np.isnan(res.omega[[1, 3]]).all()   # never data
+    assert np.isnan(res.theta[[1, 3]]).all() and np.isnan(res.omega[[1, 3]]).all()  # never data
     for i in (0, 2):
         assert np.array_equal(res.theta[i], pendula.rk4(T, 0.3, 0.0, w0[i], 0.1, 0.05).theta)
 
@@ -115,8 +119,9 @@ def test_bad_value_in_one_state_raises_naming_state_and_argument():
     with pytest.raises(ValueError, match=r"^w0\[2\] = -1 is out of range"):
         pendula.rk4(T, 0.3, 0.0, [1.0, 2.0, -1.0, 3.0], 0.1, 0.05)
     with pytest.raises(ValueError, match=r"^w0\[1, 0\] = -1 is out of range"):
-        pendula.cvode(T, [[0.3], [0.2]], 0.0, [[1.0], [-1.0]], 0.1) if pendula.build_info()["cvode"] else \
-            pendula.rk4(T, [[0.3], [0.2]], 0.0, [[1.0], [-1.0]], 0.1, 0.05)
+        pendula.cvode(T, [[0.3], [0.2]], 0.0, [[1.0], [-1.0]], 0.1) if pendula.build_info()["cvode"] else pendula.rk4(
+            T, [[0.3], [0.2]], 0.0, [[1.0], [-1.0]], 0.1, 0.05
+        )
     with pytest.raises(ValueError, match="broadcast"):
         pendula.rk4(T, [0.1, 0.2], [0.0, 0.1, 0.2], 1.4, 0.1, 0.05)
 
@@ -129,8 +134,9 @@ def test_inputs_are_not_modified():
 
 def test_progress_callback_counts_states():
     seen = []
-    res = pendula.rk4(T, np.linspace(0, 1, 50), 0.0, 1.4, 0.1, 0.05,
-                      progress=lambda done, total: seen.append((done, total)))
+    res = pendula.rk4(
+        T, np.linspace(0, 1, 50), 0.0, 1.4, 0.1, 0.05, progress=lambda done, total: seen.append((done, total))
+    )
     assert res.ok.all() and seen and seen[-1] == (50, 50)
     assert all(total == 50 and 0 <= done <= 50 for done, total in seen)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
@@ -152,8 +158,11 @@ def test_scene_batch_is_the_scalar_solve_bit_for_bit(fn, threads):
     kw = dict(theta0=np.array([[0.2, 1.0, 3.0]]), gamma=np.array([[0.0], [0.1]]), tol=1e-7)
     batch = pendula.Scene(t=TS, **kw)
     assert isinstance(batch, pendula.SceneBatch) and batch.shape == (2, 3)
-    call = (lambda s, **k: pendula.solve(s, **k)) if fn == "solve" else \
-        (lambda s, **k: pendula.run_model(s, "rk4", 0.01, **k))
+    call = (
+        (lambda s, **k: pendula.solve(s, **k))
+        if fn == "solve"
+        else (lambda s, **k: pendula.run_model(s, "rk4", 0.01, **k))
+    )
     res = call(batch, threads=threads)
     assert res.ok.all() and res.theta.shape == (2, 3, TS.size) and res.message == ""
     for idx, one in _scene_states(kw, (2, 3)):
@@ -176,8 +185,7 @@ def test_scene_batch_wants_and_scalar_t():
 
 def test_scene_batch_mixed_failures_and_all_failed():
     # length 4.9e-4 m: w0 = 141 1/s, so the RK4 step 0.05 s is unstable for that scene alone
-    mixed = pendula.run_model(pendula.Scene([0.3, 0.4], t=[0.0, 10.0], gamma=0.1, length=[4.9, 4.9e-4]),
-                              "rk4", 0.05)
+    mixed = pendula.run_model(pendula.Scene([0.3, 0.4], t=[0.0, 10.0], gamma=0.1, length=[4.9, 4.9e-4]), "rk4", 0.05)
     assert mixed.codes[0] == OK and mixed.codes[1] == ERR_UNSTABLE and mixed.first_failed == 1
     assert mixed.message.startswith("1 of 2 states failed (see codes); the first: state [1]: h = 0.05 is unstable")
     assert "unstable" in mixed.messages[1]
@@ -198,14 +206,16 @@ def test_scene_batch_empty_and_progress():
     res = pendula.solve(pendula.Scene(np.zeros(0), t=TS))
     assert res.codes.shape == (0,) and res.results.shape == (0,)
     seen = []
-    res = pendula.solve(pendula.Scene(np.linspace(0.1, 1.0, 7), t=TS, gamma=0.1),
-                        progress=lambda done, total: seen.append((done, total)), threads=2)
+    res = pendula.solve(
+        pendula.Scene(np.linspace(0.1, 1.0, 7), t=TS, gamma=0.1),
+        progress=lambda done, total: seen.append((done, total)),
+        threads=2,
+    )
     assert res.ok.all() and seen[-1] == (7, 7)
 
 
 def test_tradeoff_of_a_batch_is_one_table_per_scene():
-    tables = pendula.tradeoff(pendula.Scene([0.2, 1.0], t=TS), models=["exact", "rk4"], rk4_steps=[0.05],
-                              repeat=1)
+    tables = pendula.tradeoff(pendula.Scene([0.2, 1.0], t=TS), models=["exact", "rk4"], rk4_steps=[0.05], repeat=1)
     assert tables.shape == (2,)
     one = pendula.tradeoff(pendula.Scene(1.0, t=TS), models=["exact", "rk4"], rk4_steps=[0.05], repeat=1)
     assert tables[1].column("sup_error") == one.column("sup_error")
@@ -213,6 +223,7 @@ def test_tradeoff_of_a_batch_is_one_table_per_scene():
 
 def test_scenes_and_scene_batches_pickle():
     import pickle
+
     s = pendula.Scene(0.3, t=TS, gamma=0.1)
     assert repr(pickle.loads(pickle.dumps(s))) == repr(s)
     b = pickle.loads(pickle.dumps(pendula.Scene([0.3, 0.4], t=TS)))

@@ -9,6 +9,7 @@ thread stops the call with the finished states kept.  Accuracy is
 pendula.cvode's (tested in test_integrators.py); one ensemble of the text's
 damped scene is also checked against SciPy's DOP853 at rtol 1e-12.
 """
+
 import math
 import os
 import threading
@@ -16,18 +17,17 @@ import time
 
 import numpy as np
 import pytest
+from helpers import dop853_text_scene, finished_states_of_cancelled_batch, forked_child_exit_code, text_scene_ensemble
 
 import pendula
-from helpers import (dop853_text_scene, finished_states_of_cancelled_batch, forked_child_exit_code,
-                     text_scene_ensemble)
-from pendula._many import kernels as _batch
 from pendula._errors import ERR_DOMAIN, ERR_MAXSTEPS, ERR_NONFINITE, ERR_SOLVER, OK
+from pendula._many import kernels as _batch
 
 pytestmark = pytest.mark.skipif(not pendula.have_cvode(), reason="this build has no CVODE")
 
 T = np.linspace(0.0, 30.0, 121)
 W0 = math.sqrt(2.0)
-REFUSED = -1   # pendula.cvode raised ValueError: ERR_NONFINITE or ERR_DOMAIN
+REFUSED = -1  # pendula.cvode raised ValueError: ERR_NONFINITE or ERR_DOMAIN
 
 
 def mixed_states(n=40, seed=3):

@@ -1,4 +1,5 @@
 """pendula.build_info(): what meson configured, checked against the files it names."""
+
 import re
 import shutil
 import subprocess

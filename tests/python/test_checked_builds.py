@@ -10,6 +10,7 @@ Both build in their own folders (build/checked, build/memcheck) from the source
 tree beside this file.  They are slow (a build each, valgrind ~30x), so they
 carry the `slow` marker: `pytest -m "not slow"` deselects them.
 """
+
 import os
 import pathlib
 import shutil
@@ -22,18 +23,29 @@ TOOLS = ROOT / "tools"
 
 pytestmark = [
     pytest.mark.slow,
-    pytest.mark.skipif(not (TOOLS / "checked-build.sh").is_file() or not (ROOT / "meson.build").is_file(),
-                       reason="needs the source tree (tools/, meson.build)"),
-    pytest.mark.skipif(shutil.which("meson") is None or shutil.which("gfortran") is None
-                       or shutil.which("ninja") is None, reason="needs meson, ninja and gfortran"),
+    pytest.mark.skipif(
+        not (TOOLS / "checked-build.sh").is_file() or not (ROOT / "meson.build").is_file(),
+        reason="needs the source tree (tools/, meson.build)",
+    ),
+    pytest.mark.skipif(
+        shutil.which("meson") is None or shutil.which("gfortran") is None or shutil.which("ninja") is None,
+        reason="needs meson, ninja and gfortran",
+    ),
 ]
 
 
 def _run(script, build_dir):
     env = dict(os.environ)
     env.setdefault("PENDULA_TEST_QUICK", "1")
-    proc = subprocess.run(["bash", str(TOOLS / script), str(ROOT / build_dir)], cwd=ROOT, env=env,
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=1500)
+    proc = subprocess.run(
+        ["bash", str(TOOLS / script), str(ROOT / build_dir)],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        timeout=1500,
+    )
     print(proc.stdout[-6000:])
     return proc
 

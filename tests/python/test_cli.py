@@ -1,4 +1,5 @@
 """The command line: python -m pendula {figures, period, solve, tradeoff}, help and errors."""
+
 import csv
 import math
 import pathlib
@@ -26,6 +27,7 @@ def run(argv, capsys):
 
 # ---------------------------------------------------------------- help
 
+
 def test_help_lists_subcommands_and_units(capsys):
     code, out, _ = run(["--help"], capsys)
     assert code == 0
@@ -33,12 +35,15 @@ def test_help_lists_subcommands_and_units(capsys):
         assert word in out
 
 
-@pytest.mark.parametrize("sub, words", [
-    ("figures", ["--out", "--quick", "PNG"]),
-    ("period", ["--theta0", "rad", "rad/s", "m/s^2", "Times in s"]),
-    ("solve", ["--theta0", "--t-end", "--tol", "--gamma", "kg/s", "--csv", "1/s"]),
-    ("tradeoff", ["--theta0", "--csv", "--png", "wall time"]),
-])
+@pytest.mark.parametrize(
+    "sub, words",
+    [
+        ("figures", ["--out", "--quick", "PNG"]),
+        ("period", ["--theta0", "rad", "rad/s", "m/s^2", "Times in s"]),
+        ("solve", ["--theta0", "--t-end", "--tol", "--gamma", "kg/s", "--csv", "1/s"]),
+        ("tradeoff", ["--theta0", "--csv", "--png", "wall time"]),
+    ],
+)
 def test_subcommand_help_explains_flags_with_units(capsys, sub, words):
     code, out, _ = run([sub, "--help"], capsys)
     assert code == 0
@@ -57,6 +62,7 @@ def test_version(capsys):
 
 
 # ---------------------------------------------------------------- period
+
 
 def test_period_matches_library_and_writes_csv(capsys, tmp_path):
     path = tmp_path / "p.csv"
@@ -82,20 +88,24 @@ def test_period_rotation_and_custom_length(capsys):
 
 # ---------------------------------------------------------------- errors
 
-@pytest.mark.parametrize("argv, expect", [
-    (["period", "--theta0", "nan"], "--theta0: 'nan' is not a finite number"),
-    (["period", "--theta0", "abc"], "--theta0: 'abc' is not an angle: give radians (1.57 or 1.57rad) or degrees"),
-    (["period", "--theta0", "1", "--g", "-9.8"], "--g: '-9.8' must be > 0"),
-    (["period", "--theta0", "1", "--length", "0"], "--length/-l: '0' must be > 0"),
-    (["period"], "the following arguments are required: --theta0"),
-    (["solve", "--theta0", "1"], "--t-end"),
-    (["solve", "--theta0", "1", "--t-end", "5", "--n", "1"], "--n: '1' must be an integer in [2, 10000000]"),
-    (["solve", "--theta0", "1", "--t-end", "5", "--tol", "0"], "--tol: '0' must be > 0"),
-    (["solve", "--theta0", "1", "--t-end", "5", "--gamma", "-1"], "--gamma: '-1' must be >= 0"),
-    (["solve", "--theta0", "1", "--t-end", "inf"], "--t-end: 'inf' is not a finite number"),
-    (["bogus"], "invalid choice: 'bogus'"),
-    (["period", "--theta0", "1", "--frobnicate"], "unrecognized arguments: --frobnicate"),
-])
+
+@pytest.mark.parametrize(
+    "argv, expect",
+    [
+        (["period", "--theta0", "nan"], "--theta0: 'nan' is not a finite number"),
+        (["period", "--theta0", "abc"], "--theta0: 'abc' is not an angle: give radians (1.57 or 1.57rad) or degrees"),
+        (["period", "--theta0", "1", "--g", "-9.8"], "--g: '-9.8' must be > 0"),
+        (["period", "--theta0", "1", "--length", "0"], "--length/-l: '0' must be > 0"),
+        (["period"], "the following arguments are required: --theta0"),
+        (["solve", "--theta0", "1"], "--t-end"),
+        (["solve", "--theta0", "1", "--t-end", "5", "--n", "1"], "--n: '1' must be an integer in [2, 10000000]"),
+        (["solve", "--theta0", "1", "--t-end", "5", "--tol", "0"], "--tol: '0' must be > 0"),
+        (["solve", "--theta0", "1", "--t-end", "5", "--gamma", "-1"], "--gamma: '-1' must be >= 0"),
+        (["solve", "--theta0", "1", "--t-end", "inf"], "--t-end: 'inf' is not a finite number"),
+        (["bogus"], "invalid choice: 'bogus'"),
+        (["period", "--theta0", "1", "--frobnicate"], "unrecognized arguments: --frobnicate"),
+    ],
+)
 def test_bad_flags_exit_2_with_message(capsys, argv, expect):
     code, _, err = run(argv, capsys)
     assert code == 2
@@ -104,11 +114,14 @@ def test_bad_flags_exit_2_with_message(capsys, argv, expect):
 
 # The damping rule is the library's (scene_physics): mass and b together, and
 # gamma with them only when it equals b/mass; the CLI passes the flags through.
-@pytest.mark.parametrize("extra, expect", [
-    (["--gamma", "1", "--mass", "0.1", "--b", "0.01"], "disagree: give gamma, or mass and b, not both"),
-    (["--b", "0.01"], "b is given without mass"),
-    (["--mass", "0.1"], "mass is given without b"),
-])
+@pytest.mark.parametrize(
+    "extra, expect",
+    [
+        (["--gamma", "1", "--mass", "0.1", "--b", "0.01"], "disagree: give gamma, or mass and b, not both"),
+        (["--b", "0.01"], "b is given without mass"),
+        (["--mass", "0.1"], "mass is given without b"),
+    ],
+)
 def test_inconsistent_damping_flags(capsys, extra, expect):
     code, _, err = run(["solve", "--theta0", "1", "--t-end", "5"] + extra, capsys)
     assert code == 2
@@ -144,13 +157,17 @@ def test_figures_list(capsys):
 
 # ---------------------------------------------------------------- figures
 
+
 def test_figures_writes_pngs(capsys, tmp_path):
     pytest.importorskip("matplotlib")
     code, out, _ = run(["figures", "--out", str(tmp_path), "--quick", "--only", "fig03,fig10,figA3"], capsys)
     assert code == 0
     pngs = sorted(p.name for p in tmp_path.glob("*.png"))
-    assert pngs == ["fig03_complete_elliptic_K_vs_k.png", "fig10_overdamped_gamma_3w0_theta_omega.png",
-                    "figA3_period_and_revolution_time_vs_energy_through_separatrix.png"]
+    assert pngs == [
+        "fig03_complete_elliptic_K_vs_k.png",
+        "fig10_overdamped_gamma_3w0_theta_omega.png",
+        "figA3_period_and_revolution_time_vs_energy_through_separatrix.png",
+    ]
     for p in tmp_path.glob("*.png"):
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 10_000
     assert f"wrote 3 figure(s) to {tmp_path.resolve()}" in out
@@ -158,15 +175,17 @@ def test_figures_writes_pngs(capsys, tmp_path):
 
 # ---------------------------------------------------------------- solve / tradeoff
 
-needs_scenes = pytest.mark.skipif(not (hasattr(pendula, "Scene") and hasattr(pendula, "solve")),
-                                  reason="the scenes module is not in this build")
+needs_scenes = pytest.mark.skipif(
+    not (hasattr(pendula, "Scene") and hasattr(pendula, "solve")), reason="the scenes module is not in this build"
+)
 
 
 @needs_scenes
 def test_solve_undamped_csv_matches_exact(capsys, tmp_path):
     path = tmp_path / "s.csv"
-    code, out, err = run(["solve", "--theta0", "2.0", "--t-end", "10", "--n", "51", "--tol", "1e-8",
-                          "--csv", str(path)], capsys)
+    code, out, err = run(
+        ["solve", "--theta0", "2.0", "--t-end", "10", "--n", "51", "--tol", "1e-8", "--csv", str(path)], capsys
+    )
     assert code == 0, err
     assert "model:" in out and "reason:" in out
     data = np.loadtxt(path, delimiter=",", skiprows=1)
@@ -179,8 +198,10 @@ def test_solve_undamped_csv_matches_exact(capsys, tmp_path):
 
 @needs_scenes
 def test_solve_prints_table_with_mass_and_b(capsys):
-    code, out, err = run(["solve", "--theta0", "0", "--omega0", "2", "--t-end", "30", "--mass", "0.1",
-                          "--b", "0.01", "--n", "31"], capsys)
+    code, out, err = run(
+        ["solve", "--theta0", "0", "--omega0", "2", "--t-end", "30", "--mass", "0.1", "--b", "0.01", "--n", "31"],
+        capsys,
+    )
     assert code == 0, err
     assert "t_s" in out and "theta_rad" in out and "..." in out
 
@@ -188,8 +209,7 @@ def test_solve_prints_table_with_mass_and_b(capsys):
 @needs_scenes
 def test_tradeoff_writes_csv(capsys, tmp_path):
     path = tmp_path / "t.csv"
-    code, out, err = run(["tradeoff", "--theta0", "1.0", "--t-end", "5", "--n", "11", "--csv", str(path)],
-                         capsys)
+    code, out, err = run(["tradeoff", "--theta0", "1.0", "--t-end", "5", "--n", "11", "--csv", str(path)], capsys)
     assert code == 0, err
     with open(path) as fh:
         rows = list(csv.DictReader(fh))
@@ -198,13 +218,16 @@ def test_tradeoff_writes_csv(capsys, tmp_path):
 
 # ---------------------------------------------------------------- python -m pendula
 
+
 def test_python_dash_m_entry_point():
-    proc = subprocess.run([sys.executable, "-m", "pendula", "period", "--theta0", "1.0"],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-m", "pendula", "period", "--theta0", "1.0"], capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode == 0, proc.stderr
     assert f"{float(pendula.period(1.0, 0.0, W0)):.12g}" in proc.stdout
-    proc = subprocess.run([sys.executable, "-m", "pendula", "period", "--theta0", "x"],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-m", "pendula", "period", "--theta0", "x"], capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode == 2 and "'x' is not an angle" in proc.stderr
 
 
@@ -219,13 +242,33 @@ def test_solve_want_period_final_events(capsys, tmp_path):
     line = [ln for ln in out.splitlines() if ln.startswith("final state")][0]
     assert abs(float(line.split("theta = ")[1].split(" rad")[0]) - th) < 1e-8
     path = tmp_path / "ev.csv"
-    code, out, err = run(["solve", "--theta0", "0", "--omega0", "2", "--t-end", "30", "--mass", "0.1",
-                          "--b", "0.01", "--want", "events", "--csv", str(path)], capsys)
+    code, out, err = run(
+        [
+            "solve",
+            "--theta0",
+            "0",
+            "--omega0",
+            "2",
+            "--t-end",
+            "30",
+            "--mass",
+            "0.1",
+            "--b",
+            "0.01",
+            "--want",
+            "events",
+            "--csv",
+            str(path),
+        ],
+        capsys,
+    )
     assert code == 0, err
     with open(path) as fh:
         rows = list(csv.DictReader(fh))
-    assert len(rows) > 10 and {r["kind"] for r in rows} == {"turning point (Omega = 0)",
-                                                             "zero crossing (theta = 0 mod 2 pi)"}
+    assert len(rows) > 10 and {r["kind"] for r in rows} == {
+        "turning point (Omega = 0)",
+        "zero crossing (theta = 0 mod 2 pi)",
+    }
     assert all(float(a["t_s"]) < float(b["t_s"]) for a, b in zip(rows, rows[1:]))
 
 
@@ -260,15 +303,16 @@ def test_a_failing_figure_is_reported_and_the_others_drawn(capsys, tmp_path, mon
 
 @needs_scenes
 def test_tradeoff_models_subset_and_errors(capsys, tmp_path):
-    code, out, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--n", "11", "--models", "exact,rk4",
-                          "--repeat", "2"], capsys)
+    code, out, err = run(
+        ["tradeoff", "--theta0", "0.5", "--t-end", "5", "--n", "11", "--models", "exact,rk4", "--repeat", "2"], capsys
+    )
     assert code == 0, err
     lines = [ln.split()[0] for ln in out.splitlines()[2:] if ln.strip()]
     assert set(lines) == {"exact", "rk4"}
     code, _, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--models", "euler"], capsys)
     assert code == 2 and "--models: unknown model(s) euler" in err
     code, _, err = run(["tradeoff", "--theta0", "0.5", "--t-end", "5", "--gamma", "1", "--models", "exact"], capsys)
-    assert code == 2 and "do not apply" in err   # the library's ValueError, reported
+    assert code == 2 and "do not apply" in err  # the library's ValueError, reported
 
 
 # ---------------------------------------------------------------- output paths
@@ -277,13 +321,16 @@ _SOLVE = ["solve", "--theta0", "0.5", "--t-end", "2", "--n", "5"]
 _TRADEOFF = ["tradeoff", "--theta0", "0.5", "--t-end", "2", "--n", "5", "--models", "exact", "--repeat", "2"]
 
 
-@pytest.mark.parametrize("argv, option", [
-    (["period", "--theta0", "0.1", "--csv"], "--csv"),
-    (_SOLVE + ["--csv"], "--csv"),
-    (_SOLVE + ["--png"], "--png"),
-    (_TRADEOFF + ["--csv"], "--csv"),
-    (_TRADEOFF + ["--png"], "--png"),
-])
+@pytest.mark.parametrize(
+    "argv, option",
+    [
+        (["period", "--theta0", "0.1", "--csv"], "--csv"),
+        (_SOLVE + ["--csv"], "--csv"),
+        (_SOLVE + ["--png"], "--png"),
+        (_TRADEOFF + ["--csv"], "--csv"),
+        (_TRADEOFF + ["--png"], "--png"),
+    ],
+)
 def test_output_into_a_missing_directory_is_refused_and_nothing_created(capsys, tmp_path, argv, option):
     # `solve --csv /nonexistent/dir/x.csv` created /nonexistent/dir: every option that
     # writes a file refuses a missing directory, naming the option, and creates nothing
@@ -292,7 +339,7 @@ def test_output_into_a_missing_directory_is_refused_and_nothing_created(capsys, 
     assert code == 2
     assert option in err and "does not exist" in err and "--mkdir" in err
     assert not (tmp_path / "no").exists()
-    assert out == ""          # refused before any work is printed
+    assert out == ""  # refused before any work is printed
 
 
 def test_mkdir_creates_the_directories_asked_for(capsys, tmp_path):
@@ -302,11 +349,14 @@ def test_mkdir_creates_the_directories_asked_for(capsys, tmp_path):
     assert path.is_file()
 
 
-@pytest.mark.parametrize("argv, option, name", [
-    (["period", "--theta0", "0.1"], "--csv", "period.csv"),
-    (_SOLVE, "--csv", "solve.csv"),
-    (_TRADEOFF, "--csv", "tradeoff.csv"),
-])
+@pytest.mark.parametrize(
+    "argv, option, name",
+    [
+        (["period", "--theta0", "0.1"], "--csv", "period.csv"),
+        (_SOLVE, "--csv", "solve.csv"),
+        (_TRADEOFF, "--csv", "tradeoff.csv"),
+    ],
+)
 def test_output_path_naming_a_folder_writes_inside_it(capsys, tmp_path, argv, option, name):
     # `--csv dir/ --mkdir` wrote a file named dir: a folder (existing, or a path ending
     # in /) gets the command's file inside it, never a file named like the folder
@@ -322,18 +372,36 @@ def test_output_path_naming_a_folder_writes_inside_it(capsys, tmp_path, argv, op
 
 # ---------------------------------------------------------------- I/O errors, Ctrl-C: one line
 
+
 def _one_line(err):
     lines = err.strip().splitlines()
     return len(lines) == 1 and "Traceback" not in err
 
 
-@pytest.mark.parametrize("argv", [
-    ["period", "--theta0", "0.1", "--csv", "/proc/pendula-no-such.csv"],
-    ["period", "--theta0", "0.1", "--csv", "/dev/full"],
-    _SOLVE + ["--csv", "/dev/full"],
-    ["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1", "--no-png",
-     "--out", "/proc/pendula-basin"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["period", "--theta0", "0.1", "--csv", "/proc/pendula-no-such.csv"],
+        ["period", "--theta0", "0.1", "--csv", "/dev/full"],
+        _SOLVE + ["--csv", "/dev/full"],
+        [
+            "sweep",
+            "--theta0",
+            "0",
+            "1",
+            "3",
+            "--omega0",
+            "0",
+            "1",
+            "2",
+            "--t-end",
+            "1",
+            "--no-png",
+            "--out",
+            "/proc/pendula-basin",
+        ],
+    ],
+)
 def test_io_errors_are_one_line_and_exit_1(argv):
     # a subprocess: the exit status and stderr exactly as a shell sees them
     if not pathlib.Path("/dev/full").exists() or not pathlib.Path("/proc").is_dir():
@@ -341,7 +409,7 @@ def test_io_errors_are_one_line_and_exit_1(argv):
     r = subprocess.run([sys.executable, "-m", "pendula", *argv], capture_output=True, text=True, timeout=120)
     assert r.returncode == 1, r.stderr
     assert _one_line(r.stderr) and "cannot write" in r.stderr
-    assert argv[-1] in r.stderr                      # names the file
+    assert argv[-1] in r.stderr  # names the file
     assert r.stderr.startswith(f"pendula {argv[0]}: error:")
 
 
@@ -349,10 +417,28 @@ def test_io_errors_are_one_line_and_exit_1(argv):
 def test_ctrl_c_is_one_line_and_exit_130(capsys, tmp_path, monkeypatch, sub, target):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
+
     monkeypatch.setattr(pendula, target, interrupted)
-    argv = {"sweep": ["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1",
-                      "--no-png", "--out", str(tmp_path / "sw")],
-            "period": ["period", "--theta0", "0.1"], "solve": _SOLVE}[sub]
+    argv = {
+        "sweep": [
+            "sweep",
+            "--theta0",
+            "0",
+            "1",
+            "3",
+            "--omega0",
+            "0",
+            "1",
+            "2",
+            "--t-end",
+            "1",
+            "--no-png",
+            "--out",
+            str(tmp_path / "sw"),
+        ],
+        "period": ["period", "--theta0", "0.1"],
+        "solve": _SOLVE,
+    }[sub]
     code, _, err = run(argv, capsys)
     assert code == 130 and _one_line(err) and "interrupted" in err
 
@@ -360,6 +446,7 @@ def test_ctrl_c_is_one_line_and_exit_130(capsys, tmp_path, monkeypatch, sub, tar
 def test_ctrl_c_before_the_subcommand_runs_is_one_line_too(capsys, monkeypatch):
     def interrupted():
         raise KeyboardInterrupt
+
     monkeypatch.setattr(cli, "build_parser", interrupted)
     code, _, err = run(["period", "--theta0", "0.1"], capsys)
     assert code == 130 and _one_line(err) and err.startswith("pendula: interrupted")
@@ -368,12 +455,14 @@ def test_ctrl_c_before_the_subcommand_runs_is_one_line_too(capsys, monkeypatch):
 def test_out_of_memory_is_one_line(capsys, tmp_path, monkeypatch):
     def refused(*args, **kwargs):
         raise MemoryError("out of memory: the outputs need 7.45 GiB (8000000000 bytes), which could not be allocated")
+
     monkeypatch.setattr(pendula, "sweep", refused)
     code, _, err = run(["sweep", "--out", str(tmp_path / "sw"), "--no-png"], capsys)
     assert code == 1 and _one_line(err) and "7.45 GiB" in err
 
 
 # ---------------------------------------------------------------- exact decimals
+
 
 def _numbers(text):
     return [tok for tok in text.replace(",", " ").split() if tok[:1].isdigit() or tok[:1] == "-"]
@@ -382,20 +471,19 @@ def _numbers(text):
 def test_period_writes_shortest_exact_decimals(capsys, tmp_path):
     # `period --csv` rounded to 10-12 digits: every number is now repr(float), so it reads back exactly
     path = tmp_path / "p.csv"
-    code, out, err = run(["period", "--theta0", "0.1", "1.0", "3.0", "--omega0", "0.3", "--csv", str(path)],
-                         capsys)
+    code, out, err = run(["period", "--theta0", "0.1", "1.0", "3.0", "--omega0", "0.3", "--csv", str(path)], capsys)
     assert code == 0, err
     with open(path) as fh:
         rows = list(csv.DictReader(fh))
     w0 = pendula.natural_frequency(9.8, 4.9)
     exact = pendula.period(np.array([0.1, 1.0, 3.0]), 0.3, w0)
-    assert [float(r["T_exact_s"]) for r in rows] == exact.tolist()           # bit for bit
+    assert [float(r["T_exact_s"]) for r in rows] == exact.tolist()  # bit for bit
     for r in rows:
         for key, text in r.items():
             if key != "motion":
-                assert text == repr(float(text)), (key, text)              # shortest round trip
+                assert text == repr(float(text)), (key, text)  # shortest round trip
     table = [ln.split() for ln in out.splitlines() if ln.strip()[:1].isdigit()]
-    assert [float(ln[-4]) for ln in table] == exact.tolist()              # the printed table too
+    assert [float(ln[-4]) for ln in table] == exact.tolist()  # the printed table too
     assert f"w0 = {w0!r} 1/s" in out
 
 
@@ -419,9 +507,32 @@ _SWEEP = ["sweep", "--t-end", "6", "--gamma", "0.3", "--no-png"]
 
 def test_sweep_w0_threads_and_method_reach_the_library(capsys, tmp_path):
     th, om = np.linspace(-2, 2, 3), np.linspace(-3, 3, 4)
-    code, out, err = run(_SWEEP + ["--theta0", "-2", "2", "3", "--omega0", "-3", "3", "4", "--w0", "2.5",
-                                   "--threads", "1", "--method", "cvode", "--rtol", "1e-9", "--atol", "1e-12",
-                                   "--out", str(tmp_path / "a")], capsys)
+    code, out, err = run(
+        _SWEEP
+        + [
+            "--theta0",
+            "-2",
+            "2",
+            "3",
+            "--omega0",
+            "-3",
+            "3",
+            "4",
+            "--w0",
+            "2.5",
+            "--threads",
+            "1",
+            "--method",
+            "cvode",
+            "--rtol",
+            "1e-9",
+            "--atol",
+            "1e-12",
+            "--out",
+            str(tmp_path / "a"),
+        ],
+        capsys,
+    )
     assert code == 0, err
     z = np.load(tmp_path / "a" / "sweep.npz")
     lib = pendula.sweep([0.0, 6.0], th[:, None], om[None, :], 2.5, 0.3, method="cvode", rtol=1e-9, atol=1e-12)
@@ -439,8 +550,22 @@ def test_sweep_w0_threads_and_method_reach_the_library(capsys, tmp_path):
 def test_sweep_over_one_axis(capsys, tmp_path, fixed, axis):
     grid = {"--theta0": ["-2", "2", "5"], "--omega0": ["-3", "3", "5"]}
     grid[fixed] = ["0.5"]
-    code, out, err = run(["sweep", "--t-end", "4", "--gamma", "0.3", "--theta0", *grid["--theta0"],
-                          "--omega0", *grid["--omega0"], "--out", str(tmp_path / "s")], capsys)
+    code, out, err = run(
+        [
+            "sweep",
+            "--t-end",
+            "4",
+            "--gamma",
+            "0.3",
+            "--theta0",
+            *grid["--theta0"],
+            "--omega0",
+            *grid["--omega0"],
+            "--out",
+            str(tmp_path / "s"),
+        ],
+        capsys,
+    )
     assert code == 0, err
     assert "5 starts" in out
     z = np.load(tmp_path / "s" / "sweep.npz")
@@ -464,10 +589,31 @@ def test_figures_out_creates_the_folder_but_not_its_parents(capsys, tmp_path):
 
 # ---------------------------------------------------------------- sweep
 
+
 def test_sweep_writes_npz_csv_png_equal_to_the_library(capsys, tmp_path):
     out_dir = tmp_path / "sw"
-    code, out, _ = run(["sweep", "--theta0", "-3", "3", "7", "--omega0", "-5", "5", "5", "--t-end", "12",
-                        "--gamma", "0.2", "--h", "0.02", "--out", str(out_dir)], capsys)
+    code, out, _ = run(
+        [
+            "sweep",
+            "--theta0",
+            "-3",
+            "3",
+            "7",
+            "--omega0",
+            "-5",
+            "5",
+            "5",
+            "--t-end",
+            "12",
+            "--gamma",
+            "0.2",
+            "--h",
+            "0.02",
+            "--out",
+            str(out_dir),
+        ],
+        capsys,
+    )
     assert code == 0 and "35 starts" in out
     z = np.load(out_dir / "sweep.npz")
     th, om = np.linspace(-3, 3, 7), np.linspace(-5, 5, 5)
@@ -484,20 +630,47 @@ def test_sweep_refuses_missing_parent_and_bad_grid(capsys, tmp_path):
     assert code == 2 and "--mkdir" in err and not (tmp_path / "a").exists()
     code, _, err = run(["sweep", "--theta0", "1", "0", "5", "--out", str(tmp_path / "c")], capsys)
     assert code == 2 and "--theta0" in err
-    code, _, _ = run(["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1",
-                      "--no-png", "--mkdir", "--out", str(tmp_path / "d" / "e")], capsys)
+    code, _, _ = run(
+        [
+            "sweep",
+            "--theta0",
+            "0",
+            "1",
+            "3",
+            "--omega0",
+            "0",
+            "1",
+            "2",
+            "--t-end",
+            "1",
+            "--no-png",
+            "--mkdir",
+            "--out",
+            str(tmp_path / "d" / "e"),
+        ],
+        capsys,
+    )
     assert code == 0 and (tmp_path / "d" / "e" / "sweep.npz").exists()
 
 
 # ---------------------------------------------------------------- degrees, v0, times for people
 
+
 def _final_line(out):
     return [ln for ln in out.splitlines() if ln.startswith("final state")]
 
 
-@pytest.mark.parametrize("deg, rad", [("90deg", "1.5707963267948966"), ("90°", "1.5707963267948966"),
-                                      ("-45DEG", "-0.7853981633974483"), ("1.2rad", "1.2"),
-                                      ("-1e-3", "-0.001"), ("-1e-1deg", repr(math.radians(-0.1)))])
+@pytest.mark.parametrize(
+    "deg, rad",
+    [
+        ("90deg", "1.5707963267948966"),
+        ("90°", "1.5707963267948966"),
+        ("-45DEG", "-0.7853981633974483"),
+        ("1.2rad", "1.2"),
+        ("-1e-3", "-0.001"),
+        ("-1e-1deg", repr(math.radians(-0.1))),
+    ],
+)
 def test_theta0_in_degrees_is_the_same_scene(capsys, deg, rad):
     base = ["solve", "--t-end", "3", "--want", "final", "--theta0"]
     code, out_deg, err = run(base + [deg], capsys)
@@ -508,8 +681,9 @@ def test_theta0_in_degrees_is_the_same_scene(capsys, deg, rad):
 
 def test_degrees_everywhere(capsys, tmp_path):
     # period: one parser for every option
-    code, out, err = run(["period", "--theta0", "90deg", "2", "--omega0", "30deg/s", "--csv", str(tmp_path / "p.csv")],
-                         capsys)
+    code, out, err = run(
+        ["period", "--theta0", "90deg", "2", "--omega0", "30deg/s", "--csv", str(tmp_path / "p.csv")], capsys
+    )
     assert code == 0, err
     with open(tmp_path / "p.csv") as fh:
         rows = list(csv.DictReader(fh))
@@ -517,28 +691,50 @@ def test_degrees_everywhere(capsys, tmp_path):
     np.testing.assert_allclose([float(r["T_exact_s"]) for r in rows], expect, rtol=1e-11)
     assert float(rows[0]["omega0_rad_per_s"]) == pytest.approx(np.pi / 6, rel=1e-10)
     # sweep: LO and HI in degrees, N a count; the grid is exactly the one in radians
-    code, _, err = run(["sweep", "--theta0", "-180deg", "180deg", "5", "--omega0", "-90deg/s", "90deg/s", "3",
-                        "--t-end", "1", "--no-png", "--out", str(tmp_path / "d")], capsys)
+    code, _, err = run(
+        [
+            "sweep",
+            "--theta0",
+            "-180deg",
+            "180deg",
+            "5",
+            "--omega0",
+            "-90deg/s",
+            "90deg/s",
+            "3",
+            "--t-end",
+            "1",
+            "--no-png",
+            "--out",
+            str(tmp_path / "d"),
+        ],
+        capsys,
+    )
     assert code == 0, err
     z = np.load(tmp_path / "d" / "sweep.npz")
     assert np.array_equal(z["theta0"], np.linspace(-np.pi, np.pi, 5))
     assert np.array_equal(z["omega0"], np.linspace(-np.pi / 2, np.pi / 2, 3))
 
 
-@pytest.mark.parametrize("argv, expect", [
-    (["solve", "--theta0", "90degs"], "argument --theta0: '90degs' is not an angle: give radians"),
-    (["solve", "--theta0", "deg"], "argument --theta0: 'deg' is not an angle"),
-    (["solve", "--theta0", "1.2.3deg"], "argument --theta0: '1.2.3deg' is not an angle"),
-    (["solve", "--theta0", "30deg/s"], "argument --theta0: '30deg/s' is not an angle"),
-    (["solve", "--theta0", "-90dg"], "argument --theta0: '-90dg' is not an angle"),
-    (["solve", "--theta0", "infdeg"], "argument --theta0: 'infdeg' is not a finite angle"),
-    (["solve", "--theta0", "1", "--omega0", "2deg"],
-     "argument --omega0: '2deg' is not an angular velocity: give rad/s (0.5 or 0.5rad/s) or degrees per second"),
-    (["solve", "--theta0", "1", "--omega0", "nan"], "argument --omega0: 'nan' is not a finite number"),
-    (["period", "--theta0", "1", "90grad"], "argument --theta0: '90grad' is not an angle"),
-    (["sweep", "--theta0", "-180dg", "180deg", "3", "--out", "x"], "--theta0: '-180dg' is not an angle"),
-    (["sweep", "--omega0", "0", "1deg", "3", "--out", "x"], "--omega0: '1deg' is not an angular velocity"),
-])
+@pytest.mark.parametrize(
+    "argv, expect",
+    [
+        (["solve", "--theta0", "90degs"], "argument --theta0: '90degs' is not an angle: give radians"),
+        (["solve", "--theta0", "deg"], "argument --theta0: 'deg' is not an angle"),
+        (["solve", "--theta0", "1.2.3deg"], "argument --theta0: '1.2.3deg' is not an angle"),
+        (["solve", "--theta0", "30deg/s"], "argument --theta0: '30deg/s' is not an angle"),
+        (["solve", "--theta0", "-90dg"], "argument --theta0: '-90dg' is not an angle"),
+        (["solve", "--theta0", "infdeg"], "argument --theta0: 'infdeg' is not a finite angle"),
+        (
+            ["solve", "--theta0", "1", "--omega0", "2deg"],
+            "argument --omega0: '2deg' is not an angular velocity: give rad/s (0.5 or 0.5rad/s) or degrees per second",
+        ),
+        (["solve", "--theta0", "1", "--omega0", "nan"], "argument --omega0: 'nan' is not a finite number"),
+        (["period", "--theta0", "1", "90grad"], "argument --theta0: '90grad' is not an angle"),
+        (["sweep", "--theta0", "-180dg", "180deg", "3", "--out", "x"], "--theta0: '-180dg' is not an angle"),
+        (["sweep", "--omega0", "0", "1deg", "3", "--out", "x"], "--omega0: '1deg' is not an angular velocity"),
+    ],
+)
 def test_bad_angle_text_names_the_option(capsys, argv, expect):
     code, out, err = run(argv + ([] if argv[0] != "solve" else ["--t-end", "1"]), capsys)
     assert code == 2 and expect in err, err
@@ -547,7 +743,7 @@ def test_bad_angle_text_names_the_option(capsys, argv, expect):
 @pytest.mark.parametrize("length", [4.9, 2.0])
 def test_v0_is_the_launch_speed_of_the_text(capsys, length):
     """§1.3: Omega0 = v0 / l; E/E_sep = (v0 / (2 sqrt(g l)))^2 from the bottom."""
-    v0 = 1.5 * float(W0) * 4.9      # the text's fig 9: v0 = 1.5 w0 l (l = 4.9 m)
+    v0 = 1.5 * float(W0) * 4.9  # the text's fig 9: v0 = 1.5 w0 l (l = 4.9 m)
     code, out, err = run(["period", "--theta0", "0", "--v0", repr(v0), "--length", repr(length)], capsys)
     assert code == 0, err
     assert f"Omega0 = v0/l = {v0 / length!r} rad/s" in out
@@ -566,14 +762,13 @@ def test_v0_and_omega0_are_exclusive(capsys, sub):
     argv = [sub, "--theta0", "0", "--omega0", "1", "--v0", "2"] + ([] if sub == "period" else ["--t-end", "1"])
     code, out, err = run(argv, capsys)
     assert code == 2 and "argument --v0: not allowed with argument --omega0" in err and out == ""
-    code, _, err = run([sub, "--theta0", "0", "--v0", "fast"] + ([] if sub == "period" else ["--t-end", "1"]),
-                       capsys)
+    code, _, err = run([sub, "--theta0", "0", "--v0", "fast"] + ([] if sub == "period" else ["--t-end", "1"]), capsys)
     assert code == 2 and "argument --v0: 'fast' is not a number" in err
 
 
 def test_printed_times_have_no_binary_noise_and_csv_keeps_full_precision(capsys, tmp_path):
     t = np.linspace(0.0, 30.0, 201)
-    assert repr(float(t[3])) == "0.44999999999999996"          # the noise the table must not show
+    assert repr(float(t[3])) == "0.44999999999999996"  # the noise the table must not show
     argv = ["solve", "--theta0", "0.5", "--t-end", "30", "--n", "201"]
     code, out, err = run(argv, capsys)
     assert code == 0, err
@@ -584,25 +779,29 @@ def test_printed_times_have_no_binary_noise_and_csv_keeps_full_precision(capsys,
     assert code == 0, err
     with open(tmp_path / "s.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert rows[3]["t_s"] == "0.44999999999999996"      # a data file: the times as computed
+    assert rows[3]["t_s"] == "0.44999999999999996"  # a data file: the times as computed
     assert np.array_equal([float(r["t_s"]) for r in rows], t)
     theta, _ = pendula.undamped(t, 0.5, 0.0, W0)
     assert np.max(np.abs(np.array([float(r["theta_rad"]) for r in rows]) - theta)) <= 1e-6
 
 
-@pytest.mark.parametrize("t_end, n, expect", [
-    (30.0, 201, ["0.00", "0.15", "0.30"]),
-    (0.3, 4, ["0.0", "0.1", "0.2", "0.3"]),
-    (7.0, 8, ["0", "1", "2"]),
-    (1e6, 3, ["0", "500000", "1000000"]),
-    (1e5, 1_000_001, ["0.0", "0.1", "0.2"]),
-    (1.0, 4, ["0.0", "0.3333333333333333", "0.6666666666666666", "1.0"]),   # not a decimal grid
-])
+@pytest.mark.parametrize(
+    "t_end, n, expect",
+    [
+        (30.0, 201, ["0.00", "0.15", "0.30"]),
+        (0.3, 4, ["0.0", "0.1", "0.2", "0.3"]),
+        (7.0, 8, ["0", "1", "2"]),
+        (1e6, 3, ["0", "500000", "1000000"]),
+        (1e5, 1_000_001, ["0.0", "0.1", "0.2"]),
+        (1.0, 4, ["0.0", "0.3333333333333333", "0.6666666666666666", "1.0"]),  # not a decimal grid
+    ],
+)
 def test_grid_times(t_end, n, expect):
     from pendula._cli_values import grid_times
+
     t = np.linspace(0.0, t_end, n)
     got = grid_times(t)
-    assert got[:len(expect)] == expect
+    assert got[: len(expect)] == expect
     # every string names its grid point: within 4 ulps of it and all distinct
     vals = np.array([float(x) for x in got])
     assert np.all(np.abs(vals - t) <= 4 * np.spacing(t_end)) and len(set(got)) == n

@@ -8,12 +8,14 @@ when the true value is beyond DBL_MAX the result is +-inf of the right sign
 (never NaN); values below the normal range come out as gradual underflow
 (absolute error a few subnormal ulps) or 0.
 """
+
 import math
 
 import mpmath as mp
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 import pendula
 
@@ -45,7 +47,7 @@ def _env_ref(t, th0, om0, w0, gamma):
     t, th0, om0, w0, a = (mp.mpf(x) for x in (t, th0, om0, w0, gamma))
     a = a / 2
     wd = mp.sqrt(w0 * w0 - a * a)
-    return mp.sqrt(th0 ** 2 + ((om0 + a * th0) / wd) ** 2) * mp.exp(-a * t)
+    return mp.sqrt(th0**2 + ((om0 + a * th0) / wd) ** 2) * mp.exp(-a * t)
 
 
 # the smallest magnitude that rounds to inf
@@ -63,7 +65,9 @@ def _check(got, true, scale, tol, what):
         return
     assert math.isfinite(got), f"{what}: got {got}, true {mp.nstr(true, 17)} is representable"
     err = abs(mp.mpf(got) - true)
-    assert err <= tol * scale + 4 * SUB, f"{what}: got {got!r}, true {mp.nstr(true, 20)}, err/scale {mp.nstr(err / scale, 3)}"
+    assert err <= tol * scale + 4 * SUB, (
+        f"{what}: got {got!r}, true {mp.nstr(true, 20)}, err/scale {mp.nstr(err / scale, 3)}"
+    )
 
 
 def _check_linear(t, th0, om0, w0, gamma, tol=64 * EPS):
@@ -79,6 +83,7 @@ def _check_linear(t, th0, om0, w0, gamma, tol=64 * EPS):
 
 
 # ---------------------------------------------------------------- reproducers
+
 
 def test_small_angle_tiny_w0_is_the_free_motion():
     # w0 t underflows and omega0/w0 overflows: the limit theta0 + omega0 t
@@ -101,10 +106,26 @@ _BIG = (HUGE, -HUGE, 1e308, 1e300, 1e200)
 _SMALL = (TINY, 1e-310, SUB, 1e-300)
 
 
-@pytest.mark.parametrize("th0,om0", [(x, 0.5) for x in _BIG + _SMALL] + [(1.0, x) for x in _BIG + _SMALL]
-                         + [(HUGE, -HUGE), (HUGE, HUGE), (SUB, -SUB), (0.0, HUGE)])
-@pytest.mark.parametrize("w0,gamma", [(1.4, 0.3), (1.4, 2.8), (1.4, 2.8 * (1 + 1e-9)), (1.4, 1e6), (1.4, 0.0),
-                                      (1e300, 1e-300), (1e-150, 1e-150), (1e-150, 3e-150), (1e150, 1e150)])
+@pytest.mark.parametrize(
+    "th0,om0",
+    [(x, 0.5) for x in _BIG + _SMALL]
+    + [(1.0, x) for x in _BIG + _SMALL]
+    + [(HUGE, -HUGE), (HUGE, HUGE), (SUB, -SUB), (0.0, HUGE)],
+)
+@pytest.mark.parametrize(
+    "w0,gamma",
+    [
+        (1.4, 0.3),
+        (1.4, 2.8),
+        (1.4, 2.8 * (1 + 1e-9)),
+        (1.4, 1e6),
+        (1.4, 0.0),
+        (1e300, 1e-300),
+        (1e-150, 1e-150),
+        (1e-150, 3e-150),
+        (1e150, 1e150),
+    ],
+)
 @pytest.mark.parametrize("tau", [0.0, 1e-310, 1e-8, 0.7, 12.0])
 def test_linear_damped_extremes(th0, om0, w0, gamma, tau):
     """Every regime at states and rates near overflow, near underflow and subnormal."""
@@ -112,15 +133,28 @@ def test_linear_damped_extremes(th0, om0, w0, gamma, tau):
     _check_linear(t, th0, om0, w0, gamma)
 
 
-@pytest.mark.parametrize("th0,om0,w0,gamma", [
-    (HUGE, 0.5, 1.4, 0.3), (HUGE, HUGE, 1.4, 0.3), (1.0, HUGE, 1e-300, 1e-300), (SUB, 1.0, 1.0, 0.5),
-    (1.0, 1e300, 1e-10, 1e-12), (-HUGE, 1e308, 1e100, 1e100)])
+@pytest.mark.parametrize(
+    "th0,om0,w0,gamma",
+    [
+        (HUGE, 0.5, 1.4, 0.3),
+        (HUGE, HUGE, 1.4, 0.3),
+        (1.0, HUGE, 1e-300, 1e-300),
+        (SUB, 1.0, 1.0, 0.5),
+        (1.0, 1e300, 1e-10, 1e-12),
+        (-HUGE, 1e308, 1e100, 1e100),
+    ],
+)
 @pytest.mark.parametrize("tau", [0.0, 1e-300, 0.5, 30.0])
 def test_linear_damped_envelope_extremes(th0, om0, w0, gamma, tau):
     t = tau / max(w0, gamma)
     true = _env_ref(t, th0, om0, w0, gamma)
-    _check(pendula.linear_damped_envelope(t, th0, om0, w0, gamma), true, true, 16 * EPS,
-           f"linear_damped_envelope({t!r}, {th0!r}, {om0!r}, {w0!r}, {gamma!r})")
+    _check(
+        pendula.linear_damped_envelope(t, th0, om0, w0, gamma),
+        true,
+        true,
+        16 * EPS,
+        f"linear_damped_envelope({t!r}, {th0!r}, {om0!r}, {w0!r}, {gamma!r})",
+    )
 
 
 @pytest.mark.parametrize("th0", [1.0, -2.5, 1e-300, SUB, 0.0])
@@ -164,19 +198,25 @@ def _check_natural_frequency(g, length):
 
 # ---------------------------------------------------------------- properties
 
+
 def _signed_log(lo, hi):
     return st.tuples(st.floats(lo, hi), st.booleans()).map(lambda p: (-1 if p[1] else 1) * 10.0 ** p[0])
 
 
 def _log(lo, hi):
-    return st.floats(lo, hi).map(lambda e: 10.0 ** e)
+    return st.floats(lo, hi).map(lambda e: 10.0**e)
 
 
 @settings(max_examples=400, deadline=None)
 # Rates below ~1e-150 are left out, and states whose products with the rates
 # (a Omega0, w0^2 theta0) underflow: those lose digits (known, not yet fixed).
-@given(th0=_signed_log(-323, 308.2), om0=_signed_log(-323, 308.2), w0=_log(-150, 150),
-       gamma=st.one_of(st.just(0.0), _log(-150, 150)), tau=_log(-320, 1.3))
+@given(
+    th0=_signed_log(-323, 308.2),
+    om0=_signed_log(-323, 308.2),
+    w0=_log(-150, 150),
+    gamma=st.one_of(st.just(0.0), _log(-150, 150)),
+    tau=_log(-320, 1.3),
+)
 def test_linear_damped_finite_when_representable(th0, om0, w0, gamma, tau):
     """Wide log-uniform magnitudes: a representable true value gives a finite, accurate result."""
     assume(math.isfinite(th0) and math.isfinite(om0))
@@ -184,7 +224,7 @@ def test_linear_damped_finite_when_representable(th0, om0, w0, gamma, tau):
     # (w0^2 theta0, a Omega0 underflow in the set-up) costs digits
     rate = max(w0, gamma)
     assume(abs(th0) * rate * rate > 1e-300 and abs(om0) * rate > 1e-300)
-    assume(abs(th0) * w0 * w0 > 1e-300 and abs(om0) * w0 > 1e-300)   # w0^2 theta0 itself, not only the larger rate's
+    assume(abs(th0) * w0 * w0 > 1e-300 and abs(om0) * w0 > 1e-300)  # w0^2 theta0 itself, not only the larger rate's
     _check_linear(tau / max(w0, gamma), th0, om0, w0, gamma)
 
 

@@ -4,6 +4,7 @@ tools/gen/gen_codes.f90), and no Python source types a second copy.  Also the
 scene facts that travel through _codes: the result's number array by name, the
 event bound that caps the event slots (one solve up to 65536 events), and the
 step/rtol fields of a result."""
+
 import pathlib
 import re
 
@@ -11,7 +12,8 @@ import numpy as np
 import pytest
 
 import pendula
-from pendula import _codes, scene as scene_mod
+from pendula import _codes
+from pendula import scene as scene_mod
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "python" / "pendula"
@@ -19,6 +21,7 @@ W0 = float(np.sqrt(2.0))
 
 
 # ---------------------------------------------------------------- _codes == the Fortran sources
+
 
 def _fortran_int_parameters(*files):
     """NAME -> value of every `integer, parameter :: A = 1, B = 2` in the files."""
@@ -54,9 +57,14 @@ def test_glue_selector_codes_match_the_fortran_include():
     for name, value in glue.items():
         assert getattr(_codes, name) == value, name
     # the selectors of one glue routine are distinct (the routine tells them apart)
-    for group in (("GLUE_ELLIPK", "GLUE_ELLIPKM1", "GLUE_ELLIPE", "GLUE_ELLIPEM1"),
-                  ("GLUE_PARAM_M", "GLUE_PARAM_P"), ("GLUE_JACOBI_AUTO", "GLUE_JACOBI_PLAN"),
-                  ("GLUE_SMALL_ANGLE_MOTION", "GLUE_SMALL_ANGLE_BOUND"), ("GLUE_PERIOD", "GLUE_AMPLITUDE"), ("GLUE_W0", "GLUE_GAMMA")):
+    for group in (
+        ("GLUE_ELLIPK", "GLUE_ELLIPKM1", "GLUE_ELLIPE", "GLUE_ELLIPEM1"),
+        ("GLUE_PARAM_M", "GLUE_PARAM_P"),
+        ("GLUE_JACOBI_AUTO", "GLUE_JACOBI_PLAN"),
+        ("GLUE_SMALL_ANGLE_MOTION", "GLUE_SMALL_ANGLE_BOUND"),
+        ("GLUE_PERIOD", "GLUE_AMPLITUDE"),
+        ("GLUE_W0", "GLUE_GAMMA"),
+    ):
         assert len({glue[n] for n in group}) == len(group), group
 
 
@@ -79,8 +87,11 @@ def test_scene_tables_match_the_fortran():
     assert list(_codes.MODEL_CODES) == models
     for name, code in _codes.MODEL_CODES.items():
         assert ints["SCENE_MODEL_" + name.upper()] == code
-    assert _codes.MODEL_ALIASES == {"linear_damped": "linear"} == dict(zip(
-        _fortran_names(CODES_F90, "SCENE_MODEL_ALIAS_NAMES"), ["linear"]))
+    assert (
+        _codes.MODEL_ALIASES
+        == {"linear_damped": "linear"}
+        == dict(zip(_fortran_names(CODES_F90, "SCENE_MODEL_ALIAS_NAMES"), ["linear"]))
+    )
     wants = _fortran_names(CODES_F90, "SCENE_WANT_NAMES")
     assert list(_codes.WANT_CODES) == wants
     for name, code in _codes.WANT_CODES.items():
@@ -89,14 +100,20 @@ def test_scene_tables_match_the_fortran():
     assert list(_codes.INFO) == info and len(info) == _codes.INFO_SIZE == ints["SCENE_INFO_SIZE"]
     for name, pos in _codes.INFO.items():
         assert ints["SCENE_INFO_" + name.upper()] == pos + 1
-    for py, f in (("RK4_STEP_LIMIT", "SCENE_RK4_STEP_LIMIT"), ("STEP_CAP", "SCENE_STEP_CAP"),
-                  ("CVODE_STEP_COST", "SCENE_CVODE_STEP_COST"), ("STIFF_RATIO", "SCENE_STIFF_RATIO"),
-                  ("STIFF_RK4_STEPS", "SCENE_STIFF_RK4_STEPS"), ("LINEAR_SAFETY", "SCENE_LINEAR_SAFETY")):
+    for py, f in (
+        ("RK4_STEP_LIMIT", "SCENE_RK4_STEP_LIMIT"),
+        ("STEP_CAP", "SCENE_STEP_CAP"),
+        ("CVODE_STEP_COST", "SCENE_CVODE_STEP_COST"),
+        ("STIFF_RATIO", "SCENE_STIFF_RATIO"),
+        ("STIFF_RK4_STEPS", "SCENE_STIFF_RK4_STEPS"),
+        ("LINEAR_SAFETY", "SCENE_LINEAR_SAFETY"),
+    ):
         assert getattr(_codes, py) == _fortran_real(CODES_F90, f), py
 
 
 def test_public_python_names_come_from_codes():
     from pendula import cli, integrate
+
     assert scene_mod.MODELS == cli.MODELS == tuple(n for n in _codes.MODEL_CODES if n != "auto")
     assert scene_mod.WANTS == cli.WANTS == tuple(_codes.WANT_CODES)
     assert (integrate.TURNING_POINT, integrate.ZERO_CROSSING) == (_codes.EVENT_TURNING, _codes.EVENT_ZERO)
@@ -142,20 +159,28 @@ def test_no_second_copy_of_the_codes_in_python():
 
 def test_the_second_copy_scan_is_not_blind(tmp_path):
     bad = tmp_path / "scene.py"
-    bad.write_text('_M = {"auto": 0, "rk4": 4}\nERR_DOMAIN = 2\nif code in (1, 2):\n    pass\n'
-                   '"""CVODE above 2e6 steps"""\n')
+    bad.write_text(
+        '_M = {"auto": 0, "rk4": 4}\nERR_DOMAIN = 2\nif code in (1, 2):\n    pass\n"""CVODE above 2e6 steps"""\n'
+    )
     kinds = {what for _, _, what, _ in second_copies([bad])}
     assert kinds == {"name -> code table", "code constant", "bare code test", "scene limit"}
 
 
 # ---------------------------------------------------------------- the event bound, one solve
 
+
 def test_event_bound_holds_and_is_tight():
     """Sturm: turning points are >= pi/w0 apart, passes through the bottom at most one more
     plus one per full turn: 2 floor(w0 T/pi) + 3 + floor(Omega_max T/(2 pi)).  An undamped small
     swing reaches the swinging part up to the rounding of floor."""
-    for theta0, omega0, gamma, periods in [(0.1, 0.0, 0.0, 10.25), (1.0, 0.5, 0.0, 7.0), (3.0, 0.0, 0.0, 3.0),
-                                           (0.5, 0.0, 0.2, 20.0), (0.3, 2.0, 3.5, 5.0), (0.0, 4.0, 0.0, 6.0)]:
+    for theta0, omega0, gamma, periods in [
+        (0.1, 0.0, 0.0, 10.25),
+        (1.0, 0.5, 0.0, 7.0),
+        (3.0, 0.0, 0.0, 3.0),
+        (0.5, 0.0, 0.2, 20.0),
+        (0.3, 2.0, 3.5, 5.0),
+        (0.0, 4.0, 0.0, 6.0),
+    ]:
         t_end = periods * 2 * np.pi / W0
         s = pendula.Scene(theta0=theta0, omega0=omega0, t=[t_end], gamma=gamma, tol=1e-8, want="events")
         res = pendula.solve(s)
@@ -176,7 +201,7 @@ def test_events_come_from_one_solve(monkeypatch, gamma, model):
     real = scene_mod._scene.scene_solve_f2py
 
     def counted(*args):
-        calls.append(args[11])   # m, the event slots
+        calls.append(args[11])  # m, the event slots
         return real(*args)
 
     monkeypatch.setattr(scene_mod._scene, "scene_solve_f2py", counted)
@@ -191,7 +216,7 @@ def test_solve_checks_the_scene_in_fortran_only(monkeypatch):
     real = scene_mod._scene.scene_check_f2py
     monkeypatch.setattr(scene_mod._scene, "scene_check_f2py", lambda *a: calls.append(a) or real(*a))
     damped = pendula.Scene(theta0=0.5, t=[1.0], gamma=0.1)
-    assert len(calls) == 1   # the construction
+    assert len(calls) == 1  # the construction
     with pytest.raises(ValueError, match=r"model = exact needs gamma = 0 \(gamma = 1\.0+E-01\)"):
         pendula.solve(damped, model="exact")
     with pytest.raises(ValueError, match="model = small_angle needs gamma = 0"):

@@ -6,6 +6,7 @@ it failed, never a plausible number; an integer field gets a sentinel and a mask
 only when every state failed; argument errors are ValueError naming the argument and the state
 by its 0-based index; no NumPy repr in a message.
 """
+
 import inspect
 import math
 
@@ -29,6 +30,7 @@ def _no_numpy_repr(msg):
 
 # ---------------------------------------------------------------- one default pendulum, defaults once
 
+
 def test_one_default_pendulum_everywhere():
     assert pendula.natural_frequency() == W0_TEXT == pendula.Scene(0.1, t=[0.0, 1.0]).w0
     assert pendula.sweep(None, 1.0, want="period").period == pendula.period(1.0)
@@ -49,7 +51,7 @@ def test_sweep_takes_the_parameters_as_every_function_does():
     with pytest.raises(ValueError, match="mass"):
         pendula.sweep(T, th, b=0.02)
     with pytest.raises(ValueError, match="w0"):
-        pendula.sweep(T, th, w0=1.0, g=9.8, length=2.0)   # disagree
+        pendula.sweep(T, th, w0=1.0, g=9.8, length=2.0)  # disagree
 
 
 def _default(fn, name):
@@ -78,6 +80,7 @@ def test_version_is_the_build_version():
 
 # ---------------------------------------------------------------- failed states are NaN
 
+
 def test_rk4_batch_failed_state_is_nan_and_the_others_keep_their_answers():
     r = pendula.rk4(T, [0.1, 0.2, 0.3], 0.0, [1.0, 1e4, 2.0], 0.0, 0.01)
     assert r.codes.tolist() == [OK, ERR_UNSTABLE, OK]
@@ -103,7 +106,7 @@ def test_cvode_batch_failed_state_keeps_what_it_reached_then_nan():
     assert r.codes.tolist() == [OK, ERR_MAXSTEPS]
     reached = np.isfinite(r.theta[1])
     k = int(reached.sum())
-    assert 1 <= k < T.size and reached[:k].all() and not reached[k:].any()   # kept, then NaN
+    assert 1 <= k < T.size and reached[:k].all() and not reached[k:].any()  # kept, then NaN
     assert r.theta[1, 0] == 3.0 and np.isnan(r.omega[1, k:]).all()
     assert np.isfinite(r.theta[0]).all()
 
@@ -146,22 +149,31 @@ def test_scene_batch_failed_scene_is_nan():
 
 # ---------------------------------------------------------------- one rule for when a batch raises
 
-@pytest.mark.parametrize("call", [
-    lambda: pendula.rk4(T, [0.1, 0.2], 0.0, 1e4, 0.0, 0.01),
-    lambda: pendula.sweep(T, [0.1, 0.2], 0.0, 1e4, h=0.01),
-    lambda: pendula.sweep(T, [0.1, 0.2], 0.0, 1e4, h=0.01, chunk_states=1),
-    lambda: pendula.run_model(pendula.Scene([0.3, 0.4], t=[0.0, 10.0], length=4.9e-4), "rk4", 0.05),
-], ids=["rk4", "sweep", "sweep-chunks", "scene-batch"])
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: pendula.rk4(T, [0.1, 0.2], 0.0, 1e4, 0.0, 0.01),
+        lambda: pendula.sweep(T, [0.1, 0.2], 0.0, 1e4, h=0.01),
+        lambda: pendula.sweep(T, [0.1, 0.2], 0.0, 1e4, h=0.01, chunk_states=1),
+        lambda: pendula.run_model(pendula.Scene([0.3, 0.4], t=[0.0, 10.0], length=4.9e-4), "rk4", 0.05),
+    ],
+    ids=["rk4", "sweep", "sweep-chunks", "scene-batch"],
+)
 def test_a_batch_raises_only_when_every_state_failed(call):
-    with pytest.raises(ValueError, match=r"^every state failed \(see codes\); the first: .*\b0\.0[15] is unstable") as info:
+    with pytest.raises(
+        ValueError, match=r"^every state failed \(see codes\); the first: .*\b0\.0[15] is unstable"
+    ) as info:
         call()
     assert info.value.pendula_code == ERR_UNSTABLE
 
 
 @needs_cvode
 def test_cvode_batch_and_cvode_sweep_raise_alike_when_every_state_failed():
-    for call in (lambda: pendula.cvode(T, [3.0, 3.1], 100.0, 1.0, 0.0, max_steps=50),
-                 lambda: pendula.sweep(T, [3.0, 3.1], 100.0, 1.0, method="cvode", max_steps=50)):
+    for call in (
+        lambda: pendula.cvode(T, [3.0, 3.1], 100.0, 1.0, 0.0, max_steps=50),
+        lambda: pendula.sweep(T, [3.0, 3.1], 100.0, 1.0, method="cvode", max_steps=50),
+    ):
         with pytest.raises(pendula.PendulaSolverError, match=r"^every state failed .*state \[0\]: CVODE used"):
             call()
 
@@ -173,19 +185,35 @@ def test_empty_batches_do_not_raise():
 
 # ---------------------------------------------------------------- argument errors: ValueError, indexed
 
-@pytest.mark.parametrize("call, pattern", [
-    (lambda: pendula.rk4(T, [0.1, 0.2], 0.0, [1.0, -1.0], 0.0, 0.01), r"^w0\[1\] = -1 is out of range"),
-    (lambda: pendula.rk4(T, [[0.1], [0.2]], 0.0, 1.0, [0.0, np.nan], 0.01), r"^gamma\[0, 1\] = NaN"),
-    (lambda: pendula.sweep(T, [0.1, 0.2], 0.0, [1.0, -1.0]), r"^w0\[1\] = -1\.0 is out of range"),
-    (lambda: pendula.sweep(T, [[0.1], [0.2]], 0.0, 1.0, [0.0, np.nan]), r"^gamma\[0, 1\] = nan is not finite"),
-    (lambda: pendula.sweep(None, [0.1, 0.2], 0.0, 1.0, np.float64(0.5), want="period"),
-     r"^gamma\[0\] = 0\.5 is not 0"),
-    (lambda: pendula.Scene([0.3, 0.4], t=[0.0, 1.0], length=[4.9, -1.0]), r"^length\[1\] = -1 is out of range"),
-    (lambda: pendula.rk4(T, 0.1, 0.0, 1.0, np.float64(-1.0), 0.01), r"^gamma = -1 is out of range"),
-    (lambda: pendula.rk4(T, [0.1, 0.2], 0.0, 1.0, 0.0, 0.01, threads=-1), r"^threads = -1 is out of range"),
-    (lambda: pendula.sweep(T, 0.1, chunk_states=0), r"^chunk_states = 0 is out of range"),
-], ids=["rk4-w0", "rk4-2d-nan", "sweep-w0", "sweep-2d-nan", "sweep-period-gamma", "scene", "scalar",
-        "threads", "chunk"])
+
+@pytest.mark.parametrize(
+    "call, pattern",
+    [
+        (lambda: pendula.rk4(T, [0.1, 0.2], 0.0, [1.0, -1.0], 0.0, 0.01), r"^w0\[1\] = -1 is out of range"),
+        (lambda: pendula.rk4(T, [[0.1], [0.2]], 0.0, 1.0, [0.0, np.nan], 0.01), r"^gamma\[0, 1\] = NaN"),
+        (lambda: pendula.sweep(T, [0.1, 0.2], 0.0, [1.0, -1.0]), r"^w0\[1\] = -1\.0 is out of range"),
+        (lambda: pendula.sweep(T, [[0.1], [0.2]], 0.0, 1.0, [0.0, np.nan]), r"^gamma\[0, 1\] = nan is not finite"),
+        (
+            lambda: pendula.sweep(None, [0.1, 0.2], 0.0, 1.0, np.float64(0.5), want="period"),
+            r"^gamma\[0\] = 0\.5 is not 0",
+        ),
+        (lambda: pendula.Scene([0.3, 0.4], t=[0.0, 1.0], length=[4.9, -1.0]), r"^length\[1\] = -1 is out of range"),
+        (lambda: pendula.rk4(T, 0.1, 0.0, 1.0, np.float64(-1.0), 0.01), r"^gamma = -1 is out of range"),
+        (lambda: pendula.rk4(T, [0.1, 0.2], 0.0, 1.0, 0.0, 0.01, threads=-1), r"^threads = -1 is out of range"),
+        (lambda: pendula.sweep(T, 0.1, chunk_states=0), r"^chunk_states = 0 is out of range"),
+    ],
+    ids=[
+        "rk4-w0",
+        "rk4-2d-nan",
+        "sweep-w0",
+        "sweep-2d-nan",
+        "sweep-period-gamma",
+        "scene",
+        "scalar",
+        "threads",
+        "chunk",
+    ],
+)
 def test_argument_errors_name_the_argument_and_the_state(call, pattern):
     with pytest.raises(ValueError, match=pattern) as info:
         call()
@@ -193,10 +221,16 @@ def test_argument_errors_name_the_argument_and_the_state(call, pattern):
 
 
 @needs_cvode
-@pytest.mark.parametrize("kw, name", [(dict(max_steps=0), "max_steps"), (dict(max_events=0, events=True), "max_events"),
-                                      (dict(method="rk45"), "method")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        (dict(max_steps=0), "max_steps"),
+        (dict(max_events=0, events=True), "max_events"),
+        (dict(method="rk45"), "method"),
+    ],
+)
 def test_cvode_batch_argument_errors_are_value_errors(kw, name):
-    for states in (0.1, [0.1, 0.2]):       # the scalar call and the batch answer alike
+    for states in (0.1, [0.1, 0.2]):  # the scalar call and the batch answer alike
         with pytest.raises(ValueError, match=f"^{name} = ") as info:
             pendula.cvode(T, states, 0.0, 1.0, 0.0, **kw)
         assert not isinstance(info.value, pendula.PendulaSolverError)
@@ -204,19 +238,22 @@ def test_cvode_batch_argument_errors_are_value_errors(kw, name):
 
 def test_threads_none_means_the_default_everywhere():
     scene = pendula.Scene(0.1, t=[0.0, 1.0])
-    for call in (lambda th: pendula.rk4(T, [0.1, 0.2], 0.0, 1.0, 0.0, 0.01, threads=th),
-                 lambda th: pendula.rk4(T, 0.1, 0.0, 1.0, 0.0, 0.01, threads=th),
-                 lambda th: pendula.sweep(T, [0.1, 0.2], threads=th),
-                 lambda th: pendula.solve(scene, threads=th),
-                 lambda th: pendula.solve(pendula.Scene([0.1, 0.2], t=[0.0, 1.0]), threads=th)):
+    for call in (
+        lambda th: pendula.rk4(T, [0.1, 0.2], 0.0, 1.0, 0.0, 0.01, threads=th),
+        lambda th: pendula.rk4(T, 0.1, 0.0, 1.0, 0.0, 0.01, threads=th),
+        lambda th: pendula.sweep(T, [0.1, 0.2], threads=th),
+        lambda th: pendula.solve(scene, threads=th),
+        lambda th: pendula.solve(pendula.Scene([0.1, 0.2], t=[0.0, 1.0]), threads=th),
+    ):
         a, b = call(None), call(1)
         assert np.array_equal(np.asarray(a.theta), np.asarray(b.theta))
-    assert _defaults.choose_threads(None, 200 * 100) == 1          # small: one thread
-    assert _defaults.choose_threads(None, 10 * _defaults.SERIAL_WORK) in (0, 1)   # large: OpenMP (1 in a fork)
+    assert _defaults.choose_threads(None, 200 * 100) == 1  # small: one thread
+    assert _defaults.choose_threads(None, 10 * _defaults.SERIAL_WORK) in (0, 1)  # large: OpenMP (1 in a fork)
     assert _defaults.choose_threads(3, 1.0) in (1, 3)
 
 
 # ---------------------------------------------------------------- results carry their inputs
+
 
 def test_results_convert_with_physical_coordinates():
     th, om = np.linspace(0.0, 1.0, 3), np.linspace(-1.0, 1.0, 2)
@@ -239,8 +276,10 @@ def test_dask_sweep_keeps_the_contract():
     distributed = pytest.importorskip("distributed")
     # in-process workers (no spawn, no sockets): the contract is the assembly's, not the transport's
     # (test_sweep.py runs the chunks in worker processes)
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as lc, distributed.Client(lc) as client:
+    with (
+        distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as lc,
+        distributed.Client(lc) as client,
+    ):
         args = ([0.0, 1.0], [0.0, 1.0, 2.0], 0.1)
         kw = dict(w0=np.array([1.0, 1e4, 1.0]), chunk_states=1)
         remote = pendula.sweep(*args, **kw, client=client)

@@ -8,6 +8,7 @@ call raises only when every state failed; argument errors are ValueError
 naming the argument and the state; results carry their inputs; a Dask basin
 map, bifurcation diagram and Lyapunov batch are bit for bit the local ones.
 """
+
 import math
 
 import numpy as np
@@ -35,23 +36,31 @@ def test_the_text_pendulum_is_the_default():
     assert np.array_equal(by_default.theta, explicit.theta) and np.array_equal(by_default.theta, by_g_l.theta)
     assert (by_default.inputs["w0"] == W0_TEXT).all() and by_default.inputs["frequency"] == D.frequency
     t = [0.0, 5.0]
-    assert np.array_equal(pendula.driven(t, 0.2, 0.0, drive=D).theta,
-                          pendula.driven(t, 0.2, 0.0, drive=D, w0=W0_TEXT, gamma=0.0).theta)
+    assert np.array_equal(
+        pendula.driven(t, 0.2, 0.0, drive=D).theta, pendula.driven(t, 0.2, 0.0, drive=D, w0=W0_TEXT, gamma=0.0).theta
+    )
     assert pendula.resonance_curve(1.0) == pendula.resonance_curve(1.0, w0=W0_TEXT)
     assert pendula.resonance_curve(1.0, length=9.8) == pendula.resonance_curve(1.0, w0=1.0)
     with pytest.raises(ValueError, match="mass"):
         pendula.lyapunov(0.2, 0.0, drive=D, b=0.1, periods=16)
 
 
-@pytest.mark.parametrize("call, real", [
-    (lambda w0: pendula.driven([0.0, 5.0], 0.2, 0.0, drive=D, w0=w0, gamma=0.5), ("theta", "omega")),
-    (lambda w0: pendula.poincare(0.2, 0.0, drive=D, w0=w0, gamma=0.5, points=2, **FAST),
-     ("theta", "omega", "mean_omega", "rotation_number")),
-    (lambda w0: pendula.lyapunov(0.2, 0.0, drive=D, w0=w0, gamma=0.5, periods=16, **FAST), ("exponents", "errors")),
-    (lambda w0: pendula.periodic_orbits(0.2, 0.0, drive=D, w0=w0, gamma=0.5, **FAST),
-     ("theta", "omega", "floquet_exponents", "residual")),
-    (lambda w0: pendula.basins(0.2, 0.0, drive=D, w0=w0, gamma=0.5, **FAST), ()),
-])
+@pytest.mark.parametrize(
+    "call, real",
+    [
+        (lambda w0: pendula.driven([0.0, 5.0], 0.2, 0.0, drive=D, w0=w0, gamma=0.5), ("theta", "omega")),
+        (
+            lambda w0: pendula.poincare(0.2, 0.0, drive=D, w0=w0, gamma=0.5, points=2, **FAST),
+            ("theta", "omega", "mean_omega", "rotation_number"),
+        ),
+        (lambda w0: pendula.lyapunov(0.2, 0.0, drive=D, w0=w0, gamma=0.5, periods=16, **FAST), ("exponents", "errors")),
+        (
+            lambda w0: pendula.periodic_orbits(0.2, 0.0, drive=D, w0=w0, gamma=0.5, **FAST),
+            ("theta", "omega", "floquet_exponents", "residual"),
+        ),
+        (lambda w0: pendula.basins(0.2, 0.0, drive=D, w0=w0, gamma=0.5, **FAST), ()),
+    ],
+)
 def test_a_failed_state_is_nan_and_the_others_keep_their_answers(call, real):
     r = call(W0_BAD)
     assert r.codes.tolist()[0] == OK and r.codes[1] != OK and r.ok.tolist() == [True, False, True]
@@ -60,14 +69,14 @@ def test_a_failed_state_is_nan_and_the_others_keep_their_answers(call, real):
     good = call(1.0)
     for name in real:
         a, b = getattr(r, name), getattr(good, name)
-        assert np.isnan(a[1]).all(), name                  # never zero, never a plausible number
+        assert np.isnan(a[1]).all(), name  # never zero, never a plausible number
         assert np.array_equal(a[0], b) and np.array_equal(a[2], b), name
-    for name in ("labels", "period", "winding"):           # integer fields: the sentinel
+    for name in ("labels", "period", "winding"):  # integer fields: the sentinel
         if hasattr(r, name):
             assert getattr(r, name)[1] == pendula.FAILED
-    with pytest.raises(ValueError, match="^every state failed"):   # unstable: as rk4 and sweep say it
+    with pytest.raises(ValueError, match="^every state failed"):  # unstable: as rk4 and sweep say it
         call(np.array([1e4, 1e4]))
-    with pytest.raises(ValueError, match="too few"):       # a scalar call: the state's own error
+    with pytest.raises(ValueError, match="too few"):  # a scalar call: the state's own error
         call(1e4)
 
 
@@ -77,16 +86,23 @@ def test_a_failed_bifurcation_value_is_nan():
     assert np.isfinite(b.theta[0]).all() and b.inputs["w0"].tolist() == [1.0, 1e4]
 
 
-@pytest.mark.parametrize("call, pattern", [
-    (lambda: pendula.driven([0, 1], [0.1, 0.2], 0.0, drive=D, w0=np.array([1.0, -1.0])),
-     r"^w0\[1\] = -1\.0 is out of range"),
-    (lambda: pendula.basins(np.zeros((2, 2)), 0.0, drive=D, gamma=np.array([[0.5, 0.5], [0.5, -2.0]])),
-     r"^gamma\[1, 1\] = -2\.0 is out of range"),
-    (lambda: pendula.lyapunov([0.0, math.nan], 0.0, drive=D), r"^theta0\[1\] = nan"),
-    (lambda: pendula.poincare(0.0, 0.0, drive=D, w0=-1.0), r"^w0 = -1\.0 is out of range"),
-    (lambda: pendula.bifurcation("frequency", [1.0, -0.5], drive=D), r"^values\[1\] = -0\.5 is out of range"),
-    (lambda: pendula.periodic_orbits(0.0, 0.0, drive=D, g=-9.8), "g"),
-])
+@pytest.mark.parametrize(
+    "call, pattern",
+    [
+        (
+            lambda: pendula.driven([0, 1], [0.1, 0.2], 0.0, drive=D, w0=np.array([1.0, -1.0])),
+            r"^w0\[1\] = -1\.0 is out of range",
+        ),
+        (
+            lambda: pendula.basins(np.zeros((2, 2)), 0.0, drive=D, gamma=np.array([[0.5, 0.5], [0.5, -2.0]])),
+            r"^gamma\[1, 1\] = -2\.0 is out of range",
+        ),
+        (lambda: pendula.lyapunov([0.0, math.nan], 0.0, drive=D), r"^theta0\[1\] = nan"),
+        (lambda: pendula.poincare(0.0, 0.0, drive=D, w0=-1.0), r"^w0 = -1\.0 is out of range"),
+        (lambda: pendula.bifurcation("frequency", [1.0, -0.5], drive=D), r"^values\[1\] = -0\.5 is out of range"),
+        (lambda: pendula.periodic_orbits(0.0, 0.0, drive=D, g=-9.8), "g"),
+    ],
+)
 def test_argument_errors_name_the_argument_and_the_state(call, pattern):
     with pytest.raises(ValueError, match=pattern) as exc:
         call()
@@ -104,15 +120,23 @@ def test_dask_matches_local_bit_for_bit():
     distributed = pytest.importorskip("distributed")
     # in-process workers (no spawn, no sockets): the chunking and the join are what is tested
     # (test_sweep.py runs chunks in worker processes); several chunks, attractors across them
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as lc, distributed.Client(lc) as client:
+    with (
+        distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as lc,
+        distributed.Client(lc) as client,
+    ):
         grid = (np.linspace(-3, 3, 9)[:, None], np.linspace(-2, 2, 5)[None, :])
-        kw = dict(drive=pendula.Drive("torque", 1.07, 2 / 3), w0=1.0, gamma=0.5, transient=60, nmax=4, tol=1e-4,
-                  steps_per_period=64)
+        kw = dict(
+            drive=pendula.Drive("torque", 1.07, 2 / 3),
+            w0=1.0,
+            gamma=0.5,
+            transient=60,
+            nmax=4,
+            tol=1e-4,
+            steps_per_period=64,
+        )
         local = pendula.basins(*grid, **kw)
         seen = []
-        remote = pendula.basins(*grid, **kw, client=client, chunk_states=7,
-                                progress=lambda d, n: seen.append((d, n)))
+        remote = pendula.basins(*grid, **kw, client=client, chunk_states=7, progress=lambda d, n: seen.append((d, n)))
         assert len(local.attractors["period"]) >= 2
         assert np.array_equal(remote.labels, local.labels) and np.array_equal(remote.codes, local.codes)
         for k, v in local.attractors.items():
@@ -124,13 +148,14 @@ def test_dask_matches_local_bit_for_bit():
         assert np.array_equal(lb.labels, rb.labels) and lb.message == rb.message and rb.labels[1] == pendula.FAILED
         amps = np.linspace(0.9, 1.2, 11)
         b_loc = pendula.bifurcation("amplitude", amps, drive=D, w0=1.0, gamma=0.5, points=3, **FAST)
-        b_rem = pendula.bifurcation("amplitude", amps, drive=D, w0=1.0, gamma=0.5, points=3, **FAST, client=client,
-                                    chunk_states=4)
-        assert np.array_equal(b_loc.theta, b_rem.theta) and np.array_equal(b_loc.rotation_number,
-                                                                           b_rem.rotation_number)
+        b_rem = pendula.bifurcation(
+            "amplitude", amps, drive=D, w0=1.0, gamma=0.5, points=3, **FAST, client=client, chunk_states=4
+        )
+        assert np.array_equal(b_loc.theta, b_rem.theta) and np.array_equal(b_loc.rotation_number, b_rem.rotation_number)
         ly_loc = pendula.lyapunov([0.2, 0.4, 0.6], 0.0, drive=D, w0=1.0, gamma=0.5, periods=16, **FAST)
-        ly_rem = pendula.lyapunov([0.2, 0.4, 0.6], 0.0, drive=D, w0=1.0, gamma=0.5, periods=16, **FAST,
-                                  client=client, chunk_states=2)
+        ly_rem = pendula.lyapunov(
+            [0.2, 0.4, 0.6], 0.0, drive=D, w0=1.0, gamma=0.5, periods=16, **FAST, client=client, chunk_states=2
+        )
         assert np.array_equal(ly_loc.exponents, ly_rem.exponents)
         with pytest.raises(TypeError, match="client"):
             pendula.basins(0.2, 0.0, **kw, client="tcp://x")
@@ -143,8 +168,22 @@ def test_the_commands_take_the_pendulum_as_every_command_does(tmp_path):
 
     def run(*flags):
         folder = tmp_path / f"o{len(list(tmp_path.iterdir()))}"
-        code = main(["lyapunov", "--theta0", "0.2", "--periods", "16", "--transient", "5", "--no-png", *flags,
-                     "--out", str(folder)], out=io.StringIO())
+        code = main(
+            [
+                "lyapunov",
+                "--theta0",
+                "0.2",
+                "--periods",
+                "16",
+                "--transient",
+                "5",
+                "--no-png",
+                *flags,
+                "--out",
+                str(folder),
+            ],
+            out=io.StringIO(),
+        )
         return code, (dict(np.load(folder / "lyapunov.npz")) if code == 0 else None)
 
     code, text = run()
@@ -154,5 +193,5 @@ def test_the_commands_take_the_pendulum_as_every_command_does(tmp_path):
     _, direct = run("--w0", str(W0_TEXT))
     for k in one:
         assert np.array_equal(one[k], g_l[k]) and np.array_equal(text[k], direct[k]), k
-    assert not all(np.array_equal(one[k], text[k]) for k in one)     # the default is the text's, not w0 = 1
+    assert not all(np.array_equal(one[k], text[k]) for k in one)  # the default is the text's, not w0 = 1
     assert run("--w0", "1", "--g", "9.8")[0] == 2

@@ -1,11 +1,12 @@
 """Core concern: physical parameters (text eqs 1.7, 1.8, 2.1) and error plumbing."""
+
 import math
 
 import numpy as np
 import pytest
+from helpers import ROOT, needs_source
 
 import pendula
-from helpers import ROOT, needs_source
 
 
 def test_text_parameters_give_sqrt2():
@@ -26,12 +27,15 @@ def test_damping_rate():
     assert pendula.damping_rate(b=0.05, mass=0.1) == pytest.approx(0.5, rel=1e-15)
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(g=-9.8, length=4.9), "g"),
-    (dict(g=9.8, length=0.0), "length"),
-    (dict(g=float("nan"), length=4.9), "g"),
-    (dict(g=9.8, length=float("inf")), "length"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(g=-9.8, length=4.9), "g"),
+        (dict(g=9.8, length=0.0), "length"),
+        (dict(g=float("nan"), length=4.9), "g"),
+        (dict(g=9.8, length=float("inf")), "length"),
+    ],
+)
 def test_bad_parameters_name_the_argument(kwargs, name):
     with pytest.raises(ValueError) as err:
         pendula.natural_frequency(**kwargs)
@@ -71,8 +75,11 @@ def test_message_length_has_one_home():
     inc = (ROOT / "src" / "core" / "pendula_msg_len.inc").read_text()
     length = int(re.search(r"PENDULA_MSG_LEN\s*=\s*(\d+)", inc).group(1))
     literal = re.compile(r"character\s*\(\s*(len\s*=\s*)?\d", re.I)
-    spelled = {path.name for path in (ROOT / "python" / "f2py").glob("*.f90")
-               if any(literal.search(line) for line in path.read_text().splitlines())}
+    spelled = {
+        path.name
+        for path in (ROOT / "python" / "f2py").glob("*.f90")
+        if any(literal.search(line) for line in path.read_text().splitlines())
+    }
     assert not spelled, spelled
     status = (ROOT / "src" / "core" / "pendula_status.f90").read_text()
     assert "include 'pendula_msg_len.inc'" in status
@@ -107,10 +114,16 @@ def test_period_series_matches_mpmath_and_brackets_the_exact_period():
     assert isinstance(pendula.period_series(0.1, 2.0), float)
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(m=-0.1, w0=1.0), "m"), (dict(m=1.5, w0=1.0), "m"), (dict(m=float("nan"), w0=1.0), "m"),
-    (dict(m=0.1, w0=0.0), "w0"), (dict(m=0.1, w0=float("inf")), "w0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(m=-0.1, w0=1.0), "m"),
+        (dict(m=1.5, w0=1.0), "m"),
+        (dict(m=float("nan"), w0=1.0), "m"),
+        (dict(m=0.1, w0=0.0), "w0"),
+        (dict(m=0.1, w0=float("inf")), "w0"),
+    ],
+)
 def test_period_series_rejects_bad_input(kwargs, name):
     with pytest.raises(ValueError, match=rf"\b{name}\b"):
         pendula.period_series(**kwargs)

@@ -9,19 +9,38 @@ Python results differed from the Fortran build's.  They are bind(C, name='')
 now; this checks that none of those names is defined by a pendula extension
 (a name found through ctypes must be the process-wide one, e.g. libc's div).
 """
+
 import ctypes
 import importlib.machinery
 import pathlib
 
-import pytest
-
-import pendula
 from helpers import needs_cvode
 
-NAMES = ["div", "scale", "prod", "inv", "const", "abs_", "min_", "add_const", "dot_prod", "max_norm",
-         "wrms_norm", "wsqr_sum", "linear_sum", "linear_combination", "scale_add_multi",
-         "scale_vector_array", "linear_sum_vector_array", "rhs", "jacobian", "root_functions",
-         "capture_error"]
+import pendula
+
+NAMES = [
+    "div",
+    "scale",
+    "prod",
+    "inv",
+    "const",
+    "abs_",
+    "min_",
+    "add_const",
+    "dot_prod",
+    "max_norm",
+    "wrms_norm",
+    "wsqr_sum",
+    "linear_sum",
+    "linear_combination",
+    "scale_add_multi",
+    "scale_vector_array",
+    "linear_sum_vector_array",
+    "rhs",
+    "jacobian",
+    "root_functions",
+    "capture_error",
+]
 
 
 def _address(fn):
@@ -41,5 +60,6 @@ def test_extensions_define_no_callback_names():
             if fn is None:
                 continue
             outside = getattr(process, name, None)
-            assert outside is not None and _address(outside) == _address(fn), \
+            assert outside is not None and _address(outside) == _address(fn), (
                 f"{path.name} defines the C symbol {name!r} (use bind(C, name=''))"
+            )

@@ -1,10 +1,10 @@
 """Relative links in README.md and docs/**/*.md resolve: the file exists in the source tree
 (or is a page the docs build generates), and a #anchor names a heading of that page (the
 GitHub/MyST slug of a level 1-3 heading, as myst_heading_anchors = 3 makes them)."""
+
 import re
 
 import pytest
-
 from helpers import ROOT, needs_source
 
 LINK = re.compile(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)|!\[[^\]]*\]\(([^)\s]+)\)")
@@ -16,7 +16,8 @@ GENERATED = {"docs/api/index.rst", "docs/gallery/index.md", "docs/guide/ensemble
 def _pages():
     skip = ("_build", "_generated", "gallery", "api")
     return [ROOT / "README.md"] + sorted(
-        p for p in (ROOT / "docs").rglob("*.md") if not set(p.relative_to(ROOT / "docs").parts) & set(skip))
+        p for p in (ROOT / "docs").rglob("*.md") if not set(p.relative_to(ROOT / "docs").parts) & set(skip)
+    )
 
 
 def _slug(heading):
@@ -33,10 +34,10 @@ def _anchors(page):
 
 def _links(page):
     text = FENCE.sub("", page.read_text())
-    text = re.sub(r"`[^`\n]*`", "", text)     # inline code is not a link
+    text = re.sub(r"`[^`\n]*`", "", text)  # inline code is not a link
     for m in LINK.finditer(text):
         target = m.group(1) or m.group(2)
-        if not re.match(r"^[a-z][a-z+.-]*:", target):   # http:, https:, mailto: ... left alone
+        if not re.match(r"^[a-z][a-z+.-]*:", target):  # http:, https:, mailto: ... left alone
             yield target
 
 
@@ -60,5 +61,7 @@ def test_the_link_pattern_finds_links():
     page_text = "See [the guide](docs/guide/linear.md#api), ![fig](a.png) and [web](https://x.org)."
     found = [m.group(1) or m.group(2) for m in LINK.finditer(page_text)]
     assert found == ["docs/guide/linear.md#api", "a.png", "https://x.org"]
-    assert _slug("Linear damping: pendula, the text's formulas and `expm`") == \
-        "linear-damping-pendula-the-texts-formulas-and-expm"
+    assert (
+        _slug("Linear damping: pendula, the text's formulas and `expm`")
+        == "linear-damping-pendula-the-texts-formulas-and-expm"
+    )

@@ -24,6 +24,7 @@ the public classes (one test per name, so a failure names what to fix):
 The docs build applies the same rule (tools/docs_docstrings.py): a public callable without
 numpydoc sections fails it.
 """
+
 import ast
 import doctest
 import inspect
@@ -31,10 +32,10 @@ import textwrap
 
 import numpy as np
 import pytest
-
-import pendula
 from api_table import ALL_CASES, API
 from helpers import ROOT, load_file
+
+import pendula
 
 pytest.importorskip("numpydoc")
 from numpydoc.docscrape import get_doc_object  # noqa: E402
@@ -56,7 +57,7 @@ CHECKS = {
 }
 
 
-DOCS = load_file(ROOT / "tools" / "docs_docstrings.py")   # the docs build's own code
+DOCS = load_file(ROOT / "tools" / "docs_docstrings.py")  # the docs build's own code
 
 
 def _is_constant(obj):
@@ -138,8 +139,11 @@ def _signature_params(obj):
         sig = inspect.signature(obj)
     except (TypeError, ValueError):
         return []
-    return [p.name for p in sig.parameters.values()
-            if p.name not in ("self", "cls") and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+    return [
+        p.name
+        for p in sig.parameters.values()
+        if p.name not in ("self", "cls") and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+    ]
 
 
 def _entry_names(entry):
@@ -163,20 +167,21 @@ def _problems(name, obj, kind):
     report = validate(doc)
     skip = set()
     if kind == "class":
-        skip |= {"PR01", "PR02", "RT01", "YD01"}    # checked below (Attributes count)
+        skip |= {"PR01", "PR02", "RT01", "YD01"}  # checked below (Attributes count)
     if kind == "property":
-        skip |= {"PR01", "PR02", "RT01", "EX01"}    # attribute-like: a summary suffices
-    found = [f"{code} ({CHECKS[code]}): {msg}" for code, msg in report["errors"]
-             if code in CHECKS and code not in skip]
+        skip |= {"PR01", "PR02", "RT01", "EX01"}  # attribute-like: a summary suffices
+    found = [f"{code} ({CHECKS[code]}): {msg}" for code, msg in report["errors"] if code in CHECKS and code not in skip]
     if not doc["Summary"]:
         return found or ["no summary"]
     if kind == "class":
-        documented = {n for sec in ("Parameters", "Attributes") for p in doc[sec]
-                      for n in _entry_names(p)}
+        documented = {n for sec in ("Parameters", "Attributes") for p in doc[sec] for n in _entry_names(p)}
         params = _signature_params(obj)
         missing = [p for p in params if p not in documented]
-        unknown = [] if _takes_var_positional(obj) else [
-            n for p in doc["Parameters"] for n in _entry_names(p) if n not in params]
+        unknown = (
+            []
+            if _takes_var_positional(obj)
+            else [n for p in doc["Parameters"] for n in _entry_names(p) if n not in params]
+        )
         if missing:
             found.append(f"constructor arguments not under Parameters or Attributes: {missing}")
         if unknown:
@@ -216,8 +221,7 @@ def _attribute_docs():
 def test_constant_has_documented_home(name, value, kind):
     pytest.importorskip("sphinx")
     docs = {attr: text for (_mod, attr), text in _attribute_docs().items() if text}
-    assert name in docs, (f"pendula.{name} needs an attribute docstring under its assignment "
-                          "(what its API page shows)")
+    assert name in docs, f"pendula.{name} needs an attribute docstring under its assignment (what its API page shows)"
     users = [n for n, obj, k in PUBLIC if k != "constant" and name in (inspect.getdoc(obj) or "")]
     assert users, f"no public docstring names pendula.{name} (the result that carries it)"
 
@@ -235,11 +239,19 @@ def test_examples_run(name, obj, kind, tmp_path, monkeypatch):
     tests = _doctests(func, name)
     if not tests:
         pytest.skip("no Examples (test_numpydoc_sections reports a missing section)")
-    monkeypatch.chdir(tmp_path)     # examples that write files write them here
+    monkeypatch.chdir(tmp_path)  # examples that write files write them here
     monkeypatch.setenv("MPLBACKEND", "Agg")
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
-    with np.printoptions(precision=8, threshold=1000, edgeitems=3, linewidth=75,
-                         suppress=False, floatmode="maxprec", sign="-", legacy=False):
+    with np.printoptions(
+        precision=8,
+        threshold=1000,
+        edgeitems=3,
+        linewidth=75,
+        suppress=False,
+        floatmode="maxprec",
+        sign="-",
+        legacy=False,
+    ):
         for test in tests:
             runner.run(test)
     assert runner.failures == 0, f"pendula.{name}: {runner.failures} example(s) gave other output"
@@ -299,9 +311,25 @@ def test_checks_accept_a_teaching_docstring_and_reject_a_bare_one():
 
 def test_docs_build_escapes_absolute_values_only_in_prose():
     """What the docs build does to a docstring before numpydoc reads it (docs/conf.py)."""
-    lines = ["Summary with |x|.", "", "Text |x - y| and ``|g|`` and :math:`|w_0|`.", "",
-             ".. math::", "", "    |w_0| > 0", "", "After |t|::", "", "    |literal|", "",
-             ">>> abs(-1)   # |x|", "1", "", "Parameters", "----------"]
+    lines = [
+        "Summary with |x|.",
+        "",
+        "Text |x - y| and ``|g|`` and :math:`|w_0|`.",
+        "",
+        ".. math::",
+        "",
+        "    |w_0| > 0",
+        "",
+        "After |t|::",
+        "",
+        "    |literal|",
+        "",
+        ">>> abs(-1)   # |x|",
+        "1",
+        "",
+        "Parameters",
+        "----------",
+    ]
     assert DOCS.prepare("function", "pendula.f", lines) is None
     assert lines[0] == "Summary with \\|x\\|."
     assert lines[2] == "Text \\|x - y\\| and ``|g|`` and :math:`|w_0|`."

@@ -5,6 +5,7 @@ Lyapunov exponents, the Floquet multipliers of the Newton orbit, the sum rule
 lambda1 + lambda2 = -gamma, Kapitza's stability threshold, the linear closed
 form -- plus fourth-order convergence, batch == single state bit for bit, and
 refused input."""
+
 import math
 
 import numpy as np
@@ -12,7 +13,7 @@ import pytest
 
 import pendula
 
-BG = dict(w0=1.0, gamma=0.5)            # Baker & Gollub's q = 2
+BG = dict(w0=1.0, gamma=0.5)  # Baker & Gollub's q = 2
 CHAOS = pendula.Drive("torque", 1.15, 2 / 3)
 PERIOD1 = pendula.Drive("torque", 0.9, 2 / 3)
 PERIOD2 = pendula.Drive("torque", 1.07, 2 / 3)
@@ -25,10 +26,11 @@ def _rhs(kind, amp, freq, phase, w0, gamma):
         p = w0 * w0 + (amp * freq * freq * c if kind == "pivot" else 0.0)
         q = amp * c if kind == "torque" else 0.0
         out = [om, q - gamma * om - p * math.sin(th)]
-        if len(y) > 2:   # two tangent vectors (variational equations)
+        if len(y) > 2:  # two tangent vectors (variational equations)
             for i in (2, 4):
                 out += [y[i + 1], -gamma * y[i + 1] - p * math.cos(th) * y[i]]
         return out
+
     return f
 
 
@@ -47,8 +49,15 @@ def test_drive_off_is_the_undamped_and_damped_pendulum():
 def test_driven_against_dop853_and_order_four():
     scipy = pytest.importorskip("scipy.integrate")
     t = np.array([0.0, 5.0, 12.3, 25.0])
-    sol = scipy.solve_ivp(_rhs("torque", 1.15, 2 / 3, 0.3, 1.0, 0.5), (0, 25.0), [0.2, 0.0], method="DOP853",
-                          t_eval=t, rtol=1e-13, atol=1e-13)
+    sol = scipy.solve_ivp(
+        _rhs("torque", 1.15, 2 / 3, 0.3, 1.0, 0.5),
+        (0, 25.0),
+        [0.2, 0.0],
+        method="DOP853",
+        t_eval=t,
+        rtol=1e-13,
+        atol=1e-13,
+    )
     d = pendula.Drive("torque", 1.15, 2 / 3, 0.3)
     errs = []
     for n in (80, 160, 320):
@@ -56,8 +65,8 @@ def test_driven_against_dop853_and_order_four():
         errs.append(np.max(np.abs(r.theta - sol.y[0])))
         if n == 80:
             ratio = np.abs(r.theta - sol.y[0])[1:] / r.theta_err[1:]
-            assert np.all((ratio > 0.7) & (ratio < 1.3)), ratio   # Richardson estimate is honest
-    assert 14 < errs[0] / errs[1] < 19 and 14 < errs[1] / errs[2] < 18, errs   # 2**4 = 16
+            assert np.all((ratio > 0.7) & (ratio < 1.3)), ratio  # Richardson estimate is honest
+    assert 14 < errs[0] / errs[1] < 19 and 14 < errs[1] / errs[2] < 18, errs  # 2**4 = 16
     assert errs[2] < 1e-7
 
 
@@ -80,14 +89,16 @@ def test_batch_equals_single_state_bit_for_bit():
         one = pendula.driven(t, x, 0.1, drive=CHAOS, w0=1.0, gamma=0.3, threads=1)
         assert np.array_equal(one.theta, r.theta[i]) and np.array_equal(one.omega, r.omega[i])
     ly = pendula.lyapunov(th0[:9], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=32, threads=2)
-    assert np.array_equal(pendula.lyapunov(th0[4], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=32).exponents,
-                          ly.exponents[4])
+    assert np.array_equal(
+        pendula.lyapunov(th0[4], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=32).exponents, ly.exponents[4]
+    )
 
 
 def test_lyapunov_sum_rule_and_finite_time_exponents_against_scipy():
     scipy = pytest.importorskip("scipy.integrate")
-    r = pendula.lyapunov([0.2, 1.0, -2.0], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, transient=0, periods=32,
-                         steps_per_period=2000)
+    r = pendula.lyapunov(
+        [0.2, 1.0, -2.0], 0.0, drive=CHAOS, w0=1.0, gamma=0.5, transient=0, periods=32, steps_per_period=2000
+    )
     assert np.max(np.abs(r.exponents.sum(axis=-1) + 0.5)) < 1e-10
     # finite-time exponents over 16 periods from the same start, Gram-Schmidt each period, DOP853
     # reference (a regular orbit: on the chaotic one the two trajectories part by e^19 in 16 periods)
@@ -139,8 +150,9 @@ def test_kapitza_inverted_pendulum_threshold():
     below = pendula.find_periodic_orbit(np.pi, 0.0, drive=pendula.Drive("pivot", 0.05, 20.0), w0=1.0, gamma=0.1)
     assert bool(above.stable) and not bool(below.stable)
     # and an integration from near the top stays there
-    r = pendula.driven(np.linspace(0, 60, 7), np.pi - 0.1, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), w0=1.0,
-                       gamma=0.1)
+    r = pendula.driven(
+        np.linspace(0, 60, 7), np.pi - 0.1, 0.0, drive=pendula.Drive("pivot", 0.1, 20.0), w0=1.0, gamma=0.1
+    )
     assert np.all(np.abs(r.theta - np.pi) < 0.2)
 
 
@@ -159,11 +171,11 @@ def test_linear_closed_form_and_resonance():
 def test_sections_bifurcation_and_basins():
     b = pendula.bifurcation("amplitude", [0.9, 1.07, 1.15], drive=CHAOS, transient=300, points=6, **BG)
     assert b.theta.shape == (3, 6) and np.all(np.abs(b.theta) <= np.pi)
-    assert np.ptp(b.theta[0]) < 1e-8                                   # period 1
-    assert abs(b.theta[1, 2] - b.theta[1, 0]) < 1e-6 < abs(b.theta[1, 1] - b.theta[1, 0])   # period 2
+    assert np.ptp(b.theta[0]) < 1e-8  # period 1
+    assert abs(b.theta[1, 2] - b.theta[1, 0]) < 1e-6 < abs(b.theta[1, 1] - b.theta[1, 0])  # period 2
     df = b.to_pandas()
     assert list(df.columns)[:4] == ["amplitude", "k", "theta", "omega"] and len(df) == 18
-    assert (df["w0"] == 1.0).all() and (df["gamma"] == 0.5).all() and (df["code"] == 0).all()   # its inputs
+    assert (df["w0"] == 1.0).all() and (df["gamma"] == 0.5).all() and (df["code"] == 0).all()  # its inputs
     g = pendula.basins(np.linspace(-3, 3, 6)[:, None], np.linspace(-2, 2, 4)[None, :], drive=PERIOD1, **BG)
     assert g.labels.shape == (6, 4)
     assert np.array_equal(g.labels == pendula.UNSETTLED, g.period == 0)
@@ -175,30 +187,36 @@ def test_sections_bifurcation_and_basins():
 
 def test_progress_callback_counts_states():
     seen = []
-    pendula.lyapunov(np.zeros(20), 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=16,
-                     progress=lambda d, n: seen.append((d, n)))
+    pendula.lyapunov(
+        np.zeros(20), 0.0, drive=CHAOS, w0=1.0, gamma=0.5, periods=16, progress=lambda d, n: seen.append((d, n))
+    )
     assert seen and seen[-1] == (20, 20)
 
 
-@pytest.mark.parametrize("call, name", [
-    (lambda: pendula.Drive("spring", 1.0, 1.0), "kind"),
-    (lambda: pendula.Drive("torque", math.nan, 1.0), "amplitude"),
-    (lambda: pendula.Drive("torque", 1.0, 0.0), "frequency"),
-    (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, w0=-1.0), "w0"),
-    (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, w0=1.0, gamma=-1.0), "gamma"),
-    (lambda: pendula.driven([1, 0], 0.0, 0.0, drive=CHAOS), "t"),
-    (lambda: pendula.driven([0, 1], math.inf, 0.0, drive=CHAOS), "theta0"),
-    (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=pendula.Drive("torque", 1, 0.01), steps_per_period=8),
-     "steps_per_period"),
-    (lambda: pendula.lyapunov(0.0, 0.0, drive=CHAOS, periods=3), "periods"),
-    (lambda: pendula.poincare(0.0, 0.0, drive=CHAOS, points=0), "points"),
-    (lambda: pendula.bifurcation("mass", [1.0], drive=CHAOS), "parameter"),
-    (lambda: pendula.bifurcation("gamma", [-1.0], drive=CHAOS), "gamma"),
-    (lambda: pendula.basins(0.0, 0.0, drive=CHAOS, tol=0.0), "tol"),
-    (lambda: pendula.periodic_orbits(0.0, 0.0, drive=CHAOS, nmax=0), "nmax"),
-    (lambda: pendula.driven_linear([0.0], 0.0, 0.0, drive=pendula.Drive("pivot", 0.1, 1.0)), "pivot"),
-    (lambda: pendula.resonance_curve(-1.0), "frequency"),
-])
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: pendula.Drive("spring", 1.0, 1.0), "kind"),
+        (lambda: pendula.Drive("torque", math.nan, 1.0), "amplitude"),
+        (lambda: pendula.Drive("torque", 1.0, 0.0), "frequency"),
+        (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, w0=-1.0), "w0"),
+        (lambda: pendula.driven([0, 1], 0.0, 0.0, drive=CHAOS, w0=1.0, gamma=-1.0), "gamma"),
+        (lambda: pendula.driven([1, 0], 0.0, 0.0, drive=CHAOS), "t"),
+        (lambda: pendula.driven([0, 1], math.inf, 0.0, drive=CHAOS), "theta0"),
+        (
+            lambda: pendula.driven([0, 1], 0.0, 0.0, drive=pendula.Drive("torque", 1, 0.01), steps_per_period=8),
+            "steps_per_period",
+        ),
+        (lambda: pendula.lyapunov(0.0, 0.0, drive=CHAOS, periods=3), "periods"),
+        (lambda: pendula.poincare(0.0, 0.0, drive=CHAOS, points=0), "points"),
+        (lambda: pendula.bifurcation("mass", [1.0], drive=CHAOS), "parameter"),
+        (lambda: pendula.bifurcation("gamma", [-1.0], drive=CHAOS), "gamma"),
+        (lambda: pendula.basins(0.0, 0.0, drive=CHAOS, tol=0.0), "tol"),
+        (lambda: pendula.periodic_orbits(0.0, 0.0, drive=CHAOS, nmax=0), "nmax"),
+        (lambda: pendula.driven_linear([0.0], 0.0, 0.0, drive=pendula.Drive("pivot", 0.1, 1.0)), "pivot"),
+        (lambda: pendula.resonance_curve(-1.0), "frequency"),
+    ],
+)
 def test_bad_input_raises_value_error_naming_the_argument(call, name):
     with pytest.raises(ValueError, match=name):
         call()
@@ -213,24 +231,50 @@ def test_cancel_flag_stops_a_batch_and_says_so():
     # the control array of pendula_control, raised before the call: every state unfinished
     from pendula import _fortran
     from pendula._codes import DRIVE_TORQUE, ERR_CANCELLED
+
     control = np.array([1, 0], dtype=np.int64)
-    out = _fortran.lyapunov_f2py(np.zeros(16), [0.0], [1.0], [0.5], DRIVE_TORQUE, [1.15], [2 / 3], [0.0], 32, 0, 64,
-                                 1, control)
+    out = _fortran.lyapunov_f2py(
+        np.zeros(16), [0.0], [1.0], [0.5], DRIVE_TORQUE, [1.15], [2 / 3], [0.0], 32, 0, 64, 1, control
+    )
     codes, code = out[2], out[4]
     assert code == ERR_CANCELLED and np.all(codes == ERR_CANCELLED)
 
 
-@pytest.mark.parametrize("cmd, files", [
-    (["poincare", "--points", "50", "--transient", "20"], ["poincare.npz", "poincare.csv", "poincare.png"]),
-    (["bifurcation", "--values", "0.9", "1.1", "5", "--points", "4", "--transient", "20", "--no-png"],
-     ["bifurcation.npz", "bifurcation.csv"]),
-    (["lyapunov", "--theta0", "0.2", "1.0", "--periods", "32", "--no-png"], ["lyapunov.npz", "lyapunov.csv"]),
-    (["basins", "--amplitude", "0.9", "--theta0", "-3", "3", "4", "--omega0", "-1", "1", "3", "--transient", "20",
-      "--no-png"], ["basins.npz", "basins.csv"]),
-])
+@pytest.mark.parametrize(
+    "cmd, files",
+    [
+        (["poincare", "--points", "50", "--transient", "20"], ["poincare.npz", "poincare.csv", "poincare.png"]),
+        (
+            ["bifurcation", "--values", "0.9", "1.1", "5", "--points", "4", "--transient", "20", "--no-png"],
+            ["bifurcation.npz", "bifurcation.csv"],
+        ),
+        (["lyapunov", "--theta0", "0.2", "1.0", "--periods", "32", "--no-png"], ["lyapunov.npz", "lyapunov.csv"]),
+        (
+            [
+                "basins",
+                "--amplitude",
+                "0.9",
+                "--theta0",
+                "-3",
+                "3",
+                "4",
+                "--omega0",
+                "-1",
+                "1",
+                "3",
+                "--transient",
+                "20",
+                "--no-png",
+            ],
+            ["basins.npz", "basins.csv"],
+        ),
+    ],
+)
 def test_command_line_writes_its_files(tmp_path, cmd, files):
     import io
+
     from pendula.cli import main
+
     if "--no-png" not in cmd:
         pytest.importorskip("matplotlib")
     out = io.StringIO()

@@ -5,6 +5,7 @@ with mpmath at >= 60 digits (340 for the complement forms, so that 1 - mc is
 exact) at the EXACT double inputs, with the condition number of each problem.
 Errors are reported as relative error / (eps * cond).
 """
+
 import functools
 import importlib
 import os
@@ -14,14 +15,15 @@ import pytest
 import scipy.special as sc
 
 import pendula
+
 # the f2py extension (all the glue is one module, pendula._fortran)
 _elliptic = importlib.import_module("pendula._fortran")
 _codes = importlib.import_module("pendula._codes")
 
 EPS = np.finfo(float).eps
 DATA = np.load(os.path.join(os.path.dirname(__file__), "..", "data", "elliptic_refs.npz"))
-TOL_COND = 8.0   # the accuracy target: rel. error <= 8 eps * cond for sn, cn, dn, am
-TOL_ULPS = 4.0   # the accuracy target: K, E, F within 4 ulps
+TOL_COND = 8.0  # the accuracy target: rel. error <= 8 eps * cond for sn, cn, dn, am
+TOL_ULPS = 4.0  # the accuracy target: K, E, F within 4 ulps
 
 
 def _rel(got, ref):
@@ -203,8 +205,7 @@ def test_extreme_arguments_stay_bounded():
     # the plan (table) path and the elementwise path at astronomically large u
     big = np.array([1e15, 1e17, 3e19, 1e25, 7e27, 1e30, 1e100, 1.7e308, -1e25])
     for m in [0.0, 0.5, 1 - 1e-12, -1e10, 2.0]:
-        for res in (_into(_plan_into(False), big, m),
-                    _into(_ELLIPJ_INTO, big, np.full_like(big, m))):
+        for res in (_into(_plan_into(False), big, m), _into(_ELLIPJ_INTO, big, np.full_like(big, m))):
             assert all((np.abs(x) <= 1 + 4 * EPS).all() for x in res[:2])
     for p in [5e-324, 1e-5]:
         res = _into(_plan_into(True), big, p)
@@ -266,10 +267,12 @@ def test_shapes_scalars_broadcasting_and_no_input_change():
 # ---- extreme inputs: |m| up to huge(), phi at the doubles nearest odd multiples of pi/2,
 # F near m = 1 and phi = pi/2 (references: mpmath at the exact double inputs)
 
+
 def _mp_jacobi(u, m):
     """sn, cn, dn at exact double u, m by the modulus transformations (DLMF 22.6.11/12),
     which keep mpmath's own series in their easy range; 400 digits so that 1 - m is exact."""
     import mpmath as mp
+
     with mp.workdps(400):
         u, m = mp.mpf(u), mp.mpf(m)
         if m > 1:
@@ -281,8 +284,7 @@ def _mp_jacobi(u, m):
         return float(s / d / k1), float(c / d), float(1 / d)
 
 
-@pytest.mark.parametrize("m", [1e308, -1e308, 1.7976931348623157e308, -1.7976931348623157e308,
-                               1.4e300, -1.4e300])
+@pytest.mark.parametrize("m", [1e308, -1e308, 1.7976931348623157e308, -1.7976931348623157e308, 1.4e300, -1.4e300])
 def test_ellipj_huge_parameter(m):
     # once a segfault (double-double overflow in the plan set-up, then a table index from NaN)
     for u in (1e-160, 1e-155):
@@ -292,17 +294,28 @@ def test_ellipj_huge_parameter(m):
     # |u| sqrt|m| ~ 1e154: the phase is below the resolution of u (cond ~ |u| sqrt|m|);
     # the values must be finite and consistent, on every path (scalar, array, plan)
     u = np.linspace(-1e3, 1e3, 2001)
-    for sn, cn, dn, ph in (pendula.ellipj(0.7, m), pendula.ellipj(u, m), pendula.ellipj(u, np.full_like(u, m)),
-                           pendula.ellipjm1(u, m)):
+    for sn, cn, dn, ph in (
+        pendula.ellipj(0.7, m),
+        pendula.ellipj(u, m),
+        pendula.ellipj(u, np.full_like(u, m)),
+        pendula.ellipjm1(u, m),
+    ):
         assert np.all(np.isfinite(sn) & np.isfinite(cn) & np.isfinite(dn) & np.isfinite(ph))
     sn, cn, dn, _ = pendula.ellipj(u, m)
     assert np.all(np.abs(sn * sn + cn * cn - 1) <= 8 * EPS)
 
 
-@pytest.mark.parametrize("phi,p,ref", [
-    (np.pi / 2, 1e-300, 38.025003373828868), (np.pi / 2, 1e-40, 38.025003367161134),
-    (np.pi / 2, 0.0, 38.025003373828868), (3 * np.pi / 2, 1e-300, 730.47450770561424),
-    (-3 * np.pi / 2, 1e-300, -730.47450770561424), (-np.pi / 2, 1e-300, -38.025003373828868)])
+@pytest.mark.parametrize(
+    "phi,p,ref",
+    [
+        (np.pi / 2, 1e-300, 38.025003373828868),
+        (np.pi / 2, 1e-40, 38.025003367161134),
+        (np.pi / 2, 0.0, 38.025003373828868),
+        (3 * np.pi / 2, 1e-300, 730.47450770561424),
+        (-3 * np.pi / 2, 1e-300, -730.47450770561424),
+        (-np.pi / 2, 1e-300, -38.025003373828868),
+    ],
+)
 def test_ellipf_at_double_nearest_odd_multiple_of_half_pi(phi, p, ref):
     # the multiple of pi was taken from the rounded quotient anint(phi/pi): fl(pi/2) was
     # reduced to -pi/2 - 6e-17 and F came out as F + 2K (656.49 instead of 38.03)
@@ -316,6 +329,7 @@ def test_ellipf_near_one_and_half_pi_matches_mpmath():
     # 1 - m in [1e-12, 1e-3], phi within 1e-2 of pi/2: F at the exact double inputs to
     # <= 8 eps (once 3,460 eps: 1 - m sin^2 phi cancelled; now cos^2 + mc sin^2)
     import mpmath as mp
+
     rng = np.random.default_rng(8)
     n = 300
     m = 1 - 10.0 ** rng.uniform(-12, -3, n)
@@ -323,7 +337,7 @@ def test_ellipf_near_one_and_half_pi_matches_mpmath():
     with mp.workdps(50):
         ref = np.array([float(mp.ellipf(mp.mpf(a), mp.mpf(b))) for a, b in zip(phi, m)])
     e = _rel(pendula.ellipf(phi, m), ref)
-    ec = _rel(pendula.ellipfm1(phi, 1 - m), ref)     # 1 - m is exact for these m
+    ec = _rel(pendula.ellipfm1(phi, 1 - m), ref)  # 1 - m is exact for these m
     print(f"F near m = 1, phi = pi/2: worst {e.max():.2f} eps (m form), {ec.max():.2f} eps (p form)")
     assert e.max() <= 8 and ec.max() <= 8
 

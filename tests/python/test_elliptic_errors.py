@@ -3,6 +3,7 @@ scipy.special does, instead of raising for the whole call; compared with SciPy
 element by element, NaN positions included.  Where the domains differ on
 purpose (m > 1 in ellipkinc and ellipj, m < 0 in ellipj, ellipkinc at m = -inf)
 the positions are listed and checked too."""
+
 import math
 
 import numpy as np
@@ -40,7 +41,7 @@ def _same(ours, ref, where=None):
 def test_complete_integrals_nan_where_scipy_gives_nan(name, x):
     _same(getattr(pendula, name)(x, errors="nan"), getattr(sc, name)(x))
     with pytest.raises(ValueError, match="m must be|p = 1 - m must be"):
-        getattr(pendula, name)(x)          # the default still refuses the call
+        getattr(pendula, name)(x)  # the default still refuses the call
 
 
 def test_ellipem1_nan_where_scipy_ellipe_of_the_complement_is_nan():
@@ -60,7 +61,7 @@ def test_ellipkinc_matches_scipy_with_nan_except_where_documented():
     phi, m = _grid(PHI, M)
     ours, ref = pendula.ellipkinc(phi, m, errors="nan"), sc.ellipkinc(phi, m)
     with np.errstate(invalid="ignore"):
-        wider = (m > 1) & (m * np.sin(phi) ** 2 <= 1) & np.isfinite(phi)   # defined here, NaN in SciPy
+        wider = (m > 1) & (m * np.sin(phi) ** 2 <= 1) & np.isfinite(phi)  # defined here, NaN in SciPy
     # m = -inf: F -> 0 for finite phi (SciPy gives 0, here out of domain: NaN); with phi
     # infinite too the limit is indeterminate (SciPy NaN, here +-inf)
     minus_inf = (m == -INF) & ~np.isnan(phi)
@@ -95,10 +96,10 @@ def test_ellipj_matches_scipy_with_nan_except_where_documented(func):
     u, m = _grid(U, m_axis)
     if func == "ellipj":
         ours = pendula.ellipj(u, m, errors="nan")
-    else:   # only where 1 - (1 - m) == m, so that both see the same parameter
+    else:  # only where 1 - (1 - m) == m, so that both see the same parameter
         ours = pendula.ellipjm1(u, 1 - m, errors="nan")
     ref = sc.ellipj(u, m)
-    wider = ((m < 0) | (m > 1)) & np.isfinite(m) & np.isfinite(u)    # defined here, NaN in SciPy
+    wider = ((m < 0) | (m > 1)) & np.isfinite(m) & np.isfinite(u)  # defined here, NaN in SciPy
     # m = 1: sn = tanh(u) etc. have limits as |u| -> inf; SciPy gives NaN for |u| > 355.6
     wider |= (m == 1) & (np.abs(u) > 355.6)
     for o, r in zip(ours, ref):
@@ -123,9 +124,20 @@ def test_in_domain_results_are_the_same_either_way():
     assert math.isnan(pendula.ellipe(2.0, errors="nan"))
 
 
-@pytest.mark.parametrize("name, args", [("ellipk", (0.5,)), ("ellipkm1", (0.5,)), ("ellipe", (0.5,)),
-                                        ("ellipem1", (0.5,)), ("ellipf", (1.0, 0.5)), ("ellipkinc", (1.0, 0.5)),
-                                        ("ellipfm1", (1.0, 0.5)), ("ellipj", (1.0, 0.5)), ("ellipjm1", (1.0, 0.5))])
+@pytest.mark.parametrize(
+    "name, args",
+    [
+        ("ellipk", (0.5,)),
+        ("ellipkm1", (0.5,)),
+        ("ellipe", (0.5,)),
+        ("ellipem1", (0.5,)),
+        ("ellipf", (1.0, 0.5)),
+        ("ellipkinc", (1.0, 0.5)),
+        ("ellipfm1", (1.0, 0.5)),
+        ("ellipj", (1.0, 0.5)),
+        ("ellipjm1", (1.0, 0.5)),
+    ],
+)
 def test_errors_is_checked_by_name(name, args):
     f = getattr(pendula, name)
     for bad in ("ignore", "NaN", "coerce", ""):
@@ -135,7 +147,7 @@ def test_errors_is_checked_by_name(name, args):
         with pytest.raises(TypeError, match="errors must be the str"):
             f(*args, errors=bad)
     with pytest.raises(TypeError):
-        f(*args, "nan")        # keyword-only, as the other options of pendula
+        f(*args, "nan")  # keyword-only, as the other options of pendula
 
 
 def test_the_documented_differences_from_scipy_hold():

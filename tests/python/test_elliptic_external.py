@@ -12,6 +12,7 @@ cond = |f| + sum |x_i df/dx_i| at the double inputs (the file's ``cond`` column)
 ref = ref_hi + ref_lo.  The Jacobi rows run twice: elementwise (arrays u, m) and
 through the one-parameter plan path (grouped by parameter).
 """
+
 import importlib
 import os
 import pathlib
@@ -21,10 +22,10 @@ import pytest
 
 import pendula
 
-_elliptic = importlib.import_module("pendula._fortran")   # the f2py extension (plan routines)
-_codes = importlib.import_module("pendula._codes")        # its selector codes
+_elliptic = importlib.import_module("pendula._fortran")  # the f2py extension (plan routines)
+_codes = importlib.import_module("pendula._codes")  # its selector codes
 
-EPS = 2.0 ** -52
+EPS = 2.0**-52
 TOL = 16.0
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
@@ -38,7 +39,8 @@ _FILE = _data_file()
 pytestmark = pytest.mark.skipif(
     not _FILE.is_file(),
     reason=f"external elliptic reference data not found at {_FILE} "
-           "(set PENDULA_REFERENCE_DATA to the folder holding elliptic_external.npz)")
+    "(set PENDULA_REFERENCE_DATA to the folder holding elliptic_external.npz)",
+)
 
 
 @pytest.fixture(scope="module")
@@ -48,8 +50,20 @@ def data():
 
 
 JACOBI = {"sn": 0, "cn": 1, "dn": 2}
-FUNCS = ["ellipk", "ellipkm1", "ellipe", "ellipem1", "ellipf", "ellipfm1",
-         "ellipj.sn", "ellipj.cn", "ellipj.dn", "ellipjm1.sn", "ellipjm1.cn", "ellipjm1.dn"]
+FUNCS = [
+    "ellipk",
+    "ellipkm1",
+    "ellipe",
+    "ellipem1",
+    "ellipf",
+    "ellipfm1",
+    "ellipj.sn",
+    "ellipj.cn",
+    "ellipj.dn",
+    "ellipjm1.sn",
+    "ellipjm1.cn",
+    "ellipjm1.dn",
+]
 
 
 def _evaluate(name, x, path="elementwise"):
@@ -86,8 +100,11 @@ def _check(data, name, path="elementwise"):
     ratio = np.where(cond > 0, err / (EPS * np.where(cond > 0, cond, 1)), np.where(err == 0, 0, np.inf))
     worst = float(np.max(ratio))
     bad = np.flatnonzero(~ok)
-    detail = "\n".join(f"  {data['source'][sel][i]}: x = {x[i][~np.isnan(x[i])].tolist()} got {got[i]!r} "
-                       f"ref {ref[i]!r} err/(eps cond) = {ratio[i]:.3g}" for i in bad[:10])
+    detail = "\n".join(
+        f"  {data['source'][sel][i]}: x = {x[i][~np.isnan(x[i])].tolist()} got {got[i]!r} "
+        f"ref {ref[i]!r} err/(eps cond) = {ratio[i]:.3g}"
+        for i in bad[:10]
+    )
     assert not bad.size, f"{name} ({path}): {bad.size} of {sel.sum()} rows beyond {TOL} eps*cond:\n{detail}"
     print(f"{name} ({path}): {sel.sum()} rows, worst |err|/(eps cond) = {worst:.2f}")
     return worst

@@ -5,6 +5,7 @@ their own tests and by the main job) and every example's outputs are checked
 from that run: exit status, the files it must write, PNG signatures and
 non-empty CSV tables, and that missing library parts are reported, not faked.
 """
+
 import csv
 import importlib.util
 import os
@@ -13,9 +14,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import load_file
 
 import pendula
-from helpers import load_file
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "python"
@@ -68,9 +69,14 @@ def _run_all_module():
 def main_job(tmp_path_factory):
     out = tmp_path_factory.mktemp("main_job")
     env = dict(os.environ, MPLBACKEND="Agg")
-    proc = subprocess.run([sys.executable, str(EXAMPLES / "run_all.py"), "--out", str(out), "--quick",
-                           "--skip-benchmarks"], capture_output=True, text=True, timeout=600, env=env,
-                          cwd=str(out))
+    proc = subprocess.run(
+        [sys.executable, str(EXAMPLES / "run_all.py"), "--out", str(out), "--quick", "--skip-benchmarks"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=env,
+        cwd=str(out),
+    )
     return out, proc
 
 
@@ -124,6 +130,7 @@ def test_period_table_values(main_job):
     out, _ = main_job
     rows = _check_csv(out / "tables" / "period_table.csv", min_rows=10)
     import numpy as np
+
     th = np.array([float(r[1]) for r in rows[1:]])
     t_exact = np.array([float(r[2]) for r in rows[1:]])
     np.testing.assert_allclose(t_exact, pendula.period(th, 0.0, np.sqrt(2.0)), rtol=1e-14)
@@ -135,8 +142,8 @@ def test_integrators_example_shows_the_listing_drift(main_job):
     by = {(r[0], r[1], r[3]): r for r in rows[1:]}
     rk4 = float(by[("text scene", "0.01", "rk4 h=0.05")][4])
     listing = float(by[("text scene", "0.01", "text listing as printed h=0.05")][4])
-    assert rk4 < 1e-5          # the correct RK4 at the text's step
-    assert listing > 1.0       # the printed listing is off by more than a radian
+    assert rk4 < 1e-5  # the correct RK4 at the text's step
+    assert listing > 1.0  # the printed listing is off by more than a radian
 
 
 @pytest.mark.skipif(not HAVE_MPL, reason="matplotlib is not installed")
@@ -187,8 +194,11 @@ def test_run_all_reports_a_failing_step(tmp_path, monkeypatch):
     bad = tmp_path / "bad_example.py"
     bad.write_text("import sys\nsys.exit('boom: bad example')\n")
     good = EXAMPLES / "period_table.py"
-    monkeypatch.setattr(mod, "_steps", lambda *a: [("bad_example.py", bad, "tables", []),
-                                                   ("examples/python/period_table.py", good, "tables", [])])
+    monkeypatch.setattr(
+        mod,
+        "_steps",
+        lambda *a: [("bad_example.py", bad, "tables", []), ("examples/python/period_table.py", good, "tables", [])],
+    )
     out = tmp_path / "out"
     assert mod.main(["--out", str(out)]) == 1
     summary = (out / "summary.md").read_text()

@@ -8,6 +8,7 @@ checked against finite differences of an independent integration and against
 mpmath's closed form; the period fit against SciPy's least squares of the same
 objective and against the small-angle formula written out here.
 """
+
 import math
 
 import numpy as np
@@ -19,7 +20,7 @@ scipy = pytest.importorskip("scipy")
 from scipy import optimize, special, stats  # noqa: E402
 
 W0, LENGTH = 3.6, 0.75
-G = W0 ** 2 * LENGTH
+G = W0**2 * LENGTH
 
 
 def swing(t, theta0, omega0, w0, gamma):
@@ -32,6 +33,7 @@ def swing(t, theta0, omega0, w0, gamma):
 
 # ------------------------------------------------------------------ periods
 
+
 def test_period_fit_exact_data_recovers_g_and_small_angle_bias():
     th = np.radians([10.0, 30.0, 60.0, 90.0, 120.0, 150.0, 170.0])
     T = pendula.period(th, g=9.81, length=LENGTH)
@@ -39,7 +41,7 @@ def test_period_fit_exact_data_recovers_g_and_small_angle_bias():
     assert r["g"] == pytest.approx(9.81, rel=1e-13)
     assert r.chi2 < 1e-20 and r.dof == th.size - 1
     # the small-angle formula per point, written out: g = 4 pi^2 l / T^2
-    assert np.allclose(r.small_angle["g_per_point"], 4 * np.pi ** 2 * LENGTH / T ** 2, rtol=1e-14)
+    assert np.allclose(r.small_angle["g_per_point"], 4 * np.pi**2 * LENGTH / T**2, rtol=1e-14)
     assert r.small_angle["g_per_point"][5] == pytest.approx(3.16, abs=0.01)  # the issue's 150 degrees
 
 
@@ -49,7 +51,7 @@ def test_period_fit_matches_scipy_least_squares_and_curve_fit_errors():
     sp = np.full(th.size, 2e-3)
     T = pendula.period(th, w0=W0) + rng.normal(0.0, 2e-3, th.size)
     r = pendula.fit_period(th, T, sigma_period=sp)
-    f = 4 * special.ellipk(np.sin(th / 2) ** 2)     # SciPy's K, not pendula's
+    f = 4 * special.ellipk(np.sin(th / 2) ** 2)  # SciPy's K, not pendula's
     popt, pcov = optimize.curve_fit(lambda x, w: f / w, th, T, p0=[3.0], sigma=sp, absolute_sigma=True)
     assert r["w0"] == pytest.approx(popt[0], rel=1e-10)
     assert r.stderr["w0"] == pytest.approx(math.sqrt(pcov[0, 0]), rel=1e-6)
@@ -74,14 +76,14 @@ def test_period_fit_amplitude_errors_effective_variance():
     dT = (pendula.period(th + h, w0=W0) - pendula.period(th - h, w0=W0)) / (2 * h)
     s2 = 1e-6 + (dT * st) ** 2
     f = T * W0
-    se = math.sqrt(1 / np.sum(f ** 2 / s2)) * W0 ** 2
+    se = math.sqrt(1 / np.sum(f**2 / s2)) * W0**2
     assert r.stderr["w0"] == pytest.approx(se, rel=1e-6)
 
 
 def test_period_fit_finite_bob_and_length_given_g():
     th = np.radians([10.0, 50.0, 90.0])
     rb = 0.05
-    leff = LENGTH + 2 * rb ** 2 / (5 * LENGTH)
+    leff = LENGTH + 2 * rb**2 / (5 * LENGTH)
     T = pendula.period(th, w0=math.sqrt(9.81 / leff))
     r = pendula.fit_period(th, T, sigma_period=1e-4, length=LENGTH, bob_radius=rb)
     assert r["g"] == pytest.approx(9.81, rel=1e-12)
@@ -89,7 +91,7 @@ def test_period_fit_finite_bob_and_length_given_g():
     assert r2["length"] == pytest.approx(LENGTH, rel=1e-12)
     # delta method vs a finite difference of the length in w0
     w0, se = r2["w0"], r2.stderr["w0"]
-    ell = lambda w: 0.5 * (9.81 / w ** 2 + math.sqrt((9.81 / w ** 2) ** 2 - 1.6 * rb ** 2))  # noqa: E731
+    ell = lambda w: 0.5 * (9.81 / w**2 + math.sqrt((9.81 / w**2) ** 2 - 1.6 * rb**2))  # noqa: E731
     d = (ell(w0 * (1 + 1e-7)) - ell(w0 * (1 - 1e-7))) / (2e-7 * w0)
     assert r2.stderr["length"] == pytest.approx(abs(d) * se, rel=1e-5)
 
@@ -101,25 +103,29 @@ def test_period_fit_coverage_monte_carlo():
     z = []
     for _ in range(400):
         th_m = th + rng.normal(0.0, np.radians(1.0), th.size)
-        r = pendula.fit_period(th_m, T0 + rng.normal(0.0, 2e-3, th.size), sigma_period=2e-3,
-                               sigma_theta0=np.radians(1.0), length=LENGTH)
+        r = pendula.fit_period(
+            th_m, T0 + rng.normal(0.0, 2e-3, th.size), sigma_period=2e-3, sigma_theta0=np.radians(1.0), length=LENGTH
+        )
         z.append((r["g"] - G) / r.stderr["g"])
     z = np.array(z)
     cover = np.mean(np.abs(z) < stats.norm.ppf(0.975))
     assert 0.90 <= cover <= 0.99, cover
-    assert 0.75 < np.mean(z ** 2) < 1.3
+    assert 0.75 < np.mean(z**2) < 1.3
 
 
 # ------------------------------------------------------------------ motion
 
-@pytest.mark.parametrize("deg,gamma,noise", [(170.0, 0.0, 1e-2), (150.0, 0.1, 1e-3), (45.0, 0.3, 1e-2),
-                                             (120.0, 0.02, 1e-4)])
+
+@pytest.mark.parametrize(
+    "deg,gamma,noise", [(170.0, 0.0, 1e-2), (150.0, 0.1, 1e-3), (45.0, 0.3, 1e-2), (120.0, 0.02, 1e-4)]
+)
 def test_motion_fit_within_standard_errors(deg, gamma, noise):
     rng = np.random.default_rng(int(deg))
-    t = np.sort(rng.uniform(0.0, 12.0, 300))          # uneven sampling
+    t = np.sort(rng.uniform(0.0, 12.0, 300))  # uneven sampling
     th, _ = swing(t, np.radians(deg), 0.2, W0, gamma)
-    r = pendula.fit_motion(t, th + rng.normal(0.0, noise, t.size), sigma=noise, length=LENGTH,
-                           damping="linear" if gamma else None)
+    r = pendula.fit_motion(
+        t, th + rng.normal(0.0, noise, t.size), sigma=noise, length=LENGTH, damping="linear" if gamma else None
+    )
     truth = dict(theta0=np.radians(deg), omega0=0.2, w0=W0, gamma=gamma, g=G)
     for name in r.names:
         assert abs(r[name] - truth[name]) < 4 * r.stderr[name], (name, r[name], r.stderr[name])
@@ -150,7 +156,7 @@ def _sweep_case(k):
             th = pendula.undamped(t - t[0], np.radians(deg), om0, w0)[0]
         else:
             th = pendula.rk4(t - t[0], np.radians(deg), om0, w0, gamma, h=min(1e-3, np.pi / w0 / 1000)).theta
-        if np.abs(th).max() >= np.pi:   # a rotation: the sweep drew no noise for it
+        if np.abs(th).max() >= np.pi:  # a rotation: the sweep drew no noise for it
             continue
         y = th + rng.normal(0, noise, n)
         if i == k:
@@ -173,8 +179,15 @@ def test_motion_fit_with_omega_offsets_and_t_ref():
     rng = np.random.default_rng(8)
     t = np.linspace(1.0, 9.0, 250)
     th, om = swing(t, 1.2, -0.5, W0, 0.15)
-    r = pendula.fit_motion(t, th + 0.03 + rng.normal(0, 1e-3, t.size), omega=om - 0.02 + rng.normal(0, 1e-2, t.size),
-                           sigma=1e-3, sigma_omega=1e-2, fit_offsets=True, t_ref=1.0)
+    r = pendula.fit_motion(
+        t,
+        th + 0.03 + rng.normal(0, 1e-3, t.size),
+        omega=om - 0.02 + rng.normal(0, 1e-2, t.size),
+        sigma=1e-3,
+        sigma_omega=1e-2,
+        fit_offsets=True,
+        t_ref=1.0,
+    )
     truth = dict(theta0=1.2, omega0=-0.5, w0=W0, gamma=0.15, theta_offset=0.03, omega_offset=-0.02)
     assert set(r.names) == set(truth)
     for name, v in truth.items():
@@ -196,7 +209,7 @@ def test_motion_fit_coverage_monte_carlo():
     for n in names:
         zz = np.array(z[n])
         assert 0.85 <= np.mean(np.abs(zz) < 1.96) <= 1.0, n
-        assert 0.6 < np.mean(zz ** 2) < 1.5, n
+        assert 0.6 < np.mean(zz**2) < 1.5, n
 
 
 def test_robust_loss_resists_outliers():
@@ -212,6 +225,7 @@ def test_robust_loss_resists_outliers():
 
 
 # ------------------------------------------------------------- Jacobian
+
 
 def _sens(t, th0, om0, w0, gamma, tol=1e-11):
     th, om, jt, jo, _, code, _ = pendula._fortran.sensitivity_f2py(t, 0.0, th0, om0, w0, gamma, tol)
@@ -236,7 +250,7 @@ def test_variational_jacobian_vs_finite_differences_of_rk4():
 def test_variational_jacobian_vs_mpmath_closed_form():
     mp = pytest.importorskip("mpmath")
     mp.mp.dps = 30
-    th0, w0 = 2.8, W0          # 160 degrees, released at rest: theta = 2 asin(k sn(K - w0 t | m))
+    th0, w0 = 2.8, W0  # 160 degrees, released at rest: theta = 2 asin(k sn(K - w0 t | m))
 
     def theta(t, a, w):
         k = mp.sin(a / 2)
@@ -262,28 +276,32 @@ def test_sensitivity_values_match_the_elliptic_solution_at_tol():
 
 # ------------------------------------------------------------- bad data
 
-@pytest.mark.parametrize("call,match", [
-    (lambda: pendula.fit_period([0.5], [2.0]), "at least 2"),
-    (lambda: pendula.fit_period([0.5, 1.0], [2.0]), "lengths must match"),
-    (lambda: pendula.fit_period([0.5, 3.5], [2.0, 2.5], sigma_period=0.01), "rotates"),
-    (lambda: pendula.fit_period([0.5, np.nan], [2.0, 2.5]), "not finite"),
-    (lambda: pendula.fit_period([0.5, 1.0], [2.0, 2.5], length=1.0, g=9.8), "not both"),
-    (lambda: pendula.fit_period([0.5, 1.0], [2.0, 2.5], sigma_theta0=0.01), "sigma_period"),
-    (lambda: pendula.fit_motion(np.linspace(0, 1, 4), np.zeros(4)), "cannot determine"),
-    (lambda: pendula.fit_motion(np.zeros(20), np.linspace(0, 1, 20)), "one time"),
-    (lambda: pendula.fit_motion(np.linspace(0, 10, 50), np.linspace(0, 10, 50)), "rotation"),
-    (lambda: pendula.fit_motion(np.linspace(0, 1, 50), np.zeros(49)), "lengths must match"),
-    (lambda: pendula.fit_motion(np.linspace(0, 1, 50), np.r_[np.zeros(49), np.inf]), "not finite"),
-    (lambda: pendula.fit_motion(np.linspace(1, 0, 50), np.zeros(50)), "increasing"),
-    (lambda: pendula.fit_motion(np.linspace(0, 0.1, 50), 0.1 + 0.01 * np.linspace(0, 0.1, 50)),
-     "starting period"),
-])
+
+@pytest.mark.parametrize(
+    "call,match",
+    [
+        (lambda: pendula.fit_period([0.5], [2.0]), "at least 2"),
+        (lambda: pendula.fit_period([0.5, 1.0], [2.0]), "lengths must match"),
+        (lambda: pendula.fit_period([0.5, 3.5], [2.0, 2.5], sigma_period=0.01), "rotates"),
+        (lambda: pendula.fit_period([0.5, np.nan], [2.0, 2.5]), "not finite"),
+        (lambda: pendula.fit_period([0.5, 1.0], [2.0, 2.5], length=1.0, g=9.8), "not both"),
+        (lambda: pendula.fit_period([0.5, 1.0], [2.0, 2.5], sigma_theta0=0.01), "sigma_period"),
+        (lambda: pendula.fit_motion(np.linspace(0, 1, 4), np.zeros(4)), "cannot determine"),
+        (lambda: pendula.fit_motion(np.zeros(20), np.linspace(0, 1, 20)), "one time"),
+        (lambda: pendula.fit_motion(np.linspace(0, 10, 50), np.linspace(0, 10, 50)), "rotation"),
+        (lambda: pendula.fit_motion(np.linspace(0, 1, 50), np.zeros(49)), "lengths must match"),
+        (lambda: pendula.fit_motion(np.linspace(0, 1, 50), np.r_[np.zeros(49), np.inf]), "not finite"),
+        (lambda: pendula.fit_motion(np.linspace(1, 0, 50), np.zeros(50)), "increasing"),
+        (lambda: pendula.fit_motion(np.linspace(0, 0.1, 50), 0.1 + 0.01 * np.linspace(0, 0.1, 50)), "starting period"),
+    ],
+)
 def test_bad_data_raise_value_error_naming_the_cause(call, match):
     with pytest.raises(ValueError, match=match):
         call()
 
 
 # ------------------------------------------------------------- result
+
 
 def test_result_table_repr_and_plot():
     pytest.importorskip("pandas")
@@ -295,7 +313,7 @@ def test_result_table_repr_and_plot():
     assert df.loc["length", "ci_low"] < r["length"] < df.loc["length", "ci_high"]
     assert df.attrs["dof"] == 3
     assert "small-angle formula" in repr(r) and "length" in repr(r)
-    assert np.allclose(r.correlation, [[1.0, -1.0], [-1.0, 1.0]])   # length = g/w0^2: a function of w0 alone
+    assert np.allclose(r.correlation, [[1.0, -1.0], [-1.0, 1.0]])  # length = g/w0^2: a function of w0 alone
     data = r.to_pandas("data")
     assert np.allclose(data["residual"], data["period"] - data["period_model"])
     fig = r.plot()
@@ -308,15 +326,22 @@ def test_result_table_repr_and_plot():
 
 # ------------------------------------------------------------- command line
 
+
 def test_cli_fit_periods_and_swing(tmp_path):
     import io
 
     from pendula.cli import main
+
     pytest.importorskip("matplotlib")
     th = np.radians([10.0, 40.0, 80.0, 120.0, 150.0])
     per = tmp_path / "periods.csv"
-    per.write_text("theta0_deg,period,sigma_period\n" + "".join(
-        f"{float(d)!r},{float(p)!r},0.001\n" for d, p in zip(np.degrees(th), pendula.period(th, g=9.81, length=LENGTH))))
+    per.write_text(
+        "theta0_deg,period,sigma_period\n"
+        + "".join(
+            f"{float(d)!r},{float(p)!r},0.001\n"
+            for d, p in zip(np.degrees(th), pendula.period(th, g=9.81, length=LENGTH))
+        )
+    )
     out = io.StringIO()
     assert main(["fit", str(per), "--length", str(LENGTH)], out=out) == 0
     text = out.getvalue()
@@ -324,8 +349,12 @@ def test_cli_fit_periods_and_swing(tmp_path):
     assert (tmp_path / "periods_fit.png").read_bytes()[:4] == b"\x89PNG"
     t = np.linspace(0.0, 6.0, 120)
     sw = tmp_path / "swing.csv"
-    sw.write_text("t,theta\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(t, swing(t, 1.0, 0.0, W0, 0.1)[0]
-                                                                         + 1e-3 * np.cos(50 * t))))
+    sw.write_text(
+        "t,theta\n"
+        + "".join(
+            f"{float(a)!r},{float(b)!r}\n" for a, b in zip(t, swing(t, 1.0, 0.0, W0, 0.1)[0] + 1e-3 * np.cos(50 * t))
+        )
+    )
     out = io.StringIO()
     assert main(["fit", str(sw), "--png", str(tmp_path / "s.png")], out=out) == 0
     assert "gamma" in out.getvalue() and (tmp_path / "s.png").exists()

@@ -14,6 +14,7 @@ the same error paths once, then ``os._exit(0)``; the parent waits for it with a
 timeout and counts the children that did not finish (killed after the timeout).
 The test fails if any child hangs or exits with a non-zero status.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -30,9 +31,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE
 
 import pendula
-from helpers import HAVE_CVODE
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -40,11 +41,13 @@ ROOT = Path(__file__).resolve().parents[2]
 # each takes a libgfortran lock.
 IO_STATEMENT = re.compile(
     r"\b(write|read|open|close|inquire|flush|backspace|rewind|endfile|wait)\s*\("
-    r"|\bprint\s*(\*|\d|'|\")|\b(error\s+)?stop\b", re.IGNORECASE)
+    r"|\bprint\s*(\*|\d|'|\")|\b(error\s+)?stop\b",
+    re.IGNORECASE,
+)
 
 N_FORKS = 400
 N_THREADS = 3
-CHILD_TIMEOUT = 3.0     # s; a child normally finishes in a few ms
+CHILD_TIMEOUT = 3.0  # s; a child normally finishes in a few ms
 T = np.linspace(0.0, 10.0, 5)
 
 
@@ -61,8 +64,11 @@ def io_statements(root):
     """(file, line number, line) of every I/O or STOP statement in the library
     sources (src/) and the f2py glue (python/f2py/)."""
     found = []
-    sources = [f for pattern in ("*.f90", "*.F90", "*.inc")
-               for f in (*(root / "src").rglob(pattern), *(root / "python" / "f2py").glob(pattern))]
+    sources = [
+        f
+        for pattern in ("*.f90", "*.F90", "*.inc")
+        for f in (*(root / "src").rglob(pattern), *(root / "python" / "f2py").glob(pattern))
+    ]
     for f in sorted(sources):
         for k, line in enumerate(f.read_text().splitlines(), 1):
             if IO_STATEMENT.search(_code_without_comments_and_strings(line)):
@@ -88,10 +94,16 @@ def test_the_io_scan_finds_io_statements(tmp_path):
         "    PRINT *, x\n"
         "    error stop 1\n"
         "    ! write (buf, '(i0)') n is what we avoid\n"
-        "    s = 'cannot read (or write (x)) this'  ! print *, 'no'\n")
+        "    s = 'cannot read (or write (x)) this'  ! print *, 'no'\n"
+    )
     (tmp_path / "python" / "f2py" / "b.f90").write_text("  call x(); write(*,*) 1\n")
-    assert [(f[:3], k) for f, k, _ in io_statements(tmp_path)] == \
-        [("pyt", 1), ("src", 1), ("src", 2), ("src", 3), ("src", 4)]
+    assert [(f[:3], k) for f, k, _ in io_statements(tmp_path)] == [
+        ("pyt", 1),
+        ("src", 1),
+        ("src", 2),
+        ("src", 3),
+        ("src", 4),
+    ]
 
 
 def _glue_error_calls():
@@ -103,7 +115,7 @@ def _glue_error_calls():
     glue = importlib.import_module("pendula._fortran")
     _codes = importlib.import_module("pendula._codes")
     t, one = T, np.array([0.0, 1.0])
-    ctl = np.zeros(2, dtype=np.int64)     # the cancel/progress array (pendula_control), never set
+    ctl = np.zeros(2, dtype=np.int64)  # the cancel/progress array (pendula_control), never set
     calls = [
         lambda: glue.rk4_f2py(t, 0.5, 0.0, 2.0, 0.1, 5.0, 2e9, ctl),
         lambda: glue.linear_damped_one_f2py(one, 0.5, 0.0, -2.0, 0.1),
@@ -123,17 +135,17 @@ def _public_error_calls():
     """Public calls that each end in a formatted error message (the elliptic
     entry in a domain error)."""
     calls = [
-        lambda: pendula.rk4(T, 0.5, 0.0, 2.0, 0.1, h=5.0),                  # unstable step
+        lambda: pendula.rk4(T, 0.5, 0.0, 2.0, 0.1, h=5.0),  # unstable step
         lambda: pendula.linear_damped([1.0, 2.0], 0.5, 0.0, [2.0, -np.inf], 0.1),
         lambda: pendula.linear_damped(1.0, 0.5, 0.0, -2.0, 0.1),
-        lambda: pendula.Scene(theta0=0.5, gamma=0.1, mass=1.0, b=0.5),      # gamma and b/mass disagree
+        lambda: pendula.Scene(theta0=0.5, gamma=0.1, mass=1.0, b=0.5),  # gamma and b/mass disagree
         lambda: pendula.Scene(theta0=0.5, g=-1.0),
         lambda: pendula.ellipk(2.0),
     ]
     if HAVE_CVODE:
         calls += [
             lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, rtol=-1.0),
-            lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, max_steps=2),      # solver gives up: message with t
+            lambda: pendula.cvode(T, 0.5, 0.0, 2.0, 0.1, max_steps=2),  # solver gives up: message with t
         ]
     return calls
 
@@ -156,8 +168,9 @@ def test_every_error_path_reports_an_error():
         assert out[-2] != 0 and out[-1].strip(), out[-2:]
 
 
-@pytest.mark.skipif(not hasattr(os, "fork") or sys.platform == "darwin",
-                    reason="os.fork() with threads needs a POSIX fork (Linux)")
+@pytest.mark.skipif(
+    not hasattr(os, "fork") or sys.platform == "darwin", reason="os.fork() with threads needs a POSIX fork (Linux)"
+)
 def test_fork_while_threads_format_error_messages():
     calls = _glue_error_calls()
     child_calls = _public_error_calls()
@@ -176,7 +189,7 @@ def test_fork_while_threads_format_error_messages():
     try:
         for _ in range(N_FORKS):
             pid = os.fork()
-            if pid == 0:        # child: one call into each error path, then leave at once
+            if pid == 0:  # child: one call into each error path, then leave at once
                 try:
                     for call in child_calls:
                         _run(call)
@@ -199,8 +212,7 @@ def test_fork_while_threads_format_error_messages():
         stop.set()
         for th in threads:
             th.join()
-    assert (hung, failed) == (0, 0), \
-        f"{hung} of {N_FORKS} forked children hung and {failed} failed"
+    assert (hung, failed) == (0, 0), f"{hung} of {N_FORKS} forked children hung and {failed} failed"
 
 
 def test_extensions_call_no_libgfortran_io():
@@ -217,8 +229,9 @@ def test_extensions_call_no_libgfortran_io():
     io = re.compile(r"^_gfortran_(st_|transfer_|stop|error_stop)")
     bad = {}
     for path in found:
-        out = subprocess.run([nm, "-D", "--undefined-only", str(path)], capture_output=True,
-                             text=True, check=True).stdout
+        out = subprocess.run(
+            [nm, "-D", "--undefined-only", str(path)], capture_output=True, text=True, check=True
+        ).stdout
         names = [line.split()[-1] for line in out.splitlines() if line.strip()]
         hits = [n for n in names if io.match(n)]
         if hits:

@@ -2,6 +2,7 @@
 of tools/gen/gen_pow5_table.py (exact rational arithmetic), verbatim, and each
 entry is 5**(22 q) to within 2**-106 -- checked here again with Python integers,
 independently of the generator's own assertion."""
+
 import contextlib
 import io
 from fractions import Fraction
@@ -27,7 +28,7 @@ def test_table_entries_are_powers_of_five_to_106_bits():
     gen = load_generator("gen_pow5_table")
     for q in range(gen.Q_MIN, gen.Q_MAX + 1):
         hi, lo, ex = gen.entry(q)
-        assert 1 <= hi < 2 and abs(lo) <= 2.0 ** -53
+        assert 1 <= hi < 2 and abs(lo) <= 2.0**-53
         exact = Fraction(5) ** (gen.STEP * q)
         approx = (Fraction(hi) + Fraction(lo)) * Fraction(2) ** ex
-        assert abs(approx - exact) <= exact / 2 ** 106, q
+        assert abs(approx - exact) <= exact / 2**106, q

@@ -11,6 +11,7 @@ A declaration of several arguments needs one comment naming each of them
 (FORD shows that one comment for every one of them), and FORD drops a `!<`
 comment of two or more lines after such a declaration.
 """
+
 import re
 
 from helpers import ROOT, needs_source
@@ -20,7 +21,9 @@ SRC = ROOT / "src"
 _HEADER = re.compile(
     r"^\s*(?:(?:pure|elemental|impure|recursive|module|non_recursive)\s+|"
     r"(?:(?:real|integer|logical|complex|character|type)\s*(?:\([^)]*\))?\s+))*"
-    r"(subroutine|function)\s+(\w+)\s*(?:\(([^)]*)\))?", re.I)
+    r"(subroutine|function)\s+(\w+)\s*(?:\(([^)]*)\))?",
+    re.I,
+)
 _END = re.compile(r"^\s*end\s+(subroutine|function|module|interface)\b", re.I)
 _MODULE = re.compile(r"^\s*module\s+(?!procedure\b)(\w+)\s*$", re.I)
 _INTERFACE = re.compile(r"^\s*(?:abstract\s+)?interface\b\s*(\w+)?", re.I)
@@ -90,7 +93,7 @@ def _documented(lines, first, last, single=True):
     while j < len(lines) and lines[j].lstrip().startswith("!<"):
         j += 1
     if single or j == last + 2:
-        doc.extend(lines[last + 1:j])
+        doc.extend(lines[last + 1 : j])
     return " ".join(doc)
 
 
@@ -100,7 +103,7 @@ def _scan(path):
     stmts = list(_statements(lines))
     public, generics, procs = set(), {}, []
     in_module, generic = False, None
-    stack = []   # open procedures: [name, dummies, {arg: doc}, interface depth at its start]
+    stack = []  # open procedures: [name, dummies, {arg: doc}, interface depth at its start]
     iface_depth = 0
     for first, last, code in stmts:
         low = code.strip().lower()
@@ -185,7 +188,7 @@ def undocumented():
 @needs_source
 def test_public_arguments_are_documented():
     missing, total = undocumented()
-    assert total > 500   # the scan found the API (a broken parser would find nothing)
+    assert total > 500  # the scan found the API (a broken parser would find nothing)
     missing = sorted(missing)
     assert missing == [], f"{len(missing)} arguments without a doc comment: {missing}"
 

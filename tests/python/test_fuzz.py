@@ -27,6 +27,7 @@ point all run (no shrinking), so one test lists all its failures at once.
 Budget: a fixed max_examples per entry point, derandomized (same examples in
 every run); about a minute in all.  The CLI is exercised on a few fixed cases.
 """
+
 import importlib.util
 import math
 import os
@@ -36,18 +37,29 @@ import sys
 
 import numpy as np
 import pytest
+from fuzz_support import (  # noqa: F401 (worker: the fixture)
+    BIG,
+    HALF_PI,
+    SETTINGS,
+    Recorder,
+    array_src,  # noqa: E402
+    evaluate,
+    flt,
+    judge,
+    nonfinite_problem,
+    real_args,
+    recorded_test,
+    scalar_src,
+    values,
+    worker,
+)
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import pendula
 
-from fuzz_support import (  # noqa: F401 (worker: the fixture)
-    recorded_test, BIG, HALF_PI, Recorder, SETTINGS, evaluate, flt, judge, nonfinite_problem, real_args,
-    scalar_src, values, worker)
-from fuzz_support import array_src  # noqa: E402
-
-
 # ----------------------------------------------------------------- elementwise functions
+
 
 def _abs(x):
     return np.abs(x)
@@ -62,15 +74,27 @@ def _ellipf_bound(phi, m):
     # |F(phi|m)| <= |phi| max(1, 1/sqrt(1 - m)) for m < 1; F(phi|1) = atanh(sin phi) for
     # |phi| < pi/2; for m > 1 inside the domain, away from its edge.
     pc = np.where(m < 1, 1 - m, 1.0)
-    return np.where(m <= 0, _abs(phi) < BIG,
-           np.where(m < 1, _abs(phi) / np.sqrt(pc) < BIG,
-           np.where(m == 1, _abs(phi) <= HALF_PI, (m * np.sin(phi) ** 2 <= 0.999) & (_abs(phi) < 1e200))))
+    return np.where(
+        m <= 0,
+        _abs(phi) < BIG,
+        np.where(
+            m < 1,
+            _abs(phi) / np.sqrt(pc) < BIG,
+            np.where(m == 1, _abs(phi) <= HALF_PI, (m * np.sin(phi) ** 2 <= 0.999) & (_abs(phi) < 1e200)),
+        ),
+    )
 
 
 def _ellipfm1_bound(phi, p):
-    return np.where(p >= 1, _abs(phi) < BIG,
-           np.where(p > 0, _abs(phi) / np.sqrt(np.abs(p)) < BIG,
-           np.where(p == 0, _abs(phi) <= HALF_PI, ((1 - p) * np.sin(phi) ** 2 <= 0.999) & (_abs(phi) < 1e200))))
+    return np.where(
+        p >= 1,
+        _abs(phi) < BIG,
+        np.where(
+            p > 0,
+            _abs(phi) / np.sqrt(np.abs(p)) < BIG,
+            np.where(p == 0, _abs(phi) <= HALF_PI, ((1 - p) * np.sin(phi) ** 2 <= 0.999) & (_abs(phi) < 1e200)),
+        ),
+    )
 
 
 def _linear_bounds(t, theta0, omega0, w0, gamma):
@@ -84,7 +108,7 @@ def _envelope_bound(t, theta0, omega0, w0, gamma):
     ok = (t >= 0) & (w0 > 0) & (gamma >= 0)
     r = gamma / (2 * w0)
     wd = w0 * np.sqrt(np.abs((1 - r) * (1 + r)))
-    s = 2.0 ** -600
+    s = 2.0**-600
     big_r = np.hypot(theta0 * s, np.abs(omega0 * s + (gamma / 2) * (theta0 * s)) / wd)
     log_env = np.log(big_r) + 600 * math.log(2) - gamma * t / 2
     return [ok & ((r >= 1) | (log_env < math.log(1.7e308)))]
@@ -98,8 +122,10 @@ def _undamped_bounds(t, theta0, omega0, w0):
 
 def _small_angle_bounds(t, theta0, omega0, w0):
     # theta0' cos + (omega0/w0) sin(w0 t) about the nearest 2 pi N: |sin(w0 t)/w0| <= |t|.
-    return [(w0 > 0) & (_abs(theta0) + 4 + _abs(omega0) * np.minimum(_abs(t), 1 / w0) < BIG),
-            (w0 > 0) & (4 * w0 + _abs(omega0) < BIG)]
+    return [
+        (w0 > 0) & (_abs(theta0) + 4 + _abs(omega0) * np.minimum(_abs(t), 1 / w0) < BIG),
+        (w0 > 0) & (4 * w0 + _abs(omega0) < BIG),
+    ]
 
 
 def _small_angle_error_bounds(tmax, theta0, omega0, w0):
@@ -131,8 +157,10 @@ ELEMENTWISE = {
     "small_angle_error": (["tmax", "theta0", "omega0", "w0"], _small_angle_error_bounds),
     "period": (["theta0", "omega0", "w0"], _period_bounds),
     "amplitude": (["theta0", "omega0", "w0"], lambda theta0, omega0, w0: [_m_energy(theta0, omega0, w0) < 0.999]),
-    "elliptic_parameter": (["theta0", "omega0", "w0"],
-                           lambda theta0, omega0, w0: [_m_energy(theta0, omega0, w0) < 1e300] * 2),
+    "elliptic_parameter": (
+        ["theta0", "omega0", "w0"],
+        lambda theta0, omega0, w0: [_m_energy(theta0, omega0, w0) < 1e300] * 2,
+    ),
     "regime": (["theta0", "omega0", "w0"], lambda theta0, omega0, w0: [None]),
     "energy": (["theta", "omega", "w0"], lambda theta, omega, w0: [(_abs(omega) < 1e150) & (_abs(w0) < 1e150)]),
     "linear_damped": (["t", "theta0", "omega0", "w0", "gamma"], _linear_bounds),
@@ -141,15 +169,20 @@ ELEMENTWISE = {
 
 # Reported reproducers and the values they must give (or a clean refusal).
 REPORTED_EXAMPLES = {
-    "ellipj": [{"u": "0.7", "m": "1e308"}, {"u": "np.linspace(0.0, 1.0, 64)", "m": "1e308"},
-               {"u": "np.linspace(0.0, 1.0, 64)", "m": "'abc'"}, {"u": "np.arange(64.0)", "m": "True"}],
+    "ellipj": [
+        {"u": "0.7", "m": "1e308"},
+        {"u": "np.linspace(0.0, 1.0, 64)", "m": "1e308"},
+        {"u": "np.linspace(0.0, 1.0, 64)", "m": "'abc'"},
+        {"u": "np.arange(64.0)", "m": "True"},
+    ],
     "ellipjm1": [{"u": "0.7", "p": "-1e308"}, {"u": "0.7", "p": "1.34e300"}],
     "ellipk": [{"m": "[[0.5], [0.25, 0.5]]"}, {"m": "np.timedelta64(1, 's')"}],
     "ellipf": [{"phi": repr(HALF_PI), "m": "1.0"}],
     "ellipfm1": [{"phi": repr(HALF_PI), "p": "1e-300"}, {"phi": repr(3 * math.pi / 2), "p": "1e-300"}],
     "small_angle": [{"t": "1.5", "theta0": "1.0", "omega0": "0.3", "w0": "5e-324"}],
-    "linear_damped_envelope": [{"t": "1.5", "theta0": "1.7976931348623157e308", "omega0": "0.5",
-                                "w0": "1.4", "gamma": "0.3"}],
+    "linear_damped_envelope": [
+        {"t": "1.5", "theta0": "1.7976931348623157e308", "omega0": "0.5", "w0": "1.4", "gamma": "0.3"}
+    ],
 }
 
 
@@ -203,6 +236,7 @@ for _fn in ELEMENTWISE:
 
 # ----------------------------------------------------------------- scalar-parameter functions
 
+
 def _dict_finite(keys, ok):
     def checks(result):
         if not ok:
@@ -212,6 +246,7 @@ def _dict_finite(keys, ok):
             if not np.all(np.isfinite(np.asarray(v))):
                 return f"{k} = {v!r} is not finite, but the true value is"
         return None
+
     return checks
 
 
@@ -227,13 +262,21 @@ def _scalar_case(worker, rec, fn, srcs, finite_keys, bound):
 
 SCALAR = {
     # name: (argument names, result keys that must be finite, a-priori condition for that)
-    "natural_frequency": (["g", "length"], ["w0"],
-                          lambda g, l: g > 0 and l > 0 and abs(math.log10(g) - math.log10(l)) < 600),
-    "damping_rate": (["b", "mass"], ["gamma"],
-                     lambda b, mass: b >= 0 and mass > 0 and (b == 0 or math.log10(b) - math.log10(mass) < 300)),
-    "damping_regime": (["w0", "gamma"], ["omega_d", "beta", "decay_slow", "decay_fast", "gamma_critical",
-                                         "damping_ratio"],
-                       lambda w0, gamma: 1e-150 < w0 < 1e150 and 0 <= gamma < 1e150),
+    "natural_frequency": (
+        ["g", "length"],
+        ["w0"],
+        lambda g, l: g > 0 and l > 0 and abs(math.log10(g) - math.log10(l)) < 600,
+    ),
+    "damping_rate": (
+        ["b", "mass"],
+        ["gamma"],
+        lambda b, mass: b >= 0 and mass > 0 and (b == 0 or math.log10(b) - math.log10(mass) < 300),
+    ),
+    "damping_regime": (
+        ["w0", "gamma"],
+        ["omega_d", "beta", "decay_slow", "decay_fast", "gamma_critical", "damping_ratio"],
+        lambda w0, gamma: 1e-150 < w0 < 1e150 and 0 <= gamma < 1e150,
+    ),
     "rk4_max_stable_step": (["w0", "gamma"], ["h"], lambda w0, gamma: 1e-150 < w0 < 1e150 and 0 <= gamma < 1e150),
 }
 
@@ -256,11 +299,37 @@ for _fn in SCALAR:
 @st.composite
 def int_src(draw):
     """An equilibrium index in some integer (or non-integer) form."""
-    n = draw(st.one_of(st.sampled_from([0, 1, -1, 2, 2**31 - 1, 2**31, -2**31, 2**32 + 1, 2**62, 2**63 - 1,
-                                        2**63, -2**63, 2**64 - 1, 2**64]), st.integers(-100, 100)))
+    n = draw(
+        st.one_of(
+            st.sampled_from(
+                [
+                    0,
+                    1,
+                    -1,
+                    2,
+                    2**31 - 1,
+                    2**31,
+                    -(2**31),
+                    2**32 + 1,
+                    2**62,
+                    2**63 - 1,
+                    2**63,
+                    -(2**63),
+                    2**64 - 1,
+                    2**64,
+                ]
+            ),
+            st.integers(-100, 100),
+        )
+    )
     kinds = ["py"]
-    for dt, lo, hi in (("int8", -128, 127), ("int32", -2**31, 2**31 - 1), ("int64", -2**63, 2**63 - 1),
-                       ("uint32", 0, 2**32 - 1), ("uint64", 0, 2**64 - 1)):
+    for dt, lo, hi in (
+        ("int8", -128, 127),
+        ("int32", -(2**31), 2**31 - 1),
+        ("int64", -(2**63), 2**63 - 1),
+        ("uint32", 0, 2**32 - 1),
+        ("uint64", 0, 2**64 - 1),
+    ):
         if lo <= n <= hi:
             kinds += [dt, dt + "[]"]
     form = draw(st.sampled_from(kinds + ["float", "bool"]))
@@ -277,7 +346,7 @@ def int_src(draw):
 
 def _equilibria_checks(n_src):
     def checks(result):
-        n = eval(n_src, {"np": np})                          # noqa: S307 - our own source
+        n = eval(n_src, {"np": np})  # noqa: S307 - our own source
         theta, lam, kind = result
         ns = [int(x) for x in np.asarray(n, dtype=object).reshape(-1)]
         kinds = kind if isinstance(kind, list) else [kind]
@@ -287,6 +356,7 @@ def _equilibria_checks(n_src):
             if kinds[i] != want or abs(th - k * math.pi) > 1e-15 * abs(k * math.pi):
                 return f"equilibria(n = {k}) gave theta = {th!r}, kind {kinds[i]!r} (true {k * math.pi!r}, {want!r})"
         return None
+
     return checks
 
 
@@ -325,8 +395,12 @@ FIT_THETA = "0.5 * np.cos(3.0 * np.linspace(0.0, 6.0, 40))"
 @example(theta0="np.array([0.1, 1.0, 2.0, 3.14159])", period="np.array([2.0, 2.2, 3.0, 30.0])", sigma="5e-324")
 def _run_fit_period(worker, rec, theta0, period, sigma):
     kw = {"sigma_period": sigma}
-    rec.add(judge(worker.call("fit_period", [theta0, period], kw), ["theta0", "period", "sigma_period"]),
-            "fit_period", [theta0, period], kw)
+    rec.add(
+        judge(worker.call("fit_period", [theta0, period], kw), ["theta0", "period", "sigma_period"]),
+        "fit_period",
+        [theta0, period],
+        kw,
+    )
 
 
 def test_fuzz_fit_period(worker):
@@ -372,12 +446,17 @@ def test_fuzz_cli(argv, tmp_path):
     """`python -m pendula` exits 0 (answer), 1 (solver failure) or 2 (bad value, with a
     message) -- never a traceback or a signal -- and creates no folder it was not asked for."""
     argv = [a.format(tmp=tmp_path) for a in argv]
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [str(pathlib.Path(importlib.util.find_spec("pendula").origin).parents[1]), os.environ.get("PYTHONPATH", "")]))
+    env = dict(
+        os.environ,
+        PYTHONPATH=os.pathsep.join(
+            [str(pathlib.Path(importlib.util.find_spec("pendula").origin).parents[1]), os.environ.get("PYTHONPATH", "")]
+        ),
+    )
     line = "python -m pendula " + " ".join(argv)
     try:
-        proc = subprocess.run([sys.executable, "-m", "pendula", *argv], capture_output=True, text=True,
-                              timeout=60, env=env, cwd=tmp_path)
+        proc = subprocess.run(
+            [sys.executable, "-m", "pendula", *argv], capture_output=True, text=True, timeout=60, env=env, cwd=tmp_path
+        )
     except subprocess.TimeoutExpired:
         pytest.fail(f"HANG (60 s): {line}", pytrace=False)
     assert proc.returncode in (0, 1, 2), f"exit {proc.returncode}: {line}\n{proc.stderr[-400:]}"
@@ -389,24 +468,69 @@ def test_fuzz_cli(argv, tmp_path):
 
 # Names in pendula.__all__ that are not called: constants, an exception class, a
 # warning class and result containers (their contents are checked through the calls that return them).
-NOT_CALLED = {"TURNING_POINT", "ZERO_CROSSING", "WELL_NONE", "PendulaSolverError", "AngleWarning", "IntegrationResult", "Events",
-              "SceneResult", "DampingRegime", "TradeoffTable",
-              # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
-              "BatchIntegrationResult", "SceneBatch", "SceneBatchResult", "SweepResult",
-              "TaylorResult", "TaylorBatchResult",
-              # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
-              "plot_motion", "plot_phase_portrait",
-              # the fits' result container (checked through fit_period / fit_motion)
-              "FitResult",
-              # the driven pendulum's drive and result containers (test_fuzz_driven.py fuzzes its functions)
-              "Drive", "DrivenResult", "Section", "LyapunovResult", "PeriodicOrbits", "Basins", "UNSETTLED", "FAILED"}
+NOT_CALLED = {
+    "TURNING_POINT",
+    "ZERO_CROSSING",
+    "WELL_NONE",
+    "PendulaSolverError",
+    "AngleWarning",
+    "IntegrationResult",
+    "Events",
+    "SceneResult",
+    "DampingRegime",
+    "TradeoffTable",
+    # batch containers: SceneBatch is built by Scene() with array parameters (fuzzed there)
+    "BatchIntegrationResult",
+    "SceneBatch",
+    "SceneBatchResult",
+    "SweepResult",
+    "TaylorResult",
+    "TaylorBatchResult",
+    # plot helpers (they return a Figure): their bad input is tested in test_motion_plots.py
+    "plot_motion",
+    "plot_phase_portrait",
+    # the fits' result container (checked through fit_period / fit_motion)
+    "FitResult",
+    # the driven pendulum's drive and result containers (test_fuzz_driven.py fuzzes its functions)
+    "Drive",
+    "DrivenResult",
+    "Section",
+    "LyapunovResult",
+    "PeriodicOrbits",
+    "Basins",
+    "UNSETTLED",
+    "FAILED",
+}
 PLOT_HELPERS = {"plot_motion", "plot_phase_portrait"}
-FUZZED = (set(ELEMENTWISE) | set(SCALAR) | {"equilibria", "rk4", "cvode", "taylor", "Scene", "solve", "run_model",
-                                            "tradeoff", "build_info", "have_cvode", "sweep",
-                                            "fit_period", "fit_motion",
-                                            # test_fuzz_driven.py
-                                            "driven", "driven_linear", "resonance_curve", "poincare", "bifurcation",
-                                            "lyapunov", "periodic_orbits", "find_periodic_orbit", "basins"})
+FUZZED = (
+    set(ELEMENTWISE)
+    | set(SCALAR)
+    | {
+        "equilibria",
+        "rk4",
+        "cvode",
+        "taylor",
+        "Scene",
+        "solve",
+        "run_model",
+        "tradeoff",
+        "build_info",
+        "have_cvode",
+        "sweep",
+        "fit_period",
+        "fit_motion",
+        # test_fuzz_driven.py
+        "driven",
+        "driven_linear",
+        "resonance_curve",
+        "poincare",
+        "bifurcation",
+        "lyapunov",
+        "periodic_orbits",
+        "find_periodic_orbit",
+        "basins",
+    }
+)
 
 
 def test_fuzz_covers_every_public_name():

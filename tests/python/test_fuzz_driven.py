@@ -1,10 +1,10 @@
 """Fuzz leg, the driven pendulum: driven, driven_linear, resonance_curve and the chaos
 tools on adversarial states and parameters, each call in a subprocess (what fails a
 call: see test_fuzz.py).  Small counts keep every legal call short."""
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from fuzz_support import SETTINGS, Recorder, judge, real_args, worker  # noqa: F401 (worker: the fixture)
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 _DRIVE = "pendula.Drive('torque', 1.15, 2/3)"
 _CALLS = {
@@ -32,6 +32,7 @@ def _fuzz(fn):
         rec = Recorder(fn)
         run(worker, rec)
         rec.verdict()
+
     return test
 
 
@@ -53,11 +54,16 @@ def test_fuzz_resonance_curve(worker):
 
 
 @settings(SETTINGS, max_examples=25)
-@given(p=real_args(["theta0", "omega0", "w0", "gamma"]), t=st.sampled_from(["[0.0, 1.0]", "[0.0, 1e308]", "[-1.0]",
-                                                                           "[float('nan')]", "[]"]))
+@given(
+    p=real_args(["theta0", "omega0", "w0", "gamma"]),
+    t=st.sampled_from(["[0.0, 1.0]", "[0.0, 1e308]", "[-1.0]", "[float('nan')]", "[]"]),
+)
 def _run_linear(worker, rec, p, t):
-    out = worker.call("driven_linear", [t, p["theta0"], p["omega0"]],
-                      {"drive": "pendula.Drive('torque', 0.01, 1.3)", "w0": p["w0"], "gamma": p["gamma"]})
+    out = worker.call(
+        "driven_linear",
+        [t, p["theta0"], p["omega0"]],
+        {"drive": "pendula.Drive('torque', 0.01, 1.3)", "w0": p["w0"], "gamma": p["gamma"]},
+    )
     rec.add(judge(out, ["t", "theta0", "omega0", "w0", "gamma", "drive"]), "driven_linear", [t])
 
 

@@ -1,13 +1,22 @@
 """Integer arguments are range-checked exactly before any cast that could wrap."""
+
 import numpy as np
 import pytest
+from helpers import needs_cvode
 
 import pendula
-from helpers import needs_cvode
 from pendula._arrays import integer_arg
 
-WRAPPING = [2**31, 2**63, 2**64 - 1, np.uint64(2**63), np.uint64(2**64 - 1), -(2**63) - 1,
-            np.array([2**63], dtype=np.uint64), [1, 2**70]]
+WRAPPING = [
+    2**31,
+    2**63,
+    2**64 - 1,
+    np.uint64(2**63),
+    np.uint64(2**64 - 1),
+    -(2**63) - 1,
+    np.array([2**63], dtype=np.uint64),
+    [1, 2**70],
+]
 
 
 @pytest.mark.parametrize("n", WRAPPING, ids=repr)
@@ -38,9 +47,16 @@ def test_integer_arg_scalar_counts(x):
 
 
 @needs_cvode
-@pytest.mark.parametrize("kw", [dict(max_steps=np.uint64(2**64 - 1)), dict(max_steps=2**63),
-                                dict(events=True, max_events=np.uint64(2**63)),
-                                dict(events=True, max_events=2**64)], ids=repr)
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(max_steps=np.uint64(2**64 - 1)),
+        dict(max_steps=2**63),
+        dict(events=True, max_events=np.uint64(2**63)),
+        dict(events=True, max_events=2**64),
+    ],
+    ids=repr,
+)
 def test_cvode_counts_do_not_wrap(kw):
     name = "max_events" if "max_events" in kw else "max_steps"
     with pytest.raises(ValueError, match=f"{name} = .* out of range"):

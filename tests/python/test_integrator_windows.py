@@ -7,13 +7,14 @@ References are independent of CVODE: the exact undamped solution
 the ODE over a window too short for any higher term to reach a double's
 precision, and RK4 at a step 1000x below the one that already meets 1e-10.
 """
+
 import math
 
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE, needs_cvode
 
 import pendula
-from helpers import HAVE_CVODE, needs_cvode
 
 W0 = math.sqrt(2.0)
 
@@ -44,16 +45,18 @@ def test_atol_zero_keeps_relative_accuracy_as_the_motion_decays():
     # gamma = 0.5: the state decays by about e**-20 over 80 s.  atol = 0 keeps the
     # error relative to the state; a fixed atol of 1e-10 is the state's own size by the end.
     t = np.array([0.0, 20.0, 40.0, 60.0, 80.0])
-    ref = pendula.rk4(t, 0.0, 2.0, W0, 0.5, 1e-4)   # h**4 ~ 1e-16: far below rtol
+    ref = pendula.rk4(t, 0.0, 2.0, W0, 0.5, 1e-4)  # h**4 ~ 1e-16: far below rtol
     check = pendula.rk4(t, 0.0, 2.0, W0, 0.5, 2e-4)
     assert _normwise(check.theta, check.omega, ref.theta, ref.omega, W0) < 1e-11
     rel = pendula.cvode(t, 0.0, 2.0, W0, 0.5, rtol=1e-10, atol=0.0)
-    err_rel = [_normwise(rel.theta[i:i + 1], rel.omega[i:i + 1], ref.theta[i:i + 1], ref.omega[i:i + 1], W0)
-               for i in range(1, t.size)]
+    err_rel = [
+        _normwise(rel.theta[i : i + 1], rel.omega[i : i + 1], ref.theta[i : i + 1], ref.omega[i : i + 1], W0)
+        for i in range(1, t.size)
+    ]
     assert max(err_rel) < 1e-7, err_rel
     fixed = pendula.cvode(t, 0.0, 2.0, W0, 0.5, rtol=1e-10, atol=1e-10)
     err_fixed = _normwise(fixed.theta[-1:], fixed.omega[-1:], ref.theta[-1:], ref.omega[-1:], W0)
-    assert err_fixed > 100 * err_rel[-1]   # what atol = 0 is for
+    assert err_fixed > 100 * err_rel[-1]  # what atol = 0 is for
 
 
 @needs_cvode
@@ -99,7 +102,7 @@ def test_windows_of_one_ulp_far_from_zero(name, run, t0):
     t = np.array([t0, np.nextafter(t0, np.inf), np.nextafter(np.nextafter(t0, np.inf), np.inf)])
     res = run(t, 0.0, 2.0, 0.1)
     s = t - t[0]
-    a = -0.1 * 2.0      # Omega'(t(1)); the next Taylor terms are below 2e-11 relative here
+    a = -0.1 * 2.0  # Omega'(t(1)); the next Taylor terms are below 2e-11 relative here
     assert np.allclose(res.theta, 2.0 * s + a * s * s / 2, rtol=1e-10, atol=0)
     assert np.allclose(res.omega, 2.0 + a * s, rtol=1e-10, atol=0)
 

@@ -7,6 +7,7 @@ undamped solution (pendula.undamped, elliptic functions), the linear damped
 closed form (pendula.linear_damped), the slow-manifold solution of stiff damping
 and the exact undamped period 4 K(k^2)/w0 (mpmath.ellipk).
 """
+
 import csv
 import math
 import pathlib
@@ -14,15 +15,15 @@ import pathlib
 import mpmath as mp
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE, needs_cvode
 from scipy.integrate import solve_ivp
 
 import pendula
-from helpers import HAVE_CVODE, needs_cvode
 from pendula.textbook import text_listing_rk4
 
-W0 = math.sqrt(9.8 / 4.9)           # the text's g = 9.8, l = 4.9
-GAMMAS = {0.01: 0.01 / 0.1, 0.05: 0.05 / 0.1}   # b / m, m = 0.1 kg
-T_TEXT = np.arange(601) * 0.05     # t = 0 .. 30 s, the text's h = 0.05
+W0 = math.sqrt(9.8 / 4.9)  # the text's g = 9.8, l = 4.9
+GAMMAS = {0.01: 0.01 / 0.1, 0.05: 0.05 / 0.1}  # b / m, m = 0.1 kg
+T_TEXT = np.arange(601) * 0.05  # t = 0 .. 30 s, the text's h = 0.05
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "integrators_reference.csv"
 
 
@@ -39,8 +40,15 @@ TABLE = mpmath_table()
 
 def dop853(t, theta0, omega0, w0, gamma):
     w0sq = w0 * w0
-    sol = solve_ivp(lambda _, y: [y[1], -gamma * y[1] - w0sq * math.sin(y[0])], (t[0], t[-1]),
-                    [theta0, omega0], method="DOP853", rtol=1e-13, atol=1e-15, t_eval=t)
+    sol = solve_ivp(
+        lambda _, y: [y[1], -gamma * y[1] - w0sq * math.sin(y[0])],
+        (t[0], t[-1]),
+        [theta0, omega0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-15,
+        t_eval=t,
+    )
     assert sol.success
     return sol.y[0], sol.y[1]
 
@@ -59,6 +67,7 @@ def text_reference():
 
 
 # ---------------------------------------------------------------- RK4 accuracy
+
 
 @pytest.mark.parametrize("b", [0.01, 0.05])
 def test_rk4_text_scenario_within_1e5(b, text_reference):
@@ -104,13 +113,14 @@ def test_rk4_substeps_and_final_state():
 
 # ---------------------------------------------------------------- stability
 
+
 def test_rk4_max_stable_step_limits():
     assert math.isclose(pendula.rk4_max_stable_step(W0, 0.0) * W0, 2 * math.sqrt(2), rel_tol=1e-13)
     gamma = 1e4 * W0
     lam = -gamma / 2 - math.sqrt(gamma**2 / 4 - W0**2)
-    limit = float(mp.findroot(lambda x: x**3 + 4 * x**2 + 12 * x + 24, -2.78))   # R(x) = 1 on x < 0
+    limit = float(mp.findroot(lambda x: x**3 + 4 * x**2 + 12 * x + 24, -2.78))  # R(x) = 1 on x < 0
     assert math.isclose(pendula.rk4_max_stable_step(W0, gamma) * lam, limit, rel_tol=1e-12)
-    for g in [0.3 * W0, 1.9 * W0]:     # complex eigenvalues: |R(h lambda)| = 1 at the limit
+    for g in [0.3 * W0, 1.9 * W0]:  # complex eigenvalues: |R(h lambda)| = 1 at the limit
         h = pendula.rk4_max_stable_step(W0, g)
         lam = complex(-g / 2, math.sqrt(W0**2 - g**2 / 4))
         z = h * lam
@@ -124,7 +134,7 @@ def test_rk4_refuses_unstable_step():
         pendula.rk4(T_TEXT, 0.1, 0.0, W0, gamma, 0.05)
     ok = pendula.rk4([0.0, 2000 * hmax], 0.1, 0.0, W0, gamma, 0.99 * hmax)
     assert abs(ok.theta[1]) < 0.1
-    h = 1.01 * 2 * math.sqrt(2) / W0     # gamma = 0: just beyond the imaginary-axis limit
+    h = 1.01 * 2 * math.sqrt(2) / W0  # gamma = 0: just beyond the imaginary-axis limit
     with pytest.raises(ValueError, match="unstable"):
         pendula.rk4([0.0, 3 * h], 0.1, 0.0, W0, 0.0, h)
     # the check is on the substep actually taken: a larger h over a fine grid is fine
@@ -132,6 +142,7 @@ def test_rk4_refuses_unstable_step():
 
 
 # ---------------------------------------------------------------- cross-checks
+
 
 @pytest.mark.parametrize("theta0,omega0", [(0.5, 0.0), (2.5, 0.3), (0.0, 2.0), (0.1, 3.0)])
 def test_undamped_matches_exact(theta0, omega0):
@@ -163,7 +174,7 @@ def test_small_amplitude_matches_linear_closed_form(ratio):
     assert np.max(np.abs(r.theta - th_lin)) < 5e-7 * 1e-4
     if HAVE_CVODE:
         c = pendula.cvode(t, 1e-4, 2e-4, W0, gamma, rtol=1e-11, atol=1e-17)
-        assert np.max(np.abs(c.theta - th_lin)) < 1e-7 * 1e-4   # 1e4 rtol, relative
+        assert np.max(np.abs(c.theta - th_lin)) < 1e-7 * 1e-4  # 1e4 rtol, relative
 
 
 @needs_cvode
@@ -183,8 +194,15 @@ def test_cvode_methods_and_stats(method, text_reference):
     c = pendula.cvode(T_TEXT, 0.0, 2.0, W0, GAMMAS[0.05], rtol=1e-10, atol=1e-12, method=method)
     th, om = text_reference[0.05]
     assert np.max(np.abs(c.theta - th)) < 1e-6
-    assert set(c.stats) == {"steps", "rhs_evals", "jac_evals", "err_test_fails", "nonlin_iters",
-                            "nonlin_fails", "root_evals"}
+    assert set(c.stats) == {
+        "steps",
+        "rhs_evals",
+        "jac_evals",
+        "err_test_fails",
+        "nonlin_iters",
+        "nonlin_fails",
+        "root_evals",
+    }
     assert c.stats["steps"] > 0 and c.stats["rhs_evals"] >= c.stats["steps"] and c.stats["jac_evals"] > 0
     assert c.method == method and c.t[0] == 0.0 and c.theta[0] == 0.0 and c.omega[0] == 2.0
 
@@ -196,7 +214,7 @@ def test_cvode_stiff_bdf():
     gamma = 1e4 * W0
     t = np.array([0.0, 100.0, 1000.0, 5000.0, 20000.0])
     c = pendula.cvode(t, 0.5, 0.0, W0, gamma, rtol=1e-9, atol=1e-12, method="bdf")
-    slow = 2 * np.arctan(math.tan(0.25) * np.exp(-W0**2 * t / gamma))
+    slow = 2 * np.arctan(math.tan(0.25) * np.exp(-(W0**2) * t / gamma))
     assert np.allclose(c.theta[1:], slow[1:], rtol=1e-6, atol=1e-12)
     assert c.stats["steps"] < 3000
     # Adams needs many more steps here: a small budget is reported, not overrun
@@ -242,6 +260,7 @@ def test_cvode_events_truncated():
 
 # ---------------------------------------------------------------- the text's listing
 
+
 def test_text_listing_drift(text_reference):
     """The printed listing (line-67 typo) drifts by over a radian; fixed, it is our RK4."""
     th_ref, _ = text_reference[0.01]
@@ -257,13 +276,25 @@ def test_text_listing_drift(text_reference):
 
 # ---------------------------------------------------------------- bad input
 
-@pytest.mark.parametrize("kw,match", [
-    (dict(h=0.0), "h = 0"), (dict(h=-0.1), "h = -0.1"), (dict(h=float("nan")), "h = NaN"),
-    (dict(w0=0.0), "w0 = 0"), (dict(w0=-1.0), "w0 = -1"), (dict(gamma=-0.5), "gamma = -0.5"),
-    (dict(t=[0.0, 1.0, 1.0]), "strictly increasing"), (dict(t=[0.0, 2.0, 1.0]), "strictly increasing"),
-    (dict(t=[0.0, float("nan")]), r"t\[1\] = NaN"), (dict(t=[0.0, float("inf")]), "t"),
-    (dict(t=[]), "at least 1"), (dict(t=[[0.0, 1.0]]), "1-D"), (dict(theta0=float("inf")), "theta0"),
-])
+
+@pytest.mark.parametrize(
+    "kw,match",
+    [
+        (dict(h=0.0), "h = 0"),
+        (dict(h=-0.1), "h = -0.1"),
+        (dict(h=float("nan")), "h = NaN"),
+        (dict(w0=0.0), "w0 = 0"),
+        (dict(w0=-1.0), "w0 = -1"),
+        (dict(gamma=-0.5), "gamma = -0.5"),
+        (dict(t=[0.0, 1.0, 1.0]), "strictly increasing"),
+        (dict(t=[0.0, 2.0, 1.0]), "strictly increasing"),
+        (dict(t=[0.0, float("nan")]), r"t\[1\] = NaN"),
+        (dict(t=[0.0, float("inf")]), "t"),
+        (dict(t=[]), "at least 1"),
+        (dict(t=[[0.0, 1.0]]), "1-D"),
+        (dict(theta0=float("inf")), "theta0"),
+    ],
+)
 def test_rk4_bad_input(kw, match):
     args = dict(t=[0.0, 1.0], theta0=0.1, omega0=0.0, w0=W0, gamma=0.1, h=0.01)
     args.update(kw)
@@ -285,15 +316,24 @@ def test_rk4_type_errors_and_input_untouched():
 
 
 @needs_cvode
-@pytest.mark.parametrize("kw,exc,match", [
-    (dict(rtol=0.0), ValueError, "rtol = 0"), (dict(rtol=-1e-8), ValueError, "rtol"),
-    (dict(atol=-1e-10), ValueError, "atol = -1e-10"), (dict(w0=0.0), ValueError, "w0 = 0"),
-    (dict(gamma=-1.0), ValueError, "gamma = -1"), (dict(t=[0.0, 1.0, 0.5]), ValueError, "strictly increasing"),
-    (dict(t=[0.0, float("nan")]), ValueError, "NaN"), (dict(method="rk45"), ValueError, "method"),
-    (dict(max_steps=0), ValueError, "max_steps"), (dict(max_steps=1.5), TypeError, "max_steps"),
-    (dict(events="yes"), TypeError, "events"), (dict(events=True, max_events=0), ValueError, "max_events"),
-    (dict(events=True, max_events=10**8), ValueError, "max_events"),
-])
+@pytest.mark.parametrize(
+    "kw,exc,match",
+    [
+        (dict(rtol=0.0), ValueError, "rtol = 0"),
+        (dict(rtol=-1e-8), ValueError, "rtol"),
+        (dict(atol=-1e-10), ValueError, "atol = -1e-10"),
+        (dict(w0=0.0), ValueError, "w0 = 0"),
+        (dict(gamma=-1.0), ValueError, "gamma = -1"),
+        (dict(t=[0.0, 1.0, 0.5]), ValueError, "strictly increasing"),
+        (dict(t=[0.0, float("nan")]), ValueError, "NaN"),
+        (dict(method="rk45"), ValueError, "method"),
+        (dict(max_steps=0), ValueError, "max_steps"),
+        (dict(max_steps=1.5), TypeError, "max_steps"),
+        (dict(events="yes"), TypeError, "events"),
+        (dict(events=True, max_events=0), ValueError, "max_events"),
+        (dict(events=True, max_events=10**8), ValueError, "max_events"),
+    ],
+)
 def test_cvode_bad_input(kw, exc, match):
     args = dict(t=[0.0, 1.0], theta0=0.1, omega0=0.0, w0=W0, gamma=0.1)
     args.update(kw)

@@ -8,6 +8,7 @@ generous 2 s for a loaded 2-core machine, the design target is 0.5 s), then
 run the same kind of call again (shorter) in the same process and get the
 answer of a fresh process bit for bit: no broken state.
 """
+
 import json
 import os
 import subprocess
@@ -17,9 +18,9 @@ import time
 
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE, interrupt_child
 
 import pendula
-from helpers import HAVE_CVODE, interrupt_child
 from pendula._errors import ERR_CANCELLED
 
 _CHILD = textwrap.dedent("""
@@ -79,12 +80,14 @@ _ENV = dict(os.environ, PYTHONUNBUFFERED="1")
 
 
 def _child(kind, mode):
-    return subprocess.Popen([sys.executable, "-c", _CHILD, kind, mode], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=_ENV)
+    return subprocess.Popen(
+        [sys.executable, "-c", _CHILD, kind, mode], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_ENV
+    )
 
 
-@pytest.mark.parametrize("kind", ["rk4", "cvode", "solve", "solve_top", "run_model", "tradeoff", "rk4_batch",
-                                  "cvode_batch", "solve_batch"])
+@pytest.mark.parametrize(
+    "kind", ["rk4", "cvode", "solve", "solve_top", "run_model", "tradeoff", "rk4_batch", "cvode_batch", "solve_batch"]
+)
 def test_sigint_stops_a_long_call_and_leaves_nothing_broken(kind):
     if kind.startswith("cvode") and not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
@@ -112,7 +115,7 @@ def test_rk4_progress_counts_every_step_and_results_are_unchanged():
     control = np.zeros(2, np.int64)
     theta, omega, stats, code, _ = _rk4_raw(t, 0.01, control)
     assert code == 0
-    assert control[0] == 0 and control[1] == stats[0] == 3000   # 5 substeps x 600 intervals
+    assert control[0] == 0 and control[1] == stats[0] == 3000  # 5 substeps x 600 intervals
     assert np.array_equal(theta, plain.theta) and np.array_equal(omega, plain.omega)
 
 
@@ -120,19 +123,18 @@ def test_a_preset_cancel_flag_stops_rk4_at_the_first_poll():
     control = np.array([1, 0], np.int64)
     theta, omega, stats, code, msg = _rk4_raw([0.0, 100.0], 1e-3, control)
     assert code == ERR_CANCELLED and b"cancelled" in bytes(msg)
-    assert stats[0] == control[1] == 4096          # one poll block, then stop
-    assert not theta.any() and not omega.any()     # no half-done answer
+    assert stats[0] == control[1] == 4096  # one poll block, then stop
+    assert not theta.any() and not omega.any()  # no half-done answer
 
 
 def test_a_preset_cancel_flag_stops_cvode():
     if not HAVE_CVODE:
         pytest.skip("this build has no CVODE")
     control = np.array([1, 0], np.int64)
-    out = pendula._fortran.cvode_f2py(np.array([0.0, 1e4]), 0.0, 2.0, 1.4, 0.0, 1e-10, 1e-12,
-                                                   1, 1e7, 0, control)
+    out = pendula._fortran.cvode_f2py(np.array([0.0, 1e4]), 0.0, 2.0, 1.4, 0.0, 1e-10, 1e-12, 1, 1e7, 0, control)
     code, msg = out[-2], out[-1]
     assert code == ERR_CANCELLED and b"cancelled" in bytes(msg)
-    assert control[1] == 256                       # the first poll
+    assert control[1] == 256  # the first poll
 
 
 def test_progress_callback_sees_a_monotone_count_up_to_the_steps():
@@ -152,8 +154,7 @@ def test_progress_callback_for_cvode_and_solve():
     r = pendula.cvode([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, progress=lambda d, n: seen.append((d, n)))
     assert seen[-1] == (r.stats["rhs_evals"], None)
     seen.clear()
-    s = pendula.solve(pendula.Scene(1.0, t=[0.0, 100.0], gamma=0.1, tol=1e-10),
-                      progress=lambda d, n: seen.append(d))
+    s = pendula.solve(pendula.Scene(1.0, t=[0.0, 100.0], gamma=0.1, tol=1e-10), progress=lambda d, n: seen.append(d))
     assert s.model == "rk4" and seen[-1] == s.cost["steps"]
 
 
@@ -176,7 +177,7 @@ def test_bad_progress_and_max_steps_are_named():
 def test_budgets_refuse_up_front():
     start = time.perf_counter()
     with pytest.raises(ValueError, match="max_steps = 2"):
-        pendula.rk4([0.0, 1e9], 0.0, 2.0, 1.4, 0.1, 0.05)          # 2e10 steps
+        pendula.rk4([0.0, 1e9], 0.0, 2.0, 1.4, 0.1, 0.05)  # 2e10 steps
     with pytest.raises(ValueError, match="max_steps = 1000"):
         pendula.rk4([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, 0.05, max_steps=1000)
     assert pendula.rk4([0.0, 100.0], 0.0, 2.0, 1.4, 0.1, 0.05, max_steps=2000).stats["steps"] == 2000
@@ -191,7 +192,7 @@ def test_budgets_refuse_up_front():
         pendula.solve(pendula.Scene(1.0, t=[0.0, 100.0], gamma=0.1, tol=1e-10), model="rk4", max_steps=1000)
     with pytest.raises(ValueError, match="raise max_steps"):
         pendula.run_model(pendula.Scene(1.0, t=[0.0, 100.0], gamma=0.1), "rk4", 0.01, max_steps=1000)
-    assert time.perf_counter() - start < 5     # refused, not attempted
+    assert time.perf_counter() - start < 5  # refused, not attempted
 
 
 def test_an_exception_in_the_progress_callback_stops_the_run():
@@ -199,6 +200,7 @@ def test_an_exception_in_the_progress_callback_stops_the_run():
     def boom(done, total):
         if done > 0:
             raise ZeroDivisionError("stop here")
+
     start = time.perf_counter()
     with pytest.raises(ZeroDivisionError, match="stop here"):
         pendula.rk4([0.0, 1e6], 0.0, 2.0, 1.4, 0.1, 1e-3, progress=boom)

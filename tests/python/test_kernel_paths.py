@@ -4,6 +4,7 @@ PENDULA_KERNEL in a fresh interpreter, reports itself in build_info(), and
 returns the same bits as the baseline path and as pendula.rk4 state by state
 (the variants differ in vector width only: -ffp-contract=off, no fast-math).
 """
+
 import os
 import subprocess
 import sys
@@ -82,8 +83,7 @@ def test_every_path_gives_the_same_bits(tmp_path):
 def test_unknown_request_runs_the_best_path(tmp_path, value):
     env = dict(os.environ, PENDULA_KERNEL=value)
     code = "import pendula; i = pendula.build_info()['kernel']; print(i['path'] == i['available'][-1])"
-    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True,
-                         timeout=120)
+    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "True"
 
 
@@ -97,7 +97,6 @@ def test_openmp_threads_sleep_unless_the_user_chose(user, want):
     if user is not None:
         env["OMP_WAIT_POLICY"] = user
     code = "import os, pendula; print(os.environ.get('OMP_WAIT_POLICY'))"
-    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True,
-                         timeout=120)
+    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True, timeout=120)
     assert f"OMP_WAIT_POLICY = '{want}'" in out.stderr
     assert out.stdout.strip() == str(user)

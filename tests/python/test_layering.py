@@ -8,6 +8,7 @@ purpose (optional dependencies, the figures) and are not edges here.  Also
 checks the layers: the base never imports above itself, and the many-state
 machinery (``pendula._many``) never imports the public modules built on it.
 """
+
 import ast
 from pathlib import Path
 
@@ -16,7 +17,7 @@ import pytest
 import pendula
 
 PKG = Path(pendula.__file__).parent
-EXTENSIONS = {"_fortran"}   # compiled: imports nothing of the package
+EXTENSIONS = {"_fortran"}  # compiled: imports nothing of the package
 BASE = {"_codes", "_config", "_errors", "_arrays", "_defaults", "_longcall", "_memory", "_tables", "_angle_warning"}
 
 
@@ -33,7 +34,7 @@ def _resolve(name, level, here, is_pkg):
     """The package-relative module an import refers to ('' = the package), or None for another package."""
     if level == 0:
         if name == "pendula" or name.startswith("pendula."):
-            return name[len("pendula."):] if name != "pendula" else ""
+            return name[len("pendula.") :] if name != "pendula" else ""
         return None
     base = here.split(".") if here else []
     if not is_pkg:
@@ -63,9 +64,9 @@ def _edges(mods):
                 if target is not None:
                     for a in node.names:
                         sub = f"{target}.{a.name}".lstrip(".")
-                        if sub in mods:                      # "from . import x": the submodule x
+                        if sub in mods:  # "from . import x": the submodule x
                             targets.append(sub)
-                        elif sub not in EXTENSIONS:          # a name defined in the module itself
+                        elif sub not in EXTENSIONS:  # a name defined in the module itself
                             targets.append(target)
             # a module's parent packages are loaded before it anyway: not an edge
             parents = {".".join(mod.split(".")[:i]) for i in range(len(mod.split(".")))}
@@ -86,7 +87,7 @@ def _cycle(graph):
         stack.append(m)
         for d in sorted(graph[m]):
             if state.get(d) == 1:
-                return stack[stack.index(d):] + [d]
+                return stack[stack.index(d) :] + [d]
             if d not in state:
                 found = visit(d)
                 if found:
@@ -117,10 +118,13 @@ def test_no_import_after_a_definition():
     assert not LATE, f"imports below a def or class (move them to the top): {LATE}"
 
 
-@pytest.mark.parametrize("layer, forbidden", [
-    (BASE, lambda d: d not in BASE),
-    ({m for m in MODS if m.startswith("_many")}, lambda d: not (d in BASE or d.startswith("_many"))),
-])
+@pytest.mark.parametrize(
+    "layer, forbidden",
+    [
+        (BASE, lambda d: d not in BASE),
+        ({m for m in MODS if m.startswith("_many")}, lambda d: not (d in BASE or d.startswith("_many"))),
+    ],
+)
 def test_layers_import_only_below(layer, forbidden):
     bad = {m: sorted(d for d in GRAPH[m] if forbidden(d)) for m in layer if m in GRAPH}
     assert not any(bad.values()), f"imports above the layer: { {k: v for k, v in bad.items() if v} }"

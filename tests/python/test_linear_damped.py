@@ -15,6 +15,7 @@ where floor = 2^-1022 (the smallest normal double) is subtracted from |d theta|
 and |d Omega| (before dividing by m): results below the normal range may
 underflow to subnormals or 0.
 """
+
 import math
 from pathlib import Path
 
@@ -29,10 +30,18 @@ FLOOR = np.finfo(float).tiny
 DPS = 50
 
 RATIOS = {
-    "0": 0.0, "1e-8": 1e-8, "0.5": 0.5,
-    "2(1-1e-12)": 2 * (1 - 1e-12), "2(1+1e-12)": 2 * (1 + 1e-12),
-    "2(1-1e-6)": 2 * (1 - 1e-6), "2(1+1e-6)": 2 * (1 + 1e-6),
-    "2": 2.0, "3": 3.0, "5": 5.0, "1e3": 1e3, "1e6": 1e6,
+    "0": 0.0,
+    "1e-8": 1e-8,
+    "0.5": 0.5,
+    "2(1-1e-12)": 2 * (1 - 1e-12),
+    "2(1+1e-12)": 2 * (1 + 1e-12),
+    "2(1-1e-6)": 2 * (1 - 1e-6),
+    "2(1+1e-6)": 2 * (1 + 1e-6),
+    "2": 2.0,
+    "3": 3.0,
+    "5": 5.0,
+    "1e3": 1e3,
+    "1e6": 1e6,
 }
 W0T = [0.0, 1e-7, 1e-3, 0.05, 0.2, 0.5, 0.9, 1.3, 2.0, 3.7, 7.0, 15.0, 40.0, 120.0, 600.0, 1e3, 3e3, 1e4]
 ICS = [(0.1, 0.0), (0.1, 0.5), (0.1, -0.5), (0.0, 0.5), (-0.7, 0.3)]
@@ -90,11 +99,11 @@ def _grid(w0, ratio):
     g = ratio * w0
     ts = {wt / w0 for wt in W0T}
     if g > 0:
-        ts |= {x / g for x in (0.3, 1.0, 2.5, 8.0)}            # the fast scale 1/gamma
+        ts |= {x / g for x in (0.3, 1.0, 2.5, 8.0)}  # the fast scale 1/gamma
     info = pendula.damping_regime(w0, g)
     if info.regime == "overdamped":
         ts |= {x / info.decay_slow for x in (0.5, 3.0, 30.0)}  # the slow mode 1/|lambda2|
-        ts |= {x / info.beta for x in (0.45, 0.5, 0.55)}       # where the series hands over
+        ts |= {x / info.beta for x in (0.45, 0.5, 0.55)}  # where the series hands over
     return sorted(ts)
 
 
@@ -116,8 +125,10 @@ def test_accuracy_against_mpmath(label):
                 worst_rel = max(worst_rel, rel)
                 if r > worst[0]:
                     worst = (r, (t, th0, om0, w0, g))
-    print(f"gamma/w0 = {label}: {n} points, worst error = {worst[0]:.3f} eps (size + cond) "
-          f"at (t, theta0, omega0, w0, gamma) = {worst[1]}; worst error / size = {worst_rel:.3g} eps")
+    print(
+        f"gamma/w0 = {label}: {n} points, worst error = {worst[0]:.3f} eps (size + cond) "
+        f"at (t, theta0, omega0, w0, gamma) = {worst[1]}; worst error / size = {worst_rel:.3g} eps"
+    )
     assert worst[0] <= 16, f"error {worst[0]:.2f} eps (size + cond) at {worst[1]}"
 
 
@@ -127,8 +138,11 @@ def test_random_sweep_against_mpmath():
     rng = np.random.default_rng(20261122)
     n = 300
     w0 = 10 ** rng.uniform(-3, 3, n)
-    ratio = np.where(rng.random(n) < 0.5, 10 ** rng.uniform(-10, 8, n),
-                     2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(-16, -3, n)))
+    ratio = np.where(
+        rng.random(n) < 0.5,
+        10 ** rng.uniform(-10, 8, n),
+        2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(-16, -3, n)),
+    )
     g = ratio * w0
     t = 10 ** rng.uniform(-6, 4, n) / w0
     th0 = rng.uniform(-1, 1, n)
@@ -146,8 +160,11 @@ def test_extreme_scales_sweep_against_mpmath():
     rng = np.random.default_rng(6)
     n = 400
     w0 = 10 ** rng.uniform(-100, 100, n)
-    ratio = np.where(rng.random(n) < 0.3, 10 ** rng.uniform(-15, 12, n),
-                     2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(-16, 0, n)))
+    ratio = np.where(
+        rng.random(n) < 0.3,
+        10 ** rng.uniform(-15, 12, n),
+        2 * (1 + rng.choice([-1, 1], n) * 10 ** rng.uniform(-16, 0, n)),
+    )
     ratio[rng.random(n) < 0.05] = 0
     g = ratio * w0
     t = 10 ** rng.uniform(-8, 6, n) / w0
@@ -168,7 +185,7 @@ def test_reference_matches_matrix_exponential():
         for t in (0.3, 2.0, 9.0):
             with mp.workdps(DPS):
                 mw0, mg, mt = mp.mpf(w0), mp.mpf(g), mp.mpf(t)
-                e = mp.expm(mp.matrix([[0, 1], [-mw0 ** 2, -mg]]) * mt)
+                e = mp.expm(mp.matrix([[0, 1], [-(mw0**2), -mg]]) * mt)
                 th_e = e[0, 0] * mp.mpf(0.1) + e[0, 1] * mp.mpf(0.5)
                 om_e = e[1, 0] * mp.mpf(0.1) + e[1, 1] * mp.mpf(0.5)
                 th, om, _, _ = reference(t, 0.1, 0.5, w0, g)
@@ -212,12 +229,14 @@ T_TEXT = np.arange(0.0, 2 * 2 * np.pi / W0_TEXT, 2 * 2 * np.pi / W0_TEXT / 1000)
 
 def _text_overdamped(th0, om0, gama):
     w0 = W0_TEXT
-    beta = np.sqrt(gama ** 2 / 4.0 - w0 ** 2)
+    beta = np.sqrt(gama**2 / 4.0 - w0**2)
     l1, l2 = -gama / 2.0 - beta, -gama / 2.0 + beta
     a = (th0 * l2 - om0) / (l2 - l1)
     b = (om0 - th0 * l1) / (l2 - l1)
-    return (a * np.exp(l1 * T_TEXT) + b * np.exp(l2 * T_TEXT),
-            a * l1 * np.exp(l1 * T_TEXT) + b * l2 * np.exp(l2 * T_TEXT))
+    return (
+        a * np.exp(l1 * T_TEXT) + b * np.exp(l2 * T_TEXT),
+        a * l1 * np.exp(l1 * T_TEXT) + b * l2 * np.exp(l2 * T_TEXT),
+    )
 
 
 def _text_critical(th0, om0):
@@ -227,8 +246,9 @@ def _text_critical(th0, om0):
     return np.exp(lam * T_TEXT) * (a + b * T_TEXT), np.exp(lam * T_TEXT) * (c + d * T_TEXT)
 
 
-@pytest.mark.parametrize("factor, th0, om0", [
-    (f, 0.1, om) for f in (3.0, 5.0) for om in (0.0, 0.5, -0.5)] + [(3.0, 0.0, 0.5)])
+@pytest.mark.parametrize(
+    "factor, th0, om0", [(f, 0.1, om) for f in (3.0, 5.0) for om in (0.0, 0.5, -0.5)] + [(3.0, 0.0, 0.5)]
+)
 def test_text_overdamped_figures(factor, th0, om0):
     gama = factor * W0_TEXT
     want_th, want_om = _text_overdamped(th0, om0, gama)
@@ -288,7 +308,7 @@ def test_damping_regime_numbers():
             assert abs(o.beta - beta) <= 4 * EPS * beta
             assert abs(o.lambda1.real + a + beta) <= 4 * EPS * (a + beta)
             l2 = -a + beta
-            assert abs(o.lambda2.real - l2) <= 4 * EPS * abs(l2)       # no cancellation at 1e12
+            assert abs(o.lambda2.real - l2) <= 4 * EPS * abs(l2)  # no cancellation at 1e12
             assert abs(o.decay_slow + l2) <= 4 * EPS * abs(l2)
     z = pendula.damping_regime(1.0, 0.0)
     assert math.isinf(z.quality_factor) and z.log_decrement == 0 and z.omega_d == 1.0
@@ -329,12 +349,20 @@ def test_broadcasting_scalars_and_input_untouched():
         assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(gamma=-1.0), "gamma"), (dict(w0=0.0), "w0"), (dict(w0=-2.0), "w0"),
-    (dict(theta0=float("nan")), "theta0"), (dict(omega0=float("inf")), "omega0"),
-    (dict(t=-1.0), "t"), (dict(t=float("nan")), "t"), (dict(gamma=float("inf")), "gamma"),
-    (dict(w0=np.array([1.0, float("nan")])), "w0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(gamma=-1.0), "gamma"),
+        (dict(w0=0.0), "w0"),
+        (dict(w0=-2.0), "w0"),
+        (dict(theta0=float("nan")), "theta0"),
+        (dict(omega0=float("inf")), "omega0"),
+        (dict(t=-1.0), "t"),
+        (dict(t=float("nan")), "t"),
+        (dict(gamma=float("inf")), "gamma"),
+        (dict(w0=np.array([1.0, float("nan")])), "w0"),
+    ],
+)
 def test_bad_input_names_the_argument(kwargs, name):
     args = dict(t=1.0, theta0=0.1, omega0=0.5, w0=1.0, gamma=0.5)
     args.update(kwargs)

@@ -8,7 +8,6 @@ bound plus a rounding term 16 eps scale (1 + (w0 + gamma) T).
 Tolerances: 1e-12 relative (the closed forms round to a few ulps; the references' maxima are
 located to ~1e-25 in t, so their values are good to far better than that).
 """
-import math
 
 import mpmath as mp
 import numpy as np
@@ -18,7 +17,7 @@ import pendula
 from pendula import _codes
 
 EPS = np.finfo(float).eps
-SAFETY = _codes.LINEAR_SAFETY   # the Fortran SCENE_LINEAR_SAFETY
+SAFETY = _codes.LINEAR_SAFETY  # the Fortran SCENE_LINEAR_SAFETY
 REL = 1e-12
 
 
@@ -37,8 +36,12 @@ def _sup(f, tend, n=1000):
     """max of f over [0, tend]: the best points of a uniform and a geometric grid, each
     refined by golden-section search between its neighbours (f unimodal there)."""
     tend = mp.mpf(tend)
-    grid = sorted(set([tend * i / n for i in range(n + 1)] +
-                      [tend * mp.mpf(10) ** (-12 + 12 * mp.mpf(i) / n) for i in range(n + 1)]))
+    grid = sorted(
+        set(
+            [tend * i / n for i in range(n + 1)]
+            + [tend * mp.mpf(10) ** (-12 + 12 * mp.mpf(i) / n) for i in range(n + 1)]
+        )
+    )
     vals = [f(t) for t in grid]
     best = max(vals)
     order = sorted(range(len(grid)), key=lambda i: -vals[i])[:4]
@@ -84,7 +87,7 @@ def _green_bound(theta0, omega0, gamma, tend):
     a = g / 2
     beta = mp.sqrt(a**2 - 1)
 
-    def shc(t):            # sinh(beta t)/beta, t at beta = 0
+    def shc(t):  # sinh(beta t)/beta, t at beta = 0
         return mp.sinh(beta * t) / beta if beta > 0 else t
 
     def theta(t):

@@ -9,6 +9,7 @@ already uses, so that they fail fast and cannot disturb this process or the
 machine; the child must exit normally (no signal) after a MemoryError naming
 the size.
 """
+
 import subprocess
 import sys
 import textwrap
@@ -17,9 +18,10 @@ import numpy as np
 import pytest
 
 import pendula
-from pendula import _codes, _errors, scene as scene_mod
+from pendula import _codes, _errors
+from pendula import scene as scene_mod
 
-resource = pytest.importorskip("resource")   # POSIX only
+resource = pytest.importorskip("resource")  # POSIX only
 
 # What the child runs before the case: pendula imported (and its OpenMP pool
 # started) first, then the cap: VmSize now + HEADROOM.
@@ -63,10 +65,20 @@ linux = pytest.mark.skipif(not _linux(), reason="reads /proc/self/status")
 
 # ---------------------------------------------------------------- the code and its exception
 
+
 def test_memory_code_maps_to_memory_error():
-    assert _codes.ERR_MEMORY not in (_codes.OK, _codes.ERR_NONFINITE, _codes.ERR_DOMAIN, _codes.ERR_SIZE,
-                                     _codes.ERR_ORDER, _codes.ERR_UNSTABLE, _codes.ERR_SOLVER,
-                                     _codes.ERR_UNAVAILABLE, _codes.ERR_MAXSTEPS, _codes.ERR_CANCELLED)
+    assert _codes.ERR_MEMORY not in (
+        _codes.OK,
+        _codes.ERR_NONFINITE,
+        _codes.ERR_DOMAIN,
+        _codes.ERR_SIZE,
+        _codes.ERR_ORDER,
+        _codes.ERR_UNSTABLE,
+        _codes.ERR_SOLVER,
+        _codes.ERR_UNAVAILABLE,
+        _codes.ERR_MAXSTEPS,
+        _codes.ERR_CANCELLED,
+    )
     with pytest.raises(MemoryError, match="out of memory: the outputs need 1.5 GiB") as info:
         _errors.raise_for_status(_codes.ERR_MEMORY, b"out of memory: the outputs need 1.5 GiB  ")
     assert info.value.pendula_code == _codes.ERR_MEMORY
@@ -74,11 +86,13 @@ def test_memory_code_maps_to_memory_error():
 
 # ---------------------------------------------------------------- refused up front, in a capped child
 
+
 @linux
 def test_scene_whose_times_the_core_cannot_copy_is_a_memory_error():
     # t fits once (made before the cap) and in Python's checked copy, not a third
     # time in Fortran's scene_init: the core's check_alloc, not a segfault
-    _expect_memory_error("""
+    _expect_memory_error(
+        """
         t = np.arange(40_000_000, dtype=float) * 1e-6
         cap(400 * 2**20)
         try:
@@ -86,14 +100,19 @@ def test_scene_whose_times_the_core_cannot_copy_is_a_memory_error():
             print("no error")
         except MemoryError as exc:
             print("MemoryError:", exc)
-        """, "the output times t need", "305 MiB", "40000000 values of 8 bytes")
+        """,
+        "the output times t need",
+        "305 MiB",
+        "40000000 values of 8 bytes",
+    )
 
 
 @linux
 def test_scene_batch_shares_its_time_grid_and_refuses_its_solve_up_front():
     # the reproducer of the crash: 4000 scenes x 1e5 times; built in a few MB now
     # (one t for all); its solve (4000 x 1e5 x 4 series, twice) refused before any scene runs
-    _expect_memory_error("""
+    _expect_memory_error(
+        """
         cap(1500 * 2**20)
         b = pendula.Scene(np.zeros(4000), t=np.linspace(0, 1, 100000))
         assert all(s.t is b.t for s in b.scenes.flat)
@@ -103,20 +122,27 @@ def test_scene_batch_shares_its_time_grid_and_refuses_its_solve_up_front():
             print("no error")
         except MemoryError as exc:
             print("MemoryError:", exc, "after", time.perf_counter() - start, "s")
-        """, "the results of 4000 scenes x 100000 output times", "GiB")
+        """,
+        "the results of 4000 scenes x 100000 output times",
+        "GiB",
+    )
 
 
 @linux
-@pytest.mark.parametrize("call", [
-    "pendula.sweep(t, np.zeros(4000), want='trajectory', h=0.01)",
-    "pendula.sweep(t, np.zeros(4000), want='trajectory', method='cvode')",
-    "pendula.rk4(t, np.zeros(4000), 0.0, 1.0, 0.0, h=0.01)",
-    "pendula.cvode(t, np.zeros(4000), 0.0, 1.0, 0.0)",
-])
+@pytest.mark.parametrize(
+    "call",
+    [
+        "pendula.sweep(t, np.zeros(4000), want='trajectory', h=0.01)",
+        "pendula.sweep(t, np.zeros(4000), want='trajectory', method='cvode')",
+        "pendula.rk4(t, np.zeros(4000), 0.0, 1.0, 0.0, h=0.01)",
+        "pendula.cvode(t, np.zeros(4000), 0.0, 1.0, 0.0)",
+    ],
+)
 def test_batch_outputs_refused_up_front_with_their_size(call):
     if "cvode" in call and not pendula.build_info()["cvode"]:
         pytest.skip("no CVODE in this build")
-    out = _expect_memory_error(f"""
+    out = _expect_memory_error(
+        f"""
         t = np.linspace(0, 1, 100000)
         cap(1000 * 2**20)
         start = time.perf_counter()
@@ -125,19 +151,23 @@ def test_batch_outputs_refused_up_front_with_their_size(call):
             print("no error")
         except MemoryError as exc:
             print("MemoryError:", exc, "after", time.perf_counter() - start, "s")
-        """, "the outputs theta and omega of 4000 states x 100000 times need 5.96 GiB")
+        """,
+        "the outputs theta and omega of 4000 states x 100000 times need 5.96 GiB",
+    )
     # up front: no chunk of work was done (the old sweep computed for 8 s first)
     assert float(out.split("after")[-1].split()[0]) < 2.0, out
 
 
 # ---------------------------------------------------------------- sweep chunks and outputs
 
+
 def test_trajectory_sweep_fills_its_outputs_in_place_and_chunks_long_grids(monkeypatch):
     from pendula import _memory
+
     t = np.linspace(0.0, 2.0, 201)
     th = np.linspace(-1, 1, 7)
     direct = pendula.rk4(t, th, 0.0, 1.3, 0.1, h=0.01)
-    monkeypatch.setattr(_memory, "CHUNK_BYTES", 2 * 8 * 201 * 3)   # 3 states of trajectory per chunk
+    monkeypatch.setattr(_memory, "CHUNK_BYTES", 2 * 8 * 201 * 3)  # 3 states of trajectory per chunk
     r = pendula.sweep(t, th, 0.0, 1.3, 0.1, want="trajectory", h=0.01)
     assert r.n_chunks == 3
     assert np.array_equal(r.theta, direct.theta) and np.array_equal(r.omega, direct.omega)
@@ -146,6 +176,7 @@ def test_trajectory_sweep_fills_its_outputs_in_place_and_chunks_long_grids(monke
 
 
 # ---------------------------------------------------------------- events: storage grows with them
+
 
 def test_event_slots_grow_with_the_events_found(monkeypatch):
     # a window with more events than the first slots: solved once more with exact room,
@@ -158,7 +189,7 @@ def test_event_slots_grow_with_the_events_found(monkeypatch):
     real = scene_mod._scene.scene_solve_f2py
 
     def counted(*args):
-        calls.append(args[11])   # m, the event slots
+        calls.append(args[11])  # m, the event slots
         return real(*args)
 
     monkeypatch.setattr(scene_mod, "_FIRST_EVENT_SLOTS", 16)

@@ -1,6 +1,7 @@
 """pendula.plot_motion and pendula.plot_phase_portrait: the plotted line data are the
 result's arrays (bit for bit) and exact level curves of the energy; axis labels carry
 units; ax= draws into given Axes; bad input is refused by name; matplotlib stays optional."""
+
 import doctest
 import math
 import subprocess
@@ -37,7 +38,7 @@ def test_time_panels_are_the_result_arrays(damped):
     assert np.array_equal(om_line.get_xdata(), damped.t) and np.array_equal(om_line.get_ydata(), damped.omega)
     assert [a.get_ylabel() for a in fig.axes] == ["θ(t)  (rad)", "Ω(t)  (rad/s)"]
     assert all(a.get_xlabel() == "time t  (s)" for a in fig.axes)
-    assert th_line.get_label() == damped.model      # default legend: the model used
+    assert th_line.get_label() == damped.model  # default legend: the model used
 
 
 def test_phase_and_both(damped):
@@ -46,7 +47,7 @@ def test_phase_and_both(damped):
     (line,) = _data_lines(ax)
     assert np.array_equal(line.get_xdata(), damped.theta) and np.array_equal(line.get_ydata(), damped.omega)
     start = [ln for ln in ax.get_lines() if ln is not line][0]
-    assert (start.get_xdata()[0], start.get_ydata()[0]) == (0.0, 2.0)   # the initial state
+    assert (start.get_xdata()[0], start.get_ydata()[0]) == (0.0, 2.0)  # the initial state
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("θ  (rad)", "Ω  (rad/s)")
     fig = pendula.plot_motion(damped, kind="both")
     assert [a.get_ylabel() for a in fig.axes] == ["θ(t)  (rad)", "Ω(t)  (rad/s)", "Ω  (rad/s)"]
@@ -64,8 +65,8 @@ def test_integration_result_and_arrays():
     fig = pendula.plot_motion(t=t, theta=th, omega=om, label="exact")
     assert np.array_equal(_data_lines(fig.axes[0])[0].get_ydata(), th)
     assert fig.axes[0].get_legend().get_texts()[0].get_text() == "exact"
-    assert np.array_equal(t, t_in) and np.array_equal(th, th_in)          # inputs untouched
-    fig = pendula.plot_motion(t=t, theta=th)                               # theta alone: one panel
+    assert np.array_equal(t, t_in) and np.array_equal(th, th_in)  # inputs untouched
+    fig = pendula.plot_motion(t=t, theta=th)  # theta alone: one panel
     assert len(fig.axes) == 1 and fig.axes[0].get_legend() is None
 
 
@@ -96,31 +97,37 @@ def test_draws_into_given_axes(damped):
     assert any(np.array_equal(ln.get_xdata(), damped.theta) for ln in ax.get_lines())
 
 
-@pytest.mark.parametrize("kwargs, exc, words", [
-    (dict(kind="phasee"), ValueError, "kind"),
-    (dict(kind=1), TypeError, "kind"),
-    (dict(label=3), TypeError, "label"),
-    (dict(ax="ax"), TypeError, "ax"),
-    (dict(t=[0.0, 1.0]), ValueError, "not both"),
-    (dict(kind="time", ax=[]), ValueError, "ax: kind='time' draws 2 panel"),
-])
+@pytest.mark.parametrize(
+    "kwargs, exc, words",
+    [
+        (dict(kind="phasee"), ValueError, "kind"),
+        (dict(kind=1), TypeError, "kind"),
+        (dict(label=3), TypeError, "label"),
+        (dict(ax="ax"), TypeError, "ax"),
+        (dict(t=[0.0, 1.0]), ValueError, "not both"),
+        (dict(kind="time", ax=[]), ValueError, "ax: kind='time' draws 2 panel"),
+    ],
+)
 def test_bad_options(damped, kwargs, exc, words):
     with pytest.raises(exc, match=words):
         pendula.plot_motion(damped, **kwargs)
 
 
-@pytest.mark.parametrize("kwargs, exc, words", [
-    (dict(t=[0.0, 1.0]), TypeError, "theta missing"),
-    (dict(t=[0.0, 1.0], theta=[0.0, 1.0, 2.0]), ValueError, "theta has 3 values but t has 2"),
-    (dict(t=[0.0, 1.0], theta=[0.0, 1.0], omega=[1.0]), ValueError, "omega has 1 values"),
-    (dict(t=[0.0, np.nan], theta=[0.0, 1.0]), ValueError, "t contains NaN"),
-    (dict(t=[0.0, 1.0], theta=[0.0, np.inf]), ValueError, "theta contains NaN or Inf"),
-    (dict(t=[], theta=[]), ValueError, "t must be a non-empty 1-D array"),
-    (dict(t=[[0.0, 1.0]], theta=[0.0, 1.0]), ValueError, "t must be a non-empty 1-D"),
-    (dict(t=["a", "b"], theta=[0.0, 1.0]), TypeError, "t must be a real"),
-    (dict(t=[0.0, 1.0], theta=[1 + 1j, 0.0]), TypeError, "theta must be a real"),
-    (dict(t=[0.0, 1.0], theta=[True, False]), TypeError, "theta"),
-])
+@pytest.mark.parametrize(
+    "kwargs, exc, words",
+    [
+        (dict(t=[0.0, 1.0]), TypeError, "theta missing"),
+        (dict(t=[0.0, 1.0], theta=[0.0, 1.0, 2.0]), ValueError, "theta has 3 values but t has 2"),
+        (dict(t=[0.0, 1.0], theta=[0.0, 1.0], omega=[1.0]), ValueError, "omega has 1 values"),
+        (dict(t=[0.0, np.nan], theta=[0.0, 1.0]), ValueError, "t contains NaN"),
+        (dict(t=[0.0, 1.0], theta=[0.0, np.inf]), ValueError, "theta contains NaN or Inf"),
+        (dict(t=[], theta=[]), ValueError, "t must be a non-empty 1-D array"),
+        (dict(t=[[0.0, 1.0]], theta=[0.0, 1.0]), ValueError, "t must be a non-empty 1-D"),
+        (dict(t=["a", "b"], theta=[0.0, 1.0]), TypeError, "t must be a real"),
+        (dict(t=[0.0, 1.0], theta=[1 + 1j, 0.0]), TypeError, "theta must be a real"),
+        (dict(t=[0.0, 1.0], theta=[True, False]), TypeError, "theta"),
+    ],
+)
 def test_bad_arrays(kwargs, exc, words):
     with pytest.raises(exc, match=words):
         pendula.plot_motion(**kwargs)
@@ -139,8 +146,9 @@ def test_bad_results():
 
 # ---------------------------------------------------------------- phase portrait
 
+
 def _energy_ratio(line, w0):
-    return pendula.energy(line.get_xdata(), line.get_ydata(), w0) / (2.0 * w0 ** 2)
+    return pendula.energy(line.get_xdata(), line.get_ydata(), w0) / (2.0 * w0**2)
 
 
 @pytest.mark.parametrize("w0", [W0, 0.01, 1e3])
@@ -151,8 +159,16 @@ def test_portrait_curves_are_exact_levels_of_the_energy(w0):
     by_gid = {}
     for ln in ax.get_lines():
         by_gid.setdefault(ln.get_gid(), []).append(ln)
-    assert set(by_gid) == {"libration 0.05", "libration 0.5", "libration 0.999", "rotation 1.001",
-                           "rotation 2", "separatrix 1", "centres", "saddles"}
+    assert set(by_gid) == {
+        "libration 0.05",
+        "libration 0.5",
+        "libration 0.999",
+        "rotation 1.001",
+        "rotation 2",
+        "separatrix 1",
+        "centres",
+        "saddles",
+    }
     for e in levels + [1.0]:
         family = "libration" if e < 1 else "rotation" if e > 1 else "separatrix"
         for ln in by_gid[f"{family} {e:g}"]:
@@ -169,8 +185,14 @@ def test_portrait_curves_are_exact_levels_of_the_energy(w0):
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("θ  (rad)", "Ω  (rad/s)")
 
 
-@pytest.mark.parametrize("levels, title", [(1.0, "the separatrix"), ([2.0, 0.5], "levels E/E_sep = 0.5, 2"),
-                                            (np.linspace(0.05, 3.0, 40), "40 levels E/E_sep from 0.05 to 3")])
+@pytest.mark.parametrize(
+    "levels, title",
+    [
+        (1.0, "the separatrix"),
+        ([2.0, 0.5], "levels E/E_sep = 0.5, 2"),
+        (np.linspace(0.05, 3.0, 40), "40 levels E/E_sep from 0.05 to 3"),
+    ],
+)
 def test_portrait_title_says_which_levels(levels, title):
     fig = pendula.plot_phase_portrait(w0=W0, levels=levels, n=16)
     assert fig.axes[0].get_title().endswith(title)
@@ -179,38 +201,41 @@ def test_portrait_title_says_which_levels(levels, title):
 
 def test_portrait_libration_closes_on_its_amplitude():
     fig = pendula.plot_phase_portrait(w0=W0, levels=0.5, theta_range=(-1.0, 1.0))
-    (ln,) = [x for x in fig.axes[0].get_lines() if x.get_gid() == "libration 0.5"]   # only the centre 0 shows
+    (ln,) = [x for x in fig.axes[0].get_lines() if x.get_gid() == "libration 0.5"]  # only the centre 0 shows
     x = ln.get_xdata()
     # E/E_sep = sin^2(theta_max/2) for a release from rest: theta_max = pi/2 at e = 0.5
     assert np.max(x) == pytest.approx(float(pendula.amplitude(np.pi / 2, 0.0, W0)), rel=1e-15)
     assert np.min(x) == pytest.approx(-np.pi / 2, rel=1e-15)
-    assert (x[0], ln.get_ydata()[0]) == (x[-1], ln.get_ydata()[-1])   # a closed curve
+    assert (x[0], ln.get_ydata()[0]) == (x[-1], ln.get_ydata()[-1])  # a closed curve
 
 
-@pytest.mark.parametrize("kwargs, exc, words", [
-    (dict(w0=0.0), ValueError, "w0 must be finite and > 0"),
-    (dict(w0=-1.0), ValueError, "w0"),
-    (dict(w0=np.nan), ValueError, "w0"),
-    (dict(w0="1"), TypeError, "w0"),
-    (dict(w0=np.array([1.0, 2.0])), TypeError, "w0"),
-    (dict(w0=True), TypeError, "w0"),
-    (dict(w0=1.0, levels=[0.5, -1.0]), ValueError, "levels"),
-    (dict(w0=1.0, levels=[0.5, np.inf]), ValueError, "levels"),
-    (dict(w0=1.0, levels=np.ones((2, 2))), ValueError, "levels"),
-    (dict(w0=1.0, levels="0.5"), TypeError, "levels"),
-    (dict(w0=1.0, theta_range=(1.0, 0.0)), ValueError, "theta_range"),
-    (dict(w0=1.0, theta_range=(0.0, np.inf)), ValueError, "theta_range"),
-    (dict(w0=1.0, theta_range=(0.0, 1e4)), ValueError, "theta_range spans"),
-    (dict(w0=1.0, theta_range=1.0), TypeError, "theta_range"),
-    (dict(w0=1.0, theta_range=("a", 1.0)), TypeError, "theta_range"),
-    (dict(w0=1.0, omega_max=0.0), ValueError, "omega_max"),
-    (dict(w0=1.0, n=15), ValueError, r"n = 15 is out of range"),
-    (dict(w0=1.0, n=100.0), TypeError, "n must be an integer"),
-    (dict(w0=1.0, ax=[1, 2]), TypeError, "ax"),
-    (dict(g=-9.8), ValueError, "g"),
-    (dict(length=0.0), ValueError, "length"),
-    (dict(w0=1.0, g=9.8, length=4.9), ValueError, "w0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, exc, words",
+    [
+        (dict(w0=0.0), ValueError, "w0 must be finite and > 0"),
+        (dict(w0=-1.0), ValueError, "w0"),
+        (dict(w0=np.nan), ValueError, "w0"),
+        (dict(w0="1"), TypeError, "w0"),
+        (dict(w0=np.array([1.0, 2.0])), TypeError, "w0"),
+        (dict(w0=True), TypeError, "w0"),
+        (dict(w0=1.0, levels=[0.5, -1.0]), ValueError, "levels"),
+        (dict(w0=1.0, levels=[0.5, np.inf]), ValueError, "levels"),
+        (dict(w0=1.0, levels=np.ones((2, 2))), ValueError, "levels"),
+        (dict(w0=1.0, levels="0.5"), TypeError, "levels"),
+        (dict(w0=1.0, theta_range=(1.0, 0.0)), ValueError, "theta_range"),
+        (dict(w0=1.0, theta_range=(0.0, np.inf)), ValueError, "theta_range"),
+        (dict(w0=1.0, theta_range=(0.0, 1e4)), ValueError, "theta_range spans"),
+        (dict(w0=1.0, theta_range=1.0), TypeError, "theta_range"),
+        (dict(w0=1.0, theta_range=("a", 1.0)), TypeError, "theta_range"),
+        (dict(w0=1.0, omega_max=0.0), ValueError, "omega_max"),
+        (dict(w0=1.0, n=15), ValueError, r"n = 15 is out of range"),
+        (dict(w0=1.0, n=100.0), TypeError, "n must be an integer"),
+        (dict(w0=1.0, ax=[1, 2]), TypeError, "ax"),
+        (dict(g=-9.8), ValueError, "g"),
+        (dict(length=0.0), ValueError, "length"),
+        (dict(w0=1.0, g=9.8, length=4.9), ValueError, "w0"),
+    ],
+)
 def test_portrait_bad_input(kwargs, exc, words):
     with pytest.raises(exc, match=words):
         pendula.plot_phase_portrait(**kwargs)
@@ -232,12 +257,13 @@ def test_portrait_takes_the_pendulum_as_everywhere():
 
 def test_portrait_options_are_keyword_only():
     with pytest.raises(TypeError):
-        pendula.plot_phase_portrait(W0)   # noqa: the signature is keyword-only
+        pendula.plot_phase_portrait(W0)  # noqa: the signature is keyword-only
     with pytest.raises(TypeError):
         pendula.plot_motion(None, None)
 
 
 # ---------------------------------------------------------------- docstrings, optional matplotlib
+
 
 @pytest.mark.parametrize("name", ["plot_motion", "plot_phase_portrait"])
 def test_docstring_examples_run(name, tmp_path, monkeypatch):
@@ -250,6 +276,7 @@ def test_docstring_examples_run(name, tmp_path, monkeypatch):
     result = runner.summarize(verbose=False)
     assert result.attempted >= 4 and result.failed == 0
 
+
 def test_importing_pendula_does_not_import_matplotlib():
     code = "import sys, pendula; print('matplotlib' in sys.modules)"
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
@@ -257,10 +284,11 @@ def test_importing_pendula_does_not_import_matplotlib():
     assert proc.stdout.strip() == "False"
 
 
-@pytest.mark.parametrize("call", [lambda: pendula.plot_motion(t=[0.0, 1.0], theta=[0.0, 1.0]),
-                                  lambda: pendula.plot_phase_portrait(w0=1.0)])
+@pytest.mark.parametrize(
+    "call", [lambda: pendula.plot_motion(t=[0.0, 1.0], theta=[0.0, 1.0]), lambda: pendula.plot_phase_portrait(w0=1.0)]
+)
 def test_without_matplotlib_import_error_names_the_extra(monkeypatch, call):
     for mod in ("matplotlib", "matplotlib.figure", "matplotlib.axes"):
-        monkeypatch.setitem(sys.modules, mod, None)     # `import matplotlib...` now raises ImportError
+        monkeypatch.setitem(sys.modules, mod, None)  # `import matplotlib...` now raises ImportError
     with pytest.raises(ImportError, match=r"needs matplotlib.*pip install 'pendula\[examples\]'"):
         call()

@@ -2,19 +2,20 @@
 pendulum takes w0= or g= and length= (default: the text's g = 9.8, length =
 4.9, the same as Scene's), every function with damping takes gamma= or b= and
 mass=, and redundant values are accepted exactly when Scene accepts them."""
+
 import inspect
 import math
 import re
 
 import numpy as np
 import pytest
+from helpers import ROOT
 
 import pendula
 from pendula import _codes
-from helpers import ROOT
 
 EPS = np.finfo(float).eps
-W0_TEXT = math.sqrt(2.0)   # sqrt(9.8/4.9): fl(9.8) = 2 fl(4.9) exactly, so w0 = fl(sqrt(2))
+W0_TEXT = math.sqrt(2.0)  # sqrt(9.8/4.9): fl(9.8) = 2 fl(4.9) exactly, so w0 = fl(sqrt(2))
 
 # name -> (positional arguments before the pendulum, result -> flat numbers)
 PENDULUM_FUNCS = {
@@ -51,8 +52,11 @@ def test_the_default_pendulum_is_defined_once_in_fortran():
     """_codes carries the Fortran parameters; Scene's defaults are the same numbers."""
     text = (ROOT / "src" / "core" / "pendula_physics.f90").read_text() if (ROOT / "src").is_dir() else None
     if text is not None:
-        for name, value in (("PENDULA_G_DEFAULT", _codes.G_DEFAULT), ("PENDULA_LENGTH_DEFAULT", _codes.LENGTH_DEFAULT),
-                            ("PENDULA_PARAM_RTOL", _codes.PARAM_RTOL)):
+        for name, value in (
+            ("PENDULA_G_DEFAULT", _codes.G_DEFAULT),
+            ("PENDULA_LENGTH_DEFAULT", _codes.LENGTH_DEFAULT),
+            ("PENDULA_PARAM_RTOL", _codes.PARAM_RTOL),
+        ):
             m = re.search(name + r"\s*=\s*([0-9.e+-]+)_wp", text)
             assert m and float(m.group(1)) == value, name
     sig = inspect.signature(pendula.Scene.__init__).parameters
@@ -75,9 +79,9 @@ def test_every_way_to_give_the_pendulum_agrees(name):
     default = _call(name)
     assert _call(name, w0=W0_TEXT) == default
     assert _call(name, g=9.8, length=4.9) == default
-    assert _call(name, g=9.8) == default          # the other one takes the text's value
+    assert _call(name, g=9.8) == default  # the other one takes the text's value
     assert _call(name, length=4.9) == default
-    assert _call(name, w0=W0_TEXT, g=9.8, length=4.9) == default   # redundant, consistent
+    assert _call(name, w0=W0_TEXT, g=9.8, length=4.9) == default  # redundant, consistent
     other = pendula.natural_frequency(9.8, 1.0)
     assert _call(name, g=9.8, length=1.0) == _call(name, w0=other)
     assert _call(name, g=9.8, length=1.0) != default
@@ -101,7 +105,7 @@ def test_pendulum_keywords_are_keyword_only_and_positional_w0_still_works(name):
     assert params["w0"].kind is inspect.Parameter.POSITIONAL_OR_KEYWORD
     names = list(params)
     args = list(PENDULUM_FUNCS[name][0])
-    while len(args) < names.index("w0"):     # the optional ones before w0 at their defaults
+    while len(args) < names.index("w0"):  # the optional ones before w0 at their defaults
         args.append(params[names[len(args)]].default)
     assert _flat(f(*args, 1.3)) == _flat(f(*args, w0=1.3))
 
@@ -126,7 +130,7 @@ def test_damping_as_gamma_or_b_and_mass(name):
     ref = _flat(f(*args, w0=1.4, gamma=gamma))
     assert _flat(f(*args, w0=1.4, b=0.05, mass=0.1)) == ref
     assert _flat(f(*args, w0=1.4, gamma=gamma, b=0.05, mass=0.1)) == ref
-    assert _flat(f(*args, w0=1.4)) == _flat(f(*args, w0=1.4, gamma=0.0))     # no damping given
+    assert _flat(f(*args, w0=1.4)) == _flat(f(*args, w0=1.4, gamma=0.0))  # no damping given
     with pytest.raises(ValueError, match="b is given without mass"):
         f(*args, b=0.05)
     with pytest.raises(ValueError, match="mass is given without b"):

@@ -17,6 +17,7 @@ Tolerances are relative to the natural scale of the state,
 Each test draws a modest number of examples (settings below); the file runs in
 well under a minute.
 """
+
 from __future__ import annotations
 
 import math
@@ -27,15 +28,16 @@ import subprocess
 
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE, needs_cvode
 from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
 
 import pendula
-from helpers import HAVE_CVODE, needs_cvode
 
 EPS = np.finfo(float).eps
-SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow],
-                    report_multiple_bugs=False)
+SETTINGS = settings(
+    max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow], report_multiple_bugs=False
+)
 # For tests whose failures are cheap to read as drawn: no shrinking (keeps a
 # failing run within the file's time budget).
 NO_SHRINK = settings(SETTINGS, phases=[Phase.explicit, Phase.reuse, Phase.generate])
@@ -129,9 +131,16 @@ def _build_dir():
 
 
 def _sundials_libs():
-    names = ["sundials_fcvode_mod", "sundials_cvode", "sundials_fnvecserial_mod", "sundials_nvecserial",
-             "sundials_fsunmatrixdense_mod", "sundials_sunmatrixdense", "sundials_fsunlinsoldense_mod",
-             "sundials_sunlinsoldense"]
+    names = [
+        "sundials_fcvode_mod",
+        "sundials_cvode",
+        "sundials_fnvecserial_mod",
+        "sundials_nvecserial",
+        "sundials_fsunmatrixdense_mod",
+        "sundials_sunmatrixdense",
+        "sundials_fsunlinsoldense_mod",
+        "sundials_sunlinsoldense",
+    ]
     return [f"-l{n}" for n in names]
 
 
@@ -177,9 +186,11 @@ def _fortran_program(tmp_path_factory, name, source):
 
 def _program_fixture(name, source):
     """A module-scoped fixture: the Fortran program `source` built once as `name`."""
+
     @pytest.fixture(scope="module", name=name)
     def fixture(tmp_path_factory):
         return _fortran_program(tmp_path_factory, name, source)
+
     return fixture
 
 
@@ -261,7 +272,7 @@ def test_incomplete_integral_continuous_across_m_equal_1(phi, k):
 @SETTINGS
 @given(m=ms)
 def test_complete_integrals_and_complement_forms_agree(m):
-    p = 1 - m   # exact for m in [-5, 1) up to one rounding of 1 - m
+    p = 1 - m  # exact for m in [-5, 1) up to one rounding of 1 - m
     assert abs(pendula.ellipk(m) - pendula.ellipkm1(p)) <= 8 * EPS * pendula.ellipk(m) * (1 + 1 / p)
     assert abs(pendula.ellipe(m) - pendula.ellipem1(p)) <= 8 * EPS * pendula.ellipe(m) * (1 + 1 / p)
     # F(pi/2 | m) = K(m) and F is odd in phi.
@@ -360,8 +371,7 @@ def test_rk4_and_cvode_agree(theta0, omega0, w0, gamma):
 
 
 @SETTINGS
-@given(theta0=fin(-2.0, 2.0), omega0=fin(-1.0, 1.0), w0=fin(0.3, 3.0), gamma=fin(0.0, 2.0),
-       split=st.integers(1, 19))
+@given(theta0=fin(-2.0, 2.0), omega0=fin(-1.0, 1.0), w0=fin(0.3, 3.0), gamma=fin(0.0, 2.0), split=st.integers(1, 19))
 def test_rk4_restart_is_consistent(theta0, omega0, w0, gamma, split):
     # Integrating [0, T] in one go or restarting from the state at t_k on the
     # same grid is the same sequence of steps (to rounding of the restart).
@@ -381,8 +391,12 @@ def _cond_scale(theta0, omega0, w0, t):
 
 
 @SETTINGS
-@given(theta0=fin(-6.0, 6.0), omega0=fin(-6.0, 6.0), w0=fin(0.2, 5.0), t=st.lists(fin(-50.0, 50.0), min_size=1,
-                                                                                    max_size=16))
+@given(
+    theta0=fin(-6.0, 6.0),
+    omega0=fin(-6.0, 6.0),
+    w0=fin(0.2, 5.0),
+    t=st.lists(fin(-50.0, 50.0), min_size=1, max_size=16),
+)
 def test_undamped_energy_is_constant(theta0, omega0, w0, t):
     t = np.array(t)
     th, om = pendula.undamped(t, theta0, omega0, w0)
@@ -438,7 +452,7 @@ def test_integrators_agree_with_exact_undamped(theta0, omega0, w0):
     t = np.linspace(0.0, 10.0 / w0, 21)
     th, om = pendula.undamped(t, theta0, omega0, w0)
     m = pendula.elliptic_parameter(theta0, omega0, w0)[1]
-    assume(abs(m) > 1e-3)   # keep away from the separatrix (unbounded sensitivity)
+    assume(abs(m) > 1e-3)  # keep away from the separatrix (unbounded sensitivity)
     r = pendula.rk4(t, theta0, omega0, w0, 0.0, 0.002 / w0)
     tol = 1e-7 * (1 + abs(theta0) + abs(omega0) / w0) / abs(m)
     np.testing.assert_allclose(r.theta, th, rtol=0, atol=tol)
@@ -499,8 +513,7 @@ def test_fortran_and_python_paths_agree_elliptic_and_undamped(fortran_exact):
     rng = np.random.default_rng(99)
     n = 300
     u = rng.uniform(-30, 30, n)
-    m = np.concatenate([rng.uniform(-3, 0.999, n - 40), 1 - 10.0 ** -rng.uniform(3, 15, 20),
-                        rng.uniform(1.0, 4.0, 20)])
+    m = np.concatenate([rng.uniform(-3, 0.999, n - 40), 1 - 10.0 ** -rng.uniform(3, 15, 20), rng.uniform(1.0, 4.0, 20)])
     t = rng.uniform(-40, 40, n)
     theta0 = rng.uniform(-7, 7, n)
     omega0 = rng.uniform(-6, 6, n)

@@ -2,20 +2,21 @@
 and the tradeoff table (used steps, no duplicate runs, SciPy rows, errors
 checked against an independent mpmath reference).
 """
+
 import sys
 
 import numpy as np
 import pytest
-
-import pendula
 import scene_grid
 
-pd = pytest.importorskip("pandas")      # requirements-dev.txt installs both
+import pendula
+
+pd = pytest.importorskip("pandas")  # requirements-dev.txt installs both
 xr = pytest.importorskip("xarray")
 
 W0 = np.sqrt(2.0)
-T30 = np.linspace(0, 30, 601)           # the text's section 2.2 grid
-REPR_CHARS = 800                        # a few lines, whatever the size of the data
+T30 = np.linspace(0, 30, 601)  # the text's section 2.2 grid
+REPR_CHARS = 800  # a few lines, whatever the size of the data
 
 
 def _text_scene(**kw):
@@ -23,6 +24,7 @@ def _text_scene(**kw):
 
 
 # ------------------------------------------------------------ stable types
+
 
 @pytest.mark.parametrize("want", ["state", "theta", "final", "energy"])
 @pytest.mark.parametrize("t", [T30, 3.0, [3.0]])
@@ -56,6 +58,7 @@ def test_scene_batch_final_has_a_trailing_axis_of_one():
 
 # ------------------------------------------------------------------- reprs
 
+
 def _check_repr(obj, *facts):
     text = repr(obj)
     assert len(text) <= REPR_CHARS, (len(text), text)
@@ -67,8 +70,15 @@ def _check_repr(obj, *facts):
 
 def test_integration_result_repr_is_compact():
     r = pendula.rk4(T30, 0.0, 2.0, W0, 0.1, 0.05)
-    _check_repr(r, "IntegrationResult", "method='rk4'", "t[601] in [0, 30] s",
-                f"theta in [{r.theta.min():.4g}, {r.theta.max():.4g}] rad", "steps=600", "rhs_evals=2400")
+    _check_repr(
+        r,
+        "IntegrationResult",
+        "method='rk4'",
+        "t[601] in [0, 30] s",
+        f"theta in [{r.theta.min():.4g}, {r.theta.max():.4g}] rad",
+        "steps=600",
+        "rhs_evals=2400",
+    )
     big = pendula.rk4(np.linspace(0, 30, 100_001), 0.0, 2.0, W0, 0.1, 0.05)
     assert len(repr(big)) <= REPR_CHARS
 
@@ -82,28 +92,43 @@ def test_events_repr_counts_the_kinds():
 
 
 def test_batch_repr_reports_codes_and_the_first_failure():
-    r = pendula.rk4(T30, [0.1, 0.2], 0.0, [W0, 200.0], 0.0, 0.05)   # the second is unstable at h = 0.05
-    _check_repr(r, "BatchIntegrationResult", "batch shape (2,)", "codes: 1 ok, 1 failed", "1 of 2 states failed",
-                "h[1] = 0.05")
+    r = pendula.rk4(T30, [0.1, 0.2], 0.0, [W0, 200.0], 0.0, 0.05)  # the second is unstable at h = 0.05
+    _check_repr(
+        r, "BatchIntegrationResult", "batch shape (2,)", "codes: 1 ok, 1 failed", "1 of 2 states failed", "h[1] = 0.05"
+    )
 
 
 def test_scene_result_repr_has_model_error_tol_and_cost():
     r = pendula.solve(_text_scene())
-    _check_repr(r, "SceneResult", f"model={r.model!r}", f"error_estimate={r.error_estimate:.3g} rad",
-                f"tol_met={r.tol_met}", "reason:", "t[601]", f"rhs_evals={r.cost['rhs_evals']}")
+    _check_repr(
+        r,
+        "SceneResult",
+        f"model={r.model!r}",
+        f"error_estimate={r.error_estimate:.3g} rad",
+        f"tol_met={r.tol_met}",
+        "reason:",
+        "t[601]",
+        f"rhs_evals={r.cost['rhs_evals']}",
+    )
 
 
 def test_scene_batch_and_sweep_reprs():
     sb = pendula.solve(pendula.Scene([0.1, 3.0], t=T30))
-    _check_repr(sb, "SceneBatchResult", "batch shape (2,)", "models: exact: 2", "tol met by 2 of 2",
-                "codes: 2 ok, 0 failed")
+    _check_repr(
+        sb, "SceneBatchResult", "batch shape (2,)", "models: exact: 2", "tol met by 2 of 2", "codes: 2 ok, 0 failed"
+    )
     sw = pendula.sweep([0.0, 10.0], np.linspace(0, 3, 4)[:, None], np.zeros(2)[None, :], w0=1.0)
     _check_repr(sw, "SweepResult", "want='final'", "batch shape (4, 2)", "codes: 8 ok")
 
 
 def test_tradeoff_table_repr_and_str():
-    table = pendula.tradeoff(pendula.Scene(0.5, t=np.linspace(0, 2, 21)), models=["exact", "rk4"],
-                             rk4_steps=[0.1, 0.05], repeat=1, scipy=False)
+    table = pendula.tradeoff(
+        pendula.Scene(0.5, t=np.linspace(0, 2, 21)),
+        models=["exact", "rk4"],
+        rk4_steps=[0.1, 0.05],
+        repeat=1,
+        scipy=False,
+    )
     text = _check_repr(table, "TradeoffTable", "3 rows", "exact elliptic solution", "rk4: 2")
     assert "object at 0x" not in text
     lines = str(table).splitlines()
@@ -112,6 +137,7 @@ def test_tradeoff_table_repr_and_str():
 
 
 # ------------------------------------------------------------- conversions
+
 
 def test_integration_result_to_pandas_and_xarray():
     r = pendula.rk4(T30, 0.0, 2.0, W0, 0.1, 0.05)
@@ -142,7 +168,7 @@ def test_scene_results_convert_what_was_wanted():
     final = pendula.solve(_text_scene(want="final")).to_xarray()
     assert dict(final.sizes) == {"t": 1} and float(final["t"][0]) == 30.0
     per = pendula.solve(pendula.Scene(1.0, want="period"))
-    assert per.to_pandas()["period"].tolist() == [per.period]     # one row, as the batch forms
+    assert per.to_pandas()["period"].tolist() == [per.period]  # one row, as the batch forms
     assert float(per.to_xarray()["period"]) == per.period
     with pytest.raises(ValueError, match="events"):
         pendula.solve(pendula.Scene(1.0, t=[0.0, 10.0], want="events")).to_pandas()
@@ -163,9 +189,10 @@ def test_sweep_and_tradeoff_to_pandas():
     assert sw.to_pandas().index.names == ["batch", "t"]
     per = pendula.sweep(None, np.array([0.1, 0.2]), want="period").to_pandas()
     assert list(per.columns) == ["period", "code", "theta0", "omega0", "w0", "gamma"]
-    assert per["w0"].tolist() == [pendula.natural_frequency()] * 2     # the package's one default pendulum
-    table = pendula.tradeoff(pendula.Scene(0.5, t=[0.0, 1.0]), models=["exact", "rk4"], rk4_steps=[0.1],
-                             repeat=1, scipy=False)
+    assert per["w0"].tolist() == [pendula.natural_frequency()] * 2  # the package's one default pendulum
+    table = pendula.tradeoff(
+        pendula.Scene(0.5, t=[0.0, 1.0]), models=["exact", "rk4"], rk4_steps=[0.1], repeat=1, scipy=False
+    )
     df = table.to_pandas()
     assert list(df.columns) == list(pendula.TradeoffTable.COLUMNS) and len(df) == 2
     assert df["sup_error"].tolist() == table.column("sup_error")
@@ -173,7 +200,7 @@ def test_sweep_and_tradeoff_to_pandas():
 
 @pytest.mark.parametrize("package", ["pandas", "xarray"])
 def test_missing_package_names_it(monkeypatch, package):
-    monkeypatch.setitem(sys.modules, package, None)     # import now raises ImportError
+    monkeypatch.setitem(sys.modules, package, None)  # import now raises ImportError
     r = pendula.rk4([0.0, 1.0], 0.1, 0.0, 1.0, 0.0, 0.1)
     convert = r.to_pandas if package == "pandas" else r.to_xarray
     with pytest.raises(ImportError, match=f"'{package}'"):
@@ -181,6 +208,7 @@ def test_missing_package_names_it(monkeypatch, package):
 
 
 # ---------------------------------------------------------------- tradeoff
+
 
 def test_tradeoff_shows_the_step_used_and_drops_repeated_runs():
     # output spacing 0.05 s: every h >= 0.05 runs the same 600 steps
@@ -201,17 +229,23 @@ def test_tradeoff_rows_are_distinct_and_errors_match_an_independent_reference():
     t = np.linspace(0, 8, 41)
     theta0, omega0 = 2.0, 0.5
     scene = pendula.Scene(theta0, omega0, t=t)
-    table = pendula.tradeoff(scene, models=["exact", "rk4"], rk4_steps=[0.4, 0.2, 0.05, 0.02], repeat=1,
-                             scipy=["RK45", "DOP853", "Radau", "LSODA"], scipy_rtols=[1e-4, 1e-8])
+    table = pendula.tradeoff(
+        scene,
+        models=["exact", "rk4"],
+        rk4_steps=[0.4, 0.2, 0.05, 0.02],
+        repeat=1,
+        scipy=["RK45", "DOP853", "Radau", "LSODA"],
+        scipy_rtols=[1e-4, 1e-8],
+    )
     keys = [(r["model"], r["step_used"] if r["model"] == "rk4" else r["setting"]) for r in table]
     assert len(keys) == len(set(keys))
-    assert {r["model"] for r in table} == {"exact", "rk4", "scipy RK45", "scipy DOP853", "scipy Radau",
-                                           "scipy LSODA"}
-    th_mp, om_mp = scene_grid.mp_undamped(t, theta0, omega0, W0)   # mpmath, 30 digits
+    assert {r["model"] for r in table} == {"exact", "rk4", "scipy RK45", "scipy DOP853", "scipy Radau", "scipy LSODA"}
+    th_mp, om_mp = scene_grid.mp_undamped(t, theta0, omega0, W0)  # mpmath, 30 digits
     th_mp, om_mp = np.array(th_mp, dtype=float), np.array(om_mp, dtype=float)
 
     def err(th, om):
         return max(np.max(np.abs(th - th_mp)), np.max(np.abs(om - om_mp)) / W0)
+
     scale = max(abs(theta0), abs(omega0) / W0)
     checked = 0
     for row in table:
@@ -223,10 +257,19 @@ def test_tradeoff_rows_are_distinct_and_errors_match_an_independent_reference():
             rtol = float(row["setting"][5:])
             method = row["model"].split()[1]
             sol = scipy.solve_ivp(
-                lambda _, y: [y[1], -W0 ** 2 * np.sin(y[0])], (0.0, t[-1]), [theta0, omega0], method=method,
-                t_eval=t, rtol=rtol, atol=[rtol * scale / 100, rtol * W0 * scale / 100],
-                **({"jac": lambda _, y: [[0.0, 1.0], [-W0 ** 2 * np.cos(y[0]), 0.0]]}
-                   if method != "RK45" and method != "DOP853" else {}))
+                lambda _, y: [y[1], -(W0**2) * np.sin(y[0])],
+                (0.0, t[-1]),
+                [theta0, omega0],
+                method=method,
+                t_eval=t,
+                rtol=rtol,
+                atol=[rtol * scale / 100, rtol * W0 * scale / 100],
+                **(
+                    {"jac": lambda _, y: [[0.0, 1.0], [-(W0**2) * np.cos(y[0]), 0.0]]}
+                    if method != "RK45" and method != "DOP853"
+                    else {}
+                ),
+            )
             th, om = sol.y
         else:
             r = pendula.solve(pendula.Scene(theta0, omega0, t=t), model="exact")
@@ -239,7 +282,7 @@ def test_tradeoff_rows_are_distinct_and_errors_match_an_independent_reference():
 
 def test_tradeoff_scipy_argument():
     scene = pendula.Scene(0.5, t=[0.0, 1.0])
-    plain = pendula.tradeoff(scene, models=["exact"], repeat=1)          # models given: no SciPy by default
+    plain = pendula.tradeoff(scene, models=["exact"], repeat=1)  # models given: no SciPy by default
     assert plain.column("model") == ["exact"]
     some = pendula.tradeoff(scene, models=["exact"], repeat=1, scipy=["RK45"], scipy_rtols=[1e-3])
     assert some.column("model") == ["exact", "scipy RK45"]

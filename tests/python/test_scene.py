@@ -6,13 +6,14 @@ amplitudes to near pi, windows 1 to 1000 periods, tol 1e-10 to 1e-3) and how
 each reference is computed (mpmath exact solution for gamma = 0, converged
 Richardson-extrapolated RK4 otherwise).
 """
+
 import collections
 
 import numpy as np
 import pytest
+import scene_grid
 
 import pendula
-import scene_grid
 
 W0 = np.sqrt(2.0)
 T0 = 2 * np.pi / W0
@@ -23,6 +24,7 @@ def _err(res, theta, omega, w0=W0):
 
 
 # ---------------------------------------------------------------- honesty grid
+
 
 def test_honesty_grid():
     """True error <= tol in >= 99 % of >= 200 scenes and never above 10 tol."""
@@ -43,10 +45,12 @@ def test_honesty_grid():
         else:
             regime = "overdamped"
         table[(regime, r["model"])] += 1
-    print(f"\nhonesty grid: {len(rows)} scenes, true error <= tol in {100 * within:.1f} %, "
-          f"worst true/tol = {ratios.max():.3g}, worst true/estimate = "
-          f"{max(r['err'] / r['est'] for r in rows if r['est'] > 0):.3g}, "
-          f"estimate <= tol in {100 * np.mean([r['tol_met'] for r in rows]):.1f} %")
+    print(
+        f"\nhonesty grid: {len(rows)} scenes, true error <= tol in {100 * within:.1f} %, "
+        f"worst true/tol = {ratios.max():.3g}, worst true/estimate = "
+        f"{max(r['err'] / r['est'] for r in rows if r['est'] > 0):.3g}, "
+        f"estimate <= tol in {100 * np.mean([r['tol_met'] for r in rows]):.1f} %"
+    )
     for (regime, model), n in sorted(table.items()):
         print(f"  {regime:20s} {model:12s} {n:4d}")
     worst = max(rows, key=lambda r: r["ratio"])
@@ -62,6 +66,7 @@ def test_honesty_grid():
 
 
 # ------------------------------------------------------------- cheap when allowed
+
 
 @pytest.mark.parametrize("theta0, tol", [(1e-3, 1e-6), (0.05, 1e-3)])
 def test_small_angle_when_it_meets_tol(theta0, tol):
@@ -95,7 +100,7 @@ def test_integrator_when_no_closed_form_fits():
     s = pendula.Scene(theta0=0.0, omega0=2.0, t=np.linspace(0, 30, 61), mass=0.1, b=0.01, tol=1e-6)
     r = pendula.solve(s)
     assert r.model in ("rk4", "cvode")
-    assert r.cost["rhs_evals"] > 0 and r.cost["runs"] >= 2   # verified by a second run
+    assert r.cost["rhs_evals"] > 0 and r.cost["runs"] >= 2  # verified by a second run
     th, om, _ = scene_grid.rk4_reference(s.t, 0.0, 2.0, s.w0, 0.1, 1e-9)
     assert _err(r, th, om) <= 1e-6
     assert "linear" in r.reason
@@ -108,6 +113,7 @@ def test_period_is_one_k_evaluation():
     assert r.theta is None and r.t is None
     assert r.period == pytest.approx(pendula.period(1.0, 0.0, s.w0), rel=1e-15)
     import mpmath as mp
+
     mp.mp.dps = 30
     ref = 4 * mp.ellipk(mp.sin(mp.mpf(0.5)) ** 2) / mp.sqrt(mp.mpf(9.8) / mp.mpf(4.9))
     assert abs(r.period - float(ref)) <= 1e-14 * float(ref)
@@ -185,7 +191,7 @@ def test_stiff_damping_uses_cvode_bdf_when_built():
         assert r.model == "cvode" and "BDF" in r.reason
         assert r.cost["rhs_evals"] < 1e5
     else:
-        assert r.model == "rk4"   # held to RK4's stability limit h <= 2.785/gamma: slow but right
+        assert r.model == "rk4"  # held to RK4's stability limit h <= 2.785/gamma: slow but right
     # the overdamped pendulum creeps to the bottom at the slow rate w0^2/gamma
     slow = W0**2 / (1e4 * W0)
     assert r.theta[-1] == pytest.approx(2 * np.arctan(np.tan(0.5) * np.exp(-slow * 200)), rel=1e-4)
@@ -193,23 +199,27 @@ def test_stiff_damping_uses_cvode_bdf_when_built():
 
 # ------------------------------------------------------------------ bad input
 
-@pytest.mark.parametrize("kw, words", [
-    (dict(gamma=0.1, mass=0.1, b=0.05), ["gamma", "b/mass", "disagree"]),
-    (dict(mass=0.1), ["mass", "without b"]),
-    (dict(b=0.05), ["b", "without mass"]),
-    (dict(tol=0.0), ["tol", "> 0"]),
-    (dict(tol=-1e-6), ["tol"]),
-    (dict(tol=float("nan")), ["tol"]),
-    (dict(gamma=-0.1), ["gamma", ">= 0"]),
-    (dict(length=0.0), ["length", "> 0"]),
-    (dict(g=-9.8), ["g", "> 0"]),
-    (dict(mass=0.0, b=0.1), ["mass", "> 0"]),
-    (dict(want="velocity"), ["want", "velocity"]),
-    (dict(t=[0.0, 2.0, 1.0]), ["t", "increasing"]),
-    (dict(t=[-1.0, 2.0]), ["t[0]", ">= 0"]),
-    (dict(t=[0.0, np.inf]), ["t[1]"]),
-    (dict(want="period", gamma=0.1), ["period", "gamma = 0"]),
-])
+
+@pytest.mark.parametrize(
+    "kw, words",
+    [
+        (dict(gamma=0.1, mass=0.1, b=0.05), ["gamma", "b/mass", "disagree"]),
+        (dict(mass=0.1), ["mass", "without b"]),
+        (dict(b=0.05), ["b", "without mass"]),
+        (dict(tol=0.0), ["tol", "> 0"]),
+        (dict(tol=-1e-6), ["tol"]),
+        (dict(tol=float("nan")), ["tol"]),
+        (dict(gamma=-0.1), ["gamma", ">= 0"]),
+        (dict(length=0.0), ["length", "> 0"]),
+        (dict(g=-9.8), ["g", "> 0"]),
+        (dict(mass=0.0, b=0.1), ["mass", "> 0"]),
+        (dict(want="velocity"), ["want", "velocity"]),
+        (dict(t=[0.0, 2.0, 1.0]), ["t", "increasing"]),
+        (dict(t=[-1.0, 2.0]), ["t[0]", ">= 0"]),
+        (dict(t=[0.0, np.inf]), ["t[1]"]),
+        (dict(want="period", gamma=0.1), ["period", "gamma = 0"]),
+    ],
+)
 def test_bad_scene_raises_naming_the_argument(kw, words):
     args = dict(theta0=0.5, t=np.linspace(0, 10, 5), tol=1e-6)
     args.update(kw)
@@ -257,10 +267,10 @@ def test_scene_does_not_modify_or_alias_input():
 
 # --------------------------------------------------------------------- tradeoff
 
+
 def test_tradeoff_table_csv_and_plot(tmp_path):
     s = pendula.Scene(theta0=0.0, omega0=2.0, t=np.linspace(0, 30, 61), mass=0.1, b=0.01, tol=1e-6)
-    table = pendula.tradeoff(s, repeat=1, max_steps=20000, cvode_rtols=[1e-4, 1e-7, 1e-10],
-                             csv=tmp_path / "t.csv")
+    table = pendula.tradeoff(s, repeat=1, max_steps=20000, cvode_rtols=[1e-4, 1e-7, 1e-10], csv=tmp_path / "t.csv")
     models = set(table.column("model"))
     assert "linear" in models and "rk4" in models
     rk = [r for r in table if r["model"] == "rk4"]

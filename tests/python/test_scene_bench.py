@@ -6,31 +6,34 @@ Tolerances: 1e-25 absolute in theta [rad] and Omega/w0, and in event times
 w0 t; the Taylor integrator keeps a 1e-30 tail per step in ~60-digit fixed
 point, the elliptic reference works at 40 digits.
 """
+
 import pathlib
 
 import mpmath as mp
 import pytest
-
 from helpers import load_file
 
 _PATH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks" / "scene_reference.py"
 ref = load_file(_PATH)
 
 TOL = mp.mpf("1e-25")
-W0 = ref.exact_w0(9.81, 2.3)        # irrational: the data as given, not fl(sqrt)
+W0 = ref.exact_w0(9.81, 2.3)  # irrational: the data as given, not fl(sqrt)
 
 
 def _gap(a, b, scale=1):
     return max(abs(x - y) / scale for x, y in zip(a, b))
 
 
-@pytest.mark.parametrize("theta0, omega0", [
-    (1.0, 0.0),                                  # libration from rest
-    (3.0, 0.5),                                  # large libration
-    (0.3, -5.0),                                 # rotation, backwards
-    (-4 * 3.141592653589793 + 0.5, 0.1),         # start shifted by -2 pi 2
-    (2.0, 2 * float(W0) * 0.99999),              # just over the separatrix
-])
+@pytest.mark.parametrize(
+    "theta0, omega0",
+    [
+        (1.0, 0.0),  # libration from rest
+        (3.0, 0.5),  # large libration
+        (0.3, -5.0),  # rotation, backwards
+        (-4 * 3.141592653589793 + 0.5, 0.1),  # start shifted by -2 pi 2
+        (2.0, 2 * float(W0) * 0.99999),  # just over the separatrix
+    ],
+)
 def test_taylor_matches_elliptic_undamped(theta0, omega0):
     t = [0.0, 0.37, 3.0, 11.0]
     th, om, _ = ref.undamped(t, theta0, omega0, W0)
@@ -43,14 +46,14 @@ def test_taylor_matches_elliptic_undamped(theta0, omega0):
 def test_elliptic_reference_solves_the_equation():
     # independent of the Taylor code: energy conserved and theta' = Omega by a central difference
     theta0, omega0 = 2.5, -1.0
-    f = (lambda x: ref.undamped([x], theta0, omega0, W0)[0][0])
+    f = lambda x: ref.undamped([x], theta0, omega0, W0)[0][0]
     with mp.workdps(40):
         for x in (mp.mpf("0.5"), mp.mpf("7.25")):
             th, om, _ = ref.undamped([x], theta0, omega0, W0)
-            h = mp.mpf("1e-12")           # central difference: error ~ h^2 theta''' / 6 ~ 1e-24
+            h = mp.mpf("1e-12")  # central difference: error ~ h^2 theta''' / 6 ~ 1e-24
             assert abs((f(x + h) - f(x - h)) / (2 * h) - om[0]) < mp.mpf("1e-22")
-            e = om[0] ** 2 / 2 + W0 ** 2 * (1 - mp.cos(th[0]))
-            e0 = mp.mpf(omega0) ** 2 / 2 + W0 ** 2 * (1 - mp.cos(mp.mpf(theta0)))
+            e = om[0] ** 2 / 2 + W0**2 * (1 - mp.cos(th[0]))
+            e0 = mp.mpf(omega0) ** 2 / 2 + W0**2 * (1 - mp.cos(mp.mpf(theta0)))
             assert abs(e - e0) < mp.mpf("1e-35")
 
 
@@ -62,8 +65,7 @@ def test_taylor_matches_mpmath_odefun_damped(gamma):
     th, om = tay.solve(t, theta0, omega0)
     with mp.workdps(35):
         g = mp.mpf(gamma)
-        sol = mp.odefun(lambda _, y: [y[1], -g * y[1] - W0 ** 2 * mp.sin(y[0])], 0,
-                        [mp.mpf(theta0), mp.mpf(omega0)])
+        sol = mp.odefun(lambda _, y: [y[1], -g * y[1] - W0**2 * mp.sin(y[0])], 0, [mp.mpf(theta0), mp.mpf(omega0)])
         ys = [sol(mp.mpf(x)) for x in t]
     assert _gap(th, [y[0] for y in ys]) < TOL
     assert _gap(om, [y[1] for y in ys], W0) < TOL

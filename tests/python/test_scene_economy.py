@@ -4,12 +4,13 @@ Work is counted, never timed: closed-form evaluations, RK4 steps, the model chos
 case also checks the answer against an independent reference or an invariant, so that a
 cheaper path never buys its economy with accuracy.
 """
+
 import mpmath as mp
 import numpy as np
 import pytest
+from helpers import ROOT, load_file
 
 import pendula
-from helpers import load_file, ROOT
 
 ref = load_file(ROOT / "benchmarks" / "scene_reference.py")
 
@@ -45,8 +46,15 @@ def test_small_angle_events_are_skipped_when_their_times_would_miss_tol():
     """A 9e-4 rad swing: the small-angle state bound (3e-8 rad) meets tol, but its event
     times are off by that bound over the rate at the events (2.3e-5 s > tol): the solve goes
     straight to the exact solution, with no small-angle events computed first."""
-    s = pendula.Scene(theta0=0.000893261630311742, omega0=0.0, g=1.242, length=0.597,
-                      t=np.linspace(0.0, 468.98, 13), tol=2.15e-07, want="events")
+    s = pendula.Scene(
+        theta0=0.000893261630311742,
+        omega0=0.0,
+        g=1.242,
+        length=0.597,
+        t=np.linspace(0.0, 468.98, 13),
+        tol=2.15e-07,
+        want="events",
+    )
     r = pendula.solve(s)
     assert r.model == "exact" and r.tol_met, r.reason
     assert "event times" in r.reason
@@ -63,8 +71,15 @@ def test_an_output_at_t0_does_not_force_the_whole_decay_to_tol():
     """Outputs at t = 0 and after the motion has decayed by e^-100: the output at t = 0 is
     the initial state itself, so the integrated part before the hand-over runs at the
     loosened tolerance (it took h = 0.003 there, 57x more steps, when t = 0 counted)."""
-    kw = dict(theta0=-1.055204151935069, omega0=-1.1239455931787095, g=5.278, length=0.785,
-              gamma=5.1859683296246395, tol=1.87e-10, want="state")
+    kw = dict(
+        theta0=-1.055204151935069,
+        omega0=-1.1239455931787095,
+        g=5.278,
+        length=0.785,
+        gamma=5.1859683296246395,
+        tol=1.87e-10,
+        want="state",
+    )
     late = np.linspace(51.27, 256.33, 5)
     with0 = pendula.solve(pendula.Scene(t=np.concatenate([[0.0], late]), **kw))
     without = pendula.solve(pendula.Scene(t=late, **kw))
@@ -81,14 +96,16 @@ def test_critically_damped_handover_succeeds_at_the_first_try(gamma_over_2w0):
     most one RK4 pair and its refinement, 4 runs; a too early prediction failed and cost
     a second try: 8 runs, twice the steps)."""
     w0 = pendula.Scene(0.0, want="period").w0
-    s = pendula.Scene(theta0=-1.2, omega0=-0.03, t=np.linspace(0, 20, 89), gamma=2 * w0 * gamma_over_2w0,
-                      tol=6.8e-8, want="state")
+    s = pendula.Scene(
+        theta0=-1.2, omega0=-0.03, t=np.linspace(0, 20, 89), gamma=2 * w0 * gamma_over_2w0, tol=6.8e-8, want="state"
+    )
     r = pendula.solve(s)
     assert r.model == "rk4" and r.tol_met and "decayed by" in r.reason, r.reason
     assert r.cost["runs"] <= 4, r.cost
     th, om = ref.Taylor(ref.exact_w0(9.8, 4.9), s.gamma).solve(list(s.t), s.theta0, s.omega0)[:2]
-    err = max(max(abs(mp.mpf(float(a)) - x), abs(mp.mpf(float(b)) - y) / w0)
-              for a, b, x, y in zip(r.theta, r.omega, th, om))
+    err = max(
+        max(abs(mp.mpf(float(a)) - x), abs(mp.mpf(float(b)) - y) / w0) for a, b, x, y in zip(r.theta, r.omega, th, om)
+    )
     assert err <= r.error_estimate
 
 
@@ -99,23 +116,35 @@ def test_rk4_refinement_progresses_when_outputs_are_denser_than_the_step():
     the run took; RK4 meets tol, and reports that step."""
     grid = load_file(ROOT / "benchmarks" / "scene_grid_draw.py")
     sc = grid.draw()[359]
-    s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"], length=sc["length"],
-                      gamma=sc["gamma"], tol=sc["tol"], want="state")
+    s = pendula.Scene(
+        theta0=sc["theta0"],
+        omega0=sc["omega0"],
+        t=sc["t"],
+        g=sc["g"],
+        length=sc["length"],
+        gamma=sc["gamma"],
+        tol=sc["tol"],
+        want="state",
+    )
     r = pendula.solve(s)
     assert r.model == "rk4" and r.tol_met, r.reason
     assert r.step <= np.max(np.diff(np.concatenate([[0.0], s.t]))) / 2
     th, om = ref.Taylor(ref.exact_w0(sc["g"], sc["length"]), s.gamma).solve(list(s.t), s.theta0, s.omega0)[:2]
-    err = max(max(abs(mp.mpf(float(a)) - x), abs(mp.mpf(float(b)) - y) / s.w0)
-              for a, b, x, y in zip(r.theta, r.omega, th, om))
+    err = max(
+        max(abs(mp.mpf(float(a)) - x), abs(mp.mpf(float(b)) - y) / s.w0) for a, b, x, y in zip(r.theta, r.omega, th, om)
+    )
     assert err <= r.error_estimate <= s.tol
 
 
-@pytest.mark.parametrize("theta0, omega0, gamma_over_2w0", [
-    (-3.141592331462198, 0.0, 1.0),          # 3e-7 rad from the top, critical damping
-    (2.0, -1.0, 1.0),                          # moving towards the bottom, inside the sector
-    (-2.5, 0.3, 3.0),                          # over-damped, moving towards the bottom
-    (-1.0, 0.0, 1.0 + 1e-9),
-])
+@pytest.mark.parametrize(
+    "theta0, omega0, gamma_over_2w0",
+    [
+        (-3.141592331462198, 0.0, 1.0),  # 3e-7 rad from the top, critical damping
+        (2.0, -1.0, 1.0),  # moving towards the bottom, inside the sector
+        (-2.5, 0.3, 3.0),  # over-damped, moving towards the bottom
+        (-1.0, 0.0, 1.0 + 1e-9),
+    ],
+)
 def test_no_events_when_the_sector_traps_the_motion(theta0, omega0, gamma_over_2w0):
     """gamma >= 2 w0 and a start in the sector 0 <= -Omega sign(theta) <= lambda |theta|
     (|theta| < pi): the pendulum never leaves it (d(Omega + lambda theta)/dt = w0^2 (theta - sin
@@ -151,8 +180,16 @@ def test_an_oscillation_that_decays_below_the_doubles_before_its_next_event_is_v
     again, 420 ms instead of under 1)."""
     grid = load_file(ROOT / "benchmarks" / "scene_grid_draw.py")
     sc = grid.draw()[155]
-    s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"], length=sc["length"],
-                      gamma=sc["gamma"], tol=sc["tol"], want="events")
+    s = pendula.Scene(
+        theta0=sc["theta0"],
+        omega0=sc["omega0"],
+        t=sc["t"],
+        g=sc["g"],
+        length=sc["length"],
+        gamma=sc["gamma"],
+        tol=sc["tol"],
+        want="events",
+    )
     r = pendula.solve(s)
     assert r.tol_met and r.events.t.size == 0, r.reason
     assert "the linear closed form" in r.reason

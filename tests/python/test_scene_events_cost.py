@@ -3,14 +3,15 @@ and no finer; its spacing comes from the swing about the nearest bottom 2 pi k, 
 the raw angle (theta0 = 4 pi + 0.01 is a 0.01 rad swing).  Event times are checked against
 benchmarks/scene_reference.py's Taylor integrator (order 30, ~60 digits, with its events:
 kinds 1 turning point, 2 zero crossing)."""
+
 import pathlib
 
 import mpmath as mp
 import numpy as np
 import pytest
+from helpers import load_file
 
 import pendula
-from helpers import load_file
 
 _BENCH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
 ref = load_file(_BENCH / "scene_reference.py")
@@ -55,15 +56,26 @@ grid = load_file(_BENCH / "scene_grid_draw.py")
 
 def _grid_scene(scene_id):
     sc = grid.draw()[scene_id]
-    return sc, pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"],
-                             length=sc["length"], gamma=sc["gamma"], tol=sc["tol"], want="events")
+    return sc, pendula.Scene(
+        theta0=sc["theta0"],
+        omega0=sc["omega0"],
+        t=sc["t"],
+        g=sc["g"],
+        length=sc["length"],
+        gamma=sc["gamma"],
+        tol=sc["tol"],
+        want="events",
+    )
 
 
-@pytest.mark.parametrize("scene_id", [
-    126,    # 0.017 rad about 4 pi, gamma = 0.21 over 64 s: the late events' rates are ~1e-4 rad/s
-    222,    # 1.2 rad swing over 324 s at gamma = 0.19: 318 events, the last at amplitudes ~1e-13 rad
-    263,    # critical damping over 51 s, no event: RK4 over the first 5 s only
-])
+@pytest.mark.parametrize(
+    "scene_id",
+    [
+        126,  # 0.017 rad about 4 pi, gamma = 0.21 over 64 s: the late events' rates are ~1e-4 rad/s
+        222,  # 1.2 rad swing over 324 s at gamma = 0.19: 318 events, the last at amplitudes ~1e-13 rad
+        263,  # critical damping over 51 s, no event: RK4 over the first 5 s only
+    ],
+)
 def test_events_hand_over_to_the_linear_closed_form(scene_id):
     """A damped event scene integrates until the motion has decayed, then takes the linear
     closed form's events, each off by the linear model's nonlinearity at that time (which
@@ -75,8 +87,9 @@ def test_events_hand_over_to_the_linear_closed_form(scene_id):
     sc, s = _grid_scene(scene_id)
     r = pendula.solve(s)
     assert r.tol_met and "then the linear closed form" in r.reason, r.reason
-    err = _true_event_error(r, sc["theta0"], sc["g"], sc["length"], sc["gamma"], float(np.atleast_1d(sc["t"])[-1]),
-                            omega0=sc["omega0"])
+    err = _true_event_error(
+        r, sc["theta0"], sc["g"], sc["length"], sc["gamma"], float(np.atleast_1d(sc["t"])[-1]), omega0=sc["omega0"]
+    )
     assert err <= r.event_time_error <= sc["tol"]
 
 
@@ -85,8 +98,16 @@ def test_decayed_over_damped_motion_has_no_events_left():
     decays below the smallest normal double, where a value flushed to 0 once counted as a
     zero crossing and Omega = 0 as a turning point (two events that do not exist: the motion
     has none after its last extremum).  The whole-window RK4 run took 42e6 rhs evaluations."""
-    s = pendula.Scene(theta0=-1.9531780786501445, omega0=4.111148337028118, g=23.322, length=1.73,
-                      gamma=7.343275796405386, t=5537.120149399642, tol=9.16e-9, want="events")
+    s = pendula.Scene(
+        theta0=-1.9531780786501445,
+        omega0=4.111148337028118,
+        g=23.322,
+        length=1.73,
+        gamma=7.343275796405386,
+        t=5537.120149399642,
+        tol=9.16e-9,
+        want="events",
+    )
     # the start lies in the sector of the no-event theorem (Omega0 < lambda |theta0|): the
     # solve may answer from it; the scan of the linear form is checked on its own here
     r = pendula.solve(s, model="rk4")
@@ -102,7 +123,15 @@ def test_oscillation_decayed_below_the_doubles_is_unverified():
     its later events cannot be placed (the closed form's values are rounding there), so the
     count is unverified: an infinite event-time error and tol not met, never a short list
     reported as verified."""
-    s = pendula.Scene(theta0=1.0, omega0=0.0, g=1.616, length=0.176, gamma=4.394313989002049,
-                      t=338.9787483959203, tol=1e-6, want="events")
+    s = pendula.Scene(
+        theta0=1.0,
+        omega0=0.0,
+        g=1.616,
+        length=0.176,
+        gamma=4.394313989002049,
+        t=338.9787483959203,
+        tol=1e-6,
+        want="events",
+    )
     r = pendula.solve(s)
     assert r.event_time_error == np.inf and not r.tol_met

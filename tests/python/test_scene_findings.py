@@ -5,6 +5,7 @@ Damped references: mpmath's Taylor-series ODE solver (odefun) at 25 digits,
 its events placed by mpmath's findroot on that solution.  Every test asserts
 that the true error is <= tol and <= the error the scene reports.
 """
+
 import mpmath as mp
 import numpy as np
 import pytest
@@ -16,8 +17,7 @@ from pendula._codes import EVENT_TURNING, EVENT_ZERO
 def _damped_reference(theta0, omega0, w0, gamma):
     mp.mp.dps = 25
     w0, gamma = mp.mpf(w0), mp.mpf(gamma)
-    return mp.odefun(lambda t, y: [y[1], -gamma * y[1] - w0**2 * mp.sin(y[0])], 0,
-                     [mp.mpf(theta0), mp.mpf(omega0)])
+    return mp.odefun(lambda t, y: [y[1], -gamma * y[1] - w0**2 * mp.sin(y[0])], 0, [mp.mpf(theta0), mp.mpf(omega0)])
 
 
 def _reference_event_times(f, events):
@@ -37,8 +37,7 @@ def test_event_times_of_heavily_and_critically_damped_scenes(gamma, model):
     """The samples the events are placed on resolve derivatives of order max(w0, gamma)^4, and
     the reported event-time error includes the interpolation between them (w0 = 1 here)."""
     tol = 1.2e-10
-    s = pendula.Scene(theta0=1.0, omega0=3.0, t=[3.0], g=9.8, length=9.8, gamma=gamma, want="events",
-                      tol=tol)
+    s = pendula.Scene(theta0=1.0, omega0=3.0, t=[3.0], g=9.8, length=9.8, gamma=gamma, want="events", tol=tol)
     assert s.w0 == 1.0
     r = pendula.solve(s, model=model)
     assert r.tol_met and len(r.events.t) >= 1
@@ -46,7 +45,7 @@ def test_event_times_of_heavily_and_critically_damped_scenes(gamma, model):
     ref = _reference_event_times(f, r.events)
     dt = max(abs(float(a - b)) for a, b in zip(ref, r.events.t))
     assert dt <= r.event_time_error
-    assert dt <= tol            # seconds; w0 = 1, so also in units of 1/w0
+    assert dt <= tol  # seconds; w0 = 1, so also in units of 1/w0
     for te, th in zip(ref, r.events.theta):
         assert abs(float(f(te)[0]) - th) <= tol
 
@@ -63,8 +62,7 @@ def test_linear_estimate_is_seamless_across_critical_damping():
         r = pendula.solve(s)
         assert r.model == "linear" and r.tol_met, (gamma, r.reason)
         f = _damped_reference(1e-3, 0.0, 1.0, gamma)
-        err = max(max(abs(float(f(ti)[0]) - th), abs(float(f(ti)[1]) - om))
-                  for ti, th, om in zip(t, r.theta, r.omega))
+        err = max(max(abs(float(f(ti)[0]) - th), abs(float(f(ti)[1]) - om)) for ti, th, om in zip(t, r.theta, r.omega))
         assert err <= r.error_estimate <= tol, gamma
         estimates.append(r.error_estimate)
     assert max(estimates) <= 10 * min(estimates)
@@ -102,7 +100,7 @@ def test_energy_of_an_exact_separatrix_start_meets_tol():
     s = pendula.Scene(theta0=0.0, omega0=2.0, t=[1.0, 2.0], g=9.8, length=9.8, want="energy", tol=1e-12)
     r = pendula.solve(s)
     assert r.tol_met, r.reason
-    assert np.all(r.energy == 2.0)           # the exact value, 2 w0^2
+    assert np.all(r.energy == 2.0)  # the exact value, 2 w0^2
     assert r.error_estimate <= 1e-14
 
 
@@ -130,10 +128,13 @@ def test_zero_crossings_are_passes_through_the_bottom():
     assert np.max(np.abs(r.events.t - expect)) <= max(r.event_time_error, 1e-12)
 
 
-@pytest.mark.parametrize("turns, swing, g, length, tend, tol", [
-    (0, 0.000893261630311742, 1.242, 0.597, 468.98, 2.2e-7),      # grid scene 288's data
-    (2, 8.1e-8, 19.263, 1.817, 2.0, 4.3e-7),                        # a swing of 1e-7 rad about 4 pi (scene 97)
-])
+@pytest.mark.parametrize(
+    "turns, swing, g, length, tend, tol",
+    [
+        (0, 0.000893261630311742, 1.242, 0.597, 468.98, 2.2e-7),  # grid scene 288's data
+        (2, 8.1e-8, 19.263, 1.817, 2.0, 4.3e-7),  # a swing of 1e-7 rad about 4 pi (scene 97)
+    ],
+)
 def test_small_swing_events_meet_tol_when_the_small_angle_times_do_not(turns, swing, g, length, tend, tol):
     """The small-angle state bound meets tol, but an event time's error is that bound over the
     rate w0 |sin theta| ~ w0 swing at a turning point: the solve answers with the exact elliptic
@@ -144,10 +145,10 @@ def test_small_swing_events_meet_tol_when_the_small_angle_times_do_not(turns, sw
     r = pendula.solve(s)
     assert r.model == "exact" and r.tol_met, r.reason
     sa = pendula.run_model(s, "small_angle", None)
-    assert sa.event_time_error > tol          # the case this guards: small-angle times miss tol
+    assert sa.event_time_error > tol  # the case this guards: small-angle times miss tol
     mp.mp.dps = 40
     w0 = mp.sqrt(mp.mpf(g) / mp.mpf(length))
-    q = _libration_quarter(mp.mpf(theta0) - 2 * turns * mp.pi, w0)   # the swing about the true 2 pi k
+    q = _libration_quarter(mp.mpf(theta0) - 2 * turns * mp.pi, w0)  # the swing about the true 2 pi k
     expect_t, expect_k = [], []
     for j in range(1, 100000):
         if j * q > tend:
@@ -157,4 +158,4 @@ def test_small_swing_events_meet_tol_when_the_small_angle_times_do_not(turns, sw
     assert len(expect_t) >= 3
     np.testing.assert_array_equal(r.events.kind, expect_k)
     err = max(float(abs(mp.mpf(a) - b)) for a, b in zip(r.events.t, expect_t))
-    assert err <= r.event_time_error <= tol       # seconds
+    assert err <= r.event_time_error <= tol  # seconds

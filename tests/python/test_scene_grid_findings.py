@@ -7,14 +7,15 @@ References: benchmarks/scene_reference.py's fixed-point Taylor integrator (order
 as given (w0 = sqrt(g/l) in mpmath).  Error measure: the Scene's, sup over the outputs of
 max(|d theta|, |d Omega|/w0) [rad]; the final state for want = final.
 """
+
 import pathlib
 
 import mpmath as mp
 import numpy as np
 import pytest
+from helpers import load_file
 
 import pendula
-from helpers import load_file
 
 _BENCH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
 
@@ -23,17 +24,28 @@ ref = load_file(_BENCH / "scene_reference.py")
 grid = load_file(_BENCH / "scene_grid_draw.py")
 
 
-@pytest.mark.parametrize("scene_id, hw0, ratio", [
-    (78, 0.19, 2.03),    # 0.25 rad swing over ~170 periods: e_2h / e_h = 8.2
-    (163, 0.09, 3.8),    # a rotation decaying to rest: e_2h / e_h = 4.3, errors not aligned
-])
+@pytest.mark.parametrize(
+    "scene_id, hw0, ratio",
+    [
+        (78, 0.19, 2.03),  # 0.25 rad swing over ~170 periods: e_2h / e_h = 8.2
+        (163, 0.09, 3.8),  # a rotation decaying to rest: e_2h / e_h = 4.3, errors not aligned
+    ],
+)
 def test_rk4_estimate_bounds_the_error_where_richardson_falls_short(scene_id, hw0, ratio):
     """At these steps the plain Richardson estimate d/15 of an RK4 pair falls short of the
     true error by about `ratio` (why scenes scale it by a safety factor); the solve, whatever
     step it takes, still bounds its true error."""
     sc = grid.draw()[scene_id]
-    s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"], length=sc["length"],
-                      gamma=sc["gamma"], tol=sc["tol"], want=sc["want"])
+    s = pendula.Scene(
+        theta0=sc["theta0"],
+        omega0=sc["omega0"],
+        t=sc["t"],
+        g=sc["g"],
+        length=sc["length"],
+        gamma=sc["gamma"],
+        tol=sc["tol"],
+        want=sc["want"],
+    )
     t = [float(x) for x in np.atleast_1d(sc["t"])]
     w0 = ref.exact_w0(sc["g"], sc["length"])
     th, om = ref.Taylor(w0, sc["gamma"]).solve(t, sc["theta0"], sc["omega0"])[:2]
@@ -45,8 +57,10 @@ def test_rk4_estimate_bounds_the_error_where_richardson_falls_short(scene_id, hw
             return float(max(max(abs(mp.mpf(x) - y), abs(mp.mpf(v) - z) / w0) for x, v, y, z in pairs))
 
     fine, coarse = (pendula.run_model(s, "rk4", k * hw0 / s.w0) for k in (1, 2))
-    d = max(np.max(np.abs(np.atleast_1d(fine.theta) - np.atleast_1d(coarse.theta))),
-            np.max(np.abs(np.atleast_1d(fine.omega) - np.atleast_1d(coarse.omega))) / s.w0)
+    d = max(
+        np.max(np.abs(np.atleast_1d(fine.theta) - np.atleast_1d(coarse.theta))),
+        np.max(np.abs(np.atleast_1d(fine.omega) - np.atleast_1d(coarse.omega))) / s.w0,
+    )
     assert error(fine) > d / 15 * (ratio / 1.5)
     r = pendula.solve(s)
     assert r.model == "rk4" and r.tol_met, r.reason
@@ -61,8 +75,16 @@ def test_event_time_error_covers_the_event_count(scene_id):
     +inf; finite, it bounds the true times (Taylor reference with its events, kinds 1 turning,
     2 zero crossing)."""
     sc = grid.draw()[scene_id]
-    s = pendula.Scene(theta0=sc["theta0"], omega0=sc["omega0"], t=sc["t"], g=sc["g"], length=sc["length"],
-                      gamma=sc["gamma"], tol=sc["tol"], want="events")
+    s = pendula.Scene(
+        theta0=sc["theta0"],
+        omega0=sc["omega0"],
+        t=sc["t"],
+        g=sc["g"],
+        length=sc["length"],
+        gamma=sc["gamma"],
+        tol=sc["tol"],
+        want="events",
+    )
     r = pendula.solve(s)
     w0 = ref.exact_w0(sc["g"], sc["length"])
     t = [float(x) for x in np.atleast_1d(sc["t"])]

@@ -9,6 +9,7 @@ the chosen plan's RK4/CVODE steps against the cheapest single fixed-step RK4
 run over the window that meets tol (run_model, h halved from the stability
 limit, graded against the same reference).
 """
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -33,7 +34,7 @@ CASES = [
 
 def _reference(t, theta0, omega0, gamma):
     def f(_, y):
-        return [y[1], -gamma * y[1] - W0 ** 2 * np.sin(y[0])]
+        return [y[1], -gamma * y[1] - W0**2 * np.sin(y[0])]
 
     def run(rtol):
         sol = solve_ivp(f, (0.0, t[-1]), [theta0, omega0], method="DOP853", t_eval=t, rtol=rtol, atol=1e-18)
@@ -57,9 +58,9 @@ def test_handover_is_honest(theta0, omega0, gamma, periods, tol, want):
     th, om, ref_err = _reference(np.atleast_1d(t), theta0, omega0, gamma)
     assert ref_err <= tol / 20
     if want == "energy":
-        e_ref = om ** 2 / 2 + W0 ** 2 * (1 - np.cos(th))
+        e_ref = om**2 / 2 + W0**2 * (1 - np.cos(th))
         # energy error from the state error d: |dE| <= |Omega| |dOmega| + w0^2 |d theta| + O(d^2)
-        dmax = np.max(np.abs(om)) * W0 + W0 ** 2
+        dmax = np.max(np.abs(om)) * W0 + W0**2
         assert np.max(np.abs(res.energy - e_ref)) <= dmax * res.error_estimate * 1.01 + 1e-14
         return
     err = np.max(np.abs(np.atleast_1d(res.theta) - th))
@@ -74,11 +75,10 @@ def test_handover_is_honest(theta0, omega0, gamma, periods, tol, want):
 def _cheapest_fixed_rk4(scene, th, om, tol):
     # the largest h (halved from just inside the stability limit) whose run meets tol
     h = 0.9 * pendula.rk4_max_stable_step(scene.w0, scene.gamma)
-    st = pendula.Scene(theta0=scene.theta0, omega0=scene.omega0, t=np.atleast_1d(scene.t), gamma=scene.gamma,
-                       tol=tol)
+    st = pendula.Scene(theta0=scene.theta0, omega0=scene.omega0, t=np.atleast_1d(scene.t), gamma=scene.gamma, tol=tol)
     for _ in range(20):
         r = pendula.run_model(st, "rk4", h)
-        err = max(np.max(np.abs(r.theta[-len(th):] - th)), np.max(np.abs(r.omega[-len(om):] - om)) / W0)
+        err = max(np.max(np.abs(r.theta[-len(th) :] - th)), np.max(np.abs(r.omega[-len(om) :] - om)) / W0)
         if err <= tol:
             return r.cost["steps"]
         h /= 2

@@ -1,6 +1,7 @@
 """Scenes report what they achieved: the event times are inside the estimate and tol_met, the
 integrators count events as scenes do, and the model choice is graded against references
 that share no code with pendula (mpmath at 40 digits)."""
+
 import mpmath as mp
 import numpy as np
 import pytest
@@ -13,8 +14,7 @@ def _turn_time(omega0, w0):
     """Time of one turn of the undamped rotation from theta = 0 at Omega0 (mpmath, 40 digits)."""
     mp.mp.dps = 40
     w0 = mp.mpf(w0)
-    return mp.quad(lambda x: 1 / mp.sqrt(mp.mpf(omega0) ** 2 - 4 * w0**2 * mp.sin(x / 2) ** 2),
-                   [0, mp.pi, 2 * mp.pi])
+    return mp.quad(lambda x: 1 / mp.sqrt(mp.mpf(omega0) ** 2 - 4 * w0**2 * mp.sin(x / 2) ** 2), [0, mp.pi, 2 * mp.pi])
 
 
 def test_cvode_events_count_every_pass_through_the_bottom():
@@ -36,9 +36,10 @@ def test_cvode_events_count_every_pass_through_the_bottom():
     np.testing.assert_allclose(r.events.theta[zeros], -2 * np.pi, atol=1e-8)
 
 
-@pytest.mark.parametrize("theta0, gamma, tol", [(3.0, 0.0, 1e-10), (3.0, 0.01, 1e-10),
-                                                (np.pi - 1e-6, 0.0, 1e-9), (np.pi - 1e-6, 0.0, 1e-4),
-                                                (2.5, 0.01, 1e-12)])
+@pytest.mark.parametrize(
+    "theta0, gamma, tol",
+    [(3.0, 0.0, 1e-10), (3.0, 0.01, 1e-10), (np.pi - 1e-6, 0.0, 1e-9), (np.pi - 1e-6, 0.0, 1e-4), (2.5, 0.01, 1e-12)],
+)
 def test_events_fold_the_event_time_error_into_the_estimate(theta0, gamma, tol):
     """want = events: tol bounds the event times [s]; error_estimate covers event_time_error and
     tol_met is error_estimate <= tol.  Turning points near the top (here at 2K, 4K with
@@ -92,13 +93,13 @@ def test_the_other_integrator_is_tried_when_the_first_does_not_verify():
     assert r.model == "rk4" and r.tol_met, r.reason
     mp.mp.dps = 25
     f = mp.odefun(lambda t, y: [y[1], -mp.mpf(0.02) * y[1] - mp.sin(y[0])], 0, [mp.mpf(3.0), 0])
-    err = max(max(abs(float(f(ti)[0]) - th), abs(float(f(ti)[1]) - om))
-              for ti, th, om in zip(s.t, r.theta, r.omega))
+    err = max(max(abs(float(f(ti)[0]) - th), abs(float(f(ti)[1]) - om)) for ti, th, om in zip(s.t, r.theta, r.omega))
     assert err <= r.error_estimate <= tol
 
 
-@pytest.mark.parametrize("theta0, tol, model", [(1e-4, 1e-8, "small_angle"), (1e-2, 1e-8, "exact"),
-                                                (0.0, 1e-12, "small_angle")])
+@pytest.mark.parametrize(
+    "theta0, tol, model", [(1e-4, 1e-8, "small_angle"), (1e-2, 1e-8, "exact"), (0.0, 1e-12, "small_angle")]
+)
 def test_period_prefers_small_angle_when_its_error_fits(theta0, tol, model):
     """want = period: 2 pi/w0 is answered whenever its phase error w0 |T - T0| fits tol (mpmath
     K at 40 digits: T = 4 K(m)/w0, m = sin^2(theta0/2)); the exact period otherwise."""

@@ -7,12 +7,13 @@ rotation of T = 27.79 s).  The reference takes g and l exactly as given (as
 doubles) and evaluates the pendulum with mpmath at 40 digits (scene_grid's
 DLMF 22 formulas, independent of pendula's elliptic code).
 """
+
 import mpmath as mp
 import numpy as np
 import pytest
+from scene_grid import mp_undamped
 
 import pendula
-from scene_grid import mp_undamped
 
 DATA = [(9.8, 4.9), (9.81, 1.7), (3.7, 0.3)]
 # (theta0, relative offset of Omega0 from the separatrix's 2 w0 cos(theta0/2), computed in doubles)

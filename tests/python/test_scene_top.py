@@ -8,18 +8,19 @@ formulas of scene_grid, independent of pendula's elliptic code; 1 - m needs
 the digits).  Errors are in the scenes' measure max(|d theta|, |d Omega|/w0)
 [rad], event times in s.
 """
+
 import mpmath as mp
 import numpy as np
 import pytest
+from scene_grid import mp_undamped
 
 import pendula
 from pendula._codes import EVENT_TURNING, EVENT_ZERO
-from scene_grid import mp_undamped
 
 DPS = 90
 # starts at the top: fl(k pi) for odd k, a few ulps off it, and plainly off it
 TOPS = [np.pi, 3 * np.pi, -5 * np.pi, np.pi - 1e-8, np.pi + 3e-12]
-DATA = [(9.8, 9.8), (3.432, 5.917)]     # w0 = 1 exactly; w0 rounded (its residual matters)
+DATA = [(9.8, 9.8), (3.432, 5.917)]  # w0 = 1 exactly; w0 rounded (its residual matters)
 
 
 def _w0(g, length):
@@ -88,43 +89,60 @@ def test_undamped_period_and_energy_from_the_top(theta0):
     t = np.linspace(0.0, 50.0, 6)
     en = pendula.solve(pendula.Scene(theta0=theta0, t=t, g=g, length=length, tol=1e-12, want="energy"))
     with mp.workdps(DPS):
-        e_ref = w ** 2 * (1 - mp.cos(mp.mpf(theta0)))
-        eerr = max(float(abs(mp.mpf(e) - e_ref) / w ** 2) for e in np.atleast_1d(en.energy))
+        e_ref = w**2 * (1 - mp.cos(mp.mpf(theta0)))
+        eerr = max(float(abs(mp.mpf(e) - e_ref) / w**2) for e in np.atleast_1d(en.energy))
     assert en.tol_met and eerr <= en.error_estimate
 
 
 # --- damped: the hang integrated in top-centred coordinates -------------------------------
 
-W0 = 1.0          # g = l = 9.8
-DAMPED = [(np.pi, 0.0, 0.5), (3 * np.pi, 0.0, 3.0), (-5 * np.pi, 0.0, 1.2), (np.pi - 1e-8, 0.0, 0.5),
-          (np.pi + 3e-12, 0.0, 2.0), (np.pi, 2e-11, 0.3)]
+W0 = 1.0  # g = l = 9.8
+DAMPED = [
+    (np.pi, 0.0, 0.5),
+    (3 * np.pi, 0.0, 3.0),
+    (-5 * np.pi, 0.0, 1.2),
+    (np.pi - 1e-8, 0.0, 0.5),
+    (np.pi + 3e-12, 0.0, 2.0),
+    (np.pi, 2e-11, 0.3),
+]
 
 
 def _top_reference(t, theta0, omega0, gamma, rtol):
     """theta, Omega at t and the events, by SciPy's DOP853 in phi = k pi - theta (phi0 from
     mpmath: the exact distance of the double theta0 to k pi), back to theta in mpmath."""
     from scipy.integrate import solve_ivp
+
     k = int(round(theta0 / np.pi))
     with mp.workdps(40):
         kpi = k * mp.pi
         phi0 = float(kpi - mp.mpf(theta0))
 
     def rhs(_, y):
-        return [y[1], -gamma * y[1] + W0 ** 2 * np.sin(y[0])]
+        return [y[1], -gamma * y[1] + W0**2 * np.sin(y[0])]
 
-    def bottom(_, y):            # theta = 2 pi j  <=>  phi = pi mod 2 pi (k odd)
+    def bottom(_, y):  # theta = 2 pi j  <=>  phi = pi mod 2 pi (k odd)
         return np.sin((y[0] - np.pi) / 2)
 
     def turning(_, y):
         return y[1]
 
-    sol = solve_ivp(rhs, (0, t[-1]), [phi0, -omega0], method="DOP853", t_eval=t, rtol=rtol, atol=1e-40, first_step=1e-3,
-                    events=[bottom, turning])
+    sol = solve_ivp(
+        rhs,
+        (0, t[-1]),
+        [phi0, -omega0],
+        method="DOP853",
+        t_eval=t,
+        rtol=rtol,
+        atol=1e-40,
+        first_step=1e-3,
+        events=[bottom, turning],
+    )
     assert sol.success
     with mp.workdps(40):
         th = np.array([float(kpi - mp.mpf(x)) for x in sol.y[0]])
-    ev = sorted([(x, EVENT_ZERO) for x in sol.t_events[0] if x > 0] +
-                [(x, EVENT_TURNING) for x in sol.t_events[1] if x > 0])
+    ev = sorted(
+        [(x, EVENT_ZERO) for x in sol.t_events[0] if x > 0] + [(x, EVENT_TURNING) for x in sol.t_events[1] if x > 0]
+    )
     return th, -sol.y[1], ev
 
 
@@ -133,8 +151,18 @@ def _top_reference(t, theta0, omega0, gamma, rtol):
 def test_damped_start_at_the_top_is_accurate_and_honest(theta0, omega0, gamma, want):
     t = np.linspace(0.0, 60.0, 121)
     tol = 1e-8
-    res = pendula.solve(pendula.Scene(theta0=theta0, omega0=omega0, t=t if want != "final" else 60.0,
-                                      g=9.8, length=9.8, gamma=gamma, tol=tol, want=want))
+    res = pendula.solve(
+        pendula.Scene(
+            theta0=theta0,
+            omega0=omega0,
+            t=t if want != "final" else 60.0,
+            g=9.8,
+            length=9.8,
+            gamma=gamma,
+            tol=tol,
+            want=want,
+        )
+    )
     _assert_honest_top(res, t, theta0, omega0, gamma, tol, want)
 
 
@@ -147,20 +175,23 @@ def _assert_honest_top(res, t, theta0, omega0, gamma, tol, want):
     if want == "final":
         err = max(abs(res.theta[-1] - th[-1]), abs(res.omega[-1] - om[-1]))
     elif want == "energy":
-        err = np.max(np.abs(res.energy - (om ** 2 / 2 + W0 ** 2 * (1 - np.cos(th)))))
+        err = np.max(np.abs(res.energy - (om**2 / 2 + W0**2 * (1 - np.cos(th)))))
     else:
         err = max(np.max(np.abs(res.theta - th)), np.max(np.abs(res.omega - om)))
     assert "from a top" in res.reason and res.tol_met
     assert err <= res.error_estimate <= tol
-    print(f"theta0={theta0!r} gamma={gamma} want={want}: err {err:.2e} estimate {res.error_estimate:.2e} "
-          f"steps {res.cost['steps']}")
+    print(
+        f"theta0={theta0!r} gamma={gamma} want={want}: err {err:.2e} estimate {res.error_estimate:.2e} "
+        f"steps {res.cost['steps']}"
+    )
 
 
 @pytest.mark.parametrize("theta0,omega0,gamma", DAMPED)
 def test_damped_events_from_the_top(theta0, omega0, gamma):
     tol = 1e-7
-    res = pendula.solve(pendula.Scene(theta0=theta0, omega0=omega0, t=[40.0], g=9.8, length=9.8, gamma=gamma,
-                                      tol=tol, want="events"))
+    res = pendula.solve(
+        pendula.Scene(theta0=theta0, omega0=omega0, t=[40.0], g=9.8, length=9.8, gamma=gamma, tol=tol, want="events")
+    )
     _, _, ev = _top_reference(np.array([40.0]), theta0, omega0, gamma, 1e-13)
     assert list(res.events.kind) == [k for _, k in ev]
     err = max((abs(a - b) for a, (b, _) in zip(res.events.t, ev)), default=0.0)
@@ -179,14 +210,17 @@ def test_top_start_in_theta_loses_what_phi_keeps():
 
 # --- overdamped hangs: the step follows the growing mode, the check halves every interval ---------
 
+
 def _lp_lm(gamma):
     """The saddle's rates at w0 = W0: lp > 0 (growing), lm < 0 (decaying)."""
     lm = -(gamma / 2 + np.hypot(gamma / 2, W0))
-    return W0 ** 2 / -lm, lm
+    return W0**2 / -lm, lm
 
 
-@pytest.mark.parametrize("theta0,gamma,tend,tol", [(np.pi, 6.0, 5.0, 1e-9), (np.pi - 1e-3, 5.0, 8.0, 1e-5),
-                                                   (-3 * np.pi + 2e-4, 12.0, 30.0, 1e-7)])
+@pytest.mark.parametrize(
+    "theta0,gamma,tend,tol",
+    [(np.pi, 6.0, 5.0, 1e-9), (np.pi - 1e-3, 5.0, 8.0, 1e-5), (-3 * np.pi + 2e-4, 12.0, 30.0, 1e-7)],
+)
 @pytest.mark.parametrize("spacing", [0.15, 1.0])
 def test_overdamped_hang_step_from_the_growing_rate_and_honest(theta0, gamma, tend, tol, spacing):
     """Overdamped (gamma > 2 w0), the motion about the top is a e^(lp t) + b e^(lm t) with
@@ -207,8 +241,10 @@ def test_overdamped_hang_step_from_the_growing_rate_and_honest(theta0, gamma, te
     # the hang's step: at most 1/(-lm) (stability of the run at 2h), and not
     # pinned below it by the decaying rate: here >= 1/4 of that bound
     assert 0.25 / -lm <= res.step <= 1 / -lm * (1 + 1e-12)
-    print(f"theta0={theta0!r} gamma={gamma} spacing={spacing}: err {err:.2e} estimate "
-          f"{res.error_estimate:.2e} step {res.step:.3g} (1/lp {1 / lp:.3g}) steps {res.cost['steps']}")
+    print(
+        f"theta0={theta0!r} gamma={gamma} spacing={spacing}: err {err:.2e} estimate "
+        f"{res.error_estimate:.2e} step {res.step:.3g} (1/lp {1 / lp:.3g}) steps {res.cost['steps']}"
+    )
 
 
 @pytest.mark.parametrize("theta0,gamma", [(np.pi, 0.05), (-3 * np.pi + 1e-9, 0.02), (np.pi - 2e-5, 0.1)])

@@ -9,22 +9,33 @@ prediction is checked here against the work the solve itself reports
 linear closed form once decayed is short however many periods the window
 spans; a long undecayed window is long.
 """
+
 import threading
 
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE
 
 import pendula
 from pendula import _longcall
 from pendula import scene as scene_mod
 from pendula._codes import CVODE_STEP_COST, MODEL_CODES, WANT_CODES
-from helpers import HAVE_CVODE
 
 
 def _work(scene, model="auto", fixed=0, setting=0.0, tol=None):
     return scene_mod._scene.scene_work_f2py(
-        scene._t_arg(), scene.theta0, scene.omega0, scene.w0, scene._w0lo, scene.gamma,
-        scene.tol if tol is None else tol, WANT_CODES[scene.want], MODEL_CODES[model], fixed, setting)
+        scene._t_arg(),
+        scene.theta0,
+        scene.omega0,
+        scene.w0,
+        scene._w0lo,
+        scene.gamma,
+        scene.tol if tol is None else tol,
+        WANT_CODES[scene.want],
+        MODEL_CODES[model],
+        fixed,
+        setting,
+    )
 
 
 def _reported(result):
@@ -35,12 +46,36 @@ def _reported(result):
 # Damped scenes of the benchmark grid (scenes 287, 199, 382) that span 50 to 400
 # periods but decay within a few: a few dozen RK4 steps, then the linear form.
 DECAYED = [
-    dict(theta0=1.7430472705210027, omega0=-2.1978054335978863, g=21.476, length=7.368,
-         gamma=3.4145374878121144, t=285.52142322049934, tol=3.97e-09, want="energy"),
-    dict(theta0=-1.8253069406363198, omega0=2.9822054392899737, g=21.086, length=1.627,
-         gamma=7.200013665590391, t=np.linspace(69.0, 137.92603006272975, 5), tol=0.000279, want="final"),
-    dict(theta0=20.7833962957327, omega0=9.588162967124733, g=10.977, length=0.154, gamma=3.219669994412096,
-         t=77.43148004086076, tol=0.00103, want="theta"),
+    dict(
+        theta0=1.7430472705210027,
+        omega0=-2.1978054335978863,
+        g=21.476,
+        length=7.368,
+        gamma=3.4145374878121144,
+        t=285.52142322049934,
+        tol=3.97e-09,
+        want="energy",
+    ),
+    dict(
+        theta0=-1.8253069406363198,
+        omega0=2.9822054392899737,
+        g=21.086,
+        length=1.627,
+        gamma=7.200013665590391,
+        t=np.linspace(69.0, 137.92603006272975, 5),
+        tol=0.000279,
+        want="final",
+    ),
+    dict(
+        theta0=20.7833962957327,
+        omega0=9.588162967124733,
+        g=10.977,
+        length=0.154,
+        gamma=3.219669994412096,
+        t=77.43148004086076,
+        tol=0.00103,
+        want="theta",
+    ),
 ]
 
 
@@ -58,12 +93,13 @@ class _Recorder:
 @pytest.mark.parametrize("kw", DECAYED)
 def test_decayed_damped_scenes_run_inline_without_a_thread(kw, monkeypatch):
     scene = pendula.Scene(**kw)
-    assert scene.w0 * np.max(scene.t) / (2 * np.pi) > 50     # what the old rule called long
+    assert scene.w0 * np.max(scene.t) / (2 * np.pi) > 50  # what the old rule called long
     rec = _Recorder(_longcall.run)
     monkeypatch.setattr(_longcall, "run", rec)
 
     def no_thread(*args, **kwargs):
         raise AssertionError("a short solve started a thread")
+
     monkeypatch.setattr(threading, "Thread", no_thread)
     res = pendula.solve(scene)
     assert rec.longs == [False]
@@ -120,13 +156,13 @@ def test_a_fixed_rk4_run_predicts_its_steps_and_outputs():
 
 def test_closed_forms_predict_only_their_outputs():
     t = np.linspace(0.0, 1e4, 1000)
-    assert _work(pendula.Scene(2.0, t=t)) <= 10 * t.size                    # exact, any window
+    assert _work(pendula.Scene(2.0, t=t)) <= 10 * t.size  # exact, any window
     assert _work(pendula.Scene(1e-6, t=t, gamma=0.1), "linear") <= 10 * t.size
 
 
 def test_an_invalid_scene_or_setting_predicts_no_work():
     scene = pendula.Scene(1.0, t=[0.0, 1e6], gamma=1e-5, tol=1e-10)
-    assert _work(scene, tol=-1.0) == 0.0          # refused by the solve at once
+    assert _work(scene, tol=-1.0) == 0.0  # refused by the solve at once
     assert _work(scene, tol=float("nan")) == 0.0
     assert _work(scene, "rk4", 1, 0.0) == 0.0
     assert _work(scene, "rk4", 1, float("inf")) == 0.0

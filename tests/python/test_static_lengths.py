@@ -11,13 +11,16 @@ once.  The library's text functions therefore return explicit lengths
 variables or fixed buffers, which are safe; tests/fortran/test_threads_messages
 checks the texts under OpenMP.  This scan keeps the pattern from coming back.
 """
+
 import re
 
 from helpers import ROOT, needs_source
 
 _FUNCTION = re.compile(
     r"^\s*(?:(?:pure|elemental|impure|recursive|module)\s+)*function\s+(\w+)\s*\([^)]*\)"
-    r"(?:.*?\bresult\s*\(\s*(\w+)\s*\))?", re.I)
+    r"(?:.*?\bresult\s*\(\s*(\w+)\s*\))?",
+    re.I,
+)
 _END = re.compile(r"^\s*end\s+function\b", re.I)
 _DEFERRED = re.compile(r"^\s*character\s*\(\s*len\s*=\s*:\s*\)\s*,\s*allocatable\s*::\s*(.*)$", re.I)
 
@@ -71,8 +74,7 @@ def test_no_function_returns_deferred_length_character():
     """Every Fortran source of the library and of the f2py glue is free of
     functions with a ``character(len=:), allocatable`` result (why: the module
     docstring)."""
-    paths = [p for folder in ("src", "python/f2py") for p in (ROOT / folder).rglob("*")
-             if p.suffix.lower() == ".f90"]
+    paths = [p for folder in ("src", "python/f2py") for p in (ROOT / folder).rglob("*") if p.suffix.lower() == ".f90"]
     assert len(paths) > 30
     bad = {str(p.relative_to(ROOT)): names for p in paths if (names := deferred_results(p.read_text()))}
     assert not bad, f"functions with a deferred-length character result: {bad}"

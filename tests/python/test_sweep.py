@@ -7,6 +7,7 @@ dashboard), also when a worker is killed mid-sweep (Dask reruns its chunks;
 none may be lost or placed twice).  Ctrl-C stops a local sweep (child
 process + SIGINT; design target 0.5 s, asserted 2 s on the loaded machine).
 """
+
 import json
 import os
 import signal
@@ -16,9 +17,9 @@ import textwrap
 
 import numpy as np
 import pytest
+from helpers import HAVE_CVODE, interrupt_child
 
 import pendula
-from helpers import HAVE_CVODE, interrupt_child
 from pendula._many import kernels as _batch
 
 T = np.linspace(0.0, 20.0, 81)
@@ -83,9 +84,9 @@ def test_classification_against_energy_and_turns():
     r = pendula.sweep(np.linspace(0.0, 4.0, 41), TH[:, None], OM[None, :] * 2, W0, 0.05, h=0.02)
     energy = r.omega**2 / 2 + W0**2 * (1 - np.cos(r.theta))
     rot = r.rotating(W0)
-    far = np.abs(energy - 2 * W0**2) > 1e-9 * W0**2   # away from the separatrix, where rounding decides
+    far = np.abs(energy - 2 * W0**2) > 1e-9 * W0**2  # away from the separatrix, where rounding decides
     assert np.array_equal(rot[far], (energy > 2 * W0**2)[far]) and rot.any() and (~rot).any()
-    assert np.array_equal(r.rotating(), rot)   # the sweep's own w0 by default
+    assert np.array_equal(r.rotating(), rot)  # the sweep's own w0 by default
     k, settled = r.well, r.settled
     # settled: trapped in a well (energy below the separatrix), and only then a well number
     assert np.array_equal(settled[far], (energy < 2 * W0**2)[far]) and settled.any() and (~settled).any()
@@ -106,11 +107,20 @@ def test_empty_sweep():
     assert r.theta.shape == (0, 3) and r.codes.shape == (0, 3) and r.n_chunks == 0
 
 
-@pytest.mark.parametrize("kw, word", [
-    (dict(theta0=[0.1, np.nan]), "theta0"), (dict(w0=0.0), "w0"), (dict(gamma=-1.0), "gamma"),
-    (dict(h=-0.1), "h"), (dict(want="all"), "want"), (dict(method="euler"), "method"),
-    (dict(chunk_states=0), "chunk_states"), (dict(t=[0.0, 2.0, 1.0]), "t"), (dict(threads=-1), "threads"),
-])
+@pytest.mark.parametrize(
+    "kw, word",
+    [
+        (dict(theta0=[0.1, np.nan]), "theta0"),
+        (dict(w0=0.0), "w0"),
+        (dict(gamma=-1.0), "gamma"),
+        (dict(h=-0.1), "h"),
+        (dict(want="all"), "want"),
+        (dict(method="euler"), "method"),
+        (dict(chunk_states=0), "chunk_states"),
+        (dict(t=[0.0, 2.0, 1.0]), "t"),
+        (dict(threads=-1), "threads"),
+    ],
+)
 def test_bad_arguments_name_themselves(kw, word):
     args = dict(t=T, theta0=0.5, omega0=0.0, w0=W0, gamma=0.1)
     args.update(kw)
@@ -146,16 +156,26 @@ def test_sigint_stops_a_local_sweep():
 
 # ---------------------------------------------------------------- Dask
 
+
 @pytest.fixture
 def cluster():
     """A LocalCluster of 2 worker processes (spawned: GNU OpenMP does not
     survive fork) on loopback, no dashboard; shut down whatever happens."""
     distributed = pytest.importorskip("distributed")
     import dask
+
     assert dask.config.get("distributed.worker.multiprocessing-method") == "spawn"
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None, worker_dashboard_address=None) as lc, \
-            distributed.Client(lc) as client:
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            worker_dashboard_address=None,
+        ) as lc,
+        distributed.Client(lc) as client,
+    ):
         yield client
 
 
@@ -176,6 +196,7 @@ def test_dask_sweep_is_bit_identical_and_survives_a_killed_worker(cluster):
         if not killed_at and done > 0:
             os.kill(victim, signal.SIGKILL)
             killed_at.append(done)
+
     r2 = pendula.sweep(*args, h=0.01, want="trajectory", chunk_states=60, client=cluster, progress=kill_once)
     assert killed_at and killed_at[0] < 60 * 40, "the worker was not killed mid-sweep"
     assert victim not in cluster.run(os.getpid).values()

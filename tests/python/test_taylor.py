@@ -7,6 +7,7 @@ form for tiny swings, and invariants (energy balance, time reversibility).  In
 every case the error estimate must bound the true error (plus the reference's
 own few ulps).
 """
+
 import numpy as np
 import pytest
 
@@ -20,15 +21,21 @@ W0 = float(np.sqrt(2.0))
 # test_mpmath_references_regenerate:
 # (theta0, omega0, w0, gamma) -> [(t, theta, omega)]
 MPMATH = {
-    (2.5, 0.0, W0, 0.1): [(1.0, 1.84897861787484515101, -1.41028891240838035218),
-                          (2.5, -1.34368014151272239389, -1.61185996452216678294),
-                          (5.0, 0.421782258125040857955, 2.08868364368721318197)],
-    (3.0, 0.0, 1.0, 5.0): [(0.5, 2.99091780659712962878, -0.0268900185560455480602),
-                           (2.0, 2.94122142259809610515, -0.0383550792473236048544),
-                           (4.0, 2.84809745401936398951, -0.05579385866563068649)],
-    (3.14, 0.0, 1.0, 0.01): [(2.0, 3.13563166755845320537, -0.00571891834813022673185),
-                             (4.0, 3.09874783225802629947, -0.0425993955036302022496),
-                             (6.0, 2.82888568051452922208, -0.309867789168865961186)],
+    (2.5, 0.0, W0, 0.1): [
+        (1.0, 1.84897861787484515101, -1.41028891240838035218),
+        (2.5, -1.34368014151272239389, -1.61185996452216678294),
+        (5.0, 0.421782258125040857955, 2.08868364368721318197),
+    ],
+    (3.0, 0.0, 1.0, 5.0): [
+        (0.5, 2.99091780659712962878, -0.0268900185560455480602),
+        (2.0, 2.94122142259809610515, -0.0383550792473236048544),
+        (4.0, 2.84809745401936398951, -0.05579385866563068649),
+    ],
+    (3.14, 0.0, 1.0, 0.01): [
+        (2.0, 3.13563166755845320537, -0.00571891834813022673185),
+        (4.0, 3.09874783225802629947, -0.0425993955036302022496),
+        (6.0, 2.82888568051452922208, -0.309867789168865961186),
+    ],
 }
 
 
@@ -44,13 +51,16 @@ def _check_bounded(r, theta_ref, omega_ref, w0, tol=None):
     return err
 
 
-@pytest.mark.parametrize("theta0, omega0, tol", [
-    (2.5, 0.0, 1e-12),          # large libration
-    (1e-6, 0.0, 1e-15),         # tiny swing
-    (0.0, 3.0, 1e-11),          # rotation
-    (-1.0, 0.7, 1e-9),
-    (3.1, 0.0, 1e-10),          # near the separatrix
-])
+@pytest.mark.parametrize(
+    "theta0, omega0, tol",
+    [
+        (2.5, 0.0, 1e-12),  # large libration
+        (1e-6, 0.0, 1e-15),  # tiny swing
+        (0.0, 3.0, 1e-11),  # rotation
+        (-1.0, 0.7, 1e-9),
+        (3.1, 0.0, 1e-10),  # near the separatrix
+    ],
+)
 def test_undamped_exact(theta0, omega0, tol):
     t = np.linspace(0.0, 30.0, 61)
     r = pendula.taylor(t, theta0, omega0, W0, 0.0, tol=tol)
@@ -75,7 +85,7 @@ def test_long_window_undamped():
     r = pendula.taylor(t, 1.0, 0.0, w0, 0.0, tol=1e-8)
     ex, exo = pendula.undamped(t, 1.0, 0.0, w0)
     err = _check_bounded(r, ex, exo, w0, tol=1e-8)
-    assert err.max() > 0   # a real comparison
+    assert err.max() > 0  # a real comparison
     assert r.stats["steps"] < 5e5
 
 
@@ -101,7 +111,7 @@ def test_mpmath_references_regenerate():
     mp.mp.dps = 30
     th0, om0, w0, gamma = key = next(iter(MPMATH))
     w, g = mp.mpf(w0), mp.mpf(gamma)
-    f = mp.odefun(lambda _t, y: [y[1], -g * y[1] - w ** 2 * mp.sin(y[0])], 0, [mp.mpf(th0), mp.mpf(om0)])
+    f = mp.odefun(lambda _t, y: [y[1], -g * y[1] - w**2 * mp.sin(y[0])], 0, [mp.mpf(th0), mp.mpf(om0)])
     for tt, th, om in MPMATH[key]:
         y = f(tt)
         assert abs(float(y[0]) - th) < 1e-15 and abs(float(y[1]) - om) < 1e-15
@@ -121,10 +131,10 @@ def test_energy_balance():
     t = np.linspace(0.0, 20.0, 20001)
     w0, gamma = 1.3, 0.05
     r = pendula.taylor(t, 2.0, 0.0, w0, gamma, tol=1e-13)
-    energy = r.omega ** 2 / 2 + w0 ** 2 * 2 * np.sin(r.theta / 2) ** 2
-    y = gamma * r.omega ** 2
+    energy = r.omega**2 / 2 + w0**2 * 2 * np.sin(r.theta / 2) ** 2
+    y = gamma * r.omega**2
     h = t[1] - t[0]
-    lost = h / 3 * (y[0] + y[-1] + 4 * y[1:-1:2].sum() + 2 * y[2:-1:2].sum())   # Simpson, error ~1e-13
+    lost = h / 3 * (y[0] + y[-1] + 4 * y[1:-1:2].sum() + 2 * y[2:-1:2].sum())  # Simpson, error ~1e-13
     assert abs(energy[-1] + lost - energy[0]) < 1e-11
     assert energy[-1] < energy[0]
 
@@ -140,7 +150,7 @@ def test_time_reversibility():
 
 
 def test_events_exact_times():
-    period = 6.699975664370452712701211   # 4 K(sin(1/2)**2), w0 = 1, amplitude 1 rad (mpmath)
+    period = 6.699975664370452712701211  # 4 K(sin(1/2)**2), w0 = 1, amplitude 1 rad (mpmath)
     r = pendula.taylor([0.0, 20.0], 1.0, 0.0, 1.0, 0.0, tol=1e-13, events=True)
     ev = r.events
     t_turn, th_turn = ev.turning_points
@@ -175,18 +185,25 @@ def test_batch_bit_identical():
     assert np.array_equal(be.theta, b.theta) and be.events[1].t.size > 0
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(tol=0.0), "tol"), (dict(tol=2.0), "tol"), (dict(tol=float("nan")), "tol"),
-    (dict(w0=-1.0), "w0"), (dict(gamma=-0.1), "gamma"), (dict(theta0=float("inf")), "theta0"),
-    (dict(t=[0.0, 1.0, 0.5]), "t"), (dict(max_steps=0), "max_steps"),
-    (dict(events=True, max_events=0), "max_events"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(tol=0.0), "tol"),
+        (dict(tol=2.0), "tol"),
+        (dict(tol=float("nan")), "tol"),
+        (dict(w0=-1.0), "w0"),
+        (dict(gamma=-0.1), "gamma"),
+        (dict(theta0=float("inf")), "theta0"),
+        (dict(t=[0.0, 1.0, 0.5]), "t"),
+        (dict(max_steps=0), "max_steps"),
+        (dict(events=True, max_events=0), "max_events"),
+    ],
+)
 def test_bad_input_names_argument(kwargs, name):
     args = dict(t=[0.0, 1.0, 2.0], theta0=1.0, omega0=0.0, w0=1.0, gamma=0.0)
     args.update(kwargs)
     with pytest.raises(ValueError, match=name):
-        pendula.taylor(args.pop("t"), args.pop("theta0"), args.pop("omega0"), args.pop("w0"), args.pop("gamma"),
-                       **args)
+        pendula.taylor(args.pop("t"), args.pop("theta0"), args.pop("omega0"), args.pop("w0"), args.pop("gamma"), **args)
 
 
 def test_max_steps_exhausted():

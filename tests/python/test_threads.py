@@ -12,6 +12,7 @@
    switch intervals around it); the threshold (a quarter of its free-running
    count) leaves a factor > 10 of margin either way.
 """
+
 from __future__ import annotations
 
 import concurrent.futures as cf
@@ -22,10 +23,10 @@ import time
 
 import numpy as np
 import pytest
+from api_table import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
+from helpers import HAVE_CVODE, ROOT, fortran_statements
 
 import pendula
-from helpers import HAVE_CVODE, ROOT, fortran_statements
-from api_table import ALL_CASES, API, NONNEG, POS, REAL, _call, _materialise, _walk_numbers
 
 N_ARRAY = 2_000
 
@@ -53,8 +54,7 @@ def _deterministic(result):
     if isinstance(result, (list, tuple)):
         return type(result)(_deterministic(v) for v in result)
     if hasattr(result, "__dict__") and not isinstance(result, (np.ndarray, type)):
-        return {k: _deterministic(v) for k, v in vars(result).items()
-                if not k.startswith("_") and "wall" not in k}
+        return {k: _deterministic(v) for k, v in vars(result).items() if not k.startswith("_") and "wall" not in k}
     return result
 
 
@@ -85,11 +85,12 @@ def test_concurrent_calls_equal_serial_calls():
     work = jobs * 4
     random.Random(1234).shuffle(work)
     with cf.ThreadPoolExecutor(max_workers=4) as pool:
-        for (job, got) in pool.map(run, work):
+        for job, got in pool.map(run, work):
             want = serial[job]
             assert got.shape == want.shape, f"{job}: result size differs between threaded and serial call"
-            assert np.array_equal(got, want, equal_nan=True), \
+            assert np.array_equal(got, want, equal_nan=True), (
                 f"{job}: threaded result differs from the serial one (shared state in the call?)"
+            )
 
 
 def _outcome(case):
@@ -124,7 +125,7 @@ def _long_small_angle_period():
 
 
 def _long(fn, **kw):
-    return lambda: (lambda: fn(**kw))
+    return lambda: lambda: fn(**kw)
 
 
 _T = np.linspace(0.0, 200.0, 2_000_000)  # ~60 ms a call: long enough to see the counter run
@@ -137,12 +138,16 @@ LONG = {
     "ellipj": _long(pendula.ellipj, u=_U, m=np.full(_U.size, 0.7)),
     "ellipf": _long(pendula.ellipf, phi=_U, m=0.7),
     "rk4": _long(pendula.rk4, t=np.array([0.0, 15000.0]), theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.005),
-    "run_model": lambda: (lambda: pendula.run_model(
-        pendula.Scene(theta0=1.0, t=np.linspace(0, 400.0, 100), gamma=0.1, tol=1e-9), "rk4", 2e-4)),
+    "run_model": lambda: (
+        lambda: pendula.run_model(
+            pendula.Scene(theta0=1.0, t=np.linspace(0, 400.0, 100), gamma=0.1, tol=1e-9), "rk4", 2e-4
+        )
+    ),
 }
 if HAVE_CVODE:
-    LONG["cvode"] = _long(pendula.cvode, t=np.array([0.0, 20000.0]), theta0=0.0, omega0=2.0, w0=1.4,
-                          gamma=0.01, rtol=1e-11, atol=1e-13)
+    LONG["cvode"] = _long(
+        pendula.cvode, t=np.array([0.0, 20000.0]), theta0=0.0, omega0=2.0, w0=1.4, gamma=0.01, rtol=1e-11, atol=1e-13
+    )
 
 
 @pytest.mark.parametrize("name", sorted(LONG))
@@ -180,9 +185,11 @@ def test_long_call_releases_the_gil(name):
         pytest.skip(f"{name}: the long call took only {dt * 1e3:.1f} ms; enlarge it in LONG")
     ran = (c1 - c0) / (free_rate * dt)
     print(f"\n{name}: call {dt * 1e3:.0f} ms, counter ran {ran:.0%} of its free rate meanwhile")
-    assert ran > 0.25, (f"{name}: a pure-Python thread was blocked during the Fortran call "
-                        f"(ran {ran:.1%} of its free rate): the f2py routine holds the GIL; "
-                        "add `!f2py threadsafe`")
+    assert ran > 0.25, (
+        f"{name}: a pure-Python thread was blocked during the Fortran call "
+        f"(ran {ran:.1%} of its free rate): the f2py routine holds the GIL; "
+        "add `!f2py threadsafe`"
+    )
 
 
 # ---- static audit: no saved state in the Fortran sources ------------------------------------------
@@ -193,7 +200,7 @@ def saved_state(path):
     """Findings: SAVE attributes/statements, DATA statements, module variables,
     initialised local variables (implicit SAVE)."""
     findings = []
-    scope = []              # stack: 'module-spec', 'proc', 'type', 'interface'
+    scope = []  # stack: 'module-spec', 'proc', 'type', 'interface'
     for no, st in fortran_statements(path.read_text()):
         low = st.lower()
         head = re.sub(r"^(?:(?:pure|elemental|impure|recursive|module|non_recursive)\s+)+", "", low)
@@ -219,8 +226,9 @@ def saved_state(path):
         if re.match(r"type\s*(,[^:]*)?::\s*\w+|type\s+\w+\s*$", low):
             scope.append("type")
             continue
-        if re.match(r"(program|subroutine|(?:[\w()=*, ]+\s+)?function)\s+\w+", head) and \
-                not re.match(r"(real|integer|logical|character|type|class|complex)\b[^:]*::", head):
+        if re.match(r"(program|subroutine|(?:[\w()=*, ]+\s+)?function)\s+\w+", head) and not re.match(
+            r"(real|integer|logical|character|type|class|complex)\b[^:]*::", head
+        ):
             scope.append("proc")
             continue
         where = scope[-1] if scope else "proc"
@@ -264,11 +272,13 @@ def test_fortran_sources_have_no_saved_state():
 def test_audit_detects_saved_state(tmp_path):
     # The audit itself must be able to fail.
     f = tmp_path / "m.f90"
-    f.write_text("module m\n  implicit none\n  real :: counter\n  integer, parameter :: k = 1\n"
-                 "  type :: t\n    integer :: code = 0\n  end type t\ncontains\n"
-                 "  subroutine s(x)\n    real, intent(inout) :: x\n    integer :: calls = 0\n"
-                 "    real, save :: last\n    character(len=*), parameter :: nm = 'x'\n"
-                 "    calls = calls + 1\n    x = x + 1\n  end subroutine s\nend module m\n")
+    f.write_text(
+        "module m\n  implicit none\n  real :: counter\n  integer, parameter :: k = 1\n"
+        "  type :: t\n    integer :: code = 0\n  end type t\ncontains\n"
+        "  subroutine s(x)\n    real, intent(inout) :: x\n    integer :: calls = 0\n"
+        "    real, save :: last\n    character(len=*), parameter :: nm = 'x'\n"
+        "    calls = calls + 1\n    x = x + 1\n  end subroutine s\nend module m\n"
+    )
     kinds = [w for _, w, _ in saved_state(f)]
     assert kinds == ["module variable", "initialised local variable (implicit SAVE)", "SAVE"], kinds
 

@@ -6,16 +6,17 @@ cross-checked there against a direct Taylor integration of the ODE), the
 text's own expressions (1.52) and (1.66) evaluated in mpmath, and invariants
 (energy, time reversal, turning points).
 """
+
 import math
 
 import mpmath as mp
 import numpy as np
 import pytest
-
-import pendula
 from helpers import load_generator
 
-ref = load_generator("gen_undamped_reference")   # the mpmath references and their table
+import pendula
+
+ref = load_generator("gen_undamped_reference")  # the mpmath references and their table
 EPS = np.finfo(float).eps
 # Tests that use states many turns from the bottom on purpose (2 pi N shifts,
 # reduction of huge angles): the degrees warning is expected there, not tested.
@@ -48,7 +49,7 @@ def test_reference_table_cond_scaled(table):
     print("\n".join(lines))
     assert set(np.unique(d["regime"])) == {1.0, 2.0, 3.0}
     gap = np.abs(d["one_minus_m"][d["regime"] != 2])
-    assert gap.min() < 2e-15 and gap.max() > 50   # the table covers the specified range
+    assert gap.min() < 2e-15 and gap.max() > 50  # the table covers the specified range
     assert rt.max() <= 16, lines
     assert ro.max() <= 16, lines
 
@@ -65,8 +66,8 @@ def test_reference_table_one_state_path(table):
         rows = np.nonzero(inverse.reshape(-1) == g)[0]
         tt = np.tile(d["t"][rows], 32 // len(rows) + 1)
         a, b = pendula.undamped(tt, d["theta0"][i], d["omega0"][i], d["w0"][i])
-        th[rows], om[rows] = a[:len(rows)], b[:len(rows)]
-        assert np.array_equal(a[len(rows):2 * len(rows)], a[:len(rows)])
+        th[rows], om[rows] = a[: len(rows)], b[: len(rows)]
+        assert np.array_equal(a[len(rows) : 2 * len(rows)], a[: len(rows)])
     assert _ratios(th, d["theta"], d["cond_theta"]).max() <= 16
     assert _ratios(om, d["omega"], d["cond_omega"]).max() <= 16
     assert np.abs(th - d["theta"]).max() <= 1e-11
@@ -99,8 +100,11 @@ def test_live_mpmath_random_states():
         rows, st = ref.reference(theta0, omega0, w0, times)
         th, om = pendula.undamped(np.array(times), theta0, omega0, w0)
         for j, (tr, orf, ct, co) in enumerate(rows):
-            worst = max(worst, abs(th[j] - float(tr)) / (EPS * (float(ct) + abs(float(tr)))),
-                        abs(om[j] - float(orf)) / (EPS * (float(co) + abs(float(orf))) + 1e-300))
+            worst = max(
+                worst,
+                abs(th[j] - float(tr)) / (EPS * (float(ct) + abs(float(tr)))),
+                abs(om[j] - float(orf)) / (EPS * (float(co) + abs(float(orf))) + 1e-300),
+            )
     assert worst <= 16
 
 
@@ -115,11 +119,11 @@ def test_slow_hug_of_the_top():
         assert abs(T / float(T_ref) - 1) <= 1e-12
         # it hugs the top for most of the half period, then swings through the bottom
         th, om = pendula.undamped(np.array([0.05, 0.25, 0.5, 0.75, 1.0]) * T, theta0, 0.0, w0)
-        assert th[0] > math.pi - 1e-7                       # still near the top at T/20
-        assert abs(th[1]) < 1e-9 and om[1] < -1.99 * w0     # bottom at T/4, full speed 2 w0
-        assert abs(th[2] + theta0) < 1e-9                   # -theta0 at T/2
+        assert th[0] > math.pi - 1e-7  # still near the top at T/20
+        assert abs(th[1]) < 1e-9 and om[1] < -1.99 * w0  # bottom at T/4, full speed 2 w0
+        assert abs(th[2] + theta0) < 1e-9  # -theta0 at T/2
         assert abs(th[3]) < 1e-9 and om[3] > 1.99 * w0
-        assert abs(th[4] - theta0) < 1e-9                   # back after one period
+        assert abs(th[4] - theta0) < 1e-9  # back after one period
         # and against mpmath over 10 periods
         times = list(np.linspace(-10 * T, 10 * T, 23))
         rows, _ = ref.reference(theta0, 0.0, w0, times)
@@ -133,17 +137,18 @@ def test_slow_hug_of_the_top():
 
 
 # ---------------------------------------------------------------- the text's special cases
-@pytest.mark.parametrize("theta0", [0.01 * math.pi, 0.1 * math.pi, 0.25 * math.pi, 0.5 * math.pi,
-                                    0.75 * math.pi, 0.9 * math.pi])
+@pytest.mark.parametrize(
+    "theta0", [0.01 * math.pi, 0.1 * math.pi, 0.25 * math.pi, 0.5 * math.pi, 0.75 * math.pi, 0.9 * math.pi]
+)
 def test_eq_1_52_omega0_zero(theta0):
     """Omega0 = 0: theta = 2 asin{ sin(theta0/2) sn[K(k^2) - w0 t, k^2] } (eq. 1.52)."""
-    w0 = math.sqrt(2.0)          # the text's g = 9.8, l = 4.9
+    w0 = math.sqrt(2.0)  # the text's g = 9.8, l = 4.9
     t = np.linspace(0, 20, 41)
     th, _ = pendula.undamped(t, theta0, 0.0, w0)
     with mp.workdps(40):
         k = mp.sin(mp.mpf(theta0) / 2)
-        K = mp.ellipk(k ** 2)
-        want = [float(2 * mp.asin(k * mp.ellipfun("sn", K - mp.mpf(w0) * mp.mpf(x), m=k ** 2))) for x in t]
+        K = mp.ellipk(k**2)
+        want = [float(2 * mp.asin(k * mp.ellipfun("sn", K - mp.mpf(w0) * mp.mpf(x), m=k**2))) for x in t]
     assert np.max(np.abs(th - want)) <= 16 * EPS * (1 + np.max(np.abs(t)) * 2 * w0)
 
 
@@ -158,13 +163,13 @@ def test_eq_1_66_theta0_zero(ratio):
     th, om = pendula.undamped(t, 0.0, omega0, w0)
     with mp.workdps(40):
         k = mp.mpf(omega0) / (2 * mp.mpf(w0))
-        want = [float(2 * mp.asin(k * mp.ellipfun("sn", mp.mpf(w0) * mp.mpf(x), m=k ** 2))) for x in t]
-        want_om = [float(2 * k * mp.mpf(w0) * mp.ellipfun("cn", mp.mpf(w0) * mp.mpf(x), m=k ** 2)) for x in t]
+        want = [float(2 * mp.asin(k * mp.ellipfun("sn", mp.mpf(w0) * mp.mpf(x), m=k**2))) for x in t]
+        want_om = [float(2 * k * mp.mpf(w0) * mp.ellipfun("cn", mp.mpf(w0) * mp.mpf(x), m=k**2)) for x in t]
     assert np.max(np.abs(th - want)) <= 16 * EPS * (1 + 30 * 2 * w0) * 10
     assert np.max(np.abs(om - want_om)) <= 16 * EPS * (1 + 30 * 2 * w0) * 10 * w0
     amp = pendula.amplitude(0.0, omega0, w0)
     with mp.workdps(40):
-        amp_ref = 2 * mp.asin(mp.mpf(omega0) / (2 * mp.mpf(w0)))   # eq. 1.60 at the exact inputs
+        amp_ref = 2 * mp.asin(mp.mpf(omega0) / (2 * mp.mpf(w0)))  # eq. 1.60 at the exact inputs
     assert abs(amp - float(amp_ref)) <= 4 * EPS
 
 
@@ -208,7 +213,7 @@ def test_energy_is_constant():
         th, om = pendula.undamped(t, theta0, omega0, w0)
         e = pendula.energy(th, om, w0)
         e0 = pendula.energy(theta0, omega0, w0)
-        rounding = w0 ** 2 * np.abs(np.sin(th) * th) + om ** 2 + e0   # |dE/dx x| over theta, Omega
+        rounding = w0**2 * np.abs(np.sin(th) * th) + om**2 + e0  # |dE/dx x| over theta, Omega
         worst = max(worst, np.max(np.abs(e - e0) / (EPS * rounding)))
     print(f"worst energy drift: {worst:.3g} eps x (E + |theta dE/dtheta| + |Omega dE/dOmega|)")
     assert worst <= 8
@@ -217,13 +222,13 @@ def test_energy_is_constant():
 def test_energy_api():
     w0 = 1.7
     assert pendula.energy(0.0, 0.0, w0) == 0.0
-    assert abs(pendula.energy(math.pi, 0.0, w0) - 2 * w0 ** 2) <= 2 * EPS * 2 * w0 ** 2   # separatrix energy
+    assert abs(pendula.energy(math.pi, 0.0, w0) - 2 * w0**2) <= 2 * EPS * 2 * w0**2  # separatrix energy
     th, om = 0.3, -0.8
-    assert abs(pendula.energy(th, om, w0) - (om ** 2 / 2 + w0 ** 2 * (1 - math.cos(th)))) <= 4 * EPS
+    assert abs(pendula.energy(th, om, w0) - (om**2 / 2 + w0**2 * (1 - math.cos(th)))) <= 4 * EPS
     # tiny angles: no cancellation in 1 - cos
     assert abs(pendula.energy(1e-10, 0.0, 1.0) / 5e-21 - 1) <= 4 * EPS
     m, mc = pendula.elliptic_parameter(th, om, w0)
-    assert abs(2 * w0 ** 2 * m / pendula.energy(th, om, w0) - 1) <= 4 * EPS
+    assert abs(2 * w0**2 * m / pendula.energy(th, om, w0) - 1) <= 4 * EPS
     assert abs(m + mc - 1) <= 4 * EPS
 
 
@@ -258,6 +263,7 @@ def test_period_is_time_between_turning_points():
     """Libration: Omega = 0 at the turning points; successive ones on the same side are T apart.
     Rotation: theta(t + T) - theta(t) = 2 pi s exactly one turn."""
     from scipy.optimize import brentq
+
     rng = np.random.default_rng(14)
     for theta0, omega0, w0 in _states(rng, 30):
         T = pendula.period(theta0, omega0, w0)
@@ -278,8 +284,9 @@ def test_period_is_time_between_turning_points():
             t = rng.uniform(-20 * T, 20 * T, 10)
             a = pendula.undamped(t, theta0, omega0, w0)[0]
             b = pendula.undamped(t + T, theta0, omega0, w0)[0]
-            np.testing.assert_allclose(b - a, 2 * math.pi * math.copysign(1, omega0),
-                                       rtol=0, atol=64 * EPS * (np.max(np.abs(a)) + 10))
+            np.testing.assert_allclose(
+                b - a, 2 * math.pi * math.copysign(1, omega0), rtol=0, atol=64 * EPS * (np.max(np.abs(a)) + 10)
+            )
 
 
 @LARGE_ANGLES
@@ -289,7 +296,7 @@ def test_period_api_and_regimes():
     T = pendula.period(np.array([0.1, 1.0, 2.0]), 0.0, w0)
     with mp.workdps(30):
         want = [float(4 * mp.ellipk(mp.sin(mp.mpf(x) / 2) ** 2) / mp.mpf(w0)) for x in (0.1, 1.0, 2.0)]
-    np.testing.assert_allclose(T, want, rtol=4 * EPS)        # eq. 1.53
+    np.testing.assert_allclose(T, want, rtol=4 * EPS)  # eq. 1.53
     # the same energy reached from (theta0, Omega0) has the same period
     th0 = 1.0
     m, _ = pendula.elliptic_parameter(th0, 0.0, w0)
@@ -298,7 +305,7 @@ def test_period_api_and_regimes():
     # rotation: one turn takes 2 K(1/m)/(k w0)
     with mp.workdps(30):
         k = mp.mpf(5.0) / (2 * mp.mpf(w0))
-        want = float(2 * mp.ellipk(1 / k ** 2) / (k * mp.mpf(w0)))
+        want = float(2 * mp.ellipk(1 / k**2) / (k * mp.mpf(w0)))
     assert pendula.period(0.0, 5.0, w0) == pytest.approx(want, rel=4 * EPS)
     assert list(pendula.regime(0.0, np.array([1.0, 2 * w0, 4.0]), w0)) == ["libration", "separatrix", "rotation"]
     assert pendula.amplitude(0.0, 4.0, w0) == math.inf
@@ -385,8 +392,10 @@ def test_small_angle_bound_holds_and_is_tight():
     # the bound grows with tmax and reflects the phase drift m/4 w0 t
     b = pendula.small_angle_error(np.array([1.0, 10.0, 100.0, 1000.0]), 0.1, 0.0, 1.0)[0]
     assert np.all(np.diff(b) >= 0)
-    assert b[-1] == pytest.approx(2 * 0.1 * math.sin(min(math.pi, (1 - math.pi / (2 * float(
-        mp.ellipk(math.sin(0.05) ** 2)))) * 1000) / 2), rel=0.05)
+    assert b[-1] == pytest.approx(
+        2 * 0.1 * math.sin(min(math.pi, (1 - math.pi / (2 * float(mp.ellipk(math.sin(0.05) ** 2)))) * 1000) / 2),
+        rel=0.05,
+    )
 
 
 def test_small_angle_bound_outside_libration_and_at_rest():
@@ -402,8 +411,14 @@ def test_fourier_series_of_the_angle():
             K, q = mp.ellipk(m), mp.qfrom(m=m)
             for u in (mp.mpf("0.3"), mp.mpf("1.7")):
                 lhs = 2 * mp.asin(mp.sqrt(m) * mp.ellipfun("sn", u, m=m))
-                rhs = 8 * mp.nsum(lambda n: q ** (n + 0.5) / ((2 * n + 1) * (1 + q ** (2 * n + 1)))
-                                  * mp.sin((2 * n + 1) * mp.pi * u / (2 * K)), [0, mp.inf])
+                rhs = 8 * mp.nsum(
+                    lambda n: (
+                        q ** (n + 0.5)
+                        / ((2 * n + 1) * (1 + q ** (2 * n + 1)))
+                        * mp.sin((2 * n + 1) * mp.pi * u / (2 * K))
+                    ),
+                    [0, mp.inf],
+                )
                 assert abs(lhs - rhs) < mp.mpf("1e-25")
 
 
@@ -415,7 +430,7 @@ def test_equilibria():
     np.testing.assert_allclose(theta, n * math.pi, rtol=EPS)
     assert list(kind) == ["saddle" if k % 2 else "centre" for k in n]
     for k, l2 in zip(n, lam):
-        jac = np.array([[0.0, 1.0], [-w0 ** 2 * math.cos(k * math.pi), 0.0]])
+        jac = np.array([[0.0, 1.0], [-(w0**2) * math.cos(k * math.pi), 0.0]])
         want = np.sort_complex(np.linalg.eigvals(jac))
         np.testing.assert_allclose(np.sort_complex(l2), want, atol=1e-15)
     t0, l0, k0 = pendula.equilibria(0, w0)
@@ -468,7 +483,9 @@ def test_state_properties_over_arrays_equal_scalar_calls():
     # the rotation's amplitude is +inf, the libration's below pi
     assert np.all(amp[reg == "rotation"] == np.inf) and np.all(amp[reg == "libration"] <= np.pi)
     # scalars are passed to the kernel as one value for every state: the same numbers
-    assert np.array_equal(pendula.period(th, 0.25, 1.3), pendula.period(th, np.full_like(th, 0.25), np.full_like(th, 1.3)))
+    assert np.array_equal(
+        pendula.period(th, 0.25, 1.3), pendula.period(th, np.full_like(th, 0.25), np.full_like(th, 1.3))
+    )
     a = pendula.undamped(2.5, th, om, 1.3)
     b = pendula.undamped(np.full_like(th, 2.5), th, om, np.full_like(th, 1.3))
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
@@ -506,7 +523,7 @@ def test_reference_table_many_states_in_runs(table):
 def test_broadcasting_and_scalars():
     th, om = pendula.undamped(1.0, 0.5, 0.1, 2.0)
     assert isinstance(th, float) and isinstance(om, float)
-    t = np.array([3.0, -1.0, 0.5, -7.5])           # unsorted, negative
+    t = np.array([3.0, -1.0, 0.5, -7.5])  # unsorted, negative
     th, om = pendula.undamped(t[:, None], np.array([0.1, 2.0, 3.1]), 0.0, 1.0)
     assert th.shape == (4, 3) and om.shape == (4, 3)
     for j, theta0 in enumerate([0.1, 2.0, 3.1]):
@@ -525,22 +542,25 @@ def test_broadcasting_and_scalars():
     assert np.array_equal(x, x0)
 
 
-@pytest.mark.parametrize("fn,args,name", [
-    (pendula.undamped, (1.0, math.nan, 0.0, 1.0), "theta0"),
-    (pendula.undamped, (1.0, 0.1, math.inf, 1.0), "omega0"),
-    (pendula.undamped, (1.0, 0.1, 0.0, 0.0), "w0"),
-    (pendula.undamped, (1.0, 0.1, 0.0, -2.0), "w0"),
-    (pendula.undamped, (np.array([1.0, math.nan]), 0.1, 0.0, 1.0), "t"),
-    (pendula.small_angle, (math.inf, 0.1, 0.0, 1.0), "t"),
-    (pendula.small_angle, (1.0, 0.1, 0.0, math.nan), "w0"),
-    (pendula.small_angle_error, (math.nan, 0.1, 0.0, 1.0), "tmax"),
-    (pendula.period, (math.nan,), "theta0"),
-    (pendula.amplitude, (0.1, 0.0, -1.0), "w0"),
-    (pendula.regime, (0.1, math.nan), "omega0"),
-    (pendula.energy, (0.1, 0.0, 0.0), "w0"),
-    (pendula.energy, (math.nan, 0.0, 1.0), "theta"),
-    (pendula.elliptic_parameter, (0.1, 0.0, math.inf), "w0"),
-])
+@pytest.mark.parametrize(
+    "fn,args,name",
+    [
+        (pendula.undamped, (1.0, math.nan, 0.0, 1.0), "theta0"),
+        (pendula.undamped, (1.0, 0.1, math.inf, 1.0), "omega0"),
+        (pendula.undamped, (1.0, 0.1, 0.0, 0.0), "w0"),
+        (pendula.undamped, (1.0, 0.1, 0.0, -2.0), "w0"),
+        (pendula.undamped, (np.array([1.0, math.nan]), 0.1, 0.0, 1.0), "t"),
+        (pendula.small_angle, (math.inf, 0.1, 0.0, 1.0), "t"),
+        (pendula.small_angle, (1.0, 0.1, 0.0, math.nan), "w0"),
+        (pendula.small_angle_error, (math.nan, 0.1, 0.0, 1.0), "tmax"),
+        (pendula.period, (math.nan,), "theta0"),
+        (pendula.amplitude, (0.1, 0.0, -1.0), "w0"),
+        (pendula.regime, (0.1, math.nan), "omega0"),
+        (pendula.energy, (0.1, 0.0, 0.0), "w0"),
+        (pendula.energy, (math.nan, 0.0, 1.0), "theta"),
+        (pendula.elliptic_parameter, (0.1, 0.0, math.inf), "w0"),
+    ],
+)
 def test_bad_input_names_the_argument(fn, args, name):
     with pytest.raises(ValueError, match=rf"^{name}(\[\d+\])? ="):
         fn(*args)
@@ -571,7 +591,7 @@ def test_empty_arrays_give_empty_results():
 
 def test_huge_theta0_reduced_exactly():
     """|theta0| up to 1e300: reduced about 2 pi N exactly (libm's reduction beyond 2^40)."""
-    for th0 in (1e13, -3e15, 1e20, 1e300, -1e300, 2.0 ** 40 + 0.5):
+    for th0 in (1e13, -3e15, 1e20, 1e300, -1e300, 2.0**40 + 0.5):
         with mp.workdps(400):
             x = mp.mpf(th0)
             red = x - 2 * mp.pi * mp.nint(x / (2 * mp.pi))

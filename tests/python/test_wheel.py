@@ -1,5 +1,6 @@
 """The wheel route: python -m build --wheel, installed into a fresh venv outside
 the tree (tests/consumer/run_wheel_consumer.sh does it and checks a call)."""
+
 import importlib.util
 import subprocess
 import sys
@@ -18,10 +19,16 @@ def _have(module):
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(not (_have("build.__main__") and _have("mesonpy")),
-                    reason="needs the build and meson-python packages (requirements-dev.txt)")
+@pytest.mark.skipif(
+    not (_have("build.__main__") and _have("mesonpy")),
+    reason="needs the build and meson-python packages (requirements-dev.txt)",
+)
 def test_wheel_installs_into_a_fresh_venv():
-    proc = subprocess.run(["bash", str(ROOT / "tests" / "consumer" / "run_wheel_consumer.sh"),
-                           str(ROOT), sys.executable], capture_output=True, text=True, timeout=1200)
+    proc = subprocess.run(
+        ["bash", str(ROOT / "tests" / "consumer" / "run_wheel_consumer.sh"), str(ROOT), sys.executable],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
     assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-4000:]
     assert "wheel: pendula" in proc.stdout

@@ -8,6 +8,7 @@ forms).  Tests report relative error / (eps * cond).
 
 Run (about a minute on 2 cores):  python3 tools/gen/gen_elliptic_refs.py
 """
+
 import os
 import sys
 from multiprocessing import Pool
@@ -94,7 +95,7 @@ def jacobi_inputs(rng):
         rows.append((float(rng.uniform(-12, 12)), float(rng.uniform(0, 1)), False, "generic"))
     # m < 0 down to -1e10
     for _ in range(100):
-        m = -10 ** rng.uniform(-3, 10)
+        m = -(10 ** rng.uniform(-3, 10))
         rows.append((float(rng.uniform(-6, 6) / np.sqrt(1 - m) * rng.choice([1, 4])), float(m), False, "mneg"))
     # 1 - m from 1e-3 to 1e-300 (complement), u up to 4K
     for _ in range(160):
@@ -127,9 +128,13 @@ def jacobi_inputs(rng):
         rows.append((float(rng.uniform(-4.2, 4.2) * _kc(1 - m)), float(m), False, "near1m"))
     # large u with m < 0 and m > 1 (double-double scaling of u)
     for _ in range(30):
-        rows.append((float(rng.choice([-1, 1]) * 10 ** rng.uniform(2, 6)), float(-10 ** rng.uniform(-2, 3)), False, "largeu"))
+        rows.append(
+            (float(rng.choice([-1, 1]) * 10 ** rng.uniform(2, 6)), float(-(10 ** rng.uniform(-2, 3))), False, "largeu")
+        )
     for _ in range(30):
-        rows.append((float(rng.choice([-1, 1]) * 10 ** rng.uniform(2, 6)), float(1 + 10 ** rng.uniform(-2, 2)), False, "largeu"))
+        rows.append(
+            (float(rng.choice([-1, 1]) * 10 ** rng.uniform(2, 6)), float(1 + 10 ** rng.uniform(-2, 2)), False, "largeu")
+        )
     return rows
 
 
@@ -162,7 +167,7 @@ def f_inputs(rng):
         ph = float(np.arcsin(rng.uniform(-1, 1) / np.sqrt(m)))
         rows.append((ph, float(m), False))
     for _ in range(20):
-        rows.append((float(rng.uniform(-1.5, 1.5)), float(-10 ** rng.uniform(0, 10)), False))
+        rows.append((float(rng.uniform(-1.5, 1.5)), float(-(10 ** rng.uniform(0, 10))), False))
     return rows
 
 
@@ -191,8 +196,9 @@ def main():
         jr = pool.map(jac_row, [r[:3] for r in jin], chunksize=4)
         kr = pool.map(k_row, k_rows())
         fr = pool.map(f_row, fin, chunksize=4)
-    np.savez_compressed(OUT, jac=np.array(jr), jac_region=np.array([r[3] for r in jin]),
-                        ke=np.array(kr), f=np.array(fr))
+    np.savez_compressed(
+        OUT, jac=np.array(jr), jac_region=np.array([r[3] for r in jin]), ke=np.array(kr), f=np.array(fr)
+    )
     print("wrote", OUT, len(jr), len(kr), len(fr))
 
 

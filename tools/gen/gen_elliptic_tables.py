@@ -11,6 +11,7 @@ the kernel's hot path inlines it: gfortran does not inline across modules withou
 * atan on [0, tan(pi/8)] for the amplitude (atan_poly).
 ``--check`` compares with the file in the tree instead of writing it.
 """
+
 import os
 import sys
 from fractions import Fraction as F
@@ -91,18 +92,20 @@ def series_fortran():
     """The subroutine series_coeffs(m, cs, cc, cd): coefficients of w^(2k+1) in sn and of
     w^(2k+2) in 1 - cn and 1 - dn at parameter m (degree k in m; 1 - dn has a factor m)."""
     s, c, d = series()
-    out = ["  !> Maclaurin coefficients of sn, 1 - cn, 1 - dn in w**2 at parameter m: cs(k) of",
-           "  !> w**(2k+1) in sn, cc(k) and cd(k) of w**(2k+2) in 1 - cn and 1 - dn (unrolled Horner",
-           "  !> in m of exact rational coefficients; terms with zero coefficients are omitted).",
-           "  pure subroutine series_coeffs(m, cs, cc, cd)",
-           "    real(wp), intent(in) :: m",
-           "    real(wp), intent(out) :: cs(0:6), cc(0:6), cd(0:6)"]
+    out = [
+        "  !> Maclaurin coefficients of sn, 1 - cn, 1 - dn in w**2 at parameter m: cs(k) of",
+        "  !> w**(2k+1) in sn, cc(k) and cd(k) of w**(2k+2) in 1 - cn and 1 - dn (unrolled Horner",
+        "  !> in m of exact rational coefficients; terms with zero coefficients are omitted).",
+        "  pure subroutine series_coeffs(m, cs, cc, cd)",
+        "    real(wp), intent(in) :: m",
+        "    real(wp), intent(out) :: cs(0:6), cc(0:6), cd(0:6)",
+    ]
     for k in range(NTERM):
-        ps = s[2 * k + 1][:k + 1]
-        pc = [-x for x in c[2 * k + 2]][:k + 1]
-        pd = [-x for x in d[2 * k + 2]][1:k + 2]
+        ps = s[2 * k + 1][: k + 1]
+        pc = [-x for x in c[2 * k + 2]][: k + 1]
+        pd = [-x for x in d[2 * k + 2]][1 : k + 2]
         # degree k in m (1 - dn: m times degree k): the higher entries are exact zeros
-        assert not any(s[2 * k + 1][k + 1:]) and not any(c[2 * k + 2][k + 1:]) and not any(d[2 * k + 2][k + 2:])
+        assert not any(s[2 * k + 1][k + 1 :]) and not any(c[2 * k + 2][k + 1 :]) and not any(d[2 * k + 2][k + 2 :])
         out.append(_wrap(f"cs({k})", _horner(ps)))
         out.append(_wrap(f"cc({k})", _horner(pc)))
         out.append(_wrap(f"cd({k})", "m * " + _horner(pd)))
@@ -131,9 +134,9 @@ def _cheb_monomial(f, a, b, n, mp):
     V = mp.matrix(n + 1, n + 1)
     for i, x in enumerate(xs):
         for j in range(n + 1):
-            V[i, j] = x ** j
+            V[i, j] = x**j
     co = mp.lu_solve(V, mp.matrix(fs))
-    return [co[j] / h ** j for j in range(n + 1)]
+    return [co[j] / h**j for j in range(n + 1)]
 
 
 def _shift_to_zero(co, c, mp):
@@ -147,6 +150,7 @@ def _shift_to_zero(co, c, mp):
 
 def ke_tables():
     import mpmath as mp
+
     mp.mp.dps = 40
     kt, et = [], []
     for i in range(KE_NINT):
@@ -158,27 +162,33 @@ def ke_tables():
     Pe = lambda x: mp.ellipe(1 - x) + mp.log(x) * (mp.ellipk(x) - mp.ellipe(x)) / mp.pi  # noqa: E731
     Qe1 = lambda x: (mp.ellipk(x) - mp.ellipe(x)) / (mp.pi * x)  # noqa: E731
     lo, hi = mp.mpf(0), mp.mpf(KE_MC_MAX)
-    near = [_shift_to_zero(_cheb_monomial(f, lo, hi, KE_DEG, mp), (lo + hi) / 2, mp)
-            for f in (P, Q, Pe, Qe1)]
+    near = [_shift_to_zero(_cheb_monomial(f, lo, hi, KE_DEG, mp), (lo + hi) / 2, mp) for f in (P, Q, Pe, Qe1)]
     return kt, et, near
 
 
 def _array(name, rows):
     n = len(rows[0])
     vals = [_lit(x) for r in rows for x in r]
-    body = ", &\n      ".join(", ".join(vals[i:i + 3]) for i in range(0, len(vals), 3))
-    return (f"  real(wp), parameter :: {name}(0:{n-1}, 0:{len(rows)-1}) = reshape([ &\n"
-            f"      {body}], [{n}, {len(rows)}])")
+    body = ", &\n      ".join(", ".join(vals[i : i + 3]) for i in range(0, len(vals), 3))
+    return (
+        f"  real(wp), parameter :: {name}(0:{n - 1}, 0:{len(rows) - 1}) = reshape([ &\n"
+        f"      {body}], [{n}, {len(rows)}])"
+    )
 
 
 def ke_fortran():
     kt, et, near = ke_tables()
-    return "\n".join([
-        "  !> K and E: piecewise polynomials in y = m - (i + 1/2)/20 on [i/20, (i+1)/20), i = 0..16",
-        "  !> (k_poly, e_poly), and for mc <= 0.15 the logarithmic form K = P(mc) - ln(mc) Q(mc),",
-        "  !> E = Pe(mc) - ln(mc) mc Qe1(mc) in powers of mc (columns P, Q, Pe, Qe1 of ke_log_poly).",
-        "  !> Chebyshev interpolants of degree 12 at 40 digits; truncation < 0.1 ulp.",
-        _array("k_poly", kt), _array("e_poly", et), _array("ke_log_poly", near)])
+    return "\n".join(
+        [
+            "  !> K and E: piecewise polynomials in y = m - (i + 1/2)/20 on [i/20, (i+1)/20), i = 0..16",
+            "  !> (k_poly, e_poly), and for mc <= 0.15 the logarithmic form K = P(mc) - ln(mc) Q(mc),",
+            "  !> E = Pe(mc) - ln(mc) mc Qe1(mc) in powers of mc (columns P, Q, Pe, Qe1 of ke_log_poly).",
+            "  !> Chebyshev interpolants of degree 12 at 40 digits; truncation < 0.1 ulp.",
+            _array("k_poly", kt),
+            _array("e_poly", et),
+            _array("ke_log_poly", near),
+        ]
+    )
 
 
 # ---------------------------------------------------------------- amplitude
@@ -186,6 +196,7 @@ def ke_fortran():
 # P of degree 10 (Chebyshev interpolant at 40 digits, powers of t): <= 1.2 ulps measured.
 def atan_poly(deg=10):
     import mpmath as mp
+
     mp.mp.dps = 40
     T = (mp.sqrt(2) - 1) ** 2
 
@@ -194,44 +205,54 @@ def atan_poly(deg=10):
             return mp.mpf(-1) / 3
         w = mp.sqrt(t)
         return (mp.atan(w) - w) / (w * t)
+
     return _shift_to_zero(_cheb_monomial(g, mp.mpf(0), T, deg, mp), T / 2, mp)
 
 
 def atan_fortran():
     vals = [_lit(x) for x in atan_poly()]
-    body = ", &\n      ".join(", ".join(vals[i:i + 3]) for i in range(0, len(vals), 3))
-    return "\n".join([
-        "  !> atan(w) = w + w t P(t), t = w**2 <= tan(pi/8)**2: P of degree 10 (Chebyshev",
-        "  !> interpolant at 40 digits); atan on [-1, 1] within 1.2 ulps.",
-        f"  real(wp), parameter :: atan_poly(0:{len(vals)-1}) = [ &\n      {body}]"])
+    body = ", &\n      ".join(", ".join(vals[i : i + 3]) for i in range(0, len(vals), 3))
+    return "\n".join(
+        [
+            "  !> atan(w) = w + w t P(t), t = w**2 <= tan(pi/8)**2: P of degree 10 (Chebyshev",
+            "  !> interpolant at 40 digits); atan on [-1, 1] within 1.2 ulps.",
+            f"  real(wp), parameter :: atan_poly(0:{len(vals) - 1}) = [ &\n      {body}]",
+        ]
+    )
 
 
 def module_text():
-    return "\n".join([
-        "!> GENERATED by tools/gen/gen_elliptic_tables.py -- do not edit; rerun the generator.",
-        "!> Coefficient tables of the elliptic concern: K and E interpolants, the atan",
-        "!> polynomial of the amplitude (the Maclaurin coefficients of sn, cn, dn in m are in",
-        "!> pendula_jacobi_series.inc).",
-        "module pendula_elliptic_tables",
-        "  use pendula_kinds, only: wp",
-        "  implicit none",
-        "  private",
-        "  public :: k_poly, e_poly, ke_log_poly, atan_poly",
-        "",
-        ke_fortran(),
-        "",
-        atan_fortran(),
-        "",
-        "end module pendula_elliptic_tables",
-        ""])
+    return "\n".join(
+        [
+            "!> GENERATED by tools/gen/gen_elliptic_tables.py -- do not edit; rerun the generator.",
+            "!> Coefficient tables of the elliptic concern: K and E interpolants, the atan",
+            "!> polynomial of the amplitude (the Maclaurin coefficients of sn, cn, dn in m are in",
+            "!> pendula_jacobi_series.inc).",
+            "module pendula_elliptic_tables",
+            "  use pendula_kinds, only: wp",
+            "  implicit none",
+            "  private",
+            "  public :: k_poly, e_poly, ke_log_poly, atan_poly",
+            "",
+            ke_fortran(),
+            "",
+            atan_fortran(),
+            "",
+            "end module pendula_elliptic_tables",
+            "",
+        ]
+    )
 
 
 def series_text():
-    return "\n".join([
-        "! GENERATED by tools/gen/gen_elliptic_tables.py -- do not edit; rerun the generator.",
-        "! Included in the contains section of pendula_elliptic_modulus and pendula_jacobi_kernel.",
-        series_fortran(),
-        ""])
+    return "\n".join(
+        [
+            "! GENERATED by tools/gen/gen_elliptic_tables.py -- do not edit; rerun the generator.",
+            "! Included in the contains section of pendula_elliptic_modulus and pendula_jacobi_kernel.",
+            series_fortran(),
+            "",
+        ]
+    )
 
 
 def main(argv):

@@ -7,6 +7,7 @@ gamma = b/m), so the table is the true solution of the problem the library is
 given, to ~1e-25.  Columns: b, gamma, t, theta, omega.  Takes ~1 min:
     python3 tools/gen/gen_integrators_reference.py
 """
+
 import math
 import pathlib
 
@@ -27,9 +28,11 @@ def main():
         for k in range(0, 31):
             y = f(mp.mpf(k))
             rows.append(f"{b!r},{gamma!r},{k},{mp.nstr(y[0], 22)},{mp.nstr(y[1], 22)}")
-    OUT.write_text("# mpmath.odefun (30 digits) reference for the text's section 2.2 scenario;"
-                   " made by tools/gen/gen_integrators_reference.py\n"
-                   "b,gamma,t,theta,omega\n" + "\n".join(rows) + "\n")
+    OUT.write_text(
+        "# mpmath.odefun (30 digits) reference for the text's section 2.2 scenario;"
+        " made by tools/gen/gen_integrators_reference.py\n"
+        "b,gamma,t,theta,omega\n" + "\n".join(rows) + "\n"
+    )
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ rounded double and lo the correctly rounded rest, so |hi + lo - 5**(22 q) / 2**e
 fractions); repr() of a double reads back to the same double, so the literals
 are exact.
 """
+
 from fractions import Fraction
 
 STEP, Q_MIN, Q_MAX = 22, -14, 15
@@ -19,12 +20,12 @@ def entry(q):
     ex = v.numerator.bit_length() - v.denominator.bit_length()
     if Fraction(2) ** ex > v:
         ex -= 1
-    w = v / Fraction(2) ** ex                 # 1 <= w < 2
+    w = v / Fraction(2) ** ex  # 1 <= w < 2
     assert 1 <= w < 2
-    hi = float(w)                             # Fraction -> float rounds to nearest
+    hi = float(w)  # Fraction -> float rounds to nearest
     lo = float(w - Fraction(hi))
     err = abs(Fraction(hi) + Fraction(lo) - w) / w
-    assert err <= Fraction(1, 2 ** 106), (q, float(err))
+    assert err <= Fraction(1, 2**106), (q, float(err))
     return hi, lo, ex
 
 
@@ -37,14 +38,23 @@ def main():
     print(f"  integer, parameter :: POW5_STEP = {STEP}, POW5_QMIN = {Q_MIN}, POW5_QMAX = {Q_MAX}")
     print("  ! 5**(POW5_STEP*q) = (POW5_HI(q) + POW5_LO(q)) * 2**POW5_EX(q), 1 <= POW5_HI < 2")
     print("  real(wp), parameter :: POW5_HI(POW5_QMIN:POW5_QMAX) = [ &")
-    print("      " + ", &\n      ".join(
-        ", ".join(lit(r[0]) for r in rows[i:i + 3]) for i in range(0, len(rows), 3)) + " ]")
+    print(
+        "      "
+        + ", &\n      ".join(", ".join(lit(r[0]) for r in rows[i : i + 3]) for i in range(0, len(rows), 3))
+        + " ]"
+    )
     print("  real(wp), parameter :: POW5_LO(POW5_QMIN:POW5_QMAX) = [ &")
-    print("      " + ", &\n      ".join(
-        ", ".join(lit(r[1]) for r in rows[i:i + 3]) for i in range(0, len(rows), 3)) + " ]")
+    print(
+        "      "
+        + ", &\n      ".join(", ".join(lit(r[1]) for r in rows[i : i + 3]) for i in range(0, len(rows), 3))
+        + " ]"
+    )
     print("  integer, parameter :: POW5_EX(POW5_QMIN:POW5_QMAX) = [ &")
-    print("      " + ", &\n      ".join(
-        ", ".join(str(r[2]) for r in rows[i:i + 10]) for i in range(0, len(rows), 10)) + " ]")
+    print(
+        "      "
+        + ", &\n      ".join(", ".join(str(r[2]) for r in rows[i : i + 10]) for i in range(0, len(rows), 10))
+        + " ]"
+    )
 
 
 if __name__ == "__main__":

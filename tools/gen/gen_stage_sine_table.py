@@ -8,6 +8,7 @@ node spacing 2 pi / 256 (24 + 24 + 53 bits, so that k*P1 and k*P2 are exact
 for |k| < 2**29).  The kernel derives cos x_k and the Taylor coefficients of
 sin(x_k + r) from this table by constant expressions.
 """
+
 import mpmath as mp
 
 mp.mp.dps = 60
@@ -35,7 +36,7 @@ def main():
 
     vals = [mp.sin(c * j) for j in range(N)]
     print(f"  real(wp), parameter :: node_sin(0:{N - 1}) = [ &")
-    rows = [", ".join(f(v) for v in vals[i:i + 3]) for i in range(0, N, 3)]
+    rows = [", ".join(f(v) for v in vals[i : i + 3]) for i in range(0, N, 3)]
     print("      " + ", &\n      ".join(rows) + " ]")
 
 

@@ -18,6 +18,7 @@ inputs (theta0, omega0, w0, t).  Closed form (derivation in the README):
 Condition numbers cond_x = sum |x d(.)/dx| over x in {theta0, omega0, w0, t}
 are taken by one-sided differences at relative step 1e-22 (max of both sides).
 """
+
 import argparse
 import gzip
 import os
@@ -41,8 +42,8 @@ class State:
         thr = th0 - 2 * mp.pi * self.N
         s2 = mp.sin(thr / 2)
         q = om0 / (2 * w0)
-        self.m = s2 ** 2 + q ** 2
-        self.mc = mp.cos(thr / 2) ** 2 - q ** 2
+        self.m = s2**2 + q**2
+        self.mc = mp.cos(thr / 2) ** 2 - q**2
         self.k = mp.sqrt(self.m)
         self.s = mp.sign(q)
         if self.mc > 0:
@@ -110,13 +111,14 @@ def reference(theta0, omega0, w0, times, rel_step=mp.mpf("1e-22")):
 def d2theta(state, t):
     """theta'' = -w0^2 sin(theta): the t-derivative of Omega."""
     th, _ = state.at(t)
-    return -state.w0 ** 2 * mp.sin(th)
+    return -(state.w0**2) * mp.sin(th)
 
 
 def random_state(rng, regime, log_gap):
     """Double inputs (theta0, omega0, w0) with |1 - m| ~ 10**log_gap in the given regime."""
     import math
-    gap = 10.0 ** log_gap
+
+    gap = 10.0**log_gap
     m = 1.0 - gap if regime == 1 else 1.0 + gap
     w0 = 10.0 ** rng.uniform(-1, 1)
     turns = int(rng.integers(-2, 3)) if rng.uniform() < 0.5 else 0
@@ -143,6 +145,7 @@ def sample_times(rng, period, n):
 
 def generate(n_states, times_per_state, seed):
     import numpy as np
+
     rng = np.random.default_rng(seed)
     rows = []
     for i in range(n_states):
@@ -157,7 +160,7 @@ def generate(n_states, times_per_state, seed):
         for t, (th, om, ct, co) in zip(times, refs):
             rows.append([theta0, omega0, w0, t, th, om, ct, co, st.regime, 1 - st.m])
     # exact separatrix states: theta0 = 0, omega0 = +-2 w0 (m == 1 in doubles and in fact)
-    for w0 in (1.0, 2.0 ** 0.5, 0.3, 7.5):
+    for w0 in (1.0, 2.0**0.5, 0.3, 7.5):
         for sgn in (1, -1):
             times = [0.1, 1.0, 5.0, -3.0, 40.0, 800.0]
             times = [x / w0 for x in times]
@@ -183,6 +186,7 @@ def write_table(rows, path):
 
 def read_table(path=TABLE):
     import numpy as np
+
     with gzip.open(path, "rt") as f:
         data = np.loadtxt(f, delimiter=",", comments="#", skiprows=2)
     return {c: data[:, j] for j, c in enumerate(COLUMNS)}
@@ -191,13 +195,20 @@ def read_table(path=TABLE):
 def check_ode(verbose=True):
     """Closed form vs direct Taylor integration of the ODE (mpmath.odefun) for a few states."""
     worst = 0
-    states = [(2.5, 0.7, 1.3), (-0.4, -1.1, 0.8), (1.0, 3.0, 1.0), (0.3, -2.5, 1.2), (3.0, 0.0, 1.0),
-              (0.0, 2.0, 1.0), (7.0, -0.2, 0.5)]
+    states = [
+        (2.5, 0.7, 1.3),
+        (-0.4, -1.1, 0.8),
+        (1.0, 3.0, 1.0),
+        (0.3, -2.5, 1.2),
+        (3.0, 0.0, 1.0),
+        (0.0, 2.0, 1.0),
+        (7.0, -0.2, 0.5),
+    ]
     with mp.workdps(30):
         for th0, om0, w0 in states:
             st = State(th0, om0, w0)
             wv = mp.mpf(w0)
-            f = mp.odefun(lambda t, y: [y[1], -wv ** 2 * mp.sin(y[0])], 0, [mp.mpf(th0), mp.mpf(om0)])
+            f = mp.odefun(lambda t, y: [y[1], -(wv**2) * mp.sin(y[0])], 0, [mp.mpf(th0), mp.mpf(om0)])
             for t in (0.5, 2.0, 6.0):
                 a = f(t)
                 b = st.at(t)

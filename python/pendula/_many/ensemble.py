@@ -20,6 +20,7 @@ Failure rules (the package's one contract, docs/robustness.md):
 - when EVERY state of a non-empty batch failed, the call raises the first
   state's exception (there is no answer to return).
 """
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -140,6 +141,7 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
     >>> r.ok.tolist(), r.first_failed
     ([True, False], 1)
     """
+
     t: np.ndarray
     theta: np.ndarray
     omega: np.ndarray
@@ -154,15 +156,26 @@ class BatchIntegrationResult(BatchStatus, _tables.Tabular):
     def __repr__(self):
         good = self.ok
         steps = self.stats.get("steps")
-        return _tables.block("BatchIntegrationResult", [
-            f"method={self.method!r}, batch shape {self.shape}, " + _tables.series(self.t, {}),
-            _tables.series(None, {"theta": self.theta[good], "omega": self.omega[good]}) + " (states that succeeded)",
-            None if steps is None or not good.any() else f"steps per state in {_tables.span(steps[good])}",
-            _tables.codes_line(self.codes, self.message)])
+        return _tables.block(
+            "BatchIntegrationResult",
+            [
+                f"method={self.method!r}, batch shape {self.shape}, " + _tables.series(self.t, {}),
+                _tables.series(None, {"theta": self.theta[good], "omega": self.omega[good]})
+                + " (states that succeeded)",
+                None if steps is None or not good.any() else f"steps per state in {_tables.span(steps[good])}",
+                _tables.codes_line(self.codes, self.message),
+            ],
+        )
 
     def _table(self):
-        return dict(t=self.t, fields={"theta": self.theta, "omega": self.omega}, shape=self.shape,
-                    per_state={"code": self.codes}, attrs={"method": self.method}, coords=self.inputs)
+        return dict(
+            t=self.t,
+            fields={"theta": self.theta, "omega": self.omega},
+            shape=self.shape,
+            per_state={"code": self.codes},
+            attrs={"method": self.method},
+            coords=self.inputs,
+        )
 
 
 def inputs(shape, **named):
@@ -194,20 +207,40 @@ def _summarised(res, shape):
 
 
 def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads):
-    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)   # names a bad one
+    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)  # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, threads=threads)
     _precheck(kernels.rk4_batch, tt, shape, **dict(args, threads=1))
     hmin = float(np.min(h, initial=np.inf))
     steps = (tt[-1] - tt[0]) / hmin + tt.size
-    res = _watched(lambda c: kernels.rk4_batch(tt, control=c, max_steps=max_steps, **args),
-                   int(np.prod(shape, dtype=np.int64)), steps, _longcall.RK4_LONG_STEPS, progress)
+    res = _watched(
+        lambda c: kernels.rk4_batch(tt, control=c, max_steps=max_steps, **args),
+        int(np.prod(shape, dtype=np.int64)),
+        steps,
+        _longcall.RK4_LONG_STEPS,
+        progress,
+    )
     message = _summarised(res, shape)
     zero = np.zeros(res.codes.shape, dtype=np.int64)
-    stats = {"steps": res.steps, "rhs_evals": 4 * res.steps, "jac_evals": zero, "err_test_fails": zero.copy(),
-             "nonlin_iters": zero.copy(), "nonlin_fails": zero.copy(), "root_evals": zero.copy()}
-    return BatchIntegrationResult(t=tt, theta=res.theta, omega=res.omega, stats=stats, method="rk4",
-                                  codes=res.codes, message=message, first_failed=res.first_failed,
-                                  inputs=inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h))
+    stats = {
+        "steps": res.steps,
+        "rhs_evals": 4 * res.steps,
+        "jac_evals": zero,
+        "err_test_fails": zero.copy(),
+        "nonlin_iters": zero.copy(),
+        "nonlin_fails": zero.copy(),
+        "root_evals": zero.copy(),
+    }
+    return BatchIntegrationResult(
+        t=tt,
+        theta=res.theta,
+        omega=res.omega,
+        stats=stats,
+        method="rk4",
+        codes=res.codes,
+        message=message,
+        first_failed=res.first_failed,
+        inputs=inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h),
+    )
 
 
 def res_size(*values):
@@ -215,35 +248,60 @@ def res_size(*values):
     return int(np.prod(np.broadcast_shapes(*(np.shape(v) for v in values)), dtype=np.int64))
 
 
-def cvode_batch(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress,
-                threads, scalar_cvode):
+def cvode_batch(
+    tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress, threads, scalar_cvode
+):
     # the call's own arguments first, as the scalar call checks them: ValueError for the whole call
     if not isinstance(method, str) or method.lower() not in CVODE_METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
     integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     if events:
         integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
-    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)   # names a bad one
-    args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol, method=method,
-                threads=threads)
+    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)  # names a bad one
+    args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol, method=method, threads=threads)
     _precheck(kernels.cvode_batch, tt, shape, **dict(args, threads=1))
     n = res_size(theta0, omega0, w0, gamma)
     periods = abs(tt[-1] - tt[0]) * float(np.max(w0, initial=0.0)) / (2 * np.pi)
     given = inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol)
     if not events:
-        res = _watched(lambda c: kernels.cvode_batch(tt, control=c, max_steps=max_steps, **args), n,
-                       periods * 50 + tt.size, _longcall.CVODE_LONG_STEPS, progress)
+        res = _watched(
+            lambda c: kernels.cvode_batch(tt, control=c, max_steps=max_steps, **args),
+            n,
+            periods * 50 + tt.size,
+            _longcall.CVODE_LONG_STEPS,
+            progress,
+        )
         message = _summarised(res, shape)
-        return BatchIntegrationResult(t=tt, theta=res.theta, omega=res.omega, stats=res.stats, method=res.method,
-                                      codes=res.codes, message=message, first_failed=res.first_failed,
-                                      inputs=given)
+        return BatchIntegrationResult(
+            t=tt,
+            theta=res.theta,
+            omega=res.omega,
+            stats=res.stats,
+            method=res.method,
+            codes=res.codes,
+            message=message,
+            first_failed=res.first_failed,
+            inputs=given,
+        )
     # events: the scalar call per state (its event arrays differ in length)
     flat = [np.broadcast_to(np.asarray(v, dtype=float), shape).reshape(-1) for v in (theta0, omega0, w0, gamma)]
 
     def one(i, control):
-        return scalar_cvode(tt, float(flat[0][i]), float(flat[1][i]), float(flat[2][i]), float(flat[3][i]),
-                            rtol=rtol, atol=atol, method=method, max_steps=max_steps, events=True,
-                            max_events=max_events, control=control)
+        return scalar_cvode(
+            tt,
+            float(flat[0][i]),
+            float(flat[1][i]),
+            float(flat[2][i]),
+            float(flat[3][i]),
+            rtol=rtol,
+            atol=atol,
+            method=method,
+            max_steps=max_steps,
+            events=True,
+            max_events=max_events,
+            control=control,
+        )
+
     work = kernels.cvode_work(tt, w0, n) + n * POOL_STATE_WORK
     values, codes, messages = pool.map_states(one, n, threads, progress, work=work, shape=shape, names=_BATCH_ARGS)
     return _from_states(tt, shape, values, codes, messages, method.lower(), given)
@@ -263,8 +321,15 @@ def _from_states(tt, shape, values, codes, messages, method, given):
             stats.setdefault(k, np.zeros(n, dtype=np.int64))[i] = v
     first, message = summary(codes, messages, shape, _BATCH_ARGS)
     codes = codes.reshape(shape)
-    return BatchIntegrationResult(t=tt, theta=theta.reshape(shape + (tt.size,)),
-                                  omega=omega.reshape(shape + (tt.size,)),
-                                  stats={k: v.reshape(shape) for k, v in stats.items()}, method=method,
-                                  codes=codes, message=message, first_failed=first, events=ev.reshape(shape),
-                                  inputs=given)
+    return BatchIntegrationResult(
+        t=tt,
+        theta=theta.reshape(shape + (tt.size,)),
+        omega=omega.reshape(shape + (tt.size,)),
+        stats={k: v.reshape(shape) for k, v in stats.items()},
+        method=method,
+        codes=codes,
+        message=message,
+        first_failed=first,
+        events=ev.reshape(shape),
+        inputs=given,
+    )

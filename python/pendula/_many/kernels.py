@@ -9,14 +9,23 @@ A state that fails (unstable h, bad value, non-finite result) gets its own
 status code and NaN outputs from the point it failed (the package's failure
 contract, docs/robustness.md); the others are unaffected.
 """
+
 from dataclasses import dataclass
 
 import numpy as np
 
 from .. import _fortran, _memory
 from .._arrays import broadcast_real, integer_arg, time_grid
-from .._defaults import (CVODE_ATOL, CVODE_MAX_STEPS, CVODE_METHOD, CVODE_METHODS, CVODE_RTOL, RK4_MAX_STEPS,
-                         STAT_NAMES, choose_threads)
+from .._defaults import (
+    CVODE_ATOL,
+    CVODE_MAX_STEPS,
+    CVODE_METHOD,
+    CVODE_METHODS,
+    CVODE_RTOL,
+    RK4_MAX_STEPS,
+    STAT_NAMES,
+    choose_threads,
+)
 from .._errors import ERR_CANCELLED, OK, _text, raise_for_status
 
 
@@ -33,6 +42,7 @@ class BatchResult:
     is rewritten by the callers in the package's index convention).  first_failed: flat index of the first failed
     state, or -1.
     """
+
     t: np.ndarray
     theta: np.ndarray
     omega: np.ndarray
@@ -56,6 +66,7 @@ class CvodeBatchResult(BatchResult):
     method.  A failed state keeps the outputs before its failure time (NaN
     after); a cancelled one is NaN.
     """
+
     stats: dict = None
     method: str = CVODE_METHOD
 
@@ -63,8 +74,13 @@ class CvodeBatchResult(BatchResult):
 def _control(control):
     if control is None:
         return np.zeros(2, dtype=np.int64)
-    if not (isinstance(control, np.ndarray) and control.dtype == np.int64 and control.shape == (2,)
-            and control.flags.c_contiguous and control.flags.writeable):
+    if not (
+        isinstance(control, np.ndarray)
+        and control.dtype == np.int64
+        and control.shape == (2,)
+        and control.flags.c_contiguous
+        and control.flags.writeable
+    ):
         raise TypeError("control must be a writeable contiguous int64 numpy array of shape (2,)")
     return control
 
@@ -72,7 +88,7 @@ def _control(control):
 def rk4_work(tt, h):
     """Predicted work of an RK4 batch in steps: sum over the states of span/h + outputs."""
     h = np.asarray(h, dtype=float)
-    with np.errstate(all="ignore"):   # inf/NaN work (extreme windows, h): threads, the kernel refuses what it must
+    with np.errstate(all="ignore"):  # inf/NaN work (extreme windows, h): threads, the kernel refuses what it must
         per = float(tt[-1] - tt[0]) / h + tt.size
         return float(np.sum(per)) if h.size else 0.0
 
@@ -127,24 +143,47 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     control = _control(control)
     n = flats["theta0"].size
     # f2py allocates theta and omega (n_t x n each) before any work: refused at once
-    theta, omega, codes, steps, first, code, msg = _memory.guard(lambda: _fortran.rk4_batch_f2py(
-        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control),
-        f"the outputs theta and omega of {n} states x {tt.size} times", _trajectory_bytes(n, tt.size))
+    theta, omega, codes, steps, first, code, msg = _memory.guard(
+        lambda: _fortran.rk4_batch_f2py(
+            tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control
+        ),
+        f"the outputs theta and omega of {n} states x {tt.size} times",
+        _trajectory_bytes(n, tt.size),
+    )
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
-        raise_for_status(code, msg)   # the call itself was refused
+        raise_for_status(code, msg)  # the call itself was refused
     n_t = tt.size
     # Fortran's (n_t, n) column-major block is the C-order (n, n_t) array:
     # each state's series contiguous, no copy.
     theta, omega = theta.T, omega.T
     nan_after_failure(theta, omega, codes, whole_row=True)
-    return BatchResult(t=tt, theta=theta.reshape(shape + (n_t,)), omega=omega.reshape(shape + (n_t,)),
-                       codes=codes.astype(np.int64).reshape(shape), steps=steps.astype(np.int64).reshape(shape),
-                       code=code, message=_text(msg) if code else "", first_failed=first - 1)
+    return BatchResult(
+        t=tt,
+        theta=theta.reshape(shape + (n_t,)),
+        omega=omega.reshape(shape + (n_t,)),
+        codes=codes.astype(np.int64).reshape(shape),
+        steps=steps.astype(np.int64).reshape(shape),
+        code=code,
+        message=_text(msg) if code else "",
+        first_failed=first - 1,
+    )
 
 
-def cvode_batch(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, method=CVODE_METHOD,
-                max_steps=CVODE_MAX_STEPS, threads=None, control=None, events=False):
+def cvode_batch(
+    t,
+    theta0,
+    omega0,
+    w0,
+    gamma,
+    rtol=CVODE_RTOL,
+    atol=CVODE_ATOL,
+    method=CVODE_METHOD,
+    max_steps=CVODE_MAX_STEPS,
+    threads=None,
+    control=None,
+    events=False,
+):
     """CVODE (as ``pendula.cvode``) for a batch of states over one output grid.
 
     t: strictly increasing, finite output times [s], 1-D, shared by every
@@ -166,8 +205,10 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, 
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
     if events:
-        raise ValueError("events=True is not supported by cvode_batch: call pendula.cvode(..., events=True) "
-                         "for each state that needs its events")
+        raise ValueError(
+            "events=True is not supported by cvode_batch: call pendula.cvode(..., events=True) "
+            "for each state that needs its events"
+        )
     tt = time_grid(t)
     shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol)
     if not isinstance(method, str) or method.lower() not in CVODE_METHODS:
@@ -176,22 +217,38 @@ def cvode_batch(t, theta0, omega0, w0, gamma, rtol=CVODE_RTOL, atol=CVODE_ATOL, 
     nthreads = choose_threads(threads, cvode_work(tt, flats["w0"], flats["theta0"].size))
     control = _control(control)
     n = flats["theta0"].size
-    theta, omega, codes, stats, first, code, msg = _memory.guard(lambda: _fortran.cvode_batch_f2py(
-        tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
-        CVODE_METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control),
-        f"the outputs theta and omega of {n} states x {tt.size} times", _trajectory_bytes(n, tt.size))
+    theta, omega, codes, stats, first, code, msg = _memory.guard(
+        lambda: _fortran.cvode_batch_f2py(
+            tt,
+            *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
+            CVODE_METHODS[method.lower()],
+            float(min(max_steps, 2**62)),
+            nthreads,
+            control,
+        ),
+        f"the outputs theta and omega of {n} states x {tt.size} times",
+        _trajectory_bytes(n, tt.size),
+    )
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
-        raise_for_status(code, msg)   # the call itself was refused
+        raise_for_status(code, msg)  # the call itself was refused
     n_t = tt.size
     theta, omega = theta.T, omega.T
     nan_after_failure(theta, omega, codes)
     # stats has shape (7, n): row i is counter i of every state
     counts = {name: stats[i].astype(np.int64).reshape(shape) for i, name in enumerate(STAT_NAMES)}
-    return CvodeBatchResult(t=tt, theta=theta.reshape(shape + (n_t,)), omega=omega.reshape(shape + (n_t,)),
-                            codes=codes.astype(np.int64).reshape(shape), steps=counts["steps"], code=code,
-                            message=_text(msg) if code else "", first_failed=first - 1, stats=counts,
-                            method=method.lower())
+    return CvodeBatchResult(
+        t=tt,
+        theta=theta.reshape(shape + (n_t,)),
+        omega=omega.reshape(shape + (n_t,)),
+        codes=codes.astype(np.int64).reshape(shape),
+        steps=counts["steps"],
+        code=code,
+        message=_text(msg) if code else "",
+        first_failed=first - 1,
+        stats=counts,
+        method=method.lower(),
+    )
 
 
 def _trajectory_bytes(n, n_t):

@@ -9,6 +9,7 @@ thread's share).  Each thread owns a ``control`` array (pendula_control);
 Ctrl-C in the calling thread raises every cancel flag, waits for the threads
 (each stops within a millisecond or so) and re-raises KeyboardInterrupt.
 """
+
 import threading
 
 import numpy as np
@@ -55,7 +56,7 @@ def map_states(fn, n, threads=None, progress=None, work=float("nan"), shape=None
                 if hasattr(exc, "pendula_code"):
                     codes[i] = exc.pendula_code
                     messages[i] = str(exc)
-                else:   # an argument error: the whole call is refused
+                else:  # an argument error: the whole call is refused
                     with lock:
                         if state["error"] is None:
                             state["error"] = ValueError(for_state(exc, i, (n,) if shape is None else shape, names))
@@ -63,7 +64,7 @@ def map_states(fn, n, threads=None, progress=None, work=float("nan"), shape=None
             except (RuntimeError, NotImplementedError) as exc:
                 codes[i] = getattr(exc, "pendula_code", ERR_SOLVER)
                 messages[i] = str(exc)
-            except BaseException as exc:   # a bug or a cancel: stop every thread, re-raise below
+            except BaseException as exc:  # a bug or a cancel: stop every thread, re-raise below
                 with lock:
                     if state["error"] is None:
                         state["error"] = exc

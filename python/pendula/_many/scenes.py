@@ -22,6 +22,7 @@ when every scene failed, the call raises the first one's exception.
 This layer knows nothing of ``pendula.scene``: the scene class and the
 one-scene solve are handed in (``make``, ``one``), so imports run one way.
 """
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,8 +79,8 @@ class SceneBatch:
         given = {k: v for k, v in zip(_PARAMS, (theta0, omega0, g, length, gamma, mass, b, tol)) if v is not None}
         shape, _, flats = broadcast_real(**given)
         n = int(np.prod(shape, dtype=np.int64))
-        probe = make(0.0, 0.0, t=t, want=want)   # t and want, also for an empty batch
-        shared = SharedTimes(probe.t)   # one time grid for every scene, not a copy each
+        probe = make(0.0, 0.0, t=t, want=want)  # t and want, also for an empty batch
+        shared = SharedTimes(probe.t)  # one time grid for every scene, not a copy each
         scenes = np.empty(n, dtype=object)
         for i in range(n):
             kw = {k: float(v[i]) for k, v in flats.items()}
@@ -142,6 +143,7 @@ class SceneBatchResult(BatchStatus, _tables.Tabular):
     >>> r.shape, list(r.model), bool(r.tol_met.all())
     ((2,), ['exact', 'exact'], True)
     """
+
     results: np.ndarray
     codes: np.ndarray
     messages: np.ndarray
@@ -170,9 +172,19 @@ class SceneBatchResult(BatchStatus, _tables.Tabular):
     def _table(self):
         if self.t is None and self.period is None:
             raise ValueError("a batch of want='events' scenes has no table: convert results[i].events one by one")
-        return dict(t=self._t(), fields=self._series(), shape=self.shape, per_state={
-            "code": self.codes, "model": self.model, "error_estimate": self.error_estimate,
-            "tol_met": self.tol_met, "period": self.period}, coords=self.inputs)
+        return dict(
+            t=self._t(),
+            fields=self._series(),
+            shape=self.shape,
+            per_state={
+                "code": self.codes,
+                "model": self.model,
+                "error_estimate": self.error_estimate,
+                "tol_met": self.tol_met,
+                "period": self.period,
+            },
+            coords=self.inputs,
+        )
 
     def __repr__(self):
         good = self.ok
@@ -180,12 +192,17 @@ class SceneBatchResult(BatchStatus, _tables.Tabular):
         quantities = _tables.series(self._t(), series) if self.t is not None else ""
         if self.period is not None:
             quantities = f"period in {_tables.span(self.period[good], 's')}"
-        return _tables.block("SceneBatchResult", [
-            f"batch shape {self.shape}, models: {_tables.counts(self.model)}",
-            f"error_estimate in {_tables.span(self.error_estimate[good], 'rad')}, "
-            f"tol met by {int(np.count_nonzero(self.tol_met))} of {self.codes.size}",
-            quantities + (" (scenes that succeeded)" if quantities else ""),
-            _tables.codes_line(self.codes, self.message)])
+        return _tables.block(
+            "SceneBatchResult",
+            [
+                f"batch shape {self.shape}, models: {_tables.counts(self.model)}",
+                f"error_estimate in {_tables.span(self.error_estimate[good], 'rad')}, "
+                f"tol met by {int(np.count_nonzero(self.tol_met))} of {self.codes.size}",
+                quantities + (" (scenes that succeeded)" if quantities else ""),
+                _tables.codes_line(self.codes, self.message),
+            ],
+        )
+
 
 def _stack(values, shape, name):
     good = [getattr(v, name) for v in values if v is not None]
@@ -204,14 +221,19 @@ def _collect(batch, values, codes, messages):
     res = np.empty(n, dtype=object)
     res[:] = values
     return SceneBatchResult(
-        results=res.reshape(shape), codes=codes.reshape(shape),
-        messages=np.array(messages, dtype=object).reshape(shape), message=message, first_failed=first,
+        results=res.reshape(shape),
+        codes=codes.reshape(shape),
+        messages=np.array(messages, dtype=object).reshape(shape),
+        message=message,
+        first_failed=first,
         model=np.array([v.model if v is not None else "" for v in values], dtype=object).reshape(shape),
-        error_estimate=np.array([v.error_estimate if v is not None else np.nan for v in values],
-                                dtype=float).reshape(shape),
+        error_estimate=np.array([v.error_estimate if v is not None else np.nan for v in values], dtype=float).reshape(
+            shape
+        ),
         tol_met=np.array([v is not None and v.tol_met for v in values], dtype=bool).reshape(shape),
         inputs={k: getattr(batch, k) for k in ("theta0", "omega0", "w0", "gamma", "tol")},
-        **{k: _stack(values, shape, k) for k in ("t", "theta", "omega", "energy", "period", "event_time_error")})
+        **{k: _stack(values, shape, k) for k in ("t", "theta", "omega", "energy", "period", "event_time_error")},
+    )
 
 
 def run(batch, one, progress, threads, work):
@@ -222,8 +244,17 @@ def run(batch, one, progress, threads, work):
     # up front, before any solve: each scene's series (t, theta, omega, energy:
     # at most 4 of len(t)) in its result and again stacked in the batch's
     n_t = 1 if batch.want == "final" else batch.t.size if batch.want in ("state", "theta", "energy") else 0
-    _memory.reserve(2 * 4 * 8 * scenes.size * n_t,
-                    f"the results of {scenes.size} scenes x {n_t} output times (4 series, per scene and stacked)")
-    values, codes, messages = pool.map_states(lambda i, control: one(scenes[i], control), scenes.size, threads,
-                                              progress, work=work, shape=batch.shape, names=_PARAMS)
+    _memory.reserve(
+        2 * 4 * 8 * scenes.size * n_t,
+        f"the results of {scenes.size} scenes x {n_t} output times (4 series, per scene and stacked)",
+    )
+    values, codes, messages = pool.map_states(
+        lambda i, control: one(scenes[i], control),
+        scenes.size,
+        threads,
+        progress,
+        work=work,
+        shape=batch.shape,
+        names=_PARAMS,
+    )
     return _collect(batch, values, codes, messages)

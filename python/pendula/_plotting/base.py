@@ -2,6 +2,7 @@
 that say clearly when a part of the library is missing from this build, result
 unpacking and saving.  See :mod:`pendula.figures`.
 """
+
 from pathlib import Path
 
 import numpy as np
@@ -10,9 +11,9 @@ import pendula as _pd
 
 from ..plots import DPI
 
-G = 9.8          # m/s^2, the text's g
-LENGTH = 4.9     # m, the text's l
-MASS = 0.100     # kg, the text's m in §2.2
+G = 9.8  # m/s^2, the text's g
+LENGTH = 4.9  # m, the text's l
+MASS = 0.100  # kg, the text's m in §2.2
 
 
 class FigureUnavailable(RuntimeError):
@@ -22,6 +23,7 @@ class FigureUnavailable(RuntimeError):
 # --------------------------------------------------------------------------
 # small plumbing: library calls with clear "missing" errors, result unpacking
 # --------------------------------------------------------------------------
+
 
 def _need(name):
     fn = getattr(_pd, name, None)
@@ -69,12 +71,12 @@ def _text_listing(t_end, h, theta0, omega0, w0, gamma):
         try:
             from .. import textbook  # noqa: F811 (not re-exported by every build)
         except ImportError:
-            raise FigureUnavailable("pendula.textbook (the text's printed RK4 listing) "
-                                    "is not available in this build") from None
+            raise FigureUnavailable(
+                "pendula.textbook (the text's printed RK4 listing) is not available in this build"
+            ) from None
     res = textbook.text_listing_rk4(t_end, h, theta0, omega0, w0, gamma, typo=True)
     if hasattr(res, "theta"):
-        return (np.asarray(res.t, dtype=float), np.asarray(res.theta, dtype=float),
-                np.asarray(res.omega, dtype=float))
+        return (np.asarray(res.t, dtype=float), np.asarray(res.theta, dtype=float), np.asarray(res.omega, dtype=float))
     return tuple(np.asarray(r, dtype=float) for r in res[:3])
 
 
@@ -94,5 +96,5 @@ def _pi_label(x):
     return f"{x:.2f}π"
 
 
-_TEXT_H = 0.05     # s, the text's §2.2 RK4 step
+_TEXT_H = 0.05  # s, the text's §2.2 RK4 step
 _TEXT_TEND = 30.0  # s, the end of the text's §2.2 window

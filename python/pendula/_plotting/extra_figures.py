@@ -1,13 +1,29 @@
 """The figures the text lacks: A1-A5 (see :mod:`pendula.figures`)."""
+
 from pathlib import Path
 
 import numpy as np
 
 import pendula as _pd
 
-from .base import (_TEXT_H, FigureUnavailable, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pair,
-                            _reference, _save, _text_listing, _w0)
 from ..plots import _figure, tradeoff_rows, work_precision_plot
+from .base import (
+    _TEXT_H,
+    _TEXT_TEND,
+    LENGTH,
+    MASS,
+    FigureUnavailable,
+    G,
+    _exact,
+    _linear,
+    _need,
+    _npts,
+    _pair,
+    _reference,
+    _save,
+    _text_listing,
+    _w0,
+)
 
 
 def figA1_underdamped_linear(out_dir, quick=False):
@@ -27,14 +43,23 @@ def figA1_underdamped_linear(out_dir, quick=False):
         th, _ = _linear(t, theta0, omega0, w0, gamma)
         info = _need("damping_regime")(w0, gamma)
         c = f"C{i}"
-        ax.plot(t, th, color=c, lw=1.8, label=f"γ = {r:g} w0 (Q = {info.quality_factor:.3g}, "
-                f"ω_d = {info.omega_d:.3f} 1/s, log decrement {info.log_decrement:.3g})")
+        ax.plot(
+            t,
+            th,
+            color=c,
+            lw=1.8,
+            label=f"γ = {r:g} w0 (Q = {info.quality_factor:.3g}, "
+            f"ω_d = {info.omega_d:.3f} 1/s, log decrement {info.log_decrement:.3g})",
+        )
         env = _need("linear_damped_envelope")(t, theta0, omega0, w0, gamma)
         ax.plot(t, env, color=c, lw=0.9, ls=":")
         ax.plot(t, -env, color=c, lw=0.9, ls=":")
     ax.plot([], [], color="grey", ls=":", label="envelope ±R e^(−γt/2), pendula.linear_damped_envelope")
-    ax.set(title="Underdamped linear pendulum (§2.1.3, empty in the text), θ0 = 0.1 rad, Ω0 = 0",
-           xlabel="time t  (s)", ylabel="θ(t)  (rad)")
+    ax.set(
+        title="Underdamped linear pendulum (§2.1.3, empty in the text), θ0 = 0.1 rad, Ω0 = 0",
+        xlabel="time t  (s)",
+        ylabel="θ(t)  (rad)",
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     return [_save(fig, out_dir, "figA1_underdamped_linear_theta_with_envelope.png")]
@@ -82,15 +107,22 @@ def figA2_phase_portrait(out_dir, quick=False):
             first = False
     # equilibria (n pi, 0) and their linearisation from the library (text §1.1)
     eq_theta, eq_lambda, eq_kind = _need("equilibria")(np.arange(-3, 4), w0)
-    for kind, marker, text in (("centre", "o", "centres (2nπ, 0): eigenvalues ±i w0, stable"),
-                               ("saddle", "x", "saddles ((2n+1)π, 0): eigenvalues ±w0, unstable")):
+    for kind, marker, text in (
+        ("centre", "o", "centres (2nπ, 0): eigenvalues ±i w0, stable"),
+        ("saddle", "x", "saddles ((2n+1)π, 0): eigenvalues ±w0, unstable"),
+    ):
         sel = eq_kind == kind
-        ax.plot(eq_theta[sel], 0 * eq_theta[sel], marker, color="k", ms=5 if marker == "o" else 8,
-                mew=2, label=text)
-    ax.set(title="Phase portrait of the undamped pendulum, w0 = √2 1/s (all from pendula.undamped)",
-           xlabel="θ  (rad)", ylabel="Ω  (rad/s)", xlim=(-3 * np.pi, 3 * np.pi))
-    ax.set_xticks(np.arange(-3, 4) * np.pi, [f"{i}π" if i not in (0, 1, -1) else
-                                             {0: "0", 1: "π", -1: "−π"}[i] for i in range(-3, 4)])
+        ax.plot(eq_theta[sel], 0 * eq_theta[sel], marker, color="k", ms=5 if marker == "o" else 8, mew=2, label=text)
+    ax.set(
+        title="Phase portrait of the undamped pendulum, w0 = √2 1/s (all from pendula.undamped)",
+        xlabel="θ  (rad)",
+        ylabel="Ω  (rad/s)",
+        xlim=(-3 * np.pi, 3 * np.pi),
+    )
+    ax.set_xticks(
+        np.arange(-3, 4) * np.pi,
+        [f"{i}π" if i not in (0, 1, -1) else {0: "0", 1: "π", -1: "−π"}[i] for i in range(-3, 4)],
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3, fontsize=8)
     return [_save(fig, out_dir, "figA2_phase_portrait_librations_separatrix_rotations.png")]
@@ -117,20 +149,24 @@ def figA3_period_vs_energy(out_dir, quick=False):
     ax.plot(m_lib, t_lib / t0, lw=2, label="libration: period T (pendula.period)")
     ax.plot(m_rot, t_rot / t0, lw=2, label="rotation: time per revolution")
     ax.axvline(1.0, color="C3", ls=":", label="separatrix E = 2mgl")
-    ax.set(title="Period / revolution time vs energy", xlabel="E / E_sep = (Ω0 / 2w0)²  (θ0 = 0)",
-           ylabel="time / T0  (T0 = 2π/w0 = 4.443 s)", ylim=(0, 4), xlim=(0, 4))
+    ax.set(
+        title="Period / revolution time vs energy",
+        xlabel="E / E_sep = (Ω0 / 2w0)²  (θ0 = 0)",
+        ylabel="time / T0  (T0 = 2π/w0 = 4.443 s)",
+        ylim=(0, 4),
+        xlim=(0, 4),
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     ax = axs[0, 1]
     lib_d = 1.0 - m_lib[m_lib > 0.5]
     ax.semilogx(lib_d, t_lib[m_lib > 0.5] / t0, lw=2, label="libration, E < E_sep")
     ax.semilogx(m_rot - 1.0, t_rot / t0, lw=2, label="rotation, E > E_sep")
-    ax.semilogx(d, (2 / w0) * np.log(16 / d) / t0, "k--", lw=0.9,
-                label="(2/w0) ln(16/|1−E/E_sep|) (libration asymptote)")
-    ax.semilogx(d, (1 / w0) * np.log(16 / d) / t0, "k:", lw=0.9,
-                label="(1/w0) ln(16/|1−E/E_sep|) (rotation asymptote)")
-    ax.set(title="near the separatrix (log scale)", xlabel="|1 − E/E_sep|",
-           ylabel="time / T0", xlim=(1e-12, 0.5))
+    ax.semilogx(
+        d, (2 / w0) * np.log(16 / d) / t0, "k--", lw=0.9, label="(2/w0) ln(16/|1−E/E_sep|) (libration asymptote)"
+    )
+    ax.semilogx(d, (1 / w0) * np.log(16 / d) / t0, "k:", lw=0.9, label="(1/w0) ln(16/|1−E/E_sep|) (rotation asymptote)")
+    ax.set(title="near the separatrix (log scale)", xlabel="|1 − E/E_sep|", ylabel="time / T0", xlim=(1e-12, 0.5))
     ax.grid(True, alpha=0.3, which="both")
     ax.legend(fontsize=8)
     fig.suptitle("Undamped pendulum, w0 = √2 1/s: the period diverges logarithmically at the separatrix")
@@ -156,12 +192,27 @@ def figA5_text_listing_error(out_dir, quick=False):
         th_ref, _, lab = _reference(tl, 0.0, 2.0, w0, gamma)
         th_rk4, _ = _pair(_need("rk4")(tl, 0.0, 2.0, w0, gamma, _TEXT_H))
         c = f"C{i}"
-        ax.semilogy(tl, np.maximum(np.abs(thl - th_ref), floor), color=c, lw=1.6,
-                    label=f"b = {b} kg/s: text's printed listing (typo line 67)")
-        ax.semilogy(tl, np.maximum(np.abs(th_rk4 - th_ref), floor), color=c, lw=1.2, ls="--",
-                    label=f"b = {b} kg/s: pendula.rk4, same h = 0.05 s")
-    ax.set(title="How far the text's §2.2 listing drifts: |θ − θ_ref| (reference: " + lab + ")",
-           xlabel="time t  (s)", ylabel="|θ − θ_ref|  (rad)", ylim=(1e-12, 10))
+        ax.semilogy(
+            tl,
+            np.maximum(np.abs(thl - th_ref), floor),
+            color=c,
+            lw=1.6,
+            label=f"b = {b} kg/s: text's printed listing (typo line 67)",
+        )
+        ax.semilogy(
+            tl,
+            np.maximum(np.abs(th_rk4 - th_ref), floor),
+            color=c,
+            lw=1.2,
+            ls="--",
+            label=f"b = {b} kg/s: pendula.rk4, same h = 0.05 s",
+        )
+    ax.set(
+        title="How far the text's §2.2 listing drifts: |θ − θ_ref| (reference: " + lab + ")",
+        xlabel="time t  (s)",
+        ylabel="|θ − θ_ref|  (rad)",
+        ylim=(1e-12, 10),
+    )
     ax.title.set_fontsize(10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
@@ -185,6 +236,13 @@ def figA4_work_precision(out_dir, quick=False):
     note = str(getattr(table, "reference", "") or "")
     note = ("reference: " + note) if note else None
     path = Path(out_dir) / "figA4_work_precision_text_scene_b0.01.png"
-    return [work_precision_plot(rows, path, title="Work-precision on the text's §2.2 scene\n(b = 0.01 kg/s, "
-                                                  "m = 0.1 kg, θ0 = 0, Ω0 = 2 rad/s, t ≤ 30 s, tol 1e-6 rad)",
-                                tol=getattr(scene, "tol", None), note=note)]
+    return [
+        work_precision_plot(
+            rows,
+            path,
+            title="Work-precision on the text's §2.2 scene\n(b = 0.01 kg/s, "
+            "m = 0.1 kg, θ0 = 0, Ω0 = 2 rad/s, t ≤ 30 s, tol 1e-6 rad)",
+            tol=getattr(scene, "tol", None),
+            note=note,
+        )
+    ]

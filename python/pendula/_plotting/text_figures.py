@@ -1,16 +1,32 @@
 """The text's figures 3-15, redrawn from the library (see :mod:`pendula.figures`)."""
+
 import numpy as np
 
 import pendula as _pd
 
-from .base import (_TEXT_H, _TEXT_TEND, G, LENGTH, MASS, _exact, _linear, _need, _npts, _pi_label,
-                            _reference, _save, _small, _text_listing, _w0)
 from ..plots import _figure
-
+from .base import (
+    _TEXT_H,
+    _TEXT_TEND,
+    LENGTH,
+    MASS,
+    G,
+    _exact,
+    _linear,
+    _need,
+    _npts,
+    _pi_label,
+    _reference,
+    _save,
+    _small,
+    _text_listing,
+    _w0,
+)
 
 # --------------------------------------------------------------------------
 # §1.2: complete elliptic integral, period, theta(t) for Omega0 = 0
 # --------------------------------------------------------------------------
+
 
 def fig03_complete_elliptic_K(out_dir, quick=False):
     """Fig 3: K(k²) against the modulus k = sin(θ0/2) (listing 1.1, eq. 1.46).
@@ -20,8 +36,7 @@ def fig03_complete_elliptic_K(out_dir, quick=False):
     """
     ellipk = _need("ellipk")
     n = _npts(quick, 1200)
-    k = np.concatenate([np.linspace(0.0, 0.95, n // 2, endpoint=False),
-                        1.0 - np.geomspace(0.05, 1e-6, n // 2)])
+    k = np.concatenate([np.linspace(0.0, 0.95, n // 2, endpoint=False), 1.0 - np.geomspace(0.05, 1e-6, n // 2)])
     kc = np.sqrt((1.0 - k) * (1.0 + k))
     big_k = ellipk(k * k)
     fig, axs = _figure()
@@ -30,9 +45,13 @@ def fig03_complete_elliptic_K(out_dir, quick=False):
     sel = k > 0.6
     ax.plot(k[sel], np.log(4.0 / kc[sel]), "--", label="asymptote ln(4/√(1−k²)) as k → 1")
     ax.axhline(np.pi / 2, color="grey", lw=0.8, ls=":", label="K(0) = π/2")
-    ax.set(title="Fig 3 – Complete elliptic integral of the first kind",
-           xlabel="modulus k = sin(θ0/2)  (dimensionless)",
-           ylabel="K(k²)  (dimensionless)", xlim=(0, 1), ylim=(0, 1.05 * big_k.max()))
+    ax.set(
+        title="Fig 3 – Complete elliptic integral of the first kind",
+        xlabel="modulus k = sin(θ0/2)  (dimensionless)",
+        ylabel="K(k²)  (dimensionless)",
+        xlim=(0, 1),
+        ylim=(0, 1.05 * big_k.max()),
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left")
     return [_save(fig, out_dir, "fig03_complete_elliptic_K_vs_k.png")]
@@ -47,8 +66,7 @@ def fig04_period_vs_amplitude(out_dir, quick=False):
     period = _need("period")
     w0 = _w0()
     n = _npts(quick, 800)
-    k = np.concatenate([np.linspace(0.0, 0.95, n // 2, endpoint=False),
-                        1.0 - np.geomspace(0.05, 1e-4, n // 2)])
+    k = np.concatenate([np.linspace(0.0, 0.95, n // 2, endpoint=False), 1.0 - np.geomspace(0.05, 1e-4, n // 2)])
     theta0 = 2.0 * np.arcsin(k)
     t_exact = np.asarray(period(theta0, 0.0, w0), dtype=float)
     t0 = float(_pd.small_angle_period(w0))
@@ -56,11 +74,14 @@ def fig04_period_vs_amplitude(out_dir, quick=False):
     ax = axs[0, 0]
     ax.plot(k, t_exact, lw=2, label="exact T = 4K(k²)/w0, pendula.period (eq. 1.53)")
     ax.plot(k, np.full_like(k, t0), lw=2, label="small-angle T0 = 2π/w0 (eq. 1.8)")
-    ax.plot(k, _pd.period_series(k**2, w0), "--",
-            label="series T0 (1 + k²/4 + 9k⁴/64)")
-    ax.set(title=f"Fig 4 – Period of the simple pendulum (g = {G} m/s², l = {LENGTH} m)",
-           xlabel="sin(θ0/2)  (dimensionless)", ylabel="period  (s)", xlim=(0, 1),
-           ylim=(0, min(4 * t0, 1.05 * t_exact.max())))
+    ax.plot(k, _pd.period_series(k**2, w0), "--", label="series T0 (1 + k²/4 + 9k⁴/64)")
+    ax.set(
+        title=f"Fig 4 – Period of the simple pendulum (g = {G} m/s², l = {LENGTH} m)",
+        xlabel="sin(θ0/2)  (dimensionless)",
+        ylabel="period  (s)",
+        xlim=(0, 1),
+        ylim=(0, min(4 * t0, 1.05 * t_exact.max())),
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left")
     return [_save(fig, out_dir, "fig04_period_exact_vs_small_angle_vs_sin_half_theta0.png")]
@@ -84,8 +105,11 @@ def _theta_vs_small_angle(out_dir, key, quick):
         ths, _ = _small(t, theta0, 0.0, w0)
         ax.plot(t, th, lw=2, label="exact, pendula.undamped (eq. 1.52)")
         ax.plot(t, ths, "--", lw=1.5, label="small angle θ0 cos(w0 t) (eq. 1.18)")
-        ax.set(title=f"({tag}) θ0 = {_pi_label(frac)} rad;  max |exact − small angle| = "
-                     f"{np.max(np.abs(th - ths)):.2g} rad", ylabel="θ(t)  (rad)")
+        ax.set(
+            title=f"({tag}) θ0 = {_pi_label(frac)} rad;  max |exact − small angle| = "
+            f"{np.max(np.abs(th - ths)):.2g} rad",
+            ylabel="θ(t)  (rad)",
+        )
         ax.grid(True, alpha=0.3)
     axs[-1, 0].set_xlabel("time t  (s)")
     axs[-1, 0].legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8)
@@ -127,8 +151,11 @@ def fig08_theta_all_theta0(out_dir, quick=False):
         c = f"C{i}"
         ax.plot(t, th, color=c, lw=1.8, label=f"θ0 = {_pi_label(frac)}: exact")
         ax.plot(t, ths, color=c, lw=1.0, ls="--", label=f"θ0 = {_pi_label(frac)}: small angle")
-    ax.set(title="Fig 8 – θ(t), exact (solid) vs small angle (dashed), Ω0 = 0, w0 = √2 1/s",
-           xlabel="time t  (s)", ylabel="θ(t)  (rad)")
+    ax.set(
+        title="Fig 8 – θ(t), exact (solid) vs small angle (dashed), Ω0 = 0, w0 = √2 1/s",
+        xlabel="time t  (s)",
+        ylabel="θ(t)  (rad)",
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize=8)
     return [_save(fig, out_dir, "fig08_theta_exact_vs_small_angle_all_theta0.png")]
@@ -137,6 +164,7 @@ def fig08_theta_all_theta0(out_dir, quick=False):
 # --------------------------------------------------------------------------
 # §1.3: launch from the bottom with speed v0
 # --------------------------------------------------------------------------
+
 
 def fig09_launch_speed_series(out_dir, quick=False):
     """Fig 9: θ(t) for θ0 = 0 and v0 = 1, 1.5, 1.9, 1.999 × w0·l (eq. 1.66, listing 1.5).
@@ -155,8 +183,11 @@ def fig09_launch_speed_series(out_dir, quick=False):
         ax.plot(t, th, lw=1.6, label=f"v0 = {c:g} w0·l  (θmax = {theta_max:.3f} rad)")
     ax.axhline(np.pi, color="grey", lw=0.8, ls=":")
     ax.axhline(-np.pi, color="grey", lw=0.8, ls=":", label="±π (the top)")
-    ax.set(title="Fig 9 – θ(t) launched from θ0 = 0 with speed v0 (l = 4.9 m, w0 = √2 1/s)",
-           xlabel="time t  (s)", ylabel="θ(t)  (rad)")
+    ax.set(
+        title="Fig 9 – θ(t) launched from θ0 = 0 with speed v0 (l = 4.9 m, w0 = √2 1/s)",
+        xlabel="time t  (s)",
+        ylabel="θ(t)  (rad)",
+    )
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, fontsize=8)
     return [_save(fig, out_dir, "fig09_theta_launch_speed_v0_series.png")]
@@ -191,14 +222,24 @@ def _theta_omega_panels(out_dir, name, title, gamma_over_w0, quick, theta0=0.1, 
 
 def fig10_overdamped_gamma3(out_dir, quick=False):
     """Fig 10: overdamped θ(t) and Ω(t), γ = 3 w0, θ0 = 0.1, Ω0 ∈ {0, 0.5, -0.5} (eq. 2.27)."""
-    return _theta_omega_panels(out_dir, "fig10_overdamped_gamma_3w0_theta_omega.png",
-                               "Fig 10 – Overdamped, linear (pendula.linear_damped)", 3.0, quick)
+    return _theta_omega_panels(
+        out_dir,
+        "fig10_overdamped_gamma_3w0_theta_omega.png",
+        "Fig 10 – Overdamped, linear (pendula.linear_damped)",
+        3.0,
+        quick,
+    )
 
 
 def fig11_overdamped_gamma5(out_dir, quick=False):
     """Fig 11: overdamped θ(t) and Ω(t), γ = 5 w0, θ0 = 0.1, Ω0 ∈ {0, 0.5, -0.5} (eq. 2.27)."""
-    return _theta_omega_panels(out_dir, "fig11_overdamped_gamma_5w0_theta_omega.png",
-                               "Fig 11 – Overdamped, linear (pendula.linear_damped)", 5.0, quick)
+    return _theta_omega_panels(
+        out_dir,
+        "fig11_overdamped_gamma_5w0_theta_omega.png",
+        "Fig 11 – Overdamped, linear (pendula.linear_damped)",
+        5.0,
+        quick,
+    )
 
 
 def fig12_overdamped_phase_plane(out_dir, quick=False):
@@ -224,14 +265,18 @@ def fig12_overdamped_phase_plane(out_dir, quick=False):
 
 def fig13_critical_damping(out_dir, quick=False):
     """Fig 13: critically damped θ(t) and Ω(t), γ = 2 w0, θ0 = 0.1, Ω0 ∈ {0, 0.5, -0.5} (eq. 2.45)."""
-    return _theta_omega_panels(out_dir, "fig13_critical_damping_gamma_2w0_theta_omega.png",
-                               "Fig 13 – Critical damping, linear (pendula.linear_damped)", 2.0, quick)
+    return _theta_omega_panels(
+        out_dir,
+        "fig13_critical_damping_gamma_2w0_theta_omega.png",
+        "Fig 13 – Critical damping, linear (pendula.linear_damped)",
+        2.0,
+        quick,
+    )
 
 
 # --------------------------------------------------------------------------
 # §2.2: nonlinear damped, correct integrator vs the text's printed listing
 # --------------------------------------------------------------------------
-
 
 
 def _nonlinear_runs(b):
@@ -257,8 +302,14 @@ def fig14_nonlinear_damped(out_dir, quick=False):
         c = f"C{i}"
         drift = float(np.max(np.abs(np.interp(t, tl, thl) - th)))
         axs[0, 0].plot(t, th, color=c, lw=2, label=f"b = {b} kg/s: {lab}")
-        axs[0, 0].plot(tl, thl, color=c, lw=1.2, ls="--",
-                       label=f"b = {b} kg/s: text's printed listing (max |Δθ| = {drift:.2f} rad)")
+        axs[0, 0].plot(
+            tl,
+            thl,
+            color=c,
+            lw=1.2,
+            ls="--",
+            label=f"b = {b} kg/s: text's printed listing (max |Δθ| = {drift:.2f} rad)",
+        )
         axs[1, 0].plot(t, om, color=c, lw=2, label=f"b = {b} kg/s: {lab}")
         axs[1, 0].plot(tl, oml, color=c, lw=1.2, ls="--", label=f"b = {b} kg/s: text's printed listing")
     axs[0, 0].set(ylabel="θ(t)  (rad)", title="θ(t)")
@@ -266,9 +317,11 @@ def fig14_nonlinear_damped(out_dir, quick=False):
     for ax in axs[:, 0]:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7.5)
-    fig.suptitle("Fig 14 – Nonlinear damped pendulum (eq. 2.2), g = 9.8 m/s², l = 4.9 m, m = 0.1 kg,"
-                 "\nθ0 = 0, Ω0 = 2 rad/s: correct solution (solid) vs the text's listing as printed (dashed)",
-                 fontsize=10)
+    fig.suptitle(
+        "Fig 14 – Nonlinear damped pendulum (eq. 2.2), g = 9.8 m/s², l = 4.9 m, m = 0.1 kg,"
+        "\nθ0 = 0, Ω0 = 2 rad/s: correct solution (solid) vs the text's listing as printed (dashed)",
+        fontsize=10,
+    )
     return [_save(fig, out_dir, "fig14_nonlinear_damped_theta_omega_correct_vs_text_listing.png")]
 
 
@@ -287,7 +340,5 @@ def fig15_nonlinear_damped_phase_plane(out_dir, quick=False):
     for ax in axs[:, 0]:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("Fig 15 – Nonlinear damped pendulum, b = 0.05 kg/s (γ = 0.5 1/s), θ0 = 0, Ω0 = 2 rad/s",
-                 fontsize=10)
+    fig.suptitle("Fig 15 – Nonlinear damped pendulum, b = 0.05 kg/s (γ = 0.5 1/s), θ0 = 0, Ω0 = 2 rad/s", fontsize=10)
     return [_save(fig, out_dir, "fig15_nonlinear_damped_b0.05_theta_and_phase_plane_vs_text_listing.png")]
-
