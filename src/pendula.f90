@@ -21,7 +21,7 @@ module pendula
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, &
                               undamped_theta, undamped_omega, undamped_solve, undamped_period, undamped_amplitude, &
                               undamped_energy, undamped_regime, pendulum_energy, undamped_regime_name, &
-                              undamped_states, undamped_properties, UNDAMPED_PLAN_MIN_TIMES, undamped_plan_pays, undamped_add_plan, &
+                             undamped_states, undamped_properties, UNDAMPED_PLAN_MIN_TIMES, undamped_plan_pays, undamped_add_plan, &
                               REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_small_angle, only: small_angle, harmonic_state, small_angle_solve, small_angle_eval, &
                                  small_angle_bound, small_angle_phase_drift

@@ -30,9 +30,9 @@ fprettify="$(tool fprettify)"
 
 # The Fortran style: 2-space indents; fprettify changes whitespace only (no case
 # changes, no operator replacements) and leaves a line alone that would exceed
-# 150 characters once indented.
+# 132 characters (gfortran's free-form limit) once indented.
 fortran_dirs=(src tests/fortran examples/fortran python/f2py)
-fprettify_opts=(--indent 2 --line-length 150 --whitespace 2 --silent)
+fprettify_opts=(--indent 2 --line-length 132 --whitespace 2 --silent)
 fortran_files() {
   git ls-files -- "${fortran_dirs[@]}" | grep -E '\.(f90|F90)$' || true   # not the .inc fragments: no context
 }

@@ -14,9 +14,9 @@ program example_fit_period
   implicit none
   real(wp), parameter :: length = 0.750_wp, bob = 0.020_wp
   real(wp), parameter :: degrees(15) = [9.69_wp, 19.80_wp, 30.27_wp, 39.93_wp, 49.31_wp, 59.76_wp, &
-                                        70.33_wp, 79.88_wp, 89.93_wp, 100.32_wp, 110.91_wp, 119.64_wp, 130.67_wp, 139.38_wp, 150.09_wp]
+                                     70.33_wp, 79.88_wp, 89.93_wp, 100.32_wp, 110.91_wp, 119.64_wp, 130.67_wp, 139.38_wp, 150.09_wp]
   real(wp), parameter :: periods(15) = [1.73928_wp, 1.75136_wp, 1.76401_wp, 1.79480_wp, 1.82533_wp, &
-                                        1.86413_wp, 1.91441_wp, 1.97706_wp, 2.05037_wp, 2.14061_wp, 2.25216_wp, 2.38648_wp, 2.55376_wp, &
+                                   1.86413_wp, 1.91441_wp, 1.97706_wp, 2.05037_wp, 2.14061_wp, 2.25216_wp, 2.38648_wp, 2.55376_wp, &
                                         2.77026_wp, 3.06224_wp]
   type(period_fit_t) :: fit
   type(status_t) :: st

@@ -22,7 +22,7 @@ subroutine driven_f2py(nt, n, no, nw, ng, na, nf, np, t, theta0, omega0, w0, gam
   integer :: ff
   if (richardson /= 0) then
     call driven_batch_solve(t, theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), theta, omega, &
-                            codes, st, threads=int(threads), control=control, first_failed=ff, err_theta=err_theta, err_omega=err_omega)
+                        codes, st, threads=int(threads), control=control, first_failed=ff, err_theta=err_theta, err_omega=err_omega)
   else
     call driven_batch_solve(t, theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), theta, omega, &
                             codes, st, threads=int(threads), control=control, first_failed=ff)
@@ -34,7 +34,7 @@ subroutine driven_f2py(nt, n, no, nw, ng, na, nf, np, t, theta0, omega0, w0, gam
 end subroutine driven_f2py
 
 subroutine poincare_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-                         section_phase, transient, nrec, threads, control, theta_s, omega_s, mean_omega, codes, first_failed, code, msg)
+                     section_phase, transient, nrec, threads, control, theta_s, omega_s, mean_omega, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_maps, only: driven_poincare
@@ -80,7 +80,7 @@ subroutine lyapunov_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, k
 end subroutine lyapunov_f2py
 
 subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-                       period_in, transient, nmax, tol, threads, control, period, winding, theta_p, omega_p, mult, residual, codes, &
+                      period_in, transient, nmax, tol, threads, control, period, winding, theta_p, omega_p, mult, residual, codes, &
                        first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack

@@ -81,7 +81,7 @@ end subroutine scene_event_bound_f2py
 ! numbers of the result, at the SCENE_INFO_* slots of pendula_scene_codes
 ! (ninfo = SCENE_INFO_SIZE, which Python reads from pendula/_codes.py).
 subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, m, ninfo, &
-                            max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
+                     max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
                             info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
@@ -91,7 +91,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   use pendula_scene, only: scene_t, scene_result_t, scene_solve, scene_run_model
   use pendula_scene_codes, only: SCENE_INFO_SIZE, SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, &
                                  SCENE_INFO_PERIOD, SCENE_INFO_WALL_TIME, SCENE_INFO_CLOSED_FORM_EVALS, SCENE_INFO_RHS_EVALS, &
-                                 SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
+                              SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
                                  SCENE_INFO_RTOL
   implicit none
   include 'pendula_msg_len.inc'
@@ -128,7 +128,7 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   info = 0
   reason = ''
   if (ninfo /= SCENE_INFO_SIZE) call set_error(st, PENDULA_ERR_SIZE, 'info has '//format_int(ninfo)// &
-                                               ' slots, the result has '//format_int(SCENE_INFO_SIZE)//': pendula/_codes.py is stale, rebuild')
+                                    ' slots, the result has '//format_int(SCENE_INFO_SIZE)//': pendula/_codes.py is stale, rebuild')
   call status_unpack(st, code, msg)
   if (st%code /= PENDULA_OK) return
   ! the times copied into a checked allocation (not by the constructor)

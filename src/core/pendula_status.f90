@@ -45,10 +45,10 @@ module pendula_status
   ! code_name's table
   integer, parameter :: STATUS_CODES(11) = [PENDULA_OK, PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN, &
                                             PENDULA_ERR_SIZE, PENDULA_ERR_ORDER, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SOLVER, &
-                                            PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY]
+                                           PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED, PENDULA_ERR_MEMORY]
   character(len=27), parameter :: STATUS_NAMES(11) = [character(len=27) :: 'ok', 'non-finite argument', &
-                                                                 'argument out of range', 'bad array size', 'times not increasing', 'unstable step', &
-                                               'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled', 'out of memory']
+                                               'argument out of range', 'bad array size', 'times not increasing', 'unstable step', &
+                             'solver failure', 'not available in this build', 'step budget exhausted', 'cancelled', 'out of memory']
 
   !> Outcome of a call: `code == PENDULA_OK` on success, otherwise a code from
   !> the table above and a message naming the argument and its valid range.

@@ -49,7 +49,7 @@ contains
     type(status_t), intent(inout) :: status  !< receives the error unless one is set already
     if (status%code /= PENDULA_OK) return
     if (kind /= DRIVE_TORQUE .and. kind /= DRIVE_PIVOT) call set_error(status, PENDULA_ERR_DOMAIN, &
-                                                      'drive kind = '//format_int(kind)//' is out of range: it must be '//format_int(DRIVE_TORQUE)// &
+                                    'drive kind = '//format_int(kind)//' is out of range: it must be '//format_int(DRIVE_TORQUE)// &
                                                                        ' (torque) or '//format_int(DRIVE_PIVOT)//' (pivot)')
   end subroutine check_drive_kind
 
@@ -90,7 +90,7 @@ contains
     if (drive%kind == DRIVE_PIVOT) rate = rate + abs(drive%amplitude)*drive%frequency**2
     rate = max(sqrt(rate), gamma)
     if (.not. h*rate <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'steps_per_period = '// &
-                                               format_int(nsteps)//' is too few for these w0, gamma and drive: it must be at least '// &
+                                           format_int(nsteps)//' is too few for these w0, gamma and drive: it must be at least '// &
                                                format_int(int(min(2*pi/drive%frequency*rate/1.5_wp, 1.0e9_wp)) + 1))
   end subroutine check_driven
 

@@ -58,7 +58,7 @@ contains
     omega = 0
     call check_drive(drive, status)
     if (status%code == PENDULA_OK .and. drive%kind /= DRIVE_TORQUE) call set_error(status, PENDULA_ERR_DOMAIN, &
-                                                                         'drive kind is pivot: the linear closed form exists for a torque drive only')
+                                                       'drive kind is pivot: the linear closed form exists for a torque drive only')
     call check_all_finite('t', t, status)
     if (status%code == PENDULA_OK .and. size(t) > 0) then
       if (minval(t) < 0) call set_error(status, PENDULA_ERR_DOMAIN, 't has a negative time: every time must be >= 0')

@@ -202,7 +202,7 @@ contains
   !> from the same (theta0, omega0).  Outputs as driven_poincare with
   !> n = size(values).
   subroutine driven_bifurcation(which, values, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-                                section_phase, transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
+                        section_phase, transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
     integer, intent(in) :: which  !< the parameter varied (PARAM_* code)
     real(wp), intent(in) :: values(:)  !< its values, size >= 1
     real(wp), intent(in) :: theta0  !< initial angle [rad] at t = 0

@@ -163,7 +163,7 @@ contains
   !> period_in has n elements or one.  codes, status, threads, control
   !> (progress = finished states) and first_failed as driven_poincare.
   subroutine driven_orbits(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, period_in, transient, &
-                           nmax, tol, period, winding, theta_p, omega_p, mult, residual, codes, status, threads, control, first_failed)
+                        nmax, tol, period, winding, theta_p, omega_p, mult, residual, codes, status, threads, control, first_failed)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n or 1
     real(wp), intent(in) :: w0(:)  !< small-angle angular frequencies [1/s], > 0, n or 1
@@ -206,8 +206,8 @@ contains
     call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
     call check_search(transient, nmax, tol, status)
     if (status%code == PENDULA_OK .and. size(period_in) /= 1 .and. size(period_in) /= n) call set_error(status, &
-                                                                                   PENDULA_ERR_SIZE, 'period_in has '//format_int(size(period_in))// &
-                                                                           ' element(s): it must have one or as many as theta0 ('//format_int(n)//')')
+                                                                 PENDULA_ERR_SIZE, 'period_in has '//format_int(size(period_in))// &
+                                                         ' element(s): it must have one or as many as theta0 ('//format_int(n)//')')
     if (status%code == PENDULA_OK .and. (minval(period_in) < 0 .or. maxval(period_in) > ORBIT_MAX_PERIOD)) &
       call set_error(status, PENDULA_ERR_DOMAIN, 'period = '//format_int(maxval(abs(period_in)))// &
                      ' is out of range: it must be in [0, '//format_int(ORBIT_MAX_PERIOD)//'] (0: detect)')

@@ -100,11 +100,11 @@ contains
     ! the kernels' sine takes |theta| < 1e15 (pendula_driven_kernel); a start
     ! that turns by more than 1.5 rad in one step is not resolved
     if (.not. abs(p%theta0(i)) < 1.0e15_wp) call set_error(status, PENDULA_ERR_DOMAIN, 'theta0 = '// &
-                                                           format_general(p%theta0(i), 15)//' is out of range: |theta0| must be < 1e15 rad')
+                                                   format_general(p%theta0(i), 15)//' is out of range: |theta0| must be < 1e15 rad')
     h = 2*pi/(pick(p%freq, i)*p%nsteps)
     if (.not. abs(pick(p%omega0, i))*h <= 1.5_wp) call set_error(status, PENDULA_ERR_UNSTABLE, 'omega0 = '// &
-                                               format_general(pick(p%omega0, i), 15)//' is too fast for steps_per_period = '//format_int(p%nsteps)// &
-                                                     ': |omega0| h must be <= 1.5 (h = 2 pi/(Omega steps_per_period) = '//format_general(h, 6)//' s)')
+                             format_general(pick(p%omega0, i), 15)//' is too fast for steps_per_period = '//format_int(p%nsteps)// &
+                                   ': |omega0| h must be <= 1.5 (h = 2 pi/(Omega steps_per_period) = '//format_general(h, 6)//' s)')
   end subroutine params_state
 
   !> Check every state: codes(i) = its status code (PENDULA_ERR_CANCELLED for

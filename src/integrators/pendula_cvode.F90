@@ -126,7 +126,7 @@ contains
   !> more occurred.  Event times are accurate to about the integration error.
   !> control: as for cvode_solve.
   subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-                                theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                           theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
     real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
@@ -191,7 +191,7 @@ contains
     ! A solver of its own for this one call, freed on every path.
     call cvode_work_open(work, method, status)
     if (status%code == PENDULA_OK) call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
-                                            with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
+                            with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
                                             stats, status, control)
     call cvode_work_close(work, status)
   end subroutine solve

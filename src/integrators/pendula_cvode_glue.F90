@@ -54,22 +54,22 @@ module pendula_cvode_glue
 
   ! The names and meanings of CVODE's failure flags, for messages.
   integer, parameter :: FLAG_CODES(21) = [integer :: CV_TOO_MUCH_WORK, CV_TOO_MUCH_ACC, CV_ERR_FAILURE, &
-                                                                    CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
-                                                                   CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
-                                                           CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
+                                                  CV_CONV_FAILURE, CV_LINIT_FAIL, CV_LSETUP_FAIL, CV_LSOLVE_FAIL, CV_RHSFUNC_FAIL, &
+                                                 CV_FIRST_RHSFUNC_ERR, CV_REPTD_RHSFUNC_ERR, CV_UNREC_RHSFUNC_ERR, CV_RTFUNC_FAIL, &
+                                         CV_NLS_INIT_FAIL, CV_NLS_SETUP_FAIL, CV_NLS_FAIL, CV_MEM_FAIL, CV_MEM_NULL, CV_ILL_INPUT, &
                                                                                              CV_NO_MALLOC, CV_BAD_T, CV_TOO_CLOSE]
   character(len=20), parameter :: FLAG_NAMES(21) = [character(len=20) :: 'CV_TOO_MUCH_WORK', &
-                                                                                                                'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
-                                                          'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
-                                                           'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
-                                               'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
-                                                                                                           'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE']
+                                                                                              'CV_TOO_MUCH_ACC', 'CV_ERR_FAILURE', &
+                                        'CV_CONV_FAILURE', 'CV_LINIT_FAIL', 'CV_LSETUP_FAIL', 'CV_LSOLVE_FAIL', 'CV_RHSFUNC_FAIL', &
+                                         'CV_FIRST_RHSFUNC_ERR', 'CV_REPTD_RHSFUNC_ERR', 'CV_UNREC_RHSFUNC_ERR', 'CV_RTFUNC_FAIL', &
+                             'CV_NLS_INIT_FAIL', 'CV_NLS_SETUP_FAIL', 'CV_NLS_FAIL', 'CV_MEM_FAIL', 'CV_MEM_NULL', 'CV_ILL_INPUT', &
+                                                                                         'CV_NO_MALLOC', 'CV_BAD_T', 'CV_TOO_CLOSE']
   integer, parameter :: MEANING_CODES(5) = [integer :: CV_TOO_MUCH_ACC, CV_ERR_FAILURE, CV_CONV_FAILURE, &
                                                                                                  CV_MEM_FAIL, CV_ILL_INPUT]
   character(len=60), parameter :: MEANINGS(5) = [character(len=60) :: 'the requested accuracy could not be met', &
-                                                                                     'repeated error-test failures (the step size hit its minimum)', &
-                                                                                  'repeated nonlinear-solver convergence failures', 'out of memory', &
-                                                                                                                     'an input to CVODE was invalid']
+                                                                   'repeated error-test failures (the step size hit its minimum)', &
+                                                                'repeated nonlinear-solver convergence failures', 'out of memory', &
+                                                                                                    'an input to CVODE was invalid']
   character(len=*), parameter :: MEANING_FALLBACK = 'see the SUNDIALS CVODE documentation'
 
 contains

@@ -106,7 +106,7 @@ contains
     if (present(first_failed)) first_failed = 0
     call check_call(t, n, omega0, w0, gamma, h, theta, omega, codes, steps, threads, status)
     if (status%code == PENDULA_OK .and. budget < 1) call set_error(status, PENDULA_ERR_DOMAIN, &
-                                                                   'max_steps = '//format_int(budget)//' is out of range: it must be >= 1')
+                                                            'max_steps = '//format_int(budget)//' is out of range: it must be >= 1')
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -197,7 +197,7 @@ contains
     call check_problem(t, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, status)
     if (status%code /= PENDULA_OK) return
     call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), size(h)] == 1 .or. &
-                                            [size(omega0), size(w0), size(gamma), size(h)] == n), 'omega0, w0, gamma and h', theta, omega, &
+                                    [size(omega0), size(w0), size(gamma), size(h)] == n), 'omega0, w0, gamma and h', theta, omega, &
                             size(codes), size(steps), 'steps', threads, status)
   end subroutine check_call
 

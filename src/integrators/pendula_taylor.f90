@@ -24,7 +24,7 @@ module pendula_taylor
   use pendula_constants, only: two_pi, two_pi_lo
   use pendula_format, only: format_short
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, check_size, &
-                            check_same_size, check_all_finite, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_SOLVER, &
+                         check_same_size, check_all_finite, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_SOLVER, &
                             PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
@@ -109,9 +109,9 @@ contains
     call check_nonnegative('gamma', gamma, status)
     call check_positive('tol', tol, status)
     if (status%code == PENDULA_OK .and. tol > 1) call set_error(status, PENDULA_ERR_DOMAIN, 'tol = '// &
-                                                               format_short(tol)//' is out of range: it must be in (0, 1] (absolute accuracy in rad)')
+                                             format_short(tol)//' is out of range: it must be in (0, 1] (absolute accuracy in rad)')
     if (status%code == PENDULA_OK .and. max_steps < 1) call set_error(status, PENDULA_ERR_DOMAIN, &
-                                                               'max_steps = '//format_short(real(max_steps, wp))//' is out of range: it must be >= 1')
+                                             'max_steps = '//format_short(real(max_steps, wp))//' is out of range: it must be >= 1')
   end subroutine taylor_check
 
   !> The status of a taylor_run outcome (PENDULA_OK, PENDULA_ERR_SOLVER,
@@ -184,7 +184,7 @@ contains
   !> on the step polynomials to machine precision in time.  The first
   !> size(event_t) events are kept (truncated tells whether more occurred).
   subroutine taylor_solve_events(t, theta0, omega0, w0, gamma, tol, theta, omega, err, &
-                                 event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, control, max_steps)
+                       event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, control, max_steps)
     real(wp), intent(in) :: t(:)  !< output times [s], as for taylor_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite

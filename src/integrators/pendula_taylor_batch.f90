@@ -65,7 +65,7 @@ contains
     if (present(first_failed)) first_failed = 0
     call taylor_check(t, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0_wp, budget, status)
     if (status%code == PENDULA_OK) call check_batch_shapes(size(t), n, all([size(omega0), size(w0), size(gamma), &
-                                           size(tol)] == 1 .or. [size(omega0), size(w0), size(gamma), size(tol)] == n), 'omega0, w0, gamma and tol', &
+                         size(tol)] == 1 .or. [size(omega0), size(w0), size(gamma), size(tol)] == n), 'omega0, w0, gamma and tol', &
                                                            theta, omega, size(codes), size(steps), 'steps', threads, status)
     call check_same_size('err', size(err), 'theta', size(theta), status)
     call check_same_size('order', size(order), 'steps', size(steps), status)

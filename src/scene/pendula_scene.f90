@@ -48,7 +48,7 @@ module pendula_scene
   use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, cvode_available
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
-                                 scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
+                               scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
                                  SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
                                  SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats
@@ -169,7 +169,7 @@ contains
     call check_scene(scene, status)
     call get_budget(budget, status, max_steps)
     if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_CVODE) call set_error(status, &
-                                                              PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown: it must be one of '// &
+                                            PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown: it must be one of '// &
                                                                                        scene_model_list(SCENE_MODEL_SMALL_ANGLE))
     if (status%code /= PENDULA_OK) return
     call check_model_gamma(model, scene%gamma, status)
@@ -184,7 +184,7 @@ contains
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       call check_positive('setting', setting, status)
       if (scene%want == SCENE_WANT_PERIOD) call set_error(status, PENDULA_ERR_DOMAIN, 'want = period with '// &
-                                                         'model = '//scene_model_name(model)//': a fixed-setting run gives no period; the period '// &
+                                       'model = '//scene_model_name(model)//': a fixed-setting run gives no period; the period '// &
                                                           'comes from the exact closed form (model exact, or solve)')
       if (status%code /= PENDULA_OK) return
       if (model == SCENE_MODEL_RK4 .and. tend/setting > budget) then
@@ -299,8 +299,8 @@ contains
     if (.not. allocated(result%event_t)) return
     nmax = scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0)
     if (size(result%event_t, kind=i8) > nmax) call set_error(status, PENDULA_ERR_SOLVER, 'found '// &
-                                                             format_int(size(result%event_t))//' events in t = 0 .. '//format_sci(tend, 4)// &
-                                                             ', more than the '//format_int(nmax)//' the motion can have (2 floor(w0 t/pi) + 3 + '// &
+                                                   format_int(size(result%event_t))//' events in t = 0 .. '//format_sci(tend, 4)// &
+                                           ', more than the '//format_int(nmax)//' the motion can have (2 floor(w0 t/pi) + 3 + '// &
                                                              'floor(Omega_max t/(2 pi))): '// &
                                                              'the sampled trajectory is not resolved; give a smaller tol')
   end subroutine check_event_count

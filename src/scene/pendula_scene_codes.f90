@@ -80,8 +80,8 @@ module pendula_scene_codes
                         SCENE_INFO_STEP = 11, SCENE_INFO_RTOL = 12, SCENE_INFO_SIZE = 12
   !> Names of the slots, indexed as above.
   character(len=*), parameter :: SCENE_INFO_NAMES(SCENE_INFO_SIZE) = [character(len=17) :: &
-                                                               'error_estimate', 'setting', 'period', 'wall_time', 'closed_form_evals', 'rhs_evals', &
-                                                                      'steps', 'runs', 'tol_met', 'event_time_error', 'step', 'rtol']
+                                             'error_estimate', 'setting', 'period', 'wall_time', 'closed_form_evals', 'rhs_evals', &
+                                                                     'steps', 'runs', 'tol_met', 'event_time_error', 'step', 'rtol']
 
 contains
 

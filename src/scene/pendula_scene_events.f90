@@ -180,7 +180,8 @@ contains
   !> (and (1 + a min(tau, 1/w_d)) for Omega).  Envelopes: the amplitude R at
   !> beta = a (under-damped), and, any regime, from e^(-rho s)(|x0| + |v0 + a
   !> x0| s): R = |x0| + 2 |v0 + a x0|/(rho e) at beta = rho/2; under-damped
-  !> also linear_estimate's phase-drift estimate at tau; the smallest is used.  The forcing is taken on the linear solution (as linear_estimate
+  !> also linear_estimate's phase-drift estimate at tau; the smallest is used.  The forcing is
+  !> taken on the linear solution (as linear_estimate
   !> does), hence the same safety factor SCENE_LINEAR_SAFETY; plus rounding, relative to the
   !> envelope.
   elemental real(wp) function linear_error_at(x0, v0, w0, gamma, tau) result(e)

@@ -235,7 +235,7 @@ contains
         elev = linear_error_at(xs, vs, scene%w0, scene%gamma, lres%event_t) + &
                propagator_gain(scene%w0, scene%gamma, lres%event_t)*(e1 + 2*epsilon(1.0_wp)*abs(center))
         unverified = .not. lres%event_time_error < huge(1.0_wp) .or. any(abs(ts + lres%event_t - tend) <= &
-                                                                       elev/event_rate(lres%event_kind, lres%event_theta, lres%event_omega, scene%w0))
+                                                     elev/event_rate(lres%event_kind, lres%event_theta, lres%event_omega, scene%w0))
         nl = count(ts + lres%event_t <= tend)
         cand = fresh
         cand%event_t = [evs%event_t, ts + lres%event_t(1:nl)]

@@ -6,7 +6,7 @@ module pendula_scene_setup
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, &
-                            check_increasing, check_size, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
+                check_increasing, check_size, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNAVAILABLE, PENDULA_ERR_SIZE
   use pendula_physics, only: natural_frequency, damping_rate
   use pendula_double_double, only: dd_div_d, dd_sqrt
   use pendula_undamped, only: pendulum_energy
@@ -156,8 +156,8 @@ contains
     type(status_t), intent(inout) :: status
     if (status%code /= PENDULA_OK) return
     if (.not. abs(w0lo) <= epsilon(w0)*w0) call set_error(status, PENDULA_ERR_DOMAIN, 'w0lo = '// &
-                                                     format_sci(w0lo, 4)//' is out of range: the rounding residual of w0 must be within eps w0 = '// &
-                                                          format_sci(epsilon(w0)*w0, 4)//' (from scene_physics; 0 when w0 is the datum)')
+                                   format_sci(w0lo, 4)//' is out of range: the rounding residual of w0 must be within eps w0 = '// &
+                                                     format_sci(epsilon(w0)*w0, 4)//' (from scene_physics; 0 when w0 is the datum)')
   end subroutine check_w0lo
 
   ! The rules on a scene's fields (scene_init).
@@ -216,7 +216,7 @@ contains
     integer, intent(in) :: model  !< model code, SCENE_MODEL_*
     type(status_t), intent(inout) :: status  !< PENDULA_ERR_UNAVAILABLE for cvode without SUNDIALS, else left unchanged
     if (model == SCENE_MODEL_CVODE .and. .not. cvode_available()) call set_error(status, &
-                                                          PENDULA_ERR_UNAVAILABLE, 'model = cvode is not available: this build has no SUNDIALS CVODE')
+                                        PENDULA_ERR_UNAVAILABLE, 'model = cvode is not available: this build has no SUNDIALS CVODE')
   end subroutine check_model_built
 
   !> The work budget [RK4 steps] from the optional max_steps (>= 1; default SCENE_STEP_CAP).

@@ -32,7 +32,7 @@
 module pendula_undamped
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
                                      undamped_period, undamped_amplitude, undamped_energy, &
-                                     undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan, &
+                                    undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, undamped_theta, undamped_omega
   use pendula_angle_dd, only: reduce_angle_2pi

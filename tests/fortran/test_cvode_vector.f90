@@ -34,10 +34,10 @@ program test_cvode_vector
   ! Data sets (rows: vector 1..NV, columns: component); set 2 repeats values
   ! and their negatives so that sums and differences cancel to zeros.
   real(wp), parameter :: data(2, NV, 3) = reshape([ &
-                                                  0.3_wp, -1.7_wp, 2.5_wp, 1.0_wp/3, -4.0e4_wp, 1.0e-3_wp, 7.1e-2_wp, -3.0e3_wp, 0.9_wp, 0.25_wp, &
+                                   0.3_wp, -1.7_wp, 2.5_wp, 1.0_wp/3, -4.0e4_wp, 1.0e-3_wp, 7.1e-2_wp, -3.0e3_wp, 0.9_wp, 0.25_wp, &
                                                   1.0_wp/3, -2.0_wp/7, 1.0_wp/3, 2.0_wp/7, -1.0_wp/3, 2.0_wp/7, 0.1_wp, -0.1_wp, &
                                                   2.0_wp/7, 1.0_wp/3, &
-                                                  1.0e-5_wp, 3.0e4_wp, -7.0_wp, 7.0_wp, 1.25_wp, -1.0e-4_wp, 6.0_wp, 6.0_wp, -0.7_wp, 0.7_wp], &
+                                      1.0e-5_wp, 3.0e4_wp, -7.0_wp, 7.0_wp, 1.25_wp, -1.0e-4_wp, 6.0_wp, 6.0_wp, -0.7_wp, 0.7_wp], &
                                                   [2, NV, 3])
 
   type(checker_t) :: tc
@@ -200,7 +200,7 @@ contains
         call tc%check_true(same_real(FN_VWrmsNorm(plain(i)%p, plain(j)%p), FN_VWrmsNorm(pair(i)%p, pair(j)%p)), &
                            label('N_VWrmsNorm', set, real(i, wp), real(j, wp)))
         call tc%check_true(same_real(FN_VWSqrSumLocal(plain(i)%p, plain(j)%p), &
-                                     FN_VWSqrSumLocal(pair(i)%p, pair(j)%p)), label('N_VWSqrSumLocal', set, real(i, wp), real(j, wp)))
+                                   FN_VWSqrSumLocal(pair(i)%p, pair(j)%p)), label('N_VWSqrSumLocal', set, real(i, wp), real(j, wp)))
       end do
     end do
   end subroutine test_reductions

@@ -22,7 +22,7 @@ program test_format_digits
   type(checker_t) :: t
   integer, parameter :: KINDS = 6
   character(len=*), parameter :: kind_names(KINDS) = [character(len=14) :: 'random bits', &
-                                                                             'log-uniform', 'subnormal', 'power of ten', 'carry 9.9..95', 'exact tie']
+                                                           'log-uniform', 'subnormal', 'power of ten', 'carry 9.9..95', 'exact tie']
   integer(i8) :: n_fast(KINDS), n_sig(KINDS), n_fix(KINDS), n_tie_sig, n_tie_fast, n_range, n_declined
   integer :: i, kind, bad, n_values, e
   logical :: declined
@@ -58,7 +58,7 @@ program test_format_digits
   end do
 
   call t%check_true(bad == 0, 'fast digits equal the exact digits ('//format_int(sum(n_sig) + &
-                                                                       sum(n_fix))//' cases, '//format_int(sum(n_fast))//' decided by the fast path)')
+                                                     sum(n_fix))//' cases, '//format_int(sum(n_fast))//' decided by the fast path)')
   do kind = 1, KINDS
     print '(a)', '  '//kind_names(kind)//': '//format_int(n_sig(kind))//' sig + '// &
       format_int(n_fix(kind))//' fixed cases, '//format_int(n_fast(kind))//' fast'

@@ -17,7 +17,7 @@ program test_scene
   ! the linear model's estimate at the ends of its ranges: theta0, Omega0/w0,
   ! gamma/w0 (critical, just off it, heavy, vanishing) and w0 tend (to 1e12)
   real(wp), parameter :: LIN_CASES(4, 10) = reshape([ &
-                                                    1.0e-3_wp, 0.0_wp, 2.0_wp, 10.0_wp, 0.3_wp, -0.5_wp, 2.000000000002_wp, 10.0_wp, &
+                                                  1.0e-3_wp, 0.0_wp, 2.0_wp, 10.0_wp, 0.3_wp, -0.5_wp, 2.000000000002_wp, 10.0_wp, &
                                                     0.5_wp, -0.4_wp, 1.999999_wp, 7.0_wp, 0.3_wp, 0.0_wp, 2.0e8_wp, 10.0_wp, &
                                                     0.0_wp, 50.0_wp, 2.0e8_wp, 1.0e-6_wp, 0.2_wp, 0.1_wp, 1.0e-300_wp, 1.0e6_wp, &
                                                     0.2_wp, 0.1_wp, 1.0e-3_wp, 1.0e12_wp, 1.0e-300_wp, 0.0_wp, 0.5_wp, 100.0_wp, &
