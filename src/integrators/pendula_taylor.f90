@@ -304,7 +304,7 @@ contains
     real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0sq, eps_s
     real(wp) :: big_a, big_d, g, ec, es, loc, lgr, s0abs, sn, cs, xe, ve, xel, vel, tau, s, e
-    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc
+    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed
     integer :: n, i
     n = size(t)
     theta(1) = theta0
@@ -366,21 +366,22 @@ contains
       else
         h = sign(habs, rem)
       end if
-      ! the outputs inside this step, from its polynomial
+      ! the outputs inside this step, from its polynomial (what was committed
+      ! before the step is the same for all of them: formed once)
+      committed = -1
       do while (i <= n)
         call two_sum(t(i), -th, ds, de)
         d = ds + (de - tl)
         if (abs(d) > abs(h) .and. h /= rem) exit
-        call dense(d, theta(i), xel, omega(i), vel)
-        call local_error(d, trc, rnd)
-        err(i) = TAYLOR_SAFETY*(sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd) + &
-                 ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
+        if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part())
+        call dense_error(d, theta(i), xel, omega(i), vel, trc, rnd)
+        err(i) = TAYLOR_SAFETY*(committed + trc + rnd) + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
         i = i + 1
       end do
       if (with_events) call events_in_step(h)
       if (h == rem) exit
       ! advance the double-double state and time by the full step
-      call dense(h, xe, xel, ve, vel)
+      call dense_error(h, xe, xel, ve, vel, trc, rnd)
       if (.not. (abs(xe) <= huge(1.0_wp) .and. abs(ve) <= huge(1.0_wp))) then
         outcome = PENDULA_ERR_SOLVER
         t_fail = th
@@ -394,7 +395,6 @@ contains
         g = 1.1_wp*min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
       end if
       big_d = big_d + w0*habs*min(g*big_a, lgr*(big_a + big_d))
-      call local_error(h, trc, rnd)
       big_a = big_a + trc
       ! rounding: independent from step to step, so summed in quadrature, each
       ! share grown by the integrated shear since it was made (gam)
@@ -463,28 +463,47 @@ contains
       vol = lo - (vo - s1)
     end subroutine dense
 
-    ! Local error bounds of the polynomial at offset dd, in the max norm of
-    ! (theta, Omega/w0): trc, twice the first omitted term (the tail of a
+    ! The state at offset dd (as dense) and the local error bounds of the
+    ! polynomial there, in the max norm of (theta, Omega/w0), in one pass over
+    ! the coefficients: trc, twice the first omitted term (the tail of a
     ! series decaying at least by 1/2 a term; ~e**-2 at the optimal order),
     ! and rnd, ROUND_ULPS ulps of the absolute terms.
-    subroutine local_error(dd, trc_, rnd_)
+    subroutine dense_error(dd, xo, xol, vo, vol, trc_, rnd_)
       real(wp), intent(in) :: dd
-      real(wp), intent(out) :: trc_, rnd_
-      real(wp) :: a, sx, sv, ap
+      real(wp), intent(out) :: xo, xol, vo, vol, trc_, rnd_
+      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb, a, sx, sv, ap
       integer :: k
+      call two_prod(vh, dd, p1, e1)
       a = abs(dd)
-      sx = abs(x(p + 1))*a
-      sv = abs(v(p + 1))*a
-      ap = a
-      do k = p, 2, -1
+      sx = (abs(x(p + 1))*a + abs(x(p)))*a
+      sv = (abs(v(p + 1))*a + abs(v(p)))*a
+      ap = a*a
+      rest = x(p)
+      rv = v(p)
+      do k = p - 1, 2, -1
+        rest = rest*dd + x(k)
+        rv = rv*dd + v(k)
         sx = (sx + abs(x(k)))*a
         sv = (sv + abs(v(k)))*a
         ap = ap*a
       end do
-      ! sx = sum_{k=2..p+1} |x(k)| a**(k-1), ap = a**p; the first omitted terms alone:
       trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*(ap*a)
       rnd_ = ROUND_ULPS*ULP*(sx*a + (s0abs*a + sv*a)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
-    end subroutine local_error
+      rest = rest*dd*dd
+      rv = (rv*dd + v(1))*dd
+      s1 = xh + p1
+      bb = s1 - xh
+      e2 = (xh - (s1 - bb)) + (p1 - bb)
+      lo = e2 + (e1 + vl*dd + xl + rest)
+      xo = s1 + lo
+      xol = lo - (xo - s1)
+      s1 = vh + rv
+      bb = s1 - vh
+      e2 = (vh - (s1 - bb)) + (rv - bb)
+      lo = e2 + vl
+      vo = s1 + lo
+      vol = lo - (vo - s1)
+    end subroutine dense_error
 
     ! The rounding so far, grown by the shear: sqrt(sum r_i**2 (1 + Gamma -
     ! Gamma_i)**2) with Gamma the integrated shear, capped by the Gronwall

@@ -49,48 +49,47 @@ contains
     real(wp), intent(out) :: s0abs  !< abs(gamma vh) + w0sq abs(sin theta): size of v(1)'s terms
     real(wp), intent(out) :: sn  !< sin(theta)
     real(wp), intent(out) :: cs  !< cos(theta)
-    real(wp) :: s(0:TAYLOR_MAX_ORDER), c(0:TAYLOR_MAX_ORDER), sh, ch, as, ac, as2, ac2, as3, ac3, as4, ac4
-    integer :: k, j
+    ! cs2(1, k) = c(k), cs2(2, k) = s(k) side by side: the sums for s(k) (over
+    ! c) and c(k) (over s) share every v(j-1) and run as one two-lane vector
+    ! operation; each lane's arithmetic is the scalar sum's, term by term.
+    real(wp) :: cs2(2, 0:TAYLOR_MAX_ORDER), a1(2), a2(2), a3(2), a4(2), sh, ch
+    integer :: k, j, l
     sh = sin(xh)
     ch = cos(xh)
-    s(0) = sh + ch*xl
-    c(0) = ch - sh*xl
-    sn = s(0)
-    cs = c(0)
+    cs2(2, 0) = sh + ch*xl
+    cs2(1, 0) = ch - sh*xl
+    sn = cs2(2, 0)
+    cs = cs2(1, 0)
     x(0) = xh
     v(0) = vh
     x(1) = vh
-    v(1) = -gamma*vh - w0sq*s(0)
-    s0abs = abs(gamma*vh) + w0sq*abs(s(0))
+    v(1) = -gamma*vh - w0sq*sn
+    s0abs = abs(gamma*vh) + w0sq*abs(sn)
     ! k x(k) = v(k-1), so s(k) = (1/k) sum_j v(j-1) c(k-j) (and c likewise).
     ! Four partial sums per series (j mod 4) break the add latency chain.
     do k = 1, p
-      as = 0
-      ac = 0
-      as2 = 0
-      ac2 = 0
-      as3 = 0
-      ac3 = 0
-      as4 = 0
-      ac4 = 0
+      a1 = 0
+      a2 = 0
+      a3 = 0
+      a4 = 0
       do j = 1, k - 3, 4
-        as = as + v(j - 1)*c(k - j)
-        ac = ac + v(j - 1)*s(k - j)
-        as2 = as2 + v(j)*c(k - j - 1)
-        ac2 = ac2 + v(j)*s(k - j - 1)
-        as3 = as3 + v(j + 1)*c(k - j - 2)
-        ac3 = ac3 + v(j + 1)*s(k - j - 2)
-        as4 = as4 + v(j + 2)*c(k - j - 3)
-        ac4 = ac4 + v(j + 2)*s(k - j - 3)
+        ! (the two lanes in one SSE2 register: -O2 does not do it by itself)
+        !$omp simd
+        do l = 1, 2
+          a1(l) = a1(l) + v(j - 1)*cs2(l, k - j)
+          a2(l) = a2(l) + v(j)*cs2(l, k - j - 1)
+          a3(l) = a3(l) + v(j + 1)*cs2(l, k - j - 2)
+          a4(l) = a4(l) + v(j + 2)*cs2(l, k - j - 3)
+        end do
       end do
       do j = 4*(k/4) + 1, k
-        as = as + v(j - 1)*c(k - j)
-        ac = ac + v(j - 1)*s(k - j)
+        a1 = a1 + v(j - 1)*cs2(:, k - j)
       end do
-      s(k) = ((as + as2) + (as3 + as4))*INV(k)
-      c(k) = -((ac + ac2) + (ac3 + ac4))*INV(k)
+      a1 = ((a1 + a2) + (a3 + a4))*INV(k)
+      cs2(2, k) = a1(1)
+      cs2(1, k) = -a1(2)
       x(k + 1) = v(k)*INV(k + 1)
-      v(k + 1) = (-gamma*v(k) - w0sq*s(k))*INV(k + 1)
+      v(k + 1) = (-gamma*v(k) - w0sq*a1(1))*INV(k + 1)
     end do
   end subroutine taylor_coefficients
 
