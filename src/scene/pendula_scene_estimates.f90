@@ -163,10 +163,9 @@ contains
     nsteps = tend / min(0.9_wp * hmax, rk4_apriori_step(scene, tend))
     call integrator_pick(scene, tend, nsteps, scene%tol, model, rk4_round)
     if (model == SCENE_MODEL_TAYLOR) then
-      why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
-          format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad), the Taylor ' // &
-          'series ~' // format_sci(taylor_steps(scene, tend), 4) // ': Taylor, order and step from tol, ' // &
-          'its error estimate at every output'
+      why = 'gamma > 0, linear off by ~' // format_sci(e_lin, 2) // ' rad; RK4 ~' // format_sci(nsteps, 2) // &
+          ' steps (rounding ~' // format_sci(rk4_round, 2) // ' rad), Taylor ~' // &
+          format_sci(taylor_steps(scene, tend), 2) // ': Taylor series'
     else if (model == SCENE_MODEL_CVODE) then
       why = 'gamma > 0, the linear model is off by ~' // format_sci(e_lin, 4) // ' rad; RK4 would need ~' // &
           format_sci(nsteps, 4) // ' steps (rounding ~' // format_sci(rk4_round, 4) // ' rad): CVODE (' // &

@@ -352,7 +352,17 @@ contains
     logical :: trunc
     type(ode_stats_t) :: stats
     type(status_t) :: st
-    real(wp) :: est
+    real(wp) :: est, nrun
+    ! up front: the series takes at least one step per 2/w0 (its largest step)
+    nrun = scene%w0 * tend / 2
+    if (nrun * SCENE_TAYLOR_STEP_COST > budget) then
+      call set_error(status, PENDULA_ERR_MAXSTEPS, 'the Taylor series needs > ~' // format_sci(nrun, 4) // &
+          ' steps for tol = ' // format_sci(scene%tol, 4) // ' over t = 0 .. ' // format_sci(tend, 4) // &
+          ', over max_steps = ' // format_sci(budget, 4) // ' (RK4 steps, a Taylor step counts ' // &
+          format_int(nint(SCENE_TAYLOR_STEP_COST)) // '; ' // format_sci(SCENE_STEP_CAP, 4) // &
+          ' ~ 1 min): use a larger tol, shorten the window or raise max_steps')
+      return
+    end if
     steps = max(int(min(budget / SCENE_TAYLOR_STEP_COST, 9.0e18_wp), i8), 1_i8)
     if (scene%want == SCENE_WANT_EVENTS) then
       if (allocated(result%theta)) deallocate (result%theta, result%omega)

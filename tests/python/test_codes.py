@@ -91,6 +91,7 @@ def test_scene_tables_match_the_fortran():
         assert ints["SCENE_INFO_" + name.upper()] == pos + 1
     for py, f in (("RK4_STEP_LIMIT", "SCENE_RK4_STEP_LIMIT"), ("STEP_CAP", "SCENE_STEP_CAP"),
                   ("CVODE_STEP_COST", "SCENE_CVODE_STEP_COST"), ("STIFF_RATIO", "SCENE_STIFF_RATIO"),
+                  ("TAYLOR_STEP_COST", "SCENE_TAYLOR_STEP_COST"),
                   ("STIFF_RK4_STEPS", "SCENE_STIFF_RK4_STEPS"), ("LINEAR_SAFETY", "SCENE_LINEAR_SAFETY")):
         assert getattr(_codes, py) == _fortran_real(CODES_F90, f), py
 
