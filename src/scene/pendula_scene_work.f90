@@ -109,7 +109,7 @@ contains
     ! a start near the top (auto): the hang in top-centred coordinates first
     work = top_hang_work(scene)
     if (model == SCENE_MODEL_AUTO) model = integrator_choice(scene, span, tol)
-    work = work + integrator_work(scene, model, span, tol, 0.0_wp) + sampling_work(scene, tend)
+    work = work + integrator_work(scene, model, span, tol, 0.0_wp) + sampling_work(scene, tend, model)
   end function scene_solve_work
 
   !> Predicted work of scene_run_model(scene, model, setting) [RK4 steps],
@@ -131,10 +131,10 @@ contains
       work = closed_work(scene, tend)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       if (.not. (setting > 0 .and. setting <= huge(1.0_wp)) .or. scene%want == SCENE_WANT_PERIOD) return
-      work = integrator_work(scene, model, tend, scene%tol, setting) + sampling_work(scene, tend)
+      work = integrator_work(scene, model, tend, scene%tol, setting) + sampling_work(scene, tend, model)
     case (SCENE_MODEL_TAYLOR)
       if (scene%want == SCENE_WANT_PERIOD) return
-      work = integrator_work(scene, model, tend, scene%tol, 0.0_wp) + sampling_work(scene, tend)
+      work = integrator_work(scene, model, tend, scene%tol, 0.0_wp) + sampling_work(scene, tend, model)
     end select
   end function scene_run_work
 
@@ -152,11 +152,15 @@ contains
   end function closed_work
 
   ! Work of the samples of an integrated run: its outputs (one for want =
-  ! final), or the points of the event grid.
-  pure real(wp) function sampling_work(scene, tend) result(work)
+  ! final), or the points of the event grid (the Taylor series finds its
+  ! events on its step polynomials: an output's work per event).
+  pure real(wp) function sampling_work(scene, tend, model) result(work)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
-    if (scene%want == SCENE_WANT_EVENTS) then
+    integer, intent(in) :: model
+    if (scene%want == SCENE_WANT_EVENTS .and. model == SCENE_MODEL_TAYLOR) then
+      work = SAMPLE_WORK * real(scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0), wp)
+    else if (scene%want == SCENE_WANT_EVENTS) then
       work = EVENT_SAMPLE_WORK * (event_grid_intervals(scene, tend) + 1)
     else if (scene%want == SCENE_WANT_FINAL) then
       work = SAMPLE_WORK
@@ -185,7 +189,7 @@ contains
     real(wp), intent(in) :: span, tol, setting
     real(wp) :: rtol, grid
     grid = 0
-    if (scene%want == SCENE_WANT_EVENTS) grid = 2 * real(event_grid_intervals(scene, span), wp)
+    if (scene%want == SCENE_WANT_EVENTS .and. model /= SCENE_MODEL_TAYLOR) grid = 2 * real(event_grid_intervals(scene, span), wp)
     if (model == SCENE_MODEL_TAYLOR) then
       work = SCENE_TAYLOR_STEP_COST * taylor_steps(scene, span)
     else if (model == SCENE_MODEL_RK4) then
