@@ -353,6 +353,13 @@ contains
     type(ode_stats_t) :: stats
     type(status_t) :: st
     real(wp) :: est, nrun
+    ! a short run polls the cancel flag only every 128 steps: look before it too
+    if (present(control)) then
+      if (cancel_requested(control)) then
+        call set_error(status, PENDULA_ERR_CANCELLED, 'Taylor cancelled at t = 0 (interrupted by the caller)')
+        return
+      end if
+    end if
     ! up front: the series takes at least one step per 2/w0 (its largest step)
     nrun = scene%w0 * tend / 2
     if (nrun * SCENE_TAYLOR_STEP_COST > budget) then
