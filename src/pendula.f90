@@ -41,7 +41,7 @@ module pendula
                            scene_init, scene_physics, scene_solve, scene_run_model, scene_estimate, &
                            scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
                            SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-                           SCENE_MODEL_RK4, SCENE_MODEL_CVODE, &
+                           SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, &
                            SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
                            SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
   use pendula_scene_work, only: scene_solve_work, scene_run_work

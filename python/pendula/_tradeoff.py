@@ -26,6 +26,7 @@ from .integrate import rk4_max_stable_step
 from .scene import Scene, _model_code, run_model, solve
 
 SCIPY_RTOLS = (1e-3, 1e-6, 1e-9)
+TAYLOR_TOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14)  # tols of the default taylor rows
 """Default rtols of the SciPy rows (atol = rtol * state scale / 100, as CVODE's)."""
 _RK4_ROWS = 14  # default RK4 rows: distinct used steps, halving
 
@@ -313,8 +314,8 @@ def tradeoff(
         the state (theta, Omega) at t is measured).
     models : list of str, optional
         Subset of ``MODELS`` to run (default: every one that applies --
-        small_angle and exact when gamma = 0, linear otherwise, rk4, and
-        cvode when built).
+        small_angle and exact when gamma = 0, linear otherwise, rk4,
+        cvode when built, and taylor at the tols ``TAYLOR_TOLS``).
     rk4_steps : list of float, optional
         RK4 steps h [s] > 0 (default: halving from 0.9 of the stability
         limit, up to 14 distinct used steps while a run stays under
@@ -359,8 +360,9 @@ def tradeoff(
     of every row is the sup over the output grid of max(abs(d theta),
     abs(d Omega)/w0) [rad] against one reference: the exact elliptic
     solution when gamma = 0, otherwise ``solve`` at tol = 1e-12 with RK4
-    (or the automatic choice when that estimates better; its a posteriori
-    estimate is in ``table.reference``).  RK4 between output times takes
+    (or the automatic choice, or the Taylor series at tol = 1e-15, when
+    that estimates better; its estimate is in ``table.reference``).  Taylor
+    rows run the Taylor series at each tol (its setting).  RK4 between output times takes
     the fewest equal substeps of at most h, so every h above the output
     spacing runs the same steps: ``step_used`` shows the step taken and
     rows that repeat another's run are dropped.  SciPy rows use atol =
@@ -424,7 +426,7 @@ def tradeoff(
 
     def add(name, setting, fn):
         res, wall = _timed(fn, 1)  # one run says whether it repeats another row's
-        integrated = name in ("rk4", "cvode")
+        integrated = name in ("rk4", "cvode", "taylor")
         steps = res.cost["steps"] if integrated else None
         used = float(st.t[-1]) / steps if name == "rk4" and steps else None
         key = (name, used if name == "rk4" else setting)
@@ -468,6 +470,19 @@ def tradeoff(
                     add("cvode", f"rtol={r:.0e}", lambda r=r: run_model(st, "cvode", r))
                 except RuntimeError:
                     pass  # budget exhausted at this setting: no point to plot
+        elif name == "taylor":
+            for tl in TAYLOR_TOLS:
+                sc = Scene(
+                    theta0=st.theta0,
+                    omega0=st.omega0,
+                    t=st.t,
+                    g=st.g,
+                    length=st.length,
+                    gamma=st.gamma,
+                    tol=tl,
+                    want="state",
+                )
+                add("taylor", f"tol={tl:.0e}", lambda sc=sc: run_model(sc, "taylor"))
     for m in methods:
         rows += _scipy_rows.rows(st, m, scipy_rtols, ref, repeat, max_steps)
     table = TradeoffTable(st, rows, reference, ref)
@@ -482,6 +497,7 @@ def _models(st, models):
     applicable = ["linear", "rk4"] if st.gamma > 0 else ["small_angle", "exact", "rk4"]
     if HAVE_CVODE:
         applicable.append("cvode")
+    applicable.append("taylor")
     if models is None:
         return applicable
     for mname in models:
@@ -507,6 +523,22 @@ def _reference(st):
         alt = solve(ref_scene)
         if alt.error_estimate < ref.error_estimate:
             ref = alt
+    # the Taylor series at its floor, when it estimates better (the taylor rows reach below 1e-12)
+    alt = run_model(
+        Scene(
+            theta0=st.theta0,
+            omega0=st.omega0,
+            t=st.t,
+            g=st.g,
+            length=st.length,
+            gamma=st.gamma,
+            tol=1e-15,
+            want="state",
+        ),
+        "taylor",
+    )
+    if alt.error_estimate < ref.error_estimate:
+        return alt, f"the Taylor series at tol = 1e-15, its error estimate {alt.error_estimate:.2g} rad"
     return ref, (
         f"converged integration: solve(tol=1e-12) -> {ref.model} at setting {ref.setting:.3g}, "
         f"its a posteriori estimate {ref.error_estimate:.2g} rad"

@@ -428,6 +428,8 @@ contains
         end if
       end if
     end do
+    ! the steps since the last poll, so that the progress ends at the step count
+    if (present(control)) call add_progress(control, mod(steps, int(POLL_STEPS, i8)))
 
   contains
 

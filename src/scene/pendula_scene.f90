@@ -24,7 +24,12 @@
 !>  * cvode: rtol/atol chosen from tol and the number of periods in the window
 !>    (a local tolerance is not a global error), verified by a second run ten
 !>    times tighter; the tighter run is returned and the difference is its
-!>    (conservative) error estimate.
+!>    (conservative) error estimate;
+!>  * taylor: the Taylor series (pendula_taylor), order and step from tol,
+!>    one run whose own error estimate at every output is the answer's; it
+!>    reaches ~1e-15 where RK4 and CVODE stop at their rounding floors, and
+!>    is cheaper than both on long windows and at tight tolerances
+!>    (integrator_pick weighs the predicted work).
 !> Only what the scene asks for is computed: SCENE_WANT_PERIOD evaluates K once
 !> (no time series), SCENE_WANT_FINAL keeps no history (RK4 final-state mode),
 !> SCENE_WANT_ENERGY with gamma = 0 is the constant energy of the initial state.
@@ -45,18 +50,19 @@ module pendula_scene
   use pendula_format, only: format_sci, format_int
   use pendula_status, only: status_t, set_error, check_positive, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
-  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO, cvode_available
+  use pendula_integrators, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_control, only: CONTROL_SIZE
   use pendula_scene_codes, only: scene_model_name, scene_model_code, scene_want_name, scene_want_code, &
                                scene_model_list, SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-                                 SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
+                                 SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_WANT_STATE, SCENE_WANT_THETA, &
+                                 SCENE_WANT_FINAL, &
                                  SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST
-  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats, swing
   use pendula_scene_setup, only: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, &
                                  get_budget, alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model, integrator_rounding
   use pendula_scene_closed, only: solve_closed
-  use pendula_scene_integrated, only: solve_rk4, solve_cvode, run_fixed, integrate
+  use pendula_scene_integrated, only: solve_rk4, solve_cvode, solve_taylor, run_fixed, integrate
   use pendula_scene_handover, only: solve_integrated, add_cost
   use pendula_scene_events, only: scene_event_bound
   use pendula_scene_top, only: top_start, solve_top
@@ -67,7 +73,7 @@ module pendula_scene
   public :: scene_init, scene_physics, scene_solve, scene_run_model, scene_estimate, scene_event_bound
   public :: scene_model_name, scene_model_code, scene_want_name, scene_want_code
   public :: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-            SCENE_MODEL_RK4, SCENE_MODEL_CVODE
+            SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR
   public :: SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
             SCENE_WANT_PERIOD, SCENE_WANT_EVENTS
   public :: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
@@ -115,7 +121,7 @@ contains
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)
       call solve_closed(scene, model, est, result, status)
       if (scene%model == SCENE_MODEL_AUTO) call exact_after_small_angle(scene, model, why, result, status)
-    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
+    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR)
       call top_start(scene, is_top, k, phi0, v0)
       done = .false.
       ! the hang at the top in top-centred coordinates (pendula_scene_top)
@@ -138,6 +144,9 @@ contains
     result%tol_met = result%error_estimate <= scene%tol
     if (.not. result%tol_met) then
       ! first, so that a long reason cut to a message's length keeps it
+      if (model == SCENE_MODEL_TAYLOR) why = 'the floor reached is '//format_sci(result%error_estimate/ &
+                                     max(swing(scene), tiny(1.0_wp)), 3)//' of the motion''s size '//format_sci(swing(scene), 3)// &
+                                             ' rad (rounding and the problem''s conditioning); '//why
       why = 'tol NOT met, error estimate '//format_sci(result%error_estimate, 4)//' > tol: '//why
     end if
     result%reason = why
@@ -147,7 +156,9 @@ contains
 
   !> Run one model at a fixed setting, with no verification and no choice:
   !> setting is the RK4 step h [s] or the CVODE rtol (atol = rtol/100 * the
-  !> state scale; Adams, BDF when stiff); ignored for closed forms.  Meant for
+  !> state scale; Adams, BDF when stiff); ignored for closed forms and for
+  !> taylor, which runs once at the scene's tol (its error estimate is then
+  !> the run's own, not 0).  Meant for
   !> work-precision studies (pendula.tradeoff).  result%error_estimate is the a
   !> priori estimate for closed forms and 0 (unknown) for the integrators.
   !> want = events with rk4/cvode: the events of the run sampled on the
@@ -157,8 +168,8 @@ contains
   !> max_steps steps is refused up front; CVODE stops after max_steps/20).
   subroutine scene_run_model(scene, model, setting, result, status, control, max_steps)
     type(scene_t), intent(in) :: scene  !< the scene (build it with scene_init; checked again here)
-    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE (not AUTO)
-    real(wp), intent(in) :: setting  !< RK4 step h [s] or CVODE rtol, > 0; ignored for closed forms
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_TAYLOR (not AUTO)
+    real(wp), intent(in) :: setting  !< RK4 step h [s] or CVODE rtol, > 0; ignored for closed forms and taylor
     type(scene_result_t), intent(out) :: result  !< the run's answer (error_estimate 0 for rk4/cvode: unknown)
     type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
@@ -168,9 +179,9 @@ contains
     call system_clock(c0, rate)
     call check_scene(scene, status)
     call get_budget(budget, status, max_steps)
-    if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_CVODE) call set_error(status, &
+    if (model < SCENE_MODEL_SMALL_ANGLE .or. model > SCENE_MODEL_TAYLOR) call set_error(status, &
                                             PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown: it must be one of '// &
-                                                                                       scene_model_list(SCENE_MODEL_SMALL_ANGLE))
+                                                                                        scene_model_list(SCENE_MODEL_SMALL_ANGLE))
     if (status%code /= PENDULA_OK) return
     call check_model_gamma(model, scene%gamma, status)
     call check_model_built(model, status)
@@ -194,12 +205,22 @@ contains
         return
       end if
       call run_fixed(scene, model, setting, budget, result, status, control)
+    case (SCENE_MODEL_TAYLOR)
+      if (scene%want == SCENE_WANT_PERIOD) call set_error(status, PENDULA_ERR_DOMAIN, 'want = period with '// &
+                                  'model = taylor: an integration gives no period; the period comes from the exact closed form '// &
+                                                          '(model exact, or solve)')
+      if (status%code /= PENDULA_OK) return
+      call solve_taylor(scene, tend, budget, result, status, control)
+      if (status%code == PENDULA_OK) call fold_event_time(scene, result)
+      result%tol_met = result%error_estimate <= scene%tol
     end select
     call check_event_count(scene, tend, result, status)
     if (status%code /= PENDULA_OK) return
     result%model = model
     result%want = scene%want
     result%reason = 'forced by the caller at a fixed setting (no verification)'
+    if (model == SCENE_MODEL_TAYLOR) result%reason = 'forced by the caller: the Taylor series at the '// &
+                                                     'scene''s tol, with its own error estimate'
     call system_clock(c1)
     result%cost%wall_time = real(c1 - c0, wp)/real(max(rate, 1_i8), wp)
   end subroutine scene_run_model
@@ -247,11 +268,12 @@ contains
   end subroutine exact_after_small_angle
 
   ! The integrator chosen first did not verify tol (its estimate is over
-  ! it): the other one (RK4 after CVODE, CVODE after RK4, each refining its
-  ! own setting) with the budget that is left, and the answer with the smaller
-  ! estimate is kept (costs of both).  Not tried where the rounding floor that
-  ! both share (a start near the top) already exceeds tol, nor without CVODE;
-  ! the second integrator failing or refusing leaves the first answer.
+  ! it): the Taylor series after RK4 or CVODE (it goes on where their
+  ! rounding floors stop them) with the budget that is left, and the answer
+  ! with the smaller estimate is kept (costs of both).  Not tried after
+  ! Taylor itself, nor where the rounding floor that all share (a start near
+  ! the top) already exceeds tol; the second integrator failing or refusing
+  ! leaves the first answer.
   subroutine second_try(scene, tend, budget, model, why, result, status, control)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend, budget
@@ -266,8 +288,8 @@ contains
     integer :: other
     real(wp) :: used, floor(0)
     if (status%code /= PENDULA_OK .or. .not. result%error_estimate > scene%tol) return
-    if (.not. cvode_available() .or. integrator_rounding(scene, floor, 1.0_wp) > scene%tol/2) return
-    other = merge(SCENE_MODEL_CVODE, SCENE_MODEL_RK4, model == SCENE_MODEL_RK4)
+    if (model == SCENE_MODEL_TAYLOR .or. integrator_rounding(scene, floor, 1.0_wp) > scene%tol/2) return
+    other = SCENE_MODEL_TAYLOR
     used = real(result%cost%steps, wp)*merge(SCENE_CVODE_STEP_COST, 1.0_wp, model == SCENE_MODEL_CVODE)
     if (used >= budget) return
     why2 = ''

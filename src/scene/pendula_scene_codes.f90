@@ -12,13 +12,13 @@ module pendula_scene_codes
   public :: scene_model_name, scene_model_code, scene_want_name, scene_want_code
   public :: scene_model_list, scene_want_list
   public :: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-            SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_NAMES
+            SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_MODEL_NAMES
   public :: SCENE_MODEL_ALIAS_NAMES, SCENE_MODEL_ALIAS_CODES
   public :: SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, &
             SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_WANT_NAMES
   public :: SCENE_LINEAR_SAFETY
   public :: SCENE_RK4_STEP_LIMIT, SCENE_STEP_CAP, SCENE_CVODE_STEP_COST, SCENE_STIFF_RATIO, &
-            SCENE_STIFF_RK4_STEPS
+            SCENE_STIFF_RK4_STEPS, SCENE_TAYLOR_STEP_COST
   public :: SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, SCENE_INFO_PERIOD, SCENE_INFO_WALL_TIME, &
             SCENE_INFO_CLOSED_FORM_EVALS, SCENE_INFO_RHS_EVALS, SCENE_INFO_STEPS, SCENE_INFO_RUNS, &
             SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, SCENE_INFO_RTOL, &
@@ -26,10 +26,10 @@ module pendula_scene_codes
 
   !> Model codes (0 = let scene_solve choose).
   integer, parameter :: SCENE_MODEL_AUTO = 0, SCENE_MODEL_SMALL_ANGLE = 1, SCENE_MODEL_EXACT = 2, &
-                        SCENE_MODEL_LINEAR = 3, SCENE_MODEL_RK4 = 4, SCENE_MODEL_CVODE = 5
+                        SCENE_MODEL_LINEAR = 3, SCENE_MODEL_RK4 = 4, SCENE_MODEL_CVODE = 5, SCENE_MODEL_TAYLOR = 6
   !> Model names, indexed by code.
-  character(len=*), parameter :: SCENE_MODEL_NAMES(0:5) = [character(len=11) :: &
-                                                           'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode']
+  character(len=*), parameter :: SCENE_MODEL_NAMES(0:6) = [character(len=11) :: &
+                                                           'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode', 'taylor']
   !> Other names accepted for a model (scene_model_code), and their codes.
   character(len=*), parameter :: SCENE_MODEL_ALIAS_NAMES(1) = [character(len=13) :: 'linear_damped']
   integer, parameter :: SCENE_MODEL_ALIAS_CODES(1) = [SCENE_MODEL_LINEAR]
@@ -44,8 +44,8 @@ module pendula_scene_codes
   character(len=*), parameter :: SCENE_WANT_NAMES(6) = [character(len=6) :: &
                                                         'state', 'theta', 'final', 'energy', 'period', 'events']
   ! The codes in the order of the name tables, and room for a list of them.
-  integer, parameter :: MODEL_CODES(0:5) = [SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
-                                            SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_MODEL_CVODE]
+  integer, parameter :: MODEL_CODES(0:6) = [SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
+                                            SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR]
   integer, parameter :: WANT_CODES(6) = [SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, &
                                          SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS]
   integer, parameter :: LIST_MAX = 200
@@ -63,6 +63,11 @@ module pendula_scene_codes
   !> beyond it is refused before it starts (the caller may raise it: max_steps).
   real(wp), parameter :: SCENE_STEP_CAP = 2.0e9_wp
   real(wp), parameter :: SCENE_CVODE_STEP_COST = 20
+  !> A Taylor step (pendula_taylor) counts as SCENE_TAYLOR_STEP_COST RK4 steps
+  !> of the budget: its series of order p costs ~4 + 0.6 p of them (measured:
+  !> 300 ns a step at order 11 .. 550 ns at order 22, an RK4 step ~29 ns), at
+  !> most 18 at the largest order.
+  real(wp), parameter :: SCENE_TAYLOR_STEP_COST = 18
   !> Safety factor on the linear model's a priori nonlinearity estimates
   !> (pendula_scene_estimates, and the per-event bound of pendula_scene_events;
   !> calibrated: within 3 % of the true error where tight).
@@ -99,9 +104,9 @@ contains
     list = adjustl(work)
   end function list_text
 
-  !> 'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode' ('unknown' otherwise).
+  !> 'auto', 'small_angle', 'exact', 'linear', 'rk4', 'cvode', 'taylor' ('unknown' otherwise).
   pure function scene_model_name(code) result(name)
-    integer, intent(in) :: code  !< model code, SCENE_MODEL_* (0 .. 5); any other value gives 'unknown'
+    integer, intent(in) :: code  !< model code, SCENE_MODEL_* (0 .. 6); any other value gives 'unknown'
     ! explicit lengths here (not deferred): see pendula_format on gfortran's static lengths
     character(len=len(code_text(code, MODEL_CODES, SCENE_MODEL_NAMES, 'unknown'))) :: name
     name = code_text(code, MODEL_CODES, SCENE_MODEL_NAMES, 'unknown')
@@ -139,9 +144,9 @@ contains
   end function scene_want_code
 
   !> The model names with their codes from code first on, for messages:
-  !> 'auto (0), small_angle (1), ..., cvode (5)'.
+  !> 'auto (0), small_angle (1), ..., taylor (6)'.
   pure function scene_model_list(first) result(list)
-    integer, intent(in) :: first  !< first model code listed, SCENE_MODEL_AUTO (0) .. SCENE_MODEL_CVODE (5)
+    integer, intent(in) :: first  !< first model code listed, SCENE_MODEL_AUTO (0) .. SCENE_MODEL_TAYLOR (6)
     character(len=len_trim(list_text(SCENE_MODEL_NAMES(max(first, 0):), MODEL_CODES(max(first, 0):)))) :: list
     list = list_text(SCENE_MODEL_NAMES(max(first, 0):), MODEL_CODES(max(first, 0):))
   end function scene_model_list

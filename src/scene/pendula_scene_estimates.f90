@@ -16,8 +16,8 @@ module pendula_scene_estimates
                                    DAMPING_UNDERDAMPED
   use pendula_integrators, only: rk4_max_stable_step, cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR, &
-                                 SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS, &
-                                 SCENE_RK4_STEP_LIMIT, &
+                                 SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, &
+                                 SCENE_WANT_EVENTS, SCENE_RK4_STEP_LIMIT, SCENE_TAYLOR_STEP_COST, SCENE_CVODE_STEP_COST, &
                                  SCENE_STIFF_RK4_STEPS, SCENE_LINEAR_SAFETY, scene_want_name
   use pendula_scene_types, only: scene_t, window_end, is_stiff, swing
   use pendula_scene_setup, only: check_scene
@@ -26,6 +26,7 @@ module pendula_scene_estimates
 
   public :: scene_estimate, model_estimate, choose_model, rk4_apriori_step, integrator_rounding, linear_estimate
   public :: cvode_min_steps, exact_time_error, slow_rate, linear_answers, integrator_rule, cvode_first_rtol
+  public :: integrator_pick, taylor_steps
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
 
@@ -34,13 +35,13 @@ contains
   !> A priori error estimate [rad] of a closed-form model over the scene's
   !> window (sup of max(|d theta|, |d Omega|/w0)): the small-angle bound, the
   !> linear model's nonlinearity estimate, or the exact solution's rounding
-  !> estimate.  For rk4 and cvode the value is scene%tol: their settings are
+  !> estimate.  For rk4, cvode and taylor the value is scene%tol: their settings are
   !> chosen from it and verified a posteriori by scene_solve.  +inf where the
   !> model does not apply (small angle over the top, closed forms with the
   !> wrong gamma).
   pure subroutine scene_estimate(scene, model, estimate, status)
     type(scene_t), intent(in) :: scene  !< the scene (checked here)
-    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_TAYLOR
     real(wp), intent(out) :: estimate  !< a priori error estimate [rad], >= 0; +inf where the model does not apply
     type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
     estimate = ieee_value(1.0_wp, ieee_positive_inf)
@@ -52,7 +53,7 @@ contains
   !> scene_estimate for a scene already checked (no second check).
   pure subroutine model_estimate(scene, model, estimate, status)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
-    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_TAYLOR
     real(wp), intent(out) :: estimate  !< a priori error estimate [rad], >= 0; +inf where the model does not apply
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     type(undamped_motion_t) :: motion
@@ -87,7 +88,7 @@ contains
       end if
     case (SCENE_MODEL_LINEAR)
       estimate = linear_estimate(scene%theta0, scene%omega0, scene%w0, scene%gamma, tend)
-    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
+    case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR)
       estimate = scene%tol
     case default
       call set_error(status, PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown')
@@ -99,12 +100,11 @@ contains
   subroutine choose_model(scene, tend, model, est, why, status)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
-    integer, intent(out) :: model  !< the chosen model, SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    integer, intent(out) :: model  !< the chosen model, SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_TAYLOR
     real(wp), intent(out) :: est  !< its a priori error estimate [rad] (tol for rk4/cvode)
     character(len=:), allocatable, intent(out) :: why  !< the reason for the choice, in words
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     real(wp) :: e_sa, e_ex, e_ev, e_lin, hmax, nsteps, rk4_round
-    logical :: use_cvode
     type(status_t) :: st
     if (scene%gamma == 0) then
       call model_estimate(scene, SCENE_MODEL_SMALL_ANGLE, e_sa, status)
@@ -159,12 +159,14 @@ contains
       return
     end if
     est = scene%tol
-    model = SCENE_MODEL_RK4
     call rk4_max_stable_step(scene%w0, scene%gamma, hmax, st)
     nsteps = tend/min(0.9_wp*hmax, rk4_apriori_step(scene, tend))
-    call integrator_rule(scene, tend, nsteps, scene%tol, use_cvode, rk4_round)
-    if (use_cvode) then
-      model = SCENE_MODEL_CVODE
+    call integrator_pick(scene, tend, nsteps, scene%tol, model, rk4_round)
+    if (model == SCENE_MODEL_TAYLOR) then
+      why = 'gamma > 0, linear off by ~'//format_sci(e_lin, 2)//' rad; RK4 ~'//format_sci(nsteps, 2)// &
+            ' steps (rounding ~'//format_sci(rk4_round, 2)//' rad), Taylor ~'// &
+            format_sci(taylor_steps(scene, tend), 2)//': Taylor series'
+    else if (model == SCENE_MODEL_CVODE) then
       why = 'gamma > 0, the linear model is off by ~'//format_sci(e_lin, 4)//' rad; RK4 would need ~'// &
             format_sci(nsteps, 4)//' steps (rounding ~'//format_sci(rk4_round, 4)//' rad): CVODE ('// &
             trim(merge('BDF  ', 'Adams', is_stiff(scene)))// &
@@ -248,6 +250,55 @@ contains
     use_cvode = cvode_available() .and. (nsteps > SCENE_RK4_STEP_LIMIT .or. rk4_round > tol/4 .or. &
                                          (is_stiff(scene) .and. nsteps > SCENE_STIFF_RK4_STEPS))
   end subroutine integrator_rule
+
+  !> The integrator for an integrated span [0, span] of nsteps RK4 steps at
+  !> tol, by their predicted work [RK4 steps]: RK4 (a pair and a refinement,
+  !> 2 nsteps) or CVODE as integrator_rule says, unless the Taylor series is
+  !> cheaper (taylor_steps times SCENE_TAYLOR_STEP_COST) or the only one that
+  !> can meet tol: RK4's rounding floor over tol/4 and CVODE's rtol below
+  !> its floor 1e-14 (or CVODE not built).  A stiff scene keeps CVODE (BDF
+  !> needs a few hundred steps whatever gamma; Taylor steps shrink as 1/gamma)
+  !> unless it cannot meet tol.  One rule for choose_model and the work
+  !> prediction (pendula_scene_work).
+  pure subroutine integrator_pick(scene, span, nsteps, tol, model, rk4_round)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene), gamma > 0
+    real(wp), intent(in) :: span  !< integrated span [s], >= 0
+    real(wp), intent(in) :: nsteps  !< RK4 steps over it
+    real(wp), intent(in) :: tol  !< tolerance of the integration [rad], > 0
+    integer, intent(out) :: model  !< SCENE_MODEL_RK4, SCENE_MODEL_CVODE or SCENE_MODEL_TAYLOR
+    real(wp), intent(out) :: rk4_round  !< RK4's predicted rounding floor [rad]
+    logical :: use_cvode, floored
+    real(wp) :: w_taylor, w_other, rtol, periods, scale
+    call integrator_rule(scene, span, nsteps, tol, use_cvode, rk4_round)
+    model = merge(SCENE_MODEL_CVODE, SCENE_MODEL_RK4, use_cvode)
+    periods = 1 + scene%w0*span/(2*pi)
+    scale = max(abs(scene%theta0) + abs(scene%omega0)/scene%w0, 1.0e-6_wp)
+    floored = rk4_round > tol/4 .and. (.not. cvode_available() .or. 0.1_wp*tol/(periods*scale) < 1.0e-14_wp)
+    w_taylor = SCENE_TAYLOR_STEP_COST*taylor_steps(scene, span)
+    if (use_cvode) then
+      rtol = cvode_first_rtol(scene, span, tol)
+      w_other = 3*SCENE_CVODE_STEP_COST*(cvode_min_steps(scene, span, rtol) + cvode_min_steps(scene, span, &
+                                                                                              rtol/10))
+      if (is_stiff(scene)) w_other = 0
+    else
+      w_other = 2*nsteps
+    end if
+    if (floored .or. w_taylor < w_other) model = SCENE_MODEL_TAYLOR
+  end subroutine integrator_pick
+
+  !> Predicted steps of the Taylor series (pendula_taylor) over [0, span]:
+  !> (1 + gamma/w0) w0 span (1.5 + 2 m) + 1, m = min(1, sin^2(theta0/2) +
+  !> (Omega0/(2 w0))^2) the motion's parameter (measured over 1000/w0 at tol
+  !> 1e-4 .. 1e-14, gamma/w0 = 1e-3 .. 0.1: 1.2 .. 1.5 steps per radian of
+  !> w0 t for a 0.1 rad swing, 3.2 .. 3.4 for 2.5 rad, 2.6 for 3.1 rad; fewer
+  !> once damped; nearly independent of tol, the order grows instead).
+  pure real(wp) function taylor_steps(scene, span) result(n)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: span  !< integrated span [s], >= 0
+    real(wp) :: m
+    m = min(1.0_wp, sin(scene%theta0/2)**2 + (scene%omega0/(2*scene%w0))**2)
+    n = (1 + scene%gamma/scene%w0)*scene%w0*span*(1.5_wp + 2*m) + 1
+  end function taylor_steps
 
   !> CVODE's first rtol for tol over [0, tend]: a local tolerance is not a
   !> global error, so tol/10 over the periods in the window and the state's

@@ -37,12 +37,13 @@ module pendula_scene_handover
   use pendula_constants, only: pi
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
   use pendula_control, only: CONTROL_SIZE
-  use pendula_scene_codes, only: SCENE_LINEAR_SAFETY, SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_LINEAR, &
+  use pendula_scene_codes, only: SCENE_LINEAR_SAFETY, SCENE_MODEL_AUTO, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, &
+                                 SCENE_MODEL_LINEAR, &
                                  SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
   use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate
-  use pendula_scene_integrated, only: solve_rk4, solve_cvode
+  use pendula_scene_integrated, only: solve_rk4, solve_cvode, solve_taylor
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error, linear_error_at, &
                                   event_rate
@@ -80,7 +81,7 @@ contains
   !> the reason so far; the hand-over, when made, is appended.
   subroutine solve_integrated(scene, model, tend, budget, why, result, status, control)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
-    integer, intent(in) :: model  !< SCENE_MODEL_RK4 or SCENE_MODEL_CVODE
+    integer, intent(in) :: model  !< SCENE_MODEL_RK4, SCENE_MODEL_CVODE or SCENE_MODEL_TAYLOR
     real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
     real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a CVODE step costs SCENE_CVODE_STEP_COST)
     character(len=:), allocatable, intent(inout) :: why  !< the reason so far; the hand-over is appended
@@ -136,7 +137,7 @@ contains
           result%step = part%step
           result%rtol = part%rtol
           why = why//'; the motion has decayed by t = '//format_sci(ts, 4)//' s: '// &
-                trim(merge('RK4  ', 'CVODE', sub_model == SCENE_MODEL_RK4))//' up to there, then the linear '// &
+                trim(integrator_label(sub_model))//' up to there, then the linear '// &
                 'closed form from that state (nonlinearity ~'//format_sci(elin, 4)//' rad, carried error ~'// &
                 format_sci(gain*e1, 4)//' rad)'
           return
@@ -289,7 +290,7 @@ contains
     ! (a subroutine: no function returns a deferred-length text here).
     subroutine append_handover_why()
       why = why//'; events: the motion has decayed by t = '//format_sci(best_ts, 4)//' s: '// &
-            trim(merge('RK4  ', 'CVODE', best_model == SCENE_MODEL_RK4))//' up to there, then the linear '// &
+            trim(integrator_label(best_model))//' up to there, then the linear '// &
             'closed form from that state (event times off by up to '//format_sci(best%event_time_error, 4)//' s)'
     end subroutine append_handover_why
 
@@ -312,6 +313,8 @@ contains
       type(scene_result_t), intent(inout) :: res
       if (mdl == SCENE_MODEL_RK4) then
         call solve_rk4(sc, t_end, budget, res, status, control)
+      else if (mdl == SCENE_MODEL_TAYLOR) then
+        call solve_taylor(sc, t_end, budget, res, status, control)
       else
         call solve_cvode(sc, t_end, budget, res, status, control)
       end if
@@ -402,7 +405,8 @@ contains
     real(wp) :: e
     character(len=:), allocatable :: w
     call choose_model(sub, ts, sub_model, e, w, status)
-    if (sub_model /= SCENE_MODEL_RK4 .and. sub_model /= SCENE_MODEL_CVODE) sub_model = model
+    if (sub_model /= SCENE_MODEL_RK4 .and. sub_model /= SCENE_MODEL_CVODE .and. sub_model /= SCENE_MODEL_TAYLOR) &
+      sub_model = model
   end subroutine pick_integrator
 
   ! The answer from the integrated part (outputs 1..k, state at ts last) and
@@ -491,5 +495,14 @@ contains
     ts = trot + thang + x/rate
     ts = max(ts, 1/max(w0, gamma))
   end function handover_time
+
+  ! The integrator's name in a reason: 'RK4', 'CVODE' or 'Taylor'.
+  pure function integrator_label(model) result(label)
+    integer, intent(in) :: model
+    character(len=6) :: label
+    label = 'CVODE'
+    if (model == SCENE_MODEL_RK4) label = 'RK4'
+    if (model == SCENE_MODEL_TAYLOR) label = 'Taylor'
+  end function integrator_label
 
 end module pendula_scene_handover

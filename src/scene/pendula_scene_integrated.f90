@@ -2,7 +2,10 @@
 !> window, verified by a run at 2h (Richardson), and CVODE with rtol from tol
 !> and the number of periods, verified by a run ten times tighter; both
 !> refined until the estimate meets tol.  Events come from the integrated
-!> trajectory on a sample grid (pendula_scene_events).
+!> trajectory on a sample grid (pendula_scene_events).  The Taylor series
+!> (pendula_taylor) runs once at the scene's tol: its own error estimate at
+!> every output is the answer's, and its events come from its step
+!> polynomials.
 module pendula_scene_integrated
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp, i8
@@ -10,18 +13,18 @@ module pendula_scene_integrated
   use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_constants, only: pi
   use pendula_integrators, only: ode_stats_t, rk4_solve, rk4_final_state, rk4_max_stable_step, &
-                                 cvode_solve, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF
+                                 cvode_solve, PENDULA_CVODE_ADAMS, PENDULA_CVODE_BDF, taylor_solve, taylor_solve_events
   use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_scene_codes, only: SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_FINAL, SCENE_WANT_EVENTS, &
-                                 SCENE_CVODE_STEP_COST, SCENE_STEP_CAP
+                                 SCENE_CVODE_STEP_COST, SCENE_STEP_CAP, SCENE_TAYLOR_STEP_COST
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, is_stiff, add_stats, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs, empty_outputs
   use pendula_scene_estimates, only: rk4_apriori_step, integrator_rounding, cvode_min_steps, cvode_first_rtol
-  use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error
+  use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error, scene_event_bound
   implicit none
   private
 
-  public :: solve_rk4, solve_cvode, integrate, run_fixed
+  public :: solve_rk4, solve_cvode, solve_taylor, integrate, run_fixed
 
   !> Richardson: |y_h - y_2h| / 15 estimates the error of y_h when the error
   !> goes like h^4 and the two runs' errors point the same way.  On the
@@ -328,6 +331,109 @@ contains
     result%error_estimate = est
     call finish_run(scene, tgrid, est, result, status)
   end subroutine solve_cvode
+
+  !> The Taylor series over [0, tend] at the scene's tol, in one run: the
+  !> outputs with the largest of its error estimates (each bounds its
+  !> output's error; see pendula_taylor) as the answer's, or for want =
+  !> events the events it locates on its step polynomials (their time error
+  !> is that estimate over the rate at each event).  The budget counts a step
+  !> as SCENE_TAYLOR_STEP_COST RK4 steps.
+  subroutine solve_taylor(scene, tend, budget, result, status, control)
+    type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
+    real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
+    real(wp), intent(in) :: budget  !< work budget [RK4 steps] (a Taylor step costs SCENE_TAYLOR_STEP_COST)
+    type(scene_result_t), intent(inout) :: result  !< gets the run's outputs (or events), its estimate and cost
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
+    real(wp), allocatable :: tt(:), th(:), om(:), er(:), ev_t(:), ev_th(:), ev_om(:)
+    integer, allocatable :: ev_k(:)
+    integer :: n, off, ist, nev
+    integer(i8) :: nmax, steps
+    logical :: trunc
+    type(ode_stats_t) :: stats
+    type(status_t) :: st
+    real(wp) :: est, nrun
+    ! a short run polls the cancel flag only every 128 steps: look before it too
+    if (present(control)) then
+      if (cancel_requested(control)) then
+        call set_error(status, PENDULA_ERR_CANCELLED, 'Taylor cancelled at t = 0 (interrupted by the caller)')
+        return
+      end if
+    end if
+    ! up front: the series takes at least one step per 2/w0 (its largest step)
+    nrun = scene%w0*tend/2
+    if (nrun*SCENE_TAYLOR_STEP_COST > budget) then
+      call set_error(status, PENDULA_ERR_MAXSTEPS, 'the Taylor series needs > ~'//format_sci(nrun, 4)// &
+                     ' steps for tol = '//format_sci(scene%tol, 4)//' over t = 0 .. '//format_sci(tend, 4)// &
+                     ', over max_steps = '//format_sci(budget, 4)//' (RK4 steps, a Taylor step counts '// &
+                     format_int(nint(SCENE_TAYLOR_STEP_COST))//'; '//format_sci(SCENE_STEP_CAP, 4)// &
+                     ' ~ 1 min): use a larger tol, shorten the window or raise max_steps')
+      return
+    end if
+    steps = max(int(min(budget/SCENE_TAYLOR_STEP_COST, 9.0e18_wp), i8), 1_i8)
+    if (scene%want == SCENE_WANT_EVENTS) then
+      if (allocated(result%theta)) deallocate (result%theta, result%omega)
+      nmax = min(scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0) + 1, int(huge(1), i8)/2)
+      allocate (tt(2), th(2), om(2), er(2), ev_t(nmax), ev_th(nmax), ev_om(nmax), ev_k(nmax), stat=ist)
+      call check_alloc(ist, 'the Taylor run''s events', 4_i8*nmax, 8, status)
+      if (status%code /= PENDULA_OK) return
+      tt = [0.0_wp, max(tend, tiny(1.0_wp))]
+      call taylor_solve_events(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, min(scene%tol, 1.0_wp), &
+                               th, om, er, ev_t, ev_k, ev_th, ev_om, nev, trunc, stats, st, control=control, max_steps=steps)
+      if (st%code /= PENDULA_OK) then
+        status = st
+        return
+      end if
+      call add_stats(result%cost, stats)
+      ! events after 0 and at most tend (the run ends at tend; tiny when the window is empty)
+      nev = count(ev_t(1:nev) <= tend)
+      result%event_t = ev_t(1:nev)
+      result%event_kind = ev_k(1:nev)
+      result%event_theta = ev_th(1:nev)
+      result%event_omega = ev_om(1:nev)
+      est = maxval(er)
+      result%error_estimate = est
+      call empty_outputs(result, status)
+      if (status%code /= PENDULA_OK) return
+      result%event_time_error = event_time_error(result, est, scene%w0)
+      return
+    end if
+    call alloc_outputs(scene, result, status)
+    if (status%code /= PENDULA_OK) return
+    n = size(result%t)
+    off = 0
+    if (n == 0) then
+      result%error_estimate = 0
+      call finish_outputs(scene, result, status)
+      return
+    end if
+    if (result%t(1) > 0) off = 1
+    allocate (tt(n + off), th(n + off), om(n + off), er(n + off), stat=ist)
+    call check_alloc(ist, 'the Taylor run''s times and states', 4_i8*(n + off), 8, status)
+    if (status%code /= PENDULA_OK) return
+    tt(1) = 0
+    tt(1 + off:) = result%t
+    if (size(tt) == 1) then
+      ! one output at t = 0: the initial state itself
+      th = scene%theta0
+      om = scene%omega0
+      er = 0
+      stats = ode_stats_t()
+    else
+      call taylor_solve(tt, scene%theta0, scene%omega0, scene%w0, scene%gamma, min(scene%tol, 1.0_wp), th, om, &
+                        er, stats, st, control=control, max_steps=steps)
+      if (st%code /= PENDULA_OK) then
+        status = st
+        return
+      end if
+    end if
+    call add_stats(result%cost, stats)
+    if (allocated(result%theta)) deallocate (result%theta, result%omega)
+    result%theta = th(1 + off:)
+    result%omega = om(1 + off:)
+    result%error_estimate = maxval(er(1 + off:))
+    call finish_outputs(scene, result, status)
+  end subroutine solve_taylor
 
   !> One run of rk4 (setting = h) or cvode (setting = rtol) at a fixed
   !> setting with no verification (scene_run_model): the outputs, or for

@@ -12,7 +12,7 @@ module pendula_scene_setup
   use pendula_undamped, only: pendulum_energy
   use pendula_integrators, only: cvode_available
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, &
-                                 SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, &
+                  SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_WANT_STATE, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, &
                                  SCENE_WANT_EVENTS, SCENE_STEP_CAP, scene_model_name, scene_model_list, scene_want_list
   use pendula_scene_types, only: scene_t, scene_result_t
   implicit none
@@ -176,7 +176,7 @@ contains
                      'one of '//scene_want_list())
       return
     end if
-    if (mdl < SCENE_MODEL_AUTO .or. mdl > SCENE_MODEL_CVODE) then
+    if (mdl < SCENE_MODEL_AUTO .or. mdl > SCENE_MODEL_TAYLOR) then
       call set_error(status, PENDULA_ERR_DOMAIN, 'model = '//format_int(mdl)//' is unknown: it must be '// &
                      'one of '//scene_model_list(SCENE_MODEL_AUTO))
       return

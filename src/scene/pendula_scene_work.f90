@@ -14,6 +14,7 @@
 !> time of a decaying motion, pendula_scene_handover; before it the hang of
 !> a start near the top, pendula_scene_top), RK4's runs at its a priori step
 !> or CVODE's lower bound on its steps (where the choice would take CVODE),
+!> or the Taylor series' predicted steps (where it would take Taylor),
 !> each times a measured factor, the event grid, and the outputs.  Short
 !> calls should come out short (over-predicting costs a thread start, ~0.1
 !> ms), long ones long (under-predicting delays Ctrl-C until the call ends).
@@ -22,13 +23,14 @@ module pendula_scene_work
   use pendula_status, only: status_t, PENDULA_OK
   use pendula_constants, only: pi
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_LINEAR, &
-                                 SCENE_MODEL_EXACT, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_WANT_STATE, SCENE_WANT_THETA, &
+                                 SCENE_MODEL_EXACT, SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_WANT_STATE, &
+                                 SCENE_WANT_THETA, SCENE_TAYLOR_STEP_COST, &
                                  SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST, &
                                  SCENE_RK4_STEP_LIMIT, SCENE_STIFF_RK4_STEPS
   use pendula_scene_types, only: scene_t, window_end, is_stiff
   use pendula_scene_setup, only: check_scene
   use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, slow_rate, linear_answers, &
-                                     integrator_rule, cvode_first_rtol
+                                     integrator_pick, cvode_first_rtol, taylor_steps
   use pendula_scene_events, only: scene_event_bound, event_grid_intervals
   use pendula_scene_top, only: top_hang_work
   use pendula_scene_handover, only: handover_time, loosened_tol, MAX_PART
@@ -107,7 +109,7 @@ contains
     ! a start near the top (auto): the hang in top-centred coordinates first
     work = top_hang_work(scene)
     if (model == SCENE_MODEL_AUTO) model = integrator_choice(scene, span, tol)
-    work = work + integrator_work(scene, model, span, tol, 0.0_wp) + sampling_work(scene, tend)
+    work = work + integrator_work(scene, model, span, tol, 0.0_wp) + sampling_work(scene, tend, model)
   end function scene_solve_work
 
   !> Predicted work of scene_run_model(scene, model, setting) [RK4 steps],
@@ -116,7 +118,7 @@ contains
   !> outputs.  0 for an invalid scene, model or setting (refused at once).
   pure real(wp) function scene_run_work(scene, model, setting) result(work)
     type(scene_t), intent(in) :: scene  !< the scene (checked here)
-    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_CVODE
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_TAYLOR
     real(wp), intent(in) :: setting  !< RK4 step h [s] or CVODE rtol, > 0; ignored for closed forms
     type(status_t) :: st
     real(wp) :: tend
@@ -129,7 +131,10 @@ contains
       work = closed_work(scene, tend)
     case (SCENE_MODEL_RK4, SCENE_MODEL_CVODE)
       if (.not. (setting > 0 .and. setting <= huge(1.0_wp)) .or. scene%want == SCENE_WANT_PERIOD) return
-      work = integrator_work(scene, model, tend, scene%tol, setting) + sampling_work(scene, tend)
+      work = integrator_work(scene, model, tend, scene%tol, setting) + sampling_work(scene, tend, model)
+    case (SCENE_MODEL_TAYLOR)
+      if (scene%want == SCENE_WANT_PERIOD) return
+      work = integrator_work(scene, model, tend, scene%tol, 0.0_wp) + sampling_work(scene, tend, model)
     end select
   end function scene_run_work
 
@@ -147,11 +152,15 @@ contains
   end function closed_work
 
   ! Work of the samples of an integrated run: its outputs (one for want =
-  ! final), or the points of the event grid.
-  pure real(wp) function sampling_work(scene, tend) result(work)
+  ! final), or the points of the event grid (the Taylor series finds its
+  ! events on its step polynomials: an output's work per event).
+  pure real(wp) function sampling_work(scene, tend, model) result(work)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
-    if (scene%want == SCENE_WANT_EVENTS) then
+    integer, intent(in) :: model
+    if (scene%want == SCENE_WANT_EVENTS .and. model == SCENE_MODEL_TAYLOR) then
+      work = SAMPLE_WORK*real(scene_event_bound(scene%w0, tend, scene%theta0, scene%omega0), wp)
+    else if (scene%want == SCENE_WANT_EVENTS) then
       work = EVENT_SAMPLE_WORK*(event_grid_intervals(scene, tend) + 1)
     else if (scene%want == SCENE_WANT_FINAL) then
       work = SAMPLE_WORK
@@ -161,28 +170,29 @@ contains
   end function sampling_work
 
   ! The integrator choose_model takes for an integrated span at tol
-  ! (integrator_rule), with the prediction's RK4 step.
+  ! (integrator_pick), with the prediction's RK4 step.
   pure integer function integrator_choice(scene, span, tol) result(model)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: span, tol
     real(wp) :: rk4_round
-    logical :: use_cvode
-    call integrator_rule(scene, span, steps(span, rk4_step(scene, span, tol)), tol, use_cvode, rk4_round)
-    model = merge(SCENE_MODEL_CVODE, SCENE_MODEL_RK4, use_cvode)
+    call integrator_pick(scene, span, steps(span, rk4_step(scene, span, tol)), tol, model, rk4_round)
   end function integrator_choice
 
   ! Steps of the integrator over [0, span] [RK4 steps]: at setting (h or
   ! rtol) when > 0, else as the solve sets it from tol (RK4's runs, CVODE's
   ! two runs at rtol and rtol/10).  Events need RK4 substeps on every
-  ! interval of their grid (two at h, one at 2h).
+  ! interval of their grid (two at h, one at 2h).  Taylor: its one run
+  ! (taylor_steps, each SCENE_TAYLOR_STEP_COST), from tol alone.
   pure real(wp) function integrator_work(scene, model, span, tol, setting) result(work)
     type(scene_t), intent(in) :: scene
     integer, intent(in) :: model
     real(wp), intent(in) :: span, tol, setting
     real(wp) :: rtol, grid
     grid = 0
-    if (scene%want == SCENE_WANT_EVENTS) grid = 2*real(event_grid_intervals(scene, span), wp)
-    if (model == SCENE_MODEL_RK4) then
+    if (scene%want == SCENE_WANT_EVENTS .and. model /= SCENE_MODEL_TAYLOR) grid = 2*real(event_grid_intervals(scene, span), wp)
+    if (model == SCENE_MODEL_TAYLOR) then
+      work = SCENE_TAYLOR_STEP_COST*taylor_steps(scene, span)
+    else if (model == SCENE_MODEL_RK4) then
       if (setting > 0) then
         work = max(steps(span, setting), grid)
       else

@@ -105,6 +105,7 @@ def test_scene_tables_match_the_fortran():
         ("STEP_CAP", "SCENE_STEP_CAP"),
         ("CVODE_STEP_COST", "SCENE_CVODE_STEP_COST"),
         ("STIFF_RATIO", "SCENE_STIFF_RATIO"),
+        ("TAYLOR_STEP_COST", "SCENE_TAYLOR_STEP_COST"),
         ("STIFF_RK4_STEPS", "SCENE_STIFF_RK4_STEPS"),
         ("LINEAR_SAFETY", "SCENE_LINEAR_SAFETY"),
     ):

@@ -19,7 +19,7 @@ from helpers import HAVE_CVODE
 import pendula
 from pendula import _longcall
 from pendula import scene as scene_mod
-from pendula._codes import CVODE_STEP_COST, MODEL_CODES, WANT_CODES
+from pendula._codes import CVODE_STEP_COST, MODEL_CODES, TAYLOR_STEP_COST, WANT_CODES
 
 
 def _work(scene, model="auto", fixed=0, setting=0.0, tol=None):
@@ -40,7 +40,7 @@ def _work(scene, model="auto", fixed=0, setting=0.0, tol=None):
 
 def _reported(result):
     """Work the solve reports, in RK4 steps."""
-    return result.cost["steps"] * (CVODE_STEP_COST if result.model == "cvode" else 1)
+    return result.cost["steps"] * {"cvode": CVODE_STEP_COST, "taylor": TAYLOR_STEP_COST}.get(result.model, 1)
 
 
 # Damped scenes of the benchmark grid (scenes 287, 199, 382) that span 50 to 400
