@@ -621,7 +621,7 @@ def solve(
     >>> import numpy as np, pendula
     >>> r = pendula.solve(pendula.Scene(0.0, 2.0, t=np.linspace(0, 30, 601), gamma=0.1, tol=1e-6))
     >>> r.model, r.tol_met, r.error_estimate <= 1e-6
-    ('rk4', True, True)
+    ('taylor', True, True)
     >>> b = pendula.solve(pendula.Scene([0.1, 3.0], t=[0.0, 1.0]))
     >>> list(b.model), b.theta.shape
     (['exact', 'exact'], (2, 2))
