@@ -261,7 +261,7 @@ def main(argv=None):
     bn = by[f"batch, {ncores} threads"]
     ratios.append(
         f"batch {ncores} threads / 1 thread, wall: {b1['wall'] / bn['wall']:.2f}x (target >= 1.8x; "
-        f"only meaningful on an idle machine: load average {os.getloadavg()[0]:.1f})"
+        f"only meaningful on an idle machine)"
     )
     ratios.append(
         "every state within 1e-6 rad: " + ", ".join(f"{r['name']} {'yes' if r['err'] < 1e-6 else 'NO'}" for r in rows)

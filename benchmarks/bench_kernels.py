@@ -199,7 +199,7 @@ def main(argv=None):
         ratios.append(f"default path / numba, 1 thread: {nb_cpu / best['cpu1']:.2f}x (target >= 7x)")
     ratios.append(
         f"default path, 2 threads / 1 thread, wall: {best['wall1'] / best['wall2']:.2f}x (target >= 1.8x; "
-        f"load average {os.getloadavg()[0]:.1f})"
+        f"only meaningful on an idle machine)"
     )
     ratios.append(heyoka_note)
     m = 100_000 if args.quick else 1_000_000

@@ -153,7 +153,6 @@ def main(argv=None):
     repeats = 2 if args.quick else 5
     k = args.threads
 
-    load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     rows = []
     with cf.ThreadPoolExecutor(max_workers=k) as pool:
         for name, (points, mk) in _workloads(n).items():
@@ -203,11 +202,10 @@ def main(argv=None):
             )
 
     cores = os.cpu_count()
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     head = (
         f"GIL release: {k} threads vs 1 on {cores} logical cores "
-        f"({platform.processor() or platform.machine()}), best of {repeats}; "
-        f"load average {load0:.1f} -> {load:.1f} (speed-ups need idle cores)"
+        f"({platform.processor() or platform.machine()}), best of {repeats} "
+        f"(speed-ups need idle cores)"
     )
     table = harness.markdown_table(
         [
