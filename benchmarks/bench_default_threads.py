@@ -39,8 +39,7 @@ def main(argv=None):
     cases = [(200, 1.0), (200, 10.0), (2000, 10.0)] + ([] if args.quick else [(20000, 10.0)])
     h = 0.01
     lines = [
-        f"pendula {pendula.__version__}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
-        f"SERIAL_WORK = {_defaults.SERIAL_WORK:g} RK4 steps",
+        f"pendula {pendula.__version__}, {os.cpu_count()} cores; SERIAL_WORK = {_defaults.SERIAL_WORK:g} RK4 steps",
         "",
         "| states | t_end [s] | work [steps] | default [ms] | threads=1 [ms] | threads=0 [ms] | default / 1 "
         "| default / 0 |",
