@@ -108,10 +108,7 @@ contains
     if (status%code == PENDULA_OK .and. budget < 1) call set_error(status, PENDULA_ERR_DOMAIN, &
                                                             'max_steps = '//format_int(budget)//' is out of range: it must be >= 1')
     if (status%code /= PENDULA_OK) then
-      theta = 0
-      omega = 0
-      codes = status%code
-      steps = 0
+      call refuse_all(status%code, theta, omega, codes, steps)
       return
     end if
     nthreads = batch_threads(threads)
@@ -121,10 +118,7 @@ contains
     allocate (live(n), stat=ist)
     call check_alloc(ist, 'the batch''s list of live states', int(n, i8), 4, status)
     if (status%code /= PENDULA_OK) then
-      theta = 0
-      omega = 0
-      codes = status%code
-      steps = 0
+      call refuse_all(status%code, theta, omega, codes, steps)
       return
     end if
     nlive = 0
@@ -153,10 +147,7 @@ contains
       allocate (th(size(theta, 1), size(theta, 2)), om(size(omega, 1), size(omega, 2)), stat=ist)
       call check_alloc(ist, 'the contiguous copies of theta and omega', 2_i8*size(theta, kind=i8), 8, status)
       if (status%code /= PENDULA_OK) then
-        theta = 0
-        omega = 0
-        codes = status%code
-        steps = 0
+        call refuse_all(status%code, theta, omega, codes, steps)
         return
       end if
       th(1, :) = theta(1, :)
@@ -185,6 +176,18 @@ contains
                                         gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
     call set_batch_error(status, codes, first, st%message)
   end subroutine rk4_batch_solve
+
+  !> A call refused as a whole: every state gets its code and no result.
+  pure subroutine refuse_all(code, theta, omega, codes, steps)
+    integer, intent(in) :: code  !< the call's status code
+    real(wp), intent(out) :: theta(:, :), omega(:, :)  !< zeroed: the codes say there is no result
+    integer, intent(out) :: codes(:)  !< code, for every state
+    integer(i8), intent(out) :: steps(:)  !< 0, for every state
+    theta = 0
+    omega = 0
+    codes = code
+    steps = 0
+  end subroutine refuse_all
 
   !> Checks of the call as a whole: sizes, t, threads.
   subroutine check_call(t, n, omega0, w0, gamma, h, theta, omega, codes, steps, threads, status)
