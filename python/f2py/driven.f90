@@ -83,7 +83,8 @@ subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma
                       period_in, transient, nmax, tol, threads, control, period, winding, theta_p, omega_p, mult, residual, codes, &
                        first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, status_unpack
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t, status_unpack, check_alloc
   use pendula_driven_orbits, only: driven_orbits
   implicit none
   include 'pendula_msg_len.inc'
@@ -99,7 +100,15 @@ subroutine orbits_f2py(n, no, nw, ng, na, nf, np, npi, theta0, omega0, w0, gamma
   type(status_t) :: st
   integer :: ff
   integer, allocatable :: per(:), wnd(:), cds(:)
-  allocate (per(n), wnd(n), cds(n))
+  integer :: ist
+  allocate (per(n), wnd(n), cds(n), stat=ist)
+  call check_alloc(ist, 'the orbits'' periods, windings and codes', 3_i8*n, 4, st)
+  if (st%code /= 0) then
+    codes = st%code
+    first_failed = 0
+    call status_unpack(st, code, msg)
+    return
+  end if
   call driven_orbits(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(period_in), &
                      int(transient), int(nmax), tol, per, wnd, theta_p, omega_p, mult, residual, cds, st, threads=int(threads), &
                      control=control, first_failed=ff)
@@ -114,7 +123,8 @@ subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0,
                        nsteps, transient, nmax, tol, threads, control, labels, period, winding, natt, att_period, att_winding, &
                        att_theta, att_omega, att_mean_omega, cyc, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, status_unpack
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t, status_unpack, check_alloc
   use pendula_driven_orbits, only: driven_basins
   implicit none
   include 'pendula_msg_len.inc'
@@ -131,7 +141,15 @@ subroutine basins_f2py(n, no, nw, ng, na, nf, np, cap, ncyc, theta0, omega0, w0,
   type(status_t) :: st
   integer :: ff, na_
   integer, allocatable :: lab(:), per(:), wnd(:), cds(:), ap(:), aw(:)
-  allocate (lab(n), per(n), wnd(n), cds(n), ap(cap), aw(cap))
+  integer :: ist
+  allocate (lab(n), per(n), wnd(n), cds(n), ap(cap), aw(cap), stat=ist)
+  call check_alloc(ist, 'the basins'' labels, periods, windings and codes', 4_i8*n + 2_i8*cap, 4, st)
+  if (st%code /= 0) then
+    codes = st%code
+    first_failed = 0
+    call status_unpack(st, code, msg)
+    return
+  end if
   cyc = 0
   if (ncyc == n) then
     call driven_basins(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
@@ -156,7 +174,8 @@ end subroutine basins_f2py
 subroutine basin_table_f2py(n, nmax, nf, cap, period, winding, cyc, freq, tol, labels, natt, att_period, &
                             att_winding, att_theta, att_omega, att_mean_omega, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_status, only: status_t, status_unpack
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t, status_unpack, check_alloc
   use pendula_driven_orbits, only: basin_table
   implicit none
   include 'pendula_msg_len.inc'
@@ -169,8 +188,13 @@ subroutine basin_table_f2py(n, nmax, nf, cap, period, winding, cyc, freq, tol, l
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   integer, allocatable :: per(:), wnd(:), lab(:), ap(:), aw(:)
-  integer :: na_
-  allocate (per(n), wnd(n), lab(n), ap(cap), aw(cap))
+  integer :: na_, ist
+  allocate (per(n), wnd(n), lab(n), ap(cap), aw(cap), stat=ist)
+  call check_alloc(ist, 'the basin table''s labels', 3_i8*n + 2_i8*cap, 4, st)
+  if (st%code /= 0) then
+    call status_unpack(st, code, msg)
+    return
+  end if
   per = period
   wnd = winding
   call basin_table(per, wnd, cyc, freq, tol, lab, na_, ap, aw, att_theta, att_omega, att_mean_omega, st)

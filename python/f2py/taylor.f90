@@ -45,7 +45,7 @@ subroutine taylor_batch_f2py(nt, n, no, nw, ng, nr, t, theta0, omega0, w0, gamma
                              theta, omega, err, codes, steps, order, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
-  use pendula_status, only: status_t, status_unpack
+  use pendula_status, only: status_t, status_unpack, check_alloc
   use pendula_ode, only: step_budget
   use pendula_taylor_batch, only: taylor_batch_solve
   implicit none
@@ -60,7 +60,15 @@ subroutine taylor_batch_f2py(nt, n, no, nw, ng, nr, t, theta0, omega0, w0, gamma
   type(status_t) :: st
   integer(i8), allocatable :: nsteps(:)   ! heap: n may be 1e7
   integer :: first
-  allocate (nsteps(n))
+  integer :: ist
+  allocate (nsteps(n), stat=ist)
+  call check_alloc(ist, 'the steps per state', int(n, i8), 8, st)
+  if (st%code /= 0) then
+    codes = st%code
+    first_failed = 0
+    call status_unpack(st, code, msg)
+    return
+  end if
   call taylor_batch_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, codes, nsteps, order, st, &
                           threads=int(threads), control=control, first_failed=first, max_steps=step_budget(max_steps))
   steps = real(nsteps, c_double)

@@ -14,7 +14,7 @@ module pendula_driven
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_int, format_general
   use pendula_constants, only: pi
-  use pendula_status, only: status_t, set_error, check_increasing, check_size, check_same_size, PENDULA_OK, &
+  use pendula_status, only: status_t, set_error, check_alloc, check_increasing, check_size, check_same_size, PENDULA_OK, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
@@ -114,7 +114,7 @@ contains
     real(wp), intent(out), optional :: err_omega(:, :)  !< Richardson error of omega [rad/s], like omega
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i
+    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, ist
     character(len=len(status%message)) :: msg
     logical :: richardson
     real(wp), allocatable :: th2(:, :), om2(:, :)
@@ -148,7 +148,12 @@ contains
       return
     end if
     if (richardson) then
-      allocate (th2(size(t), p%n), om2(size(t), p%n))
+      allocate (th2(size(t), p%n), om2(size(t), p%n), stat=ist)
+      call check_alloc(ist, 'the Richardson half-step run''s theta and omega', 2_i8*size(t, kind=i8)*p%n, 8, status)
+      if (status%code /= PENDULA_OK) then
+        codes = status%code
+        return
+      end if
       th2 = 0
       om2 = 0
     end if

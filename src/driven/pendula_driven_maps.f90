@@ -17,7 +17,7 @@ module pendula_driven_maps
   use pendula_kinds, only: wp, i8
   use pendula_constants, only: pi
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, check_finite, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
+  use pendula_status, only: status_t, set_error, check_alloc, check_finite, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
@@ -227,7 +227,7 @@ contains
     !< optional cancel flag and progress counter (finished values)
     integer, intent(out), optional :: first_failed  !< first failed value (0: none)
     real(wp), allocatable :: th0(:)
-    integer :: n
+    integer :: n, ist
     n = size(values)
     if (which < PARAM_AMPLITUDE .or. which > PARAM_W0) then
       call set_error(status, PENDULA_ERR_DOMAIN, 'parameter = '//format_int(which)// &
@@ -239,7 +239,16 @@ contains
       if (present(first_failed)) first_failed = 0
       return
     end if
-    allocate (th0(n))
+    allocate (th0(n), stat=ist)
+    call check_alloc(ist, 'the bifurcation''s start angles', int(n, i8), 8, status)
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
+      theta_s = 0
+      omega_s = 0
+      mean_omega = 0
+      if (present(first_failed)) first_failed = 0
+      return
+    end if
     th0 = theta0
     call driven_poincare(th0, [omega0], sel(PARAM_W0, w0), sel(PARAM_GAMMA, gamma), kind, &
                          sel(PARAM_AMPLITUDE, amp), sel(PARAM_FREQUENCY, freq), sel(PARAM_PHASE, phase), nsteps, section_phase, &

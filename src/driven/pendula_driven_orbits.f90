@@ -15,10 +15,10 @@
 !>   period, winding and strobe points), or BASIN_UNSETTLED.
 module pendula_driven_orbits
   use, intrinsic :: iso_fortran_env, only: int64
-  use pendula_kinds, only: wp
+  use pendula_kinds, only: wp, i8
   use pendula_constants, only: pi
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, check_positive, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
+  use pendula_status, only: status_t, set_error, check_alloc, check_positive, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_MEMORY
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
@@ -409,7 +409,7 @@ contains
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
     real(wp), allocatable :: cyc(:, :, :)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, n, cap
+    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, n, cap, ist
     character(len=len(status%message)) :: msg
     th = 0
     if (present(threads)) th = threads
@@ -443,7 +443,12 @@ contains
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg)
-    allocate (cyc(2, nmax, n))
+    allocate (cyc(2, nmax, n), stat=ist)
+    call check_alloc(ist, 'the basins'' strobe cycles', 2_i8*nmax*n, 8, status)
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
+      return
+    end if
     cyc = 0
     nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
