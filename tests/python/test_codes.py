@@ -134,8 +134,10 @@ SECOND_COPY = [
     # the scene limits written out (they drift: 2e6 vs 2e8)
     (re.compile(r"\b(?:2e[689]|2\.0e[689]|2_000_000_000|200_000_000)\b"), "scene limit"),
 ]
-# the limit pattern applies to the scene layer; integrate.py's rk4/cvode budgets are their own
+# the limit pattern applies to the scene layer and the command line; integrate.py's rk4/cvode
+# budgets are their own
 LIMIT_FILES = ("scene.py", "cli.py")
+LIMIT_PREFIXES = ("_scene", "_cli")
 
 
 def second_copies(files):
@@ -143,7 +145,7 @@ def second_copies(files):
     for f in files:
         text = f.read_text()
         for pattern, what in SECOND_COPY:
-            if what == "scene limit" and f.name not in LIMIT_FILES:
+            if what == "scene limit" and not (f.name in LIMIT_FILES or f.name.startswith(LIMIT_PREFIXES)):
                 continue
             for m in pattern.finditer(text):
                 line = text.count("\n", 0, m.start()) + 1
