@@ -1,9 +1,9 @@
 """pendula.lyapunov's ensemble and its 95 % error bound.
 
 The reference is a long run of the same RK4 map (N = 64 steps per period,
-the default): 128 starts x 8 copies x 125,000 periods, with its standard
-error (benchmarks/bench_driven.py --reference recomputes it; N = 128 there
-bounds the step's bias).
+the default): 128 orbits x 125,000 periods, with its standard error
+(benchmarks/bench_driven.py --reference recomputes it; N = 128 there bounds
+the step's bias).
 """
 
 import numpy as np
