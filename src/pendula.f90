@@ -51,7 +51,8 @@ module pendula
   use pendula_drive, only: drive_t, DRIVE_TORQUE, DRIVE_PIVOT, drive_period, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS, &
                            DRIVEN_DEFAULT_STEPS
   use pendula_driven, only: driven_solve, driven_batch_solve
-  use pendula_driven_maps, only: driven_poincare, driven_bifurcation, driven_lyapunov, LYAPUNOV_BLOCKS, &
+  use pendula_driven_maps, only: driven_poincare, driven_bifurcation, driven_lyapunov, LYAPUNOV_BLOCKS, LYAPUNOV_ORBITS, &
+                                 LYAPUNOV_DEFAULT_STEPS, LYAPUNOV_DEFAULT_PERIODS, &
                                  PARAM_AMPLITUDE, PARAM_FREQUENCY, PARAM_PHASE, PARAM_GAMMA, PARAM_W0
   use pendula_driven_orbits, only: driven_orbits, driven_basins, basin_table, BASIN_UNSETTLED, &
                                    BASIN_UNLISTED, ORBIT_NEWTON_TOL, ORBIT_MAX_PERIOD

@@ -58,14 +58,14 @@ subroutine poincare_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, k
 end subroutine poincare_f2py
 
 subroutine lyapunov_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, &
-                         transient, periods, threads, control, lyap, lyap_err, codes, first_failed, code, msg)
+                         transient, periods, orbits, threads, control, lyap, lyap_err, codes, first_failed, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_driven_maps, only: driven_lyapunov
   implicit none
   include 'pendula_msg_len.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n, no, nw, ng, na, nf, np, kind, nsteps, transient, periods, threads
+  integer(c_int), intent(in) :: n, no, nw, ng, na, nf, np, kind, nsteps, transient, periods, orbits, threads
   real(c_double), intent(in) :: theta0(n), omega0(no), w0(nw), gamma(ng), amp(na), freq(nf), phase(np)
   integer(8), intent(inout) :: control(2)
   real(c_double), intent(out) :: lyap(2, n), lyap_err(2, n)
@@ -74,7 +74,8 @@ subroutine lyapunov_f2py(n, no, nw, ng, na, nf, np, theta0, omega0, w0, gamma, k
   type(status_t) :: st
   integer :: ff
   call driven_lyapunov(theta0, omega0, w0, gamma, int(kind), amp, freq, phase, int(nsteps), int(transient), &
-                       int(periods), lyap, lyap_err, codes, st, threads=int(threads), control=control, first_failed=ff)
+                       int(periods), lyap, lyap_err, codes, st, threads=int(threads), control=control, first_failed=ff, &
+                       orbits=int(orbits))
   first_failed = ff
   call status_unpack(st, code, msg)
 end subroutine lyapunov_f2py

@@ -1,5 +1,5 @@
 """What the chaos tools share: their result contract (codes, message, inputs, ok),
-work estimates and argument chunks for Dask."""
+and work estimates."""
 
 import math
 
@@ -22,16 +22,6 @@ class _Outcome:
 
 def _work(n, steps, periods):
     return n * steps * periods
-
-
-def _chunk_args(args, start, size, n, **extra):
-    """The glue's kwargs for states [start, start + size): per-state arrays sliced, the others as they are."""
-    out = {
-        k: (v[start : start + size] if isinstance(v, np.ndarray) and v.size == n and n > 1 else v)
-        for k, v in args.items()
-    }
-    out.update(extra)
-    return out
 
 
 def _positive(x, name):

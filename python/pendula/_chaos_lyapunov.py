@@ -5,10 +5,10 @@ import dataclasses
 import numpy as np
 
 from . import _driven_call as _dc
-from . import _fortran, _tables
-from ._chaos_base import _chunk_args, _Outcome, _work
-from ._codes import DRIVEN_DEFAULT_STEPS, LYAPUNOV_BLOCKS
-from ._defaults import CHUNK_STATES, THREADS, check_threads
+from . import _tables
+from ._chaos_base import _Outcome, _work
+from ._codes import LYAPUNOV_BLOCKS, LYAPUNOV_DEFAULT_PERIODS, LYAPUNOV_DEFAULT_STEPS, LYAPUNOV_ORBITS
+from ._defaults import CHUNK_STATES, THREADS
 from .driven import _state_columns
 
 
@@ -22,9 +22,12 @@ class LyapunovResult(_Outcome):
         [1/s], shape ``shape + (2,)``, the largest first; they sum to -gamma
         (up to the RK4 error of the tangent map, O(h^4)).
     errors : numpy.ndarray
-        Error estimates [1/s], same shape: the standard error of the means of
-        16 blocks of the measured periods, combined with half the gap between
-        the means of the two halves (a running average still drifting).
+        95 % error bounds [1/s], same shape: Student's t times the standard
+        error of the means of 16 blocks of the measured periods (of every
+        copy, when the copies have parted by the end of the transient;
+        else of the blocks averaged over the copies), combined with the
+        part of half the gap between the means of the two halves that the
+        noise does not explain (a running average still drifting).
     codes : numpy.ndarray
         Status code of each state (0: OK); a failed state is NaN.
     message : str
@@ -105,6 +108,7 @@ class LyapunovResult(_Outcome):
         return _tables.dataset(None, {}, shape, per_state=per_state, attrs=attrs, coords=coords)
 
 
+@_dc.fill_doc
 def lyapunov(
     theta0,
     omega0,
@@ -117,19 +121,27 @@ def lyapunov(
     b=None,
     mass=None,
     transient=100,
-    periods=2000,
-    steps_per_period=DRIVEN_DEFAULT_STEPS,
+    periods=LYAPUNOV_DEFAULT_PERIODS,
+    orbits=LYAPUNOV_ORBITS,
+    steps_per_period=LYAPUNOV_DEFAULT_STEPS,
     threads=THREADS,
     progress=None,
     client=None,
     chunk_states=CHUNK_STATES,
 ):
-    """Both Lyapunov exponents of driven pendulums, with error estimates.
+    """Both Lyapunov exponents of driven pendulums, with 95 % error bounds.
 
     Two tangent vectors follow the derivative of the RK4 map and are
     re-orthonormalised (Gram-Schmidt) every drive period (Benettin et al.,
     Meccanica 15 (1980) 9); the exponents are the mean log stretchings per
-    unit time over ``periods`` drive periods after ``transient``.
+    unit time over ``periods`` drive periods after ``transient``.  Each
+    state runs as an ensemble of ``orbits`` copies in the SIMD lanes of one
+    block (copy c starts at theta0 + c 1e-6 rad): on a chaotic attractor
+    they part within the transient and sample it independently, so the
+    eight cost about what one does; on a stable periodic orbit they meet.
+    The defaults give the Baker-Gollub chaotic exponent (w0 = 1, gamma =
+    0.5, F = 1.15, Omega = 2/3) to about +-0.0005 1/s in well under a
+    second on one core (benchmarks/bench_driven.py).
 
     Parameters
     ----------
@@ -137,32 +149,21 @@ def lyapunov(
         Initial states at t = 0 [rad, rad/s]; broadcast with w0 and gamma.
     drive : Drive
         The drive.
-    w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
-        the text's pendulum (sqrt(2)) when g and length are not given either.
-    gamma : float or array_like, optional
-        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
-    g, length : float, optional
-        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
-    b, mass : float, optional
-        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+    {pendulum}
     transient : int, optional
         Drive periods before the measurement (default 100).
     periods : int, optional
-        Drive periods measured, >= 16 (default 2000).
+        Drive periods measured by each copy, >= 16 (default 50000).
+    orbits : int, optional
+        Copies of each state, in [1, 8] (default 8); 1 follows exactly the
+        orbit from (theta0, omega0).
     steps_per_period : int, optional
-        RK4 steps per drive period (default 128).
-    threads : int or None, optional
-        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
-        default, n > 0 n threads.
-    progress : bool or callable, optional
-        True for a tqdm bar, or ``callable(done, total)`` (states).
-
-    client : dask.distributed.Client, optional
-        Run on Dask in chunks of ``chunk_states`` states (one thread each);
-        the answer is bit for bit the local one.
-    chunk_states : int, optional
-        States per Dask chunk (default ``pendula._defaults.CHUNK_STATES``).
+        RK4 steps per drive period (default 64: the exponents are those of
+        the RK4 map, and step halving shows this step's bias on the
+        Baker-Gollub exponent well below the error bound).
+    {threads}
+    {progress}
+    {dask}
 
     Returns
     -------
@@ -180,30 +181,20 @@ def lyapunov(
     Examples
     --------
     >>> d = pendula.Drive("torque", 1.15, 2/3)
-    >>> r = pendula.lyapunov(0.2, 0.0, drive=d, w0=1.0, gamma=0.5, periods=2000)
-    >>> bool(r.exponents[0] > 0), round(float(r.exponents.sum()), 4)
+    >>> r = pendula.lyapunov(0.2, 0.0, drive=d, w0=1.0, gamma=0.5)
+    >>> bool(abs(r.exponents[0] - 0.0999) < 0.001 and r.errors[0] < 0.0006), round(float(r.exponents.sum()), 4)
     (True, -0.5)
     """
-    drive = _dc.drive_arg(drive)
-    steps = _dc.steps_arg(steps_per_period)
-    transient = _dc.count_arg(transient, "transient", 0)
-    periods = _dc.count_arg(periods, "periods", LYAPUNOV_BLOCKS)
-    check_threads(threads)
-    _dc.check_client(client)
-    chunk_states = _dc.count_arg(chunk_states, "chunk_states", 1)
-    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
-    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    n = args["theta0"].size
-    work = _work(n, 3 * steps, transient + periods)
-    opts = dict(nsteps=steps, transient=transient, periods=periods)
-    if client is None:
-        (ly, le), res = _dc.watched(
-            _fortran.lyapunov_f2py, work, n, progress, shape, threads=_dc.threads_arg(threads, work), **opts, **args
-        )
-    else:
-        chunks = [_chunk_args(args, s0, chunk_states, n, threads=1, **opts) for s0 in range(0, n, chunk_states)]
-        (ly, le), res = _dc.settle(_dc.dask_chunks(client, "lyapunov_f2py", chunks, progress, n), shape)
-    ly = np.ascontiguousarray(ly.T).reshape(shape + (2,))
-    le = np.ascontiguousarray(le.T).reshape(shape + (2,))
+    call = _dc.prepare(
+        locals(),
+        transient=(transient, 0),
+        periods=(periods, LYAPUNOV_BLOCKS),
+        orbits=(orbits, 1, LYAPUNOV_ORBITS),
+    )
+    c = call.counts
+    work = _work(call.n * c["orbits"], 3 * call.steps, c["transient"] + c["periods"])
+    opts = dict(nsteps=call.steps, **c)
+    (ly, le), res = _dc.run("lyapunov_f2py", call, work, progress, opts)
+    ly, le = _dc.per_state(ly, call.shape), _dc.per_state(le, call.shape)
     _dc.nan_failed(res, ly, le)
-    return LyapunovResult(ly, le, res.codes, res.message, inputs)
+    return LyapunovResult(ly, le, res.codes, res.message, call.inputs)

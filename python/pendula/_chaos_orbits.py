@@ -8,9 +8,9 @@ import numpy as np
 
 from . import _driven_call as _dc
 from . import _fortran
-from ._chaos_base import _chunk_args, _Outcome, _positive, _work
+from ._chaos_base import _Outcome, _positive, _work
 from ._codes import BASIN_UNSETTLED, DRIVEN_DEFAULT_STEPS, OK, ORBIT_MAX_PERIOD
-from ._defaults import CHUNK_STATES, THREADS, WELL_NONE, check_threads
+from ._defaults import CHUNK_STATES, THREADS, WELL_NONE
 from ._errors import raise_for_status
 from .driven import _state_columns
 
@@ -107,24 +107,13 @@ class PeriodicOrbits(_Outcome):
         )
 
 
-def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, threads, progress):
-    n = args["theta0"].size
-    per_in = np.asarray(period_in, dtype=np.int32).reshape(-1)
-    work = _work(n, 3 * steps, transient + 2 * nmax + 40 * max(int(per_in.max()), nmax))
-    (per, wnd, tp, op, mult, resid), res = _dc.watched(
-        _fortran.orbits_f2py,
-        work,
-        n,
-        progress,
-        shape,
-        period_in=per_in,
-        nsteps=steps,
-        transient=transient,
-        nmax=nmax,
-        tol=tol,
-        threads=_dc.threads_arg(threads, work),
-        **args,
+def _orbits(call, period_in, transient, nmax, tol, progress):
+    n, shape, args = call.n, call.shape, call.args
+    work = _work(n, 3 * call.steps, transient + 2 * nmax + 40 * max(period_in, nmax))
+    opts = dict(
+        period_in=np.array([period_in], dtype=np.int32), nsteps=call.steps, transient=transient, nmax=nmax, tol=tol
     )
+    (per, wnd, tp, op, mult, resid), res = _dc.run("orbits_f2py", call, work, progress, opts)
     mu = (mult[0::2] + 1j * mult[1::2]).T.reshape(shape + (2,))
     per = per.reshape(shape)
     T = 2 * math.pi / np.broadcast_to(args["freq"], (n,)).reshape(shape)
@@ -135,9 +124,10 @@ def _orbits(drive, args, inputs, shape, period_in, steps, transient, nmax, tol, 
     _dc.nan_failed(res, tp, op, mu, fe, resid)
     bad = res.codes != OK
     per, wnd = np.where(bad, FAILED, per), np.where(bad, FAILED, wnd)
-    return PeriodicOrbits(per, wnd, tp, op, mu, stable & ~bad, fe, resid, res.codes, res.message, inputs)
+    return PeriodicOrbits(per, wnd, tp, op, mu, stable & ~bad, fe, resid, res.codes, res.message, call.inputs)
 
 
+@_dc.fill_doc
 def periodic_orbits(
     theta0,
     omega0,
@@ -155,6 +145,8 @@ def periodic_orbits(
     steps_per_period=DRIVEN_DEFAULT_STEPS,
     threads=THREADS,
     progress=None,
+    client=None,
+    chunk_states=CHUNK_STATES,
 ):
     """Detect the periodic attractor each state settles on and locate it by Newton's method.
 
@@ -170,15 +162,7 @@ def periodic_orbits(
         Initial states at t = 0 [rad, rad/s]; broadcast with w0 and gamma.
     drive : Drive
         The drive.
-    w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
-        the text's pendulum (sqrt(2)) when g and length are not given either.
-    gamma : float or array_like, optional
-        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
-    g, length : float, optional
-        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
-    b, mass : float, optional
-        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+    {pendulum}
     transient : int, optional
         Drive periods before detection (default 200).
     nmax : int, optional
@@ -187,11 +171,9 @@ def periodic_orbits(
         Detection tolerance on strobe points, > 0 (default 1e-6).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int or None, optional
-        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
-        default, n > 0 n threads.
-    progress : bool or callable, optional
-        True for a tqdm bar, or ``callable(done, total)`` (states).
+    {threads}
+    {progress}
+    {dask}
 
     Returns
     -------
@@ -212,17 +194,17 @@ def periodic_orbits(
     >>> int(o.period), bool(o.stable)
     (2, True)
     """
-    drive = _dc.drive_arg(drive)
-    steps = _dc.steps_arg(steps_per_period)
-    transient = _dc.count_arg(transient, "transient", 0)
-    nmax = _dc.count_arg(nmax, "nmax", 1, ORBIT_MAX_PERIOD)
+    call = _dc.prepare(
+        locals(),
+        checks=[lambda: _positive(tol, "tol")],
+        transient=(transient, 0),
+        nmax=(nmax, 1, ORBIT_MAX_PERIOD),
+    )
     tol = _positive(tol, "tol")
-    check_threads(threads)
-    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
-    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    return _orbits(drive, args, inputs, shape, [0], steps, transient, nmax, tol, threads, progress)
+    return _orbits(call, 0, call.counts["transient"], call.counts["nmax"], tol, progress)
 
 
+@_dc.fill_doc
 def find_periodic_orbit(
     theta0,
     omega0,
@@ -248,20 +230,10 @@ def find_periodic_orbit(
         The drive.
     period : int, optional
         The period in drive periods, in [1, 64] (default 1).
-    w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
-        the text's pendulum (sqrt(2)) when g and length are not given either.
-    gamma : float or array_like, optional
-        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
-    g, length : float, optional
-        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
-    b, mass : float, optional
-        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+    {pendulum}
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int or None, optional
-        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
-        default, n > 0 n threads.
+    {threads}
 
     Returns
     -------
@@ -285,13 +257,11 @@ def find_periodic_orbit(
     >>> bool(o.stable)
     True
     """
-    drive = _dc.drive_arg(drive)
-    steps = _dc.steps_arg(steps_per_period)
-    period = _dc.count_arg(period, "period", 1, ORBIT_MAX_PERIOD)
-    check_threads(threads)
-    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
-    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    return _orbits(drive, args, inputs, shape, [period], steps, 0, 1, 1e-6, threads, None)
+    call = _dc.prepare(
+        locals(),
+        period=(period, 1, ORBIT_MAX_PERIOD),
+    )
+    return _orbits(call, call.counts["period"], 0, 1, 1e-6, None)
 
 
 @dataclasses.dataclass
@@ -356,6 +326,7 @@ class Basins(_Outcome):
         return df
 
 
+@_dc.fill_doc
 def basins(
     theta0,
     omega0,
@@ -386,15 +357,7 @@ def basins(
         (e.g. a column and a row for a grid).
     drive : Drive
         The drive.
-    w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
-        the text's pendulum (sqrt(2)) when g and length are not given either.
-    gamma : float or array_like, optional
-        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
-    g, length : float, optional
-        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
-    b, mass : float, optional
-        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+    {pendulum}
     transient : int, optional
         Drive periods before classification (default 200).
     nmax : int, optional
@@ -406,11 +369,8 @@ def basins(
         Capacity of the attractor table (default 64).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int or None, optional
-        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
-        default, n > 0 n threads.
-    progress : bool or callable, optional
-        True for a tqdm bar, or ``callable(done, total)`` (states).
+    {threads}
+    {progress}
 
     client : dask.distributed.Client, optional
         Run on Dask in chunks of ``chunk_states`` states (one thread each);
@@ -440,45 +400,35 @@ def basins(
     >>> b.labels.shape
     (4, 3)
     """
-    drive = _dc.drive_arg(drive)
-    steps = _dc.steps_arg(steps_per_period)
-    transient = _dc.count_arg(transient, "transient", 0)
-    nmax = _dc.count_arg(nmax, "nmax", 1, ORBIT_MAX_PERIOD)
-    cap = _dc.count_arg(max_attractors, "max_attractors", 1, 100_000)
+    call = _dc.prepare(
+        locals(),
+        checks=[lambda: _positive(tol, "tol")],
+        transient=(transient, 0),
+        nmax=(nmax, 1, ORBIT_MAX_PERIOD),
+        max_attractors=(max_attractors, 1, 100_000),
+    )
     tol = _positive(tol, "tol")
-    check_threads(threads)
-    _dc.check_client(client)
-    chunk_states = _dc.count_arg(chunk_states, "chunk_states", 1)
-    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
-    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    n = args["theta0"].size
-    work = _work(n, steps, transient + 2 * nmax)
-    opts = dict(cap=cap, nsteps=steps, transient=transient, nmax=nmax, tol=tol)
-    if client is None:
-        out, res = _dc.watched(
-            _fortran.basins_f2py,
-            work,
-            n,
-            progress,
-            shape,
-            ncyc=1,
-            threads=_dc.threads_arg(threads, work),
-            **opts,
-            **args,
-        )
+    c, shape = call.counts, call.shape
+    work = _work(call.n, call.steps, c["transient"] + 2 * c["nmax"])
+    opts = dict(nsteps=call.steps, tol=tol, transient=c["transient"], nmax=c["nmax"], cap=c["max_attractors"])
+    # on Dask each chunk returns its states' periods, windings and strobe cycles (a table
+    # of capacity 1, ncyc = its states); the table is then built from all of them in state
+    # order by the same Fortran (basin_table), as the local call builds it
+    out, res = _dc.run(
+        "basins_f2py",
+        call,
+        work,
+        progress,
+        dict(opts, ncyc=1),
+        chunk_opts=dict(opts, cap=1),
+        per_chunk=lambda chunk: dict(ncyc=len(chunk["theta0"])),
+    )
+    if call.client is None:
         lab, per, wnd, natt, ap, aw, at, ao, am, _ = out
     else:
-        # each chunk returns its states' periods, windings and strobe cycles; the table
-        # is then built from all of them in state order by the same Fortran (basin_table)
-        chunks = [
-            _chunk_args(args, s0, chunk_states, n, threads=1, **dict(opts, cap=1)) for s0 in range(0, n, chunk_states)
-        ]
-        for c in chunks:
-            c["ncyc"] = len(c["theta0"])
-        out, res = _dc.settle(_dc.dask_chunks(client, "basins_f2py", chunks, progress, n), shape)
         per, wnd, cyc = out[1], out[2], out[9]
         lab, natt, ap, aw, at, ao, am, code, msg = _fortran.basin_table_f2py(
-            cap=cap, period=per, winding=wnd, cyc=cyc, freq=args["freq"], tol=tol
+            cap=c["max_attractors"], period=per, winding=wnd, cyc=cyc, freq=call.args["freq"], tol=tol
         )
         raise_for_status(code, msg)
     natt = int(natt)
@@ -491,4 +441,4 @@ def basins(
     )
     bad = res.codes != OK
     lab, per, wnd = (np.where(bad, FAILED, np.asarray(a).reshape(shape)) for a in (lab, per, wnd))
-    return Basins(lab, per, wnd, table, res.codes, res.message, inputs)
+    return Basins(lab, per, wnd, table, res.codes, res.message, call.inputs)

@@ -7,9 +7,8 @@ import math
 import numpy as np
 
 from . import _driven_call as _dc
-from . import _fortran
 from ._arrays import as_real, real_scalar
-from ._chaos_base import _PARAMS, _chunk_args, _Outcome, _work
+from ._chaos_base import _PARAMS, _Outcome, _work
 from ._codes import DRIVEN_DEFAULT_STEPS
 from ._defaults import CHUNK_STATES, THREADS, check_threads
 from ._errors import number
@@ -92,31 +91,26 @@ class Section(_Outcome):
         )
 
 
-def _section_call(drive, args, shape, steps, section_phase, transient, points, threads, progress):
-    n = args["theta0"].size
-    work = _work(n, steps, transient + points + 1)
-    (ts, os_, mo), res = _dc.watched(
-        _fortran.poincare_f2py,
-        work,
-        n,
-        progress,
-        shape,
-        nsteps=steps,
-        section_phase=section_phase,
-        transient=transient,
-        nrec=points,
-        threads=_dc.threads_arg(threads, work),
-        **args,
-    )
-    theta = np.ascontiguousarray(ts.T).reshape(shape + (points,))
-    omega = np.ascontiguousarray(os_.T).reshape(shape + (points,))
+def _section_call(call, section_phase, progress):
+    n, shape, c = call.n, call.shape, call.counts
+    work = _work(n, call.steps, c["transient"] + c["points"] + 1)
+    opts = dict(nsteps=call.steps, section_phase=section_phase, transient=c["transient"], nrec=c["points"])
+    (ts, os_, mo), res = _dc.run("poincare_f2py", call, work, progress, opts)
+    theta, omega = _dc.per_state(ts, shape), _dc.per_state(os_, shape)
     mo = mo.reshape(shape)
-    freq = np.broadcast_to(args["freq"], (n,)).reshape(shape)
-    rot = mo / freq
+    rot = mo / np.broadcast_to(call.args["freq"], (n,)).reshape(shape)
     _dc.nan_failed(res, theta, omega, mo, rot)
     return theta, omega, mo, rot, res
 
 
+def _phase(section_phase, drive):
+    ph = drive.phase if section_phase is None else real_scalar(section_phase, "section_phase")
+    if not math.isfinite(ph):
+        raise ValueError(f"section_phase = {ph!r} is invalid: it must be finite")
+    return ph
+
+
+@_dc.fill_doc
 def poincare(
     theta0,
     omega0,
@@ -143,15 +137,7 @@ def poincare(
         Initial states at t = 0 [rad, rad/s]; broadcast with w0 and gamma.
     drive : Drive
         The drive.
-    w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
-        the text's pendulum (sqrt(2)) when g and length are not given either.
-    gamma : float or array_like, optional
-        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
-    g, length : float, optional
-        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
-    b, mass : float, optional
-        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+    {pendulum}
     transient : int, optional
         Drive periods discarded first (default 300).
     points : int, optional
@@ -162,11 +148,8 @@ def poincare(
         phases of a period.
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int or None, optional
-        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
-        default, n > 0 n threads.
-    progress : bool or callable, optional
-        True for a tqdm bar, or ``callable(done, total)`` (states).
+    {threads}
+    {progress}
 
     Returns
     -------
@@ -188,20 +171,16 @@ def poincare(
     >>> bool(abs(s.theta[2] - s.theta[0]) < 1e-6 < abs(s.theta[1] - s.theta[0]))   # period 2
     True
     """
-    drive = _dc.drive_arg(drive)
-    steps = _dc.steps_arg(steps_per_period)
-    transient = _dc.count_arg(transient, "transient", 0)
-    points = _dc.count_arg(points, "points", 1)
-    check_threads(threads)
-    ph = drive.phase if section_phase is None else real_scalar(section_phase, "section_phase")
-    if not math.isfinite(ph):
-        raise ValueError(f"section_phase = {ph!r} is invalid: it must be finite")
-    w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
-    shape, scalar, args, inputs = _dc.states(drive, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)
-    theta, omega, mo, rot, res = _section_call(drive, args, shape, steps, ph, transient, points, threads, progress)
-    return Section(theta, omega, mo, rot, None, None, res.codes, res.message, inputs)
+    call = _dc.prepare(
+        locals(),
+        transient=(transient, 0),
+        points=(points, 1),
+    )
+    theta, omega, mo, rot, res = _section_call(call, _phase(section_phase, call.drive), progress)
+    return Section(theta, omega, mo, rot, None, None, res.codes, res.message, call.inputs)
 
 
+@_dc.fill_doc
 def bifurcation(
     parameter,
     values,
@@ -238,15 +217,7 @@ def bifurcation(
         Its values (1-D).
     drive : Drive
         The drive supplying the other drive parameters.
-    w0 : float or array_like, optional
-        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
-        the text's pendulum (sqrt(2)) when g and length are not given either.
-    gamma : float or array_like, optional
-        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
-    g, length : float, optional
-        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
-    b, mass : float, optional
-        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+    {pendulum}
     theta0, omega0 : float, optional
         The initial state [rad, rad/s] (default 0.2, 0).
     transient : int, optional
@@ -257,9 +228,7 @@ def bifurcation(
         Drive phase of the section [rad] (default: the drive's phase).
     steps_per_period : int, optional
         RK4 steps per drive period (default 128).
-    threads : int or None, optional
-        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
-        default, n > 0 n threads.
+    {threads}
     progress : bool or callable, optional
         True for a tqdm bar, or ``callable(done, total)`` (values).
     client : dask.distributed.Client, optional
@@ -306,14 +275,11 @@ def bifurcation(
         i = int(np.argmax(~rule[0](vals)))
         raise ValueError(f"values[{i}] = {number(vals[i])} is out of range: {parameter} must be {rule[1]}")
     steps = _dc.steps_arg(steps_per_period)
-    transient = _dc.count_arg(transient, "transient", 0)
-    points = _dc.count_arg(points, "points", 1)
+    counts = dict(transient=_dc.count_arg(transient, "transient", 0), points=_dc.count_arg(points, "points", 1))
     check_threads(threads)
     _dc.check_client(client)
     chunk_states = _dc.count_arg(chunk_states, "chunk_states", 1)
-    ph = drive.phase if section_phase is None else real_scalar(section_phase, "section_phase")
-    if not math.isfinite(ph):
-        raise ValueError(f"section_phase = {ph!r} is invalid: it must be finite")
+    ph = _phase(section_phase, drive)
     w0, gamma = _dc.pendulum(w0, gamma, g, length, b, mass)
     base = dict(
         theta0=real_scalar(theta0, "theta0"),
@@ -338,20 +304,6 @@ def bifurcation(
     inputs = _dc.inputs(drive, (vals.size,), flats)
     if parameter in ("amplitude", "frequency", "phase"):
         inputs[parameter] = vals.copy()
-    if client is None:
-        theta, omega, mo, rot, res = _section_call(
-            drive, args, (vals.size,), steps, ph, transient, points, threads, progress
-        )
-        return Section(theta, omega, mo, rot, vals, parameter, res.codes, res.message, inputs)
-    n = vals.size
-    chunks = [
-        _chunk_args(
-            args, s0, chunk_states, n, nsteps=steps, section_phase=ph, transient=transient, nrec=points, threads=1
-        )
-        for s0 in range(0, n, chunk_states)
-    ]
-    (ts, os_, mo), res = _dc.settle(_dc.dask_chunks(client, "poincare_f2py", chunks, progress, n), (n,))
-    theta, omega = np.ascontiguousarray(ts.T), np.ascontiguousarray(os_.T)
-    rot = mo / np.broadcast_to(args["freq"], (n,))
-    _dc.nan_failed(res, theta, omega, mo, rot)
+    call = _dc.Call(drive, steps, counts, threads, client, chunk_states, (vals.size,), args, inputs)
+    theta, omega, mo, rot, res = _section_call(call, ph, progress)
     return Section(theta, omega, mo, rot, vals, parameter, res.codes, res.message, inputs)

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ._cli_values import angle, angular_velocity, count, data, finite, nonnegative, positive
+from ._codes import DRIVEN_DEFAULT_STEPS, LYAPUNOV_DEFAULT_PERIODS, LYAPUNOV_DEFAULT_STEPS, LYAPUNOV_ORBITS
 
 
 def _grid(spec, kind, name):
@@ -23,7 +24,7 @@ def _grid(spec, kind, name):
     return np.linspace(kind(lo), kind(hi), n)
 
 
-def _common(p, name, png_what, add_physics):
+def _common(p, name, png_what, add_physics, steps=DRIVEN_DEFAULT_STEPS):
     g = p.add_argument_group(
         "the driven pendulum: theta'' + gamma theta' + w0^2 sin theta = F cos(Omega t + phi) "
         "(torque), or a pivot a cos(Omega t + phi) (pivot: (a/l) Omega^2 cos(...) added to w0^2)"
@@ -46,7 +47,9 @@ def _common(p, name, png_what, add_physics):
     )
     g.add_argument("--phase", type=finite, default=0.0, metavar="RAD", help="drive phase phi in rad (default 0)")
     g.add_argument("--gamma", type=nonnegative, default=0.5, metavar="1/S", help="damping rate (default 0.5)")
-    g.add_argument("--steps", type=count, default=128, metavar="N", help="RK4 steps per drive period (default 128)")
+    g.add_argument(
+        "--steps", type=count, default=steps, metavar="N", help=f"RK4 steps per drive period (default {steps})"
+    )
     add_physics(p, damping=False, w0=True)  # the pendulum: --w0, or --g/--length (the text's by default)
     p.add_argument(
         "--out",
@@ -95,14 +98,28 @@ def add_parsers(sub, add_physics):
     lp = sub.add_parser(
         "lyapunov",
         help="Lyapunov exponents of the driven pendulum: NPZ, CSV and PNG",
-        description="Both Lyapunov exponents [1/s] with error estimates, per initial state: "
+        description="Both Lyapunov exponents [1/s] with 95 % error bounds, per initial state "
+        "(an ensemble of copies in the SIMD lanes): "
         "lyapunov.npz, lyapunov.csv, lyapunov.png.",
     )
     lp.add_argument("--theta0", type=angle, nargs="+", default=[0.2], metavar="ANGLE", help="initial angles")
     lp.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
     lp.add_argument("--transient", type=int, default=100, metavar="P", help="periods before measuring (default 100)")
-    lp.add_argument("--periods", type=count, default=20000, metavar="P", help="periods measured (default 20000)")
-    _common(lp, "lyapunov", "the plot", add_physics)
+    lp.add_argument(
+        "--periods",
+        type=count,
+        default=LYAPUNOV_DEFAULT_PERIODS,
+        metavar="P",
+        help=f"periods measured by each copy (default {LYAPUNOV_DEFAULT_PERIODS})",
+    )
+    lp.add_argument(
+        "--orbits",
+        type=count,
+        default=LYAPUNOV_ORBITS,
+        metavar="K",
+        help=f"copies of each start averaged, 1 to {LYAPUNOV_ORBITS} (default {LYAPUNOV_ORBITS})",
+    )
+    _common(lp, "lyapunov", "the plot", add_physics, steps=LYAPUNOV_DEFAULT_STEPS)
     g = sub.add_parser(
         "basins",
         help="basins of attraction of the driven pendulum: NPZ, CSV and PNG",
@@ -260,6 +277,7 @@ def cmd_lyapunov(args, out):
         gamma=args.gamma,
         transient=args.transient,
         periods=args.periods,
+        orbits=args.orbits,
         steps_per_period=args.steps,
     )
     np.savez(folder / "lyapunov.npz", theta0=th0, exponents=r.exponents, errors=r.errors)

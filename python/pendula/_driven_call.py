@@ -230,3 +230,117 @@ def nan_failed(outcome, *arrays):
         for a in arrays:
             if a is not None:
                 a[bad] = np.nan
+
+
+class Call:
+    """The checked arguments every driven/chaos call shares (built by ``prepare``):
+    the drive, steps per period, counts, threads, Dask client and chunk size,
+    and the broadcast states (shape, glue kwargs ``args``, result ``inputs``)."""
+
+    def __init__(self, drive, steps, counts, threads, client, chunk_states, shape, args, inputs):
+        self.drive, self.steps, self.counts, self.threads = drive, steps, counts, threads
+        self.client, self.chunk_states = client, chunk_states
+        self.shape, self.args, self.inputs = shape, args, inputs
+        self.n = args["theta0"].size
+
+
+def prepare(given, checks=(), **counts):
+    """Check a call's shared arguments, taken by name from ``given`` (the
+    call's ``locals()`` on entry: drive, theta0, omega0, w0, gamma, g,
+    length, b, mass, steps_per_period, threads and, when it has them,
+    client and chunk_states), in the order the calls always did: drive,
+    steps, each count ``name=(value, lo[, hi])``, the ``checks`` (callables
+    run next), threads, client, chunk_states, then the pendulum and the
+    states.  Returns a ``Call``."""
+    from ._defaults import check_threads
+
+    drive = drive_arg(given["drive"])
+    steps = steps_arg(given["steps_per_period"])
+    counts = {name: count_arg(spec[0], name, *spec[1:]) for name, spec in counts.items()}
+    for check in checks:
+        check()
+    threads = given["threads"]
+    check_threads(threads)
+    client = check_client(given.get("client"))
+    chunk_states = count_arg(given.get("chunk_states", 1), "chunk_states", 1)
+    w0, gamma = pendulum(*(given[k] for k in ("w0", "gamma", "g", "length", "b", "mass")))
+    shape, _, args, inputs = states(drive, theta0=given["theta0"], omega0=given["omega0"], w0=w0, gamma=gamma)
+    return Call(drive, steps, counts, threads, client, chunk_states, shape, args, inputs)
+
+
+def chunk_args(args, start, size, n, **extra):
+    """The glue's kwargs for states [start, start + size): per-state arrays sliced, the others as they are."""
+    out = {
+        k: (v[start : start + size] if isinstance(v, np.ndarray) and v.size == n and n > 1 else v)
+        for k, v in args.items()
+    }
+    out.update(extra)
+    return out
+
+
+def run(glue, call, work, progress, opts, shape=None, chunk_opts=None, per_chunk=None):
+    """Run the glue ``pendula._fortran.<glue>`` on the call's states with the
+    options ``opts``: locally (a watched call, threads from the work) or, with
+    a client, on Dask in chunks of ``call.chunk_states`` states on one thread
+    each (``chunk_opts``, if given, replaces ``opts`` there, and
+    ``per_chunk(chunk)`` adds options of its own to each), joined so that
+    the answer is bit for bit the local one.  Returns (outputs without codes
+    and status, Outcome)."""
+    from . import _fortran
+
+    n, shape = call.n, call.shape if shape is None else shape
+    if call.client is None:
+        fn = getattr(_fortran, glue)
+        return watched(fn, work, n, progress, shape, threads=threads_arg(call.threads, work), **opts, **call.args)
+    extra = opts if chunk_opts is None else chunk_opts
+    chunks = [
+        chunk_args(call.args, s0, call.chunk_states, n, threads=1, **extra) for s0 in range(0, n, call.chunk_states)
+    ]
+    for chunk in chunks if per_chunk is not None else ():
+        chunk.update(per_chunk(chunk))
+    return settle(dask_chunks(client=call.client, name=glue, chunks=chunks, progress=progress, total=n), shape)
+
+
+def per_state(a, shape):
+    """A glue output of shape (k, n) as ``shape + (k,)`` (C order)."""
+    return np.ascontiguousarray(np.asarray(a).T).reshape(shape + (np.shape(a)[0],))
+
+
+def fill_doc(fn):
+    """Decorator: put the shared parameter text ``DOC_PARTS[name]`` where the
+    docstring has a line ``{name}`` (so that one text documents every call)."""
+    for name, text in DOC_PARTS.items():
+        fn.__doc__ = fn.__doc__.replace("    {" + name + "}\n", text)
+    return fn
+
+
+DOC_PARTS = {
+    "pendulum": """\
+    w0 : float or array_like, optional
+        Small-angle angular frequency [1/s], > 0; default sqrt(g/length),
+        the text's pendulum (sqrt(2)) when g and length are not given either.
+    gamma : float or array_like, optional
+        Damping rate [1/s], >= 0; default b/mass when both are given, else 0.
+    g, length : float, optional
+        Gravity [m/s^2] and length [m], > 0: w0 = sqrt(g/length).
+    b, mass : float, optional
+        Damping constant [kg/s] and bob mass [kg]: gamma = b/mass (give both).
+""",
+    "threads": """\
+    threads : int or None, optional
+        OpenMP threads: None (default) chooses from the work, 0 the OpenMP
+        default, n > 0 n threads.
+""",
+    "progress": """\
+    progress : bool or callable, optional
+        True for a tqdm bar, or ``callable(done, total)`` (states).
+""",
+    "dask": """\
+    client : dask.distributed.Client, optional
+        Run on Dask in chunks of ``chunk_states`` states (one thread each);
+        the answer is bit for bit the local one.
+    chunk_states : int, optional
+        States per Dask chunk (default ``pendula._defaults.CHUNK_STATES``).
+""",
+}
+"""Parameter text shared by the driven/chaos docstrings (``fill_doc``)."""

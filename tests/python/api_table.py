@@ -503,6 +503,7 @@ API.update(
             args=dict(
                 transient=_TRANSIENT,
                 periods=Arg(COUNT, extra=((15, ValueError),)),
+                orbits=Arg(COUNT, extra=((9, ValueError),)),
                 progress=_PROGRESS,
                 **_DASK,
                 **_STATES,
@@ -515,6 +516,7 @@ API.update(
                 nmax=Arg(COUNT, extra=((65, ValueError),)),
                 tol=Arg(POS),
                 progress=_PROGRESS,
+                **_DASK,
                 **_STATES,
             ),
         ),

@@ -6,7 +6,8 @@ and the g/length, b/mass convention; a state that fails is NaN (integer
 fields FAILED) with its code, the others keep their answers bit for bit; the
 call raises only when every state failed; argument errors are ValueError
 naming the argument and the state; results carry their inputs; a Dask basin
-map, bifurcation diagram and Lyapunov batch are bit for bit the local ones.
+map, bifurcation diagram, Lyapunov batch and periodic-orbit search are bit
+for bit the local ones.
 """
 
 import math
@@ -156,7 +157,25 @@ def test_dask_matches_local_bit_for_bit():
         ly_rem = pendula.lyapunov(
             [0.2, 0.4, 0.6], 0.0, drive=D, w0=1.0, gamma=0.5, periods=16, **FAST, client=client, chunk_states=2
         )
-        assert np.array_equal(ly_loc.exponents, ly_rem.exponents)
+        assert np.array_equal(ly_loc.exponents, ly_rem.exponents) and np.array_equal(ly_loc.errors, ly_rem.errors)
+        starts = (np.linspace(-2, 2, 5), np.array([0.0, 1.0])[:, None])
+        kw = dict(drive=D, w0=1.0, gamma=0.5, transient=60, nmax=4, steps_per_period=64)
+        po_loc = pendula.periodic_orbits(*starts, **kw)
+        po_rem = pendula.periodic_orbits(*starts, **kw, client=client, chunk_states=3)
+        assert (po_loc.period > 0).any()
+        for k in (
+            "period",
+            "winding",
+            "theta",
+            "omega",
+            "multipliers",
+            "stable",
+            "floquet_exponents",
+            "residual",
+            "codes",
+        ):
+            a, b = getattr(po_loc, k), getattr(po_rem, k)
+            assert np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"), k
         with pytest.raises(TypeError, match="client"):
             pendula.basins(0.2, 0.0, **kw, client="tcp://x")
 
