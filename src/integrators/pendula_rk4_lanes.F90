@@ -109,11 +109,14 @@ contains
     ns = 0
     dlane = .false.
     work = 0
-    do j0 = 1, nt - 1, nchunk
+    j0 = 1
+    do while (j0 <= nt - 1)
       jn = min(nchunk, nt - j0)
       ! The chunk's substeps and step constants first: they depend on t, h,
       ! w0 and gamma only, and their divisions and branches then stay off the
       ! states' dependency chain (rk4_grid forms them one interval ahead).
+      ! A chunk ends early once it holds poll_every steps (cancel latency).
+      nst = 0
       do jj = 1, jn
         dt = t(j0 + jj) - t(j0 + jj - 1)
         if (uniform) then
@@ -128,6 +131,11 @@ contains
             hsc(l, jj) = dt
             if (msc(l, jj) /= 1) hsc(l, jj) = dt/real(msc(l, jj), wp)
           end do
+        end if
+        nst = nst + maxval(msc(:, jj))
+        if (nst >= poll_every) then
+          jn = jj
+          exit
         end if
       end do
       do jj = 1, jn
@@ -208,6 +216,7 @@ contains
         work = 0
         if (control(icancel) /= 0) return
       end if
+      j0 = j0 + jn
     end do
     do l = 1, nb
       nsteps(l) = ns(l)
