@@ -20,9 +20,10 @@ same run:
 and, for the closed forms, pendula.period over many amplitudes against
 SciPy's 4 ellipkm1(cos(theta0/2)**2) / w0, and pendula.undamped over many
 distinct states against SciPy's closed form (bench_undamped.scipy_undamped).
-Times are process CPU time, best of --repeat rounds in which every contender
-runs once in turn (a path in a fresh interpreter, the C loop, numba): the
-per-core cost when other processes share the
+Times are CPU time of the computing thread (the C loop: of its process), best
+of --repeat rounds in which every contender runs once in turn (a path in a
+fresh interpreter, the C loop, numba): the per-core cost when other processes
+share the
 machine.  Ratios > 1 mean pendula is faster.
 
     python benchmarks/bench_kernels.py [--quick] [--n N] [--repeat R] [--out DIR]
@@ -46,6 +47,16 @@ HERE = pathlib.Path(__file__).resolve().parent
 STEPS = 1200
 
 
+def _thread_cpu(fn, repeat):
+    """Best CPU time of the calling thread over `repeat` calls of fn."""
+    best = np.inf
+    for _ in range(repeat):
+        c0 = time.thread_time()
+        fn()
+        best = min(best, time.thread_time() - c0)
+    return best
+
+
 def _child(n, repeat):
     """In a fresh interpreter (PENDULA_KERNEL set by the parent): time the batch."""
     import bench_ensembles as ens
@@ -58,6 +69,9 @@ def _child(n, repeat):
     for threads in (1, 2):
         wall, cpu, _, theta = harness.best_run(lambda: ens.run_batch(th0, om0, threads), repeat)
         out[f"wall{threads}"], out[f"cpu{threads}"] = wall, cpu
+    # One thread computes on the calling thread: its CPU time is the cost,
+    # without the CPU of idle library threads in the process (BLAS pools).
+    out["cpu1"] = _thread_cpu(lambda: ens.run_batch(th0, om0, 1), repeat)
     ref = _batch.rk4_batch(ens.T, th0, om0, np.sqrt(ens.W0SQ), ens.GAMMA, ens.H / 16).theta
     out["err"] = float(np.abs(theta - ref).max())
     print(json.dumps(out))
@@ -114,7 +128,7 @@ def _rounds(n, repeat, paths, exe, nb, th0, om0):
         if exe is not None:
             peer = min(peer, _c_peer(exe, n))
         if nb is not None:
-            nb_cpu = min(nb_cpu, harness.best_run(lambda: nb(th0, om0), 1)[1])
+            nb_cpu = min(nb_cpu, _thread_cpu(lambda: nb(th0, om0), 1))
     return res, peer, nb_cpu
 
 
