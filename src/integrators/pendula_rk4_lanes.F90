@@ -78,15 +78,15 @@ contains
     integer(c_int), intent(out) :: done  !< 1 when the block ran to the end, 0 when cancelled
     real(wp), dimension(nl) :: y, u, rh, wsq, gam, hl, fin, yn, un, rn
     integer, dimension(nl) :: kk, kn
-    logical, dimension(nl) :: okv, live
+    logical, dimension(nl) :: okv
     integer(i8) :: ns(nl)
     logical, dimension(nl) :: dlane
     ! per chunk of output intervals: each interval's substep size and count
     ! (per lane) and rk4_grid's per-interval constants, lane by lane; the
     ! lanes' outputs
     real(wp) :: hsc(nl, nchunk), cst(nl, ncst, nchunk), bth(nl, nchunk), bom(nl, nchunk)
-    integer(i8) :: msc(nl, nchunk), nmx(nchunk), nst, k
-    integer :: l, s, j0, jn, jj, jnext
+    integer(i8) :: msc(nl, nchunk), nmx(nchunk), nst
+    integer :: l, s, j0, jn, jj
     integer(i8) :: i, m, work
     real(wp) :: dt, hm
     logical :: uniform
@@ -143,50 +143,43 @@ contains
                             cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), cst(:, c_cy, jj), &
                             cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), cst(:, c_bu1, jj))
       end do
-      ! The chunk's steps as one flat loop (interval jj, its substep i,
-      ! advanced without a branch): no loop exit between two intervals, so
-      ! the steps of consecutive intervals overlap in the pipeline as those
-      ! of one interval do.  A lane with fewer substeps in an interval idles
-      ! (live false) through the rest of it; every step stores the lanes'
-      ! state as the interval's output (the last one stays).
+      ! Then the chunk's steps, with nothing between two intervals but the
+      ! loop control and the store of the lanes' outputs (a lane with fewer
+      ! substeps in an interval idles through the rest of it; a stopped lane
+      ! takes none).
       do l = 1, nl
         if (dlane(l)) msc(l, 1:jn) = 0
       end do
       nst = 0
       do jj = 1, jn
-        nmx(jj) = max(maxval(msc(:, jj)), 1_i8)
-        nst = nst + nmx(jj)
+        nmx(jj) = maxval(msc(:, jj))
+        nst = nst + max(nmx(jj), 1_i8)
         ns = ns + msc(:, jj)
       end do
-      jj = 1
-      i = 1
-      do k = 1, nst
-        live = i <= msc(:, jj)
-        call fast_step(y, u, rh, kk, wsq, gam, hsc(:, jj), cst(:, c_half, jj), cst(:, c_sixth, jj), cst(:, c_h2q, jj), &
-                       cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), cst(:, c_cy, jj), &
-                       cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), cst(:, c_bu1, jj), &
-                       yn, un, rn, kn, okv)
-        if (.not. all(okv)) call plain_lanes(live, y, u, wsq, gam, hsc(:, jj), cst(:, c_half, jj), &
-                                             cst(:, c_sixth, jj), cst(:, c_c6, jj), okv, yn, un, rn, kn)
-        if (uniform) then
-          y = yn
-          u = un
-          rh = rn
-          kk = kn
-        else
-          where (live)
+      do jj = 1, jn
+        do i = 1, nmx(jj)
+          call fast_step(y, u, rh, kk, wsq, gam, hsc(:, jj), cst(:, c_half, jj), cst(:, c_sixth, jj), &
+                         cst(:, c_h2q, jj), cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), &
+                         cst(:, c_cy, jj), cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), &
+                         cst(:, c_bu1, jj), yn, un, rn, kn, okv)
+          if (.not. all(okv)) call plain_lanes(i <= msc(:, jj), y, u, wsq, gam, hsc(:, jj), cst(:, c_half, jj), &
+                                               cst(:, c_sixth, jj), cst(:, c_c6, jj), okv, yn, un, rn, kn)
+          if (uniform) then
             y = yn
             u = un
             rh = rn
             kk = kn
-          end where
-        end if
+          else
+            where (i <= msc(:, jj))
+              y = yn
+              u = un
+              rh = rn
+              kk = kn
+            end where
+          end if
+        end do
         bth(:, jj) = y
         bom(:, jj) = u
-        ! the next step's interval and substep, without a branch
-        jnext = merge(jj + 1, jj, i == nmx(jj))
-        i = merge(1_i8, i + 1, i == nmx(jj))
-        jj = jnext
       end do
       work = work + nst
       ! rk4_grid stops at the first output that is not finite and rk4_solve
