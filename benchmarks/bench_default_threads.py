@@ -49,7 +49,8 @@ def main(argv=None):
     for n, t_end in cases:
         th0 = np.linspace(0.1, 3.0, n)
         t = np.array([0.0, t_end])
-        rep = 5 if args.quick or n > 2000 else 15
+        # small batches are cheap and noisy: many rounds; large ones: few
+        rep = 30 if n <= 200 else 5 if args.quick or n > 2000 else 15
         times = best_interleaved(
             {thr: (lambda thr=thr: pendula.rk4(t, th0, 0.0, np.sqrt(2), 0.1, h, threads=thr)) for thr in (None, 1, 0)},
             rep,

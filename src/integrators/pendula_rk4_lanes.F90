@@ -37,6 +37,12 @@ module PENDULA_LANES_MODULE
   integer, parameter :: nl = RK4_BATCH_LANES
   !> Block steps (of nl lanes each) between two polls of the cancel flag (~0.25 ms).
   integer(i8), parameter :: poll_every = 2048
+  !> Output intervals per chunk (their substeps and step constants formed
+  !> together ahead of their steps, their outputs stored together).
+  integer, parameter :: nchunk = 8
+  !> Columns of the step constants (step_constants' outputs, in its order).
+  integer, parameter :: c_half = 1, c_sixth = 2, c_h2q = 3, c_hh = 4, c_c6 = 5, c_w1 = 6, c_w2 = 7, c_cy = 8, &
+                        c_g2 = 9, c_wa = 10, c_wb = 11, c_bu0 = 12, c_bu1 = 13, ncst = 13
 
 contains
 
@@ -70,14 +76,18 @@ contains
     integer(c_int64_t), intent(inout), volatile :: control(ncontrol)  !< control(icancel) /= 0 asks to stop
     integer(c_int), intent(in) :: icancel  !< index of the cancel flag in control
     integer(c_int), intent(out) :: done  !< 1 when the block ran to the end, 0 when cancelled
-    real(wp), dimension(nl) :: y, u, rh, wsq, gam, hl, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
-                               bu0, bu1, yn, un, rn
+    real(wp), dimension(nl) :: y, u, rh, wsq, gam, hl, fin, yn, un, rn
     integer, dimension(nl) :: kk, kn
-    integer(i8), dimension(nl) :: nsub, ns
-    logical, dimension(nl) :: okv, dlane
-    real(wp) :: fin(nl)
-    integer :: l, j, s
-    integer(i8) :: i, nmax, m, work
+    logical, dimension(nl) :: okv
+    integer(i8) :: ns(nl)
+    logical, dimension(nl) :: dlane
+    ! per chunk of output intervals: each interval's substep size and count
+    ! (per lane) and rk4_grid's per-interval constants, lane by lane; the
+    ! lanes' outputs
+    real(wp) :: hsc(nl, nchunk), cst(nl, ncst, nchunk), bth(nl, nchunk), bom(nl, nchunk)
+    integer(i8) :: msc(nl, nchunk), nmx(nchunk), nst
+    integer :: l, s, j0, jn, jj
+    integer(i8) :: i, m, work
     real(wp) :: dt, hm
     logical :: uniform
     done = 0
@@ -99,53 +109,84 @@ contains
     ns = 0
     dlane = .false.
     work = 0
-    do j = 1, nt - 1
-      dt = t(j + 1) - t(j)
-      if (uniform) then
-        m = substeps(dt, hl(1))
-        hm = dt
-        if (m /= 1) hm = dt/real(m, wp)
-        nsub = m
-        hs = hm
-      else
-        do l = 1, nl
-          nsub(l) = substeps(dt, hl(l))
-          hs(l) = dt
-          if (nsub(l) /= 1) hs(l) = dt/real(nsub(l), wp)
-        end do
-      end if
-      where (dlane) nsub = 0
-      nmax = maxval(nsub)
-      ! rk4_grid's per-interval constants, lane by lane
-      call step_constants(hs, wsq, gam, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1)
-      do i = 1, nmax
-        call fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1, &
-                       yn, un, rn, kn, okv)
-        if (.not. all(okv)) call plain_lanes(i, nsub, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
+    j0 = 1
+    do while (j0 <= nt - 1)
+      jn = min(nchunk, nt - j0)
+      ! The chunk's substeps and step constants first: they depend on t, h,
+      ! w0 and gamma only, and their divisions and branches then stay off the
+      ! states' dependency chain (rk4_grid forms them one interval ahead).
+      ! A chunk ends early once it holds poll_every steps (cancel latency).
+      nst = 0
+      do jj = 1, jn
+        dt = t(j0 + jj) - t(j0 + jj - 1)
         if (uniform) then
-          y = yn
-          u = un
-          rh = rn
-          kk = kn
+          m = substeps(dt, hl(1))
+          hm = dt
+          if (m /= 1) hm = dt/real(m, wp)
+          msc(:, jj) = m
+          hsc(:, jj) = hm
         else
-          where (i <= nsub)
+          do l = 1, nl
+            msc(l, jj) = substeps(dt, hl(l))
+            hsc(l, jj) = dt
+            if (msc(l, jj) /= 1) hsc(l, jj) = dt/real(msc(l, jj), wp)
+          end do
+        end if
+        nst = nst + maxval(msc(:, jj))
+        if (nst >= poll_every) then
+          jn = jj
+          exit
+        end if
+      end do
+      do jj = 1, jn
+        call step_constants(hsc(:, jj), wsq, gam, cst(:, c_half, jj), cst(:, c_sixth, jj), cst(:, c_h2q, jj), &
+                            cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), cst(:, c_cy, jj), &
+                            cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), cst(:, c_bu1, jj))
+      end do
+      ! Then the chunk's steps, with nothing between two intervals but the
+      ! loop control and the store of the lanes' outputs (a lane with fewer
+      ! substeps in an interval idles through the rest of it; a stopped lane
+      ! takes none).
+      do l = 1, nl
+        if (dlane(l)) msc(l, 1:jn) = 0
+      end do
+      nst = 0
+      do jj = 1, jn
+        nmx(jj) = maxval(msc(:, jj))
+        nst = nst + max(nmx(jj), 1_i8)
+        ns = ns + msc(:, jj)
+      end do
+      do jj = 1, jn
+        do i = 1, nmx(jj)
+          call fast_step(y, u, rh, kk, wsq, gam, hsc(:, jj), cst(:, c_half, jj), cst(:, c_sixth, jj), &
+                         cst(:, c_h2q, jj), cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), &
+                         cst(:, c_cy, jj), cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), &
+                         cst(:, c_bu1, jj), yn, un, rn, kn, okv)
+          if (.not. all(okv)) call plain_lanes(i <= msc(:, jj), y, u, wsq, gam, hsc(:, jj), cst(:, c_half, jj), &
+                                               cst(:, c_sixth, jj), cst(:, c_c6, jj), okv, yn, un, rn, kn)
+          if (uniform) then
             y = yn
             u = un
             rh = rn
             kk = kn
-          end where
-        end if
+          else
+            where (i <= msc(:, jj))
+              y = yn
+              u = un
+              rh = rn
+              kk = kn
+            end where
+          end if
+        end do
+        bth(:, jj) = y
+        bom(:, jj) = u
       end do
-      ns = ns + nsub
-      do l = 1, nb
-        if (dlane(l)) cycle
-        theta(j + 1, idx(l)) = y(l)
-        omega(j + 1, idx(l)) = u(l)
-      end do
+      work = work + nst
       ! rk4_grid stops at the first output that is not finite and rk4_solve
-      ! reports it; such a lane stops too.  One branch-free test per block.
+      ! reports it; such a lane stops too (its outputs are discarded by the
+      ! caller).  One branch-free test per chunk.
       do l = 1, nl
-        fin(l) = merge(merge(1.0_wp, 0.0_wp, abs(u(l)) <= huge(u)), 0.0_wp, abs(y(l)) <= huge(y))
+        fin(l) = merge(merge(1.0_wp, 0.0_wp, all(abs(bom(l, 1:jn)) <= huge(u))), 0.0_wp, all(abs(bth(l, 1:jn)) <= huge(y)))
       end do
       if (minval(fin) < 1) then
         do l = 1, nl
@@ -158,13 +199,17 @@ contains
           kk = 0
         end where
       end if
-      if (poll /= 0) then
-        work = work + max(nmax, 1_i8)
-        if (work >= poll_every) then
-          work = 0
-          if (control(icancel) /= 0) return
-        end if
+      ! each state's outputs are contiguous: stored a chunk at a time (those
+      ! of a lane that stopped are discarded by the caller)
+      do l = 1, nb
+        theta(j0 + 1:j0 + jn, idx(l)) = bth(l, 1:jn)
+        omega(j0 + 1:j0 + jn, idx(l)) = bom(l, 1:jn)
+      end do
+      if (poll /= 0 .and. work >= poll_every) then
+        work = 0
+        if (control(icancel) /= 0) return
       end if
+      j0 = j0 + jn
     end do
     do l = 1, nb
       nsteps(l) = ns(l)
@@ -174,12 +219,12 @@ contains
   end subroutine PENDULA_LANES_ENTRY
 
   !> rk4_grid's plain libm step on the lanes l with okv(l) false that still
-  !> take step i (i <= nsub(l)).  Out of line: the rare path stays out of the
+  !> take this step (live(l)).  Out of line: the rare path stays out of the
   !> hot loop's registers.  Not vectorised: with AVX2 gcc would call glibc's
   !> vector sin (libmvec, up to 4 ulp), which gfortran declares SIMD-capable,
   !> instead of the scalar libm sin of rk4_grid's plain step.
-  subroutine plain_lanes(i, nsub, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
-    integer(i8), intent(in) :: i, nsub(nl)
+  subroutine plain_lanes(live, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
+    logical, intent(in) :: live(nl)
     real(wp), dimension(nl), intent(in) :: y, u, wsq, gam, hs, half, sixth, c6
     logical, intent(in) :: okv(nl)
     real(wp), dimension(nl), intent(inout) :: yn, un, rn
@@ -187,7 +232,7 @@ contains
     integer :: l
     !GCC$ novector
     do l = 1, nl
-      if (.not. okv(l) .and. i <= nsub(l)) then
+      if (.not. okv(l) .and. live(l)) then
         call plain_step(y(l), u(l), wsq(l), gam(l), hs(l), half(l), sixth(l), c6(l), yn(l), un(l))
         call node_reduce(yn(l), kn(l), rn(l))
       end if
