@@ -37,6 +37,7 @@ def _long_scene(scene, tt, model_code, fixed, setting):
         model_code,
         int(fixed),
         float(setting),
+        *scene._drive_args(),
     )
     return not work <= _longcall.SCENE_LONG_STEPS
 
@@ -92,6 +93,7 @@ def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, c
             INFO_SIZE,
             budget,
             control,
+            *scene._drive_args(),
         )
         # f2py allocates the outputs (3 series of t, energy, m event slots of 28 bytes) before the solve
         out = _memory.guard(
@@ -209,6 +211,7 @@ def _batch_run(batch, model_code, fixed, setting, max_steps, progress, threads):
                 model_code,
                 int(fixed),
                 float(setting),
+                *sc._drive_args(),
             )
             if not work <= SERIAL_WORK:
                 break

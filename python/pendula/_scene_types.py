@@ -4,6 +4,7 @@ names; ``pendula.scene`` is the public face (see its docstring)."""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,6 +18,7 @@ from ._defaults import G_DEFAULT, LENGTH_DEFAULT, TOL
 from ._errors import raise_for_status
 from ._many.ensemble import is_batch as _is_batch
 from ._many.scenes import SceneBatch
+from .driven import Drive
 from .integrate import Events
 
 MODELS = tuple(name for name in MODEL_CODES if name != "auto")
@@ -68,6 +70,15 @@ class Scene:
         gamma = 0 only (K computed once, no time series);
         ``"events"``: turning points (Omega = 0) and zero crossings (passes through the bottom,
         theta = 0 mod 2 pi) in (0, t[-1]].
+    drive : Drive, optional
+        A periodic drive (``pendula.Drive``: a torque F cos(Omega t + phi) or a
+        vertically driven pivot), shared by every scene of a batch.  With a
+        drive of amplitude != 0 the models are ``"linear"`` (the linearised
+        driven damped oscillator in closed form, torque drive only, with the
+        linear model's nonlinearity bound) and ``"rk4"`` (the driven RK4
+        kernel, N steps per drive period, verified by a run at N/2); want
+        ``"period"`` and ``"events"`` are refused.  Amplitude 0: exactly the
+        undriven scene.
 
     Attributes
     ----------
@@ -75,7 +86,7 @@ class Scene:
         As given (t: a read-only 1-D copy).
     w0, gamma : float
         sqrt(g/length) and the damping rate [1/s] the scene uses.
-    mass, b, gamma_given
+    mass, b, gamma_given, drive
         As given, or None.
 
     Raises
@@ -115,11 +126,13 @@ class Scene:
         b=None,
         tol=TOL,
         want="state",
+        drive=None,
     ):
         # (theta0 defaults to None here only so that pickle and copy, which call
         # __new__ with no arguments, work; __init__ still requires it)
         if cls is Scene and _is_batch(theta0, omega0, g, length, gamma, mass, b, tol):
-            return SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want, make=Scene)
+            make = Scene if drive is None else functools.partial(Scene, drive=drive)  # one drive for the batch
+            return SceneBatch(theta0, omega0, t, g, length, gamma, mass, b, tol, want, make=make)
         return object.__new__(cls)
 
     def __init__(
@@ -134,6 +147,7 @@ class Scene:
         b: ArrayLike | None = None,
         tol: ArrayLike = TOL,
         want: str = "state",
+        drive: Drive | None = None,
     ) -> None:
         self.theta0 = real_scalar(theta0, "theta0")
         self.omega0 = real_scalar(omega0, "omega0")
@@ -148,6 +162,9 @@ class Scene:
         if want.strip().lower() not in WANT_CODES:
             raise ValueError(f"want = {want!r} is unknown: it must be one of {', '.join(WANTS)}")
         self.want = want.strip().lower()
+        if drive is not None and not isinstance(drive, Drive):
+            raise TypeError(f"drive must be a pendula.Drive or None, got {type(drive).__name__}")
+        self.drive = drive
         w0, gam, w0lo, code, msg = _scene.scene_physics_f2py(
             self.g,
             self.length,
@@ -189,8 +206,16 @@ class Scene:
             self.tol,
             WANT_CODES[self.want],
             MODEL_CODES["auto"],
+            *self._drive_args(),
         )
         raise_for_status(code, msg)
+
+    def _drive_args(self):
+        # the drive as the f2py glue takes it: has_drive, kind code, amplitude, frequency, phase
+        d = self.__dict__.get("drive")
+        if d is None:
+            return (0, 1, 0.0, 1.0, 0.0)
+        return (1, d.code, d.amplitude, d.frequency, d.phase)
 
     def _t_arg(self):
         # f2py needs at least one element; a period scene without t passes a dummy
@@ -221,9 +246,10 @@ class Scene:
             damping += f" (b={self.b:g}, mass={self.mass:g})"
         n = self.t.size
         window = f"t[{n}] in [{self.t[0]:g}, {self.t[-1]:g}]" if n else "no t"
+        drive = "" if self.__dict__.get("drive") is None else f", drive={self.drive!r}"
         return (
             f"Scene(theta0={self.theta0:g}, omega0={self.omega0:g}, w0={self.w0:.6g}, {damping}, "
-            f"{window}, tol={self.tol:g}, want={self.want!r})"
+            f"{window}, tol={self.tol:g}, want={self.want!r}{drive})"
         )
 
 
@@ -236,7 +262,9 @@ class SceneResult(_tables.Tabular):
     Parameters
     ----------
     model : str
-        The model used: "small_angle", "exact", "linear", "rk4" or "cvode".
+        The model used: "small_angle", "exact", "linear", "rk4", "cvode" or
+        "taylor" (with a drive: "linear" is the linearised driven
+        oscillator, "rk4" the driven RK4 kernel; the reason says "driven").
     reason : str
         Why it was chosen.
     error_estimate : float

@@ -30,6 +30,13 @@ Models, cheapest first (the choice and the solve are in Fortran,
   runs), when its rounding would eat tol, or on stiff runs, and SUNDIALS was
   built.
 
+With a drive (``Scene(..., drive=pendula.Drive(...))``, amplitude != 0)
+the models are ``"linear"`` -- the linearised driven damped oscillator in
+closed form (torque drive), with the undriven linear model's nonlinearity
+bound over the motion's amplitude -- and ``"rk4"`` -- the driven RK4 kernel,
+whole steps per drive period, checked by a run at half the steps; want
+"period" and "events" are refused (``pendula_scene_driven``).
+
 The model and want names, the codes and the limits come from the Fortran
 core (``pendula._codes``, generated at build time); so do all the rules on a
 scene: this module passes its arguments through.

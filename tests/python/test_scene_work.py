@@ -35,6 +35,7 @@ def _work(scene, model="auto", fixed=0, setting=0.0, tol=None):
         MODEL_CODES[model],
         fixed,
         setting,
+        *scene._drive_args(),
     )
 
 
