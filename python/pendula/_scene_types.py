@@ -94,7 +94,8 @@ class Scene:
     ValueError
         For inconsistent or out-of-range parameters, naming the argument.
     TypeError
-        For non-real input or a want that is not a string.
+        For non-real input, a want that is not a string or a drive that is
+        not a ``pendula.Drive``.
 
     Notes
     -----
@@ -112,6 +113,9 @@ class Scene:
     Scene(theta0=0, omega0=2, w0=1.41421, gamma=0.1 (b=0.01, mass=0.1), t[601] in [0, 30], ...)
     >>> round(scene.periods, 3)
     6.752
+    >>> small = pendula.Scene(0.003, t=[0.0, 5.0], gamma=0.3, drive=pendula.Drive("torque", 0.002, 1.2))
+    >>> pendula.solve(small).model   # the linearised driven oscillator: no integration
+    'linear'
     """
 
     def __new__(

@@ -25,7 +25,7 @@ module pendula_scene_driven
   use pendula_status, only: status_t, set_error, check_alloc, check_positive, PENDULA_OK, PENDULA_ERR_MAXSTEPS, &
                             PENDULA_ERR_DOMAIN
   use pendula_control, only: CONTROL_SIZE
-  use pendula_drive, only: drive_t, DRIVE_TORQUE, DRIVE_PIVOT, drive_period, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS
+  use pendula_drive, only: DRIVE_TORQUE, DRIVE_PIVOT, drive_period, check_driven, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS
   use pendula_driven, only: driven_batch_solve
   use pendula_driven_linear, only: driven_linear_response, driven_linear_solve
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_WANT_FINAL
@@ -122,7 +122,10 @@ contains
               'transient + steady state) over the window, '//format_sci(e_lin, 4)//' rad, is <= tol'
       else
         model = SCENE_MODEL_RK4
-        if (scene%drive%kind == DRIVE_TORQUE) then
+        if (scene%drive%kind == DRIVE_TORQUE .and. .not. e_lin <= huge(e_lin)) then
+          why = 'driven at the undamped resonance (no bounded steady state, no closed form): the driven '// &
+                'RK4 kernel, N steps per drive period from tol, verified by a run at N/2'
+        else if (scene%drive%kind == DRIVE_TORQUE) then
           why = 'driven, the linearised driven oscillator is off by ~'//format_sci(e_lin, 4)// &
                 ' rad: the driven RK4 kernel, N steps per drive period from tol, verified by a run at N/2'
         else
@@ -159,6 +162,7 @@ contains
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: tend, nper
+    type(status_t) :: st
     call check_driven_model(model, scene%drive, status)
     if (status%code /= PENDULA_OK) return
     tend = window_end(scene)
@@ -173,6 +177,12 @@ contains
         call set_error(status, PENDULA_ERR_DOMAIN, 'setting = '//format_sci(setting, 4)//' is too small: '// &
                        'the driven RK4 kernel takes at most '//format_int(DRIVEN_MAX_STEPS)//' steps per drive period '// &
                        format_sci(drive_period(scene%drive), 4)//' s')
+        return
+      end if
+      call check_driven(scene%w0, scene%gamma, scene%drive, max(DRIVEN_MIN_STEPS, ceiling(nper)), st)
+      if (st%code /= PENDULA_OK) then
+        call set_error(status, st%code, 'setting = '//format_sci(setting, 4)//' is too large, '// &
+                       trim(st%message)//' (steps per drive period: ceiling(period/setting))')
         return
       end if
       call solve_driven_rk4(scene, tend, budget, max(DRIVEN_MIN_STEPS, ceiling(nper)), result, status, control)
@@ -304,6 +314,8 @@ contains
       call driven_batch_solve(tg, [scene%theta0], [scene%omega0], [scene%w0], [scene%gamma], scene%drive%kind, &
                               [scene%drive%amplitude], [scene%drive%frequency], [scene%drive%phase], n, x, v, codes, &
                               st, threads=1, control=control)
+      ! the batch's 'state 1 of 1 (1 failed, see codes): ' prefix is noise for one scene
+      if (index(st%message, 'state 1 of 1 ') == 1) st%message = st%message(index(st%message, ': ') + 2:)
       if (st%code /= PENDULA_OK .and. status%code == PENDULA_OK) status = st
     end subroutine run
   end subroutine solve_driven_rk4

@@ -175,6 +175,15 @@ program test_scene
   call driven_solve(tt, 0.2_wp, 0.0_wp, 1.0_wp, 0.5_wp, sc%drive, ref_th, ref_om, st, nsteps=4096)
   err = max(maxval(abs(res%theta - ref_th)), maxval(abs(res%omega - ref_om)))
   call tc%check_true(err <= res%error_estimate, 'large drive: true error <= estimate')
+  ! undamped: off resonance the closed form (no decay in its bound), at it the kernel
+  call scene_init(sc, 2.0e-3_wp, 1.0e-3_wp, tt(1:9), w0, 0.0_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 1.0e-3_wp, 0.9_wp, 0.3_wp))
+  call scene_solve(sc, res, st)
+  call tc%check_true(status_ok(st) .and. res%model == SCENE_MODEL_LINEAR, 'undamped small drive: linear')
+  call scene_init(sc, 2.0e-3_wp, 0.0_wp, tt(1:9), w0, 0.0_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 1.0e-3_wp, w0, 0.0_wp))
+  call scene_solve(sc, res, st)
+  call tc%check_true(status_ok(st) .and. res%model == SCENE_MODEL_RK4, 'undamped resonance: rk4: '//trim(res%reason))
   call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.1_wp, 1.0e-6_wp, SCENE_WANT_STATE, st)
   call scene_solve(sc, res, st)
   call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.1_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &

@@ -141,6 +141,9 @@ def test_wants_and_forced_models_with_a_drive():
     n = int(np.ceil(drive.period / 0.05))
     assert fixed.step == pytest.approx(drive.period / n, rel=1e-15) and fixed.error_estimate == 0
     assert np.max(np.abs(fixed.theta - rk.theta)) < 1e-6
+    with pytest.raises(ValueError, match="setting = 5.000E[+]00 is too large"):
+        # a slow drive: 8 steps per period of 21 s are too long for w0 = 1.41 (h w0 <= 1.5)
+        pendula.run_model(pendula.Scene(0.02, t=t, gamma=0.4, drive=pendula.Drive("torque", 0.01, 0.3)), "rk4", 5.0)
 
 
 @pytest.mark.parametrize(
