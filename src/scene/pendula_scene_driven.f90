@@ -31,7 +31,7 @@ module pendula_scene_driven
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_WANT_FINAL
   use pendula_scene_types, only: scene_t, scene_result_t, window_end, swing
   use pendula_scene_setup, only: alloc_outputs, finish_outputs, check_driven_model
-  use pendula_scene_estimates, only: linear_estimate, integrator_rounding
+  use pendula_scene_estimates, only: linear_estimate, integrator_rounding, slow_rate
   implicit none
   private
 
@@ -214,14 +214,14 @@ contains
     call finish_outputs(scene, result, status)
   end subroutine solve_driven_linear
 
-  ! A priori steps per drive period for tol: RK4's global error ~ C A (w h)^4 w T
+  ! A priori steps per drive period for tol: RK4's global error ~ C A (w h)^4 w T_eff
   ! (as rk4_apriori_step of pendula_scene_estimates, C = 2/120) with w the
   ! fastest of w0, Omega and the pivot's rate, A the swing plus F/w^2 (capped
   ! at 2 pi), at least what check_driven asks for stability (h rate <= 1.5).
   pure integer function apriori_steps(scene, tend) result(n)
     type(scene_t), intent(in) :: scene
     real(wp), intent(in) :: tend
-    real(wp) :: w, a, h, per, rate
+    real(wp) :: w, a, h, per, rate, teff
     w = max(scene%w0, scene%drive%frequency)
     rate = scene%w0**2
     if (scene%drive%kind == DRIVE_PIVOT) rate = rate + abs(scene%drive%amplitude)*scene%drive%frequency**2
@@ -230,7 +230,12 @@ contains
     a = swing(scene)
     if (scene%drive%kind == DRIVE_TORQUE) a = a + abs(scene%drive%amplitude)/w**2
     a = min(max(a, 1.0e-3_wp), 2*pi)
-    h = (scene%tol/(2.0_wp/120*a*max(w*tend, 1.0_wp)))**0.25_wp/w
+    ! with damping the error of a step decays with the motion's memory of it: as
+    ! rk4_apriori_step, the window counts up to 2/slow_rate (a chaotic orbit that
+    ! keeps amplifying it is caught by the check and refined)
+    teff = tend
+    if (scene%gamma > 0) teff = min(tend, 2/slow_rate(scene%w0, scene%gamma))
+    h = (scene%tol/(2.0_wp/120*a*max(w*teff, 1.0_wp)))**0.25_wp/w
     per = drive_period(scene%drive)
     ! the coarse run of the pair takes n/2: it too must be within the kernel's limits
     n = int(min(real(DRIVEN_MAX_STEPS, wp), max(2.0_wp*DRIVEN_MIN_STEPS, per/h, 2*(per*rate/1.5_wp + 1))))
