@@ -135,7 +135,7 @@ SECOND_COPY = [
     (re.compile(r"\b(?:2e[689]|2\.0e[689]|2_000_000_000|200_000_000)\b"), "scene limit"),
 ]
 # the limit pattern applies to the scene layer; integrate.py's rk4/cvode budgets are their own
-LIMIT_FILES = ("scene.py", "cli.py")
+LIMIT_FILES = ("scene.py", "_scene_types.py", "_scene_call.py", "cli.py")
 
 
 def second_copies(files):
