@@ -44,20 +44,29 @@ subroutine scene_physics_f2py(g, length, gamma_in, mass, b, has_gamma, has_mass,
   call status_unpack(st, code, msg)
 end subroutine scene_physics_f2py
 
-subroutine scene_check_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, code, msg)
+! The drive of a scene travels as has_drive (0: none) and the drive's kind
+! code (pendula_drive), amplitude, frequency and phase.
+subroutine scene_check_f2py(n, t, theta0, omega0, w0, gamma, tol, want, model, has_drive, dkind, damp, dfreq, dphase, &
+                            code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_status, only: status_t, status_unpack
   use pendula_scene, only: scene_t, scene_init
+  use pendula_drive, only: drive_t
   implicit none
   include 'pendula_msg_len.inc'
   !f2py threadsafe
-  integer(c_int), intent(in) :: n, want, model
-  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol
+  integer(c_int), intent(in) :: n, want, model, has_drive, dkind
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, damp, dfreq, dphase
   integer(c_int), intent(out) :: code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
   type(scene_t) :: scene
-  call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st, int(model))
+  if (has_drive /= 0) then
+    call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st, int(model), &
+                    drive=drive_t(int(dkind), damp, dfreq, dphase))
+  else
+    call scene_init(scene, theta0, omega0, t, w0, gamma, tol, int(want), st, int(model))
+  end if
   call status_unpack(st, code, msg)
 end subroutine scene_check_f2py
 
@@ -81,14 +90,15 @@ end subroutine scene_event_bound_f2py
 ! numbers of the result, at the SCENE_INFO_* slots of pendula_scene_codes
 ! (ninfo = SCENE_INFO_SIZE, which Python reads from pendula/_codes.py).
 subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, m, ninfo, &
-                     max_steps, control, nout, tout, theta, omega, energy, ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, &
-                            info, reason, code, msg)
+                            max_steps, control, has_drive, dkind, damp, dfreq, dphase, nout, tout, theta, omega, energy, &
+                            ev_t, ev_kind, ev_theta, ev_omega, n_events, model_out, info, reason, code, msg)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_kinds, only: i8
   use pendula_ode, only: step_budget
   use pendula_status, only: status_t, status_unpack, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_format, only: format_int
   use pendula_scene, only: scene_t, scene_result_t, scene_solve, scene_run_model
+  use pendula_drive, only: drive_t
   use pendula_scene_codes, only: SCENE_INFO_SIZE, SCENE_INFO_ERROR_ESTIMATE, SCENE_INFO_SETTING, &
                                  SCENE_INFO_PERIOD, SCENE_INFO_WALL_TIME, SCENE_INFO_CLOSED_FORM_EVALS, SCENE_INFO_RHS_EVALS, &
                               SCENE_INFO_STEPS, SCENE_INFO_RUNS, SCENE_INFO_TOL_MET, SCENE_INFO_EVENT_TIME_ERROR, SCENE_INFO_STEP, &
@@ -99,6 +109,8 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   integer(c_int), intent(in) :: n, want, model, fixed, m, ninfo
   real(c_double), intent(in) :: t(n), theta0, omega0, w0, w0lo, gamma, tol, setting, max_steps
   integer(8), intent(inout) :: control(2)   ! int64 [cancel flag, progress] (pendula_control), in place
+  integer(c_int), intent(in) :: has_drive, dkind   ! the drive (scene_check_f2py)
+  real(c_double), intent(in) :: damp, dfreq, dphase
   integer(c_int), intent(out) :: nout, n_events, model_out
   real(c_double), intent(out) :: tout(n), theta(n), omega(n), energy(n)
   real(c_double), intent(out) :: ev_t(m), ev_theta(m), ev_omega(m)
@@ -134,6 +146,8 @@ subroutine scene_solve_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, mo
   ! the times copied into a checked allocation (not by the constructor)
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
                   model=merge(0, int(model), fixed /= 0))
+  scene%driven = has_drive /= 0
+  scene%drive = drive_t(int(dkind), damp, dfreq, dphase)
   allocate (scene%t(n), stat=ist)
   call check_alloc(ist, 'the output times t', int(n, i8), 8, st)
   call status_unpack(st, code, msg)
@@ -180,19 +194,23 @@ end subroutine scene_solve_f2py
 ! (scene_solve_work, or scene_run_work when fixed /= 0): Python runs a call
 ! predicted long in a worker thread that Ctrl-C can stop.  0 for an invalid
 ! scene (the solve refuses it at once).
-subroutine scene_work_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, work)
+subroutine scene_work_f2py(n, t, theta0, omega0, w0, w0lo, gamma, tol, want, model, fixed, setting, has_drive, dkind, &
+                           damp, dfreq, dphase, work)
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_scene, only: scene_t
   use pendula_scene_work, only: scene_solve_work, scene_run_work
+  use pendula_drive, only: drive_t
   implicit none
   !f2py threadsafe
-  integer(c_int), intent(in) :: n, want, model, fixed
-  real(c_double), intent(in) :: t(n), theta0, omega0, w0, w0lo, gamma, tol, setting
+  integer(c_int), intent(in) :: n, want, model, fixed, has_drive, dkind
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, w0lo, gamma, tol, setting, damp, dfreq, dphase
   real(c_double), intent(out) :: work
   type(scene_t) :: scene
   integer :: ist
   scene = scene_t(theta0=theta0, omega0=omega0, w0=w0, w0lo=w0lo, gamma=gamma, tol=tol, want=int(want), &
                   model=merge(0, int(model), fixed /= 0))
+  scene%driven = has_drive /= 0
+  scene%drive = drive_t(int(dkind), damp, dfreq, dphase)
   ! times that cannot be copied: predicted short (0), so that the solve runs
   ! inline and reports PENDULA_ERR_MEMORY itself
   allocate (scene%t(n), stat=ist)

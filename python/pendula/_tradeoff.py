@@ -315,7 +315,8 @@ def tradeoff(
     models : list of str, optional
         Subset of ``MODELS`` to run (default: every one that applies --
         small_angle and exact when gamma = 0, linear otherwise, rk4,
-        cvode when built, and taylor at the tols ``TAYLOR_TOLS``).
+        cvode when built, and taylor at the tols ``TAYLOR_TOLS``; for a
+        driven scene linear (torque drive) and rk4, the driven models).
     rk4_steps : list of float, optional
         RK4 steps h [s] > 0 (default: halving from 0.9 of the stability
         limit, up to 14 distinct used steps while a run stays under
@@ -359,8 +360,8 @@ def tradeoff(
     Each model runs at a FIXED setting with no verification.  The error
     of every row is the sup over the output grid of max(abs(d theta),
     abs(d Omega)/w0) [rad] against one reference: the exact elliptic
-    solution when gamma = 0, otherwise ``solve`` at tol = 1e-12 with RK4
-    (or the automatic choice, or the Taylor series at tol = 1e-15, when
+    solution when gamma = 0 (undriven), otherwise ``solve`` at tol = 1e-12 with RK4
+    (the driven RK4 kernel for a driven scene; or the automatic choice, or the Taylor series at tol = 1e-15, when
     that estimates better; its estimate is in ``table.reference``).  Taylor
     rows run the Taylor series at each tol (its setting).  RK4 between output times takes
     the fewest equal substeps of at most h, so every h above the output
@@ -418,6 +419,7 @@ def tradeoff(
         gamma=scene.gamma,
         tol=scene.tol,
         want="state",
+        drive=scene.drive,
     )
     models = _models(st, models)
     ref, reference = _reference(st)
@@ -493,11 +495,18 @@ def tradeoff(
     return table
 
 
+def _driven(st):
+    return st.drive is not None and st.drive.amplitude != 0
+
+
 def _models(st, models):
-    applicable = ["linear", "rk4"] if st.gamma > 0 else ["small_angle", "exact", "rk4"]
-    if HAVE_CVODE:
-        applicable.append("cvode")
-    applicable.append("taylor")
+    if _driven(st):  # the linearised driven oscillator (torque drive) and the driven RK4 kernel
+        applicable = ["linear", "rk4"] if st.drive.kind == "torque" else ["rk4"]
+    else:
+        applicable = ["linear", "rk4"] if st.gamma > 0 else ["small_angle", "exact", "rk4"]
+        if HAVE_CVODE:
+            applicable.append("cvode")
+        applicable.append("taylor")
     if models is None:
         return applicable
     for mname in models:
@@ -510,6 +519,12 @@ def _models(st, models):
 
 def _reference(st):
     """(reference SceneResult, how it was made) for the state scene st."""
+    if _driven(st):  # the driven RK4 kernel at tol = 1e-12, Richardson-checked
+        ref = solve(
+            Scene(st.theta0, st.omega0, t=st.t, g=st.g, length=st.length, gamma=st.gamma, tol=1e-12, drive=st.drive),
+            model="rk4",
+        )
+        return ref, f"the driven RK4 kernel at tol = 1e-12, its a posteriori estimate {ref.error_estimate:.2g} rad"
     if st.gamma == 0:
         ref = run_model(st, "exact")
         return ref, f"exact elliptic solution (rounding estimate {ref.error_estimate:.2g} rad)"

@@ -43,8 +43,17 @@
 !> (an integrator only until a damped motion has decayed, then the linear
 !> closed form, also for events), pendula_scene_top (a damped start at the
 !> top: the hang in top-centred coordinates), pendula_scene_work (the
-!> predicted work of a call, from closed formulas); this module is the
-!> public face and the two entry points that run a scene.
+!> predicted work of a call, from closed formulas), pendula_scene_driven (a
+!> scene with a drive: the linearised driven oscillator in closed form or the
+!> driven RK4 kernel); this module is the public face and the two entry
+!> points that run a scene.
+!>
+!> A drive (scene_init's optional drive, pendula_drive) of nonzero amplitude
+!> makes the models linear (the linearised driven damped oscillator, torque
+!> drive only, with the nonlinearity bound of the undriven linear model) and
+!> rk4 (the driven RK4 kernel, Richardson-checked); small_angle, exact,
+!> cvode and taylor do not apply, and want = period or events is refused.
+!> A drive of amplitude 0 leaves every answer exactly the undriven one.
 module pendula_scene
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci, format_int
@@ -57,10 +66,12 @@ module pendula_scene
                                  SCENE_MODEL_RK4, SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_WANT_STATE, SCENE_WANT_THETA, &
                                  SCENE_WANT_FINAL, &
                                  SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST
-  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats, swing
+  use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, window_end, add_stats, swing, has_drive
   use pendula_scene_setup, only: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, &
                                  get_budget, alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: scene_estimate, model_estimate, choose_model, integrator_rounding
+  use pendula_scene_estimates, only: undriven_estimate => scene_estimate, model_estimate, choose_model, &
+                                     integrator_rounding
+  use pendula_scene_driven, only: driven_model_estimate, driven_scene_solve, driven_scene_run
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_integrated, only: solve_rk4, solve_cvode, solve_taylor, run_fixed, integrate
   use pendula_scene_handover, only: solve_integrated, add_cost
@@ -107,6 +118,13 @@ contains
     call check_scene(scene, status)
     call get_budget(budget, status, max_steps)
     if (status%code /= PENDULA_OK) return
+    if (has_drive(scene)) then
+      call driven_scene_solve(scene, budget, result, status, control)
+      result%want = scene%want
+      call system_clock(c1)
+      result%cost%wall_time = real(c1 - c0, wp)/real(max(rate, 1_i8), wp)
+      return
+    end if
     tend = window_end(scene)
     model = scene%model
     if (model == SCENE_MODEL_AUTO) then
@@ -183,6 +201,13 @@ contains
                                             PENDULA_ERR_DOMAIN, 'model = '//format_int(model)//' is unknown: it must be one of '// &
                                                                                         scene_model_list(SCENE_MODEL_SMALL_ANGLE))
     if (status%code /= PENDULA_OK) return
+    if (has_drive(scene)) then
+      call driven_scene_run(scene, model, setting, budget, result, status, control)
+      result%want = scene%want
+      call system_clock(c1)
+      result%cost%wall_time = real(c1 - c0, wp)/real(max(rate, 1_i8), wp)
+      return
+    end if
     call check_model_gamma(model, scene%gamma, status)
     call check_model_built(model, status)
     if (status%code /= PENDULA_OK) return
@@ -224,6 +249,23 @@ contains
     call system_clock(c1)
     result%cost%wall_time = real(c1 - c0, wp)/real(max(rate, 1_i8), wp)
   end subroutine scene_run_model
+
+  !> A priori error estimate [rad] of a model over the scene's window (sup of
+  !> max(|d theta|, |d Omega|/w0)): for an undriven scene the small-angle
+  !> bound, the linear model's nonlinearity estimate or the exact solution's
+  !> rounding estimate (pendula_scene_estimates); for a driven scene the
+  !> linearised driven oscillator's nonlinearity bound (pendula_scene_driven).
+  !> For the integrators the value is scene%tol: their settings are chosen
+  !> from it and verified a posteriori by scene_solve.  +inf where the model
+  !> does not apply.
+  pure subroutine scene_estimate(scene, model, estimate, status)
+    type(scene_t), intent(in) :: scene  !< the scene (checked here)
+    integer, intent(in) :: model  !< SCENE_MODEL_SMALL_ANGLE .. SCENE_MODEL_TAYLOR
+    real(wp), intent(out) :: estimate  !< a priori error estimate [rad], >= 0; +inf where the model does not apply
+    type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
+    call undriven_estimate(scene, model, estimate, status)
+    if (status%code == PENDULA_OK .and. has_drive(scene)) call driven_model_estimate(scene, model, estimate, status)
+  end subroutine scene_estimate
 
   ! Events: tol bounds the event times [s] too (the state estimate only
   ! places them), so the reported estimate is the larger of the two.

@@ -74,7 +74,7 @@ module pendula_scene_codes
   real(wp), parameter :: SCENE_LINEAR_SAFETY = 1.5_wp
 
   !> Layout of the number array of a solved scene that crosses to Python
-  !> (python/f2py/scene.f90 fills it, pendula/scene.py reads it by these
+  !> (python/f2py/scene.f90 fills it, pendula/_scene_call.py reads it by these
   !> names): the estimate, the setting (RK4 h or CVODE rtol; 0 for closed
   !> forms), the period, the cost counters, tol_met (0 or 1), the event-time
   !> error, and the setting again as step (RK4) and rtol (CVODE), 0 where

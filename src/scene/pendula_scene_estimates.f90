@@ -425,21 +425,31 @@ contains
   !>      times are closed forms (hump_time).
   !> Cost: a few exp/log and at most two evaluations of the closed form, no
   !> sampling (the scenes call this several times per solve).
-  pure real(wp) function linear_estimate(theta0, omega0, w0, gamma, tend) result(e)
+  !> steady (optional): a driven linear motion (pendula_scene_driven) is the
+  !> free motion from (theta0, omega0) -- then the transient's start, the
+  !> initial state minus the steady state's -- plus a steady oscillation of
+  !> amplitude `steady` [rad]: B gets that amplitude added, and only (b) is
+  !> used (the drive, not the amplitude, sets the steady state's frequency,
+  !> so (a)'s phase drift does not describe it); the drive itself cancels
+  !> from the error equation, which is (b)'s forced linear equation again.
+  pure real(wp) function linear_estimate(theta0, omega0, w0, gamma, tend, steady) result(e)
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
     real(wp), intent(in) :: w0  !< natural frequency [1/s], > 0
     real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
+    real(wp), intent(in), optional :: steady  !< amplitude of a steady driven oscillation added [rad], >= 0
     type(linear_damped_t) :: lin, gl
     type(status_t) :: st
-    real(wp) :: bmax, ig, igp, eg, ep, wd, a, scale, round, gt, gpt, gmax, jmin, beta, d, th, om, t
+    real(wp) :: bmax, ig, igp, eg, ep, wd, a, scale, round, gt, gpt, gmax, jmin, beta, d, th, om, t, amp
+    amp = 0
+    if (present(steady)) amp = steady
     call linear_damped_init(lin, theta0, omega0, w0, gamma, st)
     if (st%code /= PENDULA_OK) then
       e = ieee_value(1.0_wp, ieee_positive_inf)
       return
     end if
-    scale = abs(theta0) + abs(omega0)/w0
+    scale = abs(theta0) + abs(omega0)/w0 + amp
     if (tend <= 0 .or. scale == 0) then
       e = 0
       return
@@ -452,12 +462,17 @@ contains
       ! + |Omega0 + a theta0| t) <= |theta0| + |Omega0 + a theta0| min(T, 1/(a e)),
       ! which is the critical-damping bound: the smaller keeps the estimate
       ! seamless across gamma = 2 w0
-      bmax = min(lin%amplitude, abs(theta0) + abs(omega0 + a*theta0)*min(tend, 1/(a*exp(1.0_wp))))
+      if (a > 0) then
+        bmax = min(lin%amplitude, abs(theta0) + abs(omega0 + a*theta0)*min(tend, 1/(a*exp(1.0_wp))))
+      else   ! gamma = 0 (a driven scene only): no decay
+        bmax = min(lin%amplitude, abs(theta0) + abs(omega0)*tend)
+      end if
       ! |G(s)| <= e^(-a s) min(s, 1/w_d), |G'(s)| <= e^(-a s) (1 + a min(s, 1/w_d))
       jmin = min(int_exp_s(a, tend), int_exp(a, tend)/wd)
       ig = jmin
       igp = int_exp(a, tend) + a*jmin
-      ep = drift_sup(lin%amplitude, max(1.0_wp, (wd + a)/w0), (w0*lin%amplitude)**2/(16*wd))
+      ep = ieee_value(1.0_wp, ieee_positive_inf)
+      if (.not. present(steady)) ep = drift_sup(lin%amplitude, max(1.0_wp, (wd + a)/w0), (w0*lin%amplitude)**2/(16*wd))
     else
       ! over-damped or critical (beta = 0): Omega = e^(-a t) (Omega0 C - d S)
       ! with C = cosh(beta t), S = sinh(beta t)/beta, so theta has at most one
@@ -487,6 +502,7 @@ contains
       ep = ieee_value(1.0_wp, ieee_positive_inf)
     end if
     ! (b) Green's function bound, any regime
+    bmax = bmax + amp
     eg = w0**2*bmax**3/6*max(ig, igp/w0)
     round = 16*eps*scale*(1 + (w0 + gamma)*tend)
     e = SCENE_LINEAR_SAFETY*min(eg, ep) + round

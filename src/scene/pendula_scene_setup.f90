@@ -15,11 +15,13 @@ module pendula_scene_setup
                   SCENE_MODEL_CVODE, SCENE_MODEL_TAYLOR, SCENE_WANT_STATE, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, &
                                  SCENE_WANT_EVENTS, SCENE_STEP_CAP, scene_model_name, scene_model_list, scene_want_list
   use pendula_scene_types, only: scene_t, scene_result_t
+  use pendula_drive, only: drive_t, DRIVE_TORQUE, check_drive
+  use pendula_scene_codes, only: SCENE_MODEL_LINEAR, SCENE_MODEL_RK4
   implicit none
   private
 
   public :: scene_physics, scene_init, check_scene, check_model_gamma, check_model_built, get_budget
-  public :: alloc_outputs, finish_outputs, empty_outputs
+  public :: alloc_outputs, finish_outputs, empty_outputs, check_driven_model
 
 contains
 
@@ -100,8 +102,10 @@ contains
   !> [1/s]; tol > 0 [rad]; want one of SCENE_WANT_*; model (optional) one of
   !> SCENE_MODEL_* (default AUTO); w0lo (optional, default 0): w0's rounding
   !> residual from scene_physics, |w0lo| <= eps w0, so that the closed forms
-  !> use the energy of the data g, l as given.  On bad input status names the argument.
-  pure subroutine scene_init(scene, theta0, omega0, t, w0, gamma, tol, want, status, model, w0lo)
+  !> use the energy of the data g, l as given; drive (optional): a drive
+  !> (pendula_drive) of the pendulum, see check_scene_drive for its rules.  On
+  !> bad input status names the argument.
+  pure subroutine scene_init(scene, theta0, omega0, t, w0, gamma, tol, want, status, model, w0lo, drive)
     type(scene_t), intent(out) :: scene  !< the scene built (default fields on error)
     real(wp), intent(in) :: theta0  !< initial angle [rad] at t = 0, finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s] at t = 0, finite
@@ -113,6 +117,7 @@ contains
     type(status_t), intent(out) :: status  !< PENDULA_OK, or the error code and a message naming the argument
     integer, intent(in), optional :: model  !< forced model, one of SCENE_MODEL_* (default SCENE_MODEL_AUTO)
     real(wp), intent(in), optional :: w0lo  !< rounding residual of w0 [1/s], |w0lo| <= eps w0 (default 0)
+    type(drive_t), intent(in), optional :: drive  !< the drive (optional; none: undriven)
     integer :: mdl, ist
     real(wp) :: lo
     mdl = SCENE_MODEL_AUTO
@@ -121,7 +126,12 @@ contains
     if (present(w0lo)) lo = w0lo
     call check_fields(theta0, omega0, t, w0, gamma, tol, want, mdl, status)
     call check_w0lo(w0, lo, status)
+    if (present(drive)) call drive_first(.true., drive, want, mdl, status)
     if (status%code /= PENDULA_OK) return
+    if (present(drive)) then
+      scene%driven = .true.
+      scene%drive = drive
+    end if
     scene%theta0 = theta0
     scene%omega0 = omega0
     scene%w0 = w0
@@ -148,7 +158,63 @@ contains
     call check_fields(scene%theta0, scene%omega0, scene%t, scene%w0, scene%gamma, scene%tol, scene%want, &
                       scene%model, status)
     call check_w0lo(scene%w0, scene%w0lo, status)
+    call drive_first(scene%driven, scene%drive, scene%want, scene%model, status)
   end subroutine check_scene
+
+  ! The drive's rules (check_scene_drive) take precedence over the undriven
+  ! scene's on want and model: with a drive, 'period needs gamma = 0' or
+  ! 'exact needs gamma = 0' would name the wrong cure.
+  pure subroutine drive_first(driven, drive, want, model, status)
+    logical, intent(in) :: driven
+    type(drive_t), intent(in) :: drive
+    integer, intent(in) :: want, model
+    type(status_t), intent(inout) :: status
+    type(status_t) :: st
+    call check_scene_drive(driven, drive, want, model, st)
+    if (st%code /= PENDULA_OK) status = st
+  end subroutine drive_first
+
+  !> The rules on a scene's drive (pendula_scene_driven): a valid drive
+  !> (check_drive); with amplitude 0 the scene is the undriven one, every rule
+  !> of it applies and nothing more.  Otherwise want = period (a driven motion
+  !> has no period of its own) and want = events (the driven integrator
+  !> samples the output times only: no dense output to place events) are
+  !> errors, and a forced model must be linear (torque drive only: the
+  !> linearised pivot drive is Mathieu's equation, no closed form) or rk4.
+  pure subroutine check_scene_drive(driven, drive, want, model, status)
+    logical, intent(in) :: driven  !< whether the scene has a drive
+    type(drive_t), intent(in) :: drive  !< the drive (ignored when not driven)
+    integer, intent(in) :: want  !< the scene's want, SCENE_WANT_*
+    integer, intent(in) :: model  !< the scene's model, SCENE_MODEL_* (AUTO: the choice)
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    if (status%code /= PENDULA_OK .or. .not. driven) return
+    call check_drive(drive, status)
+    if (status%code /= PENDULA_OK .or. drive%amplitude == 0) return
+    if (want == SCENE_WANT_PERIOD .or. want == SCENE_WANT_EVENTS) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'want = '//trim(merge('period', 'events', want == SCENE_WANT_PERIOD))// &
+                     ' is not offered with a drive (amplitude '//format_sci(drive%amplitude, 4)// &
+                     '): a driven scene answers want = state, theta, final or energy')
+      return
+    end if
+    call check_driven_model(model, drive, status)
+  end subroutine check_scene_drive
+
+  !> The models of a driven scene (drive amplitude /= 0): auto, linear (the
+  !> linearised driven oscillator, torque drive only) or rk4 (the driven RK4
+  !> kernel); any other is an error naming them.
+  pure subroutine check_driven_model(model, drive, status)
+    integer, intent(in) :: model  !< model code, SCENE_MODEL_*
+    type(drive_t), intent(in) :: drive  !< the drive (amplitude /= 0)
+    type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
+    if (status%code /= PENDULA_OK) return
+    if (model == SCENE_MODEL_LINEAR .and. drive%kind /= DRIVE_TORQUE) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = linear needs a torque drive: the linearised pivot '// &
+                     'drive is Mathieu''s equation, with no closed form; use rk4')
+    else if (model /= SCENE_MODEL_AUTO .and. model /= SCENE_MODEL_LINEAR .and. model /= SCENE_MODEL_RK4) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'model = '//scene_model_name(model)// &
+                     ' does not apply with a drive: a driven scene is answered by linear (torque drive) or rk4')
+    end if
+  end subroutine check_driven_model
 
   ! w0lo is a rounding residual: finite, |w0lo| <= eps w0.
   pure subroutine check_w0lo(w0, w0lo, status)

@@ -6,11 +6,12 @@ module pendula_scene_types
   use pendula_status, only: PENDULA_MSG_LEN, status_t, check_alloc, PENDULA_OK
   use pendula_integrators, only: ode_stats_t
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_WANT_STATE, SCENE_STIFF_RATIO
+  use pendula_drive, only: drive_t
   implicit none
   private
 
   public :: scene_t, scene_result_t, scene_cost_t
-  public :: window_end, is_stiff, add_stats, swing, scene_like
+  public :: window_end, is_stiff, add_stats, swing, scene_like, has_drive
 
   !> A scene; build it with scene_init (which checks every field).
   type :: scene_t
@@ -25,6 +26,10 @@ module pendula_scene_types
     integer :: want = SCENE_WANT_STATE
     integer :: model = SCENE_MODEL_AUTO   !< forced model, or AUTO
     real(wp), allocatable :: t(:) !< output times [s], >= 0, strictly increasing
+    !> Whether the scene is driven by `drive` (pendula_scene_driven); a drive of
+    !> amplitude 0 leaves the scene exactly the undriven one.
+    logical :: driven = .false.
+    type(drive_t) :: drive  !< the drive (pendula_drive), used when driven
   end type scene_t
 
   !> What an answer cost.
@@ -85,9 +90,18 @@ contains
     sub%tol = scene%tol
     sub%want = scene%want
     sub%model = scene%model
+    sub%driven = scene%driven
+    sub%drive = scene%drive
     allocate (sub%t(n), stat=ist)
     call check_alloc(ist, 'the output times of a part of the scene', int(n, i8), 8, status)
   end subroutine scene_like
+
+  !> Whether the scene has a drive of nonzero amplitude (pendula_scene_driven
+  !> answers it); false for an undriven scene or a drive of amplitude 0.
+  pure logical function has_drive(scene)
+    type(scene_t), intent(in) :: scene  !< the scene
+    has_drive = scene%driven .and. scene%drive%amplitude /= 0
+  end function has_drive
 
   !> End of the window [s]: t(n), or 0 without output times.
   pure real(wp) function window_end(scene) result(tend)

@@ -27,7 +27,8 @@ module pendula_scene_work
                                  SCENE_WANT_THETA, SCENE_TAYLOR_STEP_COST, &
                                  SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_PERIOD, SCENE_WANT_EVENTS, SCENE_CVODE_STEP_COST, &
                                  SCENE_RK4_STEP_LIMIT, SCENE_STIFF_RK4_STEPS
-  use pendula_scene_types, only: scene_t, window_end, is_stiff
+  use pendula_scene_types, only: scene_t, window_end, is_stiff, has_drive
+  use pendula_scene_driven, only: driven_work
   use pendula_scene_setup, only: check_scene
   use pendula_scene_estimates, only: rk4_apriori_step, cvode_min_steps, slow_rate, linear_answers, &
                                      integrator_pick, cvode_first_rtol, taylor_steps
@@ -78,6 +79,10 @@ contains
     work = 0
     call check_scene(scene, st)
     if (st%code /= PENDULA_OK) return
+    if (has_drive(scene)) then
+      work = driven_work(scene, scene%model, .false., 0.0_wp)
+      return
+    end if
     tend = window_end(scene)
     model = scene%model
     if (model == SCENE_MODEL_AUTO .and. scene%gamma == 0) model = SCENE_MODEL_EXACT
@@ -125,6 +130,10 @@ contains
     work = 0
     call check_scene(scene, st)
     if (st%code /= PENDULA_OK) return
+    if (has_drive(scene)) then
+      work = driven_work(scene, model, .true., setting)
+      return
+    end if
     tend = window_end(scene)
     select case (model)
     case (SCENE_MODEL_SMALL_ANGLE, SCENE_MODEL_EXACT, SCENE_MODEL_LINEAR)

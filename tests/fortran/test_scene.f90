@@ -155,6 +155,49 @@ program test_scene
   call scene_solve(scene_t(), res, st)
   call tc%check_true(st%code == PENDULA_ERR_SIZE, 'an unbuilt scene is rejected, not a crash')
 
+  ! --- driven scenes: the linearised driven oscillator for a small drive of a
+  ! small swing (against driven_linear_solve itself), the driven RK4 kernel
+  ! for a large one (against driven_solve at 4096 steps per period), a drive
+  ! of amplitude 0 exactly the undriven scene, and the refusals
+  call scene_init(sc, 3.0e-3_wp, 0.0_wp, tt, w0, 0.3_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 2.0e-3_wp, 1.2_wp, 0.3_wp))
+  call scene_solve(sc, res, st)
+  call tc%check_true(status_ok(st) .and. res%model == SCENE_MODEL_LINEAR, 'small drive: linear: '//trim(res%reason))
+  call tc%check_true(res%tol_met .and. res%cost%steps == 0, 'small drive: tol met, no integration')
+  call driven_linear_solve(tt, 3.0e-3_wp, 0.0_wp, w0, 0.3_wp, sc%drive, ref_th, ref_om, st)
+  call tc%check_close(maxval(abs(res%theta - ref_th)), 0.0_wp, 0.0_wp, 0.0_wp, 'small drive: the closed form itself')
+  call scene_estimate(sc, SCENE_MODEL_LINEAR, e0, st)
+  call tc%check_close(e0, res%error_estimate, 0.0_wp, 0.0_wp, 'scene_estimate of a driven scene is the solve''s')
+  call scene_init(sc, 0.2_wp, 0.0_wp, tt, 1.0_wp, 0.5_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 1.15_wp, 2.0_wp/3, 0.0_wp))
+  call scene_solve(sc, res, st)
+  call tc%check_true(status_ok(st) .and. res%model == SCENE_MODEL_RK4 .and. res%tol_met, 'large drive: rk4, tol met')
+  call driven_solve(tt, 0.2_wp, 0.0_wp, 1.0_wp, 0.5_wp, sc%drive, ref_th, ref_om, st, nsteps=4096)
+  err = max(maxval(abs(res%theta - ref_th)), maxval(abs(res%omega - ref_om)))
+  call tc%check_true(err <= res%error_estimate, 'large drive: true error <= estimate')
+  ! undamped: off resonance the closed form (no decay in its bound), at it the kernel
+  call scene_init(sc, 2.0e-3_wp, 1.0e-3_wp, tt(1:9), w0, 0.0_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 1.0e-3_wp, 0.9_wp, 0.3_wp))
+  call scene_solve(sc, res, st)
+  call tc%check_true(status_ok(st) .and. res%model == SCENE_MODEL_LINEAR, 'undamped small drive: linear')
+  call scene_init(sc, 2.0e-3_wp, 0.0_wp, tt(1:9), w0, 0.0_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 1.0e-3_wp, w0, 0.0_wp))
+  call scene_solve(sc, res, st)
+  call tc%check_true(status_ok(st) .and. res%model == SCENE_MODEL_RK4, 'undamped resonance: rk4: '//trim(res%reason))
+  call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.1_wp, 1.0e-6_wp, SCENE_WANT_STATE, st)
+  call scene_solve(sc, res, st)
+  call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.1_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, &
+                  drive=drive_t(DRIVE_TORQUE, 0.0_wp, 1.2_wp, 0.3_wp))
+  call scene_solve(sc, res2, st)
+  call tc%check_true(res2%model == res%model .and. all(res2%theta == res%theta) .and. &
+                     res2%error_estimate == res%error_estimate, 'a drive of amplitude 0 is the undriven scene')
+  call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.1_wp, 1.0e-6_wp, SCENE_WANT_EVENTS, st, &
+                  drive=drive_t(DRIVE_TORQUE, 0.1_wp, 1.2_wp, 0.3_wp))
+  call tc%check_true(index(st%message, 'want = events is not offered with a drive') == 1, 'driven events refused')
+  call scene_init(sc, 0.3_wp, 0.0_wp, tt, w0, 0.1_wp, 1.0e-6_wp, SCENE_WANT_STATE, st, model=SCENE_MODEL_LINEAR, &
+                  drive=drive_t(DRIVE_PIVOT, 0.1_wp, 30.0_wp, 0.0_wp))
+  call tc%check_true(index(st%message, 'needs a torque drive') > 0, 'linear with a pivot refused: '//trim(st%message))
+
   call tc%report('test_scene')
 
 contains

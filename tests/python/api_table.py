@@ -407,6 +407,7 @@ API: dict[str, Entry] = {
             want=Arg(CHOICE),
             gamma=Arg(NONNEG, others=dict(mass=None, b=None), array=True),
             t=Arg(TIMES, extra=((np.array([-1.0, 0.0, 1.0]), ValueError), (np.array([]), ValueError))),
+            drive=Arg(OTHER, extra=(((1.0, 2.0), TypeError), ("torque", TypeError))),
         ),
     ),
     "solve": Entry(

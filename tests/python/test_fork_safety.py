@@ -120,7 +120,7 @@ def _glue_error_calls():
         lambda: glue.rk4_f2py(t, 0.5, 0.0, 2.0, 0.1, 5.0, 2e9, ctl),
         lambda: glue.linear_damped_one_f2py(one, 0.5, 0.0, -2.0, 0.1),
         lambda: glue.scene_physics_f2py(9.8, 4.9, 0.1, 1.0, 0.5, 1, 1, 1),
-        lambda: glue.scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0),
+        lambda: glue.scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0, 0, 1, 0.0, 1.0, 0.0),  # no drive
         lambda: glue.ellip_ke_f2py(_codes.GLUE_ELLIPK, np.array([2.0, 3.0])),
     ]
     if HAVE_CVODE:

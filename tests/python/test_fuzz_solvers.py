@@ -213,7 +213,14 @@ def test_fuzz_cvode(worker):
 
 # ----------------------------------------------------------------- scenes
 
-SCENE_ARGS = ["theta0", "omega0", "t", "g", "length", "gamma", "mass", "b", "tol", "want"]
+SCENE_ARGS = ["theta0", "omega0", "t", "g", "length", "gamma", "mass", "b", "tol", "want", "drive"]
+# drives of a scene: a small torque (the linear closed form), a chaotic one, a fast pivot, none at all
+SCENE_DRIVES = [
+    "pendula.Drive('torque', 0.002, 1.2)",
+    "pendula.Drive('torque', 1.15, 0.667, 0.3)",
+    "pendula.Drive('pivot', 0.1, 30.0)",
+    "pendula.Drive('torque', 0.0, 1.0)",
+]
 
 
 @st.composite
@@ -230,7 +237,9 @@ def scene_src(draw):
     kw["want"] = draw(
         st.sampled_from(["'state'", "'theta'", "'final'", "'energy'", "'period'", "'events'", "'nonsense'", "None"])
     )
-    v = {k: evaluate(s) for k, s in kw.items() if k not in ("want", "t")}
+    if draw(st.integers(0, 3)) == 0:
+        kw["drive"] = draw(st.sampled_from(SCENE_DRIVES))
+    v = {k: evaluate(s) for k, s in kw.items() if k not in ("want", "t", "drive")}
     t = evaluate(kw["t"]) if kw["t"] != "None" else np.zeros(1)
     cheap = False
     with np.errstate(all="ignore"):

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import pendula
-from pendula import _codes, _errors
+from pendula import _codes, _errors, _scene_call
 from pendula import scene as scene_mod
 
 resource = pytest.importorskip("resource")  # POSIX only
@@ -192,7 +192,7 @@ def test_event_slots_grow_with_the_events_found(monkeypatch):
         calls.append(args[11])  # m, the event slots
         return real(*args)
 
-    monkeypatch.setattr(scene_mod, "_FIRST_EVENT_SLOTS", 16)
+    monkeypatch.setattr(_scene_call, "_FIRST_EVENT_SLOTS", 16)  # the slots live with the call
     monkeypatch.setattr(scene_mod._scene, "scene_solve_f2py", counted)
     grown = pendula.solve(s)
     assert calls == [16, n]

@@ -2,7 +2,7 @@
 
 Fortran predicts it from the scene alone (scene_solve_work / scene_run_work
 of pendula_scene_work, in RK4 steps, a CVODE step counting CVODE_STEP_COST);
-pendula/scene.py runs a call predicted above _longcall.SCENE_LONG_STEPS (~2.5 ms)
+pendula/_scene_call.py runs a call predicted above _longcall.SCENE_LONG_STEPS (~2.5 ms)
 in a worker thread that Ctrl-C can stop, and a shorter one inline.  The
 prediction is checked here against the work the solve itself reports
 (result.cost), not against wall time: a damped motion handed over to the
@@ -35,6 +35,7 @@ def _work(scene, model="auto", fixed=0, setting=0.0, tol=None):
         MODEL_CODES[model],
         fixed,
         setting,
+        *scene._drive_args(),
     )
 
 
