@@ -182,8 +182,7 @@ def dask_chunks(client, name, chunks, progress, total):
 
     sizes = [len(c["theta0"]) for c in chunks]
     futures = [
-        client.submit(run_chunk, name, c, pure=False, key=f"pendula-{name}-{i}-{id(chunks)}")
-        for i, c in enumerate(chunks)
+        client.submit(run_chunk, name, c, pure=False, key=_longcall.dask_key(name, i)) for i, c in enumerate(chunks)
     ]
     index = {f.key: i for i, f in enumerate(futures)}
     parts = [None] * len(chunks)

@@ -13,6 +13,7 @@ Short calls run inline, with no thread.
 """
 
 import threading
+import uuid
 
 import numpy as np
 
@@ -30,6 +31,14 @@ _JOIN_SECONDS = 0.05
 
 
 _local = threading.local()
+
+
+def dask_key(kind, i):
+    """A Dask key for chunk ``i`` of a ``kind`` call, unique to this call: Dask
+    hands back a finished result to a submit that reuses a key it still holds,
+    so a key built from ``id()`` (reused once the object is freed) could return
+    an earlier call's chunk."""
+    return f"pendula-{kind}-{i}-{uuid.uuid4().hex}"
 
 
 def new_control():
