@@ -54,7 +54,11 @@ def columns(drive):
 
 def kernel_args(flats):
     """The f2py arguments (kind as int32, amplitude, frequency, phase) from
-    the flat columns of a broadcast."""
+    the flat columns of a broadcast (an empty batch passes one placeholder
+    drive: the kernels take one drive or one per state, and f2py no
+    zero-length drive arrays)."""
+    if flats["drive_kind"].size == 0:
+        return np.ones(1, dtype=np.int32), np.zeros(1), np.ones(1), np.zeros(1)
     return (
         np.ascontiguousarray(flats["drive_kind"], dtype=np.int32),
         flats["drive_amplitude"],
