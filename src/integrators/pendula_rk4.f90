@@ -459,6 +459,8 @@ contains
       call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled (interrupted by the caller)')
     else if (st%code == PENDULA_ERR_SOLVER) then
       call set_error(status, PENDULA_ERR_SOLVER, 'RK4 with a drive produced a non-finite state (or |theta| >= 1e15 rad)')
+    else if (index(st%message, 'state 1 of 1 ') == 1) then   ! the batch's prefix is noise for one state
+      call set_error(status, st%code, st%message(index(st%message, ': ') + 2:))
     else
       call set_error(status, st%code, st%message)
     end if

@@ -225,3 +225,46 @@ def test_dask_sweep_with_a_drive_is_the_local_one():
     assert r.n_chunks == math.ceil(24 / 5)
     assert np.array_equal(r.theta, local.theta) and np.array_equal(r.omega, local.omega)
     assert np.array_equal(r.codes, local.codes)
+
+
+def test_drive_tables_the_core_cannot_allocate_are_a_memory_error():
+    # N = 1e6 steps a period: a block's drive tables need 2 x 8 lanes x (2N + 1) doubles
+    # (244 MiB); in a child whose address space is capped 100 MiB above its use, the
+    # kernel's checked allocation reports it (PENDULA_ERR_MEMORY -> MemoryError), no crash
+    resource = pytest.importorskip("resource")
+    import subprocess
+    import sys
+    import textwrap
+
+    del resource
+    try:
+        open("/proc/self/status").close()
+    except OSError:
+        pytest.skip("reads /proc/self/status")
+    code = textwrap.dedent(
+        """
+        import re, resource
+        import numpy as np, pendula
+        pendula.rk4([0.0, 1.0], np.zeros(2), 0.0, 1.0, 0.0, h=0.1, threads=2)
+        vm = int(re.search(r"VmSize:\\s+(\\d+) kB", open("/proc/self/status").read()).group(1)) * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (vm + 100 * 2**20, vm + 100 * 2**20))
+        d = pendula.Drive("torque", 0.1, 1.0)
+        for call in (
+            lambda: pendula.rk4([0.0, 0.001], 0.2, 0.0, 1.0, 0.1, h=d.period / 1e6, drive=d),
+            lambda: pendula.rk4([0.0, 0.001], [0.2, 0.3], 0.0, 1.0, 0.1, h=d.period / 1e6, drive=d),
+            lambda: pendula.driven([0.0, 0.001], 0.2, 0.0, drive=d, w0=1.0, gamma=0.1, steps_per_period=10**6),
+        ):
+            try:
+                call()
+                print("no error")
+            except MemoryError as exc:
+                print("MemoryError:", exc)
+        """
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr[-3000:]
+    lines = r.stdout.splitlines()
+    assert len(lines) == 3, r.stdout
+    for line in lines:
+        assert line.startswith("MemoryError:") and "the drive tables of a block of lanes need 244 MiB" in line, line
+    assert lines[0].startswith("MemoryError: out of memory:"), lines[0]
