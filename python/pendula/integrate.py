@@ -39,7 +39,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran, _longcall, _tables
+from . import _drive_args, _fortran, _longcall, _tables
 from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
 from ._codes import CVODE_ADAMS, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
@@ -56,7 +56,6 @@ from ._defaults import (
     check_threads,
 )
 from ._errors import raise_for_status
-from ._many import drives as _drives
 from ._many import ensemble as _ensemble
 from ._many.ensemble import BatchIntegrationResult
 
@@ -457,8 +456,9 @@ _step_budget = step_budget
 
 def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive):
     """``rk4`` with a drive: the batch path for array states or drives, else one state."""
-    if _drives.is_many(drive) or _ensemble.is_batch(theta0, omega0, w0, gamma, h):
-        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=drive)
+    if _drive_args.is_many(drive) or _ensemble.is_batch(theta0, omega0, w0, gamma, h):
+        cols = _drive_args.columns(drive)  # TypeError naming drive for anything but Drives
+        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=cols)
     if threads is not None:
         check_threads(threads)  # checked, unused: one state runs on one thread
     tt = _grid(t)
@@ -651,7 +651,7 @@ def cvode(
         )
         raise_for_status(code, msg)
     tt = _grid(t)
-    if _ensemble.is_batch(theta0, omega0, w0, gamma) or _drives.is_many(drive):
+    if _ensemble.is_batch(theta0, omega0, w0, gamma) or _drive_args.is_many(drive):
         if not isinstance(method, str):
             raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
         if not isinstance(events, bool):
@@ -671,7 +671,8 @@ def cvode(
             progress,
             threads,
             _cvode_one,
-            drive=drive,
+            drive=None if drive is None else _drive_args.columns(drive),
+            drive_each=None if drive is None else (lambda shape: _drive_args.per_state(drive, shape)),
         )
     if threads is not None:
         check_threads(threads)  # checked, unused: one state runs on one thread
@@ -727,8 +728,8 @@ def _cvode_one(
     periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
     glue = _fortran.cvode_f2py
     if drive is not None:
-        if not isinstance(drive, _drives.Drive):
-            _drives.columns(drive)  # TypeError naming drive
+        if _drive_args.is_many(drive):
+            _drive_args.columns(drive)  # TypeError naming drive
         call_args = (*call_args[:-1], drive.code, drive.amplitude, drive.frequency, drive.phase, control)
         periods = max(periods, abs(tt.item(-1) - tt.item(0)) * drive.frequency / (2 * np.pi))
         glue = _fortran.cvode_drive_f2py

@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran, _longcall, _memory, _tables
+from . import _drive_args, _fortran, _longcall, _memory, _tables
 from ._arrays import broadcast_real, integer_arg, time_grid
 from ._defaults import (
     CHUNK_STATES,
@@ -487,7 +487,7 @@ def sweep(
     if drive is not None:
         if want == "period":
             raise ValueError("drive is not supported with want='period': the closed-form period is undriven")
-        named.update(_drives.columns(drive))  # TypeError naming drive for anything but Drives
+        named.update(_drive_args.columns(drive))  # TypeError naming drive for anything but Drives
     opts = {}
     if want == "period":
         tt = None

@@ -14,7 +14,7 @@
 module pendula_rk4
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_short
-  use pendula_status, only: status_t, set_error, check_alloc, check_positive, check_nonnegative, check_finite, check_same_size, &
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, check_same_size, &
                             PENDULA_OK, &
                             PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
@@ -22,7 +22,10 @@ module pendula_rk4
   use pendula_rk4_kernel, only: rk4_grid, substeps
   use pendula_constants, only: pi
   use pendula_drive, only: drive_t, check_drive, check_driven, drive_period, DRIVE_PIVOT, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS
-  use pendula_driven, only: driven_batch_solve, DRIVEN_MAX_GRID_STEPS
+  ! the driven block kernel itself (no OpenMP: a program that integrates single
+  ! states links no OpenMP runtime), not pendula_driven's batch driver
+  use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup, lanes_steps, lanes_partial, lanes_finite
+  use pendula_control, only: cancel_requested, add_progress
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -337,7 +340,8 @@ contains
   !> w0, gamma, the drive and omega0 (h max(sqrt(w0**2 + |a/l| Omega**2),
   !> gamma) <= 1.5 and |omega0| h <= 1.5, as pendula_drive's check_driven),
   !> |theta0| < 1e15 rad, and the window within the step budget (at most
-  !> min(max_total_steps, DRIVEN_MAX_GRID_STEPS) grid steps).  nsteps: the
+  !> min(max_total_steps, RK4_DEFAULT_MAX_STEPS) grid steps: 2e9, the limit of
+  !> pendula_driven's batch driver too).  nsteps: the
   !> steps per period (driven_steps).  A one-point t takes no step: only h,
   !> the drive and theta0 are checked then.
   pure subroutine check_driven_step(t, theta0, omega0, w0, gamma, drive, h, max_total_steps, nsteps, status)
@@ -397,7 +401,7 @@ contains
     end if
     ! the same expression as pendula_driven's budget check
     grid = (t(size(t)) - t(1))*drive%frequency/(2*pi)*nsteps
-    cap = min(max_total_steps, DRIVEN_MAX_GRID_STEPS)
+    cap = min(max_total_steps, real(RK4_DEFAULT_MAX_STEPS, wp))
     if (.not. grid <= cap) then
       call set_error(status, PENDULA_ERR_DOMAIN, 'h = '//format_short(h)//' is too small for the window t = '// &
                      format_short(t(1))//' .. '//format_short(t(size(t)))//': RK4 with a drive needs more than '// &
@@ -433,9 +437,7 @@ contains
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(inout) :: status
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    real(wp), allocatable :: th(:, :), om(:, :)
-    integer :: codes(1), nsteps, ist
-    type(status_t) :: st
+    integer :: nsteps, bad
     theta = 0
     omega = 0
     call check_driven_step(t, theta0, omega0, w0, gamma, drive, h, budget, nsteps, status)
@@ -445,25 +447,94 @@ contains
       omega(1) = omega0
       return
     end if
-    allocate (th(size(t), 1), om(size(t), 1), stat=ist)
-    call check_alloc(ist, 'the driven run''s theta and omega', 2_i8*size(t, kind=i8), 8, status)
+    call driven_run(t, theta0, omega0, w0, gamma, drive, nsteps, theta, omega, bad, status, control)
     if (status%code /= PENDULA_OK) return
-    call driven_batch_solve(t, [theta0], [omega0], [w0], [gamma], drive%kind, [drive%amplitude], [drive%frequency], &
-                            [drive%phase], nsteps, th, om, codes, st, threads=1, control=control)
-    if (st%code == PENDULA_OK) then
-      theta = th(:, 1)
-      omega = om(:, 1)
+    if (bad == 0) then
       stats%steps = driven_step_count(t, drive, nsteps)
       stats%rhs_evals = 4*stats%steps
-    else if (st%code == PENDULA_ERR_CANCELLED) then
+      if (present(control)) call add_progress(control, 1_i8)
+      return
+    end if
+    theta = 0
+    omega = 0
+    if (bad < 0) then
       call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled (interrupted by the caller)')
-    else if (st%code == PENDULA_ERR_SOLVER) then
-      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 with a drive produced a non-finite state (or |theta| >= 1e15 rad)')
-    else if (index(st%message, 'state 1 of 1 ') == 1) then   ! the batch's prefix is noise for one state
-      call set_error(status, st%code, st%message(index(st%message, ': ') + 2:))
     else
-      call set_error(status, st%code, st%message)
+      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 with a drive produced a non-finite state (or |theta| >= 1e15 rad)')
     end if
   end subroutine driven_solve_rk4
+
+  ! One driven state as pendula_driven's run_block runs a block's lane (the
+  ! same grid steps and partial steps on the same kernel, whose lanes never
+  ! mix: the same bits as driven_batch_solve and rk4_batch_solve).  bad: 0,
+  ! 1 (the state became non-finite: checked at each period's end and at the
+  ! end) or -1 (cancelled: the flag is polled every 4096 grid steps).
+  subroutine driven_run(t, theta0, omega0, w0, gamma, drive, nsteps, theta, omega, bad, status, control)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma
+    type(drive_t), intent(in) :: drive
+    integer, intent(in) :: nsteps
+    real(wp), intent(inout) :: theta(:), omega(:)
+    integer, intent(out) :: bad
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer, parameter :: nl = DRIVEN_LANES
+    type(lanes_t) :: b
+    real(wp) :: y(nl), u(nl), fr
+    logical :: ok(nl)
+    integer(i8) :: cnt, mk, work
+    integer :: j, nxt, nt, chunk
+    bad = 0
+    ! the drive phase at t(1), reduced to [0, 2 pi) (pendula_driven_support's params_lanes)
+    call lanes_setup(b, drive%kind, nsteps, spread(w0, 1, nl), spread(gamma, 1, nl), spread(drive%amplitude, 1, nl), &
+                     spread(drive%frequency, 1, nl), spread(modulo(drive%frequency*t(1) + drive%phase, 2*pi), 1, nl), status)
+    if (status%code /= PENDULA_OK) return
+    y = theta0
+    u = omega0
+    nt = size(t)
+    nxt = 1
+    cnt = 0
+    j = 0
+    work = 0
+    call next_output()
+    do
+      do while (nxt <= nt .and. mk == cnt)
+        call lanes_partial(b, 1, j, fr, y(1), u(1), theta(nxt), omega(nxt))
+        nxt = nxt + 1
+        call next_output()
+      end do
+      if (nxt > nt) exit
+      chunk = int(min(int(nsteps - j, i8), mk - cnt))
+      call lanes_steps(b, j, j + chunk, y, u)
+      cnt = cnt + chunk
+      j = j + chunk
+      if (j == nsteps) then
+        j = 0
+        ok = lanes_finite(y, u)
+        if (.not. ok(1)) then
+          bad = 1
+          return
+        end if
+      end if
+      work = work + chunk
+      if (present(control) .and. work >= 4096) then
+        work = 0
+        if (cancel_requested(control)) then
+          bad = -1
+          return
+        end if
+      end if
+    end do
+    ok = lanes_finite(y, u)
+    if (.not. ok(1)) bad = 1
+  contains
+    ! grid step count mk and step fraction fr of the next output
+    subroutine next_output()
+      real(wp) :: r
+      if (nxt > nt) return
+      r = (t(nxt) - t(1))/b%h(1)
+      mk = int(r, i8)
+      fr = r - real(mk, wp)
+    end subroutine next_output
+  end subroutine driven_run
 
 end module pendula_rk4

@@ -29,7 +29,6 @@ from .. import _longcall, _tables
 from .._arrays import broadcast_real, integer_arg
 from .._defaults import CVODE_METHODS, POOL_STATE_WORK
 from .._errors import OK, batch_summary, for_state, raise_if_all_failed
-from . import drives as _drives
 from . import kernels, pool
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma")
@@ -207,13 +206,9 @@ def _summarised(res, shape):
     return message
 
 
-def _drive_inputs(drive):
-    """The drive's columns for a result's inputs ({} without a drive)."""
-    return {} if drive is None else _drives.columns(drive)
-
-
 def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=None):
-    dcols = _drive_inputs(drive)  # TypeError naming drive for anything but Drives
+    # drive: None or its columns (pendula._many.drives.COLUMNS), which broadcast with the states
+    dcols = drive or {}
     shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, **dcols)  # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, threads=threads)
     if drive is not None:
@@ -273,14 +268,17 @@ def cvode_batch(
     threads,
     scalar_cvode,
     drive=None,
+    drive_each=None,
 ):
+    # drive: None or its columns (as rk4_batch); drive_each(shape): the Drive of each
+    # flat state, for the scalar calls of events=True
     # the call's own arguments first, as the scalar call checks them: ValueError for the whole call
     if not isinstance(method, str) or method.lower() not in CVODE_METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
     integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     if events:
         integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
-    dcols = _drive_inputs(drive)  # TypeError naming drive for anything but Drives
+    dcols = drive or {}
     shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, **dcols)  # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol, method=method, threads=threads)
     if drive is not None:
@@ -314,7 +312,7 @@ def cvode_batch(
         )
     # events: the scalar call per state (its event arrays differ in length)
     flat = [np.broadcast_to(np.asarray(v, dtype=float), shape).reshape(-1) for v in (theta0, omega0, w0, gamma)]
-    each = None if drive is None else _drives.per_state(drive, shape)
+    each = None if drive is None else drive_each(shape)
 
     def one(i, control):
         return scalar_cvode(

@@ -119,12 +119,11 @@ def nan_after_failure(theta, omega, codes, whole_row=False):
 
 
 def _with_drive(named, drive):
-    """The named state arguments plus the drive's columns (``drives.COLUMNS``):
-    ``drive`` a Drive, an array of them, or already a dict of columns."""
+    """The named state arguments plus the drive's columns (``drive``: a dict
+    of ``drives.COLUMNS``, arrays that broadcast with the states)."""
     if drive is None:
         return named
-    cols = drive if isinstance(drive, dict) else _drives.columns(drive)
-    return dict(named, **cols)
+    return dict(named, **{k: drive[k] for k in _drives.COLUMNS})
 
 
 def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_steps=RK4_MAX_STEPS, drive=None):
@@ -141,9 +140,9 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     another thread cancels the call (finished states keep their results; the
     unfinished get ERR_CANCELLED); control[1] counts finished states.
 
-    drive: None, a ``pendula.Drive`` for every state, an array of them
-    broadcast with the states, or a dict of the drive columns
-    (``drives.COLUMNS``, as ``sweep`` passes them): the driven pendulum
+    drive: None, or the drive as a dict of its columns (``drives.COLUMNS``,
+    arrays that broadcast with the states; ``pendula._drive_args.columns``
+    makes them from a Drive or an array of Drives): the driven pendulum
     (pendula_rk4_batch's drive path, bit-identical to ``pendula.rk4`` with
     the state's drive).
 
