@@ -247,11 +247,6 @@ def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads, dr
     )
 
 
-def res_size(*values):
-    """Number of states of the broadcast of ``values``."""
-    return int(np.prod(np.broadcast_shapes(*(np.shape(v) for v in values)), dtype=np.int64))
-
-
 def cvode_batch(
     tt,
     theta0,
