@@ -39,7 +39,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran, _longcall, _tables
+from . import _drive_args, _fortran, _longcall, _tables
 from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
 from ._codes import CVODE_ADAMS, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
@@ -310,6 +310,7 @@ def rk4(
     max_steps: int = RK4_MAX_STEPS,
     progress: bool | Callable[[int, int | None], object] | None = None,
     threads: int | None = THREADS,
+    drive: object | None = None,
 ) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
@@ -340,6 +341,16 @@ def rk4(
         OpenMP threads of a batch: None (the default) chooses from the
         predicted work (one thread for a small batch), 0 asks for
         OMP_NUM_THREADS or every core; unused by a single state.
+    drive : Drive or array_like of Drive, optional
+        Integrate the driven pendulum (``pendula.Drive``: a torque
+        F cos(Omega t + phi) or a vertically driven pivot) instead.  One
+        Drive for every state, or an array of them, one per state, that
+        broadcasts with the state arguments (a batch).  The steps are then
+        T/N for the fewest N >= 8 with T/N <= h (T = 2 pi/Omega, N <=
+        1e6), on a grid whose drive phase comes from integers: a million
+        periods lose no phase.  The step must resolve the drive too:
+        h max(sqrt(w0**2 + abs(a/l) Omega**2), gamma) <= 1.5 and
+        abs(omega0) h <= 1.5; abs(theta0) < 1e15 rad.
 
     Returns
     -------
@@ -377,6 +388,10 @@ def rk4(
     that exception (docs/robustness.md).  progress then counts finished states.  Scalars and
     0-d arrays take the scalar path.
 
+    With a drive the states run on the driven pendulum's block kernel
+    (``pendula.driven``'s), each batch state bit-identical to the scalar
+    call; progress then counts finished states.
+
     Examples
     --------
     >>> import numpy as np, pendula
@@ -386,7 +401,20 @@ def rk4(
     >>> b = pendula.rk4([0.0, 1.0], [0.1, 0.2], 0.0, 1.0, 0.0, h=0.01)
     >>> b.theta.shape, bool(b.ok.all())
     ((2, 2), True)
+
+    A driven pendulum (Baker & Gollub's chaotic one), and a sweep over the
+    drive amplitude as an array of drives:
+
+    >>> d = pendula.Drive("torque", 1.15, 2 / 3)
+    >>> r = pendula.rk4([0.0, 3 * d.period], 0.2, 0.0, 1.0, 0.5, h=d.period / 100, drive=d)
+    >>> r.stats["steps"]
+    300
+    >>> ds = [pendula.Drive("torque", f, 2 / 3) for f in (0.9, 1.07, 1.15)]
+    >>> pendula.rk4([0.0, 10.0], 0.2, 0.0, 1.0, 0.5, h=0.05, drive=ds).theta.shape
+    (3, 2)
     """
+    if drive is not None:
+        return _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive)
     if _ensemble.is_batch(theta0, omega0, w0, gamma, h):
         return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads)
     if threads is not None:
@@ -424,6 +452,41 @@ def rk4(
 
 
 _step_budget = step_budget
+
+
+def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive):
+    """``rk4`` with a drive: the batch path for array states or drives, else one state."""
+    if _drive_args.is_many(drive) or _ensemble.is_batch(theta0, omega0, w0, gamma, h):
+        cols = _drive_args.columns(drive)  # TypeError naming drive for anything but Drives
+        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=cols)
+    if threads is not None:
+        check_threads(threads)  # checked, unused: one state runs on one thread
+    tt = _grid(t)
+    hh = _real(h, "h")
+    budget = _step_budget(max_steps)
+    args = (
+        tt,
+        _real(theta0, "theta0"),
+        _real(omega0, "omega0"),
+        _real(w0, "w0"),
+        _real(gamma, "gamma"),
+        hh,
+        float(budget),
+        drive.code,
+        drive.amplitude,
+        drive.frequency,
+        drive.phase,
+    )
+    steps = (tt.item(-1) - tt.item(0)) / hh + tt.size if hh > 0 else 0.0
+    long = _longcall.RK4_LONG_STEPS < steps <= budget
+    control = _longcall.new_control()
+    # the driven kernel counts the finished state (1) as its progress
+    theta, omega, stats, code, msg = _longcall.run(
+        lambda: _fortran.rk4_drive_f2py(*args, control), control, long, progress, total=1
+    )
+    if code:
+        raise_for_status(code, msg)
+    return _result(tt, theta, omega, _rk4_stats(stats), "rk4")
 
 
 def rk4_max_stable_step(w0: float, gamma: float) -> float:
@@ -480,6 +543,7 @@ def cvode(
     max_events: int = MAX_EVENTS,
     progress: bool | Callable[[int, int | None], object] | None = None,
     threads: int | None = THREADS,
+    drive: object | None = None,
 ) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 with SUNDIALS CVODE.
 
@@ -522,6 +586,12 @@ def cvode(
         Threads of a batch: None (the default) chooses from the predicted
         work, 0 asks for OMP_NUM_THREADS or every core; unused by a single
         state.
+    drive : Drive or array_like of Drive, optional
+        Integrate the driven pendulum (``pendula.Drive``) instead: one Drive
+        for every state or an array of them broadcast with the states, as
+        for ``rk4``.  The drive phase is Omega (t - t[0]) plus the phase at
+        t[0] reduced once, as exact as CVODE's own time over any number of
+        periods.
 
     Returns
     -------
@@ -562,6 +632,16 @@ def cvode(
     >>> t_turn, theta_turn = e.turning_points
     >>> np.round(theta_turn, 6).tolist()
     [-1.0, 1.0]
+
+    A small drive of a damped pendulum settles on the linear steady state
+    (``pendula.driven_linear``):
+
+    >>> d = pendula.Drive("torque", 1e-4, 0.5)
+    >>> t = [0.0, 60.0]
+    >>> r = pendula.cvode(t, 0.0, 0.0, 1.0, 0.5, rtol=1e-10, atol=1e-14, drive=d)
+    >>> lin_theta, lin_omega = pendula.driven_linear(t, 0.0, 0.0, drive=d, w0=1.0, gamma=0.5)
+    >>> bool(abs(r.theta[-1] - lin_theta[-1]) < 1e-9)
+    True
     """
     if not HAVE_CVODE:
         # The Fortran stub says the same; checking here first keeps the
@@ -571,7 +651,7 @@ def cvode(
         )
         raise_for_status(code, msg)
     tt = _grid(t)
-    if _ensemble.is_batch(theta0, omega0, w0, gamma):
+    if _ensemble.is_batch(theta0, omega0, w0, gamma) or _drive_args.is_many(drive):
         if not isinstance(method, str):
             raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
         if not isinstance(events, bool):
@@ -591,10 +671,14 @@ def cvode(
             progress,
             threads,
             _cvode_one,
+            drive=None if drive is None else _drive_args.columns(drive),
+            drive_each=None if drive is None else (lambda shape: _drive_args.per_state(drive, shape)),
         )
     if threads is not None:
         check_threads(threads)  # checked, unused: one state runs on one thread
-    return _cvode_one(tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress)
+    return _cvode_one(
+        tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress, drive=drive
+    )
 
 
 def _cvode_one(
@@ -611,9 +695,11 @@ def _cvode_one(
     max_events=MAX_EVENTS,
     progress=None,
     control=None,
+    drive=None,
 ):
     """``cvode`` for one state on the checked grid tt; control: the caller's
-    (a batch pool thread's) control array, watched by the caller."""
+    (a batch pool thread's) control array, watched by the caller; drive:
+    None or one ``Drive``."""
     args = [
         real_scalar(x, name)
         for x, name in (
@@ -640,9 +726,16 @@ def _cvode_one(
     # CVODE's step count is not known up front: any run that may take more
     # than ~50 ms (a long window in periods, or many outputs) runs watched.
     periods = abs(tt.item(-1) - tt.item(0)) * args[2] / (2 * np.pi)
+    glue = _fortran.cvode_f2py
+    if drive is not None:
+        if _drive_args.is_many(drive):
+            _drive_args.columns(drive)  # TypeError naming drive
+        call_args = (*call_args[:-1], drive.code, drive.amplitude, drive.frequency, drive.phase, control)
+        periods = max(periods, abs(tt.item(-1) - tt.item(0)) * drive.frequency / (2 * np.pi))
+        glue = _fortran.cvode_drive_f2py
     long = watched and not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS  # NaN/inf: long
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
-        lambda: _fortran.cvode_f2py(*call_args), control, long, progress, unit="rhs"
+        lambda: glue(*call_args), control, long, progress, unit="rhs"
     )
     raise_for_status(code, msg)
     ev = None

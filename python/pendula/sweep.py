@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _fortran, _longcall, _memory, _tables
+from . import _drive_args, _fortran, _longcall, _memory, _tables
 from ._arrays import broadcast_real, integer_arg, time_grid
 from ._defaults import (
     CHUNK_STATES,
@@ -43,6 +43,7 @@ from ._defaults import (
 )
 from ._defaults import WELL_NONE as _WELL_NONE
 from ._errors import OK, batch_summary, for_state, number, raise_if_all_failed
+from ._many import drives as _drives
 from ._many import kernels
 from .physics import pendulum_gamma, pendulum_w0
 from .undamped import REGIMES, _state_property
@@ -277,9 +278,19 @@ def _chunk(kind, t, cols, opts, want, threads):
         per = np.asarray(_period(cols["theta0"], cols["omega0"], cols["w0"]), dtype=float).reshape(-1)
         return {"period": per, "codes": np.zeros(per.size, dtype=np.int64), "code": 0, "message": ""}
     control = opts.pop("control", None)
+    # a driven sweep's chunk carries the drive as its four per-state columns
+    drive = {k: cols[k] for k in _drives.COLUMNS} if _drives.COLUMNS[0] in cols else None
     if kind == "rk4":
         r = kernels.rk4_batch(
-            t, cols["theta0"], cols["omega0"], cols["w0"], cols["gamma"], cols["h"], threads=threads, control=control
+            t,
+            cols["theta0"],
+            cols["omega0"],
+            cols["w0"],
+            cols["gamma"],
+            cols["h"],
+            threads=threads,
+            control=control,
+            drive=drive,
         )
     else:
         r = kernels.cvode_batch(
@@ -292,6 +303,7 @@ def _chunk(kind, t, cols, opts, want, threads):
             cols["atol"],
             threads=threads,
             control=control,
+            drive=drive,
             **opts,
         )
     keep = (lambda a: a) if want == "trajectory" else (lambda a: np.ascontiguousarray(a[:, -1]))
@@ -359,6 +371,7 @@ def sweep(
     threads: int | None = THREADS,
     progress: bool | Callable[[int, int | None], object] | None = None,
     client: object | None = None,
+    drive: object | None = None,
 ) -> SweepResult:
     """Integrate (or, for want="period", answer in closed form) every state of a sweep.
 
@@ -405,6 +418,15 @@ def sweep(
     client : dask.distributed.Client, optional
         Run the chunks as Dask tasks on its workers (a worker lost mid-sweep
         has its chunks rerun by Dask; each chunk is placed exactly once).
+    drive : Drive or array_like of Drive, optional
+        Sweep the driven pendulum (``pendula.Drive``), as ``pendula.rk4`` /
+        ``pendula.cvode`` with ``drive=``: one Drive for every state, or an
+        array of them that broadcasts with theta0, omega0, w0 and gamma like
+        any other axis -- a sweep over a drive parameter is an array of
+        drives (``[pendula.Drive("torque", F, 2/3) for F in amplitudes]``).
+        ``inputs`` then also holds drive_kind, drive_amplitude,
+        drive_frequency and drive_phase per state.  Not with want="period"
+        (the closed form is undriven).
 
     Returns
     -------
@@ -445,6 +467,13 @@ def sweep(
     >>> p = pendula.sweep(None, np.array([0.1, 1.0]), want="period").period
     >>> bool((p == pendula.period(np.array([0.1, 1.0]))).all())
     True
+
+    A theta0 x drive-amplitude grid of the driven damped pendulum:
+
+    >>> ds = np.array([pendula.Drive("torque", f, 2 / 3) for f in (0.5, 1.07, 1.15)])
+    >>> r = pendula.sweep([0.0, 30.0], np.array([0.0, 1.0])[:, None], w0=1.0, gamma=0.5, h=0.05, drive=ds[None, :])
+    >>> r.theta.shape, r.inputs["drive_amplitude"][0].tolist()
+    ((2, 3), [0.5, 1.07, 1.15])
     """
     if not isinstance(want, str) or want not in WANTS:
         raise ValueError(f"want = {want!r} is invalid: it must be one of {', '.join(WANTS)}")
@@ -455,6 +484,10 @@ def sweep(
         raise TypeError(f"client must be a dask.distributed Client (or None), got {type(client).__name__}")
     check_threads(threads)
     named = dict(theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length), gamma=pendulum_gamma(gamma, b, mass))
+    if drive is not None:
+        if want == "period":
+            raise ValueError("drive is not supported with want='period': the closed-form period is undriven")
+        named.update(_drive_args.columns(drive))  # TypeError naming drive for anything but Drives
     opts = {}
     if want == "period":
         tt = None
@@ -541,7 +574,7 @@ def _run_dask(client, method, tt, chunks, opts, want, threads, update, out=None,
 
     futures = [
         client.submit(
-            _chunk, method, tt, cols, dict(opts), want, threads, pure=False, key=f"pendula-sweep-{i}-{id(chunks)}"
+            _chunk, method, tt, cols, dict(opts), want, threads, pure=False, key=_longcall.dask_key("sweep", i)
         )
         for i, cols in enumerate(chunks)
     ]

@@ -118,6 +118,7 @@ contains
     character(len=len(status%message)) :: msg
     logical :: richardson
     real(wp), allocatable :: th2(:, :), om2(:, :)
+    type(status_t) :: tables
     th = 0
     if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
@@ -158,7 +159,8 @@ contains
       om2 = 0
     end if
     nth = batch_threads(threads)
-    call params_prepare(p, codes, live, nlive, first_bad, msg)
+    call params_prepare(p, codes, live, nlive, first_bad, msg, status)
+    if (status%code /= PENDULA_OK) return
     nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
@@ -186,7 +188,10 @@ contains
         if (present(err_omega)) err_omega(:, i) = 0
       end if
     end do
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
+    ! the message of a block whose drive tables could not be allocated (run_block)
+    tables = status_t()
+    call check_alloc(1, 'the drive tables of a block of lanes', 2_i8*nl*(2_i8*p%nsteps + 1), 8, tables)
+    call params_summary(codes, first_message(codes, first_bad, msg), status, ff, tables%message)
     if (present(first_failed)) first_failed = ff
   end subroutine driven_batch_solve
 
@@ -204,13 +209,18 @@ contains
     integer(i8) :: cnt, mk(nl), work
     integer :: nxt(nl), nb, l, j, nt, chunk
     logical :: alive(nl)
+    type(status_t) :: st
     nb = size(idx)
     if (nb == 0) return
     if (present(control)) then
       if (cancel_requested(control)) return
     end if
     nt = size(t)
-    call params_lanes(p, idx, t(1), b, y, u, nsteps)
+    call params_lanes(p, idx, t(1), b, y, u, nsteps, st)
+    if (st%code /= PENDULA_OK) then
+      codes(idx) = st%code   ! the block's drive tables could not be allocated
+      return
+    end if
     nxt = 1
     alive = .false.
     alive(1:nb) = .true.

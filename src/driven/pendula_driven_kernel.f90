@@ -22,6 +22,8 @@
 module pendula_driven_kernel
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t, check_alloc
   use pendula_drive, only: DRIVE_PIVOT
   implicit none
   private
@@ -56,7 +58,11 @@ contains
   !> Fill a block: lane l gets w0(l), gamma(l) and a drive of this kind with
   !> amplitude amp(l), frequency freq(l) and phase phase0(l) [rad] at the
   !> start time t0 (phase0 = Omega t0 + phi); nsteps RK4 steps per period.
-  pure subroutine lanes_setup(b, kind, nsteps, w0, gamma, amp, freq, phase0)
+  !> The tables hold 2 x DRIVEN_LANES x (2 nsteps + 1) doubles; when they
+  !> cannot be allocated, status (optional) gets PENDULA_ERR_MEMORY with the
+  !> size and the block is left without tables (b%nsteps = 0: the stepping
+  !> routines then do nothing).
+  pure subroutine lanes_setup(b, kind, nsteps, w0, gamma, amp, freq, phase0, status)
     type(lanes_t), intent(inout) :: b  !< the block (tables reallocated when nsteps changes)
     integer, intent(in) :: kind  !< DRIVE_TORQUE or DRIVE_PIVOT
     integer, intent(in) :: nsteps  !< RK4 steps per drive period
@@ -65,12 +71,23 @@ contains
     real(wp), intent(in), dimension(nl) :: amp  !< drive amplitudes (rad/s**2, or a/l)
     real(wp), intent(in), dimension(nl) :: freq  !< drive frequencies [rad/s]
     real(wp), intent(in), dimension(nl) :: phase0  !< drive phases at the start time [rad]
-    integer :: m, l
+    type(status_t), intent(inout), optional :: status  !< receives PENDULA_ERR_MEMORY when the tables cannot be allocated
+    integer :: m, l, ist
     real(wp) :: c
     if (allocated(b%p)) then
       if (size(b%p, 2) /= 2*nsteps + 1) deallocate (b%p, b%q)
     end if
-    if (.not. allocated(b%p)) allocate (b%p(nl, 0:2*nsteps), b%q(nl, 0:2*nsteps))
+    if (.not. allocated(b%p)) then
+      allocate (b%p(nl, 0:2*nsteps), b%q(nl, 0:2*nsteps), stat=ist)
+      if (ist /= 0) then
+        if (allocated(b%p)) deallocate (b%p)
+        if (allocated(b%q)) deallocate (b%q)
+        b%nsteps = 0
+        if (present(status)) call check_alloc(ist, 'the drive tables of a block of lanes', 2_i8*nl*(2_i8*nsteps + 1), 8, &
+                                              status)
+        return
+      end if
+    end if
     b%nsteps = nsteps
     b%kind = kind
     do l = 1, nl
@@ -145,6 +162,7 @@ contains
     real(wp), intent(inout) :: u(nl)  !< angular velocities [rad/s]
     real(wp), dimension(nl) :: y2, u2, y3, u3, y4, u4, s, k1, k2, k3, k4
     integer :: j, m
+    if (.not. allocated(b%p)) return   ! a block whose tables could not be allocated (lanes_setup)
     do j = j0, j1 - 1
       m = 2*j
       call lanes_s(y, s)
@@ -178,6 +196,7 @@ contains
     real(wp), dimension(nl) :: y2, u2, y3, u3, y4, u4, s, c, k1, k2, k3, k4, a1, a2, a3, a4
     real(wp), dimension(nl) :: p, q, e2, f2, e3, f3, e4, f4, l1, l2, l3, l4
     integer :: j, m, i
+    if (.not. allocated(b%p)) return   ! a block whose tables could not be allocated (lanes_setup)
     do j = j0, j1 - 1
       m = 2*j
       call lanes_sc(y, s, c)

@@ -4,12 +4,13 @@
 !> drive's amplitude, frequency and phase each with n elements or one
 !> (shared); the drive kind and the steps per period are the call's.
 module pendula_driven_support
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
   use pendula_format, only: format_int, format_general
-  use pendula_status, only: status_t, set_error, check_finite, PENDULA_OK, PENDULA_ERR_SIZE, &
-                            PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED, PENDULA_ERR_UNSTABLE
+  use pendula_kinds, only: i8
+  use pendula_status, only: status_t, set_error, check_finite, check_alloc, PENDULA_OK, PENDULA_ERR_SIZE, &
+                            PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED, PENDULA_ERR_UNSTABLE, PENDULA_ERR_MEMORY
   use pendula_drive, only: drive_t, check_driven, check_drive_kind
   use pendula_batch_support, only: set_batch_error
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup
@@ -110,19 +111,31 @@ contains
   !> Check every state: codes(i) = its status code (PENDULA_ERR_CANCELLED for
   !> a valid state, until its block finishes), live(1:nlive) = the valid
   !> states; first_bad and bad_msg: the first invalid state and its message.
-  pure subroutine params_prepare(p, codes, live, nlive, first_bad, bad_msg)
+  !> When the list of live states cannot be allocated, every state gets
+  !> PENDULA_ERR_MEMORY (nlive = 0, first_bad = 1, bad_msg the reason with
+  !> the size) and status (optional) receives it.
+  pure subroutine params_prepare(p, codes, live, nlive, first_bad, bad_msg, status)
     type(driven_params_t), intent(in) :: p  !< the call's parameters
     integer, intent(out) :: codes(:)  !< status code of each state, size p%n
     integer, allocatable, intent(out) :: live(:)  !< the valid states (first nlive elements)
     integer, intent(out) :: nlive  !< number of valid states
     integer, intent(out) :: first_bad  !< first invalid state (0: none)
     character(len=*), intent(out) :: bad_msg  !< its message
+    type(status_t), intent(inout), optional :: status  !< receives PENDULA_ERR_MEMORY when live cannot be allocated
     type(status_t) :: st
-    integer :: i
-    allocate (live(p%n))
+    integer :: i, ist
     nlive = 0
     first_bad = 0
     bad_msg = ''
+    allocate (live(p%n), stat=ist)
+    if (ist /= 0) then
+      call check_alloc(ist, 'the batch''s list of live states', int(p%n, i8), 4, st)
+      codes = st%code
+      if (p%n > 0) first_bad = 1
+      bad_msg = st%message
+      if (present(status)) call check_alloc(ist, 'the batch''s list of live states', int(p%n, i8), 4, status)
+      return
+    end if
     do i = 1, p%n
       call params_state(p, i, st)
       codes(i) = st%code
@@ -162,8 +175,11 @@ contains
 
   !> A block of lanes for the states idx(:) (at most DRIVEN_LANES; lanes past
   !> size(idx) repeat the first state), started at time t0 [s]; their initial
-  !> angles and angular velocities in y, u.
-  pure subroutine params_lanes(p, idx, t0, b, y, u, nsteps)
+  !> angles and angular velocities in y, u.  When the block's drive tables
+  !> cannot be allocated (lanes_setup), status (optional) gets
+  !> PENDULA_ERR_MEMORY with the size and y, u are NaN (a caller without
+  !> status then sees its lanes fail as non-finite instead of crashing).
+  pure subroutine params_lanes(p, idx, t0, b, y, u, nsteps, status)
     type(driven_params_t), intent(in) :: p  !< the call's parameters
     integer, intent(in) :: idx(:)  !< the block's states (valid ones)
     real(wp), intent(in) :: t0  !< start time [s]
@@ -171,7 +187,9 @@ contains
     real(wp), intent(out) :: y(DRIVEN_LANES)  !< initial angles [rad]
     real(wp), intent(out) :: u(DRIVEN_LANES)  !< initial angular velocities [rad/s]
     integer, intent(in), optional :: nsteps  !< steps per period other than p%nsteps
+    type(status_t), intent(inout), optional :: status  !< receives PENDULA_ERR_MEMORY when the tables cannot be allocated
     real(wp), dimension(DRIVEN_LANES) :: w0, gam, amp, freq, ph
+    type(status_t) :: st
     integer :: l, s
     do l = 1, DRIVEN_LANES
       s = idx(min(l, size(idx)))
@@ -185,20 +203,29 @@ contains
       ph(l) = modulo(freq(l)*t0 + pick(p%phase, s), 2*pi)
     end do
     if (present(nsteps)) then
-      call lanes_setup(b, p%kind, nsteps, w0, gam, amp, freq, ph)
+      call lanes_setup(b, p%kind, nsteps, w0, gam, amp, freq, ph, st)
     else
-      call lanes_setup(b, p%kind, p%nsteps, w0, gam, amp, freq, ph)
+      call lanes_setup(b, p%kind, p%nsteps, w0, gam, amp, freq, ph, st)
+    end if
+    if (st%code /= PENDULA_OK) then
+      y = ieee_value(y, ieee_quiet_nan)
+      u = y
+      if (present(status)) call set_error(status, st%code, st%message)
     end if
   end subroutine params_lanes
 
   !> The call's status from its per-state codes: OK; cancelled; or the first
   !> failed state's code with its message (first_msg, from params_state or
   !> the integration).
-  pure subroutine params_summary(codes, first_msg, status, first_failed)
+  !> A state whose block could not allocate its drive tables has
+  !> PENDULA_ERR_MEMORY; its message (memory_msg, optional) is then the
+  !> summary's when first_msg is empty.
+  pure subroutine params_summary(codes, first_msg, status, first_failed, memory_msg)
     integer, intent(in) :: codes(:)  !< status code of each state
     character(len=*), intent(in) :: first_msg  !< message for the first failed state ('' if none known)
     type(status_t), intent(inout) :: status  !< receives the summary
     integer, intent(out) :: first_failed  !< first failed state (0: none)
+    character(len=*), intent(in), optional :: memory_msg  !< message of a failed table allocation
     integer :: i
     first_failed = 0
     do i = 1, size(codes)
@@ -210,6 +237,8 @@ contains
     if (first_failed == 0) return
     if (len_trim(first_msg) > 0 .or. any(codes == PENDULA_ERR_CANCELLED)) then
       call set_batch_error(status, codes, first_failed, first_msg)
+    else if (codes(first_failed) == PENDULA_ERR_MEMORY .and. present(memory_msg)) then
+      call set_batch_error(status, codes, first_failed, memory_msg)
     else
       call set_batch_error(status, codes, first_failed, 'the state became non-finite or left |theta| < 1e15 rad')
     end if

@@ -41,6 +41,8 @@ module pendula_cvode
   use fsunlinsol_dense_mod, only: FSUNLinSol_Dense
   use fcvode_mod
   use pendula_cvode_vector, only: specialise_pair_ops
+  use pendula_constants, only: pi
+  use pendula_drive, only: drive_t, check_drive, DRIVE_PIVOT
   use pendula_cvode_glue, only: cv_data_t, rhs, jacobian, relative_weights, root_functions, capture_error, &
                                 failed, collect_stats, poll, CV_POLL_EVALS
   implicit none
@@ -90,8 +92,11 @@ contains
   !> 256 right-hand-side evaluations (tens of microseconds); a cancelled run
   !> returns PENDULA_ERR_CANCELLED like a failure (outputs reached kept, the
   !> solver memory freed).  Progress counts right-hand-side evaluations.
+  !> drive (optional, pendula_drive): the driven pendulum instead, with the
+  !> drive phase psi0 + Omega (t - t(1)) (psi0 = Omega t(1) + phi reduced
+  !> once), as exact as CVODE's time however many periods run.
   subroutine cvode_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-                         theta, omega, stats, status, control)
+                         theta, omega, stats, status, control, drive)
     real(wp), intent(in) :: t(:)
     !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -110,11 +115,12 @@ contains
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
     !< pendula_control)
+    type(drive_t), intent(in), optional :: drive  !< optional drive (pendula_drive): the driven pendulum
     real(wp) :: et(0), eth(0), eom(0)
     integer :: ek(0), n_events
     logical :: truncated
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .false., &
-               theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+               theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control, drive)
   end subroutine cvode_solve
 
   !> As cvode_solve, and also locate the events: turning points (Omega = 0,
@@ -124,9 +130,10 @@ contains
   !> not reported.  The event arrays (all of one size, the maximum number of
   !> events kept, may be 0) receive the first n_events; truncated is true when
   !> more occurred.  Event times are accurate to about the integration error.
-  !> control: as for cvode_solve.
+  !> control, drive: as for cvode_solve.
   subroutine cvode_solve_events(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-                           theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                                theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, &
+                                control, drive)
     real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
@@ -150,12 +157,13 @@ contains
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
     !< pendula_control)
+    type(drive_t), intent(in), optional :: drive  !< optional drive (pendula_drive): the driven pendulum
     call solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, .true., &
-               theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+               theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control, drive)
   end subroutine cvode_solve_events
 
   subroutine solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, with_events, &
-                   theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                   theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control, drive)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -168,6 +176,7 @@ contains
     type(ode_stats_t), intent(out) :: stats
     type(status_t), intent(out) :: status
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    type(drive_t), intent(in), optional :: drive
     type(cvode_work_t) :: work
 
     theta = 0
@@ -184,6 +193,7 @@ contains
     call check_same_size('event_theta', size(event_theta), 'event_t', size(event_t), status)
     call check_same_size('event_omega', size(event_omega), 'event_t', size(event_t), status)
     call check_span(t, status)
+    if (present(drive)) call check_drive(drive, status)
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0
     omega(1) = omega0
@@ -192,7 +202,7 @@ contains
     call cvode_work_open(work, method, status)
     if (status%code == PENDULA_OK) call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
                             with_events, .true., theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, &
-                                            stats, status, control)
+                                            stats, status, control, drive)
     call cvode_work_close(work, status)
   end subroutine solve
 
@@ -332,9 +342,9 @@ contains
   !> memory from scratch).  control: its cancel flag is polled as in
   !> cvode_solve, but progress is not counted (a batch counts states).
   !> Errors: as cvode_solve; a work that is not open: PENDULA_ERR_SOLVER
-  !> (after the argument checks, which need no solver).
+  !> (after the argument checks, which need no solver).  drive: as cvode_solve.
   subroutine cvode_work_solve(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
-                              theta, omega, stats, status, control)
+                              theta, omega, stats, status, control, drive)
     type(cvode_work_t), intent(inout) :: work  !< reusable CVODE solver state (opened by cvode_work_open)
     real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
     real(wp), intent(in) :: theta0, omega0  !< theta0, omega0: initial state [rad], [rad/s], finite
@@ -349,6 +359,7 @@ contains
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
     !< pendula_control)
+    type(drive_t), intent(in), optional :: drive  !< optional drive (pendula_drive): the driven pendulum
     real(wp) :: et(0), eth(0), eom(0)
     integer :: ek(0), n_events
     logical :: truncated
@@ -357,6 +368,7 @@ contains
     call check_call(t, theta0, omega0, w0, gamma, rtol, atol, PENDULA_CVODE_ADAMS, max_steps, size(theta), &
                     size(omega), status)
     call check_span(t, status)
+    if (present(drive)) call check_drive(drive, status)
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0
     omega(1) = omega0
@@ -368,7 +380,7 @@ contains
       return
     end if
     call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, .false., .false., &
-             theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control)
+             theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control, drive)
   end subroutine cvode_work_solve
 
   !> One problem on an open work, arguments already checked and size(t) >= 2:
@@ -377,7 +389,7 @@ contains
   !> right-hand-side evaluations as progress in control (else only poll its
   !> cancel flag).
   subroutine run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, with_events, eval_progress, &
-                 theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control)
+                 theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control, drive)
     type(cvode_work_t), intent(inout) :: work
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer(i8), intent(in) :: max_steps
@@ -390,6 +402,7 @@ contains
     type(ode_stats_t), intent(inout) :: stats
     type(status_t), intent(inout) :: status
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    type(drive_t), intent(in), optional :: drive
 
     type(cv_data_t), pointer :: cb   ! what the callbacks see
     real(c_double), pointer :: yv(:)
@@ -413,6 +426,14 @@ contains
     cb%tscale = 0
     if (span < 2.0_wp**(-64)) cb%tscale = exponent(span)
     cb%eval_progress = eval_progress
+    if (present(drive)) then
+      cb%driven = .true.
+      cb%pivot = drive%kind == DRIVE_PIVOT
+      cb%amp = drive%amplitude
+      cb%freq = drive%frequency
+      ! the phase at t(1), reduced once; the callbacks add Omega (t - t(1))
+      cb%psi0 = modulo(drive%frequency*t(1) + drive%phase, 2*pi)
+    end if
     tau_end = tau(t(nt))
     if (present(control)) cb%control = c_loc(control)
     yv => FN_VGetArrayPointer(work%y)

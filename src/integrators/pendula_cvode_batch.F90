@@ -19,7 +19,9 @@
 module pendula_cvode_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
-  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED, PENDULA_MSG_LEN
+  use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_MSG_LEN
+  use pendula_format, only: format_int
+  use pendula_drive, only: drive_t
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options, check_batch_shapes, &
                          at => batch_index
@@ -59,8 +61,10 @@ contains
   !> thread (the solver polls it every 256 right-hand-side evaluations);
   !> finished states keep their results, unfinished ones get zero outputs
   !> and PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS) counts finished states.
+  !> drive (optional, pendula_drive; one element or n): the driven pendulum,
+  !> each state bit-identical to cvode_solve with its drive.
   subroutine cvode_batch_solve(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, &
-                               theta, omega, codes, stats, status, threads, control, first_failed)
+                               theta, omega, codes, stats, status, threads, control, first_failed, drive)
     real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
@@ -82,6 +86,7 @@ contains
     !< optional cancel flag and progress counter (finished states) shared with another thread
     integer, intent(out), optional :: first_failed
     !< optional: 1-based index of the first failed state (0: none)
+    type(drive_t), intent(in), optional :: drive(:)  !< optional drives, one element or n: the driven pendulum
     type(cvode_work_t) :: probe
     character(len=PENDULA_MSG_LEN) :: first_msg
     integer :: n, i, nthreads, first
@@ -91,6 +96,11 @@ contains
     omega = 0
     call check_call(t, n, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
                     threads, status)
+    if (present(drive) .and. status%code == PENDULA_OK) then
+      if (size(drive) /= 1 .and. size(drive) /= n) call set_error(status, PENDULA_ERR_SIZE, 'drive has '// &
+                                      format_int(size(drive))//' element(s): it must have one or one per state (size(theta0) = '// &
+                                                                  format_int(n)//')')
+    end if
     if (status%code == PENDULA_OK .and. .not. cvode_available()) then
       call cvode_work_open(probe, method, status)   ! the stand-in's explanation
       call cvode_work_close(probe, status)
@@ -106,7 +116,7 @@ contains
     first_msg = ''
     !$omp parallel num_threads(nthreads) if(nthreads > 1 .and. n > 1) default(shared)
     call run_states(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, stats, &
-                    first, first_msg, control)
+                    first, first_msg, control, drive)
     !$omp end parallel
 
     ! Summary: the first failed state, with cvode_solve's own message for it.
@@ -126,7 +136,7 @@ contains
   !> states from the shared loop, close it.  first/first_msg: the lowest failed
   !> state so far and its message (updated under a critical section).
   subroutine run_states(t, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, theta, omega, codes, &
-                        stats, first, first_msg, control)
+                        stats, first, first_msg, control, drive)
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), rtol(:), atol(:)
     integer, intent(in) :: method
     integer(i8), intent(in) :: max_steps
@@ -136,6 +146,7 @@ contains
     integer, intent(inout) :: first
     character(len=*), intent(inout) :: first_msg
     integer(int64), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
+    type(drive_t), intent(in), optional :: drive(:)
     type(cvode_work_t) :: work
     type(status_t) :: opened, st
     integer :: i
@@ -146,7 +157,11 @@ contains
       if (present(control)) then
         if (cancel_requested(control)) cycle   ! code stays PENDULA_ERR_CANCELLED
       end if
-      if (opened%code == PENDULA_OK) then
+      if (opened%code == PENDULA_OK .and. present(drive)) then
+        call cvode_work_solve(work, t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
+                              rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control, &
+                              drive(min(i, size(drive))))
+      else if (opened%code == PENDULA_OK) then
         call cvode_work_solve(work, t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
                               rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control)
       else

@@ -28,13 +28,16 @@ module pendula_cvode_glue
   !> the last error message CVODE reports, and the caller's control array
   !> (c_null_ptr: none) with the right-hand-side evaluations counted so far.
   !>
-  !> CVODE integrates in tau = (t - t(1)) / T, T = 2**tscale: the problem is
-  !> autonomous, so moving the origin to t(1) costs nothing and lets a window
+  !> CVODE integrates in tau = (t - t(1)) / T, T = 2**tscale: the undriven
+  !> problem is autonomous, so moving the origin to t(1) costs nothing and lets a window
   !> of a few ulps at t(1) = 1e300 be resolved; T = 1 except for windows
   !> shorter than 2**-64 s, where CVODE's products of two times (e.g.
   !> (tstop - t) h) would underflow (t = [0, 1e-300] was refused).  The
   !> state stays (theta, Omega) in rad, rad/s; d/dtau = T d/dt, and T is a
-  !> power of 2, so the scaling itself is exact.
+  !> power of 2, so the scaling itself is exact.  With a drive (driven =
+  !> .true., pendula_drive) the drive phase at time t is psi0 + Omega (t - t(1)),
+  !> psi0 = Omega t(1) + phi reduced to [0, 2 pi) once per call: the phase
+  !> is as exact as CVODE's own time tau, over any number of periods.
   type :: cv_data_t
     real(c_double) :: w0sq = 0
     real(c_double) :: gamma = 0
@@ -46,6 +49,11 @@ module pendula_cvode_glue
     integer(i8) :: evals = 0
     logical :: cancelled = .false.
     logical :: eval_progress = .true.
+    logical :: driven = .false.
+    logical :: pivot = .false.
+    real(c_double) :: amp = 0
+    real(c_double) :: freq = 0
+    real(c_double) :: psi0 = 0
   end type cv_data_t
 
   !> Right-hand-side evaluations between two looks at the cancel flag (a few
@@ -130,20 +138,27 @@ contains
   ! name='': no global C symbol, so no clash with a same-named C function of
   ! another library in the process (they were plain `rhs`, `jacobian`, ...).
 
-  !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2)
+  !> theta' = Omega, Omega' = -gamma Omega - w0**2 sin(theta)  (eq. 2.2); with
+  !> a drive Omega' = -gamma Omega - P(t) sin(theta) + Q(t) (pendula_drive).
   integer(c_int) function rhs(tt, sunvec_y, sunvec_f, user_data) result(ierr) bind(C, name='')
-    real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
+    real(c_double), value :: tt  !< CVODE's time tau (used by a drive only: the undriven problem is autonomous)
     type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
     type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
     type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     type(pair_t), pointer :: yy, ff
+    real(c_double) :: pp, qq
     call c_f_pointer(user_data, p)
     ! Every vector CVODE hands us is a length-2 serial vector (cloned from y).
     yy => pair_of(sunvec_y)
     ff => pair_of(sunvec_f)
     ff%v(1) = yy%v(2)
-    ff%v(2) = -p%gamma*yy%v(2) - p%w0sq*sin(yy%v(1))
+    if (p%driven) then
+      call drive_pq(p, tt, pp, qq)
+      ff%v(2) = (qq - p%gamma*yy%v(2)) - pp*sin(yy%v(1))
+    else
+      ff%v(2) = -p%gamma*yy%v(2) - p%w0sq*sin(yy%v(1))
+    end if
     if (p%tscale /= 0) ff%v = scale(ff%v, p%tscale)   ! d/dtau = T d/dt
     ! A non-finite state is unrecoverable here; tell CVODE so (flag -1).
     ierr = 0
@@ -159,6 +174,24 @@ contains
     end if
   end function rhs
 
+  !> P and Q of the drive (pendula_drive's drive_coefficients) at CVODE's
+  !> time tau: t - t(1) = tau 2**tscale, phase psi0 + Omega (t - t(1)).
+  pure subroutine drive_pq(p, tau, pp, qq)
+    type(cv_data_t), intent(in) :: p  !< the callbacks' data, with a drive
+    real(c_double), intent(in) :: tau  !< CVODE's time
+    real(c_double), intent(out) :: pp  !< coefficient of sin(theta) [1/s**2]
+    real(c_double), intent(out) :: qq  !< torque term [rad/s**2]
+    real(c_double) :: c
+    c = cos(p%psi0 + p%freq*scale(tau, p%tscale))
+    if (p%pivot) then
+      pp = p%w0sq + p%amp*p%freq**2*c
+      qq = 0
+    else
+      pp = p%w0sq
+      qq = p%amp*c
+    end if
+  end subroutine drive_pq
+
   !> Add n to the progress of the control array at address `control`;
   !> cancelled: whether its cancel flag is set.
   subroutine poll(control, n, cancelled)
@@ -171,10 +204,11 @@ contains
     cancelled = cancel_requested(ctl)
   end subroutine poll
 
-  !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major.
+  !> Analytic Jacobian [[0, 1], [-w0**2 cos(theta), -gamma]], column-major
+  !> (with a drive, P(t) in place of w0**2).
   integer(c_int) function jacobian(tt, sunvec_y, sunvec_f, sunmat_j, user_data, tmp1, tmp2, tmp3) &
     result(ierr) bind(C, name='')
-    real(c_double), value :: tt  !< time [s] (unused: the problem is autonomous)
+    real(c_double), value :: tt  !< CVODE's time tau (used by a drive only)
     type(N_Vector) :: sunvec_y  !< the state (theta, Omega) as a SUNDIALS vector
     type(N_Vector) :: sunvec_f  !< output: the derivative (theta', Omega')
     type(N_Vector) :: tmp1  !< CVODE work vector (unused)
@@ -184,13 +218,19 @@ contains
     type(c_ptr), value :: user_data  !< address of the call's cv_data_t (w0, gamma, control, counters)
     type(cv_data_t), pointer :: p
     real(c_double), pointer :: yy(:), first(:), jd(:)
+    real(c_double) :: pp, qq
     call c_f_pointer(user_data, p)
     yy => FN_VGetArrayPointer(sunvec_y)
     ! The SWIG wrapper returns the data as a 1-element array; view all 4.
     first => FSUNDenseMatrix_Data(sunmat_j)
     call c_f_pointer(c_loc(first(1)), jd, [4])
     jd(1) = 0
-    jd(2) = -p%w0sq*cos(yy(1))
+    if (p%driven) then
+      call drive_pq(p, tt, pp, qq)
+      jd(2) = -pp*cos(yy(1))
+    else
+      jd(2) = -p%w0sq*cos(yy(1))
+    end if
     jd(3) = 1
     jd(4) = -p%gamma
     if (p%tscale /= 0) jd = scale(jd, p%tscale)

@@ -14,16 +14,25 @@
 module pendula_rk4
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_short
-  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, check_same_size, PENDULA_OK, &
+  use pendula_status, only: status_t, set_error, check_positive, check_nonnegative, check_finite, check_same_size, &
+                            PENDULA_OK, &
                             PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, PENDULA_ERR_SOLVER, PENDULA_ERR_ORDER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE
   use pendula_ode, only: ode_stats_t, check_problem, linear_eigenvalues
   use pendula_rk4_kernel, only: rk4_grid, substeps
+  use pendula_constants, only: pi
+  use pendula_drive, only: drive_t, check_drive, check_driven, drive_period, DRIVE_PIVOT, DRIVEN_MIN_STEPS, DRIVEN_MAX_STEPS
+  ! the driven block kernel itself (no OpenMP: a program that integrates single
+  ! states links no OpenMP runtime), not pendula_driven's batch driver
+  use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup, lanes_steps, lanes_partial, lanes_finite
+  use pendula_control, only: cancel_requested, add_progress
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: rk4_solve, rk4_final_state, rk4_max_stable_step, rk4_stability_function, RK4_DEFAULT_MAX_STEPS
   public :: check_step   ! the batch driver (pendula_rk4_batch) validates each state's h with it
+  ! with a drive: the steps per period, the per-state checks and the grid steps taken (pendula_rk4_batch uses them)
+  public :: driven_steps, check_driven_step, driven_step_count
 
   !> Default step budget of one call: about a minute of CPU at ~25 ns a step.
   !> A window that needs more is refused up front (the caller may raise it
@@ -191,7 +200,16 @@ contains
   !> PENDULA_ERR_CANCELLED with the outputs zero; progress counts steps.
   !> Global error O(h**4): about 2.5e-6 rad for the text's scenario (b = 0.01,
   !> t <= 30 s, h = 0.05 s).
-  subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status, control, max_steps)
+  !>
+  !> drive (optional, pendula_drive): integrate the driven pendulum
+  !> theta'' + gamma theta' + w0**2 sin(theta) = F cos(Omega t + phi) (or the
+  !> vertically driven pivot) instead.  The steps are then T/N for the fewest
+  !> N >= DRIVEN_MIN_STEPS with T/N <= h (T = 2 pi/Omega, N <= DRIVEN_MAX_STEPS),
+  !> taken on the grid t(1) + (k + j/N) T of pendula_driven, whose drive phase
+  !> comes from integers (no phase is lost over any number of periods); an
+  !> output between grid times is one shorter step from the grid.  Checks:
+  !> check_driven_step; progress counts the finished state (1).
+  subroutine rk4_solve(t, theta0, omega0, w0, gamma, h, theta, omega, stats, status, control, max_steps, drive)
     real(wp), intent(in) :: t(:)
     !< output times [s]: finite, strictly increasing, size >= 1; t(1) is the initial time
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -209,6 +227,7 @@ contains
     !< pendula_control)
     integer(i8), intent(in), optional :: max_steps
     !< optional step budget, >= 1 (default RK4_DEFAULT_MAX_STEPS)
+    type(drive_t), intent(in), optional :: drive  !< optional drive (pendula_drive): the driven pendulum
     integer(i8) :: steps, fast
     integer :: bad
     real(wp) :: budget
@@ -221,6 +240,10 @@ contains
     call check_problem(t, theta0, omega0, w0, gamma, status)
     call check_same_size('theta', size(theta), 't', size(t), status)
     call check_same_size('omega', size(omega), 't', size(t), status)
+    if (present(drive)) then
+      call driven_solve_rk4(t, theta0, omega0, w0, gamma, h, drive, budget, theta, omega, stats, status, control)
+      return
+    end if
     call check_step(t, w0, gamma, h, budget, status)
     if (status%code /= PENDULA_OK) then
       ! zeroed only here: on success the kernel writes every element
@@ -250,8 +273,9 @@ contains
   !> omega_end [rad/s].  No history is kept: memory is O(1) however long the
   !> run (e.g. 1e5 periods).  Same checks, errors, accuracy, control and
   !> max_steps as rk4_solve.
+  !> drive (optional): the driven pendulum, as in rk4_solve.
   subroutine rk4_final_state(t0, t_end, theta0, omega0, w0, gamma, h, theta_end, omega_end, &
-                             stats, status, control, max_steps)
+                             stats, status, control, max_steps, drive)
     real(wp), intent(in) :: t0  !< initial time [s], finite
     real(wp), intent(in) :: t_end  !< final time [s], >= t0
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -269,6 +293,7 @@ contains
     !< pendula_control)
     integer(i8), intent(in), optional :: max_steps
     !< optional step budget, >= 1 (default RK4_DEFAULT_MAX_STEPS)
+    type(drive_t), intent(in), optional :: drive  !< optional drive (pendula_drive): the driven pendulum
     real(wp) :: th(2), om(2)
     theta_end = 0
     omega_end = 0
@@ -278,6 +303,7 @@ contains
     if (t_end == t0) then
       call check_problem([t0], theta0, omega0, w0, gamma, status)
       call check_positive('h', h, status)
+      if (present(drive)) call check_drive(drive, status)
       if (status%code /= PENDULA_OK) return
       theta_end = theta0
       omega_end = omega0
@@ -287,10 +313,228 @@ contains
       call set_error(status, PENDULA_ERR_ORDER, 't_end = '//format_short(t_end)//' must not precede t0 = '//format_short(t0))
       return
     end if
-    call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status, control, max_steps)
+    call rk4_solve([t0, t_end], theta0, omega0, w0, gamma, h, th, om, stats, status, control, max_steps, drive)
     if (status%code /= PENDULA_OK) return
     theta_end = th(2)
     omega_end = om(2)
   end subroutine rk4_final_state
+
+  !> RK4 steps per drive period for the step bound h [s] (> 0): the fewest
+  !> N >= DRIVEN_MIN_STEPS with T/N <= h, T = 2 pi/Omega the drive period (a
+  !> period that is a multiple of h up to rounding counts as that multiple);
+  !> 0 when that needs more than DRIVEN_MAX_STEPS.
+  elemental integer function driven_steps(drive, h) result(n)
+    type(drive_t), intent(in) :: drive  !< the drive (frequency > 0)
+    real(wp), intent(in) :: h  !< largest step [s], > 0
+    real(wp) :: r
+    n = 0
+    r = drive_period(drive)/h
+    r = r*(1 - 4*epsilon(r))
+    if (.not. r <= DRIVEN_MAX_STEPS) return
+    n = max(DRIVEN_MIN_STEPS, ceiling(r))
+  end function driven_steps
+
+  !> The checks of one driven state for RK4 (t, theta0, omega0, w0, gamma
+  !> already checked by check_problem): h > 0, the drive (check_drive), at
+  !> most DRIVEN_MAX_STEPS steps per period, the step T/N small enough for
+  !> w0, gamma, the drive and omega0 (h max(sqrt(w0**2 + |a/l| Omega**2),
+  !> gamma) <= 1.5 and |omega0| h <= 1.5, as pendula_drive's check_driven),
+  !> |theta0| < 1e15 rad, and the window within the step budget (at most
+  !> min(max_total_steps, RK4_DEFAULT_MAX_STEPS) grid steps: 2e9, the limit of
+  !> pendula_driven's batch driver too).  nsteps: the
+  !> steps per period (driven_steps).  A one-point t takes no step: only h,
+  !> the drive and theta0 are checked then.
+  pure subroutine check_driven_step(t, theta0, omega0, w0, gamma, drive, h, max_total_steps, nsteps, status)
+    real(wp), intent(in) :: t(:)  !< output times [s] (already checked)
+    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0
+    real(wp), intent(in) :: gamma  !< damping rate [1/s], >= 0
+    type(drive_t), intent(in) :: drive  !< the drive
+    real(wp), intent(in) :: h  !< largest step [s], > 0
+    real(wp), intent(in) :: max_total_steps  !< most steps the run may take
+    integer, intent(out) :: nsteps  !< RK4 steps per drive period (0 when refused)
+    type(status_t), intent(inout) :: status
+    !< the first error of the call is kept: set here only if nothing failed before
+    type(status_t) :: st
+    real(wp) :: rate, hs, grid, cap
+    nsteps = 0
+    call check_positive('h', h, status)
+    call check_drive(drive, status)
+    if (status%code /= PENDULA_OK) return
+    if (.not. abs(theta0) < 1.0e15_wp) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'theta0 = '//format_short(theta0)// &
+                     ' is out of range: with a drive |theta0| must be < 1e15 rad')
+      return
+    end if
+    ! a one-point window takes no step (as without a drive: h is checked against a window)
+    if (size(t) == 1) then
+      nsteps = max(driven_steps(drive, h), DRIVEN_MIN_STEPS)
+      return
+    end if
+    nsteps = driven_steps(drive, h)
+    if (nsteps == 0) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'h = '//format_short(h)//' is too small for the drive period T = '// &
+                     format_short(drive_period(drive))//' s: RK4 with a drive takes at most 1e6 steps per period '// &
+                     '(h >= T/1e6)')
+      return
+    end if
+    call check_driven(w0, gamma, drive, nsteps, st)
+    if (st%code /= PENDULA_OK) then
+      rate = w0*w0
+      if (drive%kind == DRIVE_PIVOT) rate = rate + abs(drive%amplitude)*drive%frequency**2
+      rate = max(sqrt(rate), gamma)
+      call set_error(status, st%code, 'h = '//format_short(h)//' is too large for RK4 with this drive (w0 = '// &
+                     format_short(w0)//', gamma = '//format_short(gamma)//', step T/N = '// &
+                     format_short(drive_period(drive)/nsteps)//' s): the step times max(sqrt(w0**2 + |a/l| Omega**2), '// &
+                     'gamma) must be <= 1.5, i.e. h <= '//format_short(1.5_wp/rate))
+      nsteps = 0
+      return
+    end if
+    hs = 2*pi/(drive%frequency*nsteps)   ! as pendula_driven_support's check of omega0
+    if (.not. abs(omega0)*hs <= 1.5_wp) then
+      call set_error(status, PENDULA_ERR_UNSTABLE, 'omega0 = '//format_short(omega0)//' is too fast for h = '// &
+                     format_short(h)//' with this drive: |omega0| times the step T/N = '//format_short(hs)// &
+                     ' s must be <= 1.5')
+      nsteps = 0
+      return
+    end if
+    ! the same expression as pendula_driven's budget check
+    grid = (t(size(t)) - t(1))*drive%frequency/(2*pi)*nsteps
+    cap = min(max_total_steps, real(RK4_DEFAULT_MAX_STEPS, wp))
+    if (.not. grid <= cap) then
+      call set_error(status, PENDULA_ERR_DOMAIN, 'h = '//format_short(h)//' is too small for the window t = '// &
+                     format_short(t(1))//' .. '//format_short(t(size(t)))//': RK4 with a drive needs more than '// &
+                     format_short(cap)//' steps (max_steps, at most 2e9); use a larger h, a shorter window,'// &
+                     ' or raise max_steps')
+      nsteps = 0
+    end if
+  end subroutine check_driven_step
+
+  !> RK4 steps a driven state takes over the output times t [s] with nsteps
+  !> steps per period of the drive: the grid steps to the last output and
+  !> one shorter step for each output between grid times.
+  pure integer(i8) function driven_step_count(t, drive, nsteps) result(steps)
+    real(wp), intent(in) :: t(:)  !< output times [s]
+    type(drive_t), intent(in) :: drive  !< the drive
+    integer, intent(in) :: nsteps  !< RK4 steps per drive period
+    real(wp) :: hs, r
+    integer :: i
+    hs = (2*pi/drive%frequency)/nsteps   ! pendula_driven_kernel's step
+    steps = 0
+    do i = 2, size(t)
+      r = (t(i) - t(1))/hs
+      if (r - real(int(r, i8), wp) > 0) steps = steps + 1
+    end do
+    if (size(t) > 1) steps = steps + int((t(size(t)) - t(1))/hs, i8)
+  end function driven_step_count
+
+  ! rk4_solve with a drive, the problem and sizes checked (status holds their verdict).
+  subroutine driven_solve_rk4(t, theta0, omega0, w0, gamma, h, drive, budget, theta, omega, stats, status, control)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h, budget
+    type(drive_t), intent(in) :: drive
+    real(wp), intent(out) :: theta(:), omega(:)
+    type(ode_stats_t), intent(out) :: stats
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer :: nsteps, bad
+    theta = 0
+    omega = 0
+    call check_driven_step(t, theta0, omega0, w0, gamma, drive, h, budget, nsteps, status)
+    if (status%code /= PENDULA_OK) return
+    if (size(t) == 1) then
+      theta(1) = theta0
+      omega(1) = omega0
+      return
+    end if
+    call driven_run(t, theta0, omega0, w0, gamma, drive, nsteps, theta, omega, bad, status, control)
+    if (status%code /= PENDULA_OK) return
+    if (bad == 0) then
+      stats%steps = driven_step_count(t, drive, nsteps)
+      stats%rhs_evals = 4*stats%steps
+      if (present(control)) call add_progress(control, 1_i8)
+      return
+    end if
+    theta = 0
+    omega = 0
+    if (bad < 0) then
+      call set_error(status, PENDULA_ERR_CANCELLED, 'RK4 cancelled (interrupted by the caller)')
+    else
+      call set_error(status, PENDULA_ERR_SOLVER, 'RK4 with a drive produced a non-finite state (or |theta| >= 1e15 rad)')
+    end if
+  end subroutine driven_solve_rk4
+
+  ! One driven state as pendula_driven's run_block runs a block's lane (the
+  ! same grid steps and partial steps on the same kernel, whose lanes never
+  ! mix: the same bits as driven_batch_solve and rk4_batch_solve).  bad: 0,
+  ! 1 (the state became non-finite: checked at each period's end and at the
+  ! end) or -1 (cancelled: the flag is polled every 4096 grid steps).
+  subroutine driven_run(t, theta0, omega0, w0, gamma, drive, nsteps, theta, omega, bad, status, control)
+    real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma
+    type(drive_t), intent(in) :: drive
+    integer, intent(in) :: nsteps
+    real(wp), intent(inout) :: theta(:), omega(:)
+    integer, intent(out) :: bad
+    type(status_t), intent(inout) :: status
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer, parameter :: nl = DRIVEN_LANES
+    type(lanes_t) :: b
+    real(wp) :: y(nl), u(nl), fr
+    logical :: ok(nl)
+    integer(i8) :: cnt, mk, work
+    integer :: j, nxt, nt, chunk
+    bad = 0
+    ! the drive phase at t(1), reduced to [0, 2 pi) (pendula_driven_support's params_lanes)
+    call lanes_setup(b, drive%kind, nsteps, spread(w0, 1, nl), spread(gamma, 1, nl), spread(drive%amplitude, 1, nl), &
+                     spread(drive%frequency, 1, nl), spread(modulo(drive%frequency*t(1) + drive%phase, 2*pi), 1, nl), status)
+    if (status%code /= PENDULA_OK) return
+    y = theta0
+    u = omega0
+    nt = size(t)
+    nxt = 1
+    cnt = 0
+    j = 0
+    work = 0
+    call next_output()
+    do
+      do while (nxt <= nt .and. mk == cnt)
+        call lanes_partial(b, 1, j, fr, y(1), u(1), theta(nxt), omega(nxt))
+        nxt = nxt + 1
+        call next_output()
+      end do
+      if (nxt > nt) exit
+      chunk = int(min(int(nsteps - j, i8), mk - cnt))
+      call lanes_steps(b, j, j + chunk, y, u)
+      cnt = cnt + chunk
+      j = j + chunk
+      if (j == nsteps) then
+        j = 0
+        ok = lanes_finite(y, u)
+        if (.not. ok(1)) then
+          bad = 1
+          return
+        end if
+      end if
+      work = work + chunk
+      if (present(control) .and. work >= 4096) then
+        work = 0
+        if (cancel_requested(control)) then
+          bad = -1
+          return
+        end if
+      end if
+    end do
+    ok = lanes_finite(y, u)
+    if (.not. ok(1)) bad = 1
+  contains
+    ! grid step count mk and step fraction fr of the next output
+    subroutine next_output()
+      real(wp) :: r
+      if (nxt > nt) return
+      r = (t(nxt) - t(1))/b%h(1)
+      mk = int(r, i8)
+      fr = r - real(mk, wp)
+    end subroutine next_output
+  end subroutine driven_run
 
 end module pendula_rk4

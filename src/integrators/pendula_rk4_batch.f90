@@ -24,10 +24,12 @@ module pendula_rk4_batch
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, &
-                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
+                            PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, add_progress
   use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
-  use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS
+  use pendula_rk4, only: rk4_solve, check_step, RK4_DEFAULT_MAX_STEPS, check_driven_step, driven_step_count
+  use pendula_drive, only: drive_t
+  use pendula_driven, only: driven_batch_solve
   use pendula_ode, only: ode_stats_t
   use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_rk4_kernel, only: RK4_BATCH_LANES
@@ -74,8 +76,15 @@ contains
   !> counts finished states.  max_steps (optional, >= 1): each state's step
   !> budget, as rk4_solve's (default RK4_DEFAULT_MAX_STEPS); a state that needs
   !> more is refused before any work, with rk4_solve's code.
+  !>
+  !> drive (optional, pendula_drive; one element or n, like the other
+  !> parameters): the driven pendulum, each state bit-identical to rk4_solve
+  !> with its drive.  The states run on the driven block kernel
+  !> (pendula_driven), in one call per drive kind and steps per period (a
+  !> sweep over the drive frequency at a fixed h runs one call per distinct
+  !> N = ceiling(T/h)); progress counts finished states as without a drive.
   subroutine rk4_batch_solve(t, theta0, omega0, w0, gamma, h, theta, omega, codes, steps, status, &
-                             threads, control, first_failed, max_steps)
+                             threads, control, first_failed, max_steps, drive)
     real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly increasing, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
@@ -95,6 +104,7 @@ contains
     integer, intent(out), optional :: first_failed
     !< optional: 1-based index of the first failed state (0: none)
     integer(i8), intent(in), optional :: max_steps  !< step budget per state, >= 1
+    type(drive_t), intent(in), optional :: drive(:)  !< optional drives, one element or n: the driven pendulum
     integer, allocatable :: live(:)
     real(wp), allocatable :: th(:, :), om(:, :)
     integer :: n, i, nlive, nthreads, first, ncancel, ist
@@ -112,6 +122,17 @@ contains
       return
     end if
     nthreads = batch_threads(threads)
+    if (present(drive)) then
+      if (size(drive) /= 1 .and. size(drive) /= n) then
+        call set_error(status, PENDULA_ERR_SIZE, 'drive has '//format_int(size(drive))// &
+                       ' element(s): it must have one or one per state (size(theta0) = '//format_int(n)//')')
+        call refuse_all(status%code, theta, omega, codes, steps)
+        return
+      end if
+      call driven_batch(t, theta0, omega0, w0, gamma, h, drive, budget, theta, omega, codes, steps, status, &
+                        nthreads, control, first_failed)
+      return
+    end if
 
     ! Per-state checks, in rk4_solve's order (t is already known to be good),
     ! with the step budget per state (rk4_solve's default unless max_steps).
@@ -205,10 +226,11 @@ contains
   end subroutine check_call
 
   !> rk4_solve's status for one state (its message for the batch summary).
-  function state_status(t, theta0, omega0, w0, gamma, h, code, budget) result(st)
+  function state_status(t, theta0, omega0, w0, gamma, h, code, budget, drive) result(st)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, h
     integer, intent(in) :: code
     integer(i8), intent(in) :: budget
+    type(drive_t), intent(in), optional :: drive
     type(status_t) :: st
     real(wp), allocatable :: th(:), om(:)
     type(ode_stats_t) :: s
@@ -216,7 +238,7 @@ contains
     allocate (th(size(t)), om(size(t)), stat=ist)
     call check_alloc(ist, 'the failed state''s rerun', 2_i8*size(t), 8, st)
     if (st%code /= PENDULA_OK) return
-    call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, s, st, max_steps=budget)
+    call rk4_solve(t, theta0, omega0, w0, gamma, h, th, om, s, st, max_steps=budget, drive=drive)
     if (st%code == PENDULA_OK) call set_error(st, code, 'failed in the batch')   ! cannot happen: same kernel
   end function state_status
 
@@ -272,5 +294,122 @@ contains
     end do
     if (present(control)) call add_progress(control, int(nb, int64))
   end subroutine run_block
+
+  !> rk4_batch_solve with drives (the call's checks done, drive of one
+  !> element or n): per-state checks as rk4_solve's (check_driven_step), then
+  !> the valid states on pendula_driven's block kernel, one call per drive
+  !> kind and steps per period (all states at once when they share both).
+  subroutine driven_batch(t, theta0, omega0, w0, gamma, h, drive, budget, theta, omega, codes, steps, status, &
+                          nthreads, control, first_failed)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:), gamma(:), h(:)
+    type(drive_t), intent(in) :: drive(:)
+    integer(i8), intent(in) :: budget
+    real(wp), intent(out) :: theta(:, :), omega(:, :)
+    integer, intent(out) :: codes(:)
+    integer(i8), intent(out) :: steps(:)
+    type(status_t), intent(inout) :: status
+    integer, intent(in) :: nthreads
+    integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    integer, intent(out), optional :: first_failed
+    integer, allocatable :: nst(:), idx(:), gcodes(:)
+    real(wp), allocatable :: g(:, :), gth(:, :), gom(:, :)
+    logical, allocatable :: todo(:)
+    integer :: n, i, j, m, k, first, ist
+    type(status_t) :: st, gst
+    type(drive_t) :: d
+    n = size(theta0)
+    theta = 0
+    omega = 0
+    steps = 0
+    allocate (nst(n), todo(n), stat=ist)
+    call check_alloc(ist, 'the batch''s steps per period', 2_i8*n, 4, status)
+    if (status%code /= PENDULA_OK) then
+      codes = status%code
+      return
+    end if
+    do i = 1, n
+      st = status_t()
+      call check_problem(t(1:1), theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), st)
+      call check_driven_step(t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
+                             drive(min(i, size(drive))), h(at(h, i)), real(budget, wp), nst(i), st)
+      codes(i) = st%code
+      todo(i) = st%code == PENDULA_OK .and. size(t) > 1
+      if (st%code == PENDULA_OK .and. size(t) == 1) then
+        theta(1, i) = theta0(i)
+        omega(1, i) = omega0(at(omega0, i))
+      end if
+    end do
+    do i = 1, n
+      if (.not. todo(i)) cycle
+      d = drive(min(i, size(drive)))
+      k = nst(i)
+      m = 0
+      do j = i, n
+        if (todo(j) .and. nst(j) == k .and. drive(min(j, size(drive)))%kind == d%kind) m = m + 1
+      end do
+      if (m == n) then
+        ! one group: every state at once, the caller's arrays as they are
+        call driven_batch_solve(t, theta0, omega0, w0, gamma, d%kind, drive%amplitude, drive%frequency, drive%phase, k, &
+                                theta, omega, codes, gst, threads=nthreads, control=control)
+        todo = .false.
+        exit
+      end if
+      allocate (idx(m), gcodes(m), g(m, 7), gth(size(t), m), gom(size(t), m), stat=ist)
+      st = status_t()
+      call check_alloc(ist, 'a drive group''s states and outputs', int(m, i8)*(9 + 2*size(t)), 8, st)
+      if (st%code /= PENDULA_OK) then
+        ! this group fails alone; the others still run
+        do j = i, n
+          if (todo(j) .and. nst(j) == k .and. drive(min(j, size(drive)))%kind == d%kind) then
+            codes(j) = st%code
+            todo(j) = .false.
+          end if
+        end do
+        if (allocated(idx)) deallocate (idx)
+        if (allocated(gcodes)) deallocate (gcodes)
+        if (allocated(g)) deallocate (g)
+        if (allocated(gth)) deallocate (gth)
+        if (allocated(gom)) deallocate (gom)
+        cycle
+      end if
+      m = 0
+      do j = i, n
+        if (todo(j) .and. nst(j) == k .and. drive(min(j, size(drive)))%kind == d%kind) then
+          m = m + 1
+          idx(m) = j
+          todo(j) = .false.
+          g(m, :) = [theta0(j), omega0(at(omega0, j)), w0(at(w0, j)), gamma(at(gamma, j)), &
+                     drive(min(j, size(drive)))%amplitude, drive(min(j, size(drive)))%frequency, &
+                     drive(min(j, size(drive)))%phase]
+        end if
+      end do
+      call driven_batch_solve(t, g(:, 1), g(:, 2), g(:, 3), g(:, 4), d%kind, g(:, 5), g(:, 6), g(:, 7), k, &
+                              gth, gom, gcodes, gst, threads=nthreads, control=control)
+      do j = 1, m
+        codes(idx(j)) = gcodes(j)
+        theta(:, idx(j)) = gth(:, j)
+        omega(:, idx(j)) = gom(:, j)
+      end do
+      deallocate (idx, gcodes, g, gth, gom)
+    end do
+    do i = 1, n
+      if (codes(i) == PENDULA_OK) steps(i) = driven_step_count(t, drive(min(i, size(drive))), nst(i))
+    end do
+    ! Summary: the first failed state, with rk4_solve's own message for it.
+    first = findloc(codes /= PENDULA_OK, .true., dim=1)
+    if (first == 0) return
+    if (present(first_failed)) first_failed = first
+    do i = 1, n
+      if (codes(i) /= PENDULA_OK) then
+        theta(:, i) = 0
+        omega(:, i) = 0
+      end if
+    end do
+    st = status_t()
+    if (count(codes == PENDULA_ERR_CANCELLED) == 0) st = state_status(t, theta0(first), omega0(at(omega0, first)), &
+                                                        w0(at(w0, first)), gamma(at(gamma, first)), h(at(h, first)), codes(first), &
+                                                                      budget, drive(min(first, size(drive))))
+    call set_batch_error(status, codes, first, st%message)
+  end subroutine driven_batch
 
 end module pendula_rk4_batch

@@ -92,6 +92,9 @@ DAMPING = dict(
 )
 
 # ---- the table ----------------------------------------------------------------
+# drive= of rk4, cvode and sweep: None, a pendula.Drive, or an array of them (pendula._many.drives)
+_INTEGRATOR_DRIVE = Arg(OTHER, extra=(((1.0, 1.0), TypeError), ("torque", TypeError), ({"F": 1.0}, TypeError)))
+
 API: dict[str, Entry] = {
     # fits (fit.py): data arrays are whole records (array=False: a scalar or a
     # wrong-length array is refused, not broadcast into a different data set)
@@ -216,7 +219,7 @@ API: dict[str, Entry] = {
     "ellipjm1": Entry(
         valid=dict(u=0.8, p=0.3), nan="propagate", args=dict(u=Arg(REAL, array=True), p=Arg(REAL, array=True))
     ),
-    # integrators (src/integrators, integrate.py)
+    # integrators (src/integrators, integrate.py); drive=: a pendula.Drive or an array of them
     "rk4": Entry(
         valid=dict(t=[0.0, 0.5, 1.0, 2.0], theta0=0.0, omega0=2.0, w0=1.4, gamma=0.1, h=0.05),
         args=dict(
@@ -237,6 +240,7 @@ API: dict[str, Entry] = {
             # a budget below the window's steps is refused up front
             max_steps=Arg(COUNT, extra=((3, ValueError),)),
             progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))),
+            drive=_INTEGRATOR_DRIVE,
         ),
     ),
     # sweeps (sweep.py): inputs checked up front, before any chunk runs
@@ -254,6 +258,7 @@ API: dict[str, Entry] = {
             chunk_states=Arg(COUNT),
             progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))),
             client=Arg(OTHER, extra=(("tcp://x", TypeError),)),
+            drive=_INTEGRATOR_DRIVE,
         ),
         unchecked=dict(
             rtol="CVODE only (method='cvode')",
@@ -291,6 +296,7 @@ API: dict[str, Entry] = {
                 ),
             ),
             progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))),
+            drive=_INTEGRATOR_DRIVE,
         ),
     ),
     # t may also decrease (backwards in time): its bad cases are listed here

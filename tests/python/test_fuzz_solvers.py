@@ -96,6 +96,41 @@ def test_fuzz_rk4(worker):
     rec.verdict()
 
 
+_DRIVES = [
+    "pendula.Drive('torque', 1.15, 2/3)",
+    "pendula.Drive('pivot', 0.1, 20.0, 0.5)",
+    "[pendula.Drive('torque', 1.15, 2/3), pendula.Drive('pivot', 0.1, 20.0)]",
+    "np.array([pendula.Drive('torque', 0.5, 1.0)] * 3, dtype=object)",
+    "'torque'",
+    "[1.0, 2.0]",
+]
+
+
+@settings(SETTINGS, max_examples=40)
+@given(
+    t=grid_src(),
+    p=real_args(["theta0", "omega0", "w0", "gamma", "h"]),
+    fn=st.sampled_from(["rk4", "cvode"]),
+    drive=st.sampled_from(_DRIVES),
+)
+def _run_driven_integrator(worker, rec, t, p, fn, drive):
+    v = {k: evaluate(s) for k, s in p.items()}
+    if all(x is not None and x.ndim == 0 and np.isfinite(x) for x in v.values()):
+        ss = _span_steps(t, float(v["w0"]), float(v["gamma"]), float(v["h"]))
+        # a long accepted window is seconds of honest work (bounding it is another test's job)
+        assume(ss is None or abs(ss[0]) < 1e3 or float(v["w0"]) <= 0)
+    args = [t] + [p[k] for k in ("theta0", "omega0", "w0", "gamma")]
+    kwargs = {"drive": drive, "h": p["h"]} if fn == "rk4" else {"drive": drive, "max_steps": "100000"}
+    out = worker.call(fn, args, kwargs)
+    rec.add(judge(out, ["t", "theta0", "omega0", "w0", "gamma", "h", "drive", "max_steps"]), fn, args, kwargs)
+
+
+def test_fuzz_rk4_and_cvode_with_a_drive(worker):
+    rec = Recorder("rk4/cvode drive=")
+    _run_driven_integrator(worker, rec)
+    rec.verdict()
+
+
 @settings(SETTINGS, max_examples=30)
 @given(
     t=grid_src(),

@@ -206,9 +206,13 @@ def _summarised(res, shape):
     return message
 
 
-def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads):
-    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)  # names a bad one
+def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=None):
+    # drive: None or its columns (pendula._many.drives.COLUMNS), which broadcast with the states
+    dcols = drive or {}
+    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, **dcols)  # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, threads=threads)
+    if drive is not None:
+        args["drive"] = dcols
     _precheck(kernels.rk4_batch, tt, shape, **dict(args, threads=1))
     hmin = float(np.min(h, initial=np.inf))
     steps = (tt[-1] - tt[0]) / hmin + tt.size
@@ -239,30 +243,48 @@ def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads):
         codes=res.codes,
         message=message,
         first_failed=res.first_failed,
-        inputs=inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h),
+        inputs=inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, **dcols),
     )
 
 
-def res_size(*values):
-    """Number of states of the broadcast of ``values``."""
-    return int(np.prod(np.broadcast_shapes(*(np.shape(v) for v in values)), dtype=np.int64))
-
-
 def cvode_batch(
-    tt, theta0, omega0, w0, gamma, rtol, atol, method, max_steps, events, max_events, progress, threads, scalar_cvode
+    tt,
+    theta0,
+    omega0,
+    w0,
+    gamma,
+    rtol,
+    atol,
+    method,
+    max_steps,
+    events,
+    max_events,
+    progress,
+    threads,
+    scalar_cvode,
+    drive=None,
+    drive_each=None,
 ):
+    # drive: None or its columns (as rk4_batch); drive_each(shape): the Drive of each
+    # flat state, for the scalar calls of events=True
     # the call's own arguments first, as the scalar call checks them: ValueError for the whole call
     if not isinstance(method, str) or method.lower() not in CVODE_METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
     integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     if events:
         integer_arg(max_events, "max_events", 1, 10**7, scalar=True)
-    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma)  # names a bad one
+    dcols = drive or {}
+    shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, **dcols)  # names a bad one
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol, method=method, threads=threads)
+    if drive is not None:
+        args["drive"] = dcols
     _precheck(kernels.cvode_batch, tt, shape, **dict(args, threads=1))
-    n = res_size(theta0, omega0, w0, gamma)
+    n = int(np.prod(shape, dtype=np.int64))
     periods = abs(tt[-1] - tt[0]) * float(np.max(w0, initial=0.0)) / (2 * np.pi)
-    given = inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol)
+    if drive is not None:
+        # the drive sets the pace too: ~50 steps a drive period of the fastest drive
+        periods = max(periods, abs(tt[-1] - tt[0]) * float(np.max(dcols["drive_frequency"], initial=0.0)) / (2 * np.pi))
+    given = inputs(shape, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol, **dcols)
     if not events:
         res = _watched(
             lambda c: kernels.cvode_batch(tt, control=c, max_steps=max_steps, **args),
@@ -285,6 +307,7 @@ def cvode_batch(
         )
     # events: the scalar call per state (its event arrays differ in length)
     flat = [np.broadcast_to(np.asarray(v, dtype=float), shape).reshape(-1) for v in (theta0, omega0, w0, gamma)]
+    each = None if drive is None else drive_each(shape)
 
     def one(i, control):
         return scalar_cvode(
@@ -300,6 +323,7 @@ def cvode_batch(
             events=True,
             max_events=max_events,
             control=control,
+            drive=None if each is None else each[i],
         )
 
     work = kernels.cvode_work(tt, w0, n) + n * POOL_STATE_WORK

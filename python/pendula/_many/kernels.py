@@ -27,6 +27,7 @@ from .._defaults import (
     choose_threads,
 )
 from .._errors import ERR_CANCELLED, OK, _text, raise_for_status
+from . import drives as _drives
 
 
 @dataclass(frozen=True)
@@ -117,7 +118,15 @@ def nan_after_failure(theta, omega, codes, whole_row=False):
         omega[i, reached:] = np.nan
 
 
-def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_steps=RK4_MAX_STEPS):
+def _with_drive(named, drive):
+    """The named state arguments plus the drive's columns (``drive``: a dict
+    of ``drives.COLUMNS``, arrays that broadcast with the states)."""
+    if drive is None:
+        return named
+    return dict(named, **{k: drive[k] for k in _drives.COLUMNS})
+
+
+def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_steps=RK4_MAX_STEPS, drive=None):
     """RK4 (as ``pendula.rk4``) for a batch of states over one output grid.
 
     t: strictly increasing, finite output times [s], 1-D, shared by every
@@ -131,22 +140,36 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     another thread cancels the call (finished states keep their results; the
     unfinished get ERR_CANCELLED); control[1] counts finished states.
 
+    drive: None, or the drive as a dict of its columns (``drives.COLUMNS``,
+    arrays that broadcast with the states; ``pendula._drive_args.columns``
+    makes them from a Drive or an array of Drives): the driven pendulum
+    (pendula_rk4_batch's drive path, bit-identical to ``pendula.rk4`` with
+    the state's drive).
+
     Returns a ``BatchResult`` (a failed state's rows NaN: the kernel keeps no
     partial series).  Raises TypeError/ValueError for arguments that refuse
     the whole call (t, shapes, threads, control); per-state failures are
     reported in ``codes``, never raised.
     """
     tt = time_grid(t)
-    shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h)
+    shape, _, flats = broadcast_real(**_with_drive(dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h), drive))
     budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     nthreads = choose_threads(threads, rk4_work(tt, flats["h"]))
     control = _control(control)
     n = flats["theta0"].size
+    states = tuple(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h"))
+    if drive is None:
+
+        def call():
+            return _fortran.rk4_batch_f2py(tt, *states, budget, nthreads, control)
+    else:
+
+        def call():
+            return _fortran.rk4_batch_drive_f2py(tt, *states, *_drives.kernel_args(flats), budget, nthreads, control)
+
     # f2py allocates theta and omega (n_t x n each) before any work: refused at once
     theta, omega, codes, steps, first, code, msg = _memory.guard(
-        lambda: _fortran.rk4_batch_f2py(
-            tt, *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h")), budget, nthreads, control
-        ),
+        call,
         f"the outputs theta and omega of {n} states x {tt.size} times",
         _trajectory_bytes(n, tt.size),
     )
@@ -183,6 +206,7 @@ def cvode_batch(
     threads=None,
     control=None,
     events=False,
+    drive=None,
 ):
     """CVODE (as ``pendula.cvode``) for a batch of states over one output grid.
 
@@ -195,7 +219,7 @@ def cvode_batch(
     state's code; a failed state's outputs after its failure are NaN).
     threads, control: as ``rk4_batch`` (control[1] counts finished states).
     events: not supported in batch mode (ValueError for True: call
-    ``pendula.cvode(..., events=True)`` per state).
+    ``pendula.cvode(..., events=True)`` per state).  drive: as ``rk4_batch``.
 
     Returns a ``CvodeBatchResult``.  Raises TypeError/ValueError for arguments
     that refuse the whole call (t, shapes, method, max_steps, threads,
@@ -210,22 +234,28 @@ def cvode_batch(
             "for each state that needs its events"
         )
     tt = time_grid(t)
-    shape, _, flats = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol)
+    shape, _, flats = broadcast_real(
+        **_with_drive(dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, rtol=rtol, atol=atol), drive)
+    )
     if not isinstance(method, str) or method.lower() not in CVODE_METHODS:
         raise ValueError(f"method = {method!r} is invalid: it must be 'adams' or 'bdf'")
     max_steps = integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True)
     nthreads = choose_threads(threads, cvode_work(tt, flats["w0"], flats["theta0"].size))
     control = _control(control)
     n = flats["theta0"].size
+    states = tuple(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol"))
+    settings = (CVODE_METHODS[method.lower()], float(min(max_steps, 2**62)), nthreads, control)
+    if drive is None:
+
+        def call():
+            return _fortran.cvode_batch_f2py(tt, *states, *settings)
+    else:
+
+        def call():
+            return _fortran.cvode_batch_drive_f2py(tt, *states, *_drives.kernel_args(flats), *settings)
+
     theta, omega, codes, stats, first, code, msg = _memory.guard(
-        lambda: _fortran.cvode_batch_f2py(
-            tt,
-            *(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "rtol", "atol")),
-            CVODE_METHODS[method.lower()],
-            float(min(max_steps, 2**62)),
-            nthreads,
-            control,
-        ),
+        call,
         f"the outputs theta and omega of {n} states x {tt.size} times",
         _trajectory_bytes(n, tt.size),
     )
