@@ -149,6 +149,7 @@ contains
     integer, intent(inout) :: codes(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
+    type(status_t) :: alloc_st
     real(wp) :: y(nl), u(nl), yfirst(nl)
     integer :: j0(nl), rec(nl), nb, l, j, k
     integer(i8) :: work
@@ -158,7 +159,11 @@ contains
     if (present(control)) then
       if (cancel_requested(control)) return
     end if
-    call params_lanes(p, idx, 0.0_wp, b, y, u)
+    call params_lanes(p, idx, 0.0_wp, b, y, u, status=alloc_st)
+    if (alloc_st%code /= PENDULA_OK) then
+      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
+      return
+    end if
     do l = 1, nl
       j0(l) = modulo(nint(p%nsteps*(modulo(section_phase - b%phase(l), 2*pi)/(2*pi))), p%nsteps)
     end do
@@ -380,6 +385,7 @@ contains
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer, parameter :: nbk = LYAPUNOV_BLOCKS
     type(lanes_t) :: b
+    type(status_t) :: alloc_st
     real(wp) :: y(nl), u(nl), v(nl, 4), r11, r22, r12, bsum(2, nbk, nl), tper
     integer :: nb, nlane, l, k, kb, e, cnt(nbk), st(nl), s, c0
     integer(i8) :: work
@@ -394,7 +400,11 @@ contains
     do l = 1, nl
       st(l) = min((l - 1)/ncopy + 1, nb)
     end do
-    call params_lanes(p, idx(st), 0.0_wp, b, y, u)
+    call params_lanes(p, idx(st), 0.0_wp, b, y, u, status=alloc_st)
+    if (alloc_st%code /= PENDULA_OK) then
+      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
+      return
+    end if
     do l = 1, nl
       y(l) = y(l) + mod(l - 1, ncopy)*LYAPUNOV_SPREAD
     end do

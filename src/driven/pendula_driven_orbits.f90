@@ -254,6 +254,7 @@ contains
     real(wp), intent(inout) :: theta_p(:), omega_p(:), mult(:, :), residual(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
+    type(status_t) :: alloc_st
     real(wp) :: y(nl), u(nl), xs(nl), us(nl), v(nl, 4), fy(nl), fu(nl), mm(2, 2, nl), cyc(2, nmax, nl)
     real(wp) :: r1, r2, a, bb, c, d, det, d1, d2, res(nl)
     integer :: nb, l, k, it, per(nl), wnd(nl), kmax, m
@@ -263,7 +264,11 @@ contains
     if (present(control)) then
       if (cancel_requested(control)) return
     end if
-    call params_lanes(p, idx, 0.0_wp, b, y, u)
+    call params_lanes(p, idx, 0.0_wp, b, y, u, status=alloc_st)
+    if (alloc_st%code /= PENDULA_OK) then
+      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
+      return
+    end if
     dead = .false.
     dead(nb + 1:) = .true.
     do l = 1, nl
@@ -560,6 +565,7 @@ contains
     real(wp), intent(inout) :: cyc(:, :, :)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
+    type(status_t) :: alloc_st
     real(wp) :: y(nl), u(nl), c(2, nmax, nl)
     integer :: nb, l, per(nl), wnd(nl)
     logical :: dead(nl), cancelled
@@ -568,7 +574,11 @@ contains
     if (present(control)) then
       if (cancel_requested(control)) return
     end if
-    call params_lanes(p, idx, 0.0_wp, b, y, u)
+    call params_lanes(p, idx, 0.0_wp, b, y, u, status=alloc_st)
+    if (alloc_st%code /= PENDULA_OK) then
+      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
+      return
+    end if
     dead = .false.
     call detect(b, nb, y, u, transient, nmax, tol, per, wnd, c, dead, codes, idx, control, cancelled)
     if (cancelled) return

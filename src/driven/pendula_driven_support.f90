@@ -239,6 +239,9 @@ contains
       call set_batch_error(status, codes, first_failed, first_msg)
     else if (codes(first_failed) == PENDULA_ERR_MEMORY .and. present(memory_msg)) then
       call set_batch_error(status, codes, first_failed, memory_msg)
+    else if (codes(first_failed) == PENDULA_ERR_MEMORY) then
+      call set_batch_error(status, codes, first_failed, &
+                           'out of memory: the drive tables of its block of lanes could not be allocated')
     else
       call set_batch_error(status, codes, first_failed, 'the state became non-finite or left |theta| < 1e15 rad')
     end if
