@@ -15,17 +15,27 @@ Examples
 ('taylor', True)
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import _fortran, _longcall
 from ._arrays import broadcast_real, integer_arg, real_scalar, time_grid
-from ._defaults import MAX_EVENTS, POOL_STATE_WORK, TAYLOR_MAX_STEPS, TAYLOR_TOL, THREADS, check_threads, choose_threads
+from ._defaults import (
+    MAX_EVENTS,
+    POOL_STATE_WORK,
+    STAT_NAMES,
+    TAYLOR_MAX_STEPS,
+    TAYLOR_TOL,
+    THREADS,
+    check_threads,
+    choose_threads,
+)
 from ._errors import ERR_CANCELLED, OK, _text, batch_summary, for_state, raise_for_status, raise_if_all_failed
 from ._many import pool
 from ._many.ensemble import BatchIntegrationResult, inputs, is_batch, summary
-from .integrate import Events, IntegrationResult, _stats
+from .integrate import Events, IntegrationResult
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma", "tol")
 
@@ -228,6 +238,10 @@ def taylor(
     else:
         budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True) if events else 0
+    if type(theta0) is float and type(omega0) is float and type(w0) is float and type(gamma) is float:
+        if type(tol) is float:  # one state given as Python floats: nothing to convert
+            check_threads(threads)
+            return _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress)
     if is_batch(theta0, omega0, w0, gamma, tol):
         return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads)
     check_threads(threads)  # checked, unused: one state runs on one thread
@@ -240,9 +254,10 @@ def taylor(
 
 def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     watched = control is None
-    with np.errstate(all="ignore"):
-        steps = float(abs(tt[-1] - tt[0]) * (w0 + gamma) * _STEPS_PER_RADIAN) if w0 > 0 else 0.0
-    if not np.isfinite(steps):
+    # in Python floats (no NumPy scalars, no errstate: this is most of a short
+    # call's cost); an overflow gives inf, a NaN compares False
+    steps = abs(tt.item(-1) - tt.item(0)) * (w0 + gamma) * _STEPS_PER_RADIAN if w0 > 0 else 0.0
+    if not steps < math.inf:
         steps = 0.0  # a bad t, w0 or gamma: refused by the Fortran checks
     long = watched and steps > _longcall.RK4_LONG_STEPS / 20
     if watched and not long and progress is None:
@@ -267,7 +282,7 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
         )
     if code:
         raise_for_status(code, msg)
-    st = _stats(stats)
+    st = dict(zip(STAT_NAMES, map(int, stats.tolist())))
     st["order"] = int(order)
     # as TaylorResult(...), without the frozen dataclass's per-field __setattr__
     r = object.__new__(TaylorResult)

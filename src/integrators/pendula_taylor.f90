@@ -16,8 +16,9 @@
 !>   truncation and rounding bounds, plus their growth D' = G A (linear in
 !>   time, G the energy-frequency shear of taylor_shear), capped by the
 !>   Gronwall bound D' = L (A + D), L = 1 + gamma/w0 (max norm of the scaled
-!>   Jacobian); estimate = TAYLOR_SAFETY sqrt(2) (A + D) + the output's own
-!>   rounding.  Calibrated against mpmath and the exact elliptic solution
+!>   Jacobian); estimate = TAYLOR_SAFETY (sqrt(2) (A + D) + the truncation
+!>   and rounding bounds of the whole step the output lies in) + the output's
+!>   own rounding.  Calibrated against mpmath and the exact elliptic solution
 !>   (tests/python/test_taylor.py).
 module pendula_taylor
   use pendula_kinds, only: wp, i8
@@ -62,14 +63,35 @@ contains
     real(wp), intent(in) :: tau  !< window length in units of 1/w0, >= 0
     real(wp), intent(in) :: gamma_over_w0  !< gamma/w0, >= 0
     real(wp), intent(in) :: e0  !< initial scaled energy Omega**2/(2 w0**2) + 1 - cos(theta)
-    real(wp) :: n_est, growth
+    logical :: short
+    call step_plan(tol, tau, gamma_over_w0, e0, eps, short)
+  end function taylor_step_tolerance
+
+  ! taylor_step_tolerance's eps, and short: whether the window is
+  ! rounding-limited yet tol is within reach, so that it takes taylor_order's
+  ! short steps (the accumulated rounding grows like the square root of the
+  ! step).  The rounding estimate of short steps is 1-9 times
+  ! r = 0.1 epsilon sqrt(n_est) (1 + G tau/2) (measured at 30 and 1000 s and
+  ! near the separatrix), that of long steps ~2 times more: short when
+  ! 20 r > tol (rounding may matter) and r <= 2 tol (tol may be reached).
+  ! With the long steps of the default order the omitted tail is ~0.6 eps a
+  ! step instead of ~0.3 eps: eps is halved.
+  pure subroutine step_plan(tol, tau, gamma_over_w0, e0, eps, short)
+    real(wp), intent(in) :: tol, tau, gamma_over_w0, e0
+    real(wp), intent(out) :: eps
+    logical, intent(out) :: short
+    real(wp) :: n_est, growth, r
     n_est = 1 + 3*tau*(1 + gamma_over_w0)
     ! the error estimate is ~ TAYLOR_SAFETY sqrt(2) 0.3 eps per step (the
     ! omitted tail at the optimal order), grown on average by G tau/2
     growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
-    eps = min(tol, max(EPS_FLOOR, tol/(n_est*growth)))
+    eps = tol/(n_est*growth)
+    r = 0.1_wp*epsilon(1.0_wp)*sqrt(n_est)*growth
+    short = 20*r > tol .and. r <= 2*tol
+    if (.not. short) eps = eps/2
+    eps = min(tol, max(EPS_FLOOR, eps))
     if (.not. eps >= EPS_FLOOR) eps = EPS_FLOOR   ! NaN-proof
-  end function taylor_step_tolerance
+  end subroutine step_plan
 
   !> Argument checks of taylor_solve: t finite and strictly monotonic
   !> (decreasing integrates backwards), size >= 1, with a finite span; theta0,
@@ -304,7 +326,8 @@ contains
     real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0sq, eps_s
     real(wp) :: big_a, big_d, g, ec, es, loc, lgr, s0abs, sn, cs, xe, ve, xel, vel, tau, s, e
-    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed
+    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed, ol1, ol2
+    logical :: short
     integer :: n, i
     n = size(t)
     theta(1) = theta0
@@ -320,9 +343,9 @@ contains
     tau = 0
     if (n > 1) tau = w0*abs(t(n)/2 - t(1)/2)*2
     ! (ratios clamped to 1e150 each: no overflow for any finite input)
-    eps_s = taylor_step_tolerance(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
-                                  scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)))
-    p = taylor_order(eps_s)
+    call step_plan(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
+                   scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)), eps_s, short)
+    p = taylor_order(eps_s, short)
     if (n == 1) return
     ! Steps are at most 2/w0 and, with damping, ~2/gamma long: a window that
     ! needs more than max_steps is refused before any work.
@@ -366,6 +389,10 @@ contains
       else
         h = sign(habs, rem)
       end if
+      ! the full step first: the state it ends at, and its truncation and
+      ! rounding bounds, which bound those of every output inside the step too
+      ! (both grow with |d|): the outputs cost one Horner pass each
+      call dense_error(h, xe, xel, ve, vel, trc, rnd)
       ! the outputs inside this step, from its polynomial (what was committed
       ! before the step is the same for all of them: formed once)
       committed = -1
@@ -373,15 +400,14 @@ contains
         call two_sum(t(i), -th, ds, de)
         d = ds + (de - tl)
         if (abs(d) > abs(h) .and. h /= rem) exit
-        if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part())
-        call dense_error(d, theta(i), xel, omega(i), vel, trc, rnd)
-        err(i) = TAYLOR_SAFETY*(committed + trc + rnd) + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
+        if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd
+        call dense(d, theta(i), ol1, omega(i), ol2)
+        err(i) = TAYLOR_SAFETY*committed + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
         i = i + 1
       end do
       if (with_events) call events_in_step(h)
       if (h == rem) exit
       ! advance the double-double state and time by the full step
-      call dense_error(h, xe, xel, ve, vel, trc, rnd)
       if (.not. (abs(xe) <= huge(1.0_wp) .and. abs(ve) <= huge(1.0_wp))) then
         outcome = PENDULA_ERR_SOLVER
         t_fail = th
@@ -439,17 +465,8 @@ contains
       real(wp), intent(in) :: dd
       real(wp), intent(out) :: xo, xol, vo, vol
       real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb
-      integer :: k
       call two_prod(vh, dd, p1, e1)
-      ! Horner for sum_{k>=2} x(k) dd**k and sum_{k>=1} v(k) dd**k, side by side
-      rest = x(p)
-      rv = v(p)
-      do k = p - 1, 2, -1
-        rest = rest*dd + x(k)
-        rv = rv*dd + v(k)
-      end do
-      rest = rest*dd*dd
-      rv = (rv*dd + v(1))*dd
+      call series_sums(dd, rest, rv)
       ! two_sum(xh, p1) and two_sum(vh, rv), written out
       s1 = xh + p1
       bb = s1 - xh
@@ -465,6 +482,36 @@ contains
       vol = lo - (vo - s1)
     end subroutine dense
 
+    ! rest = sum_{k=2..p} x(k) dd**k and rv = sum_{k=1..p} v(k) dd**k by
+    ! Horner in dd**2 over the even and the odd k apart: four independent
+    ! chains of p/2 multiply-adds instead of two of p (an output's cost is
+    ! the latency of these chains).  Rounding as Horner's: a few ulps of the
+    ! absolute terms (the terms decay geometrically).  Needs p >= 3.
+    subroutine series_sums(dd, rest, rv)
+      real(wp), intent(in) :: dd
+      real(wp), intent(out) :: rest, rv
+      real(wp) :: q, xev, xod, vev, vod
+      integer :: k, ke, ko
+      q = dd*dd
+      ke = p - mod(p, 2)
+      ko = p - 1 + mod(p, 2)
+      xev = x(ke)
+      vev = v(ke)
+      xod = x(ko)
+      vod = v(ko)
+      do k = ke - 2, 2, -2
+        xev = xev*q + x(k)
+        vev = vev*q + v(k)
+      end do
+      do k = ko - 2, 3, -2
+        xod = xod*q + x(k)
+        vod = vod*q + v(k)
+      end do
+      vod = vod*q + v(1)
+      rest = q*(xev + dd*xod)
+      rv = q*vev + dd*vod
+    end subroutine series_sums
+
     ! The state at offset dd (as dense) and the local error bounds of the
     ! polynomial there, in the max norm of (theta, Omega/w0), in one pass over
     ! the coefficients: trc, twice the first omitted term (the tail of a
@@ -473,26 +520,33 @@ contains
     subroutine dense_error(dd, xo, xol, vo, vol, trc_, rnd_)
       real(wp), intent(in) :: dd
       real(wp), intent(out) :: xo, xol, vo, vol, trc_, rnd_
-      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb, a, sx, sv, ap
-      integer :: k
+      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb, a, sx, sv, ap, q, xev, xod, vev, vod
+      integer :: k, ke, ko
       call two_prod(vh, dd, p1, e1)
+      call series_sums(dd, rest, rv)
+      ! the absolute terms, sum_{k=2..p} |x(k)| a**k and |v(k)| a**k, split
+      ! into even and odd k as in series_sums
       a = abs(dd)
-      sx = (abs(x(p + 1))*a + abs(x(p)))*a
-      sv = (abs(v(p + 1))*a + abs(v(p)))*a
-      ap = a*a
-      rest = x(p)
-      rv = v(p)
-      do k = p - 1, 2, -1
-        rest = rest*dd + x(k)
-        rv = rv*dd + v(k)
-        sx = (sx + abs(x(k)))*a
-        sv = (sv + abs(v(k)))*a
-        ap = ap*a
+      q = a*a
+      ke = p - mod(p, 2)
+      ko = p - 1 + mod(p, 2)
+      xev = abs(x(ke))
+      vev = abs(v(ke))
+      xod = abs(x(ko))
+      vod = abs(v(ko))
+      do k = ke - 2, 2, -2
+        xev = xev*q + abs(x(k))
+        vev = vev*q + abs(v(k))
       end do
-      trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*(ap*a)
-      rnd_ = ROUND_ULPS*ULP*(sx*a + (s0abs*a + sv*a)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
-      rest = rest*dd*dd
-      rv = (rv*dd + v(1))*dd
+      do k = ko - 2, 3, -2
+        xod = xod*q + abs(x(k))
+        vod = vod*q + abs(v(k))
+      end do
+      ap = a**(p + 1)
+      sx = q*(xev + a*xod) + abs(x(p + 1))*ap
+      sv = q*(vev + a*vod) + abs(v(p + 1))*ap
+      trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*ap
+      rnd_ = ROUND_ULPS*ULP*(sx + (s0abs*a + sv)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
       s1 = xh + p1
       bb = s1 - xh
       e2 = (xh - (s1 - bb)) + (p1 - bb)
