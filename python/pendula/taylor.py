@@ -354,7 +354,8 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     if code:
         message = batch_summary(codes, _text(msg), shape, _BATCH_ARGS)
         raise_if_all_failed(codes, int(codes[int(first) - 1]) if int(first) > 0 else code, message)
-    theta, omega, err = theta.T.copy(), omega.T.copy(), err.T.copy()
+    # (n_t, n) in Fortran order: the transposes are C-contiguous (n, n_t) already, no copy
+    theta, omega, err = theta.T, omega.T, err.T
     bad = codes != OK
     theta[bad], omega[bad], err[bad] = np.nan, np.nan, np.nan  # a failed state is never a plausible number
     n_t = tt.size

@@ -51,6 +51,8 @@ module pendula_taylor
   real(wp), parameter :: EPS_FLOOR = 1.0e-18_wp
   real(wp), parameter :: ULP = epsilon(1.0_wp)/2
   integer, parameter :: POLL_STEPS = 128
+  ! Outputs evaluated side by side (series_sums_lanes).
+  integer, parameter :: OUT_LANES = 4
 
 contains
 
@@ -326,9 +328,9 @@ contains
     real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0sq, eps_s
     real(wp) :: big_a, big_d, g, ec, es, loc, lgr, s0abs, sn, cs, xe, ve, xel, vel, tau, s, e
-    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed, ol1, ol2
+    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed, ol1, ol2, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
     logical :: short
-    integer :: n, i
+    integer :: n, i, nl, l
     n = size(t)
     theta(1) = theta0
     omega(1) = omega0
@@ -397,13 +399,26 @@ contains
       ! before the step is the same for all of them: formed once)
       committed = -1
       do while (i <= n)
-        call two_sum(t(i), -th, ds, de)
-        d = ds + (de - tl)
-        if (abs(d) > abs(h) .and. h /= rem) exit
+        ! up to OUT_LANES outputs at once: their sums side by side (independent
+        ! chains; each output's arithmetic is the one-output sum's)
+        nl = 0
+        dl = 0
+        do while (i + nl <= n .and. nl < OUT_LANES)
+          call two_sum(t(i + nl), -th, ds, de)
+          d = ds + (de - tl)
+          if (abs(d) > abs(h) .and. h /= rem) exit
+          nl = nl + 1
+          dl(nl) = d
+        end do
+        if (nl == 0) exit
         if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd
-        call dense(d, theta(i), ol1, omega(i), ol2)
-        err(i) = TAYLOR_SAFETY*committed + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
-        i = i + 1
+        call series_sums_lanes(dl, rl, rvl)
+        do l = 1, nl
+          call dense_finish(dl(l), rl(l), rvl(l), theta(i), ol1, omega(i), ol2)
+          err(i) = TAYLOR_SAFETY*committed + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
+          i = i + 1
+        end do
+        if (nl < OUT_LANES) exit
       end do
       if (with_events) call events_in_step(h)
       if (h == rem) exit
@@ -464,9 +479,17 @@ contains
     subroutine dense(dd, xo, xol, vo, vol)
       real(wp), intent(in) :: dd
       real(wp), intent(out) :: xo, xol, vo, vol
-      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb
-      call two_prod(vh, dd, p1, e1)
+      real(wp) :: rest, rv
       call series_sums(dd, rest, rv)
+      call dense_finish(dd, rest, rv, xo, xol, vo, vol)
+    end subroutine dense
+
+    ! The state at offset dd from the series sums rest and rv (series_sums).
+    subroutine dense_finish(dd, rest, rv, xo, xol, vo, vol)
+      real(wp), intent(in) :: dd, rest, rv
+      real(wp), intent(out) :: xo, xol, vo, vol
+      real(wp) :: p1, e1, s1, e2, lo, bb
+      call two_prod(vh, dd, p1, e1)
       ! two_sum(xh, p1) and two_sum(vh, rv), written out
       s1 = xh + p1
       bb = s1 - xh
@@ -480,7 +503,7 @@ contains
       lo = e2 + vl
       vo = s1 + lo
       vol = lo - (vo - s1)
-    end subroutine dense
+    end subroutine dense_finish
 
     ! rest = sum_{k=2..p} x(k) dd**k and rv = sum_{k=1..p} v(k) dd**k by
     ! Horner in dd**2 over the even and the odd k apart: four independent
@@ -511,6 +534,32 @@ contains
       rest = q*(xev + dd*xod)
       rv = q*vev + dd*vod
     end subroutine series_sums
+
+    ! series_sums at OUT_LANES offsets at once, lane by lane the same arithmetic.
+    subroutine series_sums_lanes(dd, rest, rv)
+      real(wp), intent(in) :: dd(OUT_LANES)
+      real(wp), intent(out) :: rest(OUT_LANES), rv(OUT_LANES)
+      real(wp) :: q(OUT_LANES), xev(OUT_LANES), xod(OUT_LANES), vev(OUT_LANES), vod(OUT_LANES)
+      integer :: k, ke, ko
+      q = dd*dd
+      ke = p - mod(p, 2)
+      ko = p - 1 + mod(p, 2)
+      xev = x(ke)
+      vev = v(ke)
+      xod = x(ko)
+      vod = v(ko)
+      do k = ke - 2, 2, -2
+        xev = xev*q + x(k)
+        vev = vev*q + v(k)
+      end do
+      do k = ko - 2, 3, -2
+        xod = xod*q + x(k)
+        vod = vod*q + v(k)
+      end do
+      vod = vod*q + v(1)
+      rest = q*(xev + dd*xod)
+      rv = q*vev + dd*vod
+    end subroutine series_sums_lanes
 
     ! The state at offset dd (as dense) and the local error bounds of the
     ! polynomial there, in the max norm of (theta, Omega/w0), in one pass over
