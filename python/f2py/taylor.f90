@@ -75,3 +75,29 @@ subroutine taylor_batch_f2py(nt, n, no, nw, ng, nr, t, theta0, omega0, w0, gamma
   first_failed = first
   call status_unpack(st, code, msg)
 end subroutine taylor_batch_f2py
+
+! taylor_f2py for the common call, one state without events: fewer arguments
+! to convert and arrays to allocate (a short call's cost is mostly these).
+! work(1) = steps, work(2) = series order.
+subroutine taylor_plain_f2py(n, t, theta0, omega0, w0, gamma, tol, max_steps, control, theta, omega, err, work, code, msg)
+  use, intrinsic :: iso_c_binding, only: c_double, c_int
+  use pendula_status, only: status_t, status_unpack
+  use pendula_ode, only: ode_stats_t, step_budget
+  use pendula_taylor, only: taylor_solve
+  implicit none
+  include 'pendula_msg_len.inc'
+  !f2py threadsafe
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: t(n), theta0, omega0, w0, gamma, tol, max_steps
+  integer(8), intent(inout) :: control(2)   ! int64 cancel flag and progress (pendula_control)
+  real(c_double), intent(out) :: theta(n), omega(n), err(n), work(2)
+  integer(c_int), intent(out) :: code
+  character(len=PENDULA_MSG_LEN), intent(out) :: msg
+  type(status_t) :: st
+  type(ode_stats_t) :: s
+  integer :: p
+  call taylor_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, s, st, p, control, step_budget(max_steps))
+  work(1) = real(s%steps, c_double)
+  work(2) = real(p, c_double)
+  call status_unpack(st, code, msg)
+end subroutine taylor_plain_f2py

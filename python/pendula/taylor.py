@@ -39,6 +39,10 @@ from .integrate import Events, IntegrationResult
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma", "tol")
 
+# The counters a Taylor run does not use (the series has no Jacobian, no
+# error-test failures, no nonlinear solves, no root function).
+_NO_STATS = dict.fromkeys(STAT_NAMES[2:], 0)
+
 # Steps per unit w0 t that a run takes at most (for deciding when a call is
 # long enough to run watched: cancellable, with progress).
 _STEPS_PER_RADIAN = 4.0
@@ -260,6 +264,20 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     if not steps < math.inf:
         steps = 0.0  # a bad t, w0 or gamma: refused by the Fortran checks
     long = watched and steps > _longcall.RK4_LONG_STEPS / 20
+    if watched and not long and progress is None and not m:
+        theta, omega, err, work, code, msg = _fortran.taylor_plain_f2py(
+            tt, theta0, omega0, w0, gamma, tol, budget, _longcall.scratch_control()
+        )
+        if code:
+            raise_for_status(code, msg)
+        n_steps, order = work.tolist()
+        n_steps, order = int(n_steps), int(order)
+        st = {"steps": n_steps, "rhs_evals": n_steps * order}
+        st.update(_NO_STATS)
+        st["order"] = order
+        r = object.__new__(TaylorResult)
+        r.__dict__.update(t=tt, theta=theta, omega=omega, stats=st, method="taylor", events=None, error=err, tol=tol)
+        return r
     if watched and not long and progress is None:
         (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = (
             _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control())
