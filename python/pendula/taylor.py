@@ -35,6 +35,7 @@ from ._defaults import (
 from ._errors import ERR_CANCELLED, OK, _text, batch_summary, for_state, raise_for_status, raise_if_all_failed
 from ._many import pool
 from ._many.ensemble import BatchIntegrationResult, inputs, is_batch, summary
+from .driven import Drive
 from .integrate import Events, IntegrationResult
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma", "tol")
@@ -146,6 +147,7 @@ def taylor(
     max_steps=TAYLOR_MAX_STEPS,
     progress=None,
     threads=THREADS,
+    drive=None,
 ):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by a Taylor method to accuracy tol.
 
@@ -180,6 +182,13 @@ def taylor(
         OpenMP threads of a batch: None (the default) chooses from the
         predicted work, 0 asks for the OpenMP default (OMP_NUM_THREADS or
         every core), a count is used as given.
+    drive : Drive, optional
+        A periodic drive (:class:`pendula.Drive`: a torque
+        F cos(Omega t + phi) or a vertically driven pivot), the same for
+        every state of a batch; its phase holds at t = 0.  The error
+        estimate then grows by Gronwall's bound (no shear model: the driven
+        pendulum may be chaotic), so long driven windows report large
+        estimates honestly.
 
     Returns
     -------
@@ -233,6 +242,9 @@ def taylor(
     """
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
+    if drive is not None and not isinstance(drive, Drive):
+        raise TypeError(f"drive must be a pendula.Drive or None, got {type(drive).__name__}")
+    dargs = (0, 0.0, 1.0, 0.0) if drive is None else (drive.code, drive.amplitude, drive.frequency, drive.phase)
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and 1 <= t.size < 2**31:
         tt = t.copy()  # the result keeps its own grid
     else:
@@ -245,18 +257,18 @@ def taylor(
     if type(theta0) is float and type(omega0) is float and type(w0) is float and type(gamma) is float:
         if type(tol) is float:  # one state given as Python floats: nothing to convert
             check_threads(threads)
-            return _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress)
+            return _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, dargs=dargs)
     if is_batch(theta0, omega0, w0, gamma, tol):
-        return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads)
+        return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads, dargs)
     check_threads(threads)  # checked, unused: one state runs on one thread
     args = [
         x if type(x) is float else real_scalar(x, name)
         for x, name in ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"), (tol, "tol"))
     ]
-    return _one(tt, *args, budget, m, progress)
+    return _one(tt, *args, budget, m, progress, dargs=dargs)
 
 
-def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
+def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None, dargs=(0, 0.0, 1.0, 0.0)):
     watched = control is None
     # in Python floats (no NumPy scalars, no errstate: this is most of a short
     # call's cost); an overflow gives inf, a NaN compares False
@@ -264,7 +276,7 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     if not steps < math.inf:
         steps = 0.0  # a bad t, w0 or gamma: refused by the Fortran checks
     long = watched and steps > _longcall.RK4_LONG_STEPS / 20
-    if watched and not long and progress is None and not m:
+    if watched and not long and progress is None and not m and not dargs[0]:
         theta, omega, err, work, code, msg = _fortran.taylor_plain_f2py(
             tt, theta0, omega0, w0, gamma, tol, budget, _longcall.scratch_control()
         )
@@ -280,11 +292,11 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
         return r
     if watched and not long and progress is None:
         (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = (
-            _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control())
+            _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control(), *dargs)
         )
     else:
         control = _longcall.new_control() if watched else control
-        call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control)
+        call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control, *dargs)
         (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
             lambda: _fortran.taylor_f2py(*call), control, long, progress, total=int(min(steps, 2**62))
         )
@@ -308,7 +320,7 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     return r
 
 
-def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
+def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads, dargs):
     check_threads(threads)
     shape, _, flats = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, tol=tol)
     n = int(np.prod(shape, dtype=np.int64))
@@ -334,7 +346,7 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     rest = [flats[k] for k in ("omega0", "w0", "gamma", "tol")]
     # the per-state checks alone (t[0]): a bad value is a mistake in the input
     _, _, _, codes, _, _, first, code, msg = _fortran.taylor_batch_f2py(
-        tt[:1], th0, *rest, budget, 1, _longcall.new_control()
+        tt[:1], th0, *rest, budget, 1, _longcall.new_control(), *dargs
     )
     if int(code) != OK:
         if int(first) > 0:  # a bad value in one state: a mistake in the input, for the whole call
@@ -347,7 +359,8 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     if m:
 
         def one(i, control):
-            return _one(tt, *(float(a[i if a.size > 1 else 0]) for a in [th0] + rest), budget, m, None, control)
+            state = (float(a[i if a.size > 1 else 0]) for a in [th0] + rest)
+            return _one(tt, *state, budget, m, None, control, dargs=dargs)
 
         values, codes, messages = pool.map_states(
             one, n, threads, progress, work=work + n * POOL_STATE_WORK, shape=shape, names=_BATCH_ARGS
@@ -357,7 +370,7 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     control = _longcall.new_control()
     long = bool(work > _longcall.RK4_LONG_STEPS / 20)
     theta, omega, err, codes, steps, order, first, code, msg = _longcall.run(
-        lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control),
+        lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control, *dargs),
         control,
         long,
         progress,

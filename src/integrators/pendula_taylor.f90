@@ -30,7 +30,9 @@ module pendula_taylor
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_double_double, only: two_sum, two_prod
-  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_order, taylor_step, &
+  use pendula_drive, only: drive_t, DRIVE_PIVOT, check_drive
+  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_coefficients_driven, taylor_drive_series, &
+                                   taylor_order, taylor_step, &
                                    taylor_shear
   implicit none
   private
@@ -66,7 +68,7 @@ contains
     real(wp), intent(in) :: gamma_over_w0  !< gamma/w0, >= 0
     real(wp), intent(in) :: e0  !< initial scaled energy Omega**2/(2 w0**2) + 1 - cos(theta)
     logical :: short
-    call step_plan(tol, tau, gamma_over_w0, e0, eps, short)
+    call step_plan(tol, tau, gamma_over_w0, e0, 0.0_wp, eps, short)
   end function taylor_step_tolerance
 
   ! taylor_step_tolerance's eps, and short: whether the window is
@@ -78,15 +80,23 @@ contains
   ! 20 r > tol (rounding may matter) and r <= 2 tol (tol may be reached).
   ! With the long steps of the default order the omitted tail is ~0.6 eps a
   ! step instead of ~0.3 eps: eps is halved.
-  pure subroutine step_plan(tol, tau, gamma_over_w0, e0, eps, short)
-    real(wp), intent(in) :: tol, tau, gamma_over_w0, e0
+  ! lip > 0 (a driven run): the growth is Gronwall's, the mean of
+  ! exp(lip (tau - s)) over the window, in place of the shear's.
+  pure subroutine step_plan(tol, tau, gamma_over_w0, e0, lip, eps, short)
+    real(wp), intent(in) :: tol, tau, gamma_over_w0, e0, lip
     real(wp), intent(out) :: eps
     logical, intent(out) :: short
     real(wp) :: n_est, growth, r
     n_est = 1 + 3*tau*(1 + gamma_over_w0)
     ! the error estimate is ~ TAYLOR_SAFETY sqrt(2) 0.3 eps per step (the
     ! omitted tail at the optimal order), grown on average by G tau/2
-    growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
+    if (lip > 0) then
+      growth = min(lip*tau, 40.0_wp)
+      if (growth > 0) growth = (exp(growth) - 1)/growth
+      growth = max(growth, 1.0_wp)
+    else
+      growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
+    end if
     eps = tol/(n_est*growth)
     r = 0.1_wp*epsilon(1.0_wp)*sqrt(n_est)*growth
     short = 20*r > tol .and. r <= 2*tol
@@ -177,7 +187,7 @@ contains
   !> tens of periods; near the separatrix the estimate grows with the phase
   !> sensitivity and tells).
   subroutine taylor_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, stats, status, order, &
-                          control, max_steps)
+                          control, max_steps, drive)
     real(wp), intent(in) :: t(:)
     !< output times [s]: finite, strictly increasing or decreasing, size >= 1; t(1) is the initial time
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -195,11 +205,13 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag (polled every 128 steps) and progress counter in steps (pendula_control)
     integer(i8), intent(in), optional :: max_steps  !< optional step budget, >= 1 (default 1e9)
+    type(drive_t), intent(in), optional :: drive
+    !< optional periodic drive (pendula_drive: a torque or a vertically driven pivot), phase at t = 0
     real(wp) :: ev_t(1), ev_th(1), ev_om(1)
     integer :: ev_k(1), nev
     logical :: trunc
     call solve(t, theta0, omega0, w0, gamma, tol, .false., theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, &
-               stats, status, order, control, max_steps)
+               stats, status, order, control, max_steps, drive)
   end subroutine taylor_solve
 
   !> taylor_solve that also locates the events after t(1) (in the direction of
@@ -208,7 +220,8 @@ contains
   !> on the step polynomials to machine precision in time.  The first
   !> size(event_t) events are kept (truncated tells whether more occurred).
   subroutine taylor_solve_events(t, theta0, omega0, w0, gamma, tol, theta, omega, err, &
-                       event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, control, max_steps)
+                                 event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, &
+                                 control, max_steps, drive)
     real(wp), intent(in) :: t(:)  !< output times [s], as for taylor_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
@@ -231,6 +244,7 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag and progress counter in steps (pendula_control)
     integer(i8), intent(in), optional :: max_steps  !< optional step budget, >= 1 (default 1e9)
+    type(drive_t), intent(in), optional :: drive  !< optional periodic drive (as for taylor_solve)
     call check_same_size('event_kind', size(event_kind), 'event_t', size(event_t), status)
     call check_same_size('event_theta', size(event_theta), 'event_t', size(event_t), status)
     call check_same_size('event_omega', size(event_omega), 'event_t', size(event_t), status)
@@ -247,11 +261,11 @@ contains
       return
     end if
     call solve(t, theta0, omega0, w0, gamma, tol, .true., theta, omega, err, event_t, event_kind, event_theta, &
-               event_omega, n_events, truncated, stats, status, order, control, max_steps)
+               event_omega, n_events, truncated, stats, status, order, control, max_steps, drive)
   end subroutine taylor_solve_events
 
   subroutine solve(t, theta0, omega0, w0, gamma, tol, with_events, theta, omega, err, ev_t, ev_k, ev_th, ev_om, &
-                   nev, trunc, stats, status, order, control, max_steps)
+                   nev, trunc, stats, status, order, control, max_steps, drive)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, tol
     logical, intent(in) :: with_events
     real(wp), intent(out) :: theta(:), omega(:), err(:), ev_t(:), ev_th(:), ev_om(:)
@@ -262,6 +276,7 @@ contains
     integer, intent(out), optional :: order
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer(i8), intent(in), optional :: max_steps
+    type(drive_t), intent(in), optional :: drive
     integer(i8) :: budget, steps
     integer :: outcome, p
     real(wp) :: t_fail
@@ -274,6 +289,7 @@ contains
     call check_same_size('theta', size(theta), 't', size(t), status)
     call check_same_size('omega', size(omega), 't', size(t), status)
     call check_same_size('err', size(err), 't', size(t), status)
+    if (present(drive)) call check_drive(drive, status)
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -281,7 +297,7 @@ contains
       return
     end if
     call taylor_run(t, theta0, omega0, w0, gamma, tol, with_events, budget, theta, omega, err, &
-                    ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
+                    ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control, drive)
     stats%steps = steps
     stats%rhs_evals = steps*p
     if (present(order)) order = p
@@ -301,7 +317,7 @@ contains
   !> the outputs from there on unset).  No allocation; the same arithmetic
   !> for every caller, so a batch state is bit-identical to the scalar call.
   subroutine taylor_run(t, theta0, omega0, w0, gamma, tol, with_events, max_steps, theta, omega, err, &
-                        ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
+                        ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control, drive)
     real(wp), intent(in) :: t(:)  !< output times [s], checked
     real(wp), intent(in) :: theta0  !< initial angle [rad]
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s]
@@ -325,7 +341,9 @@ contains
     real(wp), intent(out) :: t_fail  !< time of the failure [s]
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag and progress counter (pendula_control)
-    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
+    type(drive_t), intent(in), optional :: drive
+    !< optional periodic drive, checked (check_drive); its phase phi holds at t = 0
+    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER), dc(0:TAYLOR_MAX_ORDER), amp, lip, pc, ps
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0sq, eps_s
     real(wp) :: big_a, big_d, g, ec, es, loc, lgr, s0abs, sn, cs, xe, ve, xel, vel, tau, s, e
     real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed, ol1, ol2, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
@@ -345,8 +363,19 @@ contains
     tau = 0
     if (n > 1) tau = w0*abs(t(n)/2 - t(1)/2)*2
     ! (ratios clamped to 1e150 each: no overflow for any finite input)
+    ! a drive: the error grows by Gronwall's bound with the Lipschitz constant
+    ! of the scaled system, 1 + gamma/w0 + |pivot amplitude|/w0**2 (no shear
+    ! model: the driven pendulum may be chaotic)
+    lip = 0
+    amp = 0
+    if (present(drive)) then
+      amp = drive%amplitude
+      if (drive%kind == DRIVE_PIVOT) amp = drive%amplitude*drive%frequency**2
+      lip = 1 + min(gamma*inv_w0, 1.0e150_wp)
+      if (drive%kind == DRIVE_PIVOT) lip = lip + min(abs(amp), 1.0e150_wp)*min(inv_w0*inv_w0, 1.0e150_wp)
+    end if
     call step_plan(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
-                   scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)), eps_s, short)
+                   scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)), lip, eps_s, short)
     p = taylor_order(eps_s, short)
     if (n == 1) return
     ! Steps are at most 2/w0 and, with damping, ~2/gamma long: a window that
@@ -357,6 +386,7 @@ contains
       return
     end if
     lgr = 1 + min(gamma*inv_w0, 1.0e300_wp)
+    if (present(drive)) lgr = lip
     xh = theta0
     xl = 0
     vh = omega0
@@ -374,8 +404,14 @@ contains
     g = 0
     i = 2
     do
-      call taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
-      es = scaled_energy_sc(sn, cs, vh*inv_w0)
+      if (present(drive)) then
+        call drive_phase(drive, th, tl, pc, ps)
+        call taylor_drive_series(pc, ps, drive%frequency, p, dc)
+        call taylor_coefficients_driven(xh, xl, vh, w0sq, gamma, drive%kind, amp, dc, p, x, v, s0abs, sn, cs)
+      else
+        call taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
+        es = scaled_energy_sc(sn, cs, vh*inv_w0)
+      end if
       call two_sum(t(n), -th, rs, re)
       rem = rs + (re - tl)
       habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU*inv_w0))
@@ -431,7 +467,9 @@ contains
       ! error model: growth of what was committed so far, then this step's share
       ! G varies like log|2 - e| and 1/|2 - e|: refreshed when e has moved by
       ! 5% of its distance to 0 or to the separatrix, with a 10% margin
-      if (abs(es - ec) > 0.05_wp*min(es, abs(2 - es)) .or. ec < 0) then
+      if (present(drive)) then
+        g = 1.0e50_wp   ! no shear model: Gronwall's bound (lgr) decides
+      else if (abs(es - ec) > 0.05_wp*min(es, abs(2 - es)) .or. ec < 0) then
         ec = es
         g = 1.1_wp*min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
       end if
@@ -720,6 +758,23 @@ contains
     end function root
 
   end subroutine taylor_run
+
+  ! cos and sin of the drive phase Omega t + phi at the double-double time
+  ! th + tl: Omega th exactly (two_prod), reduced by 2 pi in double-double,
+  ! so that the phase keeps ~1e-16 absolute accuracy over long windows.
+  pure subroutine drive_phase(drive, th, tl, c, s)
+    type(drive_t), intent(in) :: drive
+    real(wp), intent(in) :: th, tl
+    real(wp), intent(out) :: c, s
+    real(wp) :: ph, pe, s1, e1, kk, a, b, psi
+    call two_prod(drive%frequency, th, ph, pe)
+    call two_sum(ph, pe + drive%frequency*tl + drive%phase, s1, e1)
+    kk = anint(s1/two_pi)
+    call two_prod(kk, two_pi, a, b)
+    psi = (((s1 - a) - b) + e1) - kk*two_pi_lo
+    c = cos(psi)
+    s = sin(psi)
+  end subroutine drive_phase
 
   ! Scaled energy u**2/2 + 1 - cos(x) (u = Omega/w0), 1 - cos(x) as
   ! 2 sin(x/2)**2 (no cancellation for small swings).

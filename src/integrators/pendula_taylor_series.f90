@@ -16,7 +16,8 @@ module pendula_taylor_series
   use pendula_kinds, only: wp
   implicit none
   private
-  public :: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_order, taylor_step, taylor_shear
+  public :: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_coefficients_driven, taylor_drive_series, taylor_order, &
+            taylor_step, taylor_shear
 
   !> Largest order the integrator uses (per-step tolerance >= e**(-78) ~ 1e-34):
   !> the coefficient arrays are fixed-size locals, no allocation per call.
@@ -89,6 +90,90 @@ contains
       v(k + 1) = (-gamma*v(k) - w0sq*a1(1))*INV(k + 1)
     end do
   end subroutine taylor_coefficients
+
+  !> The series of cos(psi0 + Omega tau) in tau [s], dc(k) = Omega**k
+  !> cos(psi0 + k pi/2)/k!, k = 0..p+1, by the two-term recurrence with its
+  !> sine: dc(k) = -Omega ds(k-1)/k, ds(k) = Omega dc(k-1)/k.  cos0, sin0 are
+  !> cos(psi0) and sin(psi0); omega_d the drive frequency [rad/s].
+  pure subroutine taylor_drive_series(cos0, sin0, omega_d, p, dc)
+    real(wp), intent(in) :: cos0  !< cos of the drive phase at the step's start
+    real(wp), intent(in) :: sin0  !< sin of the drive phase at the step's start
+    real(wp), intent(in) :: omega_d  !< drive frequency Omega [rad/s]
+    integer, intent(in) :: p  !< order, 1..TAYLOR_MAX_ORDER - 1
+    real(wp), intent(out) :: dc(0:TAYLOR_MAX_ORDER)  !< coefficients of cos, dc(0:p+1) set
+    real(wp) :: ds, dn
+    integer :: k
+    dc(0) = cos0
+    ds = sin0
+    do k = 1, p + 1
+      dn = -omega_d*ds*INV(k)
+      ds = omega_d*dc(k - 1)*INV(k)
+      dc(k) = dn
+    end do
+  end subroutine taylor_drive_series
+
+  !> taylor_coefficients for the driven pendulum theta'' = -gamma theta' -
+  !> (w0**2 + pivot c(t)) sin(theta) + torque c(t), c(t) = cos(Omega t + phi)
+  !> with the series dc (taylor_drive_series) about the step's start:
+  !> kind 1 (torque) adds amp dc(k) to the Omega recurrence, kind 2 (pivot)
+  !> subtracts amp (dc * s)(k), the product series of dc and sin(theta)
+  !> (amp = F [rad/s**2] or (a/l) Omega**2 [1/s**2]).  s0abs also counts the
+  !> drive's terms.  Cost ~2 p**2 (torque) or ~2.5 p**2 (pivot) multiplications.
+  pure subroutine taylor_coefficients_driven(xh, xl, vh, w0sq, gamma, kind, amp, dc, p, x, v, s0abs, sn, cs)
+    real(wp), intent(in) :: xh  !< angle, high part [rad]
+    real(wp), intent(in) :: xl  !< angle, low part [rad] (|xl| <= ulp(xh)/2)
+    real(wp), intent(in) :: vh  !< angular velocity [rad/s]
+    real(wp), intent(in) :: w0sq  !< w0**2 [1/s**2]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    integer, intent(in) :: kind  !< 1: torque, 2: pivot (pendula_drive's DRIVE_TORQUE, DRIVE_PIVOT)
+    real(wp), intent(in) :: amp  !< F [rad/s**2] (torque) or (a/l) Omega**2 [1/s**2] (pivot)
+    real(wp), intent(in) :: dc(0:TAYLOR_MAX_ORDER)  !< series of the drive's cosine (taylor_drive_series)
+    integer, intent(in) :: p  !< order, 1..TAYLOR_MAX_ORDER - 1
+    real(wp), intent(out) :: x(0:TAYLOR_MAX_ORDER)  !< theta coefficients, x(0:p+1) set
+    real(wp), intent(out) :: v(0:TAYLOR_MAX_ORDER)  !< Omega coefficients, v(0:p+1) set
+    real(wp), intent(out) :: s0abs  !< size of v(1)'s terms [rad/s**2]
+    real(wp), intent(out) :: sn  !< sin(theta)
+    real(wp), intent(out) :: cs  !< cos(theta)
+    real(wp) :: ss(0:TAYLOR_MAX_ORDER), cc(0:TAYLOR_MAX_ORDER), b, d, f, sh, ch
+    integer :: k, j
+    sh = sin(xh)
+    ch = cos(xh)
+    ss(0) = sh + ch*xl
+    cc(0) = ch - sh*xl
+    sn = ss(0)
+    cs = cc(0)
+    x(0) = xh
+    v(0) = vh
+    x(1) = vh
+    if (kind == 2) then
+      v(1) = -gamma*vh - (w0sq + amp*dc(0))*sn
+      s0abs = abs(gamma*vh) + (w0sq + abs(amp*dc(0)))*abs(sn)
+    else
+      v(1) = -gamma*vh - w0sq*sn + amp*dc(0)
+      s0abs = abs(gamma*vh) + w0sq*abs(sn) + abs(amp*dc(0))
+    end if
+    do k = 1, p
+      b = 0
+      d = 0
+      do j = 1, k
+        b = b + v(j - 1)*cc(k - j)
+        d = d + v(j - 1)*ss(k - j)
+      end do
+      ss(k) = b*INV(k)
+      cc(k) = -d*INV(k)
+      if (kind == 2) then
+        f = 0
+        do j = 0, k
+          f = f + dc(j)*ss(k - j)
+        end do
+        f = -amp*f
+      else
+        f = amp*dc(k)
+      end if
+      x(k + 1) = v(k)*INV(k + 1)
+      v(k + 1) = (-gamma*v(k) - w0sq*ss(k) + f)*INV(k + 1)
+    end do
+  end subroutine taylor_coefficients_driven
 
   !> Order p = ceil(0.8 ln(1/eps)) + 2 for a per-step tolerance eps in (0, 1),
   !> between 4 and TAYLOR_MAX_ORDER - 1: the order that minimises the work per
