@@ -15,19 +15,34 @@ Examples
 ('taylor', True)
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import _fortran, _longcall
 from ._arrays import broadcast_real, integer_arg, real_scalar, time_grid
-from ._defaults import MAX_EVENTS, POOL_STATE_WORK, TAYLOR_MAX_STEPS, TAYLOR_TOL, THREADS, check_threads, choose_threads
+from ._defaults import (
+    MAX_EVENTS,
+    POOL_STATE_WORK,
+    STAT_NAMES,
+    TAYLOR_MAX_STEPS,
+    TAYLOR_TOL,
+    THREADS,
+    check_threads,
+    choose_threads,
+)
 from ._errors import ERR_CANCELLED, OK, _text, batch_summary, for_state, raise_for_status, raise_if_all_failed
 from ._many import pool
 from ._many.ensemble import BatchIntegrationResult, inputs, is_batch, summary
-from .integrate import Events, IntegrationResult, _stats
+from .driven import Drive
+from .integrate import Events, IntegrationResult
 
 _BATCH_ARGS = ("theta0", "omega0", "w0", "gamma", "tol")
+
+# The counters a Taylor run does not use (the series has no Jacobian, no
+# error-test failures, no nonlinear solves, no root function).
+_NO_STATS = dict.fromkeys(STAT_NAMES[2:], 0)
 
 # Steps per unit w0 t that a run takes at most (for deciding when a call is
 # long enough to run watched: cancellable, with progress).
@@ -132,6 +147,7 @@ def taylor(
     max_steps=TAYLOR_MAX_STEPS,
     progress=None,
     threads=THREADS,
+    drive=None,
 ):
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by a Taylor method to accuracy tol.
 
@@ -166,6 +182,13 @@ def taylor(
         OpenMP threads of a batch: None (the default) chooses from the
         predicted work, 0 asks for the OpenMP default (OMP_NUM_THREADS or
         every core), a count is used as given.
+    drive : Drive, optional
+        A periodic drive (:class:`pendula.Drive`: a torque
+        F cos(Omega t + phi) or a vertically driven pivot), the same for
+        every state of a batch; its phase holds at t = 0.  The error
+        estimate then grows by Gronwall's bound (no shear model: the driven
+        pendulum may be chaotic), so long driven windows report large
+        estimates honestly.
 
     Returns
     -------
@@ -188,14 +211,16 @@ def taylor(
     Notes
     -----
     The series come from the automatic-differentiation recurrences of
-    sin and cos; the order p = ceil(-ln(eps)/2) + 1 and the steps follow
-    from a per-step target eps (Jorba & Zou 2005).  The state and time are
+    sin and cos; the steps follow from a per-step target eps (Jorba & Zou
+    2005) and the order from this code's cost per step,
+    p = ceil(0.8 ln(1/eps)) + 2 (Jorba & Zou's ceil(ln(1/eps)/2) + 1 for
+    rounding-limited windows, whose rounding grows with the step).  The state and time are
     carried in double-double, so rounding grows with the size of the
     increments, not with the number of steps.  ``error`` propagates the
     local truncation and rounding bounds with the pendulum's phase shear
     (linear in time; large near the separatrix, where it says so) and is
     checked against mpmath and the exact elliptic solution in the tests.
-    Cost per step ~ p**2; about 3-5 steps per radian of w0 t.
+    About 0.35-0.45 us a step at order 25-36; 0.5-3 steps per radian of w0 t.
 
     Batches: theta0, omega0, w0, gamma and tol broadcast like NumPy (as
     for ``rk4``); each state is bit-identical to the scalar call; a bad
@@ -219,6 +244,9 @@ def taylor(
     """
     if not isinstance(events, bool):
         raise TypeError(f"events must be True or False, got {type(events).__name__}")
+    if drive is not None and not isinstance(drive, Drive):
+        raise TypeError(f"drive must be a pendula.Drive or None, got {type(drive).__name__}")
+    dargs = (0, 0.0, 1.0, 0.0) if drive is None else (drive.code, drive.amplitude, drive.frequency, drive.phase)
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and 1 <= t.size < 2**31:
         tt = t.copy()  # the result keeps its own grid
     else:
@@ -228,30 +256,49 @@ def taylor(
     else:
         budget = float(min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62))
     m = integer_arg(max_events, "max_events", 1, 10**7, scalar=True) if events else 0
+    if type(theta0) is float and type(omega0) is float and type(w0) is float and type(gamma) is float:
+        if type(tol) is float:  # one state given as Python floats: nothing to convert
+            check_threads(threads)
+            return _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, dargs=dargs)
     if is_batch(theta0, omega0, w0, gamma, tol):
-        return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads)
+        return _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads, dargs)
     check_threads(threads)  # checked, unused: one state runs on one thread
     args = [
         x if type(x) is float else real_scalar(x, name)
         for x, name in ((theta0, "theta0"), (omega0, "omega0"), (w0, "w0"), (gamma, "gamma"), (tol, "tol"))
     ]
-    return _one(tt, *args, budget, m, progress)
+    return _one(tt, *args, budget, m, progress, dargs=dargs)
 
 
-def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
+def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None, dargs=(0, 0.0, 1.0, 0.0)):
     watched = control is None
-    with np.errstate(all="ignore"):
-        steps = float(abs(tt[-1] - tt[0]) * (w0 + gamma) * _STEPS_PER_RADIAN) if w0 > 0 else 0.0
-    if not np.isfinite(steps):
+    # in Python floats (no NumPy scalars, no errstate: this is most of a short
+    # call's cost); an overflow gives inf, a NaN compares False
+    steps = abs(tt.item(-1) - tt.item(0)) * (w0 + gamma) * _STEPS_PER_RADIAN if w0 > 0 else 0.0
+    if not steps < math.inf:
         steps = 0.0  # a bad t, w0 or gamma: refused by the Fortran checks
     long = watched and steps > _longcall.RK4_LONG_STEPS / 20
+    if watched and not long and progress is None and not m and not dargs[0]:
+        theta, omega, err, work, code, msg = _fortran.taylor_plain_f2py(
+            tt, theta0, omega0, w0, gamma, tol, budget, _longcall.scratch_control()
+        )
+        if code:
+            raise_for_status(code, msg)
+        n_steps, order = work.tolist()
+        n_steps, order = int(n_steps), int(order)
+        st = {"steps": n_steps, "rhs_evals": n_steps * order}
+        st.update(_NO_STATS)
+        st["order"] = order
+        r = object.__new__(TaylorResult)
+        r.__dict__.update(t=tt, theta=theta, omega=omega, stats=st, method="taylor", events=None, error=err, tol=tol)
+        return r
     if watched and not long and progress is None:
         (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = (
-            _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control())
+            _fortran.taylor_f2py(tt, theta0, omega0, w0, gamma, tol, budget, m, _longcall.scratch_control(), *dargs)
         )
     else:
         control = _longcall.new_control() if watched else control
-        call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control)
+        call = (tt, theta0, omega0, w0, gamma, tol, budget, m, control, *dargs)
         (theta, omega, err, stats, order, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
             lambda: _fortran.taylor_f2py(*call), control, long, progress, total=int(min(steps, 2**62))
         )
@@ -267,7 +314,7 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
         )
     if code:
         raise_for_status(code, msg)
-    st = _stats(stats)
+    st = dict(zip(STAT_NAMES, map(int, stats.tolist())))
     st["order"] = int(order)
     # as TaylorResult(...), without the frozen dataclass's per-field __setattr__
     r = object.__new__(TaylorResult)
@@ -275,7 +322,7 @@ def _one(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, control=None):
     return r
 
 
-def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
+def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads, dargs):
     check_threads(threads)
     shape, _, flats = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, tol=tol)
     n = int(np.prod(shape, dtype=np.int64))
@@ -301,7 +348,7 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     rest = [flats[k] for k in ("omega0", "w0", "gamma", "tol")]
     # the per-state checks alone (t[0]): a bad value is a mistake in the input
     _, _, _, codes, _, _, first, code, msg = _fortran.taylor_batch_f2py(
-        tt[:1], th0, *rest, budget, 1, _longcall.new_control()
+        tt[:1], th0, *rest, budget, 1, _longcall.new_control(), *dargs
     )
     if int(code) != OK:
         if int(first) > 0:  # a bad value in one state: a mistake in the input, for the whole call
@@ -314,7 +361,8 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     if m:
 
         def one(i, control):
-            return _one(tt, *(float(a[i if a.size > 1 else 0]) for a in [th0] + rest), budget, m, None, control)
+            state = (float(a[i if a.size > 1 else 0]) for a in [th0] + rest)
+            return _one(tt, *state, budget, m, None, control, dargs=dargs)
 
         values, codes, messages = pool.map_states(
             one, n, threads, progress, work=work + n * POOL_STATE_WORK, shape=shape, names=_BATCH_ARGS
@@ -324,7 +372,7 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     control = _longcall.new_control()
     long = bool(work > _longcall.RK4_LONG_STEPS / 20)
     theta, omega, err, codes, steps, order, first, code, msg = _longcall.run(
-        lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control),
+        lambda: _fortran.taylor_batch_f2py(tt, th0, *rest, budget, nthreads, control, *dargs),
         control,
         long,
         progress,
@@ -339,7 +387,8 @@ def _batch(tt, theta0, omega0, w0, gamma, tol, budget, m, progress, threads):
     if code:
         message = batch_summary(codes, _text(msg), shape, _BATCH_ARGS)
         raise_if_all_failed(codes, int(codes[int(first) - 1]) if int(first) > 0 else code, message)
-    theta, omega, err = theta.T.copy(), omega.T.copy(), err.T.copy()
+    # (n_t, n) in Fortran order: the transposes are C-contiguous (n, n_t) already, no copy
+    theta, omega, err = theta.T, omega.T, err.T
     bad = codes != OK
     theta[bad], omega[bad], err[bad] = np.nan, np.nan, np.nan  # a failed state is never a plausible number
     n_t = tt.size

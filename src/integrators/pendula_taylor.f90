@@ -16,8 +16,9 @@
 !>   truncation and rounding bounds, plus their growth D' = G A (linear in
 !>   time, G the energy-frequency shear of taylor_shear), capped by the
 !>   Gronwall bound D' = L (A + D), L = 1 + gamma/w0 (max norm of the scaled
-!>   Jacobian); estimate = TAYLOR_SAFETY sqrt(2) (A + D) + the output's own
-!>   rounding.  Calibrated against mpmath and the exact elliptic solution
+!>   Jacobian); estimate = TAYLOR_SAFETY (sqrt(2) (A + D) + the truncation
+!>   and rounding bounds of the whole step the output lies in) + the output's
+!>   own rounding.  Calibrated against mpmath and the exact elliptic solution
 !>   (tests/python/test_taylor.py).
 module pendula_taylor
   use pendula_kinds, only: wp, i8
@@ -29,7 +30,9 @@ module pendula_taylor
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_double_double, only: two_sum, two_prod
-  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_order, taylor_step, &
+  use pendula_drive, only: drive_t, DRIVE_PIVOT, check_drive
+  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_coefficients_driven, taylor_drive_series, &
+                                   taylor_order, taylor_step, &
                                    taylor_shear
   implicit none
   private
@@ -50,6 +53,8 @@ module pendula_taylor
   real(wp), parameter :: EPS_FLOOR = 1.0e-18_wp
   real(wp), parameter :: ULP = epsilon(1.0_wp)/2
   integer, parameter :: POLL_STEPS = 128
+  ! Outputs evaluated side by side (series_sums_lanes).
+  integer, parameter :: OUT_LANES = 4
 
 contains
 
@@ -62,14 +67,43 @@ contains
     real(wp), intent(in) :: tau  !< window length in units of 1/w0, >= 0
     real(wp), intent(in) :: gamma_over_w0  !< gamma/w0, >= 0
     real(wp), intent(in) :: e0  !< initial scaled energy Omega**2/(2 w0**2) + 1 - cos(theta)
-    real(wp) :: n_est, growth
+    logical :: short
+    call step_plan(tol, tau, gamma_over_w0, e0, 0.0_wp, eps, short)
+  end function taylor_step_tolerance
+
+  ! taylor_step_tolerance's eps, and short: whether the window is
+  ! rounding-limited yet tol is within reach, so that it takes taylor_order's
+  ! short steps (the accumulated rounding grows like the square root of the
+  ! step).  The rounding estimate of short steps is 1-9 times
+  ! r = 0.1 epsilon sqrt(n_est) (1 + G tau/2) (measured at 30 and 1000 s and
+  ! near the separatrix), that of long steps ~2 times more: short when
+  ! 20 r > tol (rounding may matter) and r <= 2 tol (tol may be reached).
+  ! With the long steps of the default order the omitted tail is ~0.6 eps a
+  ! step instead of ~0.3 eps: eps is halved.
+  ! lip > 0 (a driven run): the growth is Gronwall's, the mean of
+  ! exp(lip (tau - s)) over the window, in place of the shear's.
+  pure subroutine step_plan(tol, tau, gamma_over_w0, e0, lip, eps, short)
+    real(wp), intent(in) :: tol, tau, gamma_over_w0, e0, lip
+    real(wp), intent(out) :: eps
+    logical, intent(out) :: short
+    real(wp) :: n_est, growth, r
     n_est = 1 + 3*tau*(1 + gamma_over_w0)
     ! the error estimate is ~ TAYLOR_SAFETY sqrt(2) 0.3 eps per step (the
     ! omitted tail at the optimal order), grown on average by G tau/2
-    growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
-    eps = min(tol, max(EPS_FLOOR, tol/(n_est*growth)))
+    if (lip > 0) then
+      growth = min(lip*tau, 40.0_wp)
+      if (growth > 0) growth = (exp(growth) - 1)/growth
+      growth = max(growth, 1.0_wp)
+    else
+      growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
+    end if
+    eps = tol/(n_est*growth)
+    r = 0.1_wp*epsilon(1.0_wp)*sqrt(n_est)*growth
+    short = 20*r > tol .and. r <= 2*tol
+    if (.not. short) eps = eps/2
+    eps = min(tol, max(EPS_FLOOR, eps))
     if (.not. eps >= EPS_FLOOR) eps = EPS_FLOOR   ! NaN-proof
-  end function taylor_step_tolerance
+  end subroutine step_plan
 
   !> Argument checks of taylor_solve: t finite and strictly monotonic
   !> (decreasing integrates backwards), size >= 1, with a finite span; theta0,
@@ -153,7 +187,7 @@ contains
   !> tens of periods; near the separatrix the estimate grows with the phase
   !> sensitivity and tells).
   subroutine taylor_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, stats, status, order, &
-                          control, max_steps)
+                          control, max_steps, drive)
     real(wp), intent(in) :: t(:)
     !< output times [s]: finite, strictly increasing or decreasing, size >= 1; t(1) is the initial time
     real(wp), intent(in) :: theta0  !< initial angle theta(t(1)) [rad], finite
@@ -171,11 +205,13 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag (polled every 128 steps) and progress counter in steps (pendula_control)
     integer(i8), intent(in), optional :: max_steps  !< optional step budget, >= 1 (default 1e9)
+    type(drive_t), intent(in), optional :: drive
+    !< optional periodic drive (pendula_drive: a torque or a vertically driven pivot), phase at t = 0
     real(wp) :: ev_t(1), ev_th(1), ev_om(1)
     integer :: ev_k(1), nev
     logical :: trunc
     call solve(t, theta0, omega0, w0, gamma, tol, .false., theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, &
-               stats, status, order, control, max_steps)
+               stats, status, order, control, max_steps, drive)
   end subroutine taylor_solve
 
   !> taylor_solve that also locates the events after t(1) (in the direction of
@@ -184,7 +220,8 @@ contains
   !> on the step polynomials to machine precision in time.  The first
   !> size(event_t) events are kept (truncated tells whether more occurred).
   subroutine taylor_solve_events(t, theta0, omega0, w0, gamma, tol, theta, omega, err, &
-                       event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, control, max_steps)
+                                 event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, order, &
+                                 control, max_steps, drive)
     real(wp), intent(in) :: t(:)  !< output times [s], as for taylor_solve
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
@@ -207,6 +244,7 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag and progress counter in steps (pendula_control)
     integer(i8), intent(in), optional :: max_steps  !< optional step budget, >= 1 (default 1e9)
+    type(drive_t), intent(in), optional :: drive  !< optional periodic drive (as for taylor_solve)
     call check_same_size('event_kind', size(event_kind), 'event_t', size(event_t), status)
     call check_same_size('event_theta', size(event_theta), 'event_t', size(event_t), status)
     call check_same_size('event_omega', size(event_omega), 'event_t', size(event_t), status)
@@ -223,11 +261,11 @@ contains
       return
     end if
     call solve(t, theta0, omega0, w0, gamma, tol, .true., theta, omega, err, event_t, event_kind, event_theta, &
-               event_omega, n_events, truncated, stats, status, order, control, max_steps)
+               event_omega, n_events, truncated, stats, status, order, control, max_steps, drive)
   end subroutine taylor_solve_events
 
   subroutine solve(t, theta0, omega0, w0, gamma, tol, with_events, theta, omega, err, ev_t, ev_k, ev_th, ev_om, &
-                   nev, trunc, stats, status, order, control, max_steps)
+                   nev, trunc, stats, status, order, control, max_steps, drive)
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, tol
     logical, intent(in) :: with_events
     real(wp), intent(out) :: theta(:), omega(:), err(:), ev_t(:), ev_th(:), ev_om(:)
@@ -238,6 +276,7 @@ contains
     integer, intent(out), optional :: order
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer(i8), intent(in), optional :: max_steps
+    type(drive_t), intent(in), optional :: drive
     integer(i8) :: budget, steps
     integer :: outcome, p
     real(wp) :: t_fail
@@ -250,6 +289,7 @@ contains
     call check_same_size('theta', size(theta), 't', size(t), status)
     call check_same_size('omega', size(omega), 't', size(t), status)
     call check_same_size('err', size(err), 't', size(t), status)
+    if (present(drive)) call check_drive(drive, status)
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -257,7 +297,7 @@ contains
       return
     end if
     call taylor_run(t, theta0, omega0, w0, gamma, tol, with_events, budget, theta, omega, err, &
-                    ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
+                    ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control, drive)
     stats%steps = steps
     stats%rhs_evals = steps*p
     if (present(order)) order = p
@@ -277,7 +317,7 @@ contains
   !> the outputs from there on unset).  No allocation; the same arithmetic
   !> for every caller, so a batch state is bit-identical to the scalar call.
   subroutine taylor_run(t, theta0, omega0, w0, gamma, tol, with_events, max_steps, theta, omega, err, &
-                        ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control)
+                        ev_t, ev_k, ev_th, ev_om, nev, trunc, steps, p, outcome, t_fail, control, drive)
     real(wp), intent(in) :: t(:)  !< output times [s], checked
     real(wp), intent(in) :: theta0  !< initial angle [rad]
     real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s]
@@ -301,11 +341,14 @@ contains
     real(wp), intent(out) :: t_fail  !< time of the failure [s]
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     !< optional cancel flag and progress counter (pendula_control)
-    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
+    type(drive_t), intent(in), optional :: drive
+    !< optional periodic drive, checked (check_drive); its phase phi holds at t = 0
+    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER), dc(0:TAYLOR_MAX_ORDER), amp, lip, pc, ps
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0sq, eps_s
     real(wp) :: big_a, big_d, g, ec, es, loc, lgr, s0abs, sn, cs, xe, ve, xel, vel, tau, s, e
-    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed
-    integer :: n, i
+    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed, ol1, ol2, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
+    logical :: short
+    integer :: n, i, nl, l
     n = size(t)
     theta(1) = theta0
     omega(1) = omega0
@@ -320,9 +363,20 @@ contains
     tau = 0
     if (n > 1) tau = w0*abs(t(n)/2 - t(1)/2)*2
     ! (ratios clamped to 1e150 each: no overflow for any finite input)
-    eps_s = taylor_step_tolerance(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
-                                  scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)))
-    p = taylor_order(eps_s)
+    ! a drive: the error grows by Gronwall's bound with the Lipschitz constant
+    ! of the scaled system, 1 + gamma/w0 + |pivot amplitude|/w0**2 (no shear
+    ! model: the driven pendulum may be chaotic)
+    lip = 0
+    amp = 0
+    if (present(drive)) then
+      amp = drive%amplitude
+      if (drive%kind == DRIVE_PIVOT) amp = drive%amplitude*drive%frequency**2
+      lip = 1 + min(gamma*inv_w0, 1.0e150_wp)
+      if (drive%kind == DRIVE_PIVOT) lip = lip + min(abs(amp), 1.0e150_wp)*min(inv_w0*inv_w0, 1.0e150_wp)
+    end if
+    call step_plan(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
+                   scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)), lip, eps_s, short)
+    p = taylor_order(eps_s, short)
     if (n == 1) return
     ! Steps are at most 2/w0 and, with damping, ~2/gamma long: a window that
     ! needs more than max_steps is refused before any work.
@@ -332,6 +386,7 @@ contains
       return
     end if
     lgr = 1 + min(gamma*inv_w0, 1.0e300_wp)
+    if (present(drive)) lgr = lip
     xh = theta0
     xl = 0
     vh = omega0
@@ -349,8 +404,14 @@ contains
     g = 0
     i = 2
     do
-      call taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
-      es = scaled_energy_sc(sn, cs, vh*inv_w0)
+      if (present(drive)) then
+        call drive_phase(drive, th, tl, pc, ps)
+        call taylor_drive_series(pc, ps, drive%frequency, p, dc)
+        call taylor_coefficients_driven(xh, xl, vh, w0sq, gamma, drive%kind, amp, dc, p, x, v, s0abs, sn, cs)
+      else
+        call taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
+        es = scaled_energy_sc(sn, cs, vh*inv_w0)
+      end if
       call two_sum(t(n), -th, rs, re)
       rem = rs + (re - tl)
       habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU*inv_w0))
@@ -366,22 +427,38 @@ contains
       else
         h = sign(habs, rem)
       end if
+      ! the full step first: the state it ends at, and its truncation and
+      ! rounding bounds, which bound those of every output inside the step too
+      ! (both grow with |d|): the outputs cost one Horner pass each
+      call dense_error(h, xe, xel, ve, vel, trc, rnd)
       ! the outputs inside this step, from its polynomial (what was committed
       ! before the step is the same for all of them: formed once)
       committed = -1
       do while (i <= n)
-        call two_sum(t(i), -th, ds, de)
-        d = ds + (de - tl)
-        if (abs(d) > abs(h) .and. h /= rem) exit
-        if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part())
-        call dense_error(d, theta(i), xel, omega(i), vel, trc, rnd)
-        err(i) = TAYLOR_SAFETY*(committed + trc + rnd) + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
-        i = i + 1
+        ! up to OUT_LANES outputs at once: their sums side by side (independent
+        ! chains; each output's arithmetic is the one-output sum's)
+        nl = 0
+        dl = 0
+        do while (i + nl <= n .and. nl < OUT_LANES)
+          call two_sum(t(i + nl), -th, ds, de)
+          d = ds + (de - tl)
+          if (abs(d) > abs(h) .and. h /= rem) exit
+          nl = nl + 1
+          dl(nl) = d
+        end do
+        if (nl == 0) exit
+        if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd
+        call series_sums_lanes(dl, rl, rvl)
+        do l = 1, nl
+          call dense_finish(dl(l), rl(l), rvl(l), theta(i), ol1, omega(i), ol2)
+          err(i) = TAYLOR_SAFETY*committed + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
+          i = i + 1
+        end do
+        if (nl < OUT_LANES) exit
       end do
       if (with_events) call events_in_step(h)
       if (h == rem) exit
       ! advance the double-double state and time by the full step
-      call dense_error(h, xe, xel, ve, vel, trc, rnd)
       if (.not. (abs(xe) <= huge(1.0_wp) .and. abs(ve) <= huge(1.0_wp))) then
         outcome = PENDULA_ERR_SOLVER
         t_fail = th
@@ -390,7 +467,9 @@ contains
       ! error model: growth of what was committed so far, then this step's share
       ! G varies like log|2 - e| and 1/|2 - e|: refreshed when e has moved by
       ! 5% of its distance to 0 or to the separatrix, with a 10% margin
-      if (abs(es - ec) > 0.05_wp*min(es, abs(2 - es)) .or. ec < 0) then
+      if (present(drive)) then
+        g = 1.0e50_wp   ! no shear model: Gronwall's bound (lgr) decides
+      else if (abs(es - ec) > 0.05_wp*min(es, abs(2 - es)) .or. ec < 0) then
         ec = es
         g = 1.1_wp*min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
       end if
@@ -438,18 +517,17 @@ contains
     subroutine dense(dd, xo, xol, vo, vol)
       real(wp), intent(in) :: dd
       real(wp), intent(out) :: xo, xol, vo, vol
-      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb
-      integer :: k
+      real(wp) :: rest, rv
+      call series_sums(dd, rest, rv)
+      call dense_finish(dd, rest, rv, xo, xol, vo, vol)
+    end subroutine dense
+
+    ! The state at offset dd from the series sums rest and rv (series_sums).
+    subroutine dense_finish(dd, rest, rv, xo, xol, vo, vol)
+      real(wp), intent(in) :: dd, rest, rv
+      real(wp), intent(out) :: xo, xol, vo, vol
+      real(wp) :: p1, e1, s1, e2, lo, bb
       call two_prod(vh, dd, p1, e1)
-      ! Horner for sum_{k>=2} x(k) dd**k and sum_{k>=1} v(k) dd**k, side by side
-      rest = x(p)
-      rv = v(p)
-      do k = p - 1, 2, -1
-        rest = rest*dd + x(k)
-        rv = rv*dd + v(k)
-      end do
-      rest = rest*dd*dd
-      rv = (rv*dd + v(1))*dd
       ! two_sum(xh, p1) and two_sum(vh, rv), written out
       s1 = xh + p1
       bb = s1 - xh
@@ -463,7 +541,63 @@ contains
       lo = e2 + vl
       vo = s1 + lo
       vol = lo - (vo - s1)
-    end subroutine dense
+    end subroutine dense_finish
+
+    ! rest = sum_{k=2..p} x(k) dd**k and rv = sum_{k=1..p} v(k) dd**k by
+    ! Horner in dd**2 over the even and the odd k apart: four independent
+    ! chains of p/2 multiply-adds instead of two of p (an output's cost is
+    ! the latency of these chains).  Rounding as Horner's: a few ulps of the
+    ! absolute terms (the terms decay geometrically).  Needs p >= 3.
+    subroutine series_sums(dd, rest, rv)
+      real(wp), intent(in) :: dd
+      real(wp), intent(out) :: rest, rv
+      real(wp) :: q, xev, xod, vev, vod
+      integer :: k, ke, ko
+      q = dd*dd
+      ke = p - mod(p, 2)
+      ko = p - 1 + mod(p, 2)
+      xev = x(ke)
+      vev = v(ke)
+      xod = x(ko)
+      vod = v(ko)
+      do k = ke - 2, 2, -2
+        xev = xev*q + x(k)
+        vev = vev*q + v(k)
+      end do
+      do k = ko - 2, 3, -2
+        xod = xod*q + x(k)
+        vod = vod*q + v(k)
+      end do
+      vod = vod*q + v(1)
+      rest = q*(xev + dd*xod)
+      rv = q*vev + dd*vod
+    end subroutine series_sums
+
+    ! series_sums at OUT_LANES offsets at once, lane by lane the same arithmetic.
+    subroutine series_sums_lanes(dd, rest, rv)
+      real(wp), intent(in) :: dd(OUT_LANES)
+      real(wp), intent(out) :: rest(OUT_LANES), rv(OUT_LANES)
+      real(wp) :: q(OUT_LANES), xev(OUT_LANES), xod(OUT_LANES), vev(OUT_LANES), vod(OUT_LANES)
+      integer :: k, ke, ko
+      q = dd*dd
+      ke = p - mod(p, 2)
+      ko = p - 1 + mod(p, 2)
+      xev = x(ke)
+      vev = v(ke)
+      xod = x(ko)
+      vod = v(ko)
+      do k = ke - 2, 2, -2
+        xev = xev*q + x(k)
+        vev = vev*q + v(k)
+      end do
+      do k = ko - 2, 3, -2
+        xod = xod*q + x(k)
+        vod = vod*q + v(k)
+      end do
+      vod = vod*q + v(1)
+      rest = q*(xev + dd*xod)
+      rv = q*vev + dd*vod
+    end subroutine series_sums_lanes
 
     ! The state at offset dd (as dense) and the local error bounds of the
     ! polynomial there, in the max norm of (theta, Omega/w0), in one pass over
@@ -473,26 +607,33 @@ contains
     subroutine dense_error(dd, xo, xol, vo, vol, trc_, rnd_)
       real(wp), intent(in) :: dd
       real(wp), intent(out) :: xo, xol, vo, vol, trc_, rnd_
-      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb, a, sx, sv, ap
-      integer :: k
+      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb, a, sx, sv, ap, q, xev, xod, vev, vod
+      integer :: k, ke, ko
       call two_prod(vh, dd, p1, e1)
+      call series_sums(dd, rest, rv)
+      ! the absolute terms, sum_{k=2..p} |x(k)| a**k and |v(k)| a**k, split
+      ! into even and odd k as in series_sums
       a = abs(dd)
-      sx = (abs(x(p + 1))*a + abs(x(p)))*a
-      sv = (abs(v(p + 1))*a + abs(v(p)))*a
-      ap = a*a
-      rest = x(p)
-      rv = v(p)
-      do k = p - 1, 2, -1
-        rest = rest*dd + x(k)
-        rv = rv*dd + v(k)
-        sx = (sx + abs(x(k)))*a
-        sv = (sv + abs(v(k)))*a
-        ap = ap*a
+      q = a*a
+      ke = p - mod(p, 2)
+      ko = p - 1 + mod(p, 2)
+      xev = abs(x(ke))
+      vev = abs(v(ke))
+      xod = abs(x(ko))
+      vod = abs(v(ko))
+      do k = ke - 2, 2, -2
+        xev = xev*q + abs(x(k))
+        vev = vev*q + abs(v(k))
       end do
-      trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*(ap*a)
-      rnd_ = ROUND_ULPS*ULP*(sx*a + (s0abs*a + sv*a)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
-      rest = rest*dd*dd
-      rv = (rv*dd + v(1))*dd
+      do k = ko - 2, 3, -2
+        xod = xod*q + abs(x(k))
+        vod = vod*q + abs(v(k))
+      end do
+      ap = a**(p + 1)
+      sx = q*(xev + a*xod) + abs(x(p + 1))*ap
+      sv = q*(vev + a*vod) + abs(v(p + 1))*ap
+      trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*ap
+      rnd_ = ROUND_ULPS*ULP*(sx + (s0abs*a + sv)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
       s1 = xh + p1
       bb = s1 - xh
       e2 = (xh - (s1 - bb)) + (p1 - bb)
@@ -617,6 +758,23 @@ contains
     end function root
 
   end subroutine taylor_run
+
+  ! cos and sin of the drive phase Omega t + phi at the double-double time
+  ! th + tl: Omega th exactly (two_prod), reduced by 2 pi in double-double,
+  ! so that the phase keeps ~1e-16 absolute accuracy over long windows.
+  pure subroutine drive_phase(drive, th, tl, c, s)
+    type(drive_t), intent(in) :: drive
+    real(wp), intent(in) :: th, tl
+    real(wp), intent(out) :: c, s
+    real(wp) :: ph, pe, s1, e1, kk, a, b, psi
+    call two_prod(drive%frequency, th, ph, pe)
+    call two_sum(ph, pe + drive%frequency*tl + drive%phase, s1, e1)
+    kk = anint(s1/two_pi)
+    call two_prod(kk, two_pi, a, b)
+    psi = (((s1 - a) - b) + e1) - kk*two_pi_lo
+    c = cos(psi)
+    s = sin(psi)
+  end subroutine drive_phase
 
   ! Scaled energy u**2/2 + 1 - cos(x) (u = Omega/w0), 1 - cos(x) as
   ! 2 sin(x/2)**2 (no cancellation for small swings).

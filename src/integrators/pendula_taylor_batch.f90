@@ -13,6 +13,7 @@ module pendula_taylor_batch
   use pendula_ode, only: check_batch_shapes, at => batch_index
   use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_taylor, only: taylor_check, taylor_run, taylor_outcome, TAYLOR_DEFAULT_MAX_STEPS
+  use pendula_drive, only: drive_t, check_drive
   implicit none
   private
   public :: taylor_batch_solve
@@ -34,8 +35,9 @@ contains
   !> control (optional, pendula_control): cancel flag (finished states keep
   !> their results, the rest get PENDULA_ERR_CANCELLED) and progress
   !> (finished states).  max_steps: per-state step budget (default 1e9).
+  !> drive (optional): one periodic drive for every state (as taylor_solve's).
   subroutine taylor_batch_solve(t, theta0, omega0, w0, gamma, tol, theta, omega, err, codes, steps, order, &
-                                status, threads, control, first_failed, max_steps)
+                                status, threads, control, first_failed, max_steps, drive)
     real(wp), intent(in) :: t(:)  !< shared output times [s]: finite, strictly monotonic, size >= 1
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state (n = size(theta0))
     real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
@@ -55,6 +57,7 @@ contains
     !< optional cancel flag and progress counter (finished states) shared with another thread
     integer, intent(out), optional :: first_failed  !< optional: 1-based index of the first failed state (0: none)
     integer(i8), intent(in), optional :: max_steps  !< optional step budget per state, >= 1
+    type(drive_t), intent(in), optional :: drive  !< optional periodic drive of every state (pendula_drive)
     integer :: n, i, nthreads, first
     integer(i8) :: budget
     type(status_t) :: st
@@ -69,6 +72,7 @@ contains
                                                            theta, omega, size(codes), size(steps), 'steps', threads, status)
     call check_same_size('err', size(err), 'theta', size(theta), status)
     call check_same_size('order', size(order), 'steps', size(steps), status)
+    if (present(drive)) call check_drive(drive, status)
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -121,7 +125,7 @@ contains
       if (sk%code /= PENDULA_OK) return
       call taylor_run(t, theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), tol(at(tol, k)), &
                       .false., budget, theta(:, k), omega(:, k), err(:, k), ev1, evk, ev2, ev3, nev, trunc, steps(k), order(k), &
-                      outcome, t_fail)
+                      outcome, t_fail, drive=drive)
       if (present(control)) then
         if (cancel_requested(control)) outcome = PENDULA_ERR_CANCELLED
         call add_progress(control, 1_i8)

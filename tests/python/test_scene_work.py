@@ -113,7 +113,7 @@ def test_decayed_damped_scenes_run_inline_without_a_thread(kw, monkeypatch):
 
 # (scene, model): integrated solves of 1e3 .. 1e6 reported RK4 steps
 TRACKED = [
-    (dict(theta0=2.5, t=np.linspace(0.0, 300.0, 50), gamma=0.3, tol=1e-8), None),
+    (dict(theta0=2.5, t=np.linspace(0.0, 300.0, 50), gamma=0.1, tol=1e-8), None),
     (dict(theta0=1.0, t=np.linspace(0.0, 500.0, 20), gamma=1e-3, tol=1e-8), None),
     (dict(theta0=1.0, t=np.linspace(0.0, 200.0, 30), tol=1e-8), "rk4"),
     (dict(theta0=1.0, t=100.0, gamma=0.1, tol=1e-6, want="events"), None),
