@@ -10,7 +10,7 @@ module pendula_undamped_motion
   use pendula_constants, only: pi, two_pi, two_pi_lo
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1
-  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi
+  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi
   implicit none
   private
 
@@ -180,7 +180,7 @@ contains
     motion%h = h
     motion%hlo = hlo
     sh0 = sin(h)
-    ch0 = cos(h)
+    ch0 = cos_half(h)             ! the many-state loops' cosine (pendula_undamped_many): the same bits
     sh = sh0 + ch0*hlo            ! sin(theta_r/2), first-order correction for r_lo
     ! q = Omega0/(2 w0) with its rounding error qlo (exact residual by two_prod)
     w2 = omega0/w0                  ! Omega0/w0, halved below (exact); no 2 w0 overflow
