@@ -11,6 +11,7 @@ module pendula_undamped_many
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
+  use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_apart
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many
@@ -195,9 +196,8 @@ contains
             ch = cos_half(0.5_wp*theta0(i))
             den(i - i0 + 1) = ch*ch
           end do
-          do i = i0, i1
-            period(i) = (4*ellipkm1(den(i - i0 + 1)))/w0(1)
-          end do
+          call k_unit_many(den(1:i1 - i0 + 1), period(i0:i1))   ! = ellipkm1, 0 < 1 - m <= 1 here
+          period(i0:i1) = (4*period(i0:i1))/w0(1)
           cycle
         end if
       end if
