@@ -300,10 +300,14 @@ contains
           x(i) = ellipk(m(i))
         end if
       end do
-      call ke_log_forms(nl, mcs, second, v)
-      do j = 1, nl
-        x(idx(j)) = v(j)
-      end do
+      if (nl == i1 - i0 + 1) then
+        call ke_log_forms(nl, mcs, second, x(i0:i1))   ! the whole block (m near 1): no scatter
+      else
+        call ke_log_forms(nl, mcs, second, v)
+        do j = 1, nl
+          x(idx(j)) = v(j)
+        end do
+      end if
     end do
   end subroutine ke_array
 

@@ -272,7 +272,7 @@ contains
       return
     end if
     ch0 = cos_half(h)
-    near = abs(q) >= 0.5_wp*ch0 .and. abs(q) <= 2*ch0
+    near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
     have_sin = want_m .or. hlo /= 0 .or. near
     sh0 = 0
     if (have_sin) sh0 = sin_apart(h)

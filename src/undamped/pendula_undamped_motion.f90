@@ -201,14 +201,15 @@ contains
       motion%energy = 0.5_wp*omega0*omega0
       return
     end if
-    if (abs(q) >= 0.5_wp*ch0 .and. abs(q) <= 2*ch0) then
+    if (abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0) then
       ! cos(theta_r/2) in double-double: the separatrix distance 1 - m below
       ! cancels it against |q|, and over 100 periods its error is multiplied by
       ! ~t/(T (1-m) K); a double-double c keeps 1 - m relatively exact.
       call cos_dd(h, hlo, ch, chlo)
     else
-      ! c - |q| loses at most one bit: libm's cos (< 1 ulp) keeps 1 - m to a
-      ! few ulps, at a twentieth of the cost of cos_dd
+      ! c - |q| loses at most three bits: cos_half (< 1 ulp) keeps 1 - m to a
+      ! few ulps (a few eps times its condition number in Omega0), at a twentieth
+      ! of the cost of cos_dd
       ch = ch0 - sh0*hlo
       chlo = 0
     end if
