@@ -290,9 +290,9 @@ contains
             idx(nl) = i
             mcs(nl) = 1 - m(i)
           else if (second) then
-            x(i) = e_unit(m(i), 1 - m(i))
+            x(i) = poly_at(e_poly, m(i))   ! = e_unit(m(i), 1 - m(i))
           else
-            x(i) = k_unit(m(i), 1 - m(i))
+            x(i) = poly_at(k_poly, m(i))   ! = k_unit(m(i), 1 - m(i))
           end if
         else if (second) then
           x(i) = ellipe(m(i))   ! m < 0, m >= 1
@@ -310,6 +310,22 @@ contains
       end if
     end do
   end subroutine ke_array
+
+  !> The interval polynomial of k_unit / e_unit (table k_poly or e_poly) at 0 <= m < 0.85,
+  !> estrin12 written out on the table's column (the same operations): the call with a
+  !> column argument was not inlined into the array loop.
+  pure real(wp) function poly_at(tab, m) result(r)
+    real(wp), intent(in) :: tab(0:12, 0:16), m
+    real(wp) :: y, y2, y4
+    integer :: i
+    i = interval20(m)
+    y = m - (0.025_wp + 0.05_wp*i)
+    y2 = y*y
+    y4 = y2*y2
+    r = ((tab(0, i) + tab(1, i)*y) + (tab(2, i) + tab(3, i)*y)*y2) &
+        + ((tab(4, i) + tab(5, i)*y) + (tab(6, i) + tab(7, i)*y)*y2)*y4 &
+        + (((tab(8, i) + tab(9, i)*y) + (tab(10, i) + tab(11, i)*y)*y2) + tab(12, i)*y4)*(y4*y4)
+  end function poly_at
 
   !> K (second = .false.) or E of 0 < mc <= 0.15 by the logarithmic forms of k_unit and
   !> e_unit, the same numbers, in a loop without branches or calls (it vectorises).
