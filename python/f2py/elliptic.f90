@@ -8,7 +8,7 @@ subroutine ellip_ke_f2py(which, n, x, y)
   ! which = GLUE_ELLIPK: y = K(x = m); GLUE_ELLIPKM1: K(1 - x), x = p; GLUE_ELLIPE,
   ! GLUE_ELLIPEM1: the same for E.  y is the caller's (numpy.empty): see ellipj_into_f2py.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipk_array, ellipkm1, ellipe_array, ellipem1
+  use pendula_elliptic, only: ellipk_array, ellipkm1_array, ellipe_array, ellipem1_array
   use pendula_status, only: status_t
   implicit none
   include 'pendula_glue_codes.inc'
@@ -22,11 +22,11 @@ subroutine ellip_ke_f2py(which, n, x, y)
   case (GLUE_ELLIPK)
     call ellipk_array(x, y, status)
   case (GLUE_ELLIPKM1)
-    y = ellipkm1(x)
+    call ellipkm1_array(x, y, status)
   case (GLUE_ELLIPE)
     call ellipe_array(x, y, status)
   case default
-    y = ellipem1(x)
+    call ellipem1_array(x, y, status)
   end select
 end subroutine ellip_ke_f2py
 

@@ -5,7 +5,8 @@
 !> K, E: degree-12 polynomials (Chebyshev interpolants at 40 digits) on 17 intervals
 !> of m in [0, 0.85) and, for mc <= 0.15, the logarithmic form K = P(mc) - ln(mc) Q(mc),
 !> E = Pe(mc) - ln(mc) mc Qe1(mc) (structure of DLMF 19.12.1), exact as mc -> 0 down
-!> to the smallest subnormal.  m < 0 by the imaginary-modulus transformation
+!> to the smallest subnormal (the logarithm inlined, log_pos; the array loops take the
+!> logarithmic forms in one vectorised pass).  m < 0 by the imaginary-modulus transformation
 !> (DLMF 19.7.5).  Measured <= 2.4 ulps against mpmath.  K in double-double by the AGM
 !> in double-double arithmetic (DLMF 19.8.5).
 module pendula_elliptic_ke
@@ -18,7 +19,7 @@ module pendula_elliptic_ke
   implicit none
   private
 
-  public :: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array
+  public :: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array, ellipkm1_array, ellipem1_array
   ! for the other modules of the elliptic concern
   public :: k_unit, k_from_mc, k_double_double, k_unit_many
 
@@ -278,6 +279,11 @@ contains
     end if
     do i0 = 1, size(m), nb
       i1 = min(size(m), i0 + nb - 1)
+      if (all(log_form_m(m(i0:i1)))) then
+        ! a block near m = 1 (all in the logarithmic forms): one vectorised loop, no gathering
+        call ke_log_forms(i1 - i0 + 1, 1 - m(i0:i1), second, x(i0:i1))
+        cycle
+      end if
       ! the logarithmic forms (mc <= 0.15, k_unit's and e_unit's test) are gathered and
       ! taken in one vectorised loop below; the rest here
       nl = 0
@@ -310,6 +316,96 @@ contains
       end if
     end do
   end subroutine ke_array
+
+  !> Whether K and E of m take the logarithmic form in k_unit / e_unit (0 <= m < 1 and
+  !> 1 - m <= 0.15); false for NaN, without an ordered comparison of a NaN (quiet under
+  !> -ffpe-trap) and without a branch (the test of a whole block vectorises).
+  pure elemental logical function log_form_m(m) result(yes)
+    real(wp), intent(in) :: m
+    real(wp) :: x
+    x = merge(m, 0.0_wp, m == m)
+    yes = x < 1 .and. 1 - x <= 0.15_wp
+  end function log_form_m
+
+  !> Whether K and E of the complement p take the logarithmic form (0 < p <= 0.15), as
+  !> log_form_m (NaN false, no branch).
+  pure elemental logical function log_form_p(p) result(yes)
+    real(wp), intent(in) :: p
+    real(wp) :: x
+    x = merge(p, 0.0_wp, p == p)
+    yes = x > 0 .and. x <= 0.15_wp
+  end function log_form_p
+
+  !> ellipkm1 over a rank-1 array (k of the size of p): the same numbers as the elemental
+  !> function, the logarithmic forms (p <= 0.15) in one vectorised loop.  A size mismatch
+  !> sets status (PENDULA_ERR_SIZE) and k = NaN.
+  pure subroutine ellipkm1_array(p, k, status)
+    real(wp), intent(in) :: p(:)  !< complementary parameters p = 1 - m, >= 0
+    real(wp), intent(out) :: k(:)  !< K(1 - p(i)), size(p) elements
+    type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    call ke_m1_array(p, k, .false., 'ellipkm1_array: k', status)
+  end subroutine ellipkm1_array
+
+  !> ellipem1 over a rank-1 array (same numbers as the elemental function); sizes as
+  !> ellipkm1_array.
+  pure subroutine ellipem1_array(p, e, status)
+    real(wp), intent(in) :: p(:)  !< complementary parameters p = 1 - m, >= 0
+    real(wp), intent(out) :: e(:)  !< E(1 - p(i)), size(p) elements
+    type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    call ke_m1_array(p, e, .true., 'ellipem1_array: e', status)
+  end subroutine ellipem1_array
+
+  ! The loop of ellipkm1_array (second = .false.) and ellipem1_array (.true.): 0 < p <= 0.15
+  ! gathered for ke_log_forms, 0.15 < p <= 1 by the interval polynomial at m = 1 - p (what
+  ! k_from_mc / e_from_m_mc take), the rest through the elemental function.
+  pure subroutine ke_m1_array(p, x, second, what, status)
+    real(wp), intent(in) :: p(:)
+    real(wp), intent(out) :: x(:)
+    logical, intent(in) :: second
+    character(len=*), intent(in) :: what
+    type(status_t), intent(out) :: status
+    integer, parameter :: nb = 256
+    real(wp) :: mcs(nb), v(nb)
+    integer :: idx(nb), i, i0, i1, j, nl
+    if (size(x) /= size(p)) then
+      x = quiet_nan()
+      call set_error(status, PENDULA_ERR_SIZE, what//' must have the size of p')
+      return
+    end if
+    do i0 = 1, size(p), nb
+      i1 = min(size(p), i0 + nb - 1)
+      if (all(log_form_p(p(i0:i1)))) then
+        call ke_log_forms(i1 - i0 + 1, p(i0:i1), second, x(i0:i1))
+        cycle
+      end if
+      nl = 0
+      do i = i0, i1
+        if (ieee_is_nan(p(i))) then     ! before any ordered comparison
+          x(i) = p(i)
+        else if (p(i) > 0 .and. p(i) <= 0.15_wp) then
+          nl = nl + 1
+          idx(nl) = i
+          mcs(nl) = p(i)
+        else if (p(i) > 0 .and. p(i) <= 1) then
+          if (second) then
+            x(i) = poly_at(e_poly, 1 - p(i))
+          else
+            x(i) = poly_at(k_poly, 1 - p(i))
+          end if
+        else if (second) then
+          x(i) = ellipem1(p(i))
+        else
+          x(i) = ellipkm1(p(i))
+        end if
+      end do
+      call ke_log_forms(nl, mcs, second, v)
+      do j = 1, nl
+        x(idx(j)) = v(j)
+      end do
+    end do
+  end subroutine ke_m1_array
 
   !> The interval polynomial of k_unit / e_unit (table k_poly or e_poly) at 0 <= m < 0.85,
   !> estrin12 written out on the table's column (the same operations): the call with a

@@ -400,9 +400,13 @@ contains
   !> One point of ellipj_points: the inline path for 0 <= m < 1 and |u| < 9 K, else the
   !> general one (the same numbers as the elemental ellipj).
   pure subroutine ellipj_point(u, m, want_am, sn, cn, dn, am)
-    real(wp), intent(in) :: u, m
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn, cn, dn, am
+    real(wp), intent(in) :: u  !< argument u (any real)
+    real(wp), intent(in) :: m  !< parameter m (any real)
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am)
     logical :: done
     done = .false.
     if (.not. (ieee_is_nan(m) .or. ieee_is_nan(u))) then

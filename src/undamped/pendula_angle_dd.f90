@@ -1,6 +1,7 @@
 !> Angles in double-double for the exact undamped motion: reduction about the
-!> nearest stable equilibrium 2 pi n (2 pi carried in two doubles) and cos of a
-!> double-double angle.  Used by pendula_undamped_motion (set-up of a state) and
+!> nearest stable equilibrium 2 pi n (2 pi carried in two doubles), cos of a
+!> double-double angle, and cos_half, the cosine of a half angle by polynomials
+!> (no libm call), which loops over many states vectorise.  Used by pendula_undamped_motion (set-up of a state) and
 !> pendula_small_angle (reduce_angle_2pi).
 module pendula_angle_dd
   use pendula_kinds, only: wp
