@@ -479,7 +479,7 @@ contains
           idx(nl) = i
           mcs(nl) = mc(i)
         else
-          k(i) = k_unit(1 - mc(i), mc(i))
+          k(i) = poly_at(k_poly, 1 - mc(i))   ! = k_unit(1 - mc(i), mc(i))
         end if
       end do
       call ke_log_forms(nl, mcs, .false., v)
