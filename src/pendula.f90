@@ -15,7 +15,7 @@ module pendula
   use pendula_physics, only: natural_frequency, damping_rate, small_angle_period, period_series, &
                              PENDULA_G_DEFAULT, PENDULA_LENGTH_DEFAULT, PENDULA_PARAM_RTOL
   use pendula_elliptic, only: ellipk, ellipkm1, ellipe, ellipem1, ellipf, ellipfm1, ellipk_array, &
-                              ellipe_array, ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
+                              ellipe_array, ellipkm1_array, ellipem1_array, ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
                               ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &
                               ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, &

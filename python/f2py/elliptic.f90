@@ -6,31 +6,33 @@
 
 subroutine ellip_ke_f2py(which, n, x, y)
   ! which = GLUE_ELLIPK: y = K(x = m); GLUE_ELLIPKM1: K(1 - x), x = p; GLUE_ELLIPE,
-  ! GLUE_ELLIPEM1: the same for E.
+  ! GLUE_ELLIPEM1: the same for E.  y is the caller's (numpy.empty): see ellipj_into_f2py.
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipk_array, ellipkm1, ellipe_array, ellipem1
+  use pendula_elliptic, only: ellipk_array, ellipkm1_array, ellipe_array, ellipem1_array
   use pendula_status, only: status_t
   implicit none
   include 'pendula_glue_codes.inc'
   !f2py threadsafe
   integer(c_int), intent(in) :: which, n
   real(c_double), intent(in) :: x(n)
-  real(c_double), intent(out) :: y(n)
+  real(c_double), intent(inout) :: y(n)
+  !f2py intent(inplace) :: y
   type(status_t) :: status
   select case (which)
   case (GLUE_ELLIPK)
     call ellipk_array(x, y, status)
   case (GLUE_ELLIPKM1)
-    y = ellipkm1(x)
+    call ellipkm1_array(x, y, status)
   case (GLUE_ELLIPE)
     call ellipe_array(x, y, status)
   case default
-    y = ellipem1(x)
+    call ellipem1_array(x, y, status)
   end select
 end subroutine ellip_ke_f2py
 
 subroutine ellipf_f2py(which, n, phi, x, f)
-  ! F(phi | x) for which = GLUE_PARAM_M, F(phi | 1 - x) for GLUE_PARAM_P.
+  ! F(phi | x) for which = GLUE_PARAM_M, F(phi | 1 - x) for GLUE_PARAM_P; f is the
+  ! caller's (numpy.empty).
   use, intrinsic :: iso_c_binding, only: c_double, c_int
   use pendula_elliptic, only: ellipf, ellipfm1
   implicit none
@@ -38,7 +40,8 @@ subroutine ellipf_f2py(which, n, phi, x, f)
   !f2py threadsafe
   integer(c_int), intent(in) :: which, n
   real(c_double), intent(in) :: phi(n), x(n)
-  real(c_double), intent(out) :: f(n)
+  real(c_double), intent(inout) :: f(n)
+  !f2py intent(inplace) :: f
   if (which == GLUE_PARAM_M) then
     f = ellipf(phi, x)
   else

@@ -105,7 +105,8 @@ def _one_output(kernel, which, message, errors, **named):
     shape, scalar, f = _prepare(**named)
     if next(iter(f.values())).size == 0:
         return _empty(shape, 1)
-    out = kernel(which, *f.values())
+    out = np.empty(next(iter(f.values())).size)  # written by Fortran: no zero-filled array from f2py
+    kernel(which, *f.values(), out)
     if check:
         _check_nan_domain(out, message, **f)
     return restore(out, shape, scalar)

@@ -118,7 +118,7 @@ def undamped(
         theta, omega, code, msg = _undamped.undamped_one_f2py(ta.reshape(-1), *(float(x) for x in state))
         raise_for_status(code, msg)
         return restore(theta, ta.shape, ta.ndim == 0), restore(omega, ta.shape, ta.ndim == 0)
-    shape, scalar, f = broadcast_real(size1=True, t=t, theta0=theta0, omega0=omega0, w0=w0)
+    shape, scalar, f = _broadcast_states(t=t, theta0=theta0, omega0=omega0, w0=w0)
     n = math.prod(shape)
     if n == 0:
         return np.empty(shape), np.empty(shape)
@@ -238,11 +238,27 @@ def small_angle_error(
     return _small_angle(GLUE_SMALL_ANGLE_BOUND, tmax=tmax, theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length))
 
 
+def _broadcast_states(**named):
+    """``broadcast_real(size1=True, **named)`` without its copies in the common large
+    case: every array a contiguous float64 ndarray of one shape, the other inputs Python
+    floats (one value for every state).  The f2py kernels take them intent(in) and never
+    write to them; anything else goes through broadcast_real."""
+    arrays = [v for v in named.values() if type(v) is np.ndarray]
+    if not arrays or not all(type(v) is float or type(v) is np.ndarray for v in named.values()):
+        return broadcast_real(size1=True, **named)
+    shape = arrays[0].shape
+    if not all(a.dtype == np.float64 and a.flags.c_contiguous and a.ndim >= 1 and a.shape == shape for a in arrays):
+        return broadcast_real(size1=True, **named)
+    check_size(arrays[0].size, next(k for k, v in named.items() if v is arrays[0]))
+    flats = {k: v.reshape(-1) if type(v) is np.ndarray else np.array([v]) for k, v in named.items()}
+    return shape, False, flats
+
+
 def _state_property(kernel, nout, theta0, omega0, w0, *options, g=None, length=None, amplitude=False):
     """Broadcast the states and run one of the Fortran property kernels (``nout``
     results); ``options`` go between the size and the states.  ``amplitude``:
     theta0 is an amplitude, so warn where it looks like degrees."""
-    shape, scalar, f = broadcast_real(size1=True, theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length))
+    shape, scalar, f = _broadcast_states(theta0=theta0, omega0=omega0, w0=pendulum_w0(w0, g, length))
     n = math.prod(shape)
     if n == 0:
         return shape, scalar, [np.empty(0)] * nout

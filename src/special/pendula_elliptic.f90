@@ -21,7 +21,8 @@
 !>  * pendula_elliptic_tables: generated coefficients (tools/gen/gen_elliptic_tables.py; it
 !>    also writes pendula_jacobi_series.inc, the series coefficients the kernel includes).
 module pendula_elliptic
-  use pendula_elliptic_ke, only: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array
+  use pendula_elliptic_ke, only: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array, ellipkm1_array, &
+                                 ellipem1_array
   use pendula_elliptic_f, only: ellipf, ellipfm1
   use pendula_jacobi, only: ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
                             ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &
@@ -29,7 +30,7 @@ module pendula_elliptic
   implicit none
   private
 
-  public :: ellipk, ellipkm1, ellipe, ellipem1, ellipf, ellipfm1, ellipk_array, ellipe_array
+  public :: ellipk, ellipkm1, ellipe, ellipem1, ellipf, ellipfm1, ellipk_array, ellipe_array, ellipkm1_array, ellipem1_array
   public :: ellipj, ellipjm1, ellipj_array, ellipjm1_array
   public :: ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array
   public :: ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array

@@ -16,8 +16,8 @@ module pendula_jacobi
   use pendula_elliptic_ke, only: ellipk, ellipkm1
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_CORE, MODULUS_RECIPROCAL, &
                                       MODULUS_IMAGINARY
-  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, taylor_row_at, &
-                                   ntay, tab_step, tab_inv_step, khi_tab_max
+  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, ellipj_point, ellipjm1_point, &
+                                   taylor_row_at, ntay, tab_step, tab_inv_step, khi_tab_max
   implicit none
   private
 
@@ -166,7 +166,7 @@ contains
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
-    call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., present(am), sn, cn, dn, a)
+    call ellipj_point(u, m, present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipj
 
@@ -208,8 +208,7 @@ contains
     call outputs_mismatch('ellipjm1_array', size(u), sn, cn, dn, status, bad, am, 'mc', size(mc))
     if (bad) return
     do i = 1, size(u)
-      call eval_at_param(jacobi_param(1 - mc(i), mc(i), .true., .false.), u(i), .false., present(am), &
-                         sn(i), cn(i), dn(i), a)
+      call ellipjm1_point(u(i), mc(i), present(am), sn(i), cn(i), dn(i), a)
       if (present(am)) am(i) = a
     end do
   end subroutine ellipjm1_array
@@ -224,7 +223,7 @@ contains
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
-    call eval_at_param(jacobi_param(1 - mc, mc, .true., .false.), u, .false., present(am), sn, cn, dn, a)
+    call ellipjm1_point(u, mc, present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipjm1
 

@@ -20,7 +20,7 @@ module pendula_jacobi_kernel
   implicit none
   private
 
-  public :: eval_at_param, eval_table_array, ellipj_points, taylor_row_at
+  public :: eval_at_param, eval_table_array, ellipj_points, ellipj_point, ellipjm1_point, taylor_row_at
   public :: ntay, tab_step, tab_inv_step, khi_tab_max
 
   !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
@@ -400,30 +400,56 @@ contains
   !> One point of ellipj_points: the inline path for 0 <= m < 1 and |u| < 9 K, else the
   !> general one (the same numbers as the elemental ellipj).
   pure subroutine ellipj_point(u, m, want_am, sn, cn, dn, am)
-    real(wp), intent(in) :: u, m
-    logical, intent(in) :: want_am
-    real(wp), intent(out) :: sn, cn, dn, am
+    real(wp), intent(in) :: u  !< argument u (any real)
+    real(wp), intent(in) :: m  !< parameter m (any real)
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am)
     logical :: done
     done = .false.
     if (.not. (ieee_is_nan(m) .or. ieee_is_nan(u))) then
-      if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
+      if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, 1 - m, .false., want_am, sn, cn, dn, am, done)
     end if
     if (.not. done) call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., &
                                        want_am, sn, cn, dn, am)
   end subroutine ellipj_point
 
+  !> One point of ellipjm1 (mc = 1 - m given): the inline path for 0 < mc <= 1, else the
+  !> general one.  The same numbers as jacobi_param(1 - mc, mc, usemc) + eval_at_param:
+  !> that core parameter is m = fl(1 - mc) with mc exact (no low part), as here; the
+  !> light motions of the undamped pendulum evaluate every state through this.
+  pure subroutine ellipjm1_point(u, mc, want_am, sn, cn, dn, am)
+    real(wp), intent(in) :: u  !< argument u (any real)
+    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    logical, intent(in) :: want_am  !< whether am is computed
+    real(wp), intent(out) :: sn  !< sn(u|m)
+    real(wp), intent(out) :: cn  !< cn(u|m)
+    real(wp), intent(out) :: dn  !< dn(u|m)
+    real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am, else 0)
+    logical :: done
+    done = .false.
+    if (.not. (ieee_is_nan(mc) .or. ieee_is_nan(u))) then
+      if (mc > 0 .and. mc <= 1) call ellipj_unit_short(u, 1 - mc, mc, .true., want_am, sn, cn, dn, am, done)
+    end if
+    if (.not. done) call eval_at_param(jacobi_param(1 - mc, mc, .true., .false.), u, .false., &
+                                       want_am, sn, cn, dn, am)
+  end subroutine ellipjm1_point
+
   !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) with all work inline; the
   !> same steps as jacobi_param + eval_at_param.  Beyond |u| ~ 9 K the reduction takes K
   !> in double-double (k_double_double, a compensated AGM), as eval_at_param does.
   !> done = .false. leaves the point to the general path.
-  pure subroutine ellipj_unit_short(u, m, want_am, sn, cn, dn, am, done)
-    real(wp), intent(in) :: u, m
-    logical, intent(in) :: want_am
+  !> mc = 1 - m is given (exact: the low part of 1 - m is then 0, as jacobi_param takes it
+  !> when usemc) or is fl(1 - m) (the low part (1 - mc) - m).
+  pure subroutine ellipj_unit_short(u, m, mc, mc_exact, want_am, sn, cn, dn, am, done)
+    real(wp), intent(in) :: u, m, mc
+    logical, intent(in) :: mc_exact, want_am
     real(wp), intent(out) :: sn, cn, dn, am
     logical, intent(out) :: done
     real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
-    real(wp) :: mc, mcl, k, khi, klo, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
-    mc = 1 - m
+    real(wp) :: mcl, k, khi, klo, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
     k = k_unit(m, mc)
     v = abs(u)
     ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
@@ -433,7 +459,8 @@ contains
       r = (v - n*c1) - n*c2
     else if (n < nmax) then
       ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
-      mcl = (1 - mc) - m
+      mcl = 0
+      if (.not. mc_exact) mcl = (1 - mc) - m
       call k_double_double(mc, mcl, khi, klo)
       n = anint(v/(2*khi))
       call veltkamp_split(2*khi, c1, c2)

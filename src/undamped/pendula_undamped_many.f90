@@ -11,8 +11,9 @@ module pendula_undamped_many
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
+  use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi, sin_apart
+  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_apart
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many
   implicit none
   private
@@ -188,18 +189,15 @@ contains
       i1 = min(n, i0 + nb - 1)
       if (amplitudes_only) then
         ! Omega0 = 0 and one w0 for all: 1 - m = cos^2(theta0/2) for |theta0| < pi
-        ! (what state_parameter gives there, q = qlo = 0), a libration; others below
-        do i = i0, i1
-          if (abs(theta0(i)) < pi) then
-            ch = cos(0.5_wp*theta0(i))
-            period(i) = 4*ellipkm1(ch*ch)
-            den(i - i0 + 1) = w0(1)
-          else
-            exit
-          end if
-        end do
-        if (i > i1) then
-          period(i0:i1) = period(i0:i1)/den(1:i1 - i0 + 1)
+        ! (what state_parameter gives there, q = qlo = 0), a libration; others below.
+        ! The cosines in one vectorised pass (cos_half: no libm call), then K.
+        if (all(abs(theta0(i0:i1)) < pi)) then
+          do i = i0, i1
+            ch = cos_half(0.5_wp*theta0(i))
+            den(i - i0 + 1) = ch*ch
+          end do
+          call k_unit_many(den(1:i1 - i0 + 1), period(i0:i1))   ! = ellipkm1, 0 < 1 - m <= 1 here
+          period(i0:i1) = (4*period(i0:i1))/w0(1)
           cycle
         end if
       end if
@@ -273,8 +271,8 @@ contains
       regime = REGIME_ROTATION
       return
     end if
-    ch0 = cos(h)
-    near = abs(q) >= 0.5_wp*ch0 .and. abs(q) <= 2*ch0
+    ch0 = cos_half(h)
+    near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
     have_sin = want_m .or. hlo /= 0 .or. near
     sh0 = 0
     if (have_sin) sh0 = sin_apart(h)

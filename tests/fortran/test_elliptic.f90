@@ -97,6 +97,21 @@ program test_elliptic
   call ellipe_array(s, d, st)
   call t%check_true(all(c == ellipk(s) .or. (c /= c .and. ellipk(s) /= ellipk(s))), 'ellipk_array = ellipk')
   call t%check_true(all(d == ellipe(s) .or. (d /= d .and. ellipe(s) /= ellipe(s))), 'ellipe_array = ellipe')
+  ! complements from 1e-320 to 1 (whole blocks of 256 in the logarithmic forms, then mixed
+  ! ones), with 0, p > 1 and NaN; and m = 1 - p through ellipk_array/ellipe_array
+  s = [(10.0_wp**(-320 + 0.16_wp*i), i=0, 2000)]
+  s(700) = 0; s(1900) = 2.5_wp; s(1950) = ieee_value(1.0_wp, ieee_quiet_nan)
+  call ellipkm1_array(s, c, st)
+  call ellipem1_array(s, d, st)
+  call t%check_true(all(c == ellipkm1(s) .or. (c /= c .and. ellipkm1(s) /= ellipkm1(s))), 'ellipkm1_array = ellipkm1')
+  call t%check_true(all(d == ellipem1(s) .or. (d /= d .and. ellipem1(s) /= ellipem1(s))), 'ellipem1_array = ellipem1')
+  s = 1 - s
+  call ellipk_array(s, c, st)
+  call ellipe_array(s, d, st)
+  call t%check_true(all(c == ellipk(s) .or. (c /= c .and. ellipk(s) /= ellipk(s))), 'ellipk_array = ellipk near m = 1')
+  call t%check_true(all(d == ellipe(s) .or. (d /= d .and. ellipe(s) /= ellipe(s))), 'ellipe_array = ellipe near m = 1')
+  call ellipkm1_array(s(1:10), c(1:3), st)
+  call t%check_true(st%code == PENDULA_ERR_SIZE .and. all(ieee_is_nan(c(1:3))), 'ellipkm1_array size check')
 
   ! ---- 4K period and F(am(u)) = u
   x = ellipk(0.8_wp)
