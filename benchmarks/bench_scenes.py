@@ -362,7 +362,7 @@ def rounding_note(rows):
 def economy_by_model(rows):
     """Wall-time ratio solve / cheapest adequate run_model, by the model solve chose."""
     table = []
-    for model in ("small_angle", "exact", "linear", "rk4", "cvode"):
+    for model in ("small_angle", "exact", "linear", "rk4", "cvode", "taylor"):
         x = np.array(
             [
                 r["t_solve"] / r["t_cheapest"]

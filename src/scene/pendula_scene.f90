@@ -110,7 +110,7 @@ contains
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     integer(i8), intent(in), optional :: max_steps  !< work budget [RK4 steps], >= 1; default SCENE_STEP_CAP
     integer(i8) :: c0, c1, rate
-    integer :: model
+    integer :: model, used_model
     real(wp) :: est, tend, budget, k, phi0, v0
     logical :: is_top, done
     character(len=:), allocatable :: why
@@ -148,7 +148,9 @@ contains
       if (done) then
         model = SCENE_MODEL_RK4
       else if (status%code == PENDULA_OK) then
-        call solve_integrated(scene, model, tend, budget, why, result, status, control)
+        ! the model that made the answer (a hand-over's part picks its own)
+        call solve_integrated(scene, model, tend, budget, why, result, status, control, used_model)
+        model = used_model
         call fold_event_time(scene, result)
         if (scene%model == SCENE_MODEL_AUTO) call second_try(scene, tend, budget, model, why, result, status, &
                                                              control)

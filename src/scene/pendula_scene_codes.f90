@@ -64,10 +64,11 @@ module pendula_scene_codes
   real(wp), parameter :: SCENE_STEP_CAP = 2.0e9_wp
   real(wp), parameter :: SCENE_CVODE_STEP_COST = 20
   !> A Taylor step (pendula_taylor) counts as SCENE_TAYLOR_STEP_COST RK4 steps
-  !> of the budget: its series of order p costs ~4 + 0.6 p of them (measured:
-  !> 300 ns a step at order 11 .. 550 ns at order 22, an RK4 step ~29 ns), at
-  !> most 18 at the largest order.
-  real(wp), parameter :: SCENE_TAYLOR_STEP_COST = 18
+  !> of the budget and of the work prediction: its series of order p costs
+  !> ~0.55 p of them (measured, best of 9 interleaved runs of 1500-7000 steps:
+  !> 12 at order 22 .. 20 at order 35, the orders of tol 1e-4 .. 1e-11 over
+  !> long windows; 0.53-0.58 p at every order measured).
+  real(wp), parameter :: SCENE_TAYLOR_STEP_COST = 16
   !> Safety factor on the linear model's a priori nonlinearity estimates
   !> (pendula_scene_estimates, and the per-event bound of pendula_scene_events;
   !> calibrated: within 3 % of the true error where tight).

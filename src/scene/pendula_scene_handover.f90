@@ -33,7 +33,7 @@ module pendula_scene_handover
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp, i8
   use pendula_format, only: format_sci
-  use pendula_status, only: status_t, check_alloc, PENDULA_OK
+  use pendula_status, only: status_t, check_alloc, PENDULA_OK, PENDULA_ERR_CANCELLED
   use pendula_constants, only: pi
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state
   use pendula_control, only: CONTROL_SIZE
@@ -42,11 +42,11 @@ module pendula_scene_handover
                                  SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate
+  use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate, taylor_steps
   use pendula_scene_integrated, only: solve_rk4, solve_cvode, solve_taylor
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error, linear_error_at, &
-                                  event_rate
+                                  event_rate, event_grid_intervals
   implicit none
   private
 
@@ -70,6 +70,10 @@ module pendula_scene_handover
   !> before the first output: the integrators' a posteriori estimates
   !> (Richardson, two CVODE tolerances) assume errors well below the motion.
   real(wp), parameter :: SUB_TOL_REL = 1.0e-2_wp
+  !> want = events with the Taylor series: its whole-window run comes before
+  !> the hand-over when the part's event grid has more than this many
+  !> samples per predicted step (a sample costs ~0.4 of a step).
+  real(wp), parameter :: WHOLE_FIRST = 8
   !> Swing [rad] whose linear-model nonlinearity handover_time scales from.
   real(wp), parameter :: AREF = 0.1_wp
 
@@ -79,7 +83,7 @@ contains
   !> (RK4 or CVODE), handing over to the linear closed form once the motion
   !> has decayed enough (gamma > 0; want state, theta, final, energy or events).  why:
   !> the reason so far; the hand-over, when made, is appended.
-  subroutine solve_integrated(scene, model, tend, budget, why, result, status, control)
+  subroutine solve_integrated(scene, model, tend, budget, why, result, status, control, used)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene)
     integer, intent(in) :: model  !< SCENE_MODEL_RK4, SCENE_MODEL_CVODE or SCENE_MODEL_TAYLOR
     real(wp), intent(in) :: tend  !< end of the window [s], t(n) (window_end), >= 0
@@ -88,6 +92,9 @@ contains
     type(scene_result_t), intent(inout) :: result  !< gets the answer, its error estimate and cost
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
+    !> optional: the integrator that made the answer (a hand-over's part picks
+    !> its own for its length: it may differ from model)
+    integer, intent(out), optional :: used
     type(scene_t) :: sub
     type(scene_result_t) :: part, fresh
     type(scene_cost_t) :: spent
@@ -97,12 +104,39 @@ contains
     type(scene_result_t) :: best
     real(wp) :: best_ts
     integer :: best_model
-    logical :: done
+    logical :: done, whole_run
+    type(scene_result_t) :: whole
+    type(status_t) :: st0
     best%event_time_error = ieee_value(1.0_wp, ieee_positive_inf)   ! none yet
     best_ts = 0
     best_model = model
+    if (present(used)) used = model
+    whole_run = .false.
     if (scene%gamma > 0 .and. scene%want == SCENE_WANT_EVENTS) then
+      ! the Taylor series finds the events on its step polynomials, with no
+      ! sample grid: where the hand-over's part would be sampled on an event
+      ! grid far denser than the series' steps (strong damping: 8 gamma
+      ! samples a second), its one run over the whole window first, the
+      ! hand-over only if that run's events miss tol (slow events near rest)
+      ts = handover_time(scene%theta0, scene%omega0, scene%w0, scene%gamma, scene%tol*scene%w0, tend)
+      if (model == SCENE_MODEL_TAYLOR .and. event_grid_intervals(scene, min(ts, tend)) > &
+          WHOLE_FIRST*taylor_steps(scene, tend, scene%tol)) then
+        st0 = status_t()
+        call solve_taylor(scene, tend, budget, whole, st0, control)
+        if (st0%code == PENDULA_OK .and. max(whole%error_estimate, whole%event_time_error) <= scene%tol) then
+          result = whole
+          return
+        end if
+        if (st0%code == PENDULA_ERR_CANCELLED) then
+          status = st0
+          return
+        end if
+        whole_run = st0%code == PENDULA_OK
+        if (.not. whole_run) whole = fresh
+        call add_cost(spent, whole%cost)
+      end if
       call events_handover(done)
+      if (done .and. present(used)) used = sub_model
       if (done .or. status%code /= PENDULA_OK) return
     else if (scene%gamma > 0 .and. (scene%want == SCENE_WANT_STATE .or. scene%want == SCENE_WANT_THETA .or. &
                                     scene%want == SCENE_WANT_FINAL .or. scene%want == SCENE_WANT_ENERGY)) then
@@ -136,6 +170,7 @@ contains
           result%setting = part%setting
           result%step = part%step
           result%rtol = part%rtol
+          if (present(used)) used = sub_model
           why = why//'; the motion has decayed by t = '//format_sci(ts, 4)//' s: '// &
                 trim(integrator_label(sub_model))//' up to there, then the linear '// &
                 'closed form from that state (nonlinearity ~'//format_sci(elin, 4)//' rad, carried error ~'// &
@@ -146,14 +181,21 @@ contains
         ts = ts + max(0.5_wp*ts, handover_time(xs, vs, scene%w0, scene%gamma, scene%tol, tend - ts))
       end do
     end if
-    call run(scene, model, tend, result)
-    call add_cost(result%cost, spent)
+    if (whole_run) then
+      ! the whole window's Taylor run is already done (its cost is in spent)
+      result = whole
+      result%cost = spent
+    else
+      call run(scene, model, tend, result)
+      call add_cost(result%cost, spent)
+    end if
     ! events: a hand-over that fell short of tol may still beat the whole window
     if (status%code == PENDULA_OK .and. scene%want == SCENE_WANT_EVENTS .and. &
         best%event_time_error < result%event_time_error) then
       spent = result%cost
       result = best
       result%cost = spent
+      if (present(used)) used = best_model
       call append_handover_why()
     end if
   contains

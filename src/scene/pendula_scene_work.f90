@@ -200,7 +200,7 @@ contains
     grid = 0
     if (scene%want == SCENE_WANT_EVENTS .and. model /= SCENE_MODEL_TAYLOR) grid = 2*real(event_grid_intervals(scene, span), wp)
     if (model == SCENE_MODEL_TAYLOR) then
-      work = SCENE_TAYLOR_STEP_COST*taylor_steps(scene, span)
+      work = SCENE_TAYLOR_STEP_COST*taylor_steps(scene, span, tol)
     else if (model == SCENE_MODEL_RK4) then
       if (setting > 0) then
         work = max(steps(span, setting), grid)

@@ -11,6 +11,7 @@ import pytest
 from helpers import ROOT, load_file
 
 import pendula
+from pendula._codes import TAYLOR_STEP_COST
 
 ref = load_file(ROOT / "benchmarks" / "scene_reference.py")
 
@@ -94,19 +95,27 @@ def test_critically_damped_handover_succeeds_at_the_first_try(gamma_over_2w0):
     """Near critical damping the decay is (1 + w0 t) e^(-w0 t), slower than e^(-w0 t): the
     predicted hand-over time counts the polynomial factor, so the first try succeeds (at
     most one RK4 pair and its refinement, 4 runs; a too early prediction failed and cost
-    a second try: 8 runs, twice the steps)."""
+    a second try: 8 runs, twice the steps).  RK4 is forced: the auto choice is the Taylor
+    series up to the hand-over (one run, ~20 steps of ~16 RK4 steps each against RK4's
+    ~1600), which must be cheaper than RK4's hand-over in counted work and as honest."""
     w0 = pendula.Scene(0.0, want="period").w0
     s = pendula.Scene(
         theta0=-1.2, omega0=-0.03, t=np.linspace(0, 20, 89), gamma=2 * w0 * gamma_over_2w0, tol=6.8e-8, want="state"
     )
-    r = pendula.solve(s)
+    th, om = ref.Taylor(ref.exact_w0(9.8, 4.9), s.gamma).solve(list(s.t), s.theta0, s.omega0)[:2]
+
+    def error(r):
+        pairs = zip(r.theta, r.omega, th, om)
+        return max(max(abs(mp.mpf(float(a)) - x), abs(mp.mpf(float(b)) - y) / w0) for a, b, x, y in pairs)
+
+    r = pendula.solve(s, model="rk4")
     assert r.model == "rk4" and r.tol_met and "decayed by" in r.reason, r.reason
     assert r.cost["runs"] <= 4, r.cost
-    th, om = ref.Taylor(ref.exact_w0(9.8, 4.9), s.gamma).solve(list(s.t), s.theta0, s.omega0)[:2]
-    err = max(
-        max(abs(mp.mpf(float(a)) - x), abs(mp.mpf(float(b)) - y) / w0) for a, b, x, y in zip(r.theta, r.omega, th, om)
-    )
-    assert err <= r.error_estimate
+    assert error(r) <= r.error_estimate
+    auto = pendula.solve(s)
+    assert auto.model == "taylor" and auto.tol_met and "decayed by" in auto.reason, auto.reason
+    assert auto.cost["runs"] == 1 and auto.cost["steps"] * TAYLOR_STEP_COST < r.cost["steps"] / 2, (auto.cost, r.cost)
+    assert error(auto) <= auto.error_estimate <= s.tol
 
 
 def test_rk4_refinement_progresses_when_outputs_are_denser_than_the_step():

@@ -12,6 +12,7 @@ import pytest
 from helpers import load_file
 
 import pendula
+from pendula._codes import TAYLOR_STEP_COST
 
 _BENCH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
 ref = load_file(_BENCH / "scene_reference.py")
@@ -69,14 +70,14 @@ def _grid_scene(scene_id):
 
 
 @pytest.mark.parametrize(
-    "scene_id",
+    "scene_id, model",
     [
-        126,  # 0.017 rad about 4 pi, gamma = 0.21 over 64 s: the late events' rates are ~1e-4 rad/s
-        222,  # 1.2 rad swing over 324 s at gamma = 0.19: 318 events, the last at amplitudes ~1e-13 rad
-        263,  # critical damping over 51 s, no event: RK4 over the first 5 s only
+        (126, None),  # 0.017 rad about 4 pi, gamma = 0.21 over 64 s: the late events' rates are ~1e-4 rad/s
+        (222, None),  # 1.2 rad swing over 324 s at gamma = 0.19: 318 events, the last at amplitudes ~1e-13 rad
+        (263, "rk4"),  # critical damping over 51 s, no event: RK4 over the first 5 s only (auto: see below)
     ],
 )
-def test_events_hand_over_to_the_linear_closed_form(scene_id):
+def test_events_hand_over_to_the_linear_closed_form(scene_id, model):
     """A damped event scene integrates until the motion has decayed, then takes the linear
     closed form's events, each off by the linear model's nonlinearity at that time (which
     decays with the swing, so over the rate it stays a phase error) plus the integrator's
@@ -85,8 +86,24 @@ def test_events_hand_over_to_the_linear_closed_form(scene_id):
     the whole window.  The estimate bounds the true event times (Taylor reference), and the
     count matches it."""
     sc, s = _grid_scene(scene_id)
-    r = pendula.solve(s)
+    r = pendula.solve(s, model=model)
     assert r.tol_met and "then the linear closed form" in r.reason, r.reason
+    err = _true_event_error(
+        r, sc["theta0"], sc["g"], sc["length"], sc["gamma"], float(np.atleast_1d(sc["t"])[-1]), omega0=sc["omega0"]
+    )
+    assert err <= r.event_time_error <= sc["tol"]
+
+
+def test_a_critically_damped_event_scene_takes_one_taylor_run():
+    """Scene 263 (critical damping over 51 s, no event): the Taylor series finds the events
+    on its step polynomials over the whole window in ~50 steps (~16 RK4 steps each), where
+    RK4's hand-over samples its first 5 s on an event grid of ~9000 RK4 steps; solve takes
+    the series, and its answer is as honest (the estimate bounds the true event times)."""
+    sc, s = _grid_scene(263)
+    rk4 = pendula.solve(s, model="rk4")
+    r = pendula.solve(s)
+    assert r.model == "taylor" and r.tol_met and r.cost["runs"] == 1, r.reason
+    assert r.cost["steps"] * TAYLOR_STEP_COST < rk4.cost["steps"] / 5, (r.cost, rk4.cost)
     err = _true_event_error(
         r, sc["theta0"], sc["g"], sc["length"], sc["gamma"], float(np.atleast_1d(sc["t"])[-1]), omega0=sc["omega0"]
     )
