@@ -121,7 +121,7 @@ def _glue_error_calls():
         lambda: glue.linear_damped_one_f2py(one, 0.5, 0.0, -2.0, 0.1),
         lambda: glue.scene_physics_f2py(9.8, 4.9, 0.1, 1.0, 0.5, 1, 1, 1),
         lambda: glue.scene_check_f2py(t, 0.5, 0.0, 2.0, 0.1, -1.0, 1, 0, 0, 1, 0.0, 1.0, 0.0),  # no drive
-        lambda: glue.ellip_ke_f2py(_codes.GLUE_ELLIPK, np.array([2.0, 3.0])),
+        lambda: glue.ellip_ke_f2py(_codes.GLUE_ELLIPK, np.array([2.0, 3.0]), np.empty(2)),
     ]
     if HAVE_CVODE:
         calls += [
@@ -176,11 +176,16 @@ def test_fork_while_threads_format_error_messages():
     child_calls = _public_error_calls()
     stop = threading.Event()
 
+    crashed = []  # a hammer that dies (e.g. a glue signature changed) would leave the forks unhammered
+
     def hammer(offset):
         i = offset
-        while not stop.is_set():
-            _run(calls[i % len(calls)])
-            i += 1
+        try:
+            while not stop.is_set():
+                _run(calls[i % len(calls)])
+                i += 1
+        except Exception as exc:
+            crashed.append(repr(exc))
 
     threads = [threading.Thread(target=hammer, args=(k,), daemon=True) for k in range(N_THREADS)]
     for th in threads:
@@ -212,6 +217,7 @@ def test_fork_while_threads_format_error_messages():
         stop.set()
         for th in threads:
             th.join()
+    assert not crashed, f"hammer threads died: {crashed[:2]}"
     assert (hung, failed) == (0, 0), f"{hung} of {N_FORKS} forked children hung and {failed} failed"
 
 
