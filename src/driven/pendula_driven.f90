@@ -20,8 +20,8 @@ module pendula_driven
   use pendula_batch_support, only: batch_threads
   use pendula_drive, only: drive_t, DRIVEN_DEFAULT_STEPS
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_partial, lanes_finite
-  use pendula_driven_support, only: driven_params_t, params_check, params_prepare, params_lanes, &
-                                    params_summary, first_message
+  use pendula_driven_support, only: driven_params_t, params_check, params_prepare, &
+                                    params_summary, first_message, block_open
   implicit none
   private
   public :: driven_solve, driven_batch_solve
@@ -208,19 +208,11 @@ contains
     real(wp) :: y(nl), u(nl), fr(nl)
     integer(i8) :: cnt, mk(nl), work
     integer :: nxt(nl), nb, l, j, nt, chunk
-    logical :: alive(nl)
-    type(status_t) :: st
+    logical :: alive(nl), go
     nb = size(idx)
-    if (nb == 0) return
-    if (present(control)) then
-      if (cancel_requested(control)) return
-    end if
     nt = size(t)
-    call params_lanes(p, idx, t(1), b, y, u, nsteps, st)
-    if (st%code /= PENDULA_OK) then
-      codes(idx) = st%code   ! the block's drive tables could not be allocated
-      return
-    end if
+    call block_open(p, idx, t(1), b, y, u, codes, go, control, nsteps)
+    if (.not. go) return
     nxt = 1
     alive = .false.
     alive(1:nb) = .true.

@@ -22,7 +22,7 @@ module pendula_driven_maps
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
-  use pendula_driven_support, only: driven_params_t, params_check, params_prepare, params_lanes, &
+  use pendula_driven_support, only: driven_params_t, params_check, params_prepare, block_open, &
                                     params_summary, first_message, wrap_angle, pick
   implicit none
   private
@@ -149,21 +149,14 @@ contains
     integer, intent(inout) :: codes(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
-    type(status_t) :: alloc_st
+    logical :: go
     real(wp) :: y(nl), u(nl), yfirst(nl)
     integer :: j0(nl), rec(nl), nb, l, j, k
     integer(i8) :: work
     logical :: ok(nl)
     nb = size(idx)
-    if (nb == 0) return
-    if (present(control)) then
-      if (cancel_requested(control)) return
-    end if
-    call params_lanes(p, idx, 0.0_wp, b, y, u, status=alloc_st)
-    if (alloc_st%code /= PENDULA_OK) then
-      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
-      return
-    end if
+    call block_open(p, idx, 0.0_wp, b, y, u, codes, go, control)
+    if (.not. go) return
     do l = 1, nl
       j0(l) = modulo(nint(p%nsteps*(modulo(section_phase - b%phase(l), 2*pi)/(2*pi))), p%nsteps)
     end do
@@ -385,7 +378,7 @@ contains
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     integer, parameter :: nbk = LYAPUNOV_BLOCKS
     type(lanes_t) :: b
-    type(status_t) :: alloc_st
+    logical :: go
     real(wp) :: y(nl), u(nl), v(nl, 4), r11, r22, r12, bsum(2, nbk, nl), tper
     integer :: nb, nlane, l, k, kb, e, cnt(nbk), st(nl), s, c0
     integer(i8) :: work
@@ -394,17 +387,11 @@ contains
     nb = size(idx)
     if (nb == 0) return
     nlane = nb*ncopy
-    if (present(control)) then
-      if (cancel_requested(control)) return
-    end if
     do l = 1, nl
       st(l) = min((l - 1)/ncopy + 1, nb)
     end do
-    call params_lanes(p, idx(st), 0.0_wp, b, y, u, status=alloc_st)
-    if (alloc_st%code /= PENDULA_OK) then
-      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
-      return
-    end if
+    call block_open(p, idx(st), 0.0_wp, b, y, u, codes, go, control)
+    if (.not. go) return
     do l = 1, nl
       y(l) = y(l) + mod(l - 1, ncopy)*LYAPUNOV_SPREAD
     end do

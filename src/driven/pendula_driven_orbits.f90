@@ -23,7 +23,7 @@ module pendula_driven_orbits
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_batch_support, only: batch_threads
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
-  use pendula_driven_support, only: driven_params_t, params_check, params_prepare, params_lanes, &
+  use pendula_driven_support, only: driven_params_t, params_check, params_prepare, block_open, &
                                     params_summary, first_message, wrap_angle
   implicit none
   private
@@ -254,21 +254,14 @@ contains
     real(wp), intent(inout) :: theta_p(:), omega_p(:), mult(:, :), residual(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
-    type(status_t) :: alloc_st
+    logical :: go
     real(wp) :: y(nl), u(nl), xs(nl), us(nl), v(nl, 4), fy(nl), fu(nl), mm(2, 2, nl), cyc(2, nmax, nl)
     real(wp) :: r1, r2, a, bb, c, d, det, d1, d2, res(nl)
     integer :: nb, l, k, it, per(nl), wnd(nl), kmax, m
     logical :: dead(nl), conv(nl), given(nl), cancelled
     nb = size(idx)
-    if (nb == 0) return
-    if (present(control)) then
-      if (cancel_requested(control)) return
-    end if
-    call params_lanes(p, idx, 0.0_wp, b, y, u, status=alloc_st)
-    if (alloc_st%code /= PENDULA_OK) then
-      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
-      return
-    end if
+    call block_open(p, idx, 0.0_wp, b, y, u, codes, go, control)
+    if (.not. go) return
     dead = .false.
     dead(nb + 1:) = .true.
     do l = 1, nl
@@ -565,20 +558,13 @@ contains
     real(wp), intent(inout) :: cyc(:, :, :)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
     type(lanes_t) :: b
-    type(status_t) :: alloc_st
+    logical :: go
     real(wp) :: y(nl), u(nl), c(2, nmax, nl)
     integer :: nb, l, per(nl), wnd(nl)
     logical :: dead(nl), cancelled
     nb = size(idx)
-    if (nb == 0) return
-    if (present(control)) then
-      if (cancel_requested(control)) return
-    end if
-    call params_lanes(p, idx, 0.0_wp, b, y, u, status=alloc_st)
-    if (alloc_st%code /= PENDULA_OK) then
-      codes(idx) = alloc_st%code   ! the block's drive tables could not be allocated
-      return
-    end if
+    call block_open(p, idx, 0.0_wp, b, y, u, codes, go, control)
+    if (.not. go) return
     dead = .false.
     call detect(b, nb, y, u, transient, nmax, tol, per, wnd, c, dead, codes, idx, control, cancelled)
     if (cancelled) return

@@ -8,7 +8,9 @@ module pendula_driven_support
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
   use pendula_format, only: format_int, format_general
+  use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: i8
+  use pendula_control, only: CONTROL_SIZE, cancel_requested
   use pendula_status, only: status_t, set_error, check_finite, check_alloc, PENDULA_OK, PENDULA_ERR_SIZE, &
                             PENDULA_ERR_DOMAIN, PENDULA_ERR_CANCELLED, PENDULA_ERR_UNSTABLE, PENDULA_ERR_MEMORY
   use pendula_drive, only: drive_t, check_driven, check_drive_kind
@@ -16,7 +18,7 @@ module pendula_driven_support
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup
   implicit none
   private
-  public :: driven_params_t, params_check, params_state, params_prepare, first_message, params_lanes, &
+  public :: driven_params_t, params_check, params_state, params_prepare, first_message, params_lanes, block_open, &
             params_summary, wrap_angle, pick
 
   !> The parameters of a batch call (pointers-free copies of the caller's arrays).
@@ -213,6 +215,37 @@ contains
       if (present(status)) call set_error(status, st%code, st%message)
     end if
   end subroutine params_lanes
+
+  !> Open a block of lanes as params_lanes does, or say there is nothing to run
+  !> (go = .false.): no states, the call cancelled, or the block's drive tables
+  !> could not be allocated (then its states' codes are PENDULA_ERR_MEMORY).
+  subroutine block_open(p, idx, t0, b, y, u, codes, go, control, nsteps)
+    type(driven_params_t), intent(in) :: p  !< the call's parameters
+    integer, intent(in) :: idx(:)  !< the state of each lane (valid ones; may repeat)
+    real(wp), intent(in) :: t0  !< start time [s]
+    type(lanes_t), intent(inout) :: b  !< the block
+    real(wp), intent(out) :: y(DRIVEN_LANES)  !< initial angles [rad]
+    real(wp), intent(out) :: u(DRIVEN_LANES)  !< initial angular velocities [rad/s]
+    integer, intent(inout) :: codes(:)  !< status code of each state of the call
+    logical, intent(out) :: go  !< whether the block runs
+    integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag and progress
+    integer, intent(in), optional :: nsteps  !< steps per period other than p%nsteps
+    type(status_t) :: st
+    integer :: l
+    go = .false.
+    if (size(idx) == 0) return
+    if (present(control)) then
+      if (cancel_requested(control)) return
+    end if
+    call params_lanes(p, idx, t0, b, y, u, nsteps, st)
+    if (st%code /= PENDULA_OK) then
+      do l = 1, size(idx)   ! idx may repeat a state: no vector-subscript assignment
+        codes(idx(l)) = st%code
+      end do
+      return
+    end if
+    go = .true.
+  end subroutine block_open
 
   !> The call's status from its per-state codes: OK; cancelled; or the first
   !> failed state's code with its message (first_msg, from params_state or
