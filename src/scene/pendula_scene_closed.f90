@@ -17,7 +17,7 @@ module pendula_scene_closed
                                  SCENE_WANT_PERIOD, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, window_end
   use pendula_scene_setup, only: alloc_outputs, finish_outputs, empty_outputs
-  use pendula_scene_estimates, only: exact_time_error
+  use pendula_scene_bounds, only: exact_time_error
   use pendula_scene_events, only: append_events, trim_events, event_time_error, sign_change, bottom_sign
   implicit none
   private

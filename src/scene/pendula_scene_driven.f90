@@ -31,7 +31,8 @@ module pendula_scene_driven
   use pendula_scene_codes, only: SCENE_MODEL_AUTO, SCENE_MODEL_LINEAR, SCENE_MODEL_RK4, SCENE_WANT_FINAL
   use pendula_scene_types, only: scene_t, scene_result_t, window_end, swing
   use pendula_scene_setup, only: alloc_outputs, finish_outputs, check_driven_model
-  use pendula_scene_estimates, only: linear_estimate, integrator_rounding, slow_rate
+  use pendula_scene_estimates, only: integrator_rounding, slow_rate
+  use pendula_scene_bounds, only: linear_estimate
   implicit none
   private
 

@@ -42,7 +42,8 @@ module pendula_scene_handover
                                  SCENE_WANT_STATE, SCENE_WANT_THETA, SCENE_WANT_FINAL, SCENE_WANT_ENERGY, SCENE_WANT_EVENTS
   use pendula_scene_types, only: scene_t, scene_result_t, scene_cost_t, swing, scene_like
   use pendula_scene_setup, only: alloc_outputs, finish_outputs
-  use pendula_scene_estimates, only: choose_model, linear_estimate, slow_rate, taylor_steps
+  use pendula_scene_estimates, only: choose_model, slow_rate, taylor_steps
+  use pendula_scene_bounds, only: linear_estimate
   use pendula_scene_integrated, only: solve_rk4, solve_cvode, solve_taylor
   use pendula_scene_closed, only: solve_closed
   use pendula_scene_events, only: event_grid, grid_events, event_time_error, event_interp_error, linear_error_at, &
