@@ -17,7 +17,7 @@ module pendula_driven
   use pendula_status, only: status_t, set_error, check_alloc, check_increasing, check_size, check_same_size, PENDULA_OK, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_batch_support, only: batch_threads
+  use pendula_batch_support, only: batch_threads, failed_output
   use pendula_drive, only: drive_t, DRIVEN_DEFAULT_STEPS
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_partial, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, &
@@ -85,7 +85,8 @@ contains
   !> driven_solve for that state alone.  omega0, w0, gamma, amp, freq and
   !> phase have n elements or one (shared); kind (DRIVE_TORQUE or
   !> DRIVE_PIVOT) and nsteps are shared.  codes(i): state i's status code (a
-  !> failed state's outputs are zero); status: OK, cancelled, or the first
+  !> failed state's outputs are NaN, failed_output of pendula_batch_support;
+  !> every output of a refused call too); status: OK, cancelled, or the first
   !> failed state's code and message.  threads: OpenMP threads (0: default);
   !> control (optional, pendula_control): cancel flag, progress = finished
   !> states.  err_theta, err_omega (optional, shaped like theta): Richardson
@@ -145,14 +146,14 @@ contains
                        ' steps per drive period; split the window')
     end if
     if (status%code /= PENDULA_OK) then
-      codes = status%code
+      call refuse_all()
       return
     end if
     if (richardson) then
       allocate (th2(size(t), p%n), om2(size(t), p%n), stat=ist)
       call check_alloc(ist, 'the Richardson half-step run''s theta and omega', 2_i8*size(t, kind=i8)*p%n, 8, status)
       if (status%code /= PENDULA_OK) then
-        codes = status%code
+        call refuse_all()
         return
       end if
       th2 = 0
@@ -160,7 +161,10 @@ contains
     end if
     nth = batch_threads(threads)
     call params_prepare(p, codes, live, nlive, first_bad, msg, status)
-    if (status%code /= PENDULA_OK) return
+    if (status%code /= PENDULA_OK) then
+      call refuse_all()
+      return
+    end if
     nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nth) if(nth > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
@@ -182,10 +186,10 @@ contains
     end if
     do i = 1, p%n
       if (codes(i) /= PENDULA_OK) then
-        theta(:, i) = 0
-        omega(:, i) = 0
-        if (present(err_theta)) err_theta(:, i) = 0
-        if (present(err_omega)) err_omega(:, i) = 0
+        theta(:, i) = failed_output()
+        omega(:, i) = failed_output()
+        if (present(err_theta)) err_theta(:, i) = failed_output()
+        if (present(err_omega)) err_omega(:, i) = failed_output()
       end if
     end do
     ! the message of a block whose drive tables could not be allocated (run_block)
@@ -193,6 +197,17 @@ contains
     call check_alloc(1, 'the drive tables of a block of lanes', 2_i8*nl*(2_i8*p%nsteps + 1), 8, tables)
     call params_summary(codes, first_message(codes, first_bad, msg), status, ff, tables%message)
     if (present(first_failed)) first_failed = ff
+
+  contains
+
+    ! the call refused as a whole: every state gets its code, every output NaN
+    subroutine refuse_all()
+      if (status%code /= PENDULA_OK) codes = status%code
+      theta = failed_output()
+      omega = failed_output()
+      if (present(err_theta)) err_theta = failed_output()
+      if (present(err_omega)) err_omega = failed_output()
+    end subroutine refuse_all
   end subroutine driven_batch_solve
 
   ! The states idx(:) as one block of lanes, stepping the grid and emitting

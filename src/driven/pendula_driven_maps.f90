@@ -20,7 +20,7 @@ module pendula_driven_maps
   use pendula_status, only: status_t, set_error, check_alloc, check_finite, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_batch_support, only: batch_threads
+  use pendula_batch_support, only: batch_threads, failed_output
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, block_open, &
                                     params_summary, first_message, wrap_angle, pick
@@ -59,7 +59,8 @@ contains
   !> mean_omega(i): the mean angular velocity over the nrec periods from the
   !> first recorded point [rad/s] (mean_omega/Omega is the rotation number:
   !> turns per drive period).  codes, status, threads, control (progress =
-  !> finished states) and first_failed as driven_batch_solve.
+  !> finished states) and first_failed as driven_batch_solve; a failed
+  !> state's outputs are NaN (every output of a refused call too).
   subroutine driven_poincare(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, section_phase, &
                              transient, nrec, theta_s, omega_s, mean_omega, codes, status, threads, control, first_failed)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
@@ -102,6 +103,9 @@ contains
     call check_same_size('omega_s', size(omega_s), 'nrec * size(theta0)', nrec*size(theta0), status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
+      theta_s = failed_output()
+      omega_s = failed_output()
+      mean_omega = failed_output()
       return
     end if
     nth = batch_threads(threads)
@@ -115,9 +119,9 @@ contains
     !$omp end parallel do
     do i = 1, p%n
       if (codes(i) /= PENDULA_OK) then
-        theta_s(:, i) = 0
-        omega_s(:, i) = 0
-        mean_omega(i) = 0
+        theta_s(:, i) = failed_output()
+        omega_s(:, i) = failed_output()
+        mean_omega(i) = failed_output()
       end if
     end do
     call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
@@ -245,9 +249,9 @@ contains
       call set_error(status, PENDULA_ERR_DOMAIN, 'parameter = '//format_int(which)// &
                      ' is out of range: it must be in [1, 5] (amplitude, frequency, phase, gamma, w0)')
       codes = status%code
-      theta_s = 0
-      omega_s = 0
-      mean_omega = 0
+      theta_s = failed_output()
+      omega_s = failed_output()
+      mean_omega = failed_output()
       if (present(first_failed)) first_failed = 0
       return
     end if
@@ -255,9 +259,9 @@ contains
     call check_alloc(ist, 'the bifurcation''s start angles', int(n, i8), 8, status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
-      theta_s = 0
-      omega_s = 0
-      mean_omega = 0
+      theta_s = failed_output()
+      omega_s = failed_output()
+      mean_omega = failed_output()
       if (present(first_failed)) first_failed = 0
       return
     end if
@@ -299,7 +303,8 @@ contains
   !> the part of half the gap between the means of the two halves that this
   !> noise does not explain (a running average still drifting); periods >=
   !> LYAPUNOV_BLOCKS.  Its coverage is checked against a long reference in
-  !> the tests.
+  !> the tests.  codes, status, threads, control and first_failed as
+  !> driven_poincare (a failed state's lyap and lyap_err are NaN).
   subroutine driven_lyapunov(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, transient, periods, &
                              lyap, lyap_err, codes, status, threads, control, first_failed, orbits)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
@@ -345,6 +350,8 @@ contains
     call check_same_size('lyap_err', size(lyap_err), '2 * size(theta0)', 2*size(theta0), status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
+      lyap = failed_output()
+      lyap_err = failed_output()
       return
     end if
     nth = batch_threads(threads)
@@ -359,8 +366,8 @@ contains
     !$omp end parallel do
     do i = 1, p%n
       if (codes(i) /= PENDULA_OK) then
-        lyap(:, i) = 0
-        lyap_err(:, i) = 0
+        lyap(:, i) = failed_output()
+        lyap_err(:, i) = failed_output()
       end if
     end do
     call params_summary(codes, first_message(codes, first_bad, msg), status, ff)

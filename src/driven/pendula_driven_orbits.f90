@@ -21,7 +21,7 @@ module pendula_driven_orbits
   use pendula_status, only: status_t, set_error, check_alloc, check_positive, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_MEMORY
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_batch_support, only: batch_threads
+  use pendula_batch_support, only: batch_threads, failed_output
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, block_open, &
                                     params_summary, first_message, wrap_angle
@@ -161,7 +161,9 @@ contains
   !> multipliers mult(:, i) = [re1, im1, re2, im2] (largest modulus first;
   !> stable when that modulus is < 1) and Newton's final residual(i).
   !> period_in has n elements or one.  codes, status, threads, control
-  !> (progress = finished states) and first_failed as driven_poincare.
+  !> (progress = finished states) and first_failed as driven_poincare: a
+  !> failed state's period and winding are 0 and its real outputs NaN (every
+  !> output of a refused call too).
   subroutine driven_orbits(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, period_in, transient, &
                         nmax, tol, period, winding, theta_p, omega_p, mult, residual, codes, status, threads, control, first_failed)
     real(wp), intent(in) :: theta0(:)  !< initial angles [rad] at t = 0, n = size(theta0)
@@ -220,6 +222,10 @@ contains
     call check_same_size('mult', size(mult), '4 * size(theta0)', 4*n, status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
+      theta_p = failed_output()
+      omega_p = failed_output()
+      mult = failed_output()
+      residual = failed_output()
       return
     end if
     nth = batch_threads(threads)
@@ -235,10 +241,10 @@ contains
       if (codes(i) /= PENDULA_OK) then
         period(i) = 0
         winding(i) = 0
-        theta_p(i) = 0
-        omega_p(i) = 0
-        mult(:, i) = 0
-        residual(i) = 0
+        theta_p(i) = failed_output()
+        omega_p(i) = failed_output()
+        mult(:, i) = failed_output()
+        residual(i) = failed_output()
       end if
     end do
     call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
@@ -370,7 +376,9 @@ contains
   !> period), the strobe point of smallest wrapped angle and the mean
   !> angular velocity 2 pi winding/(period T) [rad/s].  period(i),
   !> winding(i): state i's.  codes, status, threads, control and
-  !> first_failed as driven_poincare.
+  !> first_failed as driven_poincare; a failed state has period 0 and label
+  !> BASIN_UNSETTLED (it is in no basin: its code says why) and its cycles
+  !> are NaN.
   subroutine driven_basins(theta0, omega0, w0, gamma, kind, amp, freq, phase, nsteps, transient, nmax, tol, &
                            labels, period, winding, natt, att_period, att_winding, att_theta, att_omega, att_mean_omega, codes, &
                            status, threads, control, first_failed, cycles)
@@ -466,7 +474,12 @@ contains
       codes = status%code
       return
     end if
-    if (present(cycles)) cycles = cyc
+    if (present(cycles)) then
+      cycles = cyc
+      do i = 1, n
+        if (codes(i) /= PENDULA_OK) cycles(:, :, i) = failed_output()
+      end do
+    end if
     call basin_table(period, winding, cyc, freq, tol, labels, natt, att_period, att_winding, att_theta, &
                      att_omega, att_mean_omega, status)
     if (status%code /= PENDULA_OK) then

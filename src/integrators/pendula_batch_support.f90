@@ -1,15 +1,18 @@
 !> What the two batch integrators (pendula_rk4_batch, pendula_cvode_batch)
-!> share beyond pendula_ode: the thread count of a call and the status of a
+!> share beyond pendula_ode (the driven blocks use it too): the thread count
+!> of a call, the value of a failed state's real outputs and the status of a
 !> call with failed states.  A module of its own because it uses OpenMP: a
 !> program that integrates single states (pendula_ode) then needs no OpenMP
 !> runtime at link time.
 module pendula_batch_support
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use pendula_kinds, only: wp
   use pendula_format, only: format_int
   use pendula_status, only: status_t, set_error, PENDULA_OK, PENDULA_ERR_CANCELLED
 !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
-  public :: batch_threads, set_batch_error
+  public :: batch_threads, set_batch_error, failed_output
 
 contains
 
@@ -23,6 +26,14 @@ contains
       if (threads > 0) nthreads = threads
     end if
   end function batch_threads
+
+  !> The value every batch call writes into the real outputs of a state that
+  !> failed (and of every state of a refused call): a quiet NaN, so that a
+  !> caller who ignores the state's code reads no plausible number (zero is a
+  !> pendulum at rest); the state's code says why it failed.
+  pure real(wp) function failed_output() result(x)
+    x = ieee_value(1.0_wp, ieee_quiet_nan)
+  end function failed_output
 
   !> The status of a batch call from its per-state codes (some not
   !> PENDULA_OK): a cancelled call says so first (how many states are

@@ -343,8 +343,10 @@ contains
   !> cvode_solve, but progress is not counted (a batch counts states).
   !> Errors: as cvode_solve; a work that is not open: PENDULA_ERR_SOLVER
   !> (after the argument checks, which need no solver).  drive: as cvode_solve.
+  !> reached (optional): how many leading outputs hold the solution (size(t)
+  !> on success, those before the failure time on a failure, 0 when refused).
   subroutine cvode_work_solve(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, &
-                              theta, omega, stats, status, control, drive)
+                              theta, omega, stats, status, control, drive, reached)
     type(cvode_work_t), intent(inout) :: work  !< reusable CVODE solver state (opened by cvode_work_open)
     real(wp), intent(in) :: t(:)  !< output times [s], as for cvode_solve
     real(wp), intent(in) :: theta0, omega0  !< theta0, omega0: initial state [rad], [rad/s], finite
@@ -360,11 +362,13 @@ contains
     !< optional cancel flag (polled every 256 rhs evaluations) and progress counter (see
     !< pendula_control)
     type(drive_t), intent(in), optional :: drive  !< optional drive (pendula_drive): the driven pendulum
+    integer, intent(out), optional :: reached  !< optional: leading outputs that hold the solution
     real(wp) :: et(0), eth(0), eom(0)
     integer :: ek(0), n_events
     logical :: truncated
     theta = 0
     omega = 0
+    if (present(reached)) reached = 0
     call check_call(t, theta0, omega0, w0, gamma, rtol, atol, PENDULA_CVODE_ADAMS, max_steps, size(theta), &
                     size(omega), status)
     call check_span(t, status)
@@ -372,24 +376,27 @@ contains
     if (status%code /= PENDULA_OK) return
     theta(1) = theta0
     omega(1) = omega0
+    if (present(reached)) reached = 1
     if (size(t) == 1) return
     if (.not. associated(work%data)) then
       call set_error(status, PENDULA_ERR_SOLVER, 'CVODE: the work is not open (call cvode_work_open first)')
       theta(1) = 0
       omega(1) = 0
+      if (present(reached)) reached = 0
       return
     end if
     call run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, .false., .false., &
-             theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control, drive)
+             theta, omega, et, ek, eth, eom, n_events, truncated, stats, status, control, drive, reached)
   end subroutine cvode_work_solve
 
   !> One problem on an open work, arguments already checked and size(t) >= 2:
   !> CVodeReInit at (theta0, omega0), this problem's tolerances, stop time and
   !> event functions, then the output loop.  eval_progress: count
   !> right-hand-side evaluations as progress in control (else only poll its
-  !> cancel flag).
+  !> cancel flag).  reached: the leading outputs that hold the solution.
   subroutine run(work, t, theta0, omega0, w0, gamma, rtol, atol, max_steps, with_events, eval_progress, &
-                 theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control, drive)
+                 theta, omega, event_t, event_kind, event_theta, event_omega, n_events, truncated, stats, status, control, drive, &
+                 reached)
     type(cvode_work_t), intent(inout) :: work
     real(wp), intent(in) :: t(:), theta0, omega0, w0, gamma, rtol, atol
     integer(i8), intent(in) :: max_steps
@@ -403,6 +410,7 @@ contains
     type(status_t), intent(inout) :: status
     integer(i8), intent(inout), volatile, optional, target :: control(CONTROL_SIZE)
     type(drive_t), intent(in), optional :: drive
+    integer, intent(out), optional :: reached
 
     type(cv_data_t), pointer :: cb   ! what the callbacks see
     real(c_double), pointer :: yv(:)
@@ -530,6 +538,7 @@ contains
       theta(i:) = 0
       omega(i:) = 0
     end if
+    if (present(reached)) reached = merge(nt, i - 1, status%code == PENDULA_OK)
 
   contains
 

@@ -25,7 +25,7 @@ module pendula_cvode_batch
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: ode_stats_t, check_problem, check_span, check_cvode_options, check_batch_shapes, &
                          at => batch_index
-  use pendula_batch_support, only: batch_threads, set_batch_error
+  use pendula_batch_support, only: batch_threads, set_batch_error, failed_output
   use pendula_cvode, only: cvode_available, cvode_work_t, cvode_work_open, cvode_work_solve, cvode_work_close
   implicit none
   private
@@ -41,17 +41,18 @@ contains
   !> (then shared).  method (PENDULA_CVODE_ADAMS or PENDULA_CVODE_BDF) and the
   !> per-state step budget max_steps >= 1 are shared.  Outputs theta(:, i),
   !> omega(:, i) (shape (size(t), n): each state's series contiguous), stats(i)
-  !> and codes(i) are bit-identical to cvode_solve for that state: a failed
-  !> state (bad argument, CVODE failure, exhausted budget) keeps what
-  !> cvode_solve returns (outputs before the failure time, zero after); the
-  !> other states are unaffected.
+  !> and codes(i) are bit-identical to cvode_solve for that state, except
+  !> that a failed state (bad argument, CVODE failure, exhausted budget) is NaN
+  !> (failed_output, pendula_batch_support) where cvode_solve returns zero:
+  !> it keeps the outputs before its failure time and is NaN from there on
+  !> (all NaN for a refused argument); the other states are unaffected.
   !>
   !> status: OK when every state succeeded; PENDULA_ERR_CANCELLED when the
   !> call was cancelled; otherwise the first failed state's code, with its
   !> index and cvode_solve's message for it.  first_failed: that state (0:
   !> none).  When the call itself is refused (bad t, method, max_steps, array
-  !> sizes, threads < 0, or no CVODE in this build), first_failed = 0 and
-  !> every codes(i) holds status%code.
+  !> sizes, threads < 0, or no CVODE in this build), first_failed = 0,
+  !> every codes(i) holds status%code and every output is NaN.
   !>
   !> threads: OpenMP threads (0 = the OpenMP default, which honours
   !> OMP_NUM_THREADS; ignored without OpenMP); each opens one solver.  GNU
@@ -59,7 +60,7 @@ contains
   !> thread must pass threads = 1.  control (optional, pendula_control):
   !> control(CONTROL_CANCEL) /= 0 stops the call within about 0.1 ms per
   !> thread (the solver polls it every 256 right-hand-side evaluations);
-  !> finished states keep their results, unfinished ones get zero outputs
+  !> finished states keep their results, unfinished ones get NaN outputs
   !> and PENDULA_ERR_CANCELLED; control(CONTROL_PROGRESS) counts finished states.
   !> drive (optional, pendula_drive; one element or n): the driven pendulum,
   !> each state bit-identical to cvode_solve with its drive.
@@ -107,6 +108,8 @@ contains
     end if
     if (status%code /= PENDULA_OK) then
       codes = status%code
+      theta = failed_output()
+      omega = failed_output()
       return
     end if
     nthreads = batch_threads(threads)
@@ -123,8 +126,8 @@ contains
     if (all(codes == PENDULA_OK)) return
     do i = 1, n
       if (codes(i) == PENDULA_ERR_CANCELLED) then
-        theta(:, i) = 0
-        omega(:, i) = 0
+        theta(:, i) = failed_output()
+        omega(:, i) = failed_output()
         stats(i) = ode_stats_t()
       end if
     end do
@@ -149,7 +152,7 @@ contains
     type(drive_t), intent(in), optional :: drive(:)
     type(cvode_work_t) :: work
     type(status_t) :: opened, st
-    integer :: i
+    integer :: i, reached
     ! A one-point grid needs no solver (cvode_solve returns the start).
     if (size(t) > 1) call cvode_work_open(work, method, opened)
     !$omp do schedule(dynamic)
@@ -157,19 +160,24 @@ contains
       if (present(control)) then
         if (cancel_requested(control)) cycle   ! code stays PENDULA_ERR_CANCELLED
       end if
+      reached = 0
       if (opened%code == PENDULA_OK .and. present(drive)) then
         call cvode_work_solve(work, t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
                               rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control, &
-                              drive(min(i, size(drive))))
+                              drive(min(i, size(drive))), reached=reached)
       else if (opened%code == PENDULA_OK) then
         call cvode_work_solve(work, t, theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), &
-                              rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control)
+                              rtol(at(rtol, i)), atol(at(atol, i)), max_steps, theta(:, i), omega(:, i), stats(i), st, control, &
+                              reached=reached)
       else
         st = opened   ! this thread has no solver: its states carry the reason
       end if
       if (st%code == PENDULA_ERR_CANCELLED) cycle
       codes(i) = st%code
       if (st%code /= PENDULA_OK) then
+        ! cvode_solve's zeros after the failure time become NaN (no plausible number)
+        theta(reached + 1:, i) = failed_output()
+        omega(reached + 1:, i) = failed_output()
         !$omp critical (pendula_cvode_batch_first)
         if (i < first) then
           first = i

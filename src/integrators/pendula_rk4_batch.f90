@@ -31,7 +31,7 @@ module pendula_rk4_batch
   use pendula_drive, only: drive_t
   use pendula_driven, only: driven_batch_solve
   use pendula_ode, only: ode_stats_t
-  use pendula_batch_support, only: batch_threads, set_batch_error
+  use pendula_batch_support, only: batch_threads, set_batch_error, failed_output
   use pendula_rk4_kernel, only: RK4_BATCH_LANES
   use pendula_dispatch, only: rk4_lanes
   implicit none
@@ -59,12 +59,13 @@ contains
   !>
   !> codes(i) is state i's status code (PENDULA_OK, or what rk4_solve would
   !> return: bad argument, unstable h, non-finite state); a failed state's
-  !> outputs are zero and the others are unaffected.  status: OK when every
+  !> theta and omega are NaN (failed_output, pendula_batch_support: never a
+  !> plausible number), its steps 0, and the others are unaffected.  status: OK when every
   !> state succeeded; PENDULA_ERR_CANCELLED when the call was cancelled (see
   !> control); otherwise the first failed state's code, with its index and
   !> rk4_solve's message for it.  first_failed: the first failed state.  When the
-  !> call itself is refused (bad t, array sizes, threads < 0), first_failed = 0
-  !> and every codes(i) holds status%code.
+  !> call itself is refused (bad t, array sizes, threads < 0), first_failed = 0,
+  !> every codes(i) holds status%code and every output is NaN.
   !>
   !> threads: OpenMP threads (0 = the OpenMP default, which honours
   !> OMP_NUM_THREADS; ignored in a build without OpenMP).  GNU OpenMP is not
@@ -149,7 +150,7 @@ contains
       call check_step(t, w0(at(w0, i)), gamma(at(gamma, i)), h(at(h, i)), real(budget, wp), st)
       codes(i) = st%code
       steps(i) = 0
-      ! outputs are written by the blocks, and zeroed below for failed states
+      ! outputs are written by the blocks, and NaN below for failed states
       if (st%code == PENDULA_OK) then
         nlive = nlive + 1
         live(nlive) = i
@@ -185,8 +186,8 @@ contains
       if (codes(i) /= PENDULA_OK) then
         first = i
         if (codes(i) == PENDULA_ERR_CANCELLED) ncancel = ncancel + 1
-        theta(:, i) = 0
-        omega(:, i) = 0
+        theta(:, i) = failed_output()
+        omega(:, i) = failed_output()
         steps(i) = 0
       end if
     end do
@@ -201,11 +202,11 @@ contains
   !> A call refused as a whole: every state gets its code and no result.
   pure subroutine refuse_all(code, theta, omega, codes, steps)
     integer, intent(in) :: code  !< the call's status code
-    real(wp), intent(out) :: theta(:, :), omega(:, :)  !< zeroed: the codes say there is no result
+    real(wp), intent(out) :: theta(:, :), omega(:, :)  !< NaN: the codes say there is no result
     integer, intent(out) :: codes(:)  !< code, for every state
     integer(i8), intent(out) :: steps(:)  !< 0, for every state
-    theta = 0
-    omega = 0
+    theta = failed_output()
+    omega = failed_output()
     codes = code
     steps = 0
   end subroutine refuse_all
@@ -325,6 +326,8 @@ contains
     call check_alloc(ist, 'the batch''s steps per period', 2_i8*n, 4, status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
+      theta = failed_output()
+      omega = failed_output()
       return
     end if
     do i = 1, n
@@ -401,8 +404,8 @@ contains
     if (present(first_failed)) first_failed = first
     do i = 1, n
       if (codes(i) /= PENDULA_OK) then
-        theta(:, i) = 0
-        omega(:, i) = 0
+        theta(:, i) = failed_output()
+        omega(:, i) = failed_output()
       end if
     end do
     st = status_t()

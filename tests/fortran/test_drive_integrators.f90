@@ -3,8 +3,10 @@
 !> period bit for bit; a batch (one drive per state, mixed kinds and steps
 !> per period, and one drive for all) equals the scalar calls bit for bit;
 !> CVODE agrees with the RK4 run refined by Richardson to its tolerance;
-!> the linear closed form at small amplitude; a refused step names h.
+!> the linear closed form at small amplitude; a refused step names h; a
+!> failed state of a driven batch is NaN.
 program test_drive_integrators
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_value, ieee_quiet_nan
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_UNSTABLE, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   use pendula_ode, only: ode_stats_t, PENDULA_CVODE_ADAMS
@@ -71,6 +73,15 @@ contains
     call tc%check_true(all(th1 == th(:, 3)), 'rk4_batch_solve(drive(1)) == rk4_solve bit for bit')
     call rk4_batch_solve(t, th0, [0.1_wp], [1.0_wp], [0.4_wp], [0.02_wp], th, om, codes, steps, st, drive=d(1:2))
     call tc%check_status(st, PENDULA_ERR_SIZE, 'drive has 2', 'rk4_batch_solve: drive of neither 1 nor n elements')
+    call tc%check_true(all(ieee_is_nan(th)) .and. all(ieee_is_nan(om)) .and. all(codes == PENDULA_ERR_SIZE), &
+                       'rk4_batch_solve: a refused driven call is NaN')
+    ! state 2 refused (a NaN theta0): NaN outputs, no steps; the others as alone
+    th0(2) = ieee_value(1.0_wp, ieee_quiet_nan)
+    call rk4_batch_solve(t, th0, [0.1_wp], [1.0_wp], [0.4_wp], h, th, om, codes, steps, st, drive=d)
+    call tc%check_true(codes(2) /= PENDULA_OK .and. st%code == codes(2) .and. all(ieee_is_nan(th(:, 2))) .and. &
+                       all(ieee_is_nan(om(:, 2))) .and. steps(2) == 0 .and. all(codes([1, 3, 4, 5]) == PENDULA_OK) .and. &
+                       .not. any(ieee_is_nan(th(:, [1, 3, 4, 5]))), 'rk4_batch_solve(drive): a failed state is NaN')
+    th0(2) = -1
     if (.not. cvode_available()) return
     call cvode_batch_solve(t, th0, [0.1_wp], [1.0_wp], [0.4_wp], [1.0e-9_wp], [1.0e-12_wp], PENDULA_CVODE_ADAMS, 100000_i8, &
                            th, om, codes, sc, st, threads=2, drive=d)

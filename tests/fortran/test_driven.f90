@@ -5,9 +5,10 @@
 !> exponents are ln|mu|/T of the Newton orbit's Floquet multipliers;
 !> Kapitza's inverted pendulum stable above a**2 Omega**2/(2 l**2) = w0**2
 !> and unstable below; the linear closed form at small amplitude; basins;
-!> refused input.
+!> refused input; NaN (never zero) in every real output of a failed state.
 program test_driven
   use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use pendula_kinds, only: wp
   use pendula_constants, only: pi
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_UNSTABLE, PENDULA_ERR_CANCELLED
@@ -34,6 +35,7 @@ program test_driven
   call test_sections_basins()
   call test_refused()
   call test_cancel()
+  call test_failed_states_nan()
   call tc%report('test_driven')
 
 contains
@@ -238,5 +240,52 @@ contains
                          [1.15_wp], [2.0_wp/3], [0.0_wp], 32, 0, 64, ly, le, codes, st, control=control, threads=2)
     call tc%check_true(st%code == PENDULA_OK .and. control(CONTROL_PROGRESS) == 9, 'progress counts the 9 states')
   end subroutine test_cancel
+
+  ! A state refused among good ones (w0 = -1), a cancelled call and a refused
+  ! call: every real output of a failed state is NaN (a caller who ignores the
+  ! codes reads no plausible number), the good states' outputs are finite.
+  subroutine test_failed_states_nan()
+    real(wp) :: t(4), th(4, 3), om(4, 3), et(4, 3), eo(4, 3), ts(5, 3), os(5, 3), mo(3), ly(2, 3), le(2, 3)
+    real(wp) :: tp(3), op(3), mu(4, 3), res(3), w0(3)
+    integer :: codes(3), per(3), wnd(3), i
+    integer(int64) :: control(CONTROL_SIZE)
+    type(status_t) :: st
+    t = [0.0_wp, 1.0_wp, 2.0_wp, 3.0_wp]
+    w0 = [1.0_wp, -1.0_wp, 1.0_wp]
+    call driven_batch_solve(t, [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], w0, [0.3_wp], DRIVE_TORQUE, [1.2_wp], [0.7_wp], &
+                            [0.0_wp], 64, th, om, codes, st, err_theta=et, err_omega=eo)
+    call tc%check_true(st%code == PENDULA_ERR_DOMAIN .and. all(codes == [PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_OK]), &
+                       'nan: batch with a refused state')
+    call tc%check_true(all(ieee_is_nan(th(:, 2))) .and. all(ieee_is_nan(om(:, 2))) .and. all(ieee_is_nan(et(:, 2))) &
+                       .and. all(ieee_is_nan(eo(:, 2))), 'nan: the refused state''s series and errors are NaN')
+    call tc%check_true(.not. any(ieee_is_nan(th(:, [1, 3]))) .and. .not. any(ieee_is_nan(om(:, [1, 3]))), &
+                       'nan: the good states are numbers')
+    call driven_poincare([0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], w0, [0.3_wp], DRIVE_TORQUE, [1.2_wp], [0.7_wp], [0.0_wp], &
+                         64, 0.0_wp, 2, 5, ts, os, mo, codes, st)
+    call tc%check_true(codes(2) == PENDULA_ERR_DOMAIN .and. all(ieee_is_nan(ts(:, 2))) .and. all(ieee_is_nan(os(:, 2))) &
+                       .and. ieee_is_nan(mo(2)) .and. .not. any(ieee_is_nan(ts(:, [1, 3]))) .and. .not. ieee_is_nan(mo(1)), &
+                       'nan: poincare section of the refused state')
+    call driven_lyapunov([0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], w0, [0.3_wp], DRIVE_TORQUE, [1.2_wp], [0.7_wp], [0.0_wp], &
+                         32, 0, 16, ly, le, codes, st)
+    call tc%check_true(codes(2) == PENDULA_ERR_DOMAIN .and. all(ieee_is_nan(ly(:, 2))) .and. all(ieee_is_nan(le(:, 2))) &
+                       .and. .not. any(ieee_is_nan(ly(:, [1, 3]))), 'nan: lyapunov exponents of the refused state')
+    call driven_orbits([0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], w0, [0.3_wp], DRIVE_TORQUE, [0.2_wp], [0.7_wp], [0.0_wp], &
+                       64, [0], 50, 4, 1.0e-6_wp, per, wnd, tp, op, mu, res, codes, st)
+    call tc%check_true(codes(2) == PENDULA_ERR_DOMAIN .and. per(2) == 0 .and. wnd(2) == 0 .and. ieee_is_nan(tp(2)) .and. &
+                       ieee_is_nan(op(2)) .and. all(ieee_is_nan(mu(:, 2))) .and. ieee_is_nan(res(2)) .and. &
+                       .not. ieee_is_nan(tp(1)) .and. per(1) == 1, 'nan: orbit outputs of the refused state')
+    ! cancelled before the start: every state unfinished, every output NaN
+    control = 0
+    control(CONTROL_CANCEL) = 1
+    call driven_batch_solve(t, [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.3_wp], DRIVE_TORQUE, [1.2_wp], [0.7_wp], &
+                            [0.0_wp], 64, th, om, codes, st, control=control)
+    call tc%check_true(all(codes == PENDULA_ERR_CANCELLED) .and. all(ieee_is_nan(th)) .and. all(ieee_is_nan(om)), &
+                       'nan: cancelled states')
+    ! refused call (t not increasing): every state's code is the call's, every output NaN
+    call driven_batch_solve([(1.0_wp, i=1, 4)], [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.3_wp], DRIVE_TORQUE, &
+                            [1.2_wp], [0.7_wp], [0.0_wp], 64, th, om, codes, st)
+    call tc%check_true(st%code /= PENDULA_OK .and. all(codes == st%code) .and. all(ieee_is_nan(th)) .and. &
+                       all(ieee_is_nan(om)), 'nan: refused call')
+  end subroutine test_failed_states_nan
 
 end program test_driven

@@ -5,7 +5,7 @@
 !> cancel flag and progress counter, thread counts 1 and 2, refused calls.
 program test_rk4_batch
   use, intrinsic :: iso_fortran_env, only: int64
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_NONFINITE, PENDULA_ERR_ORDER, PENDULA_ERR_SIZE, PENDULA_ERR_CANCELLED
@@ -88,7 +88,7 @@ contains
   end subroutine compare_with_scalar
 
   !> Failing states among good ones: an unstable h, w0 = 0, a NaN theta0,
-  !> gamma < 0.  Each gets rk4_solve's code and zero outputs; the good states
+  !> gamma < 0.  Each gets rk4_solve's code and NaN outputs; the good states
   !> are bit-identical to rk4_solve; the summary names the first failure.
   subroutine test_failures()
     integer, parameter :: n = 20
@@ -114,8 +114,8 @@ contains
       call tc%check_true(index(st%message, 'largest stable h') > 0, 'failures: summary carries rk4_solve''s message')
       call tc%check_true(all(codes([4, 9, 13, 17]) == [PENDULA_ERR_UNSTABLE, PENDULA_ERR_DOMAIN, &
                                                        PENDULA_ERR_NONFINITE, PENDULA_ERR_DOMAIN]), 'failures: per-state codes')
-      call tc%check_true(all(th(:, [4, 9, 13, 17]) == 0) .and. all(om(:, [4, 9, 13, 17]) == 0) .and. &
-                         all(steps([4, 9, 13, 17]) == 0), 'failures: failed states have zero outputs')
+      call tc%check_true(all(ieee_is_nan(th(:, [4, 9, 13, 17]))) .and. all(ieee_is_nan(om(:, [4, 9, 13, 17]))) .and. &
+                         all(steps([4, 9, 13, 17]) == 0), 'failures: failed states have NaN outputs, no steps')
       nbad = 0
       do k = 1, n
         if (any(k == [4, 9, 13, 17])) cycle
@@ -158,7 +158,7 @@ contains
   end subroutine test_empty_and_single_time
 
   !> A raised cancel flag stops the call: every state PENDULA_ERR_CANCELLED
-  !> with zero outputs.  Without it, the progress counter ends at n.
+  !> with NaN outputs.  Without it, the progress counter ends at n.
   subroutine test_cancel_and_progress()
     integer, parameter :: n = 3*RK4_BATCH_LANES + 1
     real(wp) :: th0(n), th(nt, n), om(nt, n)
@@ -172,7 +172,8 @@ contains
     call rk4_batch_solve(t, th0, [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
                          threads=2, control=control, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. first == 1, 'cancel: summary cancelled')
-    call tc%check_true(all(codes == PENDULA_ERR_CANCELLED) .and. all(th == 0), 'cancel: every state cancelled')
+    call tc%check_true(all(codes == PENDULA_ERR_CANCELLED) .and. all(ieee_is_nan(th)) .and. all(ieee_is_nan(om)), &
+                       'cancel: every state cancelled, NaN outputs')
     call tc%check_true(control(CONTROL_PROGRESS) == 0, 'cancel: no progress')
     ! a cancelled call reports the cancel first, even when a state failed before it
     th0(2) = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -200,8 +201,8 @@ contains
     t_bad(5) = t_bad(4)
     call rk4_batch_solve(t_bad, [0.1_wp, 0.2_wp], [0.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, codes, steps, st, &
                          first_failed=first)
-    call tc%check_true(st%code == PENDULA_ERR_ORDER .and. first == 0 .and. all(codes == PENDULA_ERR_ORDER), &
-                       'refused: t not increasing')
+    call tc%check_true(st%code == PENDULA_ERR_ORDER .and. first == 0 .and. all(codes == PENDULA_ERR_ORDER) .and. &
+                       all(ieee_is_nan(th)) .and. all(ieee_is_nan(om)), 'refused: t not increasing, NaN outputs')
     call rk4_batch_solve(t, [0.1_wp, 0.2_wp], [0.0_wp, 1.0_wp, 2.0_wp], [1.0_wp], [0.1_wp], [0.05_wp], th, om, &
                          codes, steps, st, first_failed=first)
     call tc%check_true(st%code == PENDULA_ERR_SIZE .and. first == 0, 'refused: omega0 of a third size')

@@ -94,6 +94,24 @@ def test_bit_identical_to_cvode_with_failures_in_the_middle(method, threads):
     assert r.method == method and (r.steps == r.stats["steps"]).all()
 
 
+def test_failed_state_is_nan_from_its_failure_on():
+    # the Fortran batch writes NaN (not cvode_solve's zeros) after a state's
+    # failure time: the outputs reached are kept, bit for bit as in a run with
+    # a budget large enough; a refused state is NaN throughout
+    args = mixed_states()
+    r = _batch.cvode_batch(T, *args, max_steps=1000, threads=1)
+    full = _batch.cvode_batch(T, *args, max_steps=10**6, threads=1)
+    budget = np.flatnonzero(r.codes == ERR_MAXSTEPS)
+    assert budget.size >= 2
+    for i in budget:
+        nan = np.isnan(r.theta[i])
+        k = int(np.argmax(nan))
+        assert 0 < k and nan[k:].all() and not nan[:k].any() and np.isnan(r.omega[i, k:]).all(), f"state {i}"
+        assert full.codes[i] == OK and np.array_equal(r.theta[i, :k], full.theta[i, :k]), f"state {i}"
+    for i in (16, 21):
+        assert np.isnan(r.theta[i]).all() and np.isnan(r.omega[i]).all()
+
+
 def test_order_of_states_does_not_matter():
     # each state follows a different predecessor on the reused solver
     args = mixed_states()

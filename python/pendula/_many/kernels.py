@@ -102,22 +102,6 @@ def cvode_work(tt, w0, n):
         return n * (periods * 50 + tt.size)
 
 
-def nan_after_failure(theta, omega, codes, whole_row=False):
-    """The failure contract on the (n, n_t) outputs of a batch kernel, in place:
-    a failed state is NaN from the first output it did not reach (the Fortran
-    kernels zero those), its whole row when ``whole_row`` or when it reached
-    none.  A reached output is never (0, 0) for a state that fails: only the
-    rest at the bottom is, and it cannot fail."""
-    for i in np.flatnonzero(codes != OK):
-        if whole_row:
-            reached = 0
-        else:
-            nz = np.flatnonzero((theta[i] != 0) | (omega[i] != 0))
-            reached = int(nz[-1]) + 1 if nz.size else 0
-        theta[i, reached:] = np.nan
-        omega[i, reached:] = np.nan
-
-
 def _with_drive(named, drive):
     """The named state arguments plus the drive's columns (``drive``: a dict
     of ``drives.COLUMNS``, arrays that broadcast with the states)."""
@@ -178,9 +162,9 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
         raise_for_status(code, msg)  # the call itself was refused
     n_t = tt.size
     # Fortran's (n_t, n) column-major block is the C-order (n, n_t) array:
-    # each state's series contiguous, no copy.
+    # each state's series contiguous, no copy.  A failed state's row is
+    # already NaN (pendula_rk4_batch writes NaN for it).
     theta, omega = theta.T, omega.T
-    nan_after_failure(theta, omega, codes, whole_row=True)
     return BatchResult(
         t=tt,
         theta=theta.reshape(shape + (n_t,)),
@@ -263,8 +247,9 @@ def cvode_batch(
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)  # the call itself was refused
     n_t = tt.size
+    # a failed state is NaN from its failure time (pendula_cvode_batch), a
+    # cancelled one throughout
     theta, omega = theta.T, omega.T
-    nan_after_failure(theta, omega, codes)
     # stats has shape (7, n): row i is counter i of every state
     counts = {name: stats[i].astype(np.int64).reshape(shape) for i, name in enumerate(STAT_NAMES)}
     return CvodeBatchResult(
