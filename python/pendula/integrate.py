@@ -38,7 +38,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _drive_args, _fortran, _longcall
+from . import _drive_args, _fortran, _longcall, _memory
 from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
 from ._codes import CVODE_ADAMS, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
@@ -140,6 +140,9 @@ def rk4(
         theta = 0 (the message gives the largest stable h).
     TypeError
         For non-real input.
+    MemoryError
+        When the outputs cannot be allocated, before any work; the message
+        names them, the size of t (or of the batch) and the bytes.
     KeyboardInterrupt
         Ctrl-C during a long run (over ~50 ms), raised within a
         millisecond or so; nothing is left half-done.
@@ -194,9 +197,11 @@ def rk4(
         check_threads(threads)  # checked, unused: one state runs on one thread
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
         check_size(t.size, "t")
-        tt = t.copy()  # the result keeps its own grid; Fortran gets a contiguous one
+        # the result keeps its own grid; Fortran gets a contiguous one
+        tt = _memory.guard(t.copy, *_outputs(t.size, ("t", "theta", "omega")))
     else:
         tt = _grid(t)
+    outputs = _outputs(tt.size)
     hh = _real(h, "h")
     budget = max_steps if type(max_steps) is int and 1 <= max_steps <= 2**62 else _step_budget(max_steps)
     args = (
@@ -213,11 +218,17 @@ def rk4(
     steps = (tt.item(-1) - tt.item(0)) / hh + tt.size if hh > 0 else 0.0
     long = _longcall.RK4_LONG_STEPS < steps <= budget
     if not long and progress is None:
-        theta, omega, stats, code, msg = _fortran.rk4_f2py(*args, _longcall.scratch_control())
+        theta, omega, stats, code, msg = _memory.guard(
+            lambda: _fortran.rk4_f2py(*args, _longcall.scratch_control()), *outputs
+        )
     else:
         control = _longcall.new_control()
         theta, omega, stats, code, msg = _longcall.run(
-            lambda: _fortran.rk4_f2py(*args, control), control, long, progress, total=int(min(steps, 2**62))
+            lambda: _memory.guard(lambda: _fortran.rk4_f2py(*args, control), *outputs),
+            control,
+            long,
+            progress,
+            total=int(min(steps, 2**62)),
         )
     if code:
         raise_for_status(code, msg)
@@ -225,6 +236,16 @@ def rk4(
 
 
 _step_budget = step_budget
+
+
+def _outputs(n_t, fields=("theta", "omega"), events=0):
+    """What a one-state call allocates before any work and its size in bytes,
+    for ``_memory.guard``: the arrays ``fields`` (8 bytes per time each) over
+    the ``n_t`` times of ``t``, plus ``events`` event slots (28 bytes each)."""
+    what = f"the outputs {', '.join(fields[:-1])} and {fields[-1]} of {n_t} times (the size of t)"
+    if events:
+        what += f" and {events} event slots (max_events)"
+    return what, 8 * n_t * len(fields) + 28 * events
 
 
 def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive):
@@ -255,7 +276,11 @@ def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, d
     control = _longcall.new_control()
     # the driven kernel counts the finished state (1) as its progress
     theta, omega, stats, code, msg = _longcall.run(
-        lambda: _fortran.rk4_drive_f2py(*args, control), control, long, progress, total=1
+        lambda: _memory.guard(lambda: _fortran.rk4_drive_f2py(*args, control), *_outputs(tt.size)),
+        control,
+        long,
+        progress,
+        total=1,
     )
     if code:
         raise_for_status(code, msg)
@@ -383,6 +408,10 @@ def cvode(
         gives CVODE's reason).
     NotImplementedError
         When this build has no CVODE (``pendula.build_info()["cvode"]``).
+    MemoryError
+        When the outputs (and event slots) cannot be allocated, before any
+        work; the message names them, the size of t (or of the batch) and
+        the bytes.
     KeyboardInterrupt
         Ctrl-C during a long run (the solver memory is freed).
 
@@ -507,8 +536,9 @@ def _cvode_one(
         periods = max(periods, abs(tt.item(-1) - tt.item(0)) * drive.frequency / (2 * np.pi))
         glue = _fortran.cvode_drive_f2py
     long = watched and not periods * 50 + tt.size <= _longcall.CVODE_LONG_STEPS  # NaN/inf: long
+    outputs = _outputs(tt.size, events=m)
     (theta, omega, stats, ev_t, ev_kind, ev_theta, ev_omega, n_ev, trunc, code, msg) = _longcall.run(
-        lambda: glue(*call_args), control, long, progress, unit="rhs"
+        lambda: _memory.guard(lambda: glue(*call_args), *outputs), control, long, progress, unit="rhs"
     )
     raise_for_status(code, msg)
     ev = None

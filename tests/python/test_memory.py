@@ -158,6 +158,38 @@ def test_batch_outputs_refused_up_front_with_their_size(call):
     assert float(out.split("after")[-1].split()[0]) < 2.0, out
 
 
+@linux
+@pytest.mark.parametrize(
+    "call, words",
+    [
+        ("pendula.rk4(t, 0.1, 0.0, 1.0, 0.0, h=0.01)", "the outputs theta and omega of 20000000 times (the size of t)"),
+        (
+            "pendula.rk4(t, 0.1, 0.0, 1.0, 0.0, h=0.01, drive=pendula.Drive('torque', 0.1, 1.0))",
+            "the outputs theta and omega of 20000000 times (the size of t) need 305 MiB (320000000 bytes)",
+        ),
+        ("pendula.cvode(t, 0.1, 0.0, 1.0, 0.0)", "the outputs theta and omega of 20000000 times (the size of t)"),
+    ],
+)
+def test_one_state_outputs_refused_with_their_size(call, words):
+    # one state over a long grid: theta and omega (f2py allocates them before
+    # the call) do not fit; the error names t's size and the bytes, as a batch's does
+    if "cvode" in call and not pendula.build_info()["cvode"]:
+        pytest.skip("no CVODE in this build")
+    _expect_memory_error(
+        f"""
+        t = np.linspace(0, 1, 20_000_000)
+        cap(200 * 2**20)  # room for a copy of t, not for theta and omega too
+        try:
+            {call}
+            print("no error")
+        except MemoryError as exc:
+            print("MemoryError:", exc)
+        """,
+        words,
+        "bytes",
+    )
+
+
 # ---------------------------------------------------------------- sweep chunks and outputs
 
 
