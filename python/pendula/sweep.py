@@ -137,7 +137,7 @@ class SweepResult(_tables.Tabular):
         if self.want == "final":
             attrs["t"] = float(self.t[-1])
         per_state = {"code": self.codes}
-        if self.want != "period":
+        if self.want != "period" and not self._driven():
             per_state.update(well=self.well, settled=self.settled)
         return dict(
             t=self.t if self.want == "trajectory" else None,
@@ -161,6 +161,22 @@ class SweepResult(_tables.Tabular):
                 _tables.codes_line(self.codes, self.message),
             ],
         )
+
+    def _driven(self):
+        """True when some state has a drive of nonzero amplitude."""
+        amplitude = (self.inputs or {}).get("drive_amplitude")
+        return amplitude is not None and bool(np.any(np.asarray(amplitude) != 0))
+
+    def _undriven(self, name):
+        """Refuse ``name`` (settled, well) for a driven sweep: the energy rule behind
+        them holds only without a drive."""
+        if self._driven():
+            raise ValueError(
+                f"{name} is not defined for a driven sweep: a drive can pump energy into the pendulum "
+                "and carry it over the top again, so no energy at t[-1] traps it in a well; use "
+                "rotating() for the energy at t[-1], or pendula.basins / pendula.periodic_orbits "
+                "for the attractor a driven state settles on"
+            )
 
     def _final(self):
         if self.want == "period":
@@ -221,7 +237,10 @@ class SweepResult(_tables.Tabular):
         Raises
         ------
         ValueError
-            For want="period" (no final state).
+            For want="period" (no final state), or a driven sweep (a drive
+            of nonzero amplitude can carry the pendulum out of any well, so
+            no energy traps it; ``pendula.basins`` finds where a driven
+            state settles).  A drive of zero amplitude is the undriven rule.
 
         Examples
         --------
@@ -233,6 +252,7 @@ class SweepResult(_tables.Tabular):
         False
         """
         theta, omega = self._final()
+        self._undriven("settled")
         w0 = self.inputs["w0"]
         with np.errstate(invalid="ignore"):
             energy = 0.5 * omega**2 + w0**2 * (1 - np.cos(theta))
@@ -253,7 +273,8 @@ class SweepResult(_tables.Tabular):
         Raises
         ------
         ValueError
-            For want="period" (no final state).
+            For want="period" (no final state) or a driven sweep (as
+            ``settled``).
 
         Examples
         --------
@@ -265,6 +286,7 @@ class SweepResult(_tables.Tabular):
         True
         """
         theta, _ = self._final()
+        self._undriven("well")
         settled = self.settled
         k = np.rint(np.where(settled, theta, 0.0) / (2 * math.pi)).astype(np.int64)
         return np.where(settled, k, WELL_NONE)
@@ -426,7 +448,9 @@ def sweep(
         drives (``[pendula.Drive("torque", F, 2/3) for F in amplitudes]``).
         ``inputs`` then also holds drive_kind, drive_amplitude,
         drive_frequency and drive_phase per state.  Not with want="period"
-        (the closed form is undriven).
+        (the closed form is undriven).  The result's ``settled`` and
+        ``well`` (an undriven energy rule) raise ValueError when a drive
+        has nonzero amplitude: ``pendula.basins`` classifies driven states.
 
     Returns
     -------

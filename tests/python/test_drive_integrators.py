@@ -7,12 +7,14 @@ periodicity after 1e6 drive periods (no phase lost); the scalar call for
 every batch state and the local sweep for the Dask one, bit for bit.
 """
 
+import importlib.util
 import math
 
 import numpy as np
 import pytest
 
 import pendula
+from pendula import _defaults
 
 mpmath = pytest.importorskip("mpmath")
 
@@ -202,6 +204,30 @@ def test_sweep_takes_a_drive_axis_and_matches_the_batch():
     assert r.inputs["drive_amplitude"].tolist() == [[0.5, 1.07, 1.15]] * 2
     with pytest.raises(ValueError, match="period"):
         pendula.sweep(None, 0.1, drive=ds[0], want="period")
+
+
+def test_driven_sweep_refuses_settled_and_well():
+    # the energy rule (below the separatrix energy: trapped for ever) is false with a
+    # drive: Baker-Gollub's chaotic torque pendulum goes over the top again after
+    # resting low in its well, so settled/well refuse instead of answering wrongly
+    d = pendula.Drive("torque", 1.15, 2 / 3)
+    t = np.linspace(0.0, 200.0, 4001)
+    r = pendula.sweep(t, 0.2, w0=1.0, gamma=0.5, h=d.period / 128, drive=d, want="trajectory")
+    e = 0.5 * r.omega**2 + (1 - np.cos(r.theta))
+    low = np.flatnonzero(e < 2 * (1 - _defaults.SETTLE_MARGIN))
+    assert low.size and (e[low[0] :] > 2).any()  # low energy at some time, over the top later
+    for name in ("settled", "well"):
+        with pytest.raises(ValueError, match=f"{name} is not defined for a driven sweep.*pendula.basins"):
+            getattr(r, name)
+    assert r.rotating().shape == ()  # the energy at t[-1] is still a fact
+    if importlib.util.find_spec("pandas") is not None:
+        assert not {"well", "settled"} & set(r.to_pandas().columns)
+    # a drive of zero amplitude is the undriven pendulum: the undriven rule
+    th0 = np.array([0.5, 3.0])
+    z = pendula.sweep([0.0, 40.0], th0, 2.0, w0=1.0, gamma=0.2, h=0.01, drive=pendula.Drive("torque", 0.0, 1.0))
+    u = pendula.sweep([0.0, 40.0], th0, 2.0, w0=1.0, gamma=0.2, h=0.01)
+    assert z.settled.tolist() == u.settled.tolist() == [True, True]
+    assert z.well.tolist() == u.well.tolist()
 
 
 def test_dask_sweep_with_a_drive_is_the_local_one():
