@@ -3,6 +3,7 @@
 to full precision) and NAME.png (unless --no-png) into --out.  Registered by
 pendula.cli (add_parsers and COMMANDS)."""
 
+import contextlib
 import csv
 import math
 from pathlib import Path
@@ -61,6 +62,18 @@ def _common(p, name, png_what, add_physics, steps=DRIVEN_DEFAULT_STEPS):
     p.add_argument("--no-png", action="store_true", help=f"skip {png_what} (no matplotlib needed)")
 
 
+def _transient(p, default, what="periods discarded"):
+    """--transient: drive periods before the measurement."""
+    p.add_argument("--transient", type=int, default=default, metavar="P", help=f"{what} (default {default})")
+
+
+def _start(p):
+    """The one start (--theta0, --omega0) of a section command, and its transient."""
+    p.add_argument("--theta0", type=angle, default=0.2, metavar="ANGLE", help="initial angle (default 0.2 rad)")
+    p.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
+    _transient(p, 300)
+
+
 def add_parsers(sub, add_physics):
     """Add the four subcommands to the subparsers ``sub`` of pendula.cli;
     ``add_physics(parser, damping, w0)`` is pendula.cli's --g/--length/--w0
@@ -71,9 +84,7 @@ def add_parsers(sub, add_physics):
         description="Stroboscopic (Poincare) section at t = k T after a transient: theta wrapped "
         "to (-pi, pi] [rad] and Omega [rad/s]; poincare.npz, poincare.csv, poincare.png.",
     )
-    p.add_argument("--theta0", type=angle, default=0.2, metavar="ANGLE", help="initial angle (default 0.2 rad)")
-    p.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
-    p.add_argument("--transient", type=int, default=300, metavar="P", help="periods discarded (default 300)")
+    _start(p)
     p.add_argument("--points", type=count, default=5000, metavar="K", help="section points (default 5000)")
     _common(p, "poincare", "the section plot", add_physics)
     b = sub.add_parser(
@@ -90,9 +101,7 @@ def add_parsers(sub, add_physics):
         metavar=("LO", "HI", "N"),
         help="N values from LO to HI (default 0.9 1.5 400)",
     )
-    b.add_argument("--theta0", type=angle, default=0.2, metavar="ANGLE", help="initial angle (default 0.2 rad)")
-    b.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
-    b.add_argument("--transient", type=int, default=300, metavar="P", help="periods discarded (default 300)")
+    _start(b)
     b.add_argument("--points", type=count, default=200, metavar="K", help="section points per value (default 200)")
     _common(b, "bifurcation", "the diagram", add_physics)
     lp = sub.add_parser(
@@ -104,7 +113,7 @@ def add_parsers(sub, add_physics):
     )
     lp.add_argument("--theta0", type=angle, nargs="+", default=[0.2], metavar="ANGLE", help="initial angles")
     lp.add_argument("--omega0", type=angular_velocity, default=0.0, metavar="RAD/S", help="initial Omega (default 0)")
-    lp.add_argument("--transient", type=int, default=100, metavar="P", help="periods before measuring (default 100)")
+    _transient(lp, 100, "periods before measuring")
     lp.add_argument(
         "--periods",
         type=count,
@@ -141,7 +150,7 @@ def add_parsers(sub, add_physics):
         metavar=("LO", "HI", "N"),
         help="Omega0 grid (default -3 3 101)",
     )
-    g.add_argument("--transient", type=int, default=200, metavar="P", help="periods before classifying (default 200)")
+    _transient(g, 200, "periods before classifying")
     g.add_argument("--nmax", type=count, default=8, metavar="N", help="largest period recognised (default 8)")
     _common(g, "basins", "the basin map", add_physics)
 
@@ -164,6 +173,33 @@ def _setup(args):
     return pendula, drive, folder
 
 
+def _shared(args, drive):
+    """The keyword arguments every command passes to its pendula call."""
+    return dict(drive=drive, w0=_w0(args), gamma=args.gamma, transient=args.transient, steps_per_period=args.steps)
+
+
+def _save(folder, name, arrays, header, rows):
+    """NAME.npz (the arrays) and NAME.csv (header and rows) in folder."""
+    np.savez(folder / f"{name}.npz", **arrays)
+    _csv(folder / f"{name}.csv", header, rows)
+
+
+def _wrote(out, folder, name):
+    out.write(f"wrote {folder / (name + '.npz')}\nwrote {folder / (name + '.csv')}\n")
+
+
+@contextlib.contextmanager
+def _png(folder, out, name, figsize):
+    """A figure (fig, ax) of figsize, saved as NAME.png in folder (dpi 120) and
+    reported on out when the block ends."""
+    plt = _fig()
+    fig, ax = plt.subplots(figsize=figsize)
+    yield fig, ax
+    fig.savefig(folder / f"{name}.png", dpi=120)
+    plt.close(fig)
+    out.write(f"wrote {folder / (name + '.png')}\n")
+
+
 def _csv(path, header, rows):
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
@@ -182,37 +218,26 @@ def _fig():
 
 def cmd_poincare(args, out):
     pendula, drive, folder = _setup(args)
-    s = pendula.poincare(
-        args.theta0,
-        args.omega0,
-        drive=drive,
-        w0=_w0(args),
-        gamma=args.gamma,
-        transient=args.transient,
-        points=args.points,
-        steps_per_period=args.steps,
-    )
-    np.savez(folder / "poincare.npz", theta=s.theta, omega=s.omega, mean_omega=s.mean_omega)
-    _csv(
-        folder / "poincare.csv",
+    s = pendula.poincare(args.theta0, args.omega0, points=args.points, **_shared(args, drive))
+    _save(
+        folder,
+        "poincare",
+        dict(theta=s.theta, omega=s.omega, mean_omega=s.mean_omega),
         ["k", "theta_rad", "omega_rad_per_s"],
         [[k, data(a), data(b)] for k, (a, b) in enumerate(zip(s.theta, s.omega))],
     )
     out.write(f"{args.points} section points, rotation number {float(s.rotation_number):.6g}\n")
-    out.write(f"wrote {folder / 'poincare.npz'}\nwrote {folder / 'poincare.csv'}\n")
+    _wrote(out, folder, "poincare")
     if not args.no_png:
-        plt = _fig()
-        fig, ax = plt.subplots(figsize=(6, 5))
-        ax.plot(s.theta, s.omega, ",k" if args.points > 2000 else ".k", ms=2)
-        ax.set(
-            xlabel="theta [rad]",
-            ylabel="Omega [rad/s]",
-            xlim=(-math.pi, math.pi),
-            title=f"Poincare section: {args.kind} {args.amplitude:g}, Omega {args.frequency:.4g}, gamma {args.gamma:g}",
-        )
-        fig.savefig(folder / "poincare.png", dpi=120)
-        plt.close(fig)
-        out.write(f"wrote {folder / 'poincare.png'}\n")
+        with _png(folder, out, "poincare", (6, 5)) as (fig, ax):
+            ax.plot(s.theta, s.omega, ",k" if args.points > 2000 else ".k", ms=2)
+            ax.set(
+                xlabel="theta [rad]",
+                ylabel="Omega [rad/s]",
+                xlim=(-math.pi, math.pi),
+                title=f"Poincare section: {args.kind} {args.amplitude:g}, Omega {args.frequency:.4g}, "
+                f"gamma {args.gamma:g}",
+            )
     return 0
 
 
@@ -220,27 +245,12 @@ def cmd_bifurcation(args, out):
     pendula, drive, folder = _setup(args)
     vals = _grid(args.values, finite, "--values")
     b = pendula.bifurcation(
-        args.parameter,
-        vals,
-        drive=drive,
-        w0=_w0(args),
-        gamma=args.gamma,
-        theta0=args.theta0,
-        omega0=args.omega0,
-        transient=args.transient,
-        points=args.points,
-        steps_per_period=args.steps,
+        args.parameter, vals, theta0=args.theta0, omega0=args.omega0, points=args.points, **_shared(args, drive)
     )
-    np.savez(
-        folder / "bifurcation.npz",
-        values=vals,
-        theta=b.theta,
-        omega=b.omega,
-        mean_omega=b.mean_omega,
-        parameter=args.parameter,
-    )
-    _csv(
-        folder / "bifurcation.csv",
+    _save(
+        folder,
+        "bifurcation",
+        dict(values=vals, theta=b.theta, omega=b.omega, mean_omega=b.mean_omega, parameter=args.parameter),
         [args.parameter, "k", "theta_rad", "omega_rad_per_s"],
         [
             [data(v), k, data(a), data(c)]
@@ -249,57 +259,40 @@ def cmd_bifurcation(args, out):
         ],
     )
     out.write(f"{vals.size} values x {args.points} points\n")
-    out.write(f"wrote {folder / 'bifurcation.npz'}\nwrote {folder / 'bifurcation.csv'}\n")
+    _wrote(out, folder, "bifurcation")
     if not args.no_png:
-        plt = _fig()
-        fig, ax = plt.subplots(figsize=(8, 5))
-        ax.plot(np.repeat(vals, args.points), b.theta.ravel(), ",k")
-        ax.set(
-            xlabel=args.parameter,
-            ylabel="theta at t = k T [rad]",
-            ylim=(-math.pi, math.pi),
-            title="bifurcation diagram of the driven pendulum",
-        )
-        fig.savefig(folder / "bifurcation.png", dpi=120)
-        plt.close(fig)
-        out.write(f"wrote {folder / 'bifurcation.png'}\n")
+        with _png(folder, out, "bifurcation", (8, 5)) as (fig, ax):
+            ax.plot(np.repeat(vals, args.points), b.theta.ravel(), ",k")
+            ax.set(
+                xlabel=args.parameter,
+                ylabel="theta at t = k T [rad]",
+                ylim=(-math.pi, math.pi),
+                title="bifurcation diagram of the driven pendulum",
+            )
     return 0
 
 
 def cmd_lyapunov(args, out):
     pendula, drive, folder = _setup(args)
     th0 = np.asarray(args.theta0, dtype=float)
-    r = pendula.lyapunov(
-        th0,
-        args.omega0,
-        drive=drive,
-        w0=_w0(args),
-        gamma=args.gamma,
-        transient=args.transient,
-        periods=args.periods,
-        orbits=args.orbits,
-        steps_per_period=args.steps,
-    )
-    np.savez(folder / "lyapunov.npz", theta0=th0, exponents=r.exponents, errors=r.errors)
-    _csv(
-        folder / "lyapunov.csv",
+    r = pendula.lyapunov(th0, args.omega0, periods=args.periods, orbits=args.orbits, **_shared(args, drive))
+    _save(
+        folder,
+        "lyapunov",
+        dict(theta0=th0, exponents=r.exponents, errors=r.errors),
         ["theta0_rad", "lambda1", "lambda1_err", "lambda2", "lambda2_err"],
         [[data(t), data(e[0]), data(s[0]), data(e[1]), data(s[1])] for t, e, s in zip(th0, r.exponents, r.errors)],
     )
     for t, e, s in zip(th0, r.exponents, r.errors):
         out.write(f"theta0 = {t:.6g}: lambda1 = {e[0]:.4g} +- {s[0]:.2g} 1/s, lambda2 = {e[1]:.4g} +- {s[1]:.2g} 1/s\n")
-    out.write(f"wrote {folder / 'lyapunov.npz'}\nwrote {folder / 'lyapunov.csv'}\n")
+    _wrote(out, folder, "lyapunov")
     if not args.no_png:
-        plt = _fig()
-        fig, ax = plt.subplots(figsize=(6, 4))
-        ax.errorbar(th0, r.exponents[:, 0], yerr=r.errors[:, 0], fmt="o", label="lambda1")
-        ax.errorbar(th0, r.exponents[:, 1], yerr=r.errors[:, 1], fmt="s", label="lambda2")
-        ax.axhline(0, color="0.7", lw=0.8)
-        ax.set(xlabel="theta0 [rad]", ylabel="exponent [1/s]", title="Lyapunov exponents")
-        ax.legend()
-        fig.savefig(folder / "lyapunov.png", dpi=120)
-        plt.close(fig)
-        out.write(f"wrote {folder / 'lyapunov.png'}\n")
+        with _png(folder, out, "lyapunov", (6, 4)) as (fig, ax):
+            ax.errorbar(th0, r.exponents[:, 0], yerr=r.errors[:, 0], fmt="o", label="lambda1")
+            ax.errorbar(th0, r.exponents[:, 1], yerr=r.errors[:, 1], fmt="s", label="lambda2")
+            ax.axhline(0, color="0.7", lw=0.8)
+            ax.set(xlabel="theta0 [rad]", ylabel="exponent [1/s]", title="Lyapunov exponents")
+            ax.legend()
     return 0
 
 
@@ -307,28 +300,19 @@ def cmd_basins(args, out):
     pendula, drive, folder = _setup(args)
     th = _grid(args.theta0, angle, "--theta0")
     om = _grid(args.omega0, angular_velocity, "--omega0")
-    g = pendula.basins(
-        th[:, None],
-        om[None, :],
-        drive=drive,
-        w0=_w0(args),
-        gamma=args.gamma,
-        transient=args.transient,
-        nmax=args.nmax,
-        steps_per_period=args.steps,
-    )
-    np.savez(
-        folder / "basins.npz",
-        theta0=th,
-        omega0=om,
-        labels=g.labels,
-        period=g.period,
-        winding=g.winding,
-        **{"attractor_" + k: v for k, v in g.attractors.items()},
-    )
+    g = pendula.basins(th[:, None], om[None, :], nmax=args.nmax, **_shared(args, drive))
     tt, oo = np.meshgrid(th, om, indexing="ij")
-    _csv(
-        folder / "basins.csv",
+    _save(
+        folder,
+        "basins",
+        dict(
+            theta0=th,
+            omega0=om,
+            labels=g.labels,
+            period=g.period,
+            winding=g.winding,
+            **{"attractor_" + k: v for k, v in g.attractors.items()},
+        ),
         ["theta0_rad", "omega0_rad_per_s", "label", "period", "winding"],
         [
             [data(a), data(b), int(c), int(d), int(e)]
@@ -339,16 +323,12 @@ def cmd_basins(args, out):
         f"{g.labels.size} starts, {len(g.attractors['period'])} attractors, "
         f"{int((g.labels == 0).sum())} unsettled (label 0)\n"
     )
-    out.write(f"wrote {folder / 'basins.npz'}\nwrote {folder / 'basins.csv'}\n")
+    _wrote(out, folder, "basins")
     if not args.no_png:
-        plt = _fig()
-        fig, ax = plt.subplots(figsize=(6, 5))
-        im = ax.pcolormesh(th, om, g.labels.T, shading="nearest", cmap="tab20")
-        fig.colorbar(im, ax=ax, label="attractor label (0: unsettled)")
-        ax.set(xlabel="theta0 [rad]", ylabel="Omega0 [rad/s]", title="basins of attraction")
-        fig.savefig(folder / "basins.png", dpi=120)
-        plt.close(fig)
-        out.write(f"wrote {folder / 'basins.png'}\n")
+        with _png(folder, out, "basins", (6, 5)) as (fig, ax):
+            im = ax.pcolormesh(th, om, g.labels.T, shading="nearest", cmap="tab20")
+            fig.colorbar(im, ax=ax, label="attractor label (0: unsettled)")
+            ax.set(xlabel="theta0 [rad]", ylabel="Omega0 [rad/s]", title="basins of attraction")
     return 0
 
 

@@ -318,6 +318,8 @@ def test_tradeoff_models_subset_and_errors(capsys, tmp_path):
 # ---------------------------------------------------------------- output paths
 
 _SOLVE = ["solve", "--theta0", "0.5", "--t-end", "2", "--n", "5"]
+# a sweep of 3 x 2 starts over 1 s without its figure (add --out)
+_SWEEP_3X2 = ["sweep", "--theta0", "0", "1", "3", "--omega0", "0", "1", "2", "--t-end", "1", "--no-png"]
 _TRADEOFF = ["tradeoff", "--theta0", "0.5", "--t-end", "2", "--n", "5", "--models", "exact", "--repeat", "2"]
 
 
@@ -384,22 +386,7 @@ def _one_line(err):
         ["period", "--theta0", "0.1", "--csv", "/proc/pendula-no-such.csv"],
         ["period", "--theta0", "0.1", "--csv", "/dev/full"],
         _SOLVE + ["--csv", "/dev/full"],
-        [
-            "sweep",
-            "--theta0",
-            "0",
-            "1",
-            "3",
-            "--omega0",
-            "0",
-            "1",
-            "2",
-            "--t-end",
-            "1",
-            "--no-png",
-            "--out",
-            "/proc/pendula-basin",
-        ],
+        _SWEEP_3X2 + ["--out", "/proc/pendula-basin"],
     ],
 )
 def test_io_errors_are_one_line_and_exit_1(argv):
@@ -420,22 +407,7 @@ def test_ctrl_c_is_one_line_and_exit_130(capsys, tmp_path, monkeypatch, sub, tar
 
     monkeypatch.setattr(pendula, target, interrupted)
     argv = {
-        "sweep": [
-            "sweep",
-            "--theta0",
-            "0",
-            "1",
-            "3",
-            "--omega0",
-            "0",
-            "1",
-            "2",
-            "--t-end",
-            "1",
-            "--no-png",
-            "--out",
-            str(tmp_path / "sw"),
-        ],
+        "sweep": _SWEEP_3X2 + ["--out", str(tmp_path / "sw")],
         "period": ["period", "--theta0", "0.1"],
         "solve": _SOLVE,
     }[sub]
@@ -630,26 +602,7 @@ def test_sweep_refuses_missing_parent_and_bad_grid(capsys, tmp_path):
     assert code == 2 and "--mkdir" in err and not (tmp_path / "a").exists()
     code, _, err = run(["sweep", "--theta0", "1", "0", "5", "--out", str(tmp_path / "c")], capsys)
     assert code == 2 and "--theta0" in err
-    code, _, _ = run(
-        [
-            "sweep",
-            "--theta0",
-            "0",
-            "1",
-            "3",
-            "--omega0",
-            "0",
-            "1",
-            "2",
-            "--t-end",
-            "1",
-            "--no-png",
-            "--mkdir",
-            "--out",
-            str(tmp_path / "d" / "e"),
-        ],
-        capsys,
-    )
+    code, _, _ = run(_SWEEP_3X2 + ["--mkdir", "--out", str(tmp_path / "d" / "e")], capsys)
     assert code == 0 and (tmp_path / "d" / "e" / "sweep.npz").exists()
 
 
