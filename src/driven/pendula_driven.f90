@@ -17,11 +17,11 @@ module pendula_driven
   use pendula_status, only: status_t, set_error, check_alloc, check_increasing, check_size, check_same_size, PENDULA_OK, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_DOMAIN
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_batch_support, only: batch_threads, failed_output
+  use pendula_batch_support, only: batch_threads, failed_output, nan_failed
   use pendula_drive, only: drive_t, DRIVEN_DEFAULT_STEPS
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_partial, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, &
-                                    params_summary, first_message, block_open
+                                    params_summary, block_open
   implicit none
   private
   public :: driven_solve, driven_batch_solve
@@ -115,16 +115,14 @@ contains
     real(wp), intent(out), optional :: err_omega(:, :)  !< Richardson error of omega [rad/s], like omega
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, ist
+    integer :: nlive, nblocks, b, first_bad, nth, i, ist
     character(len=len(status%message)) :: msg
     logical :: richardson
     real(wp), allocatable :: th2(:, :), om2(:, :)
     type(status_t) :: tables
-    th = 0
-    if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
     richardson = present(err_theta) .or. present(err_omega)
-    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
+    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, threads, p, status)
     call check_increasing('t', t, status)
     call check_size('t', size(t), 1, status)
     call check_same_size('codes', size(codes), 'theta0', size(theta0), status)
@@ -184,19 +182,14 @@ contains
         if (present(err_omega)) err_omega(:, i) = abs(omega(:, i) - om2(:, i))*(16.0_wp/15)
       end do
     end if
-    do i = 1, p%n
-      if (codes(i) /= PENDULA_OK) then
-        theta(:, i) = failed_output()
-        omega(:, i) = failed_output()
-        if (present(err_theta)) err_theta(:, i) = failed_output()
-        if (present(err_omega)) err_omega(:, i) = failed_output()
-      end if
-    end do
+    call nan_failed(codes, theta)
+    call nan_failed(codes, omega)
+    if (present(err_theta)) call nan_failed(codes, err_theta)
+    if (present(err_omega)) call nan_failed(codes, err_omega)
     ! the message of a block whose drive tables could not be allocated (run_block)
     tables = status_t()
     call check_alloc(1, 'the drive tables of a block of lanes', 2_i8*nl*(2_i8*p%nsteps + 1), 8, tables)
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff, tables%message)
-    if (present(first_failed)) first_failed = ff
+    call params_summary(codes, first_bad, msg, status, first_failed, tables%message)
 
   contains
 

@@ -20,10 +20,10 @@ module pendula_driven_maps
   use pendula_status, only: status_t, set_error, check_alloc, check_finite, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_batch_support, only: batch_threads, failed_output
+  use pendula_batch_support, only: batch_threads, failed_output, nan_failed
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, block_open, &
-                                    params_summary, first_message, wrap_angle, pick
+                                    params_summary, wrap_angle, pick
   implicit none
   private
   public :: driven_poincare, driven_bifurcation, driven_lyapunov, LYAPUNOV_BLOCKS, LYAPUNOV_ORBITS, LYAPUNOV_PARTED, &
@@ -86,15 +86,13 @@ contains
     integer, intent(out), optional :: first_failed  !< first failed state (0: none)
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i
+    integer :: nlive, nblocks, b, first_bad, nth
     character(len=len(status%message)) :: msg
-    th = 0
-    if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
     theta_s = 0
     omega_s = 0
     mean_omega = 0
-    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
+    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, threads, p, status)
     call check_finite('section_phase', section_phase, status)
     call check_counts(transient, nrec, 1, 'nrec', status)
     call check_same_size('codes', size(codes), 'theta0', size(theta0), status)
@@ -117,15 +115,10 @@ contains
                          theta_s, omega_s, mean_omega, codes, control)
     end do
     !$omp end parallel do
-    do i = 1, p%n
-      if (codes(i) /= PENDULA_OK) then
-        theta_s(:, i) = failed_output()
-        omega_s(:, i) = failed_output()
-        mean_omega(i) = failed_output()
-      end if
-    end do
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
-    if (present(first_failed)) first_failed = ff
+    call nan_failed(codes, theta_s)
+    call nan_failed(codes, omega_s)
+    call nan_failed(codes, mean_omega)
+    call params_summary(codes, first_bad, msg, status, first_failed)
   end subroutine driven_poincare
 
   ! transient >= 0, count >= least
@@ -330,16 +323,14 @@ contains
     !< copies per state in [1, DRIVEN_LANES] (absent: LYAPUNOV_ORBITS); 1 follows exactly (theta0, omega0)
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, ncopy, per_block
+    integer :: nlive, nblocks, b, first_bad, nth, ncopy, per_block
     character(len=len(status%message)) :: msg
-    th = 0
-    if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
     ncopy = LYAPUNOV_ORBITS
     if (present(orbits)) ncopy = orbits
     lyap = 0
     lyap_err = 0
-    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
+    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, threads, p, status)
     call check_counts(transient, periods, LYAPUNOV_BLOCKS, 'periods', status)
     if (status%code == PENDULA_OK .and. (ncopy < 1 .or. ncopy > nl)) then
       call set_error(status, PENDULA_ERR_DOMAIN, 'orbits = '//format_int(ncopy)// &
@@ -364,14 +355,9 @@ contains
                           lyap, lyap_err, codes, control)
     end do
     !$omp end parallel do
-    do i = 1, p%n
-      if (codes(i) /= PENDULA_OK) then
-        lyap(:, i) = failed_output()
-        lyap_err(:, i) = failed_output()
-      end if
-    end do
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
-    if (present(first_failed)) first_failed = ff
+    call nan_failed(codes, lyap)
+    call nan_failed(codes, lyap_err)
+    call params_summary(codes, first_bad, msg, status, first_failed)
   end subroutine driven_lyapunov
 
   ! One block: the states idx(:), ncopy lanes each (lane l is copy

@@ -21,10 +21,10 @@ module pendula_driven_orbits
   use pendula_status, only: status_t, set_error, check_alloc, check_positive, check_same_size, PENDULA_OK, PENDULA_ERR_DOMAIN, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE, PENDULA_ERR_MEMORY
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_batch_support, only: batch_threads, failed_output
+  use pendula_batch_support, only: batch_threads, failed_output, nan_failed
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_steps, lanes_steps_tangent, lanes_finite
   use pendula_driven_support, only: driven_params_t, params_check, params_prepare, block_open, &
-                                    params_summary, first_message, wrap_angle
+                                    params_summary, wrap_angle
   implicit none
   private
   public :: driven_orbits, driven_basins, basin_table, BASIN_UNSETTLED, BASIN_UNLISTED, &
@@ -193,10 +193,8 @@ contains
     integer, intent(out), optional :: first_failed  !< first failed state (0: none)
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, n
+    integer :: nlive, nblocks, b, first_bad, nth, n
     character(len=len(status%message)) :: msg
-    th = 0
-    if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
     period = 0
     winding = 0
@@ -205,7 +203,7 @@ contains
     mult = 0
     residual = 0
     n = size(theta0)
-    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
+    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, threads, p, status)
     call check_search(transient, nmax, tol, status)
     if (status%code == PENDULA_OK .and. size(period_in) /= 1 .and. size(period_in) /= n) call set_error(status, &
                                                                  PENDULA_ERR_SIZE, 'period_in has '//format_int(size(period_in))// &
@@ -237,18 +235,15 @@ contains
                        winding, theta_p, omega_p, mult, residual, codes, control)
     end do
     !$omp end parallel do
-    do i = 1, n
-      if (codes(i) /= PENDULA_OK) then
-        period(i) = 0
-        winding(i) = 0
-        theta_p(i) = failed_output()
-        omega_p(i) = failed_output()
-        mult(:, i) = failed_output()
-        residual(i) = failed_output()
-      end if
-    end do
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
-    if (present(first_failed)) first_failed = ff
+    where (codes /= PENDULA_OK)
+      period = 0
+      winding = 0
+    end where
+    call nan_failed(codes, theta_p)
+    call nan_failed(codes, omega_p)
+    call nan_failed(codes, mult)
+    call nan_failed(codes, residual)
+    call params_summary(codes, first_bad, msg, status, first_failed)
   end subroutine driven_orbits
 
   subroutine orbit_block(p, idx, period_in, transient, nmax, tol, period, winding, theta_p, omega_p, mult, &
@@ -415,10 +410,8 @@ contains
     type(driven_params_t) :: p
     integer, allocatable :: live(:)
     real(wp), allocatable :: cyc(:, :, :)
-    integer :: nlive, nblocks, b, first_bad, ff, nth, th, i, n, cap, ist
+    integer :: nlive, nblocks, b, first_bad, nth, i, n, cap, ist
     character(len=len(status%message)) :: msg
-    th = 0
-    if (present(threads)) th = threads
     if (present(first_failed)) first_failed = 0
     labels = BASIN_UNSETTLED
     period = 0
@@ -431,7 +424,7 @@ contains
     att_mean_omega = 0
     n = size(theta0)
     cap = size(att_period)
-    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, th, p, status)
+    call params_check(kind, nsteps, theta0, omega0, w0, gamma, amp, freq, phase, threads, p, status)
     call check_search(transient, nmax, tol, status)
     call check_same_size('codes', size(codes), 'theta0', n, status)
     call check_same_size('labels', size(labels), 'theta0', n, status)
@@ -463,12 +456,10 @@ contains
                        codes, control)
     end do
     !$omp end parallel do
-    do i = 1, n
-      if (codes(i) /= PENDULA_OK) then
-        period(i) = 0
-        winding(i) = 0
-      end if
-    end do
+    where (codes /= PENDULA_OK)
+      period = 0
+      winding = 0
+    end where
     if (present(cycles)) call check_same_size('cycles', size(cycles), 'cyc', size(cyc), status)
     if (status%code /= PENDULA_OK) then
       codes = status%code
@@ -486,8 +477,7 @@ contains
       codes = status%code
       return
     end if
-    call params_summary(codes, first_message(codes, first_bad, msg), status, ff)
-    if (present(first_failed)) first_failed = ff
+    call params_summary(codes, first_bad, msg, status, first_failed)
   end subroutine driven_basins
 
   !> The attractor table of a basin map from its states' periods, windings and

@@ -18,7 +18,7 @@ module pendula_driven_support
   use pendula_driven_kernel, only: DRIVEN_LANES, lanes_t, lanes_setup
   implicit none
   private
-  public :: driven_params_t, params_check, params_state, params_prepare, first_message, params_lanes, block_open, &
+  public :: driven_params_t, params_check, params_state, params_prepare, params_lanes, block_open, &
             params_summary, wrap_angle, pick
 
   !> The parameters of a batch call (pointers-free copies of the caller's arrays).
@@ -55,7 +55,7 @@ contains
     real(wp), intent(in) :: amp(:)  !< drive amplitudes, n or 1
     real(wp), intent(in) :: freq(:)  !< drive frequencies [rad/s], n or 1
     real(wp), intent(in) :: phase(:)  !< drive phases [rad], n or 1
-    integer, intent(in) :: threads  !< OpenMP threads (0: the OpenMP default), >= 0
+    integer, intent(in), optional :: threads  !< the caller's OpenMP threads (0 or absent: the OpenMP default), >= 0
     type(driven_params_t), intent(out) :: p  !< the parameters
     type(status_t), intent(inout) :: status  !< receives the first error
     integer :: n, sz(6)
@@ -72,11 +72,11 @@ contains
         return
       end if
     end do
-    if (threads < 0) then
-      call set_error(status, PENDULA_ERR_DOMAIN, 'threads = '//format_int(threads)// &
-                     ' is out of range: it must be >= 0 (0: the OpenMP default)')
-      return
+    if (present(threads)) then
+      if (threads < 0) call set_error(status, PENDULA_ERR_DOMAIN, 'threads = '//format_int(threads)// &
+                                      ' is out of range: it must be >= 0 (0: the OpenMP default)')
     end if
+    if (status%code /= PENDULA_OK) return
     p%kind = kind
     p%nsteps = nsteps
     p%n = n
@@ -248,35 +248,39 @@ contains
   end subroutine block_open
 
   !> The call's status from its per-state codes: OK; cancelled; or the first
-  !> failed state's code with its message (first_msg, from params_state or
-  !> the integration).
-  !> A state whose block could not allocate its drive tables has
-  !> PENDULA_ERR_MEMORY; its message (memory_msg, optional) is then the
-  !> summary's when first_msg is empty.
-  pure subroutine params_summary(codes, first_msg, status, first_failed, memory_msg)
+  !> failed state's code with its message (bad_msg when it is the first
+  !> invalid state, first_bad, of params_prepare).  A state whose block could
+  !> not allocate its drive tables has PENDULA_ERR_MEMORY; its message
+  !> (memory_msg, optional) is then the summary's.  first_failed (the
+  !> caller's optional argument): the first failed state (0: none).
+  pure subroutine params_summary(codes, first_bad, bad_msg, status, first_failed, memory_msg)
     integer, intent(in) :: codes(:)  !< status code of each state
-    character(len=*), intent(in) :: first_msg  !< message for the first failed state ('' if none known)
+    integer, intent(in) :: first_bad  !< first invalid state (params_prepare; 0: none)
+    character(len=*), intent(in) :: bad_msg  !< its message
     type(status_t), intent(inout) :: status  !< receives the summary
-    integer, intent(out) :: first_failed  !< first failed state (0: none)
+    integer, intent(out), optional :: first_failed  !< the caller's first failed state (0: none)
     character(len=*), intent(in), optional :: memory_msg  !< message of a failed table allocation
-    integer :: i
-    first_failed = 0
+    character(len=len(bad_msg)) :: first_msg
+    integer :: i, first
+    first = 0
     do i = 1, size(codes)
       if (codes(i) /= PENDULA_OK) then
-        first_failed = i
+        first = i
         exit
       end if
     end do
-    if (first_failed == 0) return
+    if (present(first_failed)) first_failed = first
+    if (first == 0) return
+    first_msg = first_message(codes, first_bad, bad_msg)
     if (len_trim(first_msg) > 0 .or. any(codes == PENDULA_ERR_CANCELLED)) then
-      call set_batch_error(status, codes, first_failed, first_msg)
-    else if (codes(first_failed) == PENDULA_ERR_MEMORY .and. present(memory_msg)) then
-      call set_batch_error(status, codes, first_failed, memory_msg)
-    else if (codes(first_failed) == PENDULA_ERR_MEMORY) then
-      call set_batch_error(status, codes, first_failed, &
+      call set_batch_error(status, codes, first, first_msg)
+    else if (codes(first) == PENDULA_ERR_MEMORY .and. present(memory_msg)) then
+      call set_batch_error(status, codes, first, memory_msg)
+    else if (codes(first) == PENDULA_ERR_MEMORY) then
+      call set_batch_error(status, codes, first, &
                            'out of memory: the drive tables of its block of lanes could not be allocated')
     else
-      call set_batch_error(status, codes, first_failed, 'the state became non-finite or left |theta| < 1e15 rad')
+      call set_batch_error(status, codes, first, 'the state became non-finite or left |theta| < 1e15 rad')
     end if
   end subroutine params_summary
 

@@ -12,7 +12,12 @@ module pendula_batch_support
 !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
-  public :: batch_threads, set_batch_error, failed_output
+  public :: batch_threads, set_batch_error, failed_output, nan_failed
+
+  !> failed_output in every real output of a failed state: a(i) or a(:, i) where codes(i) /= PENDULA_OK.
+  interface nan_failed
+    module procedure nan_failed_1, nan_failed_2
+  end interface nan_failed
 
 contains
 
@@ -34,6 +39,23 @@ contains
   pure real(wp) function failed_output() result(x)
     x = ieee_value(1.0_wp, ieee_quiet_nan)
   end function failed_output
+
+  !> a(i) = failed_output() where codes(i) /= PENDULA_OK (one value per state).
+  pure subroutine nan_failed_1(codes, a)
+    integer, intent(in) :: codes(:)  !< status code of each state
+    real(wp), intent(inout) :: a(:)  !< one output per state, size(codes)
+    where (codes /= PENDULA_OK) a = failed_output()
+  end subroutine nan_failed_1
+
+  !> a(:, i) = failed_output() where codes(i) /= PENDULA_OK (a column per state).
+  pure subroutine nan_failed_2(codes, a)
+    integer, intent(in) :: codes(:)  !< status code of each state
+    real(wp), intent(inout) :: a(:, :)  !< the outputs of state i in column i, size(codes) columns
+    integer :: i
+    do i = 1, size(codes)
+      if (codes(i) /= PENDULA_OK) a(:, i) = failed_output()
+    end do
+  end subroutine nan_failed_2
 
   !> The status of a batch call from its per-state codes (some not
   !> PENDULA_OK): a cancelled call says so first (how many states are

@@ -31,7 +31,7 @@ module pendula_rk4_batch
   use pendula_drive, only: drive_t
   use pendula_driven, only: driven_batch_solve
   use pendula_ode, only: ode_stats_t
-  use pendula_batch_support, only: batch_threads, set_batch_error, failed_output
+  use pendula_batch_support, only: batch_threads, set_batch_error, failed_output, nan_failed
   use pendula_rk4_kernel, only: RK4_BATCH_LANES
   use pendula_dispatch, only: rk4_lanes
   implicit none
@@ -402,12 +402,8 @@ contains
     first = findloc(codes /= PENDULA_OK, .true., dim=1)
     if (first == 0) return
     if (present(first_failed)) first_failed = first
-    do i = 1, n
-      if (codes(i) /= PENDULA_OK) then
-        theta(:, i) = failed_output()
-        omega(:, i) = failed_output()
-      end if
-    end do
+    call nan_failed(codes, theta)
+    call nan_failed(codes, omega)
     st = status_t()
     if (count(codes == PENDULA_ERR_CANCELLED) == 0) st = state_status(t, theta0(first), omega0(at(omega0, first)), &
                                                         w0(at(w0, first)), gamma(at(gamma, first)), h(at(h, first)), codes(first), &
