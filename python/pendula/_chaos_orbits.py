@@ -107,6 +107,11 @@ class PeriodicOrbits(_Outcome):
         )
 
 
+def _failed_ints(res, *arrays):
+    """The integer fields (shaped like the states): FAILED where the state failed."""
+    return tuple(np.where(res.codes != OK, FAILED, a) for a in arrays)
+
+
 def _orbits(call, period_in, transient, nmax, tol, progress):
     n, shape, args = call.n, call.shape, call.args
     work = _work(n, 3 * call.steps, transient + 2 * nmax + 40 * max(period_in, nmax))
@@ -122,9 +127,10 @@ def _orbits(call, period_in, transient, nmax, tol, progress):
     stable = (per > 0) & (np.abs(mu[..., 0]) < 1)
     wnd, tp, op, resid = wnd.reshape(shape), tp.reshape(shape), op.reshape(shape), resid.reshape(shape)
     _dc.nan_failed(res, tp, op, mu, fe, resid)
-    bad = res.codes != OK
-    per, wnd = np.where(bad, FAILED, per), np.where(bad, FAILED, wnd)
-    return PeriodicOrbits(per, wnd, tp, op, mu, stable & ~bad, fe, resid, res.codes, res.message, call.inputs)
+    per, wnd = _failed_ints(res, per, wnd)
+    return PeriodicOrbits(
+        per, wnd, tp, op, mu, stable & (res.codes == OK), fe, resid, res.codes, res.message, call.inputs
+    )
 
 
 @_dc.fill_doc
@@ -439,6 +445,5 @@ def basins(
         omega=ao[:natt].copy(),
         mean_omega=am[:natt].copy(),
     )
-    bad = res.codes != OK
-    lab, per, wnd = (np.where(bad, FAILED, np.asarray(a).reshape(shape)) for a in (lab, per, wnd))
+    lab, per, wnd = _failed_ints(res, *(np.asarray(a).reshape(shape) for a in (lab, per, wnd)))
     return Basins(lab, per, wnd, table, res.codes, res.message, call.inputs)
