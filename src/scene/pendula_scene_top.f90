@@ -146,13 +146,14 @@ contains
   ! amplitude |b| <= the start's, only needs stability of the run at 2h
   ! (-lm 2h <= 2 < 2.78, RK4's real-axis limit); the Richardson pair checks
   ! what the model leaves out.
-  pure real(wp) function hang_step(scene, phi0, target, t_end) result(h)
+  ! The run covers [t_from, t_end] (t_from > 0: after the closed-form start).
+  pure real(wp) function hang_step(scene, phi0, target, t_from, t_end) result(h)
     type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: phi0, target, t_end
+    real(wp), intent(in) :: phi0, target, t_from, t_end
     real(wp) :: lp, lm, a, b, phimax
     call saddle(scene, phi0, -scene%omega0, lp, lm, a, b)
     phimax = max(abs(phi0), min(PHI_EXIT, abs(a)*exp(min(lp*t_end, 700.0_wp))) + abs(b), tiny(1.0_wp))
-    h = min((120*target/(2*phimax*max(1.0_wp, lp*t_end)))**0.25_wp, 0.5_wp)/lp
+    h = min((120*target/(2*phimax*max(1.0_wp, lp*(t_end - t_from))))**0.25_wp, 0.5_wp)/lp
     h = min(h, 1/(-lm))
   end function hang_step
 
@@ -175,7 +176,7 @@ contains
     if (scene%want /= SCENE_WANT_EVENTS) target = min(target, scene%tol/2)
     if (scene%want /= SCENE_WANT_EVENTS .and. tend <= tx) target = scene%tol/2
     call closed_hang(scene, phi0, v0, tx, vmax, ts, rho, c2, c2o)
-    h = hang_step(scene, phi0, target, tx - ts)
+    h = hang_step(scene, phi0, target, ts, tx)
     ! at most 1.5e300 (no overflow: a start exactly at the top hangs for ever)
     work = 1.5e300_wp
     if ((tx - ts)/1.0e300_wp <= h) work = 1.5_wp*(tx - ts)/h
@@ -295,7 +296,7 @@ contains
     end if
     e_lin = max(1.0_wp, -lm/scene%w0)*c2 + 4*eps*(1 + lp*ts - lm*ts)*max(abs(us), abs(ws)/scene%w0)
     c_lin = TOP_SAFETY*vmax*rho/lp + gain*max(1.0_wp, -lm/scene%w0)*c2
-    h = hang_step(scene, phi0, target, tg(size(tg)) - ts)
+    h = hang_step(scene, phi0, target, ts, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
     do it = 1, MAX_REFINE
