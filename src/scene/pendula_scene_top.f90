@@ -329,7 +329,8 @@ contains
     result%step = h
     result%setting = h
     why = 'gamma > 0, start '//format_sci(hypot(phi0, v0/scene%w0), 3)//' rad from a top: '
-    if (ts > 0) why = why//'the linear motion about the top (closed form) to t = '//format_sci(ts, 4)//' s, then '
+    ! (short: the reason has 256 characters, the hand-over's part follows)
+    if (ts > 0) why = why//'closed form to t = '//format_sci(ts, 3)//' s, '
     why = why//'RK4 in phi = k pi - theta'
     if (handover) then
       thx = p - (ph(size(ph)) - (e + k*pi_lo))
