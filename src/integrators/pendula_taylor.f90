@@ -8,7 +8,8 @@
 !> Omega/w0 in rad), not a per-step tolerance.  Three things keep it honest
 !> over long windows:
 !> - the per-step truncation target is tol divided by the expected number of
-!>   steps and by the phase shear over the window (see taylor_step_tolerance);
+!>   steps and by the phase shear over the window, that of the decaying
+!>   energy for a damped swing (see taylor_step_tolerance);
 !> - the state and the time are carried as double-doubles (the first term
 !>   theta' h exactly, by two_prod), so rounding grows with the size of the
 !>   increments, not as n eps |theta| over n steps;
@@ -59,9 +60,11 @@ module pendula_taylor
 contains
 
   !> Per-step truncation tolerance for a run of tau = w0 |t(n) - t(1)| with
-  !> initial scaled energy e0: tol / ((1 + n_est) (1 + G tau/2)), n_est = 3 tau
-  !> (1 + gamma/w0) the expected steps, G the initial shear; never below
-  !> EPS_FLOOR (1e-18, where rounding dominates) nor above tol.
+  !> initial scaled energy e0: tol / ((1 + n_est) (1 + Gbar tau/2)), n_est =
+  !> 3 tau (1 + gamma/w0) the expected steps, Gbar tau/2 the mean growth by
+  !> the shear (the initial shear G(e0); for the long steps of a damped swing,
+  !> G along an upper bound of the decaying energy); never below EPS_FLOOR (1e-18, where
+  !> rounding dominates) nor above tol.
   pure real(wp) function taylor_step_tolerance(tol, tau, gamma_over_w0, e0) result(eps)
     real(wp), intent(in) :: tol  !< accuracy asked at the outputs, > 0
     real(wp), intent(in) :: tau  !< window length in units of 1/w0, >= 0
