@@ -18,6 +18,16 @@ Batch: 2,000 states (theta0 uniform in [0.1, 3], Omega0 in [-1, 1]), gamma =
 0.1, 30 s, 601 outputs, tol 1e-10, one thread for pendula, heyoka's batch
 integrator (SIMD width of this machine's doubles) state by batch; states/s.
 
+Scenes: pendula.solve (the model it picks, its verification included) on
+damped scenes at tol 1e-12 and 1e-14 relative to the motion's size (|theta0| +
+|Omega0|/w0, as solve's floor is stated): the true error against the
+extended-precision reference, whether tol is met, and the CPU time against
+heyoka's propagate_grid at the same tol over the same window and outputs; and
+the 1000 s window at tol 1e-8 (theta0 = 2.5, gamma = 0.001, 1001 outputs)
+against solve forced to RK4 (the model it took before the Taylor series) and
+heyoka.  Targets: tol met at <= 3x heyoka's time; the 1000 s window >= 20x
+faster than RK4.
+
 heyoka.py is a benchmark requirement (the `bench` extra), never a runtime
 dependency: without it the script prints pendula's rows alone.
 
@@ -50,8 +60,15 @@ def _system():
 
 def reference(t, gamma, theta0=2.5):
     """heyoka in long double at tol 1e-19 (the problem's extended-precision reference)."""
+    return reference_state(t, gamma, theta0, 0.0)
+
+
+def reference_state(t, gamma, theta0, omega0):
+    """The same from any start (theta0, omega0) at t[0]."""
     ld = np.longdouble
-    ta = hy.taylor_adaptive(_system(), [ld(theta0), ld(0)], tol=ld(1e-19), pars=[ld(2), ld(gamma)], fp_type=ld)
+    ta = hy.taylor_adaptive(
+        _system(), [ld(theta0), ld(omega0)], tol=ld(1e-19), pars=[ld(2), ld(gamma)], fp_type=ld, time=ld(t[0])
+    )
     states = ta.propagate_grid(np.asarray(t, dtype=ld))[-1]
     return states[:, 0], states[:, 1]
 
@@ -160,6 +177,83 @@ def batch_rows(n_states, repeat):
     return header, [row]
 
 
+# (theta0, Omega0, gamma, t): the issue's scene and two more damped ones (as tests/python/test_scene_taylor.py)
+SCENES = (
+    (2.5, 0.0, 0.1, np.linspace(0.0, 30.0, 31)),
+    (1.0, 0.5, 0.3, np.linspace(0.0, 20.0, 11)),
+    (0.2, -1.0, 0.05, np.linspace(0.0, 25.0, 6)),
+)
+
+
+def _heyoka_runner(theta0, omega0, gamma, t, tol):
+    ta = hy.taylor_adaptive(_system(), [theta0, omega0], tol=tol, pars=[2.0, gamma])
+
+    def run():
+        ta.time = float(t[0])
+        ta.state[:] = (theta0, omega0)
+        return ta.propagate_grid(t)
+
+    return run
+
+
+def scene_rows(repeat):
+    rows = []
+    for theta0, omega0, gamma, t in SCENES:
+        ref = reference_state(t, gamma, theta0, omega0) if hy else None
+        size = abs(theta0) + abs(omega0) / W0
+        for rel in (1e-12, 1e-14):
+            sc = pendula.Scene(theta0=theta0, omega0=omega0, t=t, gamma=gamma, tol=rel * size)
+            r = pendula.solve(sc)
+            fns = [lambda sc=sc: pendula.solve(sc)]
+            if hy:
+                fns.append(_heyoka_runner(theta0, omega0, gamma, t, rel * size))
+            times = harness.best_times_interleaved(fns, repeat, clock=time.process_time)
+            row = [
+                f"{theta0:g}, {omega0:g}",
+                f"{gamma:g}",
+                f"{t[-1]:g}",
+                f"{rel:.0e} ({rel * size:.1e})",
+                r.model,
+                "yes" if r.tol_met else "NO",
+                f"{r.error_estimate:.1e}",
+                f"{times[0] * 1e6:.1f}",
+            ]
+            if hy:
+                row += [
+                    f"{error(r.theta, r.omega, ref):.1e}",
+                    f"{times[1] * 1e6:.1f}",
+                    f"{times[0] / times[1]:.2f}",
+                ]
+            rows.append(row)
+    header = ["theta0, Omega0", "gamma", "window [s]", "tol rel (abs)", "model", "tol met", "estimate", "solve [us]"]
+    if hy:
+        header += ["true error", "heyoka [us]", "time ratio solve/heyoka"]
+    return header, rows
+
+
+def long_window_rows(repeat):
+    t = np.linspace(0.0, 1000.0, 1001)
+    sc = pendula.Scene(theta0=2.5, t=t, gamma=0.001, tol=1e-8)
+    r = pendula.solve(sc)
+    old = pendula.solve(sc, model="rk4")
+    fns = [lambda: pendula.solve(sc), lambda: pendula.solve(sc, model="rk4")]
+    if hy:
+        fns.append(_heyoka_runner(2.5, 0.0, 0.001, t, 1e-8))
+    times = harness.best_times_interleaved(fns, repeat, clock=time.process_time)
+    ref = reference_state(t, 0.001, 2.5, 0.0) if hy else None
+    rows = []
+    for name, res, tm in ((f"solve ({r.model})", r, times[0]), ("solve(model='rk4')", old, times[1])):
+        row = [name, "yes" if res.tol_met else "NO", f"{res.error_estimate:.1e}", f"{tm * 1e3:.2f}"]
+        row.append(f"{times[1] / tm:.1f}")
+        if hy:
+            row += [f"{error(res.theta, res.omega, ref):.1e}", f"{tm / times[2]:.2f}"]
+        rows.append(row)
+    header = ["run", "tol met", "estimate", "CPU [ms]", "speed-up over RK4"]
+    if hy:
+        header += ["true error", "time ratio / heyoka"]
+    return header, rows
+
+
 def main(argv=None):
     ap = harness.parser(__doc__, "fewer repeats and states", "write bench_taylor.md there")
     args = ap.parse_args(argv)
@@ -173,10 +267,14 @@ def main(argv=None):
     h1, r1 = single_rows(repeat)
     parts += [harness.markdown_table(h1, r1), "", f"Batch: {n_states} states, 30 s, 601 outputs", ""]
     h2, r2 = batch_rows(n_states, max(3, repeat // 5))
-    parts.append(harness.markdown_table(h2, r2))
+    parts += [harness.markdown_table(h2, r2), "", "Scenes: solve at tol relative to the motion's size", ""]
+    h3, r3 = scene_rows(repeat)
+    parts += [harness.markdown_table(h3, r3), "", "Scene: 1000 s window, theta0 = 2.5, gamma = 0.001, tol 1e-8", ""]
+    h4, r4 = long_window_rows(max(3, repeat // 5))
+    parts.append(harness.markdown_table(h4, r4))
     text = "\n".join(parts)
     print(text)
-    harness.write_outputs(args.out, "bench_taylor", text, tables=[(h1, r1), (h2, r2)])
+    harness.write_outputs(args.out, "bench_taylor", text, tables=[(h1, r1), (h2, r2), (h3, r3), (h4, r4)])
 
 
 if __name__ == "__main__":

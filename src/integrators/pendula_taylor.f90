@@ -8,7 +8,8 @@
 !> Omega/w0 in rad), not a per-step tolerance.  Three things keep it honest
 !> over long windows:
 !> - the per-step truncation target is tol divided by the expected number of
-!>   steps and by the phase shear over the window (see taylor_step_tolerance);
+!>   steps and by the phase shear over the window, that of the decaying
+!>   energy for a damped swing (see taylor_step_tolerance);
 !> - the state and the time are carried as double-doubles (the first term
 !>   theta' h exactly, by two_prod), so rounding grows with the size of the
 !>   increments, not as n eps |theta| over n steps;
@@ -59,9 +60,11 @@ module pendula_taylor
 contains
 
   !> Per-step truncation tolerance for a run of tau = w0 |t(n) - t(1)| with
-  !> initial scaled energy e0: tol / ((1 + n_est) (1 + G tau/2)), n_est = 3 tau
-  !> (1 + gamma/w0) the expected steps, G the initial shear; never below
-  !> EPS_FLOOR (1e-18, where rounding dominates) nor above tol.
+  !> initial scaled energy e0: tol / ((1 + n_est) (1 + Gbar tau/2)), n_est =
+  !> 3 tau (1 + gamma/w0) the expected steps, Gbar tau/2 the mean growth by
+  !> the shear (the initial shear G(e0); for the long steps of a damped swing,
+  !> G along an upper bound of the decaying energy); never below EPS_FLOOR (1e-18, where
+  !> rounding dominates) nor above tol.
   pure real(wp) function taylor_step_tolerance(tol, tau, gamma_over_w0, e0) result(eps)
     real(wp), intent(in) :: tol  !< accuracy asked at the outputs, > 0
     real(wp), intent(in) :: tau  !< window length in units of 1/w0, >= 0
@@ -86,7 +89,7 @@ contains
     real(wp), intent(in) :: tol, tau, gamma_over_w0, e0, lip
     real(wp), intent(out) :: eps
     logical, intent(out) :: short
-    real(wp) :: n_est, growth, r
+    real(wp) :: n_est, growth, growth0, r
     n_est = 1 + 3*tau*(1 + gamma_over_w0)
     ! the error estimate is ~ TAYLOR_SAFETY sqrt(2) 0.3 eps per step (the
     ! omitted tail at the optimal order), grown on average by G tau/2
@@ -95,15 +98,55 @@ contains
       if (growth > 0) growth = (exp(growth) - 1)/growth
       growth = max(growth, 1.0_wp)
     else
-      growth = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
+      growth = 1 + min(shear_growth(tau, gamma_over_w0, e0), 1.0e12_wp)
     end if
-    eps = tol/(n_est*growth)
-    r = 0.1_wp*epsilon(1.0_wp)*sqrt(n_est)*growth
+    growth0 = growth
+    if (.not. lip > 0) growth0 = 1 + min(taylor_shear(e0)*tau/2, 1.0e12_wp)
+    ! rounding, and the short steps' tolerance, from the initial shear (their
+    ! calibration); the long steps' from the decaying shear (shear_growth)
+    r = 0.1_wp*epsilon(1.0_wp)*sqrt(n_est)*growth0
     short = 20*r > tol .and. r <= 2*tol
-    if (.not. short) eps = eps/2
+    if (short) then
+      eps = tol/(n_est*growth0)
+    else
+      eps = tol/(n_est*growth)/2
+    end if
     eps = min(tol, max(EPS_FLOOR, eps))
     if (.not. eps >= EPS_FLOOR) eps = EPS_FLOOR   ! NaN-proof
   end subroutine step_plan
+
+  ! (1/tau) int_0^tau G(e(s)) s ds: the mean growth of an error committed at
+  ! a steady rate, by the shear G of the energy e(s) at time s (the estimate
+  ! of taylor_run grows its committed error A by D' = G A, G refreshed as e
+  ! moves).  Undamped, or a rotation (e0 >= 2, whose decay leads to the
+  ! separatrix), or a damping that barely moves e over the window: G(e0)
+  ! tau/2.  A damped swing loses energy, de/ds = -(gamma/w0) <u**2>, and G
+  ! falls with it: <u**2> = kappa e over a swing, kappa = 2 (E/K - (1 - m))/m
+  ! (m = e/2: the action over the period), bounded below by
+  ! 4/(4 + ln(1/(1 - m))) (1 as m -> 0, its 4/ln(16/(1 - m)) as m -> 1),
+  ! which makes e an upper bound; G grows with e, so G at the start of each
+  ! of NSHEAR pieces bounds it over the piece: an upper bound of the growth.
+  pure real(wp) function shear_growth(tau, gamma_over_w0, e0) result(gr)
+    real(wp), intent(in) :: tau, gamma_over_w0, e0
+    integer, parameter :: NSHEAR = 8
+    real(wp) :: e, ds, s0, kappa
+    integer :: j
+    if (.not. (gamma_over_w0*tau > 0.05_wp .and. e0 < 2 .and. tau <= 1.0e12_wp)) then
+      gr = taylor_shear(e0)*tau/2
+      return
+    end if
+    ds = tau/NSHEAR
+    e = e0
+    gr = 0
+    do j = 0, NSHEAR - 1
+      s0 = j*ds
+      ! int over [s0, s0 + ds] of s ds, G held at its value at s0
+      gr = gr + min(taylor_shear(e), 1.0e50_wp)*ds*(s0 + ds/2)
+      kappa = 4/(4 - log(max(1 - e/2, tiny(1.0_wp))))
+      e = e*exp(-gamma_over_w0*kappa*ds)
+    end do
+    gr = gr/tau
+  end function shear_growth
 
   !> Argument checks of taylor_solve: t finite and strictly monotonic
   !> (decreasing integrates backwards), size >= 1, with a finite span; theta0,

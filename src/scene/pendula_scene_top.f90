@@ -9,7 +9,10 @@
 !> the hang amplifies it by ~1/phi0 (estimates of radians, or CVODE at
 !> hundreds of times the cost).  Here phi = k pi - theta obeys
 !>     phi'' = -gamma phi' + w0^2 sin(phi)
-!> (sin(k pi - phi) = sin(phi) for odd k), integrated by RK4 in phi from phi0
+!> (sin(k pi - phi) = sin(phi) for odd k).  While |phi| is small the hang is
+!> the saddle's linear motion phi = a e^(lp t) + b e^(lm t) in closed form
+!> (closed_hang: sin(phi) - phi bounded by |phi|**3/6 through the variation
+!> of constants), up to |phi| ~ sqrt(tol); from there RK4 in phi
 !> until the motion has left the top (|phi| ~ PHI_EXIT, predicted from the
 !> saddle's unstable rate lambda = sqrt(w0^2 + gamma^2/4) - gamma/2), with
 !> the step from the error target and a Richardson check at 2h.  From there
@@ -143,13 +146,14 @@ contains
   ! amplitude |b| <= the start's, only needs stability of the run at 2h
   ! (-lm 2h <= 2 < 2.78, RK4's real-axis limit); the Richardson pair checks
   ! what the model leaves out.
-  pure real(wp) function hang_step(scene, phi0, target, t_end) result(h)
+  ! The run covers [t_from, t_end] (t_from > 0: after the closed-form start).
+  pure real(wp) function hang_step(scene, phi0, target, t_from, t_end) result(h)
     type(scene_t), intent(in) :: scene
-    real(wp), intent(in) :: phi0, target, t_end
+    real(wp), intent(in) :: phi0, target, t_from, t_end
     real(wp) :: lp, lm, a, b, phimax
     call saddle(scene, phi0, -scene%omega0, lp, lm, a, b)
     phimax = max(abs(phi0), min(PHI_EXIT, abs(a)*exp(min(lp*t_end, 700.0_wp))) + abs(b), tiny(1.0_wp))
-    h = min((120*target/(2*phimax*max(1.0_wp, lp*t_end)))**0.25_wp, 0.5_wp)/lp
+    h = min((120*target/(2*phimax*max(1.0_wp, lp*(t_end - t_from))))**0.25_wp, 0.5_wp)/lp
     h = min(h, 1/(-lm))
   end function hang_step
 
@@ -160,7 +164,7 @@ contains
   !> are not counted), for deciding how to run the call.
   pure real(wp) function top_hang_work(scene) result(work)
     type(scene_t), intent(in) :: scene  !< the scene, checked (scene_init or check_scene), auto model
-    real(wp) :: k, phi0, v0, tend, tx, gain, vmax, target, h
+    real(wp) :: k, phi0, v0, tend, tx, gain, vmax, target, h, ts, rho, c2, c2o
     logical :: is_top
     work = 0
     call top_start(scene, is_top, k, phi0, v0)
@@ -171,11 +175,60 @@ contains
     ! covers the window
     if (scene%want /= SCENE_WANT_EVENTS) target = min(target, scene%tol/2)
     if (scene%want /= SCENE_WANT_EVENTS .and. tend <= tx) target = scene%tol/2
-    h = hang_step(scene, phi0, target, tx)
+    call closed_hang(scene, phi0, v0, tx, vmax, ts, rho, c2, c2o)
+    h = hang_step(scene, phi0, target, ts, tx)
     ! at most 1.5e300 (no overflow: a start exactly at the top hangs for ever)
     work = 1.5e300_wp
-    if (tx/1.0e300_wp <= h) work = 1.5_wp*tx/h
+    if ((tx - ts)/1.0e300_wp <= h) work = 1.5_wp*(tx - ts)/h
   end function top_hang_work
+
+  ! The closed-form start of the hang: the linear motion about the top,
+  ! phi = a e^(lp t) + b e^(lm t), answers [0, ts]; RK4 in phi takes over at
+  ! ts, where |a| e^(lp ts) = plin.  The omitted w0^2 (sin(phi) - phi), at
+  ! most w0^2 |phi|**3/6, enters the modes by the variation of constants:
+  ! c1(t) = int e^(lp (t-s)) w0^2 r(s) ds/(lp - lm) (growing mode) and c2 the
+  ! same with lm (decaying mode); with |phi| <= |a| e^(lp s) + |b| e^(lm s),
+  ! (x + y)**3 <= 4 (x**3 + y**3), and a factor 2 for the true motion's own
+  ! size: |c1(ts)| <= rho |a| e^(lp ts) with
+  !   rho = kk ((a e^(lp ts))**2/(2 lp) + |b|**3/(|a| (lp + 3|lm|))),
+  ! kk = 4 w0^2/(3 (lp - lm)), and |c2| <= kk ((a e^(lp ts))**3/(3 lp + |lm|)
+  ! + |b|**3 e^(lm ts)/(2|lm|)) = c2 (c2o: the same for any t <= ts).  The
+  ! growing mode's part is a relative error rho of the motion: a shift in time
+  ! by rho/lp, which moves the later motion by at most vmax rho/lp.  plin
+  ! keeps rho (PHI_EXIT + TOP_SAFETY vmax/lp) near tol/16.  ts = 0 (RK4 from
+  ! the start, as without it) when the start is not deep in the hang or
+  ! when the decaying mode still matters at ts.
+  pure subroutine closed_hang(scene, phi0, v0, tx, vmax, ts, rho, c2, c2o)
+    type(scene_t), intent(in) :: scene
+    real(wp), intent(in) :: phi0, v0, tx, vmax
+    real(wp), intent(out) :: ts, rho, c2, c2o
+    real(wp) :: lp, lm, a, b, plin, kk, pa
+    ts = 0
+    rho = 0
+    c2 = 0
+    c2o = 0
+    call saddle(scene, phi0, v0, lp, lm, a, b)
+    if (.not. (abs(a) > 0 .and. lp > 0)) return
+    kk = 4*scene%w0**2/(3*(lp - lm))
+    ! rho ~ kk plin**2/(2 lp) at most tol/(16 (PHI_EXIT + TOP_SAFETY vmax/lp))
+    plin = min(1.0e-2_wp, sqrt(lp*scene%tol/(8*kk*(PHI_EXIT + TOP_SAFETY*vmax/lp))))
+    if (abs(a) >= plin/16) return
+    ts = min(tx, log(plin/abs(a))/lp)
+    pa = abs(a)*exp(lp*ts)
+    if (abs(b)*exp(lm*ts) > 1.0e-3_wp*pa) then
+      ts = 0
+      return
+    end if
+    rho = kk*(pa**2/(2*lp) + abs(b)**3/(abs(a)*(lp - 3*lm)))
+    c2 = kk*(pa**3/(3*lp - lm) + abs(b)**3*exp(lm*ts)/(2*(-lm)))
+    c2o = kk*(pa**3/(3*lp - lm) + abs(b)**3/(2*(-lm)))
+    if (.not. rho <= 1.0e-3_wp) then
+      ts = 0
+      rho = 0
+      c2 = 0
+      c2o = 0
+    end if
+  end subroutine closed_hang
 
   !> Answer a damped scene that starts near the top (top_start): RK4 in phi
   !> over the hang, then `model`'s ordinary path from the state where the
@@ -192,7 +245,7 @@ contains
     type(status_t), intent(inout) :: status  !< set on an error (code, message naming the argument), else left unchanged
     integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< cancel flag, progress (pendula_control)
     real(wp) :: k, phi0, v0, tx, tshift, gain, target, h, est, d, p, e, thx, omx, eround
-    real(wp) :: vmax, carried, r
+    real(wp) :: vmax, carried, r, ts, rho, c2, c2o, lp, lm, ca, cb, us, ws, e_closed, e_lin, c_lin
     real(wp), allocatable :: tg(:), ph(:), vp(:), ph2(:), vp2(:)
     type(scene_t) :: sub
     type(scene_result_t) :: rest, fresh
@@ -227,20 +280,38 @@ contains
     allocate (ph(size(tg)), vp(size(tg)), ph2(size(tg)), vp2(size(tg)), stat=ist)
     call check_alloc(ist, 'the runs from the top', 4_i8*size(tg), 8, status)
     if (status%code /= PENDULA_OK) return
-    h = hang_step(scene, phi0, target, tg(size(tg)))
+    ! the closed-form start (closed_hang): its error in the (phi, phi'/w0)
+    ! max norm on the outputs up to ts (e_closed) and after it (e_lin: rho of
+    ! the motion plus the decaying mode's part), and what it adds to the state
+    ! handed over (c_lin: the time shift rho/lp and the decaying part)
+    call closed_hang(scene, phi0, v0, tg(size(tg)), vmax, ts, rho, c2, c2o)
+    call saddle(scene, phi0, v0, lp, lm, ca, cb)
+    us = phi0
+    ws = v0
+    e_closed = 0
+    if (ts > 0) then
+      call closed_state(ts, us, ws)
+      e_closed = max(1.0_wp, lp/scene%w0)*rho*abs(us) + max(1.0_wp, -lm/scene%w0)*c2o + &
+                 4*eps*(1 + lp*ts - lm*ts)*max(abs(us), abs(ws)/scene%w0)
+    end if
+    e_lin = max(1.0_wp, -lm/scene%w0)*c2 + 4*eps*(1 + lp*ts - lm*ts)*max(abs(us), abs(ws)/scene%w0)
+    c_lin = TOP_SAFETY*vmax*rho/lp + gain*max(1.0_wp, -lm/scene%w0)*c2
+    h = hang_step(scene, phi0, target, ts, tg(size(tg)))
     steps = 0
     est = huge(1.0_wp)
     do it = 1, MAX_REFINE
-      if (1.5_wp*tg(size(tg))/h > budget) exit
+      if (1.5_wp*(tg(size(tg)) - ts)/h > budget) exit
       call run(h, 1_i8, ph, vp)
       call run(h, 2_i8, ph2, vp2)
       if (status%code /= PENDULA_OK) return
       d = max(maxval(abs(ph - ph2)), maxval(abs(vp - vp2))/scene%w0)
       est = 2*d/15 + 4*eps*maxval(abs(ph))
-      carried = carried_error(ph(size(ph)), vp(size(ph)), ph2(size(ph)), vp2(size(ph)))
+      if (ts > 0) est = est + max(e_closed, rho*max(maxval(abs(ph)), maxval(abs(vp))/scene%w0) + e_lin)
+      carried = carried_error(ph(size(ph)), vp(size(ph)), ph2(size(ph)), vp2(size(ph))) + c_lin
       ! the hang's outputs at tol/2, the state handed over to tol/4 after the gain
-      r = huge(1.0_wp)
-      if (scene%want /= SCENE_WANT_EVENTS) r = scene%tol/(2*max(est, tiny(1.0_wp)))
+      ! (events too: the estimate of the hang's state is the answer's when
+      ! the window ends in the hang)
+      r = scene%tol/(2*max(est, tiny(1.0_wp)))
       if (handover) r = min(r, scene%tol/(4*max(carried, tiny(1.0_wp))))
       if (r >= 1) exit
       h = h*max(1.0_wp/16, 0.9_wp*r**0.25_wp)
@@ -257,8 +328,10 @@ contains
     result%cost%runs = 2*it
     result%step = h
     result%setting = h
-    why = 'gamma > 0, start '//format_sci(hypot(phi0, v0/scene%w0), 3)//' rad from a top: RK4 in '// &
-          'phi = k pi - theta'
+    why = 'gamma > 0, start '//format_sci(hypot(phi0, v0/scene%w0), 3)//' rad from a top: '
+    ! (short: the reason has 256 characters, the hand-over's part follows)
+    if (ts > 0) why = why//'closed form to t = '//format_sci(ts, 3)//' s, '
+    why = why//'RK4 in phi = k pi - theta'
     if (handover) then
       thx = p - (ph(size(ph)) - (e + k*pi_lo))
       omx = -vp(size(vp))
@@ -318,6 +391,7 @@ contains
     ! check (factor 2) halves the substeps of the run (factor 1) on EVERY
     ! interval, also where the outputs are denser than hh (else both take
     ! one substep there, agree exactly, and the estimate is void)
+    ! The times up to ts take the closed form, the run starts there.
     subroutine run(hh, factor, x, y)
       real(wp), intent(in) :: hh
       integer(i8), intent(in) :: factor
@@ -325,10 +399,14 @@ contains
       real(wp) :: t0, u, w, dt, k1u, k1w, k2u, k2w, k3u, k3w, k4u, k4w
       integer :: i
       integer(i8) :: j, ns
-      t0 = 0
-      u = phi0
-      w = v0
+      t0 = ts
+      u = us
+      w = ws
       do i = 1, size(tg)
+        if (ts > 0 .and. tg(i) <= ts) then
+          call closed_state(tg(i), x(i), y(i))
+          cycle
+        end if
         if (present(control)) then
           if (cancel_requested(control)) then
             call set_error(status, PENDULA_ERR_CANCELLED, 'cancelled by the caller')
@@ -385,6 +463,16 @@ contains
             gain*(abs(dx*fy - dy*fx)/fn + 4*eps*abs(x))
       end if
     end function carried_error
+    ! The saddle's linear motion at time tt [s]: phi and phi'.
+    pure subroutine closed_state(tt, x, y)
+      real(wp), intent(in) :: tt
+      real(wp), intent(out) :: x, y
+      real(wp) :: gp, gm
+      gp = ca*exp(lp*tt)
+      gm = cb*exp(lm*tt)
+      x = gp + gm
+      y = lp*gp + lm*gm
+    end subroutine closed_state
     pure real(wp) function f(u, w)
       real(wp), intent(in) :: u, w
       f = -scene%gamma*w + scene%w0**2*sin(u)
