@@ -163,7 +163,7 @@ contains
     ! (a strided section from a Fortran caller goes through a copy, made
     ! here once rather than per block and thread).
     if (is_contiguous(theta) .and. is_contiguous(omega)) then
-      call run_blocks(t, live(1:nlive), w0, gamma, h, theta, omega, codes, steps, nthreads, control)
+      call run_blocks(t, live(1:nlive), w0, gamma, h, size(t), n, theta, omega, codes, steps, nthreads, control)
     else
       allocate (th(size(theta, 1), size(theta, 2)), om(size(omega, 1), size(omega, 2)), stat=ist)
       call check_alloc(ist, 'the contiguous copies of theta and omega', 2_i8*size(theta, kind=i8), 8, status)
@@ -173,7 +173,7 @@ contains
       end if
       th(1, :) = theta(1, :)
       om(1, :) = omega(1, :)
-      call run_blocks(t, live(1:nlive), w0, gamma, h, th, om, codes, steps, nthreads, control)
+      call run_blocks(t, live(1:nlive), w0, gamma, h, size(t), n, th, om, codes, steps, nthreads, control)
       theta = th
       omega = om
     end if
@@ -243,10 +243,16 @@ contains
   end function state_status
 
   !> The blocks of nl states of live(:), spread over nthreads OpenMP threads.
-  subroutine run_blocks(t, live, w0, gamma, h, theta, omega, codes, steps, nthreads, control)
+  !> theta and omega are explicit-shape (nt, ldn): gfortran 12 copies an
+  !> assumed-shape actual argument into a temporary for a `contiguous`
+  !> assumed-shape dummy even when it is contiguous (two extra passes over the
+  !> outputs and a fresh temporary per call, measured at half the kernel's
+  !> time), while an explicit-shape dummy receives a contiguous array as it is.
+  subroutine run_blocks(t, live, w0, gamma, h, nt, ldn, theta, omega, codes, steps, nthreads, control)
     real(wp), intent(in) :: t(:), w0(:), gamma(:), h(:)
     integer, intent(in) :: live(:)
-    real(wp), intent(inout), contiguous :: theta(:, :), omega(:, :)
+    integer, intent(in) :: nt, ldn
+    real(wp), intent(inout) :: theta(nt, ldn), omega(nt, ldn)
     integer, intent(inout) :: codes(:)
     integer(i8), intent(inout) :: steps(:)
     integer, intent(in) :: nthreads
@@ -256,7 +262,7 @@ contains
     nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call run_block(t, live((b - 1)*nl + 1:min(b*nl, nlive)), w0, gamma, h, theta, omega, &
+      call run_block(t, live((b - 1)*nl + 1:min(b*nl, nlive)), w0, gamma, h, nt, ldn, theta, omega, &
                      codes, steps, control)
     end do
     !$omp end parallel do
@@ -264,11 +270,12 @@ contains
 
   !> Integrate the states idx(:) (at most nl, all valid) as one block of lanes
   !> with the kernel path of this process (pendula_dispatch), and set their
-  !> codes and steps.  theta and omega are contiguous (rk4_batch_solve sees to it).
-  subroutine run_block(t, idx, w0, gamma, h, theta, omega, codes, steps, control)
+  !> codes and steps.  theta and omega are the whole call's (nt, ldn) outputs.
+  subroutine run_block(t, idx, w0, gamma, h, nt, ldn, theta, omega, codes, steps, control)
     real(wp), intent(in) :: t(:), w0(:), gamma(:), h(:)
     integer, intent(in) :: idx(:)
-    real(wp), intent(inout), contiguous :: theta(:, :), omega(:, :)
+    integer, intent(in) :: nt, ldn
+    real(wp), intent(inout) :: theta(nt, ldn), omega(nt, ldn)
     integer, intent(inout) :: codes(:)
     integer(i8), intent(inout) :: steps(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
@@ -279,12 +286,12 @@ contains
     if (nb == 0) return
     if (present(control)) then
       call rk4_lanes(int(size(t), c_int), t, nb, idx, int(size(w0), c_int), w0, int(size(gamma), c_int), gamma, &
-                     int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 1_c_int, &
+                     int(size(h), c_int), h, int(ldn, c_int), theta, omega, nsteps, dead, 1_c_int, &
                      int(CONTROL_SIZE, c_int), control, int(CONTROL_CANCEL, c_int), done)
     else
       no_control = 0
       call rk4_lanes(int(size(t), c_int), t, nb, idx, int(size(w0), c_int), w0, int(size(gamma), c_int), gamma, &
-                     int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 0_c_int, &
+                     int(size(h), c_int), h, int(ldn, c_int), theta, omega, nsteps, dead, 0_c_int, &
                      int(CONTROL_SIZE, c_int), no_control, int(CONTROL_CANCEL, c_int), done)
     end if
     if (done == 0) return   ! cancelled: codes stay PENDULA_ERR_CANCELLED
