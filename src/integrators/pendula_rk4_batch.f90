@@ -5,7 +5,8 @@
 !>
 !> Why a separate kernel: rk4_grid's step is a dependent chain (two chained
 !> stage sines per recurrence) and so bound by latency.  Here the
-!> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes; one
+!> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes (16 on
+!> x86-64-v4: pendula_dispatch's rk4_lanes_width); one
 !> step of a block is a loop over lanes with no dependence between them, which
 !> gcc vectorises and whose independent chains fill the pipeline.  The block
 !> kernel lives in pendula_rk4_lanes.F90, compiled for each instruction set
@@ -33,12 +34,10 @@ module pendula_rk4_batch
   use pendula_ode, only: ode_stats_t
   use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_rk4_kernel, only: RK4_BATCH_LANES
-  use pendula_dispatch, only: rk4_lanes
+  use pendula_dispatch, only: rk4_lanes, rk4_lanes_width
   implicit none
   private
   public :: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
-
-  integer, parameter :: nl = RK4_BATCH_LANES
 
 contains
 
@@ -242,7 +241,8 @@ contains
     if (st%code == PENDULA_OK) call set_error(st, code, 'failed in the batch')   ! cannot happen: same kernel
   end function state_status
 
-  !> The blocks of nl states of live(:), spread over nthreads OpenMP threads.
+  !> The blocks of live(:) (as many states each as the running kernel path's
+  !> lanes), spread over nthreads OpenMP threads.
   !> theta and omega are explicit-shape (nt, ldn): gfortran 12 copies an
   !> assumed-shape actual argument into a temporary for a `contiguous`
   !> assumed-shape dummy even when it is contiguous (two extra passes over the
@@ -257,7 +257,8 @@ contains
     integer(i8), intent(inout) :: steps(:)
     integer, intent(in) :: nthreads
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    integer :: nblocks, b, nlive
+    integer :: nblocks, b, nlive, nl
+    nl = int(rk4_lanes_width())   ! the running path's block width
     nlive = size(live)
     nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. nblocks > 1) default(shared)
@@ -268,7 +269,7 @@ contains
     !$omp end parallel do
   end subroutine run_blocks
 
-  !> Integrate the states idx(:) (at most nl, all valid) as one block of lanes
+  !> Integrate the states idx(:) (at most rk4_lanes_width(), all valid) as one block of lanes
   !> with the kernel path of this process (pendula_dispatch), and set their
   !> codes and steps.  theta and omega are the whole call's (nt, ldn) outputs.
   subroutine run_block(t, idx, w0, gamma, h, nt, ldn, theta, omega, codes, steps, control)
@@ -279,8 +280,8 @@ contains
     integer, intent(inout) :: codes(:)
     integer(i8), intent(inout) :: steps(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    integer(int64) :: nsteps(nl), no_control(CONTROL_SIZE)
-    integer(c_int) :: dead(nl), done, nb
+    integer(int64) :: nsteps(size(idx)), no_control(CONTROL_SIZE)
+    integer(c_int) :: dead(size(idx)), done, nb
     integer :: l
     nb = int(size(idx), c_int)
     if (nb == 0) return
