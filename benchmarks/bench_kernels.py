@@ -14,8 +14,15 @@ same run:
                                loop vectorised across states over glibc's
                                vector sin (libmvec); skipped without cc
   numba njit, 1 thread         bench_ensembles' numba RK4 (optional: the
-                               `bench` extra); heyoka.py's batch mode likewise
-                               when installed (not timed here otherwise)
+                               `bench` extra)
+  heyoka.py batch, tol 1e-7    taylor_adaptive_batch (this machine's SIMD
+                               width of doubles) over the same states and
+                               outputs, block by block (optional, when heyoka
+                               is installed; its own steps, so its time is
+                               given per state and per state-step of the RK4)
+  200 states, default threads  rk4_batch with threads=None against threads=1
+                               (wall time, interleaved: the default must not
+                               be slower on a batch this small)
 
 and, for the closed forms, pendula.period over many amplitudes against
 SciPy's 4 ellipkm1(cos(theta0/2)**2) / w0, and pendula.undamped over many
@@ -112,11 +119,43 @@ def _c_peer(exe, n):
     return float(out.split()[0])
 
 
-def _rounds(n, repeat, paths, exe, nb, th0, om0):
+def _heyoka_batch(th0, om0, tol=1e-7):
+    """(run(), SIMD width) for heyoka.py's batch integrator on the scene, or
+    (None, why not).  run() returns theta, shape (n, n_t)."""
+    try:
+        import heyoka as hy
+    except ImportError:
+        return None, "heyoka.py not installed"
+    import bench_ensembles as ens
+
+    x, v = hy.make_vars("x", "v")
+    width = hy.recommended_simd_size()
+    n = th0.size
+    nb = -(-n // width)
+    pad = nb * width - n
+    th_p = np.concatenate([th0, th0[:pad]]).reshape(nb, width)
+    om_p = np.concatenate([om0, om0[:pad]]).reshape(nb, width)
+    ta = hy.taylor_adaptive_batch([(x, v), (v, -ens.GAMMA * v - ens.W0SQ * hy.sin(x))], np.zeros((2, width)), tol=tol)
+    grid = np.repeat(ens.T[:, None], width, axis=1)
+
+    def run():
+        out = np.empty((nb * width, ens.T.size))
+        for b in range(nb):
+            ta.set_time(0.0)
+            ta.state[0, :] = th_p[b]
+            ta.state[1, :] = om_p[b]
+            out[b * width : (b + 1) * width] = ta.propagate_grid(grid)[-1][:, 0, :].T
+        return out[:n]
+
+    return run, width
+
+
+def _rounds(n, repeat, paths, exe, nb, th0, om0, hy_run=None):
     """Best times of every contender, measured in `repeat` interleaved rounds
-    (each path in a fresh interpreter, the C loop, numba): load from other
-    processes then hits all alike.  Returns ({path: child result}, C s, numba s)."""
-    res, peer, nb_cpu = {}, np.inf, np.inf
+    (each path in a fresh interpreter, the C loop, numba, heyoka): load from
+    other processes then hits all alike.  Returns ({path: child result}, C s,
+    numba s, heyoka s)."""
+    res, peer, nb_cpu, hy_cpu = {}, np.inf, np.inf, np.inf
     for _ in range(repeat):
         for path in paths:
             r = _path_run(path, n, 2)
@@ -129,7 +168,19 @@ def _rounds(n, repeat, paths, exe, nb, th0, om0):
             peer = min(peer, _c_peer(exe, n))
         if nb is not None:
             nb_cpu = min(nb_cpu, _thread_cpu(lambda: nb(th0, om0), 1))
-    return res, peer, nb_cpu
+        if hy_run is not None:
+            hy_cpu = min(hy_cpu, _thread_cpu(hy_run, 1))
+    return res, peer, nb_cpu, hy_cpu
+
+
+def _small_batch(repeat, m=200):
+    """Best wall times (default threads, threads=1) of rk4_batch on m states, interleaved."""
+    import bench_ensembles as ens
+
+    th0, om0 = ens.scene(m)
+    return harness.best_times_interleaved(
+        [lambda: ens.run_batch(th0, om0, None), lambda: ens.run_batch(th0, om0, 1)], max(repeat * 4, 20)
+    )
 
 
 def _period(m, repeat):
@@ -193,9 +244,16 @@ def main(argv=None):
     if nbk is not None:
         nb1 = nbk[0]
         nb1(th0[:8], om0[:8])  # compile outside the timing
+    from pendula._many import kernels as _batch
+
+    hy_run, hy_width = _heyoka_batch(th0, om0)
+    hy_err = float("nan")
+    if hy_run is not None:
+        ref = _batch.rk4_batch(ens.T, th0, om0, np.sqrt(ens.W0SQ), ens.GAMMA, ens.H / 16).theta
+        hy_err = float(np.abs(hy_run() - ref).max())  # also compiles outside the timing
     with tempfile.TemporaryDirectory() as tmp:
         exe, peer_how = _build_c_peer(tmp)
-        paths, peer_cpu, nb_cpu = _rounds(n, repeat, info["available"], exe, nb1, th0, om0)
+        paths, peer_cpu, nb_cpu, hy_cpu = _rounds(n, repeat, info["available"], exe, nb1, th0, om0, hy_run)
     if exe is None:
         peer_cpu = None
     rows = []
@@ -212,12 +270,8 @@ def main(argv=None):
     if nb1 is not None:
         rows.append(("numba njit, 1 thread", nb_cpu, float("nan")))
     nb = nb1
-    try:
-        import heyoka  # noqa: F401
-
-        heyoka_note = "heyoka.py installed: its batch mode is not timed by this script yet"
-    except ImportError:
-        heyoka_note = "heyoka.py not installed"
+    if hy_run is not None:
+        rows.append((f"heyoka.py batch (SIMD width {hy_width}), tol 1e-7, 1 thread", hy_cpu, hy_err))
 
     lines = ["| contender | ns per state-step (CPU) | max error [rad] |", "|---|---|---|"]
     for name, cpu, err in rows:
@@ -232,11 +286,23 @@ def main(argv=None):
         ratios.append(f"default path / C loop, 1 thread: {peer_cpu / best['cpu1']:.2f}x (target >= 1)")
     if nb is not None:
         ratios.append(f"default path / numba, 1 thread: {nb_cpu / best['cpu1']:.2f}x (target >= 7x)")
+    if hy_run is not None:
+        ratios.append(
+            f"default path / heyoka.py batch, 1 thread: {hy_cpu / best['cpu1']:.2f}x "
+            f"(heyoka {n / hy_cpu:,.0f} states/s, pendula {n / best['cpu1']:,.0f} states/s)"
+        )
+    else:
+        ratios.append(str(hy_width))  # why heyoka.py was not timed
+    for path, r in paths.items():
+        ratios.append(
+            f"path {path}, 2 threads / 1 thread, wall: {r['wall1'] / r['wall2']:.2f}x (target >= 1.8x; "
+            f"only meaningful on an idle machine)"
+        )
+    t_def, t_one = _small_batch(repeat)
     ratios.append(
-        f"default path, 2 threads / 1 thread, wall: {best['wall1'] / best['wall2']:.2f}x (target >= 1.8x; "
-        f"only meaningful on an idle machine)"
+        f"200 states, default threads / threads=1, wall: {t_def / t_one:.2f} "
+        f"({t_def * 1e3:.2f} ms against {t_one * 1e3:.2f} ms; target <= 1)"
     )
-    ratios.append(heyoka_note)
     m = 100_000 if args.quick else 1_000_000
     tp, ts, dev = _period(m, repeat)
     ratios.append(

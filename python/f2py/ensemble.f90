@@ -22,7 +22,11 @@ subroutine rk4_batch_f2py(nt, n, no, nw, ng, nh, t, theta0, omega0, w0, gamma, h
   ! int64: the cancel flag and progress counter (pendula_control), shared with
   ! the caller's thread while the call runs
   integer(8), intent(inout) :: control(2)
-  real(c_double), intent(out) :: theta(nt, n), omega(nt, n), steps(n)
+  ! inout: the caller allocates them uninitialised (numpy.empty) and every
+  ! element is written here; f2py would zero-fill an intent(out) array, one
+  ! more pass over memory that then faults in on the calling thread alone
+  real(c_double), intent(inout) :: theta(nt, n), omega(nt, n)
+  real(c_double), intent(out) :: steps(n)
   integer(c_int), intent(out) :: codes(n), first_failed, code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st
@@ -131,7 +135,8 @@ subroutine rk4_batch_drive_f2py(nt, n, no, nw, ng, nh, nd, t, theta0, omega0, w0
   integer(c_int), intent(in) :: dkind(nd)
   real(c_double), intent(in) :: amp(nd), freq(nd), phase(nd), max_steps
   integer(8), intent(inout) :: control(2)   ! cancel flag and progress (pendula_control)
-  real(c_double), intent(out) :: theta(nt, n), omega(nt, n), steps(n)
+  real(c_double), intent(inout) :: theta(nt, n), omega(nt, n)   ! as rk4_batch_f2py's
+  real(c_double), intent(out) :: steps(n)
   integer(c_int), intent(out) :: codes(n), first_failed, code
   character(len=PENDULA_MSG_LEN), intent(out) :: msg
   type(status_t) :: st

@@ -10,7 +10,7 @@ module pendula_dispatch
   implicit none
   private
   public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
-  public :: rk4_lanes
+  public :: rk4_lanes, rk4_lanes_width
 
   !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
   integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
@@ -25,6 +25,12 @@ module pendula_dispatch
       integer(c_int), intent(in) :: p
       integer(c_int) :: c_kernel_available
     end function c_kernel_available
+    !> States per block (lanes) of the running path's batch RK4 kernel: the
+    !> largest nb that rk4_lanes takes (RK4_BATCH_LANES, or 16 on x86-64-v4).
+    function rk4_lanes_width() bind(C, name='pendula_rk4_lanes_width')
+      import :: c_int
+      integer(c_int) :: rk4_lanes_width
+    end function rk4_lanes_width
     !> The batch RK4 block kernel of the running path (pendula_rk4_lanes.F90).
     subroutine rk4_lanes(nt, t, nb, idx, nw, w0, ng, gamma, nh, h, ldn, theta, omega, nsteps, dead, &
                          poll, ncontrol, control, icancel, done) bind(C, name='pendula_rk4_lanes')

@@ -21,15 +21,20 @@ enum { PATH_BASELINE = 0, PATH_V3 = 1, PATH_V4 = 2 };
 #define LANES_ARGS void *, void *, void *, void *, void *, void *, void *, void *, void *, void *, \
     void *, void *, void *, void *, void *, void *, void *, void *, void *, void *
 typedef void lanes_fn(LANES_ARGS);
+typedef int width_fn(void);
 
 extern lanes_fn pendula_rk4_lanes_baseline;
+extern width_fn pendula_rk4_lanes_baseline_width;
 #ifdef PENDULA_KERNEL_VARIANTS
 extern lanes_fn pendula_rk4_lanes_v3;
 extern lanes_fn pendula_rk4_lanes_v4;
+extern width_fn pendula_rk4_lanes_v3_width;
+extern width_fn pendula_rk4_lanes_v4_width;
 #endif
 
 static int kernel_path = PATH_BASELINE;
 static lanes_fn *rk4_lanes_impl = pendula_rk4_lanes_baseline;
+static width_fn *rk4_lanes_width_impl = pendula_rk4_lanes_baseline_width;
 
 /* 1 when this build has path p and this CPU (and OS) can run it. */
 int pendula_kernel_available(const int *p)
@@ -65,10 +70,13 @@ __attribute__((constructor)) static void choose_path(void)
         --p;
     kernel_path = p;
 #ifdef PENDULA_KERNEL_VARIANTS
-    if (p == PATH_V3)
+    if (p == PATH_V3) {
         rk4_lanes_impl = pendula_rk4_lanes_v3;
-    else if (p == PATH_V4)
+        rk4_lanes_width_impl = pendula_rk4_lanes_v3_width;
+    } else if (p == PATH_V4) {
         rk4_lanes_impl = pendula_rk4_lanes_v4;
+        rk4_lanes_width_impl = pendula_rk4_lanes_v4_width;
+    }
 #endif
 }
 
@@ -76,6 +84,12 @@ __attribute__((constructor)) static void choose_path(void)
 int pendula_kernel_path(void)
 {
     return kernel_path;
+}
+
+/* The states per block (lanes) that the chosen path's kernel takes. */
+int pendula_rk4_lanes_width(void)
+{
+    return rk4_lanes_width_impl();
 }
 
 /* The batch RK4 block kernel of the chosen path (arguments: see

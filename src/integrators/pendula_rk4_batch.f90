@@ -5,7 +5,8 @@
 !>
 !> Why a separate kernel: rk4_grid's step is a dependent chain (two chained
 !> stage sines per recurrence) and so bound by latency.  Here the
-!> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes; one
+!> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes (16 on
+!> x86-64-v4: pendula_dispatch's rk4_lanes_width); one
 !> step of a block is a loop over lanes with no dependence between them, which
 !> gcc vectorises and whose independent chains fill the pipeline.  The block
 !> kernel lives in pendula_rk4_lanes.F90, compiled for each instruction set
@@ -33,12 +34,10 @@ module pendula_rk4_batch
   use pendula_ode, only: ode_stats_t
   use pendula_batch_support, only: batch_threads, set_batch_error, failed_output, nan_failed
   use pendula_rk4_kernel, only: RK4_BATCH_LANES
-  use pendula_dispatch, only: rk4_lanes
+  use pendula_dispatch, only: rk4_lanes, rk4_lanes_width
   implicit none
   private
   public :: rk4_batch_solve, rk4_batch_openmp, RK4_BATCH_LANES
-
-  integer, parameter :: nl = RK4_BATCH_LANES
 
 contains
 
@@ -164,7 +163,7 @@ contains
     ! (a strided section from a Fortran caller goes through a copy, made
     ! here once rather than per block and thread).
     if (is_contiguous(theta) .and. is_contiguous(omega)) then
-      call run_blocks(t, live(1:nlive), w0, gamma, h, theta, omega, codes, steps, nthreads, control)
+      call run_blocks(t, live(1:nlive), w0, gamma, h, size(t), n, theta, omega, codes, steps, nthreads, control)
     else
       allocate (th(size(theta, 1), size(theta, 2)), om(size(omega, 1), size(omega, 2)), stat=ist)
       call check_alloc(ist, 'the contiguous copies of theta and omega', 2_i8*size(theta, kind=i8), 8, status)
@@ -174,7 +173,7 @@ contains
       end if
       th(1, :) = theta(1, :)
       om(1, :) = omega(1, :)
-      call run_blocks(t, live(1:nlive), w0, gamma, h, th, om, codes, steps, nthreads, control)
+      call run_blocks(t, live(1:nlive), w0, gamma, h, size(t), n, th, om, codes, steps, nthreads, control)
       theta = th
       omega = om
     end if
@@ -243,49 +242,58 @@ contains
     if (st%code == PENDULA_OK) call set_error(st, code, 'failed in the batch')   ! cannot happen: same kernel
   end function state_status
 
-  !> The blocks of nl states of live(:), spread over nthreads OpenMP threads.
-  subroutine run_blocks(t, live, w0, gamma, h, theta, omega, codes, steps, nthreads, control)
+  !> The blocks of live(:) (as many states each as the running kernel path's
+  !> lanes), spread over nthreads OpenMP threads.
+  !> theta and omega are explicit-shape (nt, ldn): gfortran 12 copies an
+  !> assumed-shape actual argument into a temporary for a `contiguous`
+  !> assumed-shape dummy even when it is contiguous (two extra passes over the
+  !> outputs and a fresh temporary per call, measured at half the kernel's
+  !> time), while an explicit-shape dummy receives a contiguous array as it is.
+  subroutine run_blocks(t, live, w0, gamma, h, nt, ldn, theta, omega, codes, steps, nthreads, control)
     real(wp), intent(in) :: t(:), w0(:), gamma(:), h(:)
     integer, intent(in) :: live(:)
-    real(wp), intent(inout), contiguous :: theta(:, :), omega(:, :)
+    integer, intent(in) :: nt, ldn
+    real(wp), intent(inout) :: theta(nt, ldn), omega(nt, ldn)
     integer, intent(inout) :: codes(:)
     integer(i8), intent(inout) :: steps(:)
     integer, intent(in) :: nthreads
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    integer :: nblocks, b, nlive
+    integer :: nblocks, b, nlive, nl
+    nl = int(rk4_lanes_width())   ! the running path's block width
     nlive = size(live)
     nblocks = (nlive + nl - 1)/nl
     !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. nblocks > 1) default(shared)
     do b = 1, nblocks
-      call run_block(t, live((b - 1)*nl + 1:min(b*nl, nlive)), w0, gamma, h, theta, omega, &
+      call run_block(t, live((b - 1)*nl + 1:min(b*nl, nlive)), w0, gamma, h, nt, ldn, theta, omega, &
                      codes, steps, control)
     end do
     !$omp end parallel do
   end subroutine run_blocks
 
-  !> Integrate the states idx(:) (at most nl, all valid) as one block of lanes
+  !> Integrate the states idx(:) (at most rk4_lanes_width(), all valid) as one block of lanes
   !> with the kernel path of this process (pendula_dispatch), and set their
-  !> codes and steps.  theta and omega are contiguous (rk4_batch_solve sees to it).
-  subroutine run_block(t, idx, w0, gamma, h, theta, omega, codes, steps, control)
+  !> codes and steps.  theta and omega are the whole call's (nt, ldn) outputs.
+  subroutine run_block(t, idx, w0, gamma, h, nt, ldn, theta, omega, codes, steps, control)
     real(wp), intent(in) :: t(:), w0(:), gamma(:), h(:)
     integer, intent(in) :: idx(:)
-    real(wp), intent(inout), contiguous :: theta(:, :), omega(:, :)
+    integer, intent(in) :: nt, ldn
+    real(wp), intent(inout) :: theta(nt, ldn), omega(nt, ldn)
     integer, intent(inout) :: codes(:)
     integer(i8), intent(inout) :: steps(:)
     integer(int64), intent(inout), volatile, optional :: control(CONTROL_SIZE)
-    integer(int64) :: nsteps(nl), no_control(CONTROL_SIZE)
-    integer(c_int) :: dead(nl), done, nb
+    integer(int64) :: nsteps(size(idx)), no_control(CONTROL_SIZE)
+    integer(c_int) :: dead(size(idx)), done, nb
     integer :: l
     nb = int(size(idx), c_int)
     if (nb == 0) return
     if (present(control)) then
       call rk4_lanes(int(size(t), c_int), t, nb, idx, int(size(w0), c_int), w0, int(size(gamma), c_int), gamma, &
-                     int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 1_c_int, &
+                     int(size(h), c_int), h, int(ldn, c_int), theta, omega, nsteps, dead, 1_c_int, &
                      int(CONTROL_SIZE, c_int), control, int(CONTROL_CANCEL, c_int), done)
     else
       no_control = 0
       call rk4_lanes(int(size(t), c_int), t, nb, idx, int(size(w0), c_int), w0, int(size(gamma), c_int), gamma, &
-                     int(size(h), c_int), h, int(size(theta, 2), c_int), theta, omega, nsteps, dead, 0_c_int, &
+                     int(size(h), c_int), h, int(ldn, c_int), theta, omega, nsteps, dead, 0_c_int, &
                      int(CONTROL_SIZE, c_int), no_control, int(CONTROL_CANCEL, c_int), done)
     end if
     if (done == 0) return   ! cancelled: codes stay PENDULA_ERR_CANCELLED

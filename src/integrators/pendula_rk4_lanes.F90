@@ -1,5 +1,5 @@
 !> The batch RK4 kernel proper (pendula_rk4_batch): one block of up to
-!> RK4_BATCH_LANES states integrated over the whole output grid, lane by lane
+!> RK4_BATCH_LANES states (16 on x86-64-v4) integrated over the whole output grid, lane by lane
 !> exactly rk4_grid's operations (pendula_rk4_kernel).
 !>
 !> Why a file of its own, compiled several times: the kernel is a loop over
@@ -7,8 +7,8 @@
 !> the instruction set it may use.  meson compiles this file once per target
 !> (baseline x86-64 = SSE2, x86-64-v3 = AVX2, x86-64-v4 = AVX-512; elsewhere
 !> only the portable build), each with its own module and entry name given by
-!> the preprocessor (PENDULA_LANES_MODULE, PENDULA_LANES_ENTRY), and
-!> pendula_kernel_path.c picks one at load time from the CPU's features (or
+!> the preprocessor (PENDULA_LANES_MODULE, PENDULA_LANES_ENTRY and the width
+!> function PENDULA_LANES_WIDTH_FN), and pendula_kernel_path.c picks one at load time from the CPU's features (or
 !> from PENDULA_KERNEL).  The module uses no other pendula module, so each
 !> variant is a leaf of the build; the step's tables and elemental pieces are
 !> the same text as rk4_grid's (pendula_rk4_tables.inc, pendula_rk4_step.inc).
@@ -19,22 +19,28 @@
 !> each lane computes.  Every variant therefore returns the bits of rk4_solve
 !> (tests/python/test_kernel_paths.py compares them on every path the
 !> machine has).
-! meson defines both names per variant; a build that compiles the file once
+! meson defines the names (and the width where it is not the default) per variant; a build that compiles the file once
 ! (fpm) gets the portable one, which pendula_kernel_path.c always has.
 #ifndef PENDULA_LANES_MODULE
 #define PENDULA_LANES_MODULE pendula_rk4_lanes_baseline_m
 #define PENDULA_LANES_ENTRY pendula_rk4_lanes_baseline
+#define PENDULA_LANES_WIDTH_FN pendula_rk4_lanes_baseline_width
+#endif
+! The block width (lanes) of this variant: RK4_BATCH_LANES unless meson
+! asks for more (x86-64-v4: 16 lanes, two 512-bit vectors).
+#ifndef PENDULA_LANES_WIDTH
+#define PENDULA_LANES_WIDTH RK4_BATCH_LANES
 #endif
 module PENDULA_LANES_MODULE
   use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
   use, intrinsic :: iso_fortran_env, only: wp => real64, i8 => int64
   implicit none
   private
-  public :: PENDULA_LANES_ENTRY
+  public :: PENDULA_LANES_ENTRY, PENDULA_LANES_WIDTH_FN
 
   include 'pendula_rk4_tables.inc'
 
-  integer, parameter :: nl = RK4_BATCH_LANES
+  integer, parameter :: nl = PENDULA_LANES_WIDTH
   !> Block steps (of nl lanes each) between two polls of the cancel flag (~0.25 ms).
   integer(i8), parameter :: poll_every = 2048
   !> Output intervals per chunk (their substeps and step constants formed
@@ -46,7 +52,12 @@ module PENDULA_LANES_MODULE
 
 contains
 
-  !> Integrate the states idx(1:nb) (1 <= nb <= RK4_BATCH_LANES, all valid,
+  !> The states per block of this variant (its lanes): the largest nb it takes.
+  integer(c_int) function PENDULA_LANES_WIDTH_FN() bind(C)
+    PENDULA_LANES_WIDTH_FN = nl
+  end function PENDULA_LANES_WIDTH_FN
+
+  !> Integrate the states idx(1:nb) (1 <= nb <= the variant's width, all valid,
   !> theta(1, idx(l)) and omega(1, idx(l)) holding their initial state) as one
   !> block of lanes over the grid t; lanes past nb repeat the first state and
   !> are discarded.  Writes theta(2:, idx(l)), omega(2:, idx(l)), the steps
@@ -58,7 +69,7 @@ contains
                                  poll, ncontrol, control, icancel, done) bind(C)
     integer(c_int), intent(in) :: nt  !< output times, >= 1
     real(c_double), intent(in) :: t(nt)  !< output times [s], strictly increasing
-    integer(c_int), intent(in) :: nb  !< states in the block, 1..RK4_BATCH_LANES
+    integer(c_int), intent(in) :: nb  !< states in the block, 1 to the variant's width
     integer(c_int), intent(in) :: idx(nb)  !< their columns in theta and omega
     integer(c_int), intent(in) :: nw  !< size of w0: 1 or ldn
     real(c_double), intent(in) :: w0(nw)  !< small-angle angular frequencies [1/s]

@@ -142,16 +142,36 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     control = _control(control)
     n = flats["theta0"].size
     states = tuple(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h"))
+    n_t = tt.size
+
+    # The outputs in C order (n, n_t), passed as their transposes, the Fortran
+    # (n_t, n) blocks the kernel fills in place: each state's series is
+    # contiguous, nothing is copied, and numpy.empty leaves the pages untouched
+    # until the kernel's threads write them (f2py would zero-fill outputs it
+    # allocates itself, on this thread, before any work).  f2py refuses a
+    # zero-size inout array, so an empty batch passes one unused column.
+    def outputs():
+        theta, omega = np.empty((n, n_t)), np.empty((n, n_t))
+        if n == 0:
+            return theta, omega, np.empty((n_t, 1), order="F"), np.empty((n_t, 1), order="F")
+        return theta, omega, theta.T, omega.T
+
     if drive is None:
 
         def call():
-            return _fortran.rk4_batch_f2py(tt, *states, budget, nthreads, control)
+            theta, omega, th_f, om_f = outputs()
+            out = _fortran.rk4_batch_f2py(tt, *states, budget, nthreads, control, th_f, om_f)
+            return (theta, omega) + tuple(out)
     else:
 
         def call():
-            return _fortran.rk4_batch_drive_f2py(tt, *states, *_drives.kernel_args(flats), budget, nthreads, control)
+            theta, omega, th_f, om_f = outputs()
+            out = _fortran.rk4_batch_drive_f2py(
+                tt, *states, *_drives.kernel_args(flats), budget, nthreads, control, th_f, om_f
+            )
+            return (theta, omega) + tuple(out)
 
-    # f2py allocates theta and omega (n_t x n each) before any work: refused at once
+    # the outputs (n_t x n each) are allocated before any work: refused at once
     theta, omega, codes, steps, first, code, msg = _memory.guard(
         call,
         f"the outputs theta and omega of {n} states x {tt.size} times",
@@ -160,11 +180,7 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     code, first = int(code), int(first)
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)  # the call itself was refused
-    n_t = tt.size
-    # Fortran's (n_t, n) column-major block is the C-order (n, n_t) array:
-    # each state's series contiguous, no copy.  A failed state's row is
-    # already NaN (pendula_rk4_batch writes NaN for it).
-    theta, omega = theta.T, omega.T
+    # a failed state's row is already NaN (pendula_rk4_batch writes NaN for it)
     return BatchResult(
         t=tt,
         theta=theta.reshape(shape + (n_t,)),
