@@ -1,0 +1,214 @@
+!> The batch Taylor integrator's block kernel: TAYLOR_LANES states advance
+!> side by side, each with its own order, step sizes and place in the output
+!> grid.  Only the Taylor series, which costs ~2 p**2 operations a step and
+!> is a chain of dependent sums for one state, are formed for the block at
+!> once (taylor_series_lanes: one SIMD lane per state); each state then takes
+!> its step through taylor_walk_step, the scalar integrator's own step, so
+!> that its results are bit-identical to taylor_solve's.  A lane whose state
+!> is done takes the next state of the list at once (no lane idles while
+!> states remain), and the series go up to the largest order in the block
+!> (a lane of lower order ignores the extra terms, which do not change its
+!> own).
+module pendula_taylor_lanes
+  use pendula_kinds, only: wp, i8
+  use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
+  use pendula_ode, only: at => batch_index
+  use pendula_taylor_series, only: TAYLOR_MAX_ORDER
+  use pendula_taylor_walk, only: taylor_walk_t, taylor_walk_step
+  use pendula_taylor, only: taylor_check, taylor_start, taylor_outcome
+  implicit none
+  private
+  public :: taylor_lanes_run, TAYLOR_LANES
+
+  !> States advanced side by side in one block.
+  integer, parameter :: TAYLOR_LANES = 8
+
+  ! 1/k (as pendula_taylor_series's table)
+  real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = 1.0_wp/real([ &
+                                                                 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, &
+                                                                 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, &
+                                                                 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41], wp)
+
+contains
+
+  !> Integrate the states list(1:m) of a batch (taylor_batch_solve's
+  !> arguments, without a drive) over the shared grid t [s]: theta(:, k),
+  !> omega(:, k), err(:, k), steps(k), order(k) and codes(k) of each state k
+  !> of the list, as taylor_solve would give them.  control (optional): cancel
+  !> flag, looked at before a state starts and when it ends (a state running
+  !> then is cancelled), and progress (finished states).
+  subroutine taylor_lanes_run(t, list, theta0, omega0, w0, gamma, tol, budget, theta, omega, err, codes, steps, order, &
+                              control)
+    real(wp), intent(in) :: t(:)  !< shared output times [s], checked
+    integer, intent(in) :: list(:)  !< the states to integrate (indices into theta0)
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad]
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
+    real(wp), intent(in) :: w0(:)  !< angular frequencies [1/s], n elements or one
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], n elements or one
+    real(wp), intent(in) :: tol(:)  !< absolute accuracies [rad], n elements or one
+    integer(i8), intent(in) :: budget  !< step budget per state
+    real(wp), intent(inout) :: theta(:, :)  !< angles [rad], one column per state
+    real(wp), intent(inout) :: omega(:, :)  !< angular velocities [rad/s]
+    real(wp), intent(inout) :: err(:, :)  !< error estimates [rad]
+    integer, intent(inout) :: codes(:)  !< status code of each state
+    integer(i8), intent(inout) :: steps(:)  !< steps of each state
+    integer, intent(inout) :: order(:)  !< series order of each state
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)  !< optional cancel flag and progress
+    integer, parameter :: NL = TAYLOR_LANES
+    type(taylor_walk_t) :: w(NL)
+    real(wp) :: cc(NL, 0:TAYLOR_MAX_ORDER), ss(NL, 0:TAYLOR_MAX_ORDER), xx(NL, 0:TAYLOR_MAX_ORDER), vv(NL, 0:TAYLOR_MAX_ORDER)
+    real(wp) :: w0sq(NL), gam(NL), x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER), sh, ch, ev1(1), ev2(1), ev3(1)
+    integer :: state(NL), next, l, pmax, q, evk(1), nev
+    logical :: done, trunc
+    state = 0
+    next = 1
+    do l = 1, NL
+      call fill(l)
+    end do
+    do while (any(state > 0))
+      ! the series of every busy lane (an idle lane's are zeros)
+      pmax = 1
+      do l = 1, NL
+        if (state(l) == 0) then
+          cc(l, 0) = 1
+          ss(l, 0) = 0
+          xx(l, 0:1) = 0
+          vv(l, 0:1) = 0
+          w0sq(l) = 0
+          gam(l) = 0
+          cycle
+        end if
+        associate (wl => w(l))
+          pmax = max(pmax, wl%p)
+          ! taylor_coefficients' first terms, operation for operation
+          sh = sin(wl%xh)
+          ch = cos(wl%xh)
+          ss(l, 0) = sh + ch*wl%xl
+          cc(l, 0) = ch - sh*wl%xl
+          wl%sn = ss(l, 0)
+          wl%cs = cc(l, 0)
+          xx(l, 0) = wl%xh
+          vv(l, 0) = wl%vh
+          xx(l, 1) = wl%vh
+          vv(l, 1) = -wl%gamma*wl%vh - wl%w0sq*wl%sn
+          wl%s0abs = abs(wl%gamma*wl%vh) + wl%w0sq*abs(wl%sn)
+          w0sq(l) = wl%w0sq
+          gam(l) = wl%gamma
+        end associate
+      end do
+      call taylor_series_lanes(pmax, w0sq, gam, cc, ss, xx, vv)
+      ! each busy lane's step, by the scalar integrator's code
+      do l = 1, NL
+        if (state(l) == 0) cycle
+        q = w(l)%p + 1
+        x(0:q) = xx(l, 0:q)
+        v(0:q) = vv(l, 0:q)
+        call taylor_walk_step(w(l), t, x, v, .false., budget, theta(:, state(l)), omega(:, state(l)), err(:, state(l)), &
+                              ev1, evk, ev2, ev3, nev, trunc, done)
+        if (done) then
+          call finish(l)
+          call fill(l)
+        end if
+      end do
+    end do
+
+  contains
+
+    ! Give lane ll the next state of the list that needs steps (the others,
+    ! refused or done at their start, are finished on the way).
+    subroutine fill(ll)
+      integer, intent(in) :: ll
+      integer :: k
+      type(status_t) :: sk
+      state(ll) = 0
+      do while (next <= size(list))
+        k = list(next)
+        next = next + 1
+        theta(:, k) = 0
+        omega(:, k) = 0
+        err(:, k) = 0
+        steps(k) = 0
+        order(k) = 0
+        if (present(control)) then
+          if (cancel_requested(control)) then
+            codes(k) = PENDULA_ERR_CANCELLED
+            cycle
+          end if
+        end if
+        call taylor_check(t(1:1), theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), &
+                          tol(at(tol, k)), budget, sk)
+        codes(k) = sk%code
+        if (sk%code /= PENDULA_OK) cycle
+        call taylor_start(t, theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), tol(at(tol, k)), &
+                          budget, theta(:, k), omega(:, k), err(:, k), w(ll))
+        order(k) = w(ll)%p
+        state(ll) = k
+        if (size(t) > 1 .and. w(ll)%outcome == PENDULA_OK) return
+        call finish(ll)
+        state(ll) = 0
+      end do
+    end subroutine fill
+
+    ! The end of lane ll's state: its code, the cancel flag, the progress.
+    subroutine finish(ll)
+      integer, intent(in) :: ll
+      integer :: k, outcome
+      type(status_t) :: sk
+      k = state(ll)
+      outcome = w(ll)%outcome
+      steps(k) = w(ll)%steps
+      if (present(control)) then
+        if (cancel_requested(control)) outcome = PENDULA_ERR_CANCELLED
+        call add_progress(control, 1_i8)
+      end if
+      call taylor_outcome(outcome, w(ll)%t_fail, budget, sk)
+      codes(k) = sk%code
+      if (sk%code /= PENDULA_OK) then
+        theta(:, k) = 0
+        omega(:, k) = 0
+        err(:, k) = 0
+        steps(k) = 0
+      end if
+    end subroutine finish
+
+  end subroutine taylor_lanes_run
+
+  ! taylor_coefficients (pendula_taylor_series) for TAYLOR_LANES states at once, one lane
+  ! each, orders 1..pmax: lane by lane the same operations in the same order
+  ! (the sums over c and over s, each as two partial sums of alternate terms,
+  ! the newest term last), so each lane's x(l, 0:p+1), v(l, 0:p+1) are the
+  ! scalar routine's bits.  In: cc(:, 0), ss(:, 0), xx(:, 0:1), vv(:, 0:1).
+  pure subroutine taylor_series_lanes(pmax, w0sq, gam, cc, ss, xx, vv)
+    integer, parameter :: NL = TAYLOR_LANES
+    integer, intent(in) :: pmax
+    real(wp), intent(in) :: w0sq(NL), gam(NL)
+    real(wp), intent(inout) :: cc(NL, 0:TAYLOR_MAX_ORDER), ss(NL, 0:TAYLOR_MAX_ORDER)
+    real(wp), intent(inout) :: xx(NL, 0:TAYLOR_MAX_ORDER), vv(NL, 0:TAYLOR_MAX_ORDER)
+    real(wp) :: ac1(NL), ac2(NL), as1(NL), as2(NL)
+    integer :: k, j
+    do k = 1, pmax
+      ac1 = 0
+      ac2 = 0
+      as1 = 0
+      as2 = 0
+      do j = 2, k - 1, 2
+        ac1 = ac1 + vv(:, j - 1)*cc(:, k - j)
+        as1 = as1 + vv(:, j - 1)*ss(:, k - j)
+        ac2 = ac2 + vv(:, j)*cc(:, k - j - 1)
+        as2 = as2 + vv(:, j)*ss(:, k - j - 1)
+      end do
+      if (mod(k, 2) == 0) then
+        ac1 = ac1 + vv(:, k - 1)*cc(:, 0)
+        as1 = as1 + vv(:, k - 1)*ss(:, 0)
+      end if
+      ac1 = ((ac1 + ac2) + vv(:, 0)*cc(:, k - 1))*INV(k)
+      as1 = ((as1 + as2) + vv(:, 0)*ss(:, k - 1))*INV(k)
+      ss(:, k) = ac1
+      cc(:, k) = -as1
+      xx(:, k + 1) = vv(:, k)*INV(k + 1)
+      vv(:, k + 1) = (-gam*vv(:, k) - w0sq*ac1)*INV(k + 1)
+    end do
+  end subroutine taylor_series_lanes
+
+end module pendula_taylor_lanes
