@@ -16,7 +16,7 @@ module pendula_taylor_batch
   use pendula_ode, only: check_batch_shapes, at => batch_index
   use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_taylor, only: taylor_check, taylor_run, taylor_outcome, TAYLOR_DEFAULT_MAX_STEPS
-  use pendula_taylor_lanes, only: taylor_lanes_run, TAYLOR_LANES
+  use pendula_taylor_lanes, only: taylor_lanes_run, taylor_lanes_list, TAYLOR_LANES
   use pendula_drive, only: drive_t, check_drive
   implicit none
   private
@@ -63,7 +63,7 @@ contains
     integer(i8), intent(in), optional :: max_steps  !< optional step budget per state, >= 1
     type(drive_t), intent(in), optional :: drive  !< optional periodic drive of every state (pendula_drive)
     integer :: n, i, nthreads, first, chunk, nchunks, c, ist
-    integer, allocatable :: list(:)   ! the states in the order the blocks take them
+    integer, allocatable :: list(:), keys(:)   ! the states in the order the blocks take them, their orders
     integer(i8) :: budget
     type(status_t) :: st
     character(len=len(st%message)) :: first_message
@@ -79,8 +79,8 @@ contains
     call check_same_size('order', size(order), 'steps', size(steps), status)
     if (present(drive)) call check_drive(drive, status)
     if (status%code == PENDULA_OK .and. .not. present(drive)) then
-      allocate (list(n), stat=ist)
-      call check_alloc(ist, 'the order of the states', int(n, i8), 4, status)
+      allocate (list(n), keys(n), stat=ist)
+      call check_alloc(ist, 'the order of the states', 2*int(n, i8), 4, status)
     end if
     if (status%code /= PENDULA_OK) then
       theta = 0
@@ -105,7 +105,7 @@ contains
       chunk = max(4*TAYLOR_LANES, min(64*TAYLOR_LANES, n/(4*nthreads) + 1))
       if (nthreads == 1) chunk = n
       nchunks = (n + chunk - 1)/chunk
-      list = [(i, i=1, n)]
+      call taylor_lanes_list(t, theta0, omega0, w0, gamma, tol, budget, keys, list)
       !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. nchunks > 1) default(shared)
       do c = 1, nchunks
         call taylor_lanes_run(t, list((c - 1)*chunk + 1:min(n, c*chunk)), theta0, omega0, w0, gamma, tol, budget, &

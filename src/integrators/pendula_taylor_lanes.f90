@@ -19,10 +19,10 @@ module pendula_taylor_lanes
   use pendula_taylor, only: taylor_check, taylor_start, taylor_outcome
   implicit none
   private
-  public :: taylor_lanes_run, TAYLOR_LANES
+  public :: taylor_lanes_run, taylor_lanes_list, TAYLOR_LANES
 
   !> States advanced side by side in one block.
-  integer, parameter :: TAYLOR_LANES = 8
+  integer, parameter :: TAYLOR_LANES = 4
 
   ! 1/k (as pendula_taylor_series's table)
   real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = 1.0_wp/real([ &
@@ -125,21 +125,22 @@ contains
       do while (next <= size(list))
         k = list(next)
         next = next + 1
-        theta(:, k) = 0
-        omega(:, k) = 0
-        err(:, k) = 0
+        ! (a state that runs writes every output, or its failure zeroes them)
         steps(k) = 0
         order(k) = 0
+        sk%code = PENDULA_OK
         if (present(control)) then
-          if (cancel_requested(control)) then
-            codes(k) = PENDULA_ERR_CANCELLED
-            cycle
-          end if
+          if (cancel_requested(control)) sk%code = PENDULA_ERR_CANCELLED
         end if
-        call taylor_check(t(1:1), theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), &
-                          tol(at(tol, k)), budget, sk)
+        if (sk%code == PENDULA_OK) call taylor_check(t(1:1), theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), &
+                                                     gamma(at(gamma, k)), tol(at(tol, k)), budget, sk)
         codes(k) = sk%code
-        if (sk%code /= PENDULA_OK) cycle
+        if (sk%code /= PENDULA_OK) then
+          theta(:, k) = 0
+          omega(:, k) = 0
+          err(:, k) = 0
+          cycle
+        end if
         call taylor_start(t, theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), tol(at(tol, k)), &
                           budget, theta(:, k), omega(:, k), err(:, k), w(ll))
         order(k) = w(ll)%p
@@ -173,6 +174,51 @@ contains
     end subroutine finish
 
   end subroutine taylor_lanes_run
+
+  !> The states 1..n in the order the blocks should take them: by series
+  !> order (stable counting sort), so that a block's lanes mostly share their
+  !> order and the series, formed up to the block's largest order, waste
+  !> little.  States that taylor_check refuses come first.  Arguments as
+  !> taylor_lanes_run's; keys is work space.
+  subroutine taylor_lanes_list(t, theta0, omega0, w0, gamma, tol, budget, keys, list)
+    real(wp), intent(in) :: t(:)  !< shared output times [s], checked
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], n = size(theta0)
+    real(wp), intent(in) :: omega0(:)  !< initial angular velocities [rad/s], n elements or one
+    real(wp), intent(in) :: w0(:)  !< angular frequencies [1/s], n elements or one
+    real(wp), intent(in) :: gamma(:)  !< damping rates [1/s], n elements or one
+    real(wp), intent(in) :: tol(:)  !< absolute accuracies [rad], n elements or one
+    integer(i8), intent(in) :: budget  !< step budget per state
+    integer, intent(out) :: keys(:)  !< work space: each state's order (0: refused), n elements
+    integer, intent(out) :: list(:)  !< the n state indices, in block order
+    integer :: k, slot(0:TAYLOR_MAX_ORDER)
+    real(wp) :: a(1), b(1), c(1)
+    type(taylor_walk_t) :: w
+    type(status_t) :: sk
+    slot = 0
+    do k = 1, size(theta0)
+      call taylor_check(t(1:1), theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), &
+                        tol(at(tol, k)), budget, sk)
+      keys(k) = 0
+      if (sk%code == PENDULA_OK) then
+        call taylor_start(t, theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), tol(at(tol, k)), &
+                          budget, a, b, c, w)
+        keys(k) = w%p
+      end if
+      slot(keys(k)) = slot(keys(k)) + 1
+    end do
+    ! slot(key): the first place of the states of that order
+    do k = TAYLOR_MAX_ORDER, 1, -1
+      slot(k) = slot(k - 1)
+    end do
+    slot(0) = 1
+    do k = 1, TAYLOR_MAX_ORDER
+      slot(k) = slot(k) + slot(k - 1)
+    end do
+    do k = 1, size(theta0)
+      list(slot(keys(k))) = k
+      slot(keys(k)) = slot(keys(k)) + 1
+    end do
+  end subroutine taylor_lanes_list
 
   ! taylor_coefficients (pendula_taylor_series) for TAYLOR_LANES states at once, one lane
   ! each, orders 1..pmax: lane by lane the same operations in the same order

@@ -80,9 +80,10 @@ contains
     logical, intent(out) :: done  !< the walk ended
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0, eps_s
     real(wp) :: big_a, big_d, g, ec, es, lgr, s0abs, xe, ve, xel, vel, s, e
-    real(wp) :: r0, r1, r2, gam, lt, rnd, trc, committed, ol1, ol2, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
+    real(wp) :: r0, r1, r2, gam, lt, rnd, trc, committed, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
+    real(wp) :: xol4(OUT_LANES), vol4(OUT_LANES), el4(OUT_LANES), bd
     integer(i8) :: steps
-    integer :: n, i, nl, l, p
+    integer :: n, i, nl, p
     n = size(t)
     xh = w%xh
     xl = w%xl
@@ -139,7 +140,10 @@ contains
         nl = 0
         dl = 0
         do while (i + nl <= n .and. nl < OUT_LANES)
-          call two_sum(t(i + nl), -th, ds, de)
+          ! two_sum(t(i + nl), -th, ds, de), written out
+          ds = t(i + nl) - th
+          bd = ds - t(i + nl)
+          de = (t(i + nl) - (ds - bd)) + (-th - bd)
           d = ds + (de - tl)
           if (abs(d) > abs(h) .and. h /= rem) exit
           nl = nl + 1
@@ -148,11 +152,12 @@ contains
         if (nl == 0) exit
         if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd
         call series_sums_lanes(dl, rl, rvl)
-        do l = 1, nl
-          call dense_finish(dl(l), rl(l), rvl(l), theta(i), ol1, omega(i), ol2)
-          err(i) = TAYLOR_SAFETY*committed + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
-          i = i + 1
-        end do
+        call finish_lanes(dl, rl, rvl, xol4, vol4)
+        el4 = TAYLOR_SAFETY*committed + ULP*max(abs(xol4), abs(vol4)*inv_w0)
+        theta(i:i + nl - 1) = xol4(1:nl)
+        omega(i:i + nl - 1) = vol4(1:nl)
+        err(i:i + nl - 1) = el4(1:nl)
+        i = i + nl
         if (nl < OUT_LANES) exit
       end do
       if (with_events) call events_in_step(h)
@@ -250,6 +255,43 @@ contains
       vo = s1 + lo
       vol = lo - (vo - s1)
     end subroutine dense_finish
+
+    ! dense_finish's theta and Omega (not their low parts) at OUT_LANES offsets
+    ! at once, lane by lane the same arithmetic: two_prod's Dekker product
+    ! written out (the head and tail of vh split once), two_prod itself where
+    ! a factor is beyond its split's range.
+    subroutine finish_lanes(dd, rest, rv, xo, vo)
+      real(wp), intent(in) :: dd(OUT_LANES), rest(OUT_LANES), rv(OUT_LANES)
+      real(wp), intent(out) :: xo(OUT_LANES), vo(OUT_LANES)
+      real(wp), parameter :: BIG = 2.0_wp**996, SPLIT = 134217729.0_wp
+      real(wp) :: p1(OUT_LANES), e1(OUT_LANES), s1(OUT_LANES), e2(OUT_LANES), lo(OUT_LANES), bb(OUT_LANES)
+      real(wp) :: dh(OUT_LANES), dlo(OUT_LANES), tt(OUT_LANES), ts, vhh, vhl
+      integer :: k
+      if (abs(vh) <= BIG .and. all(abs(dd) <= BIG)) then
+        ts = SPLIT*vh
+        vhh = ts - (ts - vh)
+        vhl = vh - vhh
+        p1 = vh*dd
+        tt = SPLIT*dd
+        dh = tt - (tt - dd)
+        dlo = dd - dh
+        e1 = ((vhh*dh - p1) + vhh*dlo + vhl*dh) + vhl*dlo
+      else
+        do k = 1, OUT_LANES
+          call two_prod(vh, dd(k), p1(k), e1(k))
+        end do
+      end if
+      s1 = xh + p1
+      bb = s1 - xh
+      e2 = (xh - (s1 - bb)) + (p1 - bb)
+      lo = e2 + (e1 + vl*dd + xl + rest)
+      xo = s1 + lo
+      s1 = vh + rv
+      bb = s1 - vh
+      e2 = (vh - (s1 - bb)) + (rv - bb)
+      lo = e2 + vl
+      vo = s1 + lo
+    end subroutine finish_lanes
 
     ! rest = sum_{k=2..p} x(k) dd**k and rv = sum_{k=1..p} v(k) dd**k by
     ! Horner in dd**2 over the even and the odd k apart: four independent

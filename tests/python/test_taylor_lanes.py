@@ -79,3 +79,17 @@ def test_driven_batch_across_blocks_is_the_scalar_call():
     for i in range(11):
         r = pendula.taylor(T, float(s["theta0"][i]), float(s["omega0"][i]), 1.4, 0.2, tol=1e-10, drive=d)
         assert np.array_equal(b.theta[i], r.theta) and np.array_equal(b.error[i], r.error)
+
+
+def test_progress_counts_states_and_a_raised_cancel_flag_stops_every_state():
+    from pendula import _fortran
+    from pendula._codes import ERR_CANCELLED
+
+    s = _states(13)
+    args = [s[k] for k in ("theta0", "omega0", "w0", "gamma", "tol")]
+    control = np.zeros(2, dtype=np.int64)
+    out = _fortran.taylor_batch_f2py(T, *args, 1e9, 1, control, 0, 0.0, 1.0, 0.0)
+    assert int(out[-2]) == OK and control[1] == 13
+    control = np.array([1, 0], dtype=np.int64)
+    out = _fortran.taylor_batch_f2py(T, *args, 1e9, 2, control, 0, 0.0, 1.0, 0.0)
+    assert int(out[-2]) == ERR_CANCELLED and np.all(out[3] == ERR_CANCELLED) and not out[0].any()
