@@ -2,7 +2,8 @@
 !> side by side, each with its own order, step sizes and place in the output
 !> grid.  Only the Taylor series, which costs ~2 p**2 operations a step and
 !> is a chain of dependent sums for one state, are formed for the block at
-!> once (taylor_series_lanes: one SIMD lane per state); each state then takes
+!> once (taylor_series_lanes, compiled per instruction set and chosen at run
+!> time by pendula_dispatch: one SIMD lane per state); each state then takes
 !> its step through taylor_walk_step, the scalar integrator's own step, so
 !> that its results are bit-identical to taylor_solve's.  A lane whose state
 !> is done takes the next state of the list at once (no lane idles while
@@ -10,7 +11,9 @@
 !> (a lane of lower order ignores the extra terms, which do not change its
 !> own).
 module pendula_taylor_lanes
+  use, intrinsic :: iso_c_binding, only: c_int
   use pendula_kinds, only: wp, i8
+  use pendula_dispatch, only: taylor_series_lanes
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: at => batch_index
@@ -21,14 +24,7 @@ module pendula_taylor_lanes
   private
   public :: taylor_lanes_run, taylor_lanes_list, TAYLOR_LANES
 
-  !> States advanced side by side in one block.
-  integer, parameter :: TAYLOR_LANES = 4
-
-  ! 1/k (as pendula_taylor_series's table)
-  real(wp), parameter :: INV(TAYLOR_MAX_ORDER + 1) = 1.0_wp/real([ &
-                                                                 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, &
-                                                                 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, &
-                                                                 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41], wp)
+  include 'pendula_taylor_lanes.inc'
 
 contains
 
@@ -97,7 +93,7 @@ contains
           gam(l) = wl%gamma
         end associate
       end do
-      call taylor_series_lanes(pmax, w0sq, gam, cc, ss, xx, vv)
+      call taylor_series_lanes(int(pmax, c_int), int(TAYLOR_MAX_ORDER, c_int), w0sq, gam, cc, ss, xx, vv)
       ! each busy lane's step, by the scalar integrator's code
       do l = 1, NL
         if (state(l) == 0) cycle
@@ -219,42 +215,5 @@ contains
       slot(keys(k)) = slot(keys(k)) + 1
     end do
   end subroutine taylor_lanes_list
-
-  ! taylor_coefficients (pendula_taylor_series) for TAYLOR_LANES states at once, one lane
-  ! each, orders 1..pmax: lane by lane the same operations in the same order
-  ! (the sums over c and over s, each as two partial sums of alternate terms,
-  ! the newest term last), so each lane's x(l, 0:p+1), v(l, 0:p+1) are the
-  ! scalar routine's bits.  In: cc(:, 0), ss(:, 0), xx(:, 0:1), vv(:, 0:1).
-  pure subroutine taylor_series_lanes(pmax, w0sq, gam, cc, ss, xx, vv)
-    integer, parameter :: NL = TAYLOR_LANES
-    integer, intent(in) :: pmax
-    real(wp), intent(in) :: w0sq(NL), gam(NL)
-    real(wp), intent(inout) :: cc(NL, 0:TAYLOR_MAX_ORDER), ss(NL, 0:TAYLOR_MAX_ORDER)
-    real(wp), intent(inout) :: xx(NL, 0:TAYLOR_MAX_ORDER), vv(NL, 0:TAYLOR_MAX_ORDER)
-    real(wp) :: ac1(NL), ac2(NL), as1(NL), as2(NL)
-    integer :: k, j
-    do k = 1, pmax
-      ac1 = 0
-      ac2 = 0
-      as1 = 0
-      as2 = 0
-      do j = 2, k - 1, 2
-        ac1 = ac1 + vv(:, j - 1)*cc(:, k - j)
-        as1 = as1 + vv(:, j - 1)*ss(:, k - j)
-        ac2 = ac2 + vv(:, j)*cc(:, k - j - 1)
-        as2 = as2 + vv(:, j)*ss(:, k - j - 1)
-      end do
-      if (mod(k, 2) == 0) then
-        ac1 = ac1 + vv(:, k - 1)*cc(:, 0)
-        as1 = as1 + vv(:, k - 1)*ss(:, 0)
-      end if
-      ac1 = ((ac1 + ac2) + vv(:, 0)*cc(:, k - 1))*INV(k)
-      as1 = ((as1 + as2) + vv(:, 0)*ss(:, k - 1))*INV(k)
-      ss(:, k) = ac1
-      cc(:, k) = -as1
-      xx(:, k + 1) = vv(:, k)*INV(k + 1)
-      vv(:, k + 1) = (-gam*vv(:, k) - w0sq*ac1)*INV(k + 1)
-    end do
-  end subroutine taylor_series_lanes
 
 end module pendula_taylor_lanes

@@ -1,7 +1,12 @@
 """pendula.taylor batches: the block kernel (states side by side, one SIMD lane
 each, a finished lane refilled with the next state) gives every state the
 scalar call's bits, across block and chunk boundaries, with mixed parameters,
-orders and step sizes, failing states amid good ones, and a drive."""
+orders and step sizes, failing states amid good ones, and a drive, on every
+kernel path (runtime CPU dispatch) this machine has."""
+
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -93,3 +98,33 @@ def test_progress_counts_states_and_a_raised_cancel_flag_stops_every_state():
     control = np.array([1, 0], dtype=np.int64)
     out = _fortran.taylor_batch_f2py(T, *args, 1e9, 2, control, 0, 0.0, 1.0, 0.0)
     assert int(out[-2]) == ERR_CANCELLED and np.all(out[3] == ERR_CANCELLED) and not out[0].any()
+
+
+_PATH_SCRIPT = r"""
+import sys
+import numpy as np
+import pendula
+sys.path.insert(0, sys.argv[2])
+from test_taylor_lanes import T, _states
+s = _states(23, seed=11)
+b = pendula.taylor(T, **{k: v for k, v in s.items() if k != "tol"}, tol=s["tol"], threads=1)
+np.savez(sys.argv[1], theta=b.theta, omega=b.omega, error=b.error, path=pendula.build_info()["kernel"]["path"])
+"""
+
+
+def test_every_kernel_path_gives_the_scalar_bits(tmp_path):
+    s = _states(23, seed=11)
+    ref = [
+        pendula.taylor(T, *(float(s[k][i]) for k in ("theta0", "omega0", "w0", "gamma")), tol=float(s["tol"][i]))
+        for i in range(23)
+    ]
+    for path in pendula.build_info()["kernel"]["available"]:
+        out = tmp_path / f"{path}.npz"
+        env = dict(os.environ, PENDULA_KERNEL=path)
+        here = os.path.dirname(os.path.abspath(__file__))
+        subprocess.run([sys.executable, "-c", _PATH_SCRIPT, str(out), here], env=env, check=True, timeout=120)
+        got = np.load(out)
+        assert str(got["path"]) == path
+        for i, r in enumerate(ref):
+            for key in ("theta", "omega", "error"):
+                assert np.array_equal(got[key][i], getattr(r, key)), (path, key, i)
