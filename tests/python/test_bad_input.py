@@ -289,6 +289,7 @@ FORTRAN_NO_STATUS = {
     "kernel_path_available": "total function of a kernel path code",
     # the batch RK4 block kernel of the running path: rk4_batch_solve checks the states first
     "rk4_lanes": "unchecked kernel behind rk4_batch_solve (pendula_dispatch)",
+    "taylor_series_lanes": "unchecked series kernel behind taylor_batch_solve (pendula_dispatch)",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
     "ellipj_plan": "elliptic rule",
     "ellipj_planm1": "elliptic rule",
