@@ -1,4 +1,5 @@
-!> Which compiled variant of the hot kernels runs (runtime CPU dispatch):
+!> Which compiled variant of the hot kernels (the batch RK4 block kernel, the
+!> Taylor batch's series kernel) runs (runtime CPU dispatch):
 !> the portable baseline, x86-64-v3 (AVX2 + FMA) or x86-64-v4 (AVX-512).
 !> The choice is made once when the library is loaded, from the CPU's
 !> features or the environment variable PENDULA_KERNEL = baseline | v3 | v4
@@ -10,7 +11,7 @@ module pendula_dispatch
   implicit none
   private
   public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
-  public :: rk4_lanes, rk4_lanes_width
+  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes
 
   !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
   integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
@@ -56,6 +57,18 @@ module pendula_dispatch
       integer(c_int), intent(in) :: icancel  !< index of the cancel flag
       integer(c_int), intent(out) :: done  !< 1 when the block finished
     end subroutine rk4_lanes
+    !> The Taylor batch's series kernel of the running path (pendula_taylor_series_lanes.F90).
+    subroutine taylor_series_lanes(pmax, maxo, w0sq, gam, cc, ss, xx, vv) bind(C, name='pendula_taylor_series_lanes')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: pmax  !< highest order to form
+      integer(c_int), intent(in) :: maxo  !< last index of the coefficient arrays
+      real(c_double), intent(in) :: w0sq(*)  !< w0**2 of each lane [1/s**2]
+      real(c_double), intent(in) :: gam(*)  !< gamma of each lane [1/s]
+      real(c_double), intent(inout) :: cc(*)  !< series of cos(theta), (lanes, 0:maxo)
+      real(c_double), intent(inout) :: ss(*)  !< series of sin(theta)
+      real(c_double), intent(inout) :: xx(*)  !< series of theta
+      real(c_double), intent(inout) :: vv(*)  !< series of Omega
+    end subroutine taylor_series_lanes
   end interface
 
 contains

@@ -1,6 +1,7 @@
 /* Runtime dispatch of pendula's hot kernels: which compiled variant runs.
  *
- * The batch RK4 kernel (pendula_rk4_lanes.F90) is compiled for baseline
+ * The batch RK4 kernel (pendula_rk4_lanes.F90) and the Taylor batch's series
+ * kernel (pendula_taylor_series_lanes.F90) are compiled for baseline
  * x86-64 (SSE2), x86-64-v3 (AVX2, FMA, BMI2) and x86-64-v4 (AVX-512 F, BW,
  * CD, DQ, VL) when meson builds for x86_64 (PENDULA_KERNEL_VARIANTS), and
  * only in its portable form elsewhere.  The path is chosen once, when the
@@ -10,7 +11,8 @@
  * or v4 asks for one path (for reproducibility and for the tests); a path
  * the CPU cannot run gives the best one it can below it, and any other value
  * (or none, or "auto") the best one.  Fortran asks pendula_kernel_path()
- * which path runs and calls pendula_rk4_lanes(), which forwards to it.
+ * which path runs and calls pendula_rk4_lanes() and
+ * pendula_taylor_series_lanes(), which forward to them.
  * The choice is written once, before any call can read it.
  */
 #include <stdlib.h>
@@ -32,9 +34,17 @@ extern width_fn pendula_rk4_lanes_v3_width;
 extern width_fn pendula_rk4_lanes_v4_width;
 #endif
 
+typedef void series_fn(void *, void *, void *, void *, void *, void *, void *, void *);
+extern series_fn pendula_taylor_series_lanes_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern series_fn pendula_taylor_series_lanes_v3;
+extern series_fn pendula_taylor_series_lanes_v4;
+#endif
+
 static int kernel_path = PATH_BASELINE;
 static lanes_fn *rk4_lanes_impl = pendula_rk4_lanes_baseline;
 static width_fn *rk4_lanes_width_impl = pendula_rk4_lanes_baseline_width;
+static series_fn *taylor_series_impl = pendula_taylor_series_lanes_baseline;
 
 /* 1 when this build has path p and this CPU (and OS) can run it. */
 int pendula_kernel_available(const int *p)
@@ -73,9 +83,11 @@ __attribute__((constructor)) static void choose_path(void)
     if (p == PATH_V3) {
         rk4_lanes_impl = pendula_rk4_lanes_v3;
         rk4_lanes_width_impl = pendula_rk4_lanes_v3_width;
+        taylor_series_impl = pendula_taylor_series_lanes_v3;
     } else if (p == PATH_V4) {
         rk4_lanes_impl = pendula_rk4_lanes_v4;
         rk4_lanes_width_impl = pendula_rk4_lanes_v4_width;
+        taylor_series_impl = pendula_taylor_series_lanes_v4;
     }
 #endif
 }
@@ -100,4 +112,11 @@ void pendula_rk4_lanes(void *a1, void *a2, void *a3, void *a4, void *a5, void *a
 {
     rk4_lanes_impl(a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15, a16, a17, a18, a19,
         a20);
+}
+
+/* The Taylor batch's series kernel of the chosen path (arguments: see
+ * pendula_taylor_series_lanes.F90, all by reference). */
+void pendula_taylor_series_lanes(void *a1, void *a2, void *a3, void *a4, void *a5, void *a6, void *a7, void *a8)
+{
+    taylor_series_impl(a1, a2, a3, a4, a5, a6, a7, a8);
 }

@@ -23,39 +23,25 @@
 !>   (tests/python/test_taylor.py).
 module pendula_taylor
   use pendula_kinds, only: wp, i8
-  use pendula_constants, only: two_pi, two_pi_lo
   use pendula_format, only: format_short
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, check_size, &
                          check_same_size, check_all_finite, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_SOLVER, &
                             PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
-  use pendula_ode, only: ode_stats_t, PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
-  use pendula_double_double, only: two_sum, two_prod
+  use pendula_ode, only: ode_stats_t
   use pendula_drive, only: drive_t, DRIVE_PIVOT, check_drive
   use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_coefficients_driven, taylor_drive_series, &
-                                   taylor_order, taylor_step, &
-                                   taylor_shear
+                                   taylor_order, taylor_shear
+  use pendula_taylor_walk, only: taylor_walk_t, taylor_walk_step, taylor_drive_phase, TAYLOR_SAFETY, MAX_STEP_TAU, POLL_STEPS
   implicit none
   private
-  public :: taylor_solve, taylor_solve_events, taylor_run, taylor_check, taylor_outcome
+  public :: taylor_solve, taylor_solve_events, taylor_run, taylor_start, taylor_check, taylor_outcome
   public :: taylor_step_tolerance, TAYLOR_DEFAULT_MAX_STEPS, TAYLOR_SAFETY
 
   !> Default step budget of one call (~10 min of CPU at ~0.5 us a step).
   integer(i8), parameter :: TAYLOR_DEFAULT_MAX_STEPS = 1000000000_i8
-  !> Factor on the propagated error bound (calibrated: the measured error
-  !> stays below the estimate with this margin in every test case).
-  real(wp), parameter :: TAYLOR_SAFETY = 2
-  ! Per-step rounding: this many ulps of the sum of absolute terms.
-  real(wp), parameter :: ROUND_ULPS = 2
-  ! Largest step in w0 t: below half a small-swing period (pi), so a step holds
-  ! at most one turning point and one pass through the bottom per level.
-  real(wp), parameter :: MAX_STEP_TAU = 2
   ! Smallest per-step tolerance: below it truncation is far under rounding.
   real(wp), parameter :: EPS_FLOOR = 1.0e-18_wp
-  real(wp), parameter :: ULP = epsilon(1.0_wp)/2
-  integer, parameter :: POLL_STEPS = 128
-  ! Outputs evaluated side by side (series_sums_lanes).
-  integer, parameter :: OUT_LANES = 4
 
 contains
 
@@ -386,23 +372,77 @@ contains
     !< optional cancel flag and progress counter (pendula_control)
     type(drive_t), intent(in), optional :: drive
     !< optional periodic drive, checked (check_drive); its phase phi holds at t = 0
-    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER), dc(0:TAYLOR_MAX_ORDER), amp, lip, pc, ps
-    real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0sq, eps_s
-    real(wp) :: big_a, big_d, g, ec, es, loc, lgr, s0abs, sn, cs, xe, ve, xel, vel, tau, s, e
-    real(wp) :: r0, r1, r2, gam, ga, lt, rnd, trc, committed, ol1, ol2, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
+    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER), dc(0:TAYLOR_MAX_ORDER), pc, ps
+    type(taylor_walk_t) :: w
+    logical :: done
+    nev = 0
+    trunc = .false.
+    call taylor_start(t, theta0, omega0, w0, gamma, tol, max_steps, theta, omega, err, w, drive)
+    steps = 0
+    p = w%p
+    outcome = w%outcome
+    t_fail = w%t_fail
+    if (size(t) == 1 .or. outcome /= PENDULA_OK) return
+    do
+      if (present(drive)) then
+        call taylor_drive_phase(drive, w%th, w%tl, pc, ps)
+        call taylor_drive_series(pc, ps, drive%frequency, w%p, dc)
+        call taylor_coefficients_driven(w%xh, w%xl, w%vh, w%w0sq, w%gamma, drive%kind, w%amp, dc, w%p, x, v, w%s0abs, &
+                                        w%sn, w%cs)
+      else
+        call taylor_coefficients(w%xh, w%xl, w%vh, w%w0sq, w%gamma, w%p, x, v, w%s0abs, w%sn, w%cs)
+      end if
+      call taylor_walk_step(w, t, x, v, with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, done)
+      if (done) exit
+      if (present(control) .and. mod(w%steps, int(POLL_STEPS, i8)) == 0) then
+        call add_progress(control, int(POLL_STEPS, i8))
+        if (cancel_requested(control)) then
+          w%outcome = PENDULA_ERR_CANCELLED
+          w%t_fail = w%th
+          exit
+        end if
+      end if
+    end do
+    steps = w%steps
+    outcome = w%outcome
+    t_fail = w%t_fail
+    ! the steps since the last poll, so that the progress ends at the step count
+    if (present(control) .and. outcome == PENDULA_OK) call add_progress(control, mod(steps, int(POLL_STEPS, i8)))
+  end subroutine taylor_run
+
+  !> The start of an integration on checked arguments (taylor_check): theta,
+  !> omega, err at t(1), and the walk w (pendula_taylor_walk) at (theta0,
+  !> omega0) with its per-step tolerance and order (step_plan, taylor_order).
+  !> w%outcome: PENDULA_OK, or PENDULA_ERR_MAXSTEPS when the window certainly
+  !> needs more than max_steps steps.  For taylor_run and the batch kernel.
+  subroutine taylor_start(t, theta0, omega0, w0, gamma, tol, max_steps, theta, omega, err, w, drive)
+    real(wp), intent(in) :: t(:)  !< output times [s], checked
+    real(wp), intent(in) :: theta0  !< initial angle [rad]
+    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s]
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s]
+    real(wp), intent(in) :: gamma  !< damping rate [1/s]
+    real(wp), intent(in) :: tol  !< absolute accuracy asked at the outputs
+    integer(i8), intent(in) :: max_steps  !< step budget
+    real(wp), intent(inout) :: theta(:)  !< theta at t [rad]: theta(1) set
+    real(wp), intent(inout) :: omega(:)  !< Omega at t [rad/s]: omega(1) set
+    real(wp), intent(inout) :: err(:)  !< error estimates [rad]: err(1) set
+    type(taylor_walk_t), intent(out) :: w  !< the walk, ready for its first step
+    type(drive_t), intent(in), optional :: drive
+    !< optional periodic drive, checked (check_drive); its phase phi holds at t = 0
+    real(wp) :: inv_w0, tau, lip, eps_s
     logical :: short
-    integer :: n, i, nl, l
+    integer :: n
     n = size(t)
     theta(1) = theta0
     omega(1) = omega0
     err(1) = 0
-    nev = 0
-    trunc = .false.
-    steps = 0
-    outcome = PENDULA_OK
-    t_fail = t(1)
+    w%outcome = PENDULA_OK
+    w%t_fail = t(1)
     inv_w0 = 1/max(w0, 1.0e-300_wp)   ! w0 = 5e-324: no overflow (the window is then one step)
-    w0sq = w0*w0
+    w%inv_w0 = inv_w0
+    w%w0 = w0
+    w%w0sq = w0*w0
+    w%gamma = gamma
     tau = 0
     if (n > 1) tau = w0*abs(t(n)/2 - t(1)/2)*2
     ! (ratios clamped to 1e150 each: no overflow for any finite input)
@@ -410,414 +450,35 @@ contains
     ! of the scaled system, 1 + gamma/w0 + |pivot amplitude|/w0**2 (no shear
     ! model: the driven pendulum may be chaotic)
     lip = 0
-    amp = 0
+    w%amp = 0
+    w%driven = present(drive)
     if (present(drive)) then
-      amp = drive%amplitude
-      if (drive%kind == DRIVE_PIVOT) amp = drive%amplitude*drive%frequency**2
+      w%amp = drive%amplitude
+      if (drive%kind == DRIVE_PIVOT) w%amp = drive%amplitude*drive%frequency**2
       lip = 1 + min(gamma*inv_w0, 1.0e150_wp)
-      if (drive%kind == DRIVE_PIVOT) lip = lip + min(abs(amp), 1.0e150_wp)*min(inv_w0*inv_w0, 1.0e150_wp)
+      if (drive%kind == DRIVE_PIVOT) lip = lip + min(abs(w%amp), 1.0e150_wp)*min(inv_w0*inv_w0, 1.0e150_wp)
     end if
     call step_plan(tol, min(tau, 1.0e150_wp), min(gamma, 1.0e150_wp)*min(inv_w0, 1.0e150_wp), &
                    scaled_energy(theta0, sign(min(abs(omega0), 1.0e150_wp), omega0)*min(inv_w0, 1.0e150_wp)), lip, eps_s, short)
-    p = taylor_order(eps_s, short)
+    w%eps_s = eps_s
+    w%p = taylor_order(eps_s, short)
     if (n == 1) return
     ! Steps are at most 2/w0 and, with damping, ~2/gamma long: a window that
     ! needs more than max_steps is refused before any work.
     if (tau/MAX_STEP_TAU > real(max_steps, wp) .or. (abs(theta0) + abs(omega0) > 0 .and. &
                                                      gamma*abs(t(n)/2 - t(1)/2) > real(max_steps, wp))) then
-      outcome = PENDULA_ERR_MAXSTEPS
+      w%outcome = PENDULA_ERR_MAXSTEPS
       return
     end if
-    lgr = 1 + min(gamma*inv_w0, 1.0e300_wp)
-    if (present(drive)) lgr = lip
-    xh = theta0
-    xl = 0
-    vh = omega0
-    vl = 0
-    th = t(1)
-    tl = 0
-    big_a = 0
-    big_d = 0
-    r0 = 0
-    r1 = 0
-    r2 = 0
-    gam = 0
-    lt = 0
-    ec = -1
-    g = 0
-    i = 2
-    do
-      if (present(drive)) then
-        call drive_phase(drive, th, tl, pc, ps)
-        call taylor_drive_series(pc, ps, drive%frequency, p, dc)
-        call taylor_coefficients_driven(xh, xl, vh, w0sq, gamma, drive%kind, amp, dc, p, x, v, s0abs, sn, cs)
-      else
-        call taylor_coefficients(xh, xl, vh, w0sq, gamma, p, x, v, s0abs, sn, cs)
-        es = scaled_energy_sc(sn, cs, vh*inv_w0)
-      end if
-      call two_sum(t(n), -th, rs, re)
-      rem = rs + (re - tl)
-      habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU*inv_w0))
-      ! a non-finite series (an overflowing state) or a step lost in the time's rounding
-      if (.not. (abs(x(p + 1)) + abs(v(p + 1)) <= huge(1.0_wp) .and. habs > 0) .or. &
-          (th + sign(habs, rem) == th .and. habs < abs(rem))) then
-        outcome = PENDULA_ERR_SOLVER
-        t_fail = th
-        return
-      end if
-      if (habs >= abs(rem)) then
-        h = rem
-      else
-        h = sign(habs, rem)
-      end if
-      ! the full step first: the state it ends at, and its truncation and
-      ! rounding bounds, which bound those of every output inside the step too
-      ! (both grow with |d|): the outputs cost one Horner pass each
-      call dense_error(h, xe, xel, ve, vel, trc, rnd)
-      ! the outputs inside this step, from its polynomial (what was committed
-      ! before the step is the same for all of them: formed once)
-      committed = -1
-      do while (i <= n)
-        ! up to OUT_LANES outputs at once: their sums side by side (independent
-        ! chains; each output's arithmetic is the one-output sum's)
-        nl = 0
-        dl = 0
-        do while (i + nl <= n .and. nl < OUT_LANES)
-          call two_sum(t(i + nl), -th, ds, de)
-          d = ds + (de - tl)
-          if (abs(d) > abs(h) .and. h /= rem) exit
-          nl = nl + 1
-          dl(nl) = d
-        end do
-        if (nl == 0) exit
-        if (committed < 0) committed = sqrt(2.0_wp)*(big_a + big_d + rounding_part()) + trc + rnd
-        call series_sums_lanes(dl, rl, rvl)
-        do l = 1, nl
-          call dense_finish(dl(l), rl(l), rvl(l), theta(i), ol1, omega(i), ol2)
-          err(i) = TAYLOR_SAFETY*committed + ULP*max(abs(theta(i)), abs(omega(i))*inv_w0)
-          i = i + 1
-        end do
-        if (nl < OUT_LANES) exit
-      end do
-      if (with_events) call events_in_step(h)
-      if (h == rem) exit
-      ! advance the double-double state and time by the full step
-      if (.not. (abs(xe) <= huge(1.0_wp) .and. abs(ve) <= huge(1.0_wp))) then
-        outcome = PENDULA_ERR_SOLVER
-        t_fail = th
-        return
-      end if
-      ! error model: growth of what was committed so far, then this step's share
-      ! G varies like log|2 - e| and 1/|2 - e|: refreshed when e has moved by
-      ! 5% of its distance to 0 or to the separatrix, with a 10% margin
-      if (present(drive)) then
-        g = 1.0e50_wp   ! no shear model: Gronwall's bound (lgr) decides
-      else if (abs(es - ec) > 0.05_wp*min(es, abs(2 - es)) .or. ec < 0) then
-        ec = es
-        g = 1.1_wp*min(taylor_shear(es), 1.0e50_wp)   ! capped: no inf - inf below
-      end if
-      big_d = big_d + w0*habs*min(g*big_a, lgr*(big_a + big_d))
-      big_a = big_a + trc
-      ! rounding: independent from step to step, so summed in quadrature, each
-      ! share grown by the integrated shear since it was made (gam)
-      gam = min(gam + g*w0*habs, 1.0e100_wp)
-      lt = lt + lgr*w0*habs
-      r0 = r0 + rnd*rnd
-      r1 = r1 + rnd*rnd*gam
-      r2 = r2 + rnd*rnd*gam*gam
-      xh = xe
-      xl = xel
-      vh = ve
-      vl = vel
-      call two_sum(th, h, s, e)
-      e = e + tl
-      th = s + e
-      tl = e - (th - s)
-      steps = steps + 1
-      ! the budget: spent, or (checked every POLL_STEPS steps) certain to be at this pace
-      if (steps >= max_steps .or. (mod(steps, int(POLL_STEPS, i8)) == 0 .and. &
-                                   abs(rem)/max(abs(th - t(1)) + abs(tl), tiny(1.0_wp)) > real(max_steps, wp)/real(steps, wp))) then
-        outcome = PENDULA_ERR_MAXSTEPS
-        t_fail = th
-        return
-      end if
-      if (present(control) .and. mod(steps, int(POLL_STEPS, i8)) == 0) then
-        call add_progress(control, int(POLL_STEPS, i8))
-        if (cancel_requested(control)) then
-          outcome = PENDULA_ERR_CANCELLED
-          t_fail = th
-          return
-        end if
-      end if
-    end do
-    ! the steps since the last poll, so that the progress ends at the step count
-    if (present(control)) call add_progress(control, mod(steps, int(POLL_STEPS, i8)))
-
-  contains
-
-    ! The state at offset dd from the step's start, as double-doubles: the
-    ! term theta' dd exactly (two_prod), the rest by Horner.
-    subroutine dense(dd, xo, xol, vo, vol)
-      real(wp), intent(in) :: dd
-      real(wp), intent(out) :: xo, xol, vo, vol
-      real(wp) :: rest, rv
-      call series_sums(dd, rest, rv)
-      call dense_finish(dd, rest, rv, xo, xol, vo, vol)
-    end subroutine dense
-
-    ! The state at offset dd from the series sums rest and rv (series_sums).
-    subroutine dense_finish(dd, rest, rv, xo, xol, vo, vol)
-      real(wp), intent(in) :: dd, rest, rv
-      real(wp), intent(out) :: xo, xol, vo, vol
-      real(wp) :: p1, e1, s1, e2, lo, bb
-      call two_prod(vh, dd, p1, e1)
-      ! two_sum(xh, p1) and two_sum(vh, rv), written out
-      s1 = xh + p1
-      bb = s1 - xh
-      e2 = (xh - (s1 - bb)) + (p1 - bb)
-      lo = e2 + (e1 + vl*dd + xl + rest)
-      xo = s1 + lo
-      xol = lo - (xo - s1)
-      s1 = vh + rv
-      bb = s1 - vh
-      e2 = (vh - (s1 - bb)) + (rv - bb)
-      lo = e2 + vl
-      vo = s1 + lo
-      vol = lo - (vo - s1)
-    end subroutine dense_finish
-
-    ! rest = sum_{k=2..p} x(k) dd**k and rv = sum_{k=1..p} v(k) dd**k by
-    ! Horner in dd**2 over the even and the odd k apart: four independent
-    ! chains of p/2 multiply-adds instead of two of p (an output's cost is
-    ! the latency of these chains).  Rounding as Horner's: a few ulps of the
-    ! absolute terms (the terms decay geometrically).  Needs p >= 3.
-    subroutine series_sums(dd, rest, rv)
-      real(wp), intent(in) :: dd
-      real(wp), intent(out) :: rest, rv
-      real(wp) :: q, xev, xod, vev, vod
-      integer :: k, ke, ko
-      q = dd*dd
-      ke = p - mod(p, 2)
-      ko = p - 1 + mod(p, 2)
-      xev = x(ke)
-      vev = v(ke)
-      xod = x(ko)
-      vod = v(ko)
-      do k = ke - 2, 2, -2
-        xev = xev*q + x(k)
-        vev = vev*q + v(k)
-      end do
-      do k = ko - 2, 3, -2
-        xod = xod*q + x(k)
-        vod = vod*q + v(k)
-      end do
-      vod = vod*q + v(1)
-      rest = q*(xev + dd*xod)
-      rv = q*vev + dd*vod
-    end subroutine series_sums
-
-    ! series_sums at OUT_LANES offsets at once, lane by lane the same arithmetic.
-    subroutine series_sums_lanes(dd, rest, rv)
-      real(wp), intent(in) :: dd(OUT_LANES)
-      real(wp), intent(out) :: rest(OUT_LANES), rv(OUT_LANES)
-      real(wp) :: q(OUT_LANES), xev(OUT_LANES), xod(OUT_LANES), vev(OUT_LANES), vod(OUT_LANES)
-      integer :: k, ke, ko
-      q = dd*dd
-      ke = p - mod(p, 2)
-      ko = p - 1 + mod(p, 2)
-      xev = x(ke)
-      vev = v(ke)
-      xod = x(ko)
-      vod = v(ko)
-      do k = ke - 2, 2, -2
-        xev = xev*q + x(k)
-        vev = vev*q + v(k)
-      end do
-      do k = ko - 2, 3, -2
-        xod = xod*q + x(k)
-        vod = vod*q + v(k)
-      end do
-      vod = vod*q + v(1)
-      rest = q*(xev + dd*xod)
-      rv = q*vev + dd*vod
-    end subroutine series_sums_lanes
-
-    ! The state at offset dd (as dense) and the local error bounds of the
-    ! polynomial there, in the max norm of (theta, Omega/w0), in one pass over
-    ! the coefficients: trc, twice the first omitted term (the tail of a
-    ! series decaying at least by 1/2 a term; ~e**-2 at the optimal order),
-    ! and rnd, ROUND_ULPS ulps of the absolute terms.
-    subroutine dense_error(dd, xo, xol, vo, vol, trc_, rnd_)
-      real(wp), intent(in) :: dd
-      real(wp), intent(out) :: xo, xol, vo, vol, trc_, rnd_
-      real(wp) :: p1, e1, s1, e2, lo, rest, rv, bb, a, sx, sv, ap, q, xev, xod, vev, vod
-      integer :: k, ke, ko
-      call two_prod(vh, dd, p1, e1)
-      call series_sums(dd, rest, rv)
-      ! the absolute terms, sum_{k=2..p} |x(k)| a**k and |v(k)| a**k, split
-      ! into even and odd k as in series_sums
-      a = abs(dd)
-      q = a*a
-      ke = p - mod(p, 2)
-      ko = p - 1 + mod(p, 2)
-      xev = abs(x(ke))
-      vev = abs(v(ke))
-      xod = abs(x(ko))
-      vod = abs(v(ko))
-      do k = ke - 2, 2, -2
-        xev = xev*q + abs(x(k))
-        vev = vev*q + abs(v(k))
-      end do
-      do k = ko - 2, 3, -2
-        xod = xod*q + abs(x(k))
-        vod = vod*q + abs(v(k))
-      end do
-      ap = a**(p + 1)
-      sx = q*(xev + a*xod) + abs(x(p + 1))*ap
-      sv = q*(vev + a*vod) + abs(v(p + 1))*ap
-      trc_ = 2*max(abs(x(p + 1)), abs(v(p + 1))*inv_w0)*ap
-      rnd_ = ROUND_ULPS*ULP*(sx + (s0abs*a + sv)*inv_w0 + abs(xl) + abs(vl)*inv_w0)
-      s1 = xh + p1
-      bb = s1 - xh
-      e2 = (xh - (s1 - bb)) + (p1 - bb)
-      lo = e2 + (e1 + vl*dd + xl + rest)
-      xo = s1 + lo
-      xol = lo - (xo - s1)
-      s1 = vh + rv
-      bb = s1 - vh
-      e2 = (vh - (s1 - bb)) + (rv - bb)
-      lo = e2 + vl
-      vo = s1 + lo
-      vol = lo - (vo - s1)
-    end subroutine dense_error
-
-    ! The rounding so far, grown by the shear: sqrt(sum r_i**2 (1 + Gamma -
-    ! Gamma_i)**2) with Gamma the integrated shear, capped by the Gronwall
-    ! factor exp(L tau) (near the separatrix the shear model breaks down).
-    real(wp) function rounding_part() result(r)
-      real(wp) :: q
-      q = r0*(1 + gam)**2 - 2*(1 + gam)*r1 + r2
-      r = sqrt(max(q, r0))
-      r = min(r, sqrt(r0)*exp(min(lt, 700.0_wp)))
-    end function rounding_part
-
-    ! Events in (0, hh] of the current step, in time order.
-    subroutine events_in_step(hh)
-      real(wp), intent(in) :: hh
-      real(wp) :: f0, f1, dt_turn, xend, xendl, dummy, lev_h, lev_l, dz, fs, fe
-      integer :: j, j1, j2, jstep
-      logical :: pending
-      ! turning point: Omega changes sign
-      pending = .false.
-      dt_turn = 0
-      f0 = vh
-      if (f0 == 0) f0 = v(1)*hh   ! starts at a turning point: the sign just after
-      if (f0 == 0) f0 = v(2)*hh*hh
-      call dense(hh, xend, xendl, f1, dummy)
-      if (f0 /= 0 .and. (f1 == 0 .or. (f1 > 0) .neqv. (f0 > 0))) then
-        dt_turn = root(v, vh + vl, hh)
-        pending = .true.
-      end if
-      ! bottom passes: theta crosses a level 2 pi j (monotonic within a step:
-      ! a step is shorter than half a swing)
-      if (xend > xh) then
-        j1 = floor(xh/two_pi) + 1
-        j2 = floor(xend/two_pi)
-        jstep = 1
-      else
-        j1 = ceiling(xh/two_pi) - 1
-        j2 = ceiling(xend/two_pi)
-        jstep = -1
-      end if
-      do j = j1, j2, jstep
-        lev_h = two_pi*j
-        lev_l = two_pi_lo*j + (two_pi*real(j, wp) - lev_h)
-        fs = (xh - lev_h) + (xl - lev_l)
-        fe = (xend - lev_h) + (xendl - lev_l)
-        if (fs == 0 .or. .not. (fe == 0 .or. (fe > 0) .neqv. (fs > 0))) cycle
-        dz = root(x, fs, hh)
-        if (pending .and. abs(dt_turn) < abs(dz)) then
-          call emit(dt_turn, PENDULA_EVENT_TURNING)
-          pending = .false.
-        end if
-        call emit(dz, PENDULA_EVENT_ZERO)
-      end do
-      if (pending) call emit(dt_turn, PENDULA_EVENT_TURNING)
-    end subroutine events_in_step
-
-    subroutine emit(dd, kind)
-      real(wp), intent(in) :: dd
-      integer, intent(in) :: kind
-      real(wp) :: xo, vo, dummy
-      if (nev >= size(ev_t)) then
-        trunc = .true.
-        return
-      end if
-      nev = nev + 1
-      call dense(dd, xo, dummy, vo, dummy)
-      ev_t(nev) = th + (tl + dd)
-      ev_k(nev) = kind
-      ev_th(nev) = xo
-      ev_om(nev) = vo
-    end subroutine emit
-
-    ! Root in (0, hh] of c0 + sum_{k=1..p} a(k) d**k (a sign change between
-    ! 0 and hh is known): bracketed Newton with bisection, to a few ulps of d.
-    real(wp) function root(a, c0, hh) result(dr)
-      real(wp), intent(in) :: a(0:TAYLOR_MAX_ORDER), c0, hh
-      real(wp) :: lo, hi, flo, f, df, dn
-      integer :: it, k
-      lo = 0
-      hi = hh
-      flo = c0
-      dr = hh/2
-      if (a(1) /= 0) then
-        dn = -c0/a(1)
-        if ((dn - lo)*(dn - hi) < 0) dr = dn
-      end if
-      do it = 1, 100
-        f = a(p)
-        df = p*a(p)
-        do k = p - 1, 1, -1
-          f = f*dr + a(k)
-          df = df*dr + k*a(k)
-        end do
-        f = f*dr + c0
-        if (f == 0) return
-        if ((f > 0) .eqv. (flo > 0)) then
-          lo = dr
-          flo = f
-        else
-          hi = dr
-        end if
-        dn = dr - f/df
-        if (.not. ((dn - lo)*(dn - hi) < 0)) dn = (lo + hi)/2
-        if (abs(dn - dr) <= 2*ULP*abs(dr) .or. dn == lo .or. dn == hi) then
-          dr = dn
-          return
-        end if
-        dr = dn
-      end do
-    end function root
-
-  end subroutine taylor_run
-
-  ! cos and sin of the drive phase Omega t + phi at the double-double time
-  ! th + tl: Omega th exactly (two_prod), reduced by 2 pi in double-double,
-  ! so that the phase keeps ~1e-16 absolute accuracy over long windows.
-  pure subroutine drive_phase(drive, th, tl, c, s)
-    type(drive_t), intent(in) :: drive
-    real(wp), intent(in) :: th, tl
-    real(wp), intent(out) :: c, s
-    real(wp) :: ph, pe, s1, e1, kk, a, b, psi
-    call two_prod(drive%frequency, th, ph, pe)
-    call two_sum(ph, pe + drive%frequency*tl + drive%phase, s1, e1)
-    kk = anint(s1/two_pi)
-    call two_prod(kk, two_pi, a, b)
-    psi = (((s1 - a) - b) + e1) - kk*two_pi_lo
-    c = cos(psi)
-    s = sin(psi)
-  end subroutine drive_phase
+    w%lgr = 1 + min(gamma*inv_w0, 1.0e300_wp)
+    if (present(drive)) w%lgr = lip
+    w%xh = theta0
+    w%xl = 0
+    w%vh = omega0
+    w%vl = 0
+    w%th = t(1)
+    w%tl = 0
+  end subroutine taylor_start
 
   ! Scaled energy u**2/2 + 1 - cos(x) (u = Omega/w0), 1 - cos(x) as
   ! 2 sin(x/2)**2 (no cancellation for small swings).
@@ -825,15 +486,5 @@ contains
     real(wp), intent(in) :: xx, u
     e = u*u/2 + 2*sin(xx/2)**2
   end function scaled_energy
-
-  ! The same from sin(x), cos(x): 1 - cos = sin**2/(1 + cos) for cos > 0.
-  pure real(wp) function scaled_energy_sc(sn, cs, u) result(e)
-    real(wp), intent(in) :: sn, cs, u
-    if (cs > 0) then
-      e = u*u/2 + sn*sn/(1 + cs)
-    else
-      e = u*u/2 + (1 - cs)
-    end if
-  end function scaled_energy_sc
 
 end module pendula_taylor

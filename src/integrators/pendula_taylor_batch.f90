@@ -1,18 +1,22 @@
 !> The Taylor integrator (pendula_taylor) for many pendulums in one call: each
 !> state i has its own theta0(i), omega0(i), w0(i), gamma(i) and tol(i) (and
-!> so its own order and steps); the output grid t is shared.  Every state runs
-!> taylor_run, the scalar call's own kernel, so its results are bit-identical
-!> to taylor_solve for the same state whatever else is in the batch.  States
-!> are spread over OpenMP threads (dynamic schedule: adaptive steps make their
-!> costs differ); the cancel flag is polled before each state.
+!> so its own order and steps); the output grid t is shared.  Without a drive
+!> the states run in blocks of TAYLOR_LANES (pendula_taylor_lanes: their
+!> series formed side by side, each step taken by the scalar integrator's own
+!> step code); with a drive each state runs taylor_run.  Either way a state's
+!> results are bit-identical to taylor_solve for the same state whatever else
+!> is in the batch.  Chunks of states are spread over OpenMP threads (dynamic
+!> schedule: adaptive steps make their costs differ); the cancel flag is
+!> polled before each state starts and when it ends.
 module pendula_taylor_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use pendula_kinds, only: wp, i8
-  use pendula_status, only: status_t, set_error, check_same_size, PENDULA_OK, PENDULA_ERR_CANCELLED
+  use pendula_status, only: status_t, set_error, check_same_size, check_alloc, PENDULA_OK, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: check_batch_shapes, at => batch_index
   use pendula_batch_support, only: batch_threads, set_batch_error
   use pendula_taylor, only: taylor_check, taylor_run, taylor_outcome, TAYLOR_DEFAULT_MAX_STEPS
+  use pendula_taylor_lanes, only: taylor_lanes_run, taylor_lanes_list, TAYLOR_LANES
   use pendula_drive, only: drive_t, check_drive
   implicit none
   private
@@ -58,7 +62,8 @@ contains
     integer, intent(out), optional :: first_failed  !< optional: 1-based index of the first failed state (0: none)
     integer(i8), intent(in), optional :: max_steps  !< optional step budget per state, >= 1
     type(drive_t), intent(in), optional :: drive  !< optional periodic drive of every state (pendula_drive)
-    integer :: n, i, nthreads, first
+    integer :: n, i, nthreads, first, chunk, nchunks, c, ist
+    integer, allocatable :: list(:), keys(:)   ! the states in the order the blocks take them, their orders
     integer(i8) :: budget
     type(status_t) :: st
     character(len=len(st%message)) :: first_message
@@ -73,6 +78,10 @@ contains
     call check_same_size('err', size(err), 'theta', size(theta), status)
     call check_same_size('order', size(order), 'steps', size(steps), status)
     if (present(drive)) call check_drive(drive, status)
+    if (status%code == PENDULA_OK .and. .not. present(drive)) then
+      allocate (list(n), keys(n), stat=ist)
+      call check_alloc(ist, 'the order of the states', 2*int(n, i8), 4, status)
+    end if
     if (status%code /= PENDULA_OK) then
       theta = 0
       omega = 0
@@ -83,12 +92,27 @@ contains
       return
     end if
     nthreads = batch_threads(threads)
-    !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. n > 1) default(shared) private(st)
-    do i = 1, n
-      call one_state(i, st)
-      codes(i) = st%code
-    end do
-    !$omp end parallel do
+    if (present(drive)) then
+      !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. n > 1) default(shared) private(st)
+      do i = 1, n
+        call one_state(i, st)
+        codes(i) = st%code
+      end do
+      !$omp end parallel do
+    else
+      ! chunks of a few blocks per thread and more than that: a lane that
+      ! finishes takes the chunk's next state, so only a chunk's end idles lanes
+      chunk = max(4*TAYLOR_LANES, min(64*TAYLOR_LANES, n/(4*nthreads) + 1))
+      if (nthreads == 1) chunk = n
+      nchunks = (n + chunk - 1)/chunk
+      call taylor_lanes_list(t, theta0, omega0, w0, gamma, tol, budget, keys, list)
+      !$omp parallel do schedule(dynamic) num_threads(nthreads) if(nthreads > 1 .and. nchunks > 1) default(shared)
+      do c = 1, nchunks
+        call taylor_lanes_run(t, list((c - 1)*chunk + 1:min(n, c*chunk)), theta0, omega0, w0, gamma, tol, budget, &
+                              theta, omega, err, codes, steps, order, control)
+      end do
+      !$omp end parallel do
+    end if
     first = 0
     do i = n, 1, -1
       if (codes(i) /= PENDULA_OK) first = i
