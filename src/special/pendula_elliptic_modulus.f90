@@ -29,7 +29,6 @@ module pendula_elliptic_modulus
     real(wp) :: uscale = 1      ! u is multiplied by this before the core
     real(wp) :: uscale_lo = 0   ! ... in double-double, so large u keeps its digits
     real(wp) :: oscale = 1      ! sn scale (m>1: 1/k, m<0: 1/sqrt(1-m))
-    real(wp) :: cs(0:6) = 0, cc(0:6) = 0, cd(0:6) = 0  ! series coefficients at m
   end type jacobi_param_t
 
 contains
@@ -97,10 +96,6 @@ contains
     else
       plan%khi = k_from_mc(plan%mc); plan%klo = 0
     end if
-    call series_coeffs(mm, plan%cs, plan%cc, plan%cd)
   end function jacobi_param
-
-  ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py; also included in the kernel)
-  include 'pendula_jacobi_series.inc'
 
 end module pendula_elliptic_modulus

@@ -16,7 +16,7 @@ module pendula_jacobi
   use pendula_elliptic_ke, only: ellipk, ellipkm1
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_CORE, MODULUS_RECIPROCAL, &
                                       MODULUS_IMAGINARY
-  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, ellipj_point, ellipjm1_point, &
+  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, ellipj_point, &
                                    taylor_row_at, ntay, tab_step, tab_inv_step, khi_tab_max
   implicit none
   private
@@ -166,7 +166,7 @@ contains
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
-    call ellipj_point(u, m, present(am), sn, cn, dn, a)
+    call ellipj_point(u, m, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipj
 
@@ -186,9 +186,9 @@ contains
     call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am, 'm', size(m))
     if (bad) return
     if (present(am)) then
-      call ellipj_points(size(u), u, m, .true., sn, cn, dn, am)
+      call ellipj_points(size(u), u, m, .false., .true., sn, cn, dn, am)
     else
-      call ellipj_points(size(u), u, m, .false., sn, cn, dn, sn)
+      call ellipj_points(size(u), u, m, .false., .false., sn, cn, dn, sn)
     end if
   end subroutine ellipj_array
 
@@ -202,15 +202,14 @@ contains
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
-    real(wp) :: a
-    integer :: i
     logical :: bad
     call outputs_mismatch('ellipjm1_array', size(u), sn, cn, dn, status, bad, am, 'mc', size(mc))
     if (bad) return
-    do i = 1, size(u)
-      call ellipjm1_point(u(i), mc(i), present(am), sn(i), cn(i), dn(i), a)
-      if (present(am)) am(i) = a
-    end do
+    if (present(am)) then
+      call ellipj_points(size(u), u, mc, .true., .true., sn, cn, dn, am)
+    else
+      call ellipj_points(size(u), u, mc, .true., .false., sn, cn, dn, sn)
+    end if
   end subroutine ellipjm1_array
 
   !> Jacobi functions with the complementary parameter mc = 1 - m (any real mc;
@@ -223,7 +222,7 @@ contains
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
-    call ellipjm1_point(u, mc, present(am), sn, cn, dn, a)
+    call ellipj_point(u, mc, .true., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipjm1
 
