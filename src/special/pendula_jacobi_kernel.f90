@@ -147,15 +147,16 @@ contains
   !> atan by a polynomial; no libm call (glibc atan2 dominated the cost).
   pure elemental real(wp) function am_from_sn_cn(s, c) result(am)
     real(wp), intent(in) :: s, c
-    real(wp) :: as, c1, w, t, t2, t4, p, base
-    logical :: big
+    real(wp) :: as, c1, w, t, t2, t4, p, base, big
     ! x = |s|/(1 + c) in [0, 1]; above tan(pi/8) use atan x = pi/4 + atan((x - 1)/(x + 1)),
     ! formed directly from s and c with a single division
     as = abs(s)
     c1 = 1 + c
-    big = as > tan_pi8*c1      ! merge, not a branch: the test is unpredictable
-    w = merge(as - c1, as, big)/merge(as + c1, c1, big)
-    base = merge(0.25_wp*pi, 0.0_wp, big)
+    ! merge, not a branch: the test is unpredictable; a real flag, not a logical variable,
+    ! which kept gcc from vectorising the loops that inline this
+    big = merge(1.0_wp, 0.0_wp, as > tan_pi8*c1)
+    w = merge(as - c1, as, big > 0)/merge(as + c1, c1, big > 0)
+    base = merge(0.25_wp*pi, 0.0_wp, big > 0)
     t = w*w
     t2 = t*t
     t4 = t2*t2
@@ -503,13 +504,13 @@ contains
     real(wp), intent(in) :: u(nb), x(nb)
     logical, intent(in) :: m1, want_am
     real(wp), intent(out) :: sn(nb), cn(nb), dn(nb)
-    real(wp), intent(inout) :: am(*)
+    real(wp), intent(inout) :: am(nb)
     logical, intent(out) :: done(nb)
     real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
     real(wp), dimension(jblock) :: m, mc, k, hn, r, w, aw, su, s, xc, yd, c, d, nd
     integer :: j
-    real(wp) :: mcl, khi, klo, v, c1, c2, t, ps
-    logical :: ok, half
+    real(wp) :: mcl, khi, klo, v, c1, c2, t, ps, half
+    logical :: ok
     ! (1) reduction; a point left to the general path gets the harmless core point m = 0,
     ! r = 0 for the passes below (no NaN or overflow reaches them)
     do j = 1, nb
@@ -563,10 +564,11 @@ contains
     ! (4) back from K - w, the signs by merge (blends, not branches: the parity of n and the
     ! sign of u are random) and am
     do j = 1, nb
-      half = abs(r(j)) > 0.5_wp*k(j)
+      ! half: 1 where the point was reflected (a real flag: see am_from_sn_cn)
+      half = merge(1.0_wp, 0.0_wp, abs(r(j)) > 0.5_wp*k(j))
       t = merge(-s(j), s(j), w(j) < 0); v = c(j); c1 = d(j)
       call reflect_half(mc(j), t, v, c1)
-      s(j) = merge(t, s(j), half); c(j) = merge(v, c(j), half); d(j) = merge(c1, d(j), half)
+      s(j) = merge(t, s(j), half > 0); c(j) = merge(v, c(j), half > 0); d(j) = merge(c1, d(j), half > 0)
     end do
     if (want_am) then
       do j = 1, nb
