@@ -14,7 +14,8 @@ module pendula_jacobi_kernel
   use pendula_constants, only: pi, quiet_nan
   use pendula_double_double, only: two_prod, veltkamp_split
   use pendula_elliptic_tables, only: atan_poly
-  use pendula_elliptic_ke, only: k_unit, k_double_double
+  use pendula_status, only: status_t
+  use pendula_elliptic_ke, only: k_double_double, ellipk_array, ellipkm1_array
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
                                       MODULUS_RECIPROCAL, MODULUS_IMAGINARY
   implicit none
@@ -511,44 +512,57 @@ contains
     integer :: j
     real(wp) :: mcl, khi, klo, v, c1, c2, t, ps, half
     logical :: ok
-    ! (1) reduction; a point left to the general path gets the harmless core point m = 0,
+    type(status_t) :: status
+    ! (1) the domain; a point left to the general path gets the harmless core point m = 0,
     ! r = 0 for the passes below (no NaN or overflow reaches them)
     do j = 1, nb
       ok = .not. (ieee_is_nan(x(j)) .or. ieee_is_nan(u(j)))
       if (ok) then
         if (m1) then
           ok = x(j) > 0 .and. x(j) <= 1
-          m(j) = 1 - x(j); mc(j) = x(j)
         else
           ok = x(j) >= 0 .and. x(j) < 1
-          m(j) = x(j); mc(j) = 1 - x(j)
         end if
       end if
-      if (ok) then
-        k(j) = k_unit(m(j), mc(j))
-        v = abs(u(j))
-        ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
-        hn(j) = anint(v/(2*k(j)))
-        if (hn(j) <= 4) then
-          call veltkamp_split(2*k(j), c1, c2)
-          r(j) = (v - hn(j)*c1) - hn(j)*c2
-        else if (hn(j) < nmax) then
-          ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
-          mcl = 0
-          if (.not. m1) mcl = (1 - mc(j)) - m(j)
-          call k_double_double(mc(j), mcl, khi, klo)
-          hn(j) = anint(v/(2*khi))
-          call veltkamp_split(2*khi, c1, c2)
-          r(j) = ((v - hn(j)*c1) - hn(j)*c2) - hn(j)*(2*klo)
-        else
-          ok = .false.   ! beyond 2**26 half periods, or u = +-Inf
-        end if
-        su(j) = merge(-1.0_wp, 1.0_wp, u(j) < 0)
-      end if
-      if (.not. ok) then
-        m(j) = 0; mc(j) = 1; k(j) = 1; hn(j) = 0; r(j) = 0; su(j) = 1
+      if (m1) then
+        mc(j) = merge(x(j), 1.0_wp, ok); m(j) = 1 - mc(j)
+      else
+        m(j) = merge(x(j), 0.0_wp, ok); mc(j) = 1 - m(j)
       end if
       done(j) = ok
+    end do
+    ! K of the block: the array forms give k_unit(m, mc) (their logarithmic forms gathered
+    ! into one vectorised loop)
+    if (m1) then
+      call ellipkm1_array(mc(1:nb), k(1:nb), status)
+    else
+      call ellipk_array(m(1:nb), k(1:nb), status)
+    end if
+    ! the half periods n and the residue r
+    do j = 1, nb
+      hn(j) = 0; r(j) = 0; su(j) = 1
+      if (.not. done(j)) cycle
+      v = abs(u(j))
+      ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
+      hn(j) = anint(v/(2*k(j)))
+      if (hn(j) <= 4) then
+        call veltkamp_split(2*k(j), c1, c2)
+        r(j) = (v - hn(j)*c1) - hn(j)*c2
+      else if (hn(j) < nmax) then
+        ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
+        mcl = 0
+        if (.not. m1) mcl = (1 - mc(j)) - m(j)
+        call k_double_double(mc(j), mcl, khi, klo)
+        hn(j) = anint(v/(2*khi))
+        call veltkamp_split(2*khi, c1, c2)
+        r(j) = ((v - hn(j)*c1) - hn(j)*c2) - hn(j)*(2*klo)
+      else
+        ! beyond 2**26 half periods, or u = +-Inf
+        done(j) = .false.
+        m(j) = 0; mc(j) = 1; hn(j) = 0; r(j) = 0
+        cycle
+      end if
+      su(j) = merge(-1.0_wp, 1.0_wp, u(j) < 0)
     end do
     ! (2) the core argument t <= K/2 or K - t (DLMF 22.4.3) and its Maclaurin start
     do j = 1, nb
