@@ -3,7 +3,7 @@
 !> m < 0 by the imaginary modulus (DLMF 22.6.12) -- with the scale of u, the scale of
 !> sn, the core K (double-double on request) and the Maclaurin coefficients at the core m.
 module pendula_elliptic_modulus
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_double_double, only: two_sum, dd_div, dd_sqrt
   use pendula_elliptic_ke, only: k_unit, k_from_mc, k_double_double
@@ -42,7 +42,9 @@ contains
     logical, intent(in) :: full  !< true: K of the core parameter in double-double
     type(jacobi_param_t) :: plan
     real(wp) :: mm, wh, wl, ah, al, qh, ql
-    if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then
+    ! NaN or infinite m (either form): no modulus (tested before 1 - m is formed, which
+    ! for m = +-Inf would be an invalid operation in the checked build)
+    if (.not. (ieee_is_finite(m) .and. ieee_is_finite(mc))) then
       plan%kind = MODULUS_INVALID
       return
     end if
