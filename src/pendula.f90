@@ -17,7 +17,8 @@ module pendula
   use pendula_elliptic, only: ellipk, ellipkm1, ellipe, ellipem1, ellipf, ellipfm1, ellipk_array, &
                               ellipe_array, ellipkm1_array, ellipem1_array, ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
                               ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &
-                              ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array
+                              ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array, &
+                              ellipf_array, ellipfm1_array
   use pendula_undamped, only: undamped_motion_t, undamped_init, undamped_eval, undamped_eval_many, &
                               undamped_theta, undamped_omega, undamped_solve, undamped_period, undamped_amplitude, &
                               undamped_energy, undamped_regime, pendulum_energy, undamped_regime_name, &

@@ -34,7 +34,8 @@ subroutine ellipf_f2py(which, n, phi, x, f)
   ! F(phi | x) for which = GLUE_PARAM_M, F(phi | 1 - x) for GLUE_PARAM_P; f is the
   ! caller's (numpy.empty).
   use, intrinsic :: iso_c_binding, only: c_double, c_int
-  use pendula_elliptic, only: ellipf, ellipfm1
+  use pendula_elliptic, only: ellipf_array, ellipfm1_array
+  use pendula_status, only: status_t
   implicit none
   include 'pendula_glue_codes.inc'
   !f2py threadsafe
@@ -42,10 +43,11 @@ subroutine ellipf_f2py(which, n, phi, x, f)
   real(c_double), intent(in) :: phi(n), x(n)
   real(c_double), intent(inout) :: f(n)
   !f2py intent(inplace) :: f
+  type(status_t) :: status
   if (which == GLUE_PARAM_M) then
-    f = ellipf(phi, x)
+    call ellipf_array(phi, x, f, status)
   else
-    f = ellipfm1(phi, x)
+    call ellipfm1_array(phi, x, f, status)
   end if
 end subroutine ellipf_f2py
 

@@ -23,7 +23,7 @@
 module pendula_elliptic
   use pendula_elliptic_ke, only: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array, ellipkm1_array, &
                                  ellipem1_array
-  use pendula_elliptic_f, only: ellipf, ellipfm1
+  use pendula_elliptic_f, only: ellipf, ellipfm1, ellipf_array, ellipfm1_array
   use pendula_jacobi, only: ellipj, ellipjm1, ellipj_array, ellipjm1_array, &
                             ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array, &
                             ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array
@@ -31,6 +31,7 @@ module pendula_elliptic
   private
 
   public :: ellipk, ellipkm1, ellipe, ellipem1, ellipf, ellipfm1, ellipk_array, ellipe_array, ellipkm1_array, ellipem1_array
+  public :: ellipf_array, ellipfm1_array
   public :: ellipj, ellipjm1, ellipj_array, ellipjm1_array
   public :: ellipj_plan_t, ellipj_plan, ellipj_planm1, ellipj_eval, ellipj_eval_array
   public :: ellipj_plan_pays, ellipjm1_plan_pays, ellipj_one_m_array, ellipjm1_one_m_array

@@ -7,11 +7,15 @@ module pendula_elliptic_f
   use pendula_kinds, only: wp
   use pendula_constants, only: pi, pi_lo, pi_lo2, half_pi, half_pi_lo, quiet_nan
   use pendula_double_double, only: two_sum, two_prod, dd_div
+  use pendula_status, only: status_t, set_error, PENDULA_ERR_SIZE
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE
   implicit none
   private
 
-  public :: ellipf, ellipfm1, carlson_rf
+  public :: ellipf, ellipfm1, ellipf_array, ellipfm1_array, carlson_rf
+
+  !> Points per block of the array loop (f_points, rf_block).
+  integer, parameter :: fblock = 64
 
 contains
 
@@ -37,28 +41,6 @@ contains
     rf = rf_series(a, dx, dy)
   end function carlson_rf
 
-  !> R_F(c^2, d2, 1) as carlson_rf, with the first step's square roots of c^2 and 1 known
-  !> (|c| and 1, exact; one square root instead of three there).  F's integral.
-  pure elemental real(wp) function rf_c2_d2_1(c, d2) result(rf)
-    real(wp), intent(in) :: c, d2
-    real(wp) :: x, y, z, a, lam, sx, sy, sz, dx, dy, dz
-    integer :: i
-    x = c*c; y = d2; z = 1
-    sx = abs(c); sz = 1
-    do i = 1, 200
-      a = (x + y + z)*(1.0_wp/3)
-      dx = (a - x); dy = (a - y); dz = (a - z)
-      if (max(abs(dx), abs(dy), abs(dz)) <= 5.0e-3_wp*a) exit
-      if (i > 1) then
-        sx = sqrt(x); sz = sqrt(z)
-      end if
-      sy = sqrt(y)
-      lam = sx*(sy + sz) + sy*sz
-      x = 0.25_wp*(x + lam); y = 0.25_wp*(y + lam); z = 0.25_wp*(z + lam)
-    end do
-    rf = rf_series(a, dx, dy)
-  end function rf_c2_d2_1
-
   !> The end of carlson_rf: Carlson's series at the mean a of x, y, z (deviations
   !> dx = a - x, dy = a - y).  The coefficients as products with their reciprocals: the
   !> terms are below 1e-5 of the sum, so their roundings do not reach it, and six
@@ -72,7 +54,7 @@ contains
     dx = dx0*ra; dy = dy0*ra; dz = -(dx + dy)
     e2 = dx*dy - dz*dz
     e3 = dx*dy*dz
-    rf = (1 - e2*c10 + e3*c14 + e2*e2*c24 - e2*e3*c44 - e2**3*c208 &
+    rf = (1 - e2*c10 + e3*c14 + e2*e2*c24 - e2*e3*c44 - (e2*e2)*e2*c208 &
           + e3*e3*c104 + e2*e2*e3*c16)/sqrt(a)
   end function rf_series
 
@@ -146,8 +128,29 @@ contains
   pure elemental real(wp) function ellipf_general(phi, m, mc, usemc) result(f)
     real(wp), intent(in) :: phi, m, mc
     logical, intent(in) :: usemc
-    real(wp) :: n1, n2, rh, rl, s, c, w, d2, kh, kl, p, e, p2, e2, t, ps
-    type(jacobi_param_t) :: par
+    real(wp) :: n1, n2, s, c, d2, rf(1)
+    logical :: need_rf, final
+    call f_start(phi, m, mc, usemc, n1, n2, s, c, d2, f, need_rf, final)
+    if (final) return
+    if (need_rf) then
+      call rf_block(1, [c], [d2], rf)
+      f = s*rf(1)
+    end if
+    if (n1 /= 0 .or. n2 /= 0) f = add_periods(f, n1, n2, m, mc, usemc)
+  end function ellipf_general
+
+  !> The start of F: phi reduced to r in [-pi/2, pi/2] (phi = (n1 + n2) pi + r), s = sin r,
+  !> c = cos r and d2 = 1 - m s^2.  need_rf: F(r) = s R_F(c^2, d2, 1), else f holds F(r);
+  !> final: f is F(phi) itself (NaN in or out of the domain, phi infinite).
+  pure elemental subroutine f_start(phi, m, mc, usemc, n1, n2, s, c, d2, f, need_rf, final)
+    real(wp), intent(in) :: phi, m, mc
+    logical, intent(in) :: usemc
+    real(wp), intent(out) :: n1, n2, s, c, d2, f
+    logical, intent(out) :: need_rf, final
+    real(wp) :: rh, rl, w
+    n1 = 0; n2 = 0; s = 0; c = 1; d2 = 1
+    need_rf = .false.
+    final = .true.
     if (ieee_is_nan(phi) .or. ieee_is_nan(m) .or. ieee_is_nan(mc)) then
       f = quiet_nan(); return
     end if
@@ -175,44 +178,160 @@ contains
     if (d2 < 0 .or. ieee_is_nan(d2)) then
       f = quiet_nan(); return
     end if
+    final = .false.
+    f = 0
     if (d2 == 0 .and. c == 0) then
       f = sign(ieee_value(1.0_wp, ieee_positive_inf), s)
     else if (s == 0) then
       f = rh
     else
-      f = s*rf_c2_d2_1(c, d2)
+      need_rf = .true.
     end if
-    if (n1 /= 0 .or. n2 /= 0) then
-      ! F + 2 n K with K in double-double: the sum may cancel (phi in (-pi, -pi/2) etc.)
-      par = jacobi_param(m, mc, usemc, .true.)
-      if (par%kind == MODULUS_ONE) then
-        if (n1 + n2 /= 0) f = f + sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
-      else if (par%kind == MODULUS_INVALID) then
-        f = quiet_nan()
-      else
-        kh = par%khi; kl = par%klo
-        if (par%kind /= MODULUS_CORE) then
-          ! Re K(m) = K(core)/k for m > 1 (DLMF 19.7.3); K(m) = K(mu)/sqrt(1-m) for m < 0
-          call dd_div(par%khi, par%klo, par%uscale, par%uscale_lo, kh, kl)
-        end if
-        if (beyond_half_huge(abs(n1 + n2), kh)) then
-          ! |F| = 2 |n| K + O(K) > huge (|phi| near huge): +-Inf, the rounded value, formed
-          ! without an overflowing operation (the checked build traps overflow)
-          f = sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
-          return
-        end if
-        call two_prod(2*n1, kh, p, e)
-        e = e + 2*n1*kl
-        if (n2 /= 0) then
-          call two_prod(2*n2, kh, p2, e2)
-          call two_sum(p, p2, ps, t)
-          p = ps
-          e = e + (t + (e2 + 2*n2*kl))
-        end if
-        f = p + (f + e)
+  end subroutine f_start
+
+  !> F(phi) = F(r) + 2 (n1 + n2) K(m) with K in double-double (the sum may cancel: phi in
+  !> (-pi, -pi/2) etc.); f = F(r).
+  pure elemental real(wp) function add_periods(f, n1, n2, m, mc, usemc) result(g)
+    real(wp), intent(in) :: f, n1, n2, m, mc
+    logical, intent(in) :: usemc
+    real(wp) :: kh, kl, p, e, p2, e2, t, ps
+    type(jacobi_param_t) :: par
+    g = f
+    par = jacobi_param(m, mc, usemc, .true.)
+    if (par%kind == MODULUS_ONE) then
+      if (n1 + n2 /= 0) g = f + sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
+    else if (par%kind == MODULUS_INVALID) then
+      g = quiet_nan()
+    else
+      kh = par%khi; kl = par%klo
+      if (par%kind /= MODULUS_CORE) then
+        ! Re K(m) = K(core)/k for m > 1 (DLMF 19.7.3); K(m) = K(mu)/sqrt(1-m) for m < 0
+        call dd_div(par%khi, par%klo, par%uscale, par%uscale_lo, kh, kl)
       end if
+      if (beyond_half_huge(abs(n1 + n2), kh)) then
+        ! |F| = 2 |n| K + O(K) > huge (|phi| near huge): +-Inf, the rounded value, formed
+        ! without an overflowing operation (the checked build traps overflow)
+        g = sign(ieee_value(1.0_wp, ieee_positive_inf), n1 + n2)
+        return
+      end if
+      call two_prod(2*n1, kh, p, e)
+      e = e + 2*n1*kl
+      if (n2 /= 0) then
+        call two_prod(2*n2, kh, p2, e2)
+        call two_sum(p, p2, ps, t)
+        p = ps
+        e = e + (t + (e2 + 2*n2*kl))
+      end if
+      g = p + (f + e)
     end if
-  end function ellipf_general
+  end function add_periods
+
+  !> ellipf over rank-1 arrays phi, m of one size (f of that size): the same numbers as
+  !> the elemental function.  A size mismatch sets status (PENDULA_ERR_SIZE) and f = NaN.
+  pure subroutine ellipf_array(phi, m, f, status)
+    real(wp), intent(in) :: phi(:)  !< amplitudes phi [rad]
+    real(wp), intent(in) :: m(:)  !< parameters m = k**2, size(phi) elements
+    real(wp), intent(out) :: f(:)  !< F(phi(i)|m(i)), size(phi) elements
+    type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    if (size(m) /= size(phi) .or. size(f) /= size(phi)) then
+      f = quiet_nan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipf_array: m and f must have the size of phi')
+      return
+    end if
+    call f_points(size(phi), phi, m, .false., f)
+  end subroutine ellipf_array
+
+  !> ellipfm1 over rank-1 arrays (same numbers as the elemental function); sizes as
+  !> ellipf_array.
+  pure subroutine ellipfm1_array(phi, mc, f, status)
+    real(wp), intent(in) :: phi(:)  !< amplitudes phi [rad]
+    real(wp), intent(in) :: mc(:)  !< complementary parameters mc = 1 - m, size(phi) elements
+    real(wp), intent(out) :: f(:)  !< F(phi(i)|1 - mc(i)), size(phi) elements
+    type(status_t), intent(out) :: status
+    !< error code and message naming the bad argument (PENDULA_OK on success)
+    if (size(mc) /= size(phi) .or. size(f) /= size(phi)) then
+      f = quiet_nan()
+      call set_error(status, PENDULA_ERR_SIZE, 'ellipfm1_array: mc and f must have the size of phi')
+      return
+    end if
+    call f_points(size(phi), phi, mc, .true., f)
+  end subroutine ellipfm1_array
+
+  ! The loop of ellipf_array (m1 = .false.: x is m) and ellipfm1_array (x is mc): blocks
+  ! of fblock points, each (1) reduced with its sine and cosine (f_start, libm), (2) R_F
+  ! for the whole block in rf_block (vectorised, the duplications of every point in step),
+  ! (3) the periods added where phi was reduced.
+  pure subroutine f_points(n, phi, x, m1, f)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: phi(n), x(n)
+    logical, intent(in) :: m1
+    real(wp), intent(out) :: f(n)
+    real(wp), dimension(fblock) :: n1, n2, s, c, d2, m, mc, rf
+    logical, dimension(fblock) :: need_rf, final
+    integer :: i0, nb, j
+    do i0 = 1, n, fblock
+      nb = min(fblock, n - i0 + 1)
+      do j = 1, nb
+        if (m1) then
+          m(j) = 1 - x(i0 + j - 1); mc(j) = x(i0 + j - 1)
+        else
+          m(j) = x(i0 + j - 1); mc(j) = 1 - x(i0 + j - 1)
+        end if
+        call f_start(phi(i0 + j - 1), m(j), mc(j), m1, n1(j), n2(j), s(j), c(j), d2(j), f(i0 + j - 1), &
+                     need_rf(j), final(j))
+        if (.not. need_rf(j)) then
+          c(j) = 1; d2(j) = 1    ! a harmless point for rf_block
+        end if
+      end do
+      call rf_block(nb, c, d2, rf)
+      do j = 1, nb
+        if (need_rf(j)) f(i0 + j - 1) = s(j)*rf(j)
+      end do
+      do j = 1, nb
+        if (final(j)) cycle
+        if (n1(j) /= 0 .or. n2(j) /= 0) f(i0 + j - 1) = add_periods(f(i0 + j - 1), n1(j), n2(j), m(j), mc(j), m1)
+      end do
+    end do
+  end subroutine f_points
+
+  ! R_F(c^2, d2, 1) at nb <= fblock points (F's integral; c, d2 finite, d2 > 0): carlson_rf's steps
+  ! with the first step's square roots of c^2 and 1 known (|c| and 1, exact; one square
+  ! root instead of three there), every point's duplications in step (a point that has
+  ! converged keeps its x, y, z) so that the loop over the points vectorises, then the
+  ! series at each point.
+  pure subroutine rf_block(nb, c, d2, rf)
+    integer, intent(in) :: nb
+    real(wp), intent(in) :: c(nb), d2(nb)
+    real(wp), intent(out) :: rf(nb)
+    real(wp), dimension(fblock) :: x, y, z, a, dx, dy, dz, sx, sy, sz, lam, conv
+    real(wp) :: f1, f2
+    integer :: i
+    ! whole-array statements over the block (each a short loop that vectorises)
+    x(1:nb) = c*c; y(1:nb) = d2; z(1:nb) = 1
+    do i = 1, 200
+      a(1:nb) = (x(1:nb) + y(1:nb) + z(1:nb))*(1.0_wp/3)
+      dx(1:nb) = a(1:nb) - x(1:nb); dy(1:nb) = a(1:nb) - y(1:nb); dz(1:nb) = a(1:nb) - z(1:nb)
+      ! three tests, not max(): gfortran's max branches on NaN; a point that has converged
+      ! keeps its x, y, z, hence stays converged
+      ! (a real flag, 1 when converged: a logical array beside reals kept gcc from vectorising)
+      conv(1:nb) = merge(1.0_wp, 0.0_wp, abs(dx(1:nb)) <= 5.0e-3_wp*a(1:nb)) &
+                   *merge(1.0_wp, 0.0_wp, abs(dy(1:nb)) <= 5.0e-3_wp*a(1:nb)) &
+                   *merge(1.0_wp, 0.0_wp, abs(dz(1:nb)) <= 5.0e-3_wp*a(1:nb))
+      if (all(conv(1:nb) > 0)) exit
+      ! the first step takes the square roots of c^2 and 1 as |c| and 1: f1, f2 pick them
+      ! by exact products (0 or 1 times a finite number) rather than a branch
+      f1 = merge(1.0_wp, 0.0_wp, i == 1); f2 = 1 - f1
+      sx(1:nb) = f1*abs(c) + f2*sqrt(x(1:nb))
+      sz(1:nb) = f1 + f2*sqrt(z(1:nb))
+      sy(1:nb) = sqrt(y(1:nb))
+      lam(1:nb) = sx(1:nb)*(sy(1:nb) + sz(1:nb)) + sy(1:nb)*sz(1:nb)
+      x(1:nb) = merge(x(1:nb), 0.25_wp*(x(1:nb) + lam(1:nb)), conv(1:nb) > 0)
+      y(1:nb) = merge(y(1:nb), 0.25_wp*(y(1:nb) + lam(1:nb)), conv(1:nb) > 0)
+      z(1:nb) = merge(z(1:nb), 0.25_wp*(z(1:nb) + lam(1:nb)), conv(1:nb) > 0)
+    end do
+    rf = rf_series(a(1:nb), dx(1:nb), dy(1:nb))
+  end subroutine rf_block
 
   !> a * b >= huge/2 for a, b >= 0, decided without an operation that can
   !> overflow or divide by zero (huge/b overflows for b < 1).

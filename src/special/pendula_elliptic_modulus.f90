@@ -3,7 +3,7 @@
 !> m < 0 by the imaginary modulus (DLMF 22.6.12) -- with the scale of u, the scale of
 !> sn, the core K (double-double on request) and the Maclaurin coefficients at the core m.
 module pendula_elliptic_modulus
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_kinds, only: wp
   use pendula_double_double, only: two_sum, dd_div, dd_sqrt
   use pendula_elliptic_ke, only: k_unit, k_from_mc, k_double_double
@@ -29,7 +29,6 @@ module pendula_elliptic_modulus
     real(wp) :: uscale = 1      ! u is multiplied by this before the core
     real(wp) :: uscale_lo = 0   ! ... in double-double, so large u keeps its digits
     real(wp) :: oscale = 1      ! sn scale (m>1: 1/k, m<0: 1/sqrt(1-m))
-    real(wp) :: cs(0:6) = 0, cc(0:6) = 0, cd(0:6) = 0  ! series coefficients at m
   end type jacobi_param_t
 
 contains
@@ -43,7 +42,9 @@ contains
     logical, intent(in) :: full  !< true: K of the core parameter in double-double
     type(jacobi_param_t) :: plan
     real(wp) :: mm, wh, wl, ah, al, qh, ql
-    if (ieee_is_nan(m) .or. ieee_is_nan(mc)) then
+    ! NaN or infinite m (either form): no modulus (tested before 1 - m is formed, which
+    ! for m = +-Inf would be an invalid operation in the checked build)
+    if (.not. (ieee_is_finite(m) .and. ieee_is_finite(mc))) then
       plan%kind = MODULUS_INVALID
       return
     end if
@@ -97,10 +98,6 @@ contains
     else
       plan%khi = k_from_mc(plan%mc); plan%klo = 0
     end if
-    call series_coeffs(mm, plan%cs, plan%cc, plan%cd)
   end function jacobi_param
-
-  ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py; also included in the kernel)
-  include 'pendula_jacobi_series.inc'
 
 end module pendula_elliptic_modulus

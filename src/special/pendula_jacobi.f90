@@ -16,7 +16,7 @@ module pendula_jacobi
   use pendula_elliptic_ke, only: ellipk, ellipkm1
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_CORE, MODULUS_RECIPROCAL, &
                                       MODULUS_IMAGINARY
-  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, ellipj_point, ellipjm1_point, &
+  use pendula_jacobi_kernel, only: eval_at_param, eval_table_array, ellipj_points, ellipj_point, &
                                    taylor_row_at, ntay, tab_step, tab_inv_step, khi_tab_max
   implicit none
   private
@@ -166,7 +166,7 @@ contains
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
-    call ellipj_point(u, m, present(am), sn, cn, dn, a)
+    call ellipj_point(u, m, .false., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipj
 
@@ -182,14 +182,7 @@ contains
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
-    logical :: bad
-    call outputs_mismatch('ellipj_array', size(u), sn, cn, dn, status, bad, am, 'm', size(m))
-    if (bad) return
-    if (present(am)) then
-      call ellipj_points(size(u), u, m, .true., sn, cn, dn, am)
-    else
-      call ellipj_points(size(u), u, m, .false., sn, cn, dn, sn)
-    end if
+    call array_points('ellipj_array', 'm', u, m, .false., sn, cn, dn, status, am)
   end subroutine ellipj_array
 
   !> ellipjm1 over rank-1 arrays (same numbers as the elemental form); sizes as ellipj_array.
@@ -202,16 +195,27 @@ contains
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
     real(wp), intent(out), optional :: am(:)  !< optional am(u|m) [rad], size(u) elements
-    real(wp) :: a
-    integer :: i
-    logical :: bad
-    call outputs_mismatch('ellipjm1_array', size(u), sn, cn, dn, status, bad, am, 'mc', size(mc))
-    if (bad) return
-    do i = 1, size(u)
-      call ellipjm1_point(u(i), mc(i), present(am), sn(i), cn(i), dn(i), a)
-      if (present(am)) am(i) = a
-    end do
+    call array_points('ellipjm1_array', 'mc', u, mc, .true., sn, cn, dn, status, am)
   end subroutine ellipjm1_array
+
+  ! The body of ellipj_array (m1 false: x is m) and ellipjm1_array (x is mc, named
+  ! xname): the size checks, then ellipj_points.
+  pure subroutine array_points(name, xname, u, x, m1, sn, cn, dn, status, am)
+    character(len=*), intent(in) :: name, xname
+    real(wp), intent(in) :: u(:), x(:)
+    logical, intent(in) :: m1
+    real(wp), intent(out) :: sn(:), cn(:), dn(:)
+    type(status_t), intent(out) :: status
+    real(wp), intent(out), optional :: am(:)
+    logical :: bad
+    call outputs_mismatch(name, size(u), sn, cn, dn, status, bad, am, xname, size(x))
+    if (bad) return
+    if (present(am)) then
+      call ellipj_points(size(u), u, x, m1, .true., sn, cn, dn, am)
+    else
+      call ellipj_points(size(u), u, x, m1, .false., sn, cn, dn, sn)
+    end if
+  end subroutine array_points
 
   !> Jacobi functions with the complementary parameter mc = 1 - m (any real mc;
   !> accurate near m = 1 including the smallest subnormal mc; mc = 0 gives tanh/sech).
@@ -223,7 +227,7 @@ contains
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out), optional :: am  !< optional amplitude am(u|m) [rad]
     real(wp) :: a
-    call ellipjm1_point(u, mc, present(am), sn, cn, dn, a)
+    call ellipj_point(u, mc, .true., present(am), sn, cn, dn, a)
     if (present(am)) am = a
   end subroutine ellipjm1
 
@@ -234,45 +238,49 @@ contains
   pure logical function ellipj_plan_pays(m, n) result(pays)
     real(wp), intent(in) :: m  !< parameter m = k**2 (any real)
     integer, intent(in) :: n  !< number of points to evaluate
-    real(wp) :: core_k
-    if (n < 32) then
-      pays = .false.
-      return
-    end if
-    core_k = 0
+    real(wp) :: core_mc
+    ! the core complement: 1 - m on [0, 1), (m - 1)/m for m > 1 (reciprocal modulus),
+    ! 1/(1 - m) for m < 0 (imaginary modulus); 0 (no table) for NaN, +-Inf and m = 1
+    core_mc = 0
     if (ieee_is_finite(m) .and. m /= 1) then
       if (m >= 0 .and. m < 1) then
-        core_k = ellipk(m)
+        core_mc = 1 - m
       else if (m > 1) then
-        core_k = ellipk(1/m)              ! reciprocal modulus
+        core_mc = (m - 1)/m
       else
-        core_k = ellipk(-m/(1 - m))       ! imaginary modulus
+        core_mc = 1/(1 - m)
       end if
     end if
-    pays = real(n, wp) >= 512*core_k
+    pays = core_pays(core_mc, n)
   end function ellipj_plan_pays
 
   !> ellipj_plan_pays for the complementary parameter mc = 1 - m.
   pure logical function ellipjm1_plan_pays(mc, n) result(pays)
     real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
     integer, intent(in) :: n  !< number of points to evaluate
-    real(wp) :: core_k
-    if (n < 32) then
-      pays = .false.
-      return
-    end if
-    core_k = 0
+    real(wp) :: core_mc
+    core_mc = 0
     if (ieee_is_finite(mc) .and. mc /= 0) then
       if (mc > 0 .and. mc <= 1) then
-        core_k = ellipkm1(mc)
+        core_mc = mc
       else if (mc > 1) then
-        core_k = ellipkm1(1/mc)           ! m < 0: core complement 1/(1 - m)
+        core_mc = 1/mc                ! m < 0: core complement 1/(1 - m)
       else
-        core_k = ellipkm1(-mc/(1 - mc))   ! m > 1: core complement (m - 1)/m
+        core_mc = -mc/(1 - mc)        ! m > 1: core complement (m - 1)/m
       end if
     end if
-    pays = real(n, wp) >= 512*core_k
+    pays = core_pays(core_mc, n)
   end function ellipjm1_plan_pays
+
+  ! The rule of ellipj_plan_pays given the core complement (0: no table, K taken as 0).
+  pure logical function core_pays(core_mc, n) result(pays)
+    real(wp), intent(in) :: core_mc
+    integer, intent(in) :: n
+    real(wp) :: core_k
+    core_k = 0
+    if (core_mc > 0) core_k = ellipkm1(core_mc)
+    pays = n >= 32 .and. real(n, wp) >= 512*core_k
+  end function core_pays
 
   !> sn, cn, dn, am (optional) at the points u for one parameter m: with a plan where
   !> ellipj_plan_pays says so, else point by point; the same numbers as ellipj_eval_array

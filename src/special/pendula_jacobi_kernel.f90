@@ -14,13 +14,14 @@ module pendula_jacobi_kernel
   use pendula_constants, only: pi, quiet_nan
   use pendula_double_double, only: two_prod, veltkamp_split
   use pendula_elliptic_tables, only: atan_poly
-  use pendula_elliptic_ke, only: k_unit, k_double_double
+  use pendula_status, only: status_t
+  use pendula_elliptic_ke, only: k_double_double, ellipk_array, ellipkm1_array
   use pendula_elliptic_modulus, only: jacobi_param_t, jacobi_param, MODULUS_INVALID, MODULUS_CORE, MODULUS_ONE, &
                                       MODULUS_RECIPROCAL, MODULUS_IMAGINARY
   implicit none
   private
 
-  public :: eval_at_param, eval_table_array, ellipj_points, ellipj_point, ellipjm1_point, taylor_row_at
+  public :: eval_at_param, eval_table_array, ellipj_points, ellipj_point, taylor_row_at
   public :: ntay, tab_step, tab_inv_step, khi_tab_max
 
   !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
@@ -36,32 +37,63 @@ module pendula_jacobi_kernel
   real(wp), parameter :: khi_tab_max = 400.0_wp
 
   real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp
-  !> 2**-n, n = 0..4 (exact scalings for sncndn_duplication)
-  real(wp), parameter :: halvings(0:4) = [1.0_wp, 0.5_wp, 0.25_wp, 0.125_wp, 0.0625_wp]
+  !> 2**i, i = 0..11 (exact scalings of wmax for maclaurin_start)
+  real(wp), parameter :: halvings_up(0:11) = [1.0_wp, 2.0_wp, 4.0_wp, 8.0_wp, 16.0_wp, 32.0_wp, 64.0_wp, 128.0_wp, &
+                                              256.0_wp, 512.0_wp, 1024.0_wp, 2048.0_wp]
+  !> Points per block of unit_block (its work arrays live on the stack).
+  integer, parameter :: jblock = 64
 
 contains
 
   !> sn, cn, dn at 0 <= v <= K(m)/2 for 0 <= m <= 1 (mc = 1 - m accurate).
-  pure subroutine sncndn_duplication(v, m, mc, cs, cc, cd, s, c, d)
-    real(wp), intent(in) :: v, m, mc, cs(0:6), cc(0:6), cd(0:6)
+  pure subroutine sncndn_duplication(v, m, mc, s, c, d)
+    real(wp), intent(in) :: v, m, mc
     real(wp), intent(out) :: s, c, d
-    real(wp) :: w, w2, w4, x, y, s2, den, r, c2, d2, q
-    integer :: n, i
-    ! the number of halvings to w <= wmax, counted without a data-dependent loop exit
-    ! for v <= 16 wmax (random v made that exit mispredict); exact: w = v / 2**n
-    n = merge(1, 0, v > wmax) + merge(1, 0, v > 2*wmax) + merge(1, 0, v > 4*wmax) &
-        + merge(1, 0, v > 8*wmax)
-    w = v*halvings(n)
-    do while (w > wmax)
-      w = 0.5_wp*w
-      n = n + 1
+    real(wp) :: sa(1), x(1), y(1), n(1)
+    call maclaurin_start(1, [v], [m], sa, x, y, n)
+    s = sa(1)
+    call duplication_steps(int(n(1)), m, mc, s, x(1), y(1), c, d)
+  end subroutine sncndn_duplication
+
+  !> The start of sncndn_duplication at nb points: the number n of halvings that takes
+  !> 0 <= v <= 2**11 wmax (K/2 of every core m, 187 at most) to w = v / 2**n <= wmax, and
+  !> the Maclaurin values s = sn(w), x = 1 - cn(w), y = 1 - dn(w) at parameter m.  No
+  !> branch and no loop exit that depends on the data: the loop vectorises (unit_block
+  !> gives it a block of points).
+  pure subroutine maclaurin_start(nb, v, m, s, x, y, n)
+    integer, intent(in) :: nb
+    real(wp), intent(in) :: v(nb), m(nb)
+    real(wp), intent(out) :: s(nb), x(nb), y(nb)
+    real(wp), intent(out) :: n(nb)  ! a count, as a real: the loop then has one element type
+    real(wp) :: cs(0:6), cc(0:6), cd(0:6), w, w2, w4
+    integer :: i, j
+    do j = 1, nb
+      ! n = #{i >= 0 : v > wmax 2**i}, the least n with v / 2**n <= wmax; w exact
+      n(j) = 0
+      w = v(j)
+      do i = 0, 11
+        n(j) = n(j) + merge(1.0_wp, 0.0_wp, v(j) > wmax*halvings_up(i))
+        w = merge(0.5_wp*w, w, v(j) > wmax*halvings_up(i))
+      end do
+      call series_coeffs(m(j), cs, cc, cd)
+      w2 = w*w
+      w4 = w2*w2
+      ! Estrin's scheme (short dependency chains); terms fall by >= 400x each
+      s(j) = w*(((cs(0) + cs(1)*w2) + (cs(2) + cs(3)*w2)*w4) + ((cs(4) + cs(5)*w2) + cs(6)*w4)*(w4*w4))
+      x(j) = w2*(((cc(0) + cc(1)*w2) + (cc(2) + cc(3)*w2)*w4) + ((cc(4) + cc(5)*w2) + cc(6)*w4)*(w4*w4))
+      y(j) = w2*(((cd(0) + cd(1)*w2) + (cd(2) + cd(3)*w2)*w4) + ((cd(4) + cd(5)*w2) + cd(6)*w4)*(w4*w4))
     end do
-    w2 = w*w
-    w4 = w2*w2
-    ! Estrin's scheme (short dependency chains); terms fall by >= 400x each
-    s = w*(((cs(0) + cs(1)*w2) + (cs(2) + cs(3)*w2)*w4) + ((cs(4) + cs(5)*w2) + cs(6)*w4)*(w4*w4))
-    x = w2*(((cc(0) + cc(1)*w2) + (cc(2) + cc(3)*w2)*w4) + ((cc(4) + cc(5)*w2) + cc(6)*w4)*(w4*w4))
-    y = w2*(((cd(0) + cd(1)*w2) + (cd(2) + cd(3)*w2)*w4) + ((cd(4) + cd(5)*w2) + cd(6)*w4)*(w4*w4))
+  end subroutine maclaurin_start
+
+  !> The n duplications of sncndn_duplication from the Maclaurin values s, x = 1 - cn,
+  !> y = 1 - dn at w = v / 2**n to s, c, d at v (data-dependent step counts: scalar).
+  pure subroutine duplication_steps(n, m, mc, s, x, y, c, d)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: m, mc
+    real(wp), intent(inout) :: s, x, y
+    real(wp), intent(out) :: c, d
+    real(wp) :: s2, den, r, c2, d2, q
+    integer :: i
     i = 0
     ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u),
     ! kept as fractions x = xq/q, y = yq/q, s = sq/q so that the steps need no division:
@@ -96,7 +128,7 @@ contains
       d = r*(mc + m*(c2*c2))
       i = i + 1
     end do
-  end subroutine sncndn_duplication
+  end subroutine duplication_steps
 
   !> cd = cn/dn without the cancellation of two nearly equal small numbers when m -> 1:
   !> dn^2 - cn^2 = mc sn^2, so cd = 1 - mc sn^2 / (dn (dn + cn)) (cn >= 0 here).
@@ -116,15 +148,16 @@ contains
   !> atan by a polynomial; no libm call (glibc atan2 dominated the cost).
   pure elemental real(wp) function am_from_sn_cn(s, c) result(am)
     real(wp), intent(in) :: s, c
-    real(wp) :: as, c1, w, t, t2, t4, p, base
-    logical :: big
+    real(wp) :: as, c1, w, t, t2, t4, p, base, big
     ! x = |s|/(1 + c) in [0, 1]; above tan(pi/8) use atan x = pi/4 + atan((x - 1)/(x + 1)),
     ! formed directly from s and c with a single division
     as = abs(s)
     c1 = 1 + c
-    big = as > tan_pi8*c1      ! merge, not a branch: the test is unpredictable
-    w = merge(as - c1, as, big)/merge(as + c1, c1, big)
-    base = merge(0.25_wp*pi, 0.0_wp, big)
+    ! merge, not a branch: the test is unpredictable; a real flag, not a logical variable,
+    ! which kept gcc from vectorising the loops that inline this
+    big = merge(1.0_wp, 0.0_wp, as > tan_pi8*c1)
+    w = merge(as - c1, as, big > 0)/merge(as + c1, c1, big > 0)
+    base = merge(0.25_wp*pi, 0.0_wp, big > 0)
     t = w*w
     t2 = t*t
     t4 = t2*t2
@@ -139,37 +172,45 @@ contains
     type(jacobi_param_t), intent(in) :: plan
     real(wp), intent(in) :: t
     real(wp), intent(out) :: s, c, d
-    call core_sncndn(plan%m, plan%mc, plan%khi, plan%klo, plan%cs, plan%cc, plan%cd, t, s, c, d)
+    call core_sncndn(plan%m, plan%mc, plan%khi, plan%klo, t, s, c, d)
   end subroutine core_sncndn_at
 
   !> sn, cn, dn of the core parameter (m, mc, K = khi + klo) at 0 <= t <= K (+ one table step).
-  pure subroutine core_sncndn(m, mc, khi, klo, cs, cc, cd, t, s, c, d)
-    real(wp), intent(in) :: m, mc, khi, klo, cs(0:6), cc(0:6), cd(0:6), t
+  pure subroutine core_sncndn(m, mc, khi, klo, t, s, c, d)
+    real(wp), intent(in) :: m, mc, khi, klo, t
     real(wp), intent(out) :: s, c, d
-    real(wp) :: w, rd, sq
+    real(wp) :: w
     if (t > 0.5_wp*khi) then
       ! sn(K - w) = cd(w), cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w) (DLMF 22.4.3)
       w = (khi - t) + klo
-      call sncndn_duplication(abs(w), m, mc, cs, cc, cd, s, c, d)
+      call sncndn_duplication(abs(w), m, mc, s, c, d)
       if (w < 0) s = -s
-      ! one division: rd = 1/(d (d + c)) gives 1/d = rd (d + c) and the cancellation-free
-      ! cd = 1 - mc s^2 rd (see cd_ratio)
-      rd = 1/(d*(d + c))
-      sq = sqrt(mc)
-      w = mc*(s*s)*rd
-      if (w <= 0.5_wp) then
-        w = 1 - w
-      else
-        w = c*(d + c)*rd
-      end if
-      rd = rd*(d + c)
-      c = sq*s*rd
-      d = sq*rd
-      s = w
+      call reflect_half(mc, s, c, d)
     else
-      call sncndn_duplication(t, m, mc, cs, cc, cd, s, c, d)
+      call sncndn_duplication(t, m, mc, s, c, d)
     end if
   end subroutine core_sncndn
+
+  !> sn, cn, dn at K - w from s, c, d at w (DLMF 22.4.3): sn(K - w) = cd(w),
+  !> cn(K - w) = sqrt(mc) sd(w), dn(K - w) = sqrt(mc) nd(w); without branches (a block's
+  !> points take it together, unit_block).
+  pure elemental subroutine reflect_half(mc, s, c, d)
+    real(wp), intent(in) :: mc
+    real(wp), intent(inout) :: s, c, d
+    real(wp) :: w, w1, w2, rd, sq
+    ! one division: rd = 1/(d (d + c)) gives 1/d = rd (d + c) and the cancellation-free
+    ! cd = 1 - mc s^2 rd (see cd_ratio)
+    rd = 1/(d*(d + c))
+    sq = sqrt(mc)
+    w = mc*(s*s)*rd
+    w1 = 1 - w
+    w2 = c*(d + c)*rd
+    w = merge(w1, w2, w <= 0.5_wp)
+    rd = rd*(d + c)
+    c = sq*s*rd
+    d = sq*rd
+    s = w
+  end subroutine reflect_half
 
   !> The final sn, cn, dn, am of the caller's parameter at core argument t >= 0
   !> (no half-period shift), from the core values by the modulus transformations.
@@ -378,109 +419,181 @@ contains
     sn = fs; cn = fc; dn = fd; am = fa
   end subroutine eval_at_param
 
-  !> The loop of ellipj_array (here, next to the kernel, so that the compiler inlines the
-  !> short path): sn, cn, dn and, if want_am, am at the points (u(i), m(i)).
-  pure subroutine ellipj_points(n, u, m, want_am, sn, cn, dn, am)
+  !> The loop of ellipj_array (m1 = .false.: x is m) and ellipjm1_array (m1 = .true.: x is
+  !> mc = 1 - m): sn, cn, dn and, if want_am, am at the points (u(i), x(i)).  Blocks of
+  !> jblock points go through unit_block; the few it leaves (m outside [0, 1), NaN, Inf,
+  !> |u| beyond 2**26 half periods) through the general path, point by point.
+  pure subroutine ellipj_points(n, u, x, m1, want_am, sn, cn, dn, am)
     integer, intent(in) :: n  !< number of points
     real(wp), intent(in) :: u(n)  !< arguments u, n elements
-    real(wp), intent(in) :: m(n)  !< parameters m, n elements
+    real(wp), intent(in) :: x(n)  !< parameters m (m1 false) or mc = 1 - m (m1 true), n elements
+    logical, intent(in) :: m1  !< whether x holds mc = 1 - m
     logical, intent(in) :: want_am  !< whether am is computed
     real(wp), intent(out) :: sn(n)  !< sn at each point
     real(wp), intent(out) :: cn(n)  !< cn at each point
     real(wp), intent(out) :: dn(n)  !< dn at each point
     real(wp), intent(inout) :: am(*)  !< am [rad] at each point (written when want_am)
+    logical :: done(jblock)
+    integer :: i, i0, nb
     real(wp) :: a
-    integer :: i
-    do i = 1, n
-      call ellipj_point(u(i), m(i), want_am, sn(i), cn(i), dn(i), a)
-      if (want_am) am(i) = a
+    do i0 = 1, n, jblock
+      nb = min(jblock, n - i0 + 1)
+      if (want_am) then
+        call unit_block(nb, u(i0:), x(i0:), m1, .true., sn(i0:), cn(i0:), dn(i0:), am(i0), done)
+      else
+        call unit_block(nb, u(i0:), x(i0:), m1, .false., sn(i0:), cn(i0:), dn(i0:), sn(i0:), done)
+      end if
+      if (all(done(1:nb))) cycle
+      do i = i0, i0 + nb - 1
+        if (done(i - i0 + 1)) cycle
+        call general_point(u(i), x(i), m1, want_am, sn(i), cn(i), dn(i), a)
+        if (want_am) am(i) = a
+      end do
     end do
   end subroutine ellipj_points
 
-  !> One point of ellipj_points: the inline path for 0 <= m < 1 and |u| < 9 K, else the
-  !> general one (the same numbers as the elemental ellipj).
-  pure subroutine ellipj_point(u, m, want_am, sn, cn, dn, am)
+  !> One point of ellipj (m1 false: x is m) or ellipjm1 (m1 true: x is mc): unit_block's
+  !> path when it takes the point, else the general one; the same numbers as ellipj_points.
+  pure subroutine ellipj_point(u, x, m1, want_am, sn, cn, dn, am)
     real(wp), intent(in) :: u  !< argument u (any real)
-    real(wp), intent(in) :: m  !< parameter m (any real)
-    logical, intent(in) :: want_am  !< whether am is computed
-    real(wp), intent(out) :: sn  !< sn(u|m)
-    real(wp), intent(out) :: cn  !< cn(u|m)
-    real(wp), intent(out) :: dn  !< dn(u|m)
-    real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am)
-    logical :: done
-    done = .false.
-    if (.not. (ieee_is_nan(m) .or. ieee_is_nan(u))) then
-      if (m >= 0 .and. m < 1) call ellipj_unit_short(u, m, 1 - m, .false., want_am, sn, cn, dn, am, done)
-    end if
-    if (.not. done) call eval_at_param(jacobi_param(m, 1 - m, .false., .false.), u, .false., &
-                                       want_am, sn, cn, dn, am)
-  end subroutine ellipj_point
-
-  !> One point of ellipjm1 (mc = 1 - m given): the inline path for 0 < mc <= 1, else the
-  !> general one.  The same numbers as jacobi_param(1 - mc, mc, usemc) + eval_at_param:
-  !> that core parameter is m = fl(1 - mc) with mc exact (no low part), as here; the
-  !> light motions of the undamped pendulum evaluate every state through this.
-  pure subroutine ellipjm1_point(u, mc, want_am, sn, cn, dn, am)
-    real(wp), intent(in) :: u  !< argument u (any real)
-    real(wp), intent(in) :: mc  !< complementary parameter mc = 1 - m (any real)
+    real(wp), intent(in) :: x  !< parameter m (m1 false) or mc = 1 - m (m1 true), any real
+    logical, intent(in) :: m1  !< whether x holds mc
     logical, intent(in) :: want_am  !< whether am is computed
     real(wp), intent(out) :: sn  !< sn(u|m)
     real(wp), intent(out) :: cn  !< cn(u|m)
     real(wp), intent(out) :: dn  !< dn(u|m)
     real(wp), intent(out) :: am  !< am(u|m) [rad] (when want_am, else 0)
-    logical :: done
-    done = .false.
-    if (.not. (ieee_is_nan(mc) .or. ieee_is_nan(u))) then
-      if (mc > 0 .and. mc <= 1) call ellipj_unit_short(u, 1 - mc, mc, .true., want_am, sn, cn, dn, am, done)
-    end if
-    if (.not. done) call eval_at_param(jacobi_param(1 - mc, mc, .true., .false.), u, .false., &
-                                       want_am, sn, cn, dn, am)
-  end subroutine ellipjm1_point
-
-  !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) with all work inline; the
-  !> same steps as jacobi_param + eval_at_param.  Beyond |u| ~ 9 K the reduction takes K
-  !> in double-double (k_double_double, a compensated AGM), as eval_at_param does.
-  !> done = .false. leaves the point to the general path.
-  !> mc = 1 - m is given (exact: the low part of 1 - m is then 0, as jacobi_param takes it
-  !> when usemc) or is fl(1 - m) (the low part (1 - mc) - m).
-  pure subroutine ellipj_unit_short(u, m, mc, mc_exact, want_am, sn, cn, dn, am, done)
-    real(wp), intent(in) :: u, m, mc
-    logical, intent(in) :: mc_exact, want_am
-    real(wp), intent(out) :: sn, cn, dn, am
-    logical, intent(out) :: done
-    real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
-    real(wp) :: mcl, k, khi, klo, v, n, r, t, c1, c2, s, c, d, ps, su, cs(0:6), cc(0:6), cd(0:6)
-    k = k_unit(m, mc)
-    v = abs(u)
-    ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
-    n = anint(v/(2*k))
-    if (n <= 4) then
-      call veltkamp_split(2*k, c1, c2)
-      r = (v - n*c1) - n*c2
-    else if (n < nmax) then
-      ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
-      mcl = 0
-      if (.not. mc_exact) mcl = (1 - mc) - m
-      call k_double_double(mc, mcl, khi, klo)
-      n = anint(v/(2*khi))
-      call veltkamp_split(2*khi, c1, c2)
-      r = ((v - n*c1) - n*c2) - n*(2*klo)
+    real(wp) :: s(1), c(1), d(1), a(1)
+    logical :: done(1)
+    a = 0
+    call unit_block(1, [u], [x], m1, want_am, s, c, d, a, done)
+    if (done(1)) then
+      sn = s(1); cn = c(1); dn = d(1); am = a(1)
     else
-      done = .false.   ! beyond 2**26 half periods, or u = +-Inf
-      sn = 0; cn = 0; dn = 0; am = 0
-      return
+      call general_point(u, x, m1, want_am, sn, cn, dn, am)
     end if
-    t = abs(r)
-    call series_coeffs(m, cs, cc, cd)
-    call core_sncndn(m, mc, k, 0.0_wp, cs, cc, cd, t, s, c, d)
-    ! signs by merge (blends, not branches): the parity of n and the sign of u are random
-    ps = merge(-1.0_wp, 1.0_wp, iand(int(n), 1) /= 0)
-    su = merge(-1.0_wp, 1.0_wp, u < 0)
-    am = 0
-    if (want_am) am = (sign(am_from_sn_cn(s, c), r) + n*pi)*su
-    sn = sign(s, r)*(ps*su); cn = c*ps; dn = d
-    done = .true.
-  end subroutine ellipj_unit_short
+  end subroutine ellipj_point
+
+  !> The general path of one point (any real u, m): the modulus transformation
+  !> (jacobi_param; mc exact when m1) and eval_at_param with K refined as needed.
+  pure subroutine general_point(u, x, m1, want_am, sn, cn, dn, am)
+    real(wp), intent(in) :: u, x
+    logical, intent(in) :: m1, want_am
+    real(wp), intent(out) :: sn, cn, dn, am
+    if (m1) then
+      call eval_at_param(jacobi_param(1 - x, x, .true., .false.), u, .false., want_am, sn, cn, dn, am)
+    else
+      call eval_at_param(jacobi_param(x, 1 - x, .false., .false.), u, .false., want_am, sn, cn, dn, am)
+    end if
+    if (.not. want_am) am = 0
+  end subroutine general_point
+
+  !> ellipj for 0 <= m < 1 and |u| < 2**26 K (the common case) on a block of nb <= jblock
+  !> points, done(j) = .false. for a point left to the general path (m outside [0, 1) or
+  !> (0, 1] for mc, NaN, |u| beyond 2**26 half periods or infinite; its outputs are then
+  !> placeholders).  The steps of jacobi_param + eval_at_param, in passes over the block so
+  !> that the branch-free ones vectorise: (1) K, the half periods n and the residue r
+  !> (K's interval and logarithmic forms branch); (2) the series coefficients and the
+  !> Maclaurin start at the core argument; (3) the duplications, whose step counts depend
+  !> on the point; (4) the reflection about K/2, the signs and am.  Beyond |u| ~ 9 K the
+  !> reduction takes K in double-double (k_double_double, a compensated AGM), as
+  !> eval_at_param does.  With m1, x is mc = 1 - m, exact (the low part of 1 - m is then 0,
+  !> as jacobi_param takes it when usemc); else x is m and mc = fl(1 - m) with low part
+  !> (1 - mc) - m.
+  pure subroutine unit_block(nb, u, x, m1, want_am, sn, cn, dn, am, done)
+    integer, intent(in) :: nb
+    real(wp), intent(in) :: u(nb), x(nb)
+    logical, intent(in) :: m1, want_am
+    real(wp), intent(out) :: sn(nb), cn(nb), dn(nb)
+    real(wp), intent(inout) :: am(nb)
+    logical, intent(out) :: done(nb)
+    real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
+    real(wp), dimension(jblock) :: m, mc, k, hn, r, w, aw, su, s, xc, yd, c, d, nd
+    integer :: j
+    real(wp) :: mcl, khi, klo, v, c1, c2, t, ps, half
+    logical :: ok
+    type(status_t) :: status
+    ! (1) the domain; a point left to the general path gets the harmless core point m = 0,
+    ! r = 0 for the passes below (no NaN or overflow reaches them)
+    do j = 1, nb
+      ok = .not. (ieee_is_nan(x(j)) .or. ieee_is_nan(u(j)))
+      if (ok) then
+        if (m1) then
+          ok = x(j) > 0 .and. x(j) <= 1
+        else
+          ok = x(j) >= 0 .and. x(j) < 1
+        end if
+      end if
+      if (m1) then
+        mc(j) = merge(x(j), 1.0_wp, ok); m(j) = 1 - mc(j)
+      else
+        m(j) = merge(x(j), 0.0_wp, ok); mc(j) = 1 - m(j)
+      end if
+      done(j) = ok
+    end do
+    ! K of the block: the array forms give k_unit(m, mc) (their logarithmic forms gathered
+    ! into one vectorised loop)
+    if (m1) then
+      call ellipkm1_array(mc(1:nb), k(1:nb), status)
+    else
+      call ellipk_array(m(1:nb), k(1:nb), status)
+    end if
+    ! the half periods n and the residue r
+    do j = 1, nb
+      hn(j) = 0; r(j) = 0; su(j) = 1
+      if (.not. done(j)) cycle
+      v = abs(u(j))
+      ! no branch on v > K: n = 0 leaves r = v exactly (random u makes that test unpredictable)
+      hn(j) = anint(v/(2*k(j)))
+      if (hn(j) <= 4) then
+        call veltkamp_split(2*k(j), c1, c2)
+        r(j) = (v - hn(j)*c1) - hn(j)*c2
+      else if (hn(j) < nmax) then
+        ! n 2K with K in double-double (1 - m exact as mc + mcl): large u keeps its digits
+        mcl = 0
+        if (.not. m1) mcl = (1 - mc(j)) - m(j)
+        call k_double_double(mc(j), mcl, khi, klo)
+        hn(j) = anint(v/(2*khi))
+        call veltkamp_split(2*khi, c1, c2)
+        r(j) = ((v - hn(j)*c1) - hn(j)*c2) - hn(j)*(2*klo)
+      else
+        ! beyond 2**26 half periods, or u = +-Inf
+        done(j) = .false.
+        m(j) = 0; mc(j) = 1; hn(j) = 0; r(j) = 0
+        cycle
+      end if
+      su(j) = merge(-1.0_wp, 1.0_wp, u(j) < 0)
+    end do
+    ! (2) the core argument t <= K/2 or K - t (DLMF 22.4.3) and its Maclaurin start
+    do j = 1, nb
+      t = abs(r(j))
+      w(j) = merge(k(j) - t, t, t > 0.5_wp*k(j))
+      aw(j) = abs(w(j))
+    end do
+    call maclaurin_start(nb, aw, m, s, xc, yd, nd)
+    ! (3) the duplications
+    do j = 1, nb
+      call duplication_steps(int(nd(j)), m(j), mc(j), s(j), xc(j), yd(j), c(j), d(j))
+    end do
+    ! (4) back from K - w, the signs by merge (blends, not branches: the parity of n and the
+    ! sign of u are random) and am
+    do j = 1, nb
+      ! half: 1 where the point was reflected (a real flag: see am_from_sn_cn)
+      half = merge(1.0_wp, 0.0_wp, abs(r(j)) > 0.5_wp*k(j))
+      t = merge(-s(j), s(j), w(j) < 0); v = c(j); c1 = d(j)
+      call reflect_half(mc(j), t, v, c1)
+      s(j) = merge(t, s(j), half > 0); c(j) = merge(v, c(j), half > 0); d(j) = merge(c1, d(j), half > 0)
+    end do
+    if (want_am) then
+      do j = 1, nb
+        am(j) = (sign(am_from_sn_cn(s(j), c(j)), r(j)) + hn(j)*pi)*su(j)
+      end do
+    end if
+    do j = 1, nb
+      ps = merge(-1.0_wp, 1.0_wp, iand(int(hn(j)), 1) /= 0)
+      sn(j) = sign(s(j), r(j))*(ps*su(j)); cn(j) = c(j)*ps; dn(j) = d(j)
+    end do
+  end subroutine unit_block
 
   !> Table row 0..ntab nearest to the core argument t >= 0; t beyond the table or NaN
   !> gives ntab (the compare comes before int(), so no NaN or huge value is converted).

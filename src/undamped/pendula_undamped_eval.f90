@@ -12,6 +12,8 @@ module pendula_undamped_eval
   private
 
   public :: undamped_eval, undamped_eval_many, undamped_theta, undamped_omega
+  ! for pendula_undamped_many
+  public :: libration_at
 
 contains
 
@@ -61,22 +63,7 @@ contains
       else
         call ellipjm1(a, motion%pmc, sa, ca, da)
       end if
-      ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
-      ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
-      ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
-      y = sa*motion%q*motion%ch + motion%sh*ca*da
-      x = da*motion%ch - sa*ca*motion%sh*motion%q
-      z = ca*motion%q - sa*motion%sh*da*motion%ch
-      den = ca*ca + (sa*motion%ch)**2
-      ! x = dn(a+b) D > 0 in exact arithmetic; atan(y/x) is cheaper than atan2
-      ! (~1/4 of the evaluation time) and as accurate.  Rounding can make x <= 0
-      ! only when 1 - m < eps^2 near a turning point: keep atan2 there.
-      if (x > 0) then
-        theta = motion%center + 2*atan(y/x)
-      else
-        theta = motion%center + 2*atan2(y, x)
-      end if
-      omega = 2*(motion%w0*(z/den))   ! w0 first: no spurious overflow
+      call libration_at(motion, sa, ca, da, theta, omega)
     case (REGIME_ROTATION)
       a = motion%rate*tt
       if (motion%planned) then
@@ -111,6 +98,34 @@ contains
       omega = 2*(motion%s*motion%w0*(2*ex/(1 + ex*ex)))
     end select
   end subroutine undamped_eval
+
+  !> theta and Omega of a libration from sn, cn, dn at a = rate t (parameter
+  !> 1 - pmc): the addition theorem about the initial state's argument.
+  elemental subroutine libration_at(motion, sa, ca, da, theta, omega)
+    type(undamped_motion_t), intent(in) :: motion  !< a libration built by undamped_init (or set_geometry)
+    real(wp), intent(in) :: sa  !< sn(a)
+    real(wp), intent(in) :: ca  !< cn(a)
+    real(wp), intent(in) :: da  !< dn(a)
+    real(wp), intent(out) :: theta  !< angle [rad]
+    real(wp), intent(out) :: omega  !< angular velocity [rad/s]
+    real(wp) :: y, x, z, den
+    ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
+    ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
+    ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
+    y = sa*motion%q*motion%ch + motion%sh*ca*da
+    x = da*motion%ch - sa*ca*motion%sh*motion%q
+    z = ca*motion%q - sa*motion%sh*da*motion%ch
+    den = ca*ca + (sa*motion%ch)**2
+    ! x = dn(a+b) D > 0 in exact arithmetic; atan(y/x) is cheaper than atan2
+    ! (~1/4 of the evaluation time) and as accurate.  Rounding can make x <= 0
+    ! only when 1 - m < eps^2 near a turning point: keep atan2 there.
+    if (x > 0) then
+      theta = motion%center + 2*atan(y/x)
+    else
+      theta = motion%center + 2*atan2(y, x)
+    end if
+    omega = 2*(motion%w0*(z/den))   ! w0 first: no spurious overflow
+  end subroutine libration_at
 
   !> Same as `undamped_eval` for an array of times (results agree to a few
   !> ulps), organised for speed: blocks of times go through the Jacobi

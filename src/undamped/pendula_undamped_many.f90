@@ -10,15 +10,18 @@ module pendula_undamped_many
                                      check_state, set_geometry, set_period, period_needed, UNDAMPED_PLAN_MIN_TIMES, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
-  use pendula_elliptic, only: ellipkm1
+  use pendula_elliptic, only: ellipkm1, ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_apart
-  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many
+  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_at
   implicit none
   private
 
   public :: undamped_solve, undamped_states, undamped_properties
+
+  !> States of their own (one time each) evaluated together by undamped_states.
+  integer, parameter :: nq_max = 64
 
 contains
 
@@ -69,8 +72,8 @@ contains
     real(wp), intent(out) :: omega(:)  !< Omega [rad/s] of each state at its time
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    type(undamped_motion_t) :: motion
-    integer :: i, j, n, run
+    type(undamped_motion_t) :: motion, queue(nq_max)
+    integer :: i, j, n, run, nq, idx(nq_max)
     n = size(theta)
     if (size(omega) /= n .or. .not. (fits(t, n) .and. fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))) then
       call set_error(status, PENDULA_ERR_SIZE, &
@@ -82,8 +85,18 @@ contains
     call check_states(n, theta0, omega0, w0, status, t)
     if (status%code /= PENDULA_OK) return
     i = 1
+    nq = 0
     do while (i <= n)
       run = same_state_run(i, n, theta0, omega0, w0)
+      if (run == 1) then
+        ! a state of its own: queued, and evaluated with the next nq_max in one block
+        nq = nq + 1
+        idx(nq) = i
+        call set_geometry(queue(nq), at(theta0, i), at(omega0, i), at(w0, i))
+        if (nq == nq_max) call states_block(nq, idx, queue, t, theta, omega)
+        i = i + 1
+        cycle
+      end if
       if (run >= UNDAMPED_PLAN_MIN_TIMES) then
         call undamped_init(motion, at(theta0, i), at(omega0, i), at(w0, i), status, plan=.true.)
       else
@@ -95,7 +108,42 @@ contains
       end do
       i = i + run
     end do
+    call states_block(nq, idx, queue, t, theta, omega)
   end subroutine undamped_states
+
+  ! Evaluate the queued states (motions queue(1:nq) of the elements idx(1:nq)) at their
+  ! times, then empty the queue (nq = 0): the librations that need no period reduction
+  ! with their Jacobi functions in one array call (its blocks vectorise), the rest one by
+  ! one as undamped_eval; the same numbers as undamped_eval for each.
+  pure subroutine states_block(nq, idx, queue, t, theta, omega)
+    integer, intent(inout) :: nq
+    integer, intent(in) :: idx(:)
+    type(undamped_motion_t), intent(inout) :: queue(:)
+    real(wp), intent(in) :: t(:)
+    real(wp), intent(inout) :: theta(:), omega(:)
+    real(wp), dimension(nq_max) :: a, p, sa, ca, da
+    integer :: lane(nq_max), k, j, nl
+    type(status_t) :: status
+    nl = 0
+    do k = 1, nq
+      j = idx(k)
+      if (queue(k)%regime == REGIME_LIBRATION .and. .not. queue(k)%free .and. .not. period_needed(queue(k), at(t, j))) then
+        nl = nl + 1
+        lane(nl) = k
+        a(nl) = queue(k)%rate*at(t, j)   ! as undamped_eval: the light motion's ellipjm1
+        p(nl) = queue(k)%pmc
+      else
+        if (queue(k)%period == 0 .and. period_needed(queue(k), at(t, j))) call set_period(queue(k))
+        call undamped_eval(queue(k), at(t, j), theta(j), omega(j))
+      end if
+    end do
+    if (nl > 0) call ellipjm1_array(a(1:nl), p(1:nl), sa(1:nl), ca(1:nl), da(1:nl), status)
+    do k = 1, nl
+      j = idx(lane(k))
+      call libration_at(queue(lane(k)), sa(k), ca(k), da(k), theta(j), omega(j))
+    end do
+    nq = 0
+  end subroutine states_block
 
   !> Whether an input of size 1 or n fits n elements.
   pure logical function fits(x, n)

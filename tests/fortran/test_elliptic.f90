@@ -2,7 +2,7 @@
 !> values from tools/gen/gen_elliptic_refs.py), identities over grids in every
 !> parameter region, plan = elementwise, NaN/domain behaviour.
 program test_elliptic
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite, ieee_value, ieee_quiet_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite, ieee_value, ieee_quiet_nan, ieee_positive_inf
   use pendula_kinds, only: wp
   use pendula_elliptic
   use pendula_elliptic_ke, only: k_double_double
@@ -14,6 +14,7 @@ program test_elliptic
   real(wp) :: sn, cn, dn, am, nan, x
   real(wp) :: u(2001), s(2001), c(2001), d(2001), a(2001), s2(2001), c2(2001), d2(2001), a2(2001)
   real(wp) :: ms(10), pcs(5)
+  real(wp) :: sn_e(2001), cn_e(2001), dn_e(2001), am_e(2001), pcs_a(2001), ua(2001)
   type(status_t) :: st
   type(ellipj_plan_t) :: plan
   integer :: i, j
@@ -92,6 +93,28 @@ program test_elliptic
             maxval(abs(a2 - a)/max(1.0_wp, abs(a))))
     call t%check_true(x <= 4*eps, 'ellipj_eval_array = ellipj_eval')
   end do
+  ! F and the Jacobi functions over arrays (blocks of 64 with a second pass for the rare
+  ! points): bit for bit the elemental forms, on phi and u over many periods, m from -2
+  ! to 2 with NaN, Inf and m = 1 mixed in, and complements down to 1e-300
+  s = -2.0_wp + 0.002_wp*[(i, i=0, 2000)]
+  s(17) = 1; s(300) = ieee_value(1.0_wp, ieee_quiet_nan); s(1500) = ieee_value(1.0_wp, ieee_positive_inf)
+  ua = 0.37_wp*[(i - 1000, i=0, 2000)]
+  ua(5) = ieee_value(1.0_wp, ieee_quiet_nan); ua(900) = 1.0e30_wp
+  call ellipf_array(ua, s, c, st)
+  call t%check_true(all(c == ellipf(ua, s) .or. (c /= c .and. ellipf(ua, s) /= ellipf(ua, s))), 'ellipf_array = ellipf')
+  call ellipj_array(ua, s, s2, c2, d2, st, a2)
+  call ellipj(ua, s, sn_e, cn_e, dn_e, am_e)
+  call t%check_true(all(same_bits(s2, sn_e) .and. same_bits(c2, cn_e) .and. same_bits(d2, dn_e) &
+                        .and. same_bits(a2, am_e)), 'ellipj_array = ellipj')
+  pcs_a = [(10.0_wp**(-300 + 0.15_wp*i), i=0, 2000)]
+  call ellipfm1_array(ua, pcs_a, c, st)
+  call t%check_true(all(same_bits(c, ellipfm1(ua, pcs_a))), 'ellipfm1_array = ellipfm1')
+  call ellipjm1_array(ua, pcs_a, s2, c2, d2, st)
+  call ellipjm1(ua, pcs_a, sn_e, cn_e, dn_e)
+  call t%check_true(all(same_bits(s2, sn_e) .and. same_bits(c2, cn_e) .and. same_bits(d2, dn_e)), &
+                    'ellipjm1_array = ellipjm1')
+  call ellipf_array(ua, s(1:3), c, st)
+  call t%check_true(st%code == PENDULA_ERR_SIZE, 'ellipf_array short m: size error')
   s = -2.0_wp + 0.0015_wp*[(i, i=0, 2000)]
   call ellipk_array(s, c, st)
   call ellipe_array(s, d, st)
@@ -228,5 +251,11 @@ contains
     call ellipj_eval(pl, uu, v(1), v(2), v(3), v(4))
     call t%check_true(all(ulps_between(v, ref) <= 8*cond), label//' (plan)')
   end subroutine jac
+
+  ! equal bits, NaN equal to NaN
+  elemental logical function same_bits(a, b)
+    real(wp), intent(in) :: a, b
+    same_bits = a == b .or. (a /= a .and. b /= b)
+  end function same_bits
 
 end program test_elliptic
