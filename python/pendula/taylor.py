@@ -103,7 +103,7 @@ class TaylorBatchResult(BatchIntegrationResult):
     t : numpy.ndarray
         Output times [s], shape (n_t,).
     theta, omega : numpy.ndarray
-        [rad], [rad/s], shape batch_shape + (n_t,); zero for a failed state.
+        [rad], [rad/s], shape batch_shape + (n_t,); NaN for a failed state.
     stats : dict
         int64 arrays of shape batch_shape: the scalar result's stats, with ``order``.
     method : str
@@ -118,7 +118,7 @@ class TaylorBatchResult(BatchIntegrationResult):
         With events=True, an object array of ``Events`` (None for a failed state).
     error : numpy.ndarray
         Estimated error bound of each output [rad], shape batch_shape +
-        (n_t,) (zero for a failed state).
+        (n_t,) (NaN for a failed state).
     tol : numpy.ndarray
         The accuracy asked for, per state (batch_shape).
 

@@ -27,12 +27,11 @@ module pendula_taylor
   use pendula_status, only: status_t, set_error, check_finite, check_positive, check_nonnegative, check_size, &
                          check_same_size, check_all_finite, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_SOLVER, &
                             PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
-  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
+  use pendula_control, only: CONTROL_SIZE, add_progress
   use pendula_ode, only: ode_stats_t
   use pendula_drive, only: drive_t, DRIVE_PIVOT, check_drive
-  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_coefficients, taylor_coefficients_driven, taylor_drive_series, &
-                                   taylor_order, taylor_shear
-  use pendula_taylor_walk, only: taylor_walk_t, taylor_walk_step, taylor_drive_phase, TAYLOR_SAFETY, MAX_STEP_TAU, POLL_STEPS
+  use pendula_taylor_series, only: taylor_order, taylor_shear
+  use pendula_taylor_walk, only: taylor_walk_t, taylor_walk_run, TAYLOR_SAFETY, MAX_STEP_TAU, POLL_STEPS
   implicit none
   private
   public :: taylor_solve, taylor_solve_events, taylor_run, taylor_start, taylor_check, taylor_outcome
@@ -372,9 +371,7 @@ contains
     !< optional cancel flag and progress counter (pendula_control)
     type(drive_t), intent(in), optional :: drive
     !< optional periodic drive, checked (check_drive); its phase phi holds at t = 0
-    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER), dc(0:TAYLOR_MAX_ORDER), pc, ps
     type(taylor_walk_t) :: w
-    logical :: done
     nev = 0
     trunc = .false.
     call taylor_start(t, theta0, omega0, w0, gamma, tol, max_steps, theta, omega, err, w, drive)
@@ -383,26 +380,7 @@ contains
     outcome = w%outcome
     t_fail = w%t_fail
     if (size(t) == 1 .or. outcome /= PENDULA_OK) return
-    do
-      if (present(drive)) then
-        call taylor_drive_phase(drive, w%th, w%tl, pc, ps)
-        call taylor_drive_series(pc, ps, drive%frequency, w%p, dc)
-        call taylor_coefficients_driven(w%xh, w%xl, w%vh, w%w0sq, w%gamma, drive%kind, w%amp, dc, w%p, x, v, w%s0abs, &
-                                        w%sn, w%cs)
-      else
-        call taylor_coefficients(w%xh, w%xl, w%vh, w%w0sq, w%gamma, w%p, x, v, w%s0abs, w%sn, w%cs)
-      end if
-      call taylor_walk_step(w, t, x, v, with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, done)
-      if (done) exit
-      if (present(control) .and. mod(w%steps, int(POLL_STEPS, i8)) == 0) then
-        call add_progress(control, int(POLL_STEPS, i8))
-        if (cancel_requested(control)) then
-          w%outcome = PENDULA_ERR_CANCELLED
-          w%t_fail = w%th
-          exit
-        end if
-      end if
-    end do
+    call taylor_walk_run(w, t, with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, control, drive)
     steps = w%steps
     outcome = w%outcome
     t_fail = w%t_fail

@@ -14,7 +14,7 @@ module pendula_taylor_batch
   use pendula_status, only: status_t, set_error, check_same_size, check_alloc, PENDULA_OK, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: check_batch_shapes, at => batch_index
-  use pendula_batch_support, only: batch_threads, set_batch_error
+  use pendula_batch_support, only: batch_threads, set_batch_error, failed_output, nan_failed
   use pendula_taylor, only: taylor_check, taylor_run, taylor_outcome, TAYLOR_DEFAULT_MAX_STEPS
   use pendula_taylor_lanes, only: taylor_lanes_run, taylor_lanes_list, TAYLOR_LANES
   use pendula_drive, only: drive_t, check_drive
@@ -31,8 +31,8 @@ contains
   !> the error estimates err(:, i) [rad] of state i, as taylor_solve returns
   !> them; steps(i) and order(i) its work.  codes(i): state i's status code
   !> (PENDULA_OK, or taylor_solve's code: bad argument, max_steps exhausted,
-  !> non-finite state); a failed state's outputs are zero, the others are
-  !> unaffected.  status: OK when every state succeeded, PENDULA_ERR_CANCELLED
+  !> non-finite state); a failed state's theta, omega and err are quiet NaN
+  !> (failed_output: never a plausible number), the others are unaffected.  status: OK when every state succeeded, PENDULA_ERR_CANCELLED
   !> when cancelled, else the first failed state's code and message; when the
   !> call itself is refused (t, sizes, threads < 0), first_failed = 0 and every
   !> code is status%code.  threads: OpenMP threads (0: the OpenMP default).
@@ -83,9 +83,9 @@ contains
       call check_alloc(ist, 'the order of the states', 2*int(n, i8), 4, status)
     end if
     if (status%code /= PENDULA_OK) then
-      theta = 0
-      omega = 0
-      err = 0
+      theta = failed_output()
+      omega = failed_output()
+      err = failed_output()
       codes = status%code
       steps = 0
       order = 0
@@ -124,6 +124,10 @@ contains
     first_message = st%message
     if (codes(first) == PENDULA_ERR_CANCELLED) first_message = ''
     call set_batch_error(status, codes, first, first_message)
+    ! (after the message's rerun of the first failed state, which writes its outputs)
+    call nan_failed(codes, theta)
+    call nan_failed(codes, omega)
+    call nan_failed(codes, err)
 
   contains
 
@@ -133,9 +137,9 @@ contains
       real(wp) :: ev1(1), ev2(1), ev3(1), t_fail
       integer :: evk(1), nev, outcome
       logical :: trunc
-      theta(:, k) = 0
-      omega(:, k) = 0
-      err(:, k) = 0
+      theta(:, k) = failed_output()
+      omega(:, k) = failed_output()
+      err(:, k) = failed_output()
       steps(k) = 0
       order(k) = 0
       if (present(control)) then
@@ -156,9 +160,9 @@ contains
       end if
       call taylor_outcome(outcome, t_fail, budget, sk)
       if (sk%code /= PENDULA_OK) then
-        theta(:, k) = 0
-        omega(:, k) = 0
-        err(:, k) = 0
+        theta(:, k) = failed_output()
+        omega(:, k) = failed_output()
+        err(:, k) = failed_output()
         steps(k) = 0
       end if
     end subroutine one_state

@@ -17,6 +17,7 @@ module pendula_taylor_lanes
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_CANCELLED
   use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: at => batch_index
+  use pendula_batch_support, only: failed_output
   use pendula_taylor_series, only: TAYLOR_MAX_ORDER
   use pendula_taylor_walk, only: taylor_walk_t, taylor_walk_step
   use pendula_taylor, only: taylor_check, taylor_start, taylor_outcome
@@ -121,7 +122,7 @@ contains
       do while (next <= size(list))
         k = list(next)
         next = next + 1
-        ! (a state that runs writes every output, or its failure zeroes them)
+        ! (a state that runs writes every output, or its failure NaNs them)
         steps(k) = 0
         order(k) = 0
         sk%code = PENDULA_OK
@@ -132,9 +133,9 @@ contains
                                                      gamma(at(gamma, k)), tol(at(tol, k)), budget, sk)
         codes(k) = sk%code
         if (sk%code /= PENDULA_OK) then
-          theta(:, k) = 0
-          omega(:, k) = 0
-          err(:, k) = 0
+          theta(:, k) = failed_output()
+          omega(:, k) = failed_output()
+          err(:, k) = failed_output()
           cycle
         end if
         call taylor_start(t, theta0(k), omega0(at(omega0, k)), w0(at(w0, k)), gamma(at(gamma, k)), tol(at(tol, k)), &
@@ -162,9 +163,9 @@ contains
       call taylor_outcome(outcome, w(ll)%t_fail, budget, sk)
       codes(k) = sk%code
       if (sk%code /= PENDULA_OK) then
-        theta(:, k) = 0
-        omega(:, k) = 0
-        err(:, k) = 0
+        theta(:, k) = failed_output()
+        omega(:, k) = failed_output()
+        err(:, k) = failed_output()
         steps(k) = 0
       end if
     end subroutine finish

@@ -1,22 +1,28 @@
-!> One step of the adaptive Taylor integrator (pendula_taylor) for one state,
-!> given the step's series: the step size, the dense outputs and events inside
-!> the step, the error model and the double-double advance.  The state of an
-!> integration is a taylor_walk_t, so that the scalar driver (taylor_run) and
-!> the batch's block kernel (pendula_taylor_lanes, which forms the series of
-!> several states side by side) take every step through this same code: a
-!> batch state is bit-identical to the scalar call by construction.
-!> The error model is described in pendula_taylor.
+!> The steps of the adaptive Taylor integrator (pendula_taylor) for one state:
+!> the step size, the dense outputs and events inside each step, the error
+!> model and the double-double advance.  The state of an integration is a
+!> taylor_walk_t.  One procedure (walk) holds the step: the scalar driver
+!> (taylor_run) walks to the end through taylor_walk_run, which forms each
+!> step's series itself and keeps the state in local variables from step to
+!> step (a call per step, with the state loaded from and stored to the
+!> derived type, cost the scalar solve ~5%); the batch's block kernel
+!> (pendula_taylor_lanes, which forms the series of several states side by
+!> side) takes one step at a time through taylor_walk_step.  Both run the
+!> same statements: a batch state is bit-identical to the scalar call by
+!> construction.  The error model is described in pendula_taylor.
 module pendula_taylor_walk
   use pendula_kinds, only: wp, i8
   use pendula_constants, only: two_pi, two_pi_lo
-  use pendula_status, only: PENDULA_OK, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS
+  use pendula_status, only: PENDULA_OK, PENDULA_ERR_SOLVER, PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
+  use pendula_control, only: CONTROL_SIZE, cancel_requested, add_progress
   use pendula_ode, only: PENDULA_EVENT_TURNING, PENDULA_EVENT_ZERO
   use pendula_double_double, only: two_sum, two_prod
   use pendula_drive, only: drive_t
-  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_step, taylor_shear
+  use pendula_taylor_series, only: TAYLOR_MAX_ORDER, taylor_step, taylor_shear, taylor_coefficients, taylor_coefficients_driven, &
+                                   taylor_drive_series
   implicit none
   private
-  public :: taylor_walk_t, taylor_walk_step, taylor_drive_phase, TAYLOR_SAFETY, MAX_STEP_TAU, POLL_STEPS
+  public :: taylor_walk_t, taylor_walk_step, taylor_walk_run, taylor_drive_phase, TAYLOR_SAFETY, MAX_STEP_TAU, POLL_STEPS
 
   !> Factor on the propagated error bound (calibrated: the measured error
   !> stays below the estimate with this margin in every test case).
@@ -56,10 +62,11 @@ module pendula_taylor_walk
 contains
 
   !> One step of walk w from the series x, v (taylor_coefficients at w's
-  !> state, order w%p): the outputs t(w%i..) inside the step into theta,
-  !> omega, err, the events when with_events, then the advance.  done: the
-  !> walk ended (w%outcome PENDULA_OK at t(size(t)), or a failure at
-  !> w%t_fail: non-finite series or state, step lost in rounding, max_steps).
+  !> state, order w%p, with w%sn, w%cs, w%s0abs): the outputs t(w%i..) inside
+  !> the step into theta, omega, err, the events when with_events, then the
+  !> advance.  done: the walk ended (w%outcome PENDULA_OK at t(size(t)), or a
+  !> failure at w%t_fail: non-finite series or state, step lost in rounding,
+  !> max_steps).  For the batch's block kernel, which forms the series.
   subroutine taylor_walk_step(w, t, x, v, with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, &
                               nev, trunc, done)
     type(taylor_walk_t), intent(inout) :: w  !< the walk
@@ -78,10 +85,62 @@ contains
     integer, intent(inout) :: nev  !< events stored
     logical, intent(inout) :: trunc  !< more events than the arrays hold
     logical, intent(out) :: done  !< the walk ended
+    real(wp) :: xs(0:TAYLOR_MAX_ORDER), vs(0:TAYLOR_MAX_ORDER)
+    integer :: q
+    q = min(max(w%p, 0) + 1, TAYLOR_MAX_ORDER)
+    xs(0:q) = x(0:q)
+    vs(0:q) = v(0:q)
+    call walk(w, t, xs, vs, .false., with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, done)
+  end subroutine taylor_walk_step
+
+  !> Walk w to the end of the window, forming each step's series at its state
+  !> (taylor_coefficients, or taylor_coefficients_driven with drive): the
+  !> same steps as taylor_walk_step's, the state held in registers across
+  !> them.  control (optional): polled every POLL_STEPS steps, a cancel ends
+  !> the walk with PENDULA_ERR_CANCELLED.  For the scalar driver taylor_run.
+  subroutine taylor_walk_run(w, t, with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, &
+                             nev, trunc, control, drive)
+    type(taylor_walk_t), intent(inout) :: w  !< the walk
+    real(wp), intent(in) :: t(:)  !< output times [s], checked
+    logical, intent(in) :: with_events  !< whether to locate events
+    integer(i8), intent(in) :: max_steps  !< step budget
+    real(wp), intent(inout) :: theta(:)  !< theta at t [rad]
+    real(wp), intent(inout) :: omega(:)  !< Omega at t [rad/s]
+    real(wp), intent(inout) :: err(:)  !< error estimates [rad]
+    real(wp), intent(inout) :: ev_t(:)  !< event times [s]
+    integer, intent(inout) :: ev_k(:)  !< event kinds
+    real(wp), intent(inout) :: ev_th(:)  !< theta at the events [rad]
+    real(wp), intent(inout) :: ev_om(:)  !< Omega at the events [rad/s]
+    integer, intent(inout) :: nev  !< events stored
+    logical, intent(inout) :: trunc  !< more events than the arrays hold
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    !< optional cancel flag and progress counter (pendula_control)
+    type(drive_t), intent(in), optional :: drive  !< optional periodic drive, as taylor_start's
+    real(wp) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
+    logical :: done
+    call walk(w, t, x, v, .true., with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, nev, trunc, done, &
+              control, drive)
+  end subroutine taylor_walk_run
+
+  ! The walk itself: one step from the series x, v (own false), or every step
+  ! to the end, each forming its series into x, v (own true).
+  subroutine walk(w, t, x, v, own, with_events, max_steps, theta, omega, err, ev_t, ev_k, ev_th, ev_om, &
+                  nev, trunc, done, control, drive)
+    type(taylor_walk_t), intent(inout) :: w
+    real(wp), intent(in) :: t(:)
+    real(wp), intent(inout) :: x(0:TAYLOR_MAX_ORDER), v(0:TAYLOR_MAX_ORDER)
+    logical, intent(in) :: own, with_events
+    integer(i8), intent(in) :: max_steps
+    real(wp), intent(inout) :: theta(:), omega(:), err(:), ev_t(:), ev_th(:), ev_om(:)
+    integer, intent(inout) :: ev_k(:), nev
+    logical, intent(inout) :: trunc
+    logical, intent(out) :: done
+    integer(i8), intent(inout), volatile, optional :: control(CONTROL_SIZE)
+    type(drive_t), intent(in), optional :: drive
     real(wp) :: xh, xl, vh, vl, th, tl, h, habs, rem, rs, re, d, ds, de, inv_w0, w0, eps_s
-    real(wp) :: big_a, big_d, g, ec, es, lgr, s0abs, xe, ve, xel, vel, s, e
+    real(wp) :: big_a, big_d, g, ec, es, lgr, s0abs, xe, ve, xel, vel, s, e, sn, cs, pc, ps
     real(wp) :: r0, r1, r2, gam, lt, rnd, trc, committed, dl(OUT_LANES), rl(OUT_LANES), rvl(OUT_LANES)
-    real(wp) :: xol4(OUT_LANES), vol4(OUT_LANES), el4(OUT_LANES), bd
+    real(wp) :: xol4(OUT_LANES), vol4(OUT_LANES), el4(OUT_LANES), bd, dc(0:TAYLOR_MAX_ORDER)
     integer(i8) :: steps
     integer :: n, i, nl, p
     n = size(t)
@@ -108,10 +167,21 @@ contains
     steps = w%steps
     i = w%i
     p = w%p
+    sn = w%sn
+    cs = w%cs
     done = .true.
-    es = 0
-    if (.not. w%driven) es = scaled_energy_sc(w%sn, w%cs, vh*inv_w0)
     body: do
+      if (own) then
+        if (present(drive)) then
+          call taylor_drive_phase(drive, th, tl, pc, ps)
+          call taylor_drive_series(pc, ps, drive%frequency, p, dc)
+          call taylor_coefficients_driven(xh, xl, vh, w%w0sq, w%gamma, drive%kind, w%amp, dc, p, x, v, s0abs, sn, cs)
+        else
+          call taylor_coefficients(xh, xl, vh, w%w0sq, w%gamma, p, x, v, s0abs, sn, cs)
+        end if
+      end if
+      es = 0
+      if (.not. w%driven) es = scaled_energy_sc(sn, cs, vh*inv_w0)
       call two_sum(t(n), -th, rs, re)
       rem = rs + (re - tl)
       habs = taylor_step(x, v, p, inv_w0, eps_s, min(abs(rem), MAX_STEP_TAU*inv_w0))
@@ -202,8 +272,18 @@ contains
         w%t_fail = th
         exit body
       end if
-      done = .false.
-      exit body
+      if (.not. own) then
+        done = .false.
+        exit body
+      end if
+      if (present(control) .and. mod(steps, int(POLL_STEPS, i8)) == 0) then
+        call add_progress(control, int(POLL_STEPS, i8))
+        if (cancel_requested(control)) then
+          w%outcome = PENDULA_ERR_CANCELLED
+          w%t_fail = th
+          exit body
+        end if
+      end if
     end do body
     w%xh = xh
     w%xl = xl
@@ -222,6 +302,9 @@ contains
     w%lt = lt
     w%steps = steps
     w%i = i
+    w%s0abs = s0abs
+    w%sn = sn
+    w%cs = cs
 
   contains
 
@@ -507,7 +590,7 @@ contains
       end do
     end function root
 
-  end subroutine taylor_walk_step
+  end subroutine walk
 
   !> cos and sin of the drive phase Omega t + phi at the double-double time
   !> th + tl [s]: Omega th exactly (two_prod), reduced by 2 pi in

@@ -4,6 +4,7 @@
 !> the start, events at the exact quarter periods, the batch bit-identical to
 !> the scalar call, and refused arguments naming themselves.
 program test_taylor
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use pendula_kinds, only: wp, i8
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_ORDER, PENDULA_ERR_NONFINITE, &
                             PENDULA_ERR_MAXSTEPS, PENDULA_ERR_CANCELLED
@@ -122,7 +123,8 @@ contains
                            'batch: bit-identical to the scalar call')
         call tc%check_true(steps(i) == s%steps .and. ord(i) == p, 'batch: same steps and order')
       end do
-      call tc%check_true(all(th(:, n) == 0), 'batch: failed state zero')
+      call tc%check_true(all(ieee_is_nan(th(:, n))) .and. all(ieee_is_nan(om(:, n))) .and. all(ieee_is_nan(er(:, n))), &
+                         'batch: failed state NaN')
     end do
   end subroutine test_batch_identity
 
@@ -172,6 +174,14 @@ contains
                             thb, omb, erb, codes, steps, ord, st, control=control)
     call tc%check_true(st%code == PENDULA_ERR_CANCELLED .and. all(codes == PENDULA_ERR_CANCELLED), &
                        'control: batch cancel')
+    call tc%check_true(all(ieee_is_nan(thb)) .and. all(ieee_is_nan(omb)) .and. all(ieee_is_nan(erb)), &
+                       'control: cancelled batch outputs NaN')
+    ! a refused call (t not strictly monotonic): every output NaN, every code the call's
+    call taylor_batch_solve([1.0_wp, 1.0_wp], [0.1_wp, 0.2_wp, 0.3_wp], [0.0_wp], [1.0_wp], [0.0_wp], [1.0e-9_wp], &
+                            thb, omb, erb, codes, steps, ord, st)
+    call tc%check_true(st%code == PENDULA_ERR_ORDER .and. all(codes == PENDULA_ERR_ORDER), 'refused batch: codes')
+    call tc%check_true(all(ieee_is_nan(thb)) .and. all(ieee_is_nan(omb)) .and. all(ieee_is_nan(erb)), &
+                       'refused batch: outputs NaN')
   end subroutine test_cancel_and_progress
 
 end program test_taylor
