@@ -159,12 +159,7 @@ contains
         call add_progress(control, 1_i8)
       end if
       call taylor_outcome(outcome, t_fail, budget, sk)
-      if (sk%code /= PENDULA_OK) then
-        theta(:, k) = failed_output()
-        omega(:, k) = failed_output()
-        err(:, k) = failed_output()
-        steps(k) = 0
-      end if
+      if (sk%code /= PENDULA_OK) steps(k) = 0  ! its outputs: NaN below (nan_failed)
     end subroutine one_state
 
   end subroutine taylor_batch_solve

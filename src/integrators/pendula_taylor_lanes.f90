@@ -162,12 +162,8 @@ contains
       end if
       call taylor_outcome(outcome, w(ll)%t_fail, budget, sk)
       codes(k) = sk%code
-      if (sk%code /= PENDULA_OK) then
-        theta(:, k) = failed_output()
-        omega(:, k) = failed_output()
-        err(:, k) = failed_output()
-        steps(k) = 0
-      end if
+      ! a failed state's outputs are NaN: the batch writes them (nan_failed)
+      if (sk%code /= PENDULA_OK) steps(k) = 0
     end subroutine finish
 
   end subroutine taylor_lanes_run
