@@ -20,12 +20,9 @@ from ._scene_types import _MODEL_NAME, Scene, SceneResult
 from .integrate import Events
 
 
-def _long_scene(scene, tt, model_code, fixed, setting):
-    # Predicted > ~2.5 ms (_longcall.SCENE_LONG_STEPS): Fortran predicts the work of
-    # the call in RK4 steps from the scene (scene_solve_work / scene_run_work:
-    # the model the choice would take, its span, e.g. up to the hand-over of a
-    # decaying motion, its steps, the event grid and the outputs).  NaN: long.
-    work = _scene.scene_work_f2py(
+def _scene_args(scene, tt, model_code, fixed, setting):
+    # the scene and the model asked, as the f2py glue's scene entries take them first
+    return (
         tt,
         scene.theta0,
         scene.omega0,
@@ -37,9 +34,20 @@ def _long_scene(scene, tt, model_code, fixed, setting):
         model_code,
         int(fixed),
         float(setting),
-        *scene._drive_args(),
     )
-    return not work <= _longcall.SCENE_LONG_STEPS
+
+
+def _scene_work(scene, tt, model_code, fixed, setting):
+    # Fortran's prediction of the call's work in RK4 steps from the scene
+    # (scene_solve_work / scene_run_work: the model the choice would take, its
+    # span, e.g. up to the hand-over of a decaying motion, its steps, the event
+    # grid and the outputs).  NaN when it cannot tell.
+    return _scene.scene_work_f2py(*_scene_args(scene, tt, model_code, fixed, setting), *scene._drive_args())
+
+
+def _long_scene(scene, tt, model_code, fixed, setting):
+    # Predicted > ~2.5 ms (_longcall.SCENE_LONG_STEPS); NaN: long.
+    return not _scene_work(scene, tt, model_code, fixed, setting) <= _longcall.SCENE_LONG_STEPS
 
 
 def _budget(max_steps):
@@ -78,17 +86,7 @@ def _run(scene, model_code, fixed, setting, max_steps=STEP_CAP, progress=None, c
         control = _longcall.new_control() if long or progress else _longcall.scratch_control()
     while True:
         args = (
-            tt,
-            scene.theta0,
-            scene.omega0,
-            scene.w0,
-            scene._w0lo,
-            scene.gamma,
-            scene.tol,
-            WANT_CODES[scene.want],
-            model_code,
-            int(fixed),
-            float(setting),
+            *_scene_args(scene, tt, model_code, fixed, setting),
             m,
             INFO_SIZE,
             budget,
@@ -199,20 +197,7 @@ def _batch_run(batch, model_code, fixed, setting, max_steps, progress, threads):
     if threads is None and not work > SERIAL_WORK:
         # a small batch: Fortran's prediction of each scene's work, summed until it is enough for threads
         for sc in batch.scenes.reshape(-1):
-            work += _scene.scene_work_f2py(
-                sc._t_arg(),
-                sc.theta0,
-                sc.omega0,
-                sc.w0,
-                sc._w0lo,
-                sc.gamma,
-                sc.tol,
-                WANT_CODES[sc.want],
-                model_code,
-                int(fixed),
-                float(setting),
-                *sc._drive_args(),
-            )
+            work += _scene_work(sc, sc._t_arg(), model_code, fixed, setting)
             if not work <= SERIAL_WORK:
                 break
 
