@@ -159,7 +159,7 @@ def ellipk(m: ArrayLike, *, errors: str = "raise") -> float | np.ndarray:
     Notes
     -----
     Within 2.4 ulps (2000 random m in [-1e10, 1), against mpmath):
-    polynomials on 17 intervals and the logarithmic form near m = 1.  For
+    polynomials on 81 intervals and the logarithmic form near m = 1.  For
     m close to 1 use :func:`ellipkm1`, which takes 1 - m itself.
     {scipy}
 

@@ -2,13 +2,15 @@
 !> forms of mc = 1 - m, and K in double-double (for the period reductions of F and of
 !> the Jacobi functions).
 !>
-!> K, E: degree-12 polynomials (Chebyshev interpolants at 40 digits) on 17 intervals
-!> of m in [0, 0.85) and, for mc <= 0.15, the logarithmic form K = P(mc) - ln(mc) Q(mc),
-!> E = Pe(mc) - ln(mc) mc Qe1(mc) (structure of DLMF 19.12.1), exact as mc -> 0 down
-!> to the smallest subnormal (the logarithm inlined, log_pos; the array loops take the
-!> logarithmic forms in one vectorised pass).  m < 0 by the imaginary-modulus transformation
-!> (DLMF 19.7.5).  Measured <= 2.4 ulps against mpmath.  K in double-double by the AGM
-!> in double-double arithmetic (DLMF 19.8.5).
+!> K, E: degree-8 polynomials (Chebyshev interpolants at 40 digits) on 81 intervals of
+!> mc = 1 - m >= 2**-5 read from mc's bits (each binade of mc in 16 pieces: every interval
+!> as far from the singularity at m = 1, in half-widths, so one short degree serves all),
+!> and for mc < 2**-5 the logarithmic form K = P(mc) - ln(mc) Q(mc),
+!> E = Pe(mc) - ln(mc) mc Qe1(mc) (structure of DLMF 19.12.1, degree 7), exact as mc -> 0
+!> down to the smallest subnormal (the logarithm inlined, log_pos).  The array forms
+!> take each kind in one branch-free vectorised pass.  m < 0 by the imaginary-modulus
+!> transformation (DLMF 19.7.5).  Measured <= 2.4 ulps against mpmath.  K in double-double
+!> by the AGM in double-double arithmetic (DLMF 19.8.5).
 module pendula_elliptic_ke
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_nan, ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: int32, int64
@@ -22,6 +24,11 @@ module pendula_elliptic_ke
   public :: ellipk, ellipkm1, ellipe, ellipem1, ellipk_array, ellipe_array, ellipkm1_array, ellipem1_array
   ! for the other modules of the elliptic concern
   public :: k_unit, k_from_mc, k_double_double, k_unit_many
+
+  integer, parameter :: ke_emin = -5   ! the table holds mc >= 2**ke_emin (gen_elliptic_tables.py)
+  integer, parameter :: ke_top = ubound(k_poly, 2)   ! its last interval (mc in [1, 1 + 1/16))
+  real(wp), parameter :: mc_log = 2.0_wp**ke_emin   ! below: the logarithmic forms
+  integer, parameter :: nb = 256   ! block of the array forms (its scratch stays in L1)
 
 contains
 
@@ -106,32 +113,22 @@ contains
     e = prod_err(s, s, s*s)
   end function sq_err
 
-  !> Degree-12 polynomial p at y by Estrin's scheme.
-  pure real(wp) function estrin12(p, y) result(r)
-    real(wp), intent(in) :: p(0:12), y
-    real(wp) :: y2, y4
-    ! Estrin's scheme: a short dependency chain, the same accuracy for these small |y|
-    y2 = y*y
-    y4 = y2*y2
-    r = ((p(0) + p(1)*y) + (p(2) + p(3)*y)*y2) + ((p(4) + p(5)*y) + (p(6) + p(7)*y)*y2)*y4 &
-        + (((p(8) + p(9)*y) + (p(10) + p(11)*y)*y2) + p(12)*y4)*(y4*y4)
-  end function estrin12
-
   !> ln(x) for 0 < x < +Inf (subnormal x included), within 1 ulp: x = 2^k (1 + f) with
   !> 1 + f in [sqrt(2)/2, sqrt(2)) read from the bits, ln(1 + f) = f - f^2/2 + s (f^2/2 + R)
-  !> with s = f/(2 + f), R = 2 s^2/3 + 2 s^4/5 + ... + 2 s^20/21 (the series of
-  !> 2 atanh(s), |s| <= 0.172), and k ln 2 with ln 2 in two parts (the scheme of fdlibm's
-  !> log, here with the series' own coefficients).  Plain arithmetic inlined into K and E
-  !> near m = 1: libm's log call took half of their time there.
+  !> with s = f/(2 + f), R(s^2) the minimax polynomial of degree 7 of fdlibm's e_log.c
+  !> (|error| < 2**-58.45 on |s| <= 0.1716), and k ln 2 with ln 2 in two parts.  Plain
+  !> arithmetic, inlined into the vectorised logarithmic forms of K and E.
   pure elemental real(wp) function log_pos(x) result(y)
     real(wp), intent(in) :: x  !< argument, 0 < x < +Inf
     integer(int64), parameter :: mant = int(z'000FFFFFFFFFFFFF', int64), bump = int(z'00095F6400000000', int64), &
                                  bit52 = int(z'0010000000000000', int64), one_bits = int(z'3FF0000000000000', int64)
     real(wp), parameter :: ln2_hi = 6.93147180369123816490e-01_wp, ln2_lo = 1.90821492927058770002e-10_wp
-    real(wp), parameter :: r1 = 2/3.0_wp, r2 = 2/5.0_wp, r3 = 2/7.0_wp, r4 = 2/9.0_wp, r5 = 2/11.0_wp, &
-                           r6 = 2/13.0_wp, r7 = 2/15.0_wp, r8 = 2/17.0_wp, r9 = 2/19.0_wp, r10 = 2/21.0_wp
+    real(wp), parameter :: lg1 = 6.666666666666735130e-01_wp, lg2 = 3.999999999940941908e-01_wp, &
+                           lg3 = 2.857142874366239149e-01_wp, lg4 = 2.222219843214978396e-01_wp, &
+                           lg5 = 1.818357216161805012e-01_wp, lg6 = 1.531383769920937332e-01_wp, &
+                           lg7 = 1.479819860511658591e-01_wp
     integer(int64) :: ix, ix0, i, k
-    real(wp) :: xs, f, s, z, z2, z4, r, hfsq, dk
+    real(wp) :: xs, f, s, z, w, r, hfsq, dk
     logical :: sub
     sub = x < tiny(x)
     xs = merge(x*2.0_wp**54, x, sub)
@@ -146,52 +143,38 @@ contains
     hfsq = 0.5_wp*f*f
     s = f/(2 + f)
     z = s*s
-    z2 = z*z
-    z4 = z2*z2
-    ! Estrin's scheme (a short dependency chain; z <= 0.03, so the order of the sums is harmless)
-    r = z*(((r1 + z*r2) + z2*(r3 + z*r4)) + z4*((r5 + z*r6) + z2*(r7 + z*r8)) + (z4*z4)*(r9 + z*r10))
+    w = z*z
+    ! fdlibm's two interleaved chains in w = s^4
+    r = z*(lg1 + w*(lg3 + w*(lg5 + w*lg7))) + w*(lg2 + w*(lg4 + w*lg6))
     y = dk*ln2_hi - ((hfsq - (s*(hfsq + r) + dk*ln2_lo)) - f)
   end function log_pos
 
-  !> Index i in 0..16 of the interval [i/20, (i+1)/20) holding m, for ANY m (NaN gives 0:
-  !> the polynomial then returns NaN); the test comes before int() so that no
-  !> out-of-range or NaN value is ever converted.
-  pure elemental integer function interval20(m) result(i)
-    real(wp), intent(in) :: m
-    real(wp) :: t
-    t = m*20
-    if (t >= 0 .and. t < 16) then
-      i = int(t)
-    else if (t >= 16) then
-      i = 16
-    else
-      i = 0
-    end if
-  end function interval20
-
-  !> K(m) for 0 <= m < 1 given m and mc = 1 - m (mc accurate when m > 0.85).
+  !> K(m) for 0 <= m < 1 given m and mc = 1 - m (m accurate when m < 1/2, mc when m > 1/2).
+  !> Through the passes of the array forms with one element: their loops are the one home
+  !> of the formulas (and the only callers of k_table, k_log, ..., which gcc then inlines
+  !> into the loops and vectorises).
   pure elemental real(wp) function k_unit(m, mc) result(k)
     real(wp), intent(in) :: m  !< parameter m in [0, 1)
-    real(wp), intent(in) :: mc  !< 1 - m (accurate when m > 0.85)
-    integer :: i
-    if (mc <= 0.15_wp) then
-      k = estrin12(ke_log_poly(:, 0), mc) - log_pos(mc)*estrin12(ke_log_poly(:, 1), mc)
+    real(wp), intent(in) :: mc  !< 1 - m (accurate when m > 1/2)
+    real(wp) :: x(1)
+    if (mc < mc_log) then
+      call pass_log(1, [mc], .false., x)
     else
-      i = interval20(m)
-      k = estrin12(k_poly(:, i), m - (0.025_wp + 0.05_wp*i))
+      call pass_table(1, [m], [mc], .false., x)
     end if
+    k = x(1)
   end function k_unit
 
-  !> E(m) for 0 <= m < 1 given m and mc = 1 - m (mc accurate when m > 0.85).
+  !> E(m) for 0 <= m < 1 given m and mc = 1 - m, as k_unit.
   pure elemental real(wp) function e_unit(m, mc) result(e)
     real(wp), intent(in) :: m, mc
-    integer :: i
-    if (mc <= 0.15_wp) then
-      e = estrin12(ke_log_poly(:, 2), mc) - log_pos(mc)*mc*estrin12(ke_log_poly(:, 3), mc)
+    real(wp) :: x(1)
+    if (mc < mc_log) then
+      call pass_log(1, [mc], .true., x)
     else
-      i = interval20(m)
-      e = estrin12(e_poly(:, i), m - (0.025_wp + 0.05_wp*i))
+      call pass_table(1, [m], [mc], .true., x)
     end if
+    e = x(1)
   end function e_unit
 
   !> Complete elliptic integral of the first kind K(m), m = k**2 <= 1.
@@ -240,14 +223,14 @@ contains
   end function k_from_mc
 
   !> ellipk over a rank-1 array (k of the size of m): the same numbers as the
-  !> elemental function, with the polynomial evaluation inlined in one loop.
+  !> elemental function, each kind of evaluation in one vectorised pass (ke_block).
   !> A size mismatch sets status (PENDULA_ERR_SIZE) and k = NaN; nothing else is written.
   pure subroutine ellipk_array(m, k, status)
     real(wp), intent(in) :: m(:)  !< parameters m = k**2
     real(wp), intent(out) :: k(:)  !< K(m(i)), size(m) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    call ke_array(m, k, .false., 'ellipk_array: k', status)
+    call ke_array(m, k, .false., .false., 'ellipk_array: k must have the size of m', status)
   end subroutine ellipk_array
 
   !> ellipe over a rank-1 array (same numbers as the elemental function); e must have
@@ -257,94 +240,17 @@ contains
     real(wp), intent(out) :: e(:)  !< E(m(i)), size(m) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    call ke_array(m, e, .true., 'ellipe_array: e', status)
+    call ke_array(m, e, .false., .true., 'ellipe_array: e must have the size of m', status)
   end subroutine ellipe_array
 
-  ! The loop of ellipk_array (second = .false.) and ellipe_array (.true.):
-  ! m in [0, 1) straight to the unit-interval kernel, the rest through the
-  ! elemental function.  what: the routine and output for the size message.
-  pure subroutine ke_array(m, x, second, what, status)
-    real(wp), intent(in) :: m(:)
-    real(wp), intent(out) :: x(:)
-    logical, intent(in) :: second
-    character(len=*), intent(in) :: what
-    type(status_t), intent(out) :: status
-    integer, parameter :: nb = 256
-    real(wp) :: mcs(nb), v(nb)
-    integer :: idx(nb), i, i0, i1, j, nl
-    if (size(x) /= size(m)) then
-      x = quiet_nan()
-      call set_error(status, PENDULA_ERR_SIZE, what//' must have the size of m')
-      return
-    end if
-    do i0 = 1, size(m), nb
-      i1 = min(size(m), i0 + nb - 1)
-      if (all(log_form_m(m(i0:i1)))) then
-        ! a block near m = 1 (all in the logarithmic forms): one vectorised loop, no gathering
-        call ke_log_forms(i1 - i0 + 1, 1 - m(i0:i1), second, x(i0:i1))
-        cycle
-      end if
-      ! the logarithmic forms (mc <= 0.15, k_unit's and e_unit's test) are gathered and
-      ! taken in one vectorised loop below; the rest here
-      nl = 0
-      do i = i0, i1
-        if (ieee_is_nan(m(i))) then     ! before any ordered comparison (quiet under -ffpe-trap)
-          x(i) = m(i)
-        else if (m(i) >= 0 .and. m(i) < 1) then
-          if (1 - m(i) <= 0.15_wp) then
-            nl = nl + 1
-            idx(nl) = i
-            mcs(nl) = 1 - m(i)
-          else if (second) then
-            x(i) = poly_at(e_poly, m(i))   ! = e_unit(m(i), 1 - m(i))
-          else
-            x(i) = poly_at(k_poly, m(i))   ! = k_unit(m(i), 1 - m(i))
-          end if
-        else if (second) then
-          x(i) = ellipe(m(i))   ! m < 0, m >= 1
-        else
-          x(i) = ellipk(m(i))
-        end if
-      end do
-      if (nl == i1 - i0 + 1) then
-        call ke_log_forms(nl, mcs, second, x(i0:i1))   ! the whole block (m near 1): no scatter
-      else
-        call ke_log_forms(nl, mcs, second, v)
-        do j = 1, nl
-          x(idx(j)) = v(j)
-        end do
-      end if
-    end do
-  end subroutine ke_array
-
-  !> Whether K and E of m take the logarithmic form in k_unit / e_unit (0 <= m < 1 and
-  !> 1 - m <= 0.15); false for NaN, without an ordered comparison of a NaN (quiet under
-  !> -ffpe-trap) and without a branch (the test of a whole block vectorises).
-  pure elemental logical function log_form_m(m) result(yes)
-    real(wp), intent(in) :: m
-    real(wp) :: x
-    x = merge(m, 0.0_wp, m == m)
-    yes = x < 1 .and. 1 - x <= 0.15_wp
-  end function log_form_m
-
-  !> Whether K and E of the complement p take the logarithmic form (0 < p <= 0.15), as
-  !> log_form_m (NaN false, no branch).
-  pure elemental logical function log_form_p(p) result(yes)
-    real(wp), intent(in) :: p
-    real(wp) :: x
-    x = merge(p, 0.0_wp, p == p)
-    yes = x > 0 .and. x <= 0.15_wp
-  end function log_form_p
-
   !> ellipkm1 over a rank-1 array (k of the size of p): the same numbers as the elemental
-  !> function, the logarithmic forms (p <= 0.15) in one vectorised loop.  A size mismatch
-  !> sets status (PENDULA_ERR_SIZE) and k = NaN.
+  !> function, as ellipk_array.  A size mismatch sets status (PENDULA_ERR_SIZE) and k = NaN.
   pure subroutine ellipkm1_array(p, k, status)
     real(wp), intent(in) :: p(:)  !< complementary parameters p = 1 - m, >= 0
     real(wp), intent(out) :: k(:)  !< K(1 - p(i)), size(p) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    call ke_m1_array(p, k, .false., 'ellipkm1_array: k', status)
+    call ke_array(p, k, .true., .false., 'ellipkm1_array: k must have the size of p', status)
   end subroutine ellipkm1_array
 
   !> ellipem1 over a rank-1 array (same numbers as the elemental function); sizes as
@@ -354,86 +260,178 @@ contains
     real(wp), intent(out) :: e(:)  !< E(1 - p(i)), size(p) elements
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    call ke_m1_array(p, e, .true., 'ellipem1_array: e', status)
+    call ke_array(p, e, .true., .true., 'ellipem1_array: e must have the size of p', status)
   end subroutine ellipem1_array
 
-  ! The loop of ellipkm1_array (second = .false.) and ellipem1_array (.true.): 0 < p <= 0.15
-  ! gathered for ke_log_forms, 0.15 < p <= 1 by the interval polynomial at m = 1 - p (what
-  ! k_from_mc / e_from_m_mc take), the rest through the elemental function.
-  pure subroutine ke_m1_array(p, x, second, what, status)
-    real(wp), intent(in) :: p(:)
-    real(wp), intent(out) :: x(:)
-    logical, intent(in) :: second
+  ! The loop of the four array forms: x holds m (m1 = .false.) or p = 1 - m (.true.), y gets
+  ! K (second = .false.) or E.  Per block, the elements in the unit interval (0 <= m < 1)
+  ! become (m, mc) pairs exactly as ellipk/ellipkm1 (ellipe/ellipem1) form them and go to
+  ! ke_block; the others (NaN, m < 0, m >= 1) get a harmless stand-in there and are then
+  ! taken by the elemental function.  what: the size message.
+  pure subroutine ke_array(x, y, m1, second, what, status)
+    real(wp), intent(in) :: x(:)
+    real(wp), intent(out) :: y(:)
+    logical, intent(in) :: m1, second
     character(len=*), intent(in) :: what
     type(status_t), intent(out) :: status
-    integer, parameter :: nb = 256
-    real(wp) :: mcs(nb), v(nb)
-    integer :: idx(nb), i, i0, i1, j, nl
-    if (size(x) /= size(p)) then
-      x = quiet_nan()
-      call set_error(status, PENDULA_ERR_SIZE, what//' must have the size of p')
+    real(wp) :: m(nb), mc(nb)
+    integer :: i0, n, j, nbad
+    if (size(y) /= size(x)) then
+      y = quiet_nan()
+      call set_error(status, PENDULA_ERR_SIZE, what)
       return
     end if
-    do i0 = 1, size(p), nb
-      i1 = min(size(p), i0 + nb - 1)
-      if (all(log_form_p(p(i0:i1)))) then
-        call ke_log_forms(i1 - i0 + 1, p(i0:i1), second, x(i0:i1))
-        cycle
+    do i0 = 1, size(x), nb
+      n = min(nb, size(x) - i0 + 1)
+      nbad = 0
+      if (m1) then
+        do j = 1, n
+          mc(j) = merge(x(i0 + j - 1), 0.5_wp, in_unit(x(i0 + j - 1), m1))
+          m(j) = 1 - mc(j)
+          nbad = nbad + merge(0, 1, in_unit(x(i0 + j - 1), m1))
+        end do
+      else
+        do j = 1, n
+          m(j) = merge(x(i0 + j - 1), 0.5_wp, in_unit(x(i0 + j - 1), m1))
+          mc(j) = 1 - m(j)
+          nbad = nbad + merge(0, 1, in_unit(x(i0 + j - 1), m1))
+        end do
       end if
-      nl = 0
-      do i = i0, i1
-        if (ieee_is_nan(p(i))) then     ! before any ordered comparison
-          x(i) = p(i)
-        else if (p(i) > 0 .and. p(i) <= 0.15_wp) then
-          nl = nl + 1
-          idx(nl) = i
-          mcs(nl) = p(i)
-        else if (p(i) > 0 .and. p(i) <= 1) then
-          if (second) then
-            x(i) = poly_at(e_poly, 1 - p(i))
-          else
-            x(i) = poly_at(k_poly, 1 - p(i))
-          end if
+      call ke_block(n, m, mc, second, y(i0:i0 + n - 1))
+      if (nbad == 0) cycle
+      do j = i0, i0 + n - 1
+        if (in_unit(x(j), m1)) cycle
+        if (m1 .and. second) then
+          y(j) = ellipem1(x(j))
+        else if (m1) then
+          y(j) = ellipkm1(x(j))
         else if (second) then
-          x(i) = ellipem1(p(i))
+          y(j) = ellipe(x(j))
         else
-          x(i) = ellipkm1(p(i))
+          y(j) = ellipk(x(j))
         end if
       end do
-      call ke_log_forms(nl, mcs, second, v)
-      do j = 1, nl
-        x(idx(j)) = v(j)
-      end do
     end do
-  end subroutine ke_m1_array
+  end subroutine ke_array
 
-  !> The interval polynomial of k_unit / e_unit (table k_poly or e_poly) at 0 <= m < 0.85,
-  !> estrin12 written out on the table's column (the same operations): the call with a
-  !> column argument was not inlined into the array loop.
-  pure real(wp) function poly_at(tab, m) result(r)
-    real(wp), intent(in) :: tab(0:12, 0:16), m
-    real(wp) :: y, y2, y4
-    integer :: i
-    i = interval20(m)
-    y = m - (0.025_wp + 0.05_wp*i)
-    y2 = y*y
-    y4 = y2*y2
-    r = ((tab(0, i) + tab(1, i)*y) + (tab(2, i) + tab(3, i)*y)*y2) &
-        + ((tab(4, i) + tab(5, i)*y) + (tab(6, i) + tab(7, i)*y)*y2)*y4 &
-        + (((tab(8, i) + tab(9, i)*y) + (tab(10, i) + tab(11, i)*y)*y2) + tab(12, i)*y4)*(y4*y4)
-  end function poly_at
+  !> Whether x is in the unit interval of ke_array: 0 <= x < 1 (m1 false: x = m) or
+  !> 0 < x <= 1 (m1: x = p = 1 - m).  NaN gives false without an ordered comparison of a
+  !> NaN (quiet under -ffpe-trap), and without a branch.
+  pure elemental logical function in_unit(x, m1) result(yes)
+    real(wp), intent(in) :: x
+    logical, intent(in) :: m1
+    real(wp) :: v
+    v = merge(x, -1.0_wp, x == x)
+    yes = merge(v > 0 .and. v <= 1, v >= 0 .and. v < 1, m1)
+  end function in_unit
 
-  !> K (second = .false.) or E of 0 < mc <= 0.15 by the logarithmic forms of k_unit and
-  !> e_unit, the same numbers, in a loop without branches or calls (it vectorises).
-  pure subroutine ke_log_forms(n, mc, second, x)
+  ! K (second = .false.) or E of the n <= nb pairs (m(j), mc(j)), 0 <= m < 1, mc = 1 - m as
+  ! k_unit takes them, the same numbers as k_unit/e_unit.  Each kind (interval polynomial,
+  ! logarithmic form) is taken in one branch-free vectorised pass: over the whole block
+  ! when the block is all of one kind or mostly of it (the few others get a finite value
+  ! there, replaced after), the other kind gathered into its own pass and scattered back.
+  ! Gathers are branch-free too (random m made the test of each element unpredictable).
+  pure subroutine ke_block(n, m, mc, second, x)
     integer, intent(in) :: n
-    real(wp), intent(in) :: mc(:)
+    real(wp), intent(in) :: m(n), mc(n)
     logical, intent(in) :: second
-    real(wp), intent(out) :: x(:)
-    ! the columns as named constants and estrin12 written out (operation for operation):
-    ! a call with an array argument kept the loop from vectorising
-    real(wp), parameter :: pk(0:12) = ke_log_poly(:, 0), qk(0:12) = ke_log_poly(:, 1), &
-                           pe(0:12) = ke_log_poly(:, 2), qe(0:12) = ke_log_poly(:, 3)
+    real(wp), intent(out) :: x(n)
+    real(wp) :: g(nb), gc(nb), v(nb)
+    integer :: idx(nb + 1), j, nl, ng
+    nl = 0
+    do j = 1, n
+      nl = nl + merge(1, 0, mc(j) < mc_log)
+    end do
+    if (2*nl < n) then   ! mostly (or all) interval polynomials
+      call pass_table(n, m, mc, second, x)
+      if (nl == 0) return
+      ng = 0
+      do j = 1, n
+        idx(ng + 1) = j
+        ng = ng + merge(1, 0, mc(j) < mc_log)
+      end do
+      do j = 1, ng
+        gc(j) = mc(idx(j))
+      end do
+      call pass_log(ng, gc, second, v)
+    else   ! mostly (or all) logarithmic forms
+      call pass_log(n, mc, second, x)
+      if (nl == n) return
+      ng = 0
+      do j = 1, n
+        idx(ng + 1) = j
+        ng = ng + merge(0, 1, mc(j) < mc_log)
+      end do
+      do j = 1, ng
+        g(j) = m(idx(j))
+        gc(j) = mc(idx(j))
+      end do
+      call pass_table(ng, g, gc, second, v)
+    end if
+    do j = 1, ng
+      x(idx(j)) = v(j)
+    end do
+  end subroutine ke_block
+
+  ! K (second = .false.) or E by the interval polynomials (degree 8, Estrin's scheme) at
+  ! m(j), mc(j) = 1 - m(j) >= mc_log, j = 1..n, in one vectorised loop (the table columns
+  ! gathered element by element).  The interval i and its centre cmc in mc come from mc's
+  ! exponent and top 4 mantissa bits (smaller mc give i = 0, larger than 1 + 1/16 i = ke_top:
+  ! finite values no caller keeps); the polynomial's variable t = m - (1 - cmc) is formed
+  ! as cmc - mc (exact, Sterbenz) for mc <= 1/2, where mc is the accurate one, and from m
+  ! above, where m is (1 - cmc has at most 10 bits: exact).  The formulas are written
+  ! into the loop (a call to an elemental function there was not inlined, and the loop
+  ! then not vectorised); k_unit and e_unit come here with one element.
+  pure subroutine pass_table(n, m, mc, second, x)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: m(n), mc(n)
+    logical, intent(in) :: second
+    real(wp), intent(out) :: x(n)
+    integer(int64), parameter :: low48 = int(z'0000FFFFFFFFFFFF', int64), half48 = int(z'0000800000000000', int64)
+    integer, parameter :: first = (1023 + ke_emin)*16   ! the bits of 2**ke_emin shifted right by 48
+    integer(int64) :: ix
+    real(wp) :: cmc, t, tm, t2, t4
+    integer :: i, j
+    if (second) then
+      do j = 1, n
+        ix = transfer(mc(j), ix)
+        i = min(max(int(shiftr(ix, 48), int32) - first, 0), ke_top)   ! int32: vectorises on x86-64
+        cmc = transfer(ior(iand(ix, not(low48)), half48), cmc)
+        t = cmc - mc(j)
+        tm = m(j) - (1 - cmc)
+        t = merge(t, tm, mc(j) <= 0.5_wp)   ! both formed first: a merge of expressions was a branch
+        t2 = t*t
+        t4 = t2*t2
+        x(j) = (((e_poly(0, i) + e_poly(1, i)*t) + (e_poly(2, i) + e_poly(3, i)*t)*t2) &
+                + ((e_poly(4, i) + e_poly(5, i)*t) + (e_poly(6, i) + e_poly(7, i)*t)*t2)*t4) + e_poly(8, i)*(t4*t4)
+      end do
+    else
+      do j = 1, n
+        ix = transfer(mc(j), ix)
+        i = min(max(int(shiftr(ix, 48), int32) - first, 0), ke_top)   ! int32: vectorises on x86-64
+        cmc = transfer(ior(iand(ix, not(low48)), half48), cmc)
+        t = cmc - mc(j)
+        tm = m(j) - (1 - cmc)
+        t = merge(t, tm, mc(j) <= 0.5_wp)   ! both formed first: a merge of expressions was a branch
+        t2 = t*t
+        t4 = t2*t2
+        x(j) = (((k_poly(0, i) + k_poly(1, i)*t) + (k_poly(2, i) + k_poly(3, i)*t)*t2) &
+                + ((k_poly(4, i) + k_poly(5, i)*t) + (k_poly(6, i) + k_poly(7, i)*t)*t2)*t4) + k_poly(8, i)*(t4*t4)
+      end do
+    end if
+  end subroutine pass_table
+
+  ! K (second = .false.) or E by the logarithmic forms K = P(mc) - ln(mc) Q(mc),
+  ! E = Pe(mc) - ln(mc) mc Qe1(mc) (degree 7, Estrin's scheme) at 0 < mc(j) <= 1, j = 1..n:
+  ! one vectorised loop without branches or calls (log_pos inlined).  k_unit and e_unit
+  ! come here with one element.
+  pure subroutine pass_log(n, mc, second, x)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: mc(n)
+    logical, intent(in) :: second
+    real(wp), intent(out) :: x(n)
+    real(wp), parameter :: pk(0:7) = ke_log_poly(:, 0), qk(0:7) = ke_log_poly(:, 1), &
+                           pe(0:7) = ke_log_poly(:, 2), qe(0:7) = ke_log_poly(:, 3)
     real(wp) :: y, y2, y4, p, q
     integer :: j
     if (second) then
@@ -441,10 +439,8 @@ contains
         y = mc(j)
         y2 = y*y
         y4 = y2*y2
-        p = (((pe(0) + pe(1)*y) + (pe(2) + pe(3)*y)*y2) + ((pe(4) + pe(5)*y) + (pe(6) + pe(7)*y)*y2)*y4 &
-             + (((pe(8) + pe(9)*y) + (pe(10) + pe(11)*y)*y2) + pe(12)*y4)*(y4*y4))
-        q = (((qe(0) + qe(1)*y) + (qe(2) + qe(3)*y)*y2) + ((qe(4) + qe(5)*y) + (qe(6) + qe(7)*y)*y2)*y4 &
-             + (((qe(8) + qe(9)*y) + (qe(10) + qe(11)*y)*y2) + qe(12)*y4)*(y4*y4))
+        p = ((pe(0) + pe(1)*y) + (pe(2) + pe(3)*y)*y2) + ((pe(4) + pe(5)*y) + (pe(6) + pe(7)*y)*y2)*y4
+        q = ((qe(0) + qe(1)*y) + (qe(2) + qe(3)*y)*y2) + ((qe(4) + qe(5)*y) + (qe(6) + qe(7)*y)*y2)*y4
         x(j) = p - log_pos(y)*y*q
       end do
     else
@@ -452,40 +448,26 @@ contains
         y = mc(j)
         y2 = y*y
         y4 = y2*y2
-        p = (((pk(0) + pk(1)*y) + (pk(2) + pk(3)*y)*y2) + ((pk(4) + pk(5)*y) + (pk(6) + pk(7)*y)*y2)*y4 &
-             + (((pk(8) + pk(9)*y) + (pk(10) + pk(11)*y)*y2) + pk(12)*y4)*(y4*y4))
-        q = (((qk(0) + qk(1)*y) + (qk(2) + qk(3)*y)*y2) + ((qk(4) + qk(5)*y) + (qk(6) + qk(7)*y)*y2)*y4 &
-             + (((qk(8) + qk(9)*y) + (qk(10) + qk(11)*y)*y2) + qk(12)*y4)*(y4*y4))
+        p = ((pk(0) + pk(1)*y) + (pk(2) + pk(3)*y)*y2) + ((pk(4) + pk(5)*y) + (pk(6) + pk(7)*y)*y2)*y4
+        q = ((qk(0) + qk(1)*y) + (qk(2) + qk(3)*y)*y2) + ((qk(4) + qk(5)*y) + (qk(6) + qk(7)*y)*y2)*y4
         x(j) = p - log_pos(y)*q
       end do
     end if
-  end subroutine ke_log_forms
+  end subroutine pass_log
 
   !> K of many complementary parameters 0 < mc(i) <= 1 (the caller has checked them):
-  !> k(i) = ellipkm1(mc(i)), the same numbers, with the logarithmic forms (mc <= 0.15)
-  !> gathered into one vectorised loop.  For the period over many amplitudes.
+  !> k(i) = ellipkm1(mc(i)), the same numbers, by the passes of the array forms.  For the
+  !> period over many amplitudes.
   pure subroutine k_unit_many(mc, k)
     real(wp), intent(in) :: mc(:)  !< complementary parameters, 0 < mc <= 1
     real(wp), intent(out) :: k(:)  !< K(1 - mc(i)), size(mc) elements
-    integer, parameter :: nb = 256
-    real(wp) :: mcs(nb), v(nb)
-    integer :: idx(nb), i, i0, i1, j, nl
+    real(wp) :: m(nb), c(nb)
+    integer :: i0, n
     do i0 = 1, size(mc), nb
-      i1 = min(size(mc), i0 + nb - 1)
-      nl = 0
-      do i = i0, i1
-        if (mc(i) <= 0.15_wp) then
-          nl = nl + 1
-          idx(nl) = i
-          mcs(nl) = mc(i)
-        else
-          k(i) = poly_at(k_poly, 1 - mc(i))   ! = k_unit(1 - mc(i), mc(i))
-        end if
-      end do
-      call ke_log_forms(nl, mcs, .false., v)
-      do j = 1, nl
-        k(idx(j)) = v(j)
-      end do
+      n = min(nb, size(mc) - i0 + 1)
+      c(1:n) = mc(i0:i0 + n - 1)
+      m(1:n) = 1 - c(1:n)
+      call ke_block(n, m, c, .false., k(i0:i0 + n - 1))
     end do
   end subroutine k_unit_many
 

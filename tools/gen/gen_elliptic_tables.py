@@ -115,15 +115,20 @@ def series_fortran():
 
 # ---------------------------------------------------------------- K and E
 # Piecewise polynomials (Chebyshev interpolants at 40 digits, written as powers of
-# y = m - centre): 17 intervals of width 1/20 on 0 <= m < 0.85, and for
-# mc = 1 - m <= 0.15 the logarithmic form (DLMF 19.12.1 structure)
+# t = m - centre) on intervals cut by the bits of mc = 1 - m: each binade [2**e, 2**(e+1))
+# of mc, e = -5..-1, in KE_SPLIT pieces of equal width, so that every interval's
+# distance to the singularity at m = 1 is at least 2 KE_SPLIT half-widths and ONE degree
+# serves them all (index = the exponent and top mantissa bits of mc, no search); one more
+# interval [1, 1 + 1/KE_SPLIT) of mc holds m = 0.  For mc < 2**-5 the logarithmic form
+# (DLMF 19.12.1 structure)
 #   K = P(mc) - ln(mc) Q(mc),   E = Pe(mc) - ln(mc) mc Qe1(mc),
 # with Q = K(mc)/pi and mc Qe1 = (K(mc) - E(mc))/pi analytic for |mc| < 1, as powers
 # of mc itself (so that mc -> 0 gives the exact limits P(0) = ln 4, Pe(0) = 1).
-KE_DEG = 12
-KE_NINT = 17
-KE_WIDTH = 0.05
-KE_MC_MAX = 0.15
+KE_DEG = 8  # degree of the interval polynomials
+KE_SPLIT = 16  # pieces per binade of mc (the top 4 mantissa bits)
+KE_EMIN = -5  # the lowest binade of the table: mc >= 2**KE_EMIN, below it the log form
+KE_NINT = -KE_EMIN * KE_SPLIT + 1
+KE_LOG_DEG = 7  # degree of P, Q, Pe, Qe1 on [0, 2**KE_EMIN]
 
 
 def _cheb_monomial(f, a, b, n, mp):
@@ -148,21 +153,32 @@ def _shift_to_zero(co, c, mp):
     return out
 
 
+def ke_intervals(mp):
+    """(m_lo, m_hi) of table interval i = 0..KE_NINT-1: mc in 2**e [1 + q/S, 1 + (q+1)/S)
+    with e = KE_EMIN + i // S, q = i % S (the index the Fortran reads from mc's bits)."""
+    out = []
+    for i in range(KE_NINT):
+        e, q = KE_EMIN + i // KE_SPLIT, i % KE_SPLIT
+        lo = mp.mpf(2) ** e * (1 + mp.mpf(q) / KE_SPLIT)
+        hi = mp.mpf(2) ** e * (1 + mp.mpf(q + 1) / KE_SPLIT)
+        out.append((1 - hi, 1 - lo))
+    return out
+
+
 def ke_tables():
     import mpmath as mp
 
     mp.mp.dps = 40
     kt, et = [], []
-    for i in range(KE_NINT):
-        a, b = mp.mpf(i) * KE_WIDTH, mp.mpf(i + 1) * KE_WIDTH
+    for a, b in ke_intervals(mp):
         kt.append(_cheb_monomial(mp.ellipk, a, b, KE_DEG, mp))
         et.append(_cheb_monomial(mp.ellipe, a, b, KE_DEG, mp))
     P = lambda x: mp.ellipk(1 - x) + mp.log(x) * mp.ellipk(x) / mp.pi  # noqa: E731
     Q = lambda x: mp.ellipk(x) / mp.pi  # noqa: E731
     Pe = lambda x: mp.ellipe(1 - x) + mp.log(x) * (mp.ellipk(x) - mp.ellipe(x)) / mp.pi  # noqa: E731
     Qe1 = lambda x: (mp.ellipk(x) - mp.ellipe(x)) / (mp.pi * x)  # noqa: E731
-    lo, hi = mp.mpf(0), mp.mpf(KE_MC_MAX)
-    near = [_shift_to_zero(_cheb_monomial(f, lo, hi, KE_DEG, mp), (lo + hi) / 2, mp) for f in (P, Q, Pe, Qe1)]
+    lo, hi = mp.mpf(0), mp.mpf(2) ** KE_EMIN
+    near = [_shift_to_zero(_cheb_monomial(f, lo, hi, KE_LOG_DEG, mp), (lo + hi) / 2, mp) for f in (P, Q, Pe, Qe1)]
     return kt, et, near
 
 
@@ -178,12 +194,15 @@ def _array(name, rows):
 
 def ke_fortran():
     kt, et, near = ke_tables()
+    s, lo = KE_SPLIT, 2.0**KE_EMIN
     return "\n".join(
         [
-            "  !> K and E: piecewise polynomials in y = m - (i + 1/2)/20 on [i/20, (i+1)/20), i = 0..16",
-            "  !> (k_poly, e_poly), and for mc <= 0.15 the logarithmic form K = P(mc) - ln(mc) Q(mc),",
-            "  !> E = Pe(mc) - ln(mc) mc Qe1(mc) in powers of mc (columns P, Q, Pe, Qe1 of ke_log_poly).",
-            "  !> Chebyshev interpolants of degree 12 at 40 digits; truncation < 0.1 ulp.",
+            f"  !> K and E: polynomials in t = m - c_i of degree {KE_DEG} on the intervals i = 0..{KE_NINT - 1} of",
+            f"  !> mc = 1 - m in 2**e [1 + q/{s}, 1 + (q+1)/{s}), e = {KE_EMIN} + i/{s}, q = mod(i, {s}) (c_i: the",
+            f"  !> interval's centre in m; k_poly, e_poly), and for mc < {lo:g} the logarithmic form",
+            "  !> K = P(mc) - ln(mc) Q(mc), E = Pe(mc) - ln(mc) mc Qe1(mc) in powers of mc (columns P, Q,",
+            f"  !> Pe, Qe1 of ke_log_poly, degree {KE_LOG_DEG}).  Chebyshev interpolants at 40 digits;",
+            "  !> truncation < 0.02 ulp.",
             _array("k_poly", kt),
             _array("e_poly", et),
             _array("ke_log_poly", near),
