@@ -113,13 +113,15 @@ contains
     e = prod_err(s, s, s*s)
   end function sq_err
 
-  !> ln(x) for 0 < x < +Inf (subnormal x included), within 1 ulp: x = 2^k (1 + f) with
-  !> 1 + f in [sqrt(2)/2, sqrt(2)) read from the bits, ln(1 + f) = f - f^2/2 + s (f^2/2 + R)
-  !> with s = f/(2 + f), R(s^2) the minimax polynomial of degree 7 of fdlibm's e_log.c
-  !> (|error| < 2**-58.45 on |s| <= 0.1716), and k ln 2 with ln 2 in two parts.  Plain
-  !> arithmetic, inlined into the vectorised logarithmic forms of K and E.
-  pure elemental real(wp) function log_pos(x) result(y)
-    real(wp), intent(in) :: x  !< argument, 0 < x < +Inf
+  !> ln(x) + e0 ln 2 for normal 0 < x < +Inf (subnormal x: log_pos(x 2**54, -54)), within
+  !> 1 ulp: x = 2^k (1 + f) with 1 + f in [sqrt(2)/2, sqrt(2)) read from the bits,
+  !> ln(1 + f) = f - f^2/2 + s (f^2/2 + R) with s = f/(2 + f), R(s^2) the minimax polynomial
+  !> of degree 7 of fdlibm's e_log.c (|error| < 2**-58.45 on |s| <= 0.1716), and (k + e0) ln 2
+  !> with ln 2 in two parts.  Plain arithmetic, inlined into the vectorised logarithmic
+  !> forms of K and E (a subnormal test there cost a quarter of their time).
+  pure elemental real(wp) function log_pos(x, e0) result(y)
+    real(wp), intent(in) :: x  !< argument, tiny(x) <= x < +Inf
+    integer, intent(in) :: e0  !< power of 2 added (-54 for x scaled by 2**54)
     integer(int64), parameter :: mant = int(z'000FFFFFFFFFFFFF', int64), bump = int(z'00095F6400000000', int64), &
                                  bit52 = int(z'0010000000000000', int64), one_bits = int(z'3FF0000000000000', int64)
     real(wp), parameter :: ln2_hi = 6.93147180369123816490e-01_wp, ln2_lo = 1.90821492927058770002e-10_wp
@@ -128,17 +130,14 @@ contains
                            lg5 = 1.818357216161805012e-01_wp, lg6 = 1.531383769920937332e-01_wp, &
                            lg7 = 1.479819860511658591e-01_wp
     integer(int64) :: ix, ix0, i, k
-    real(wp) :: xs, f, s, z, w, r, hfsq, dk
-    logical :: sub
-    sub = x < tiny(x)
-    xs = merge(x*2.0_wp**54, x, sub)
-    ix = transfer(xs, ix)
+    real(wp) :: f, s, z, w, r, hfsq, dk
+    ix = transfer(x, ix)
     ix0 = ix
     ix = iand(ix, mant)
     ! mantissa >= sqrt(2) - 1: take 1 + f in [sqrt(2)/2, 1) and k + 1 (fdlibm's test)
     i = iand(ix + bump, bit52)
     f = transfer(ior(ix, ieor(one_bits, i)), f) - 1
-    k = shiftr(ix0, 52) + shiftr(i, 52) - merge(1077_int64, 1023_int64, sub)
+    k = shiftr(ix0, 52) + shiftr(i, 52) - 1023 + e0
     dk = real(int(k, int32), wp)      ! through int32: a vector conversion on every x86-64
     hfsq = 0.5_wp*f*f
     s = f/(2 + f)
@@ -149,6 +148,19 @@ contains
     y = dk*ln2_hi - ((hfsq - (s*(hfsq + r) + dk*ln2_lo)) - f)
   end function log_pos
 
+  !> K (second = .false.) or E at a subnormal mc: the logarithmic forms reduce to
+  !> P(0) - ln(mc) Q(0) and Pe(0) (the other terms are below the last bit), ln(mc) from the
+  !> normal mc 2**54.
+  pure elemental real(wp) function ke_subnormal(mc, second) result(x)
+    real(wp), intent(in) :: mc
+    logical, intent(in) :: second
+    if (second) then
+      x = ke_log_poly(0, 2)
+    else
+      x = ke_log_poly(0, 0) - log_pos(mc*2.0_wp**54, -54)*ke_log_poly(0, 1)
+    end if
+  end function ke_subnormal
+
   !> K(m) for 0 <= m < 1 given m and mc = 1 - m (m accurate when m < 1/2, mc when m > 1/2).
   !> Through the passes of the array forms with one element: their loops are the one home
   !> of the formulas (and the only callers of k_table, k_log, ..., which gcc then inlines
@@ -157,7 +169,9 @@ contains
     real(wp), intent(in) :: m  !< parameter m in [0, 1)
     real(wp), intent(in) :: mc  !< 1 - m (accurate when m > 1/2)
     real(wp) :: x(1)
-    if (mc < mc_log) then
+    if (mc < tiny(mc)) then
+      x = ke_subnormal(mc, .false.)
+    else if (mc < mc_log) then
       call pass_log(1, [mc], .false., x)
     else
       call pass_table(1, [m], [mc], .false., x)
@@ -169,7 +183,9 @@ contains
   pure elemental real(wp) function e_unit(m, mc) result(e)
     real(wp), intent(in) :: m, mc
     real(wp) :: x(1)
-    if (mc < mc_log) then
+    if (mc < tiny(mc)) then
+      x = ke_subnormal(mc, .true.)
+    else if (mc < mc_log) then
       call pass_log(1, [mc], .true., x)
     else
       call pass_table(1, [m], [mc], .true., x)
@@ -329,7 +345,8 @@ contains
   ! k_unit takes them, the same numbers as k_unit/e_unit.  Each kind (interval polynomial,
   ! logarithmic form) is taken in one branch-free vectorised pass: over the whole block
   ! when the block is all of one kind or mostly of it (the few others get a finite value
-  ! there, replaced after), the other kind gathered into its own pass and scattered back.
+  ! there, replaced after), the other kind gathered into its own pass and scattered back;
+  ! subnormal mc (not in log_pos's range) last, by ke_subnormal.
   ! Gathers are branch-free too (random m made the test of each element unpredictable).
   pure subroutine ke_block(n, m, mc, second, x)
     integer, intent(in) :: n
@@ -337,14 +354,16 @@ contains
     logical, intent(in) :: second
     real(wp), intent(out) :: x(n)
     real(wp) :: g(nb), gc(nb), v(nb)
-    integer :: idx(nb + 1), j, nl, ng
+    integer :: idx(nb + 1), j, nl, ng, ns
     nl = 0
+    ns = 0
     do j = 1, n
       nl = nl + merge(1, 0, mc(j) < mc_log)
+      ns = ns + merge(1, 0, mc(j) < tiny(mc))
     end do
     if (2*nl < n) then   ! mostly (or all) interval polynomials
       call pass_table(n, m, mc, second, x)
-      if (nl == 0) return
+      if (nl == 0) return   ! (then ns = 0 too)
       ng = 0
       do j = 1, n
         idx(ng + 1) = j
@@ -354,22 +373,30 @@ contains
         gc(j) = mc(idx(j))
       end do
       call pass_log(ng, gc, second, v)
+      do j = 1, ng
+        x(idx(j)) = v(j)
+      end do
     else   ! mostly (or all) logarithmic forms
       call pass_log(n, mc, second, x)
-      if (nl == n) return
-      ng = 0
-      do j = 1, n
-        idx(ng + 1) = j
-        ng = ng + merge(0, 1, mc(j) < mc_log)
-      end do
-      do j = 1, ng
-        g(j) = m(idx(j))
-        gc(j) = mc(idx(j))
-      end do
-      call pass_table(ng, g, gc, second, v)
+      if (nl < n) then
+        ng = 0
+        do j = 1, n
+          idx(ng + 1) = j
+          ng = ng + merge(0, 1, mc(j) < mc_log)
+        end do
+        do j = 1, ng
+          g(j) = m(idx(j))
+          gc(j) = mc(idx(j))
+        end do
+        call pass_table(ng, g, gc, second, v)
+        do j = 1, ng
+          x(idx(j)) = v(j)
+        end do
+      end if
     end if
-    do j = 1, ng
-      x(idx(j)) = v(j)
+    if (ns == 0) return
+    do j = 1, n
+      if (mc(j) < tiny(mc)) x(j) = ke_subnormal(mc(j), second)
     end do
   end subroutine ke_block
 
@@ -423,8 +450,8 @@ contains
 
   ! K (second = .false.) or E by the logarithmic forms K = P(mc) - ln(mc) Q(mc),
   ! E = Pe(mc) - ln(mc) mc Qe1(mc) (degree 7, Estrin's scheme) at 0 < mc(j) <= 1, j = 1..n:
-  ! one vectorised loop without branches or calls (log_pos inlined).  k_unit and e_unit
-  ! come here with one element.
+  ! one vectorised loop without branches or calls (log_pos inlined).  Subnormal mc give
+  ! finite values, replaced by ke_subnormal's.  k_unit and e_unit come here with one element.
   pure subroutine pass_log(n, mc, second, x)
     integer, intent(in) :: n
     real(wp), intent(in) :: mc(n)
@@ -441,7 +468,7 @@ contains
         y4 = y2*y2
         p = ((pe(0) + pe(1)*y) + (pe(2) + pe(3)*y)*y2) + ((pe(4) + pe(5)*y) + (pe(6) + pe(7)*y)*y2)*y4
         q = ((qe(0) + qe(1)*y) + (qe(2) + qe(3)*y)*y2) + ((qe(4) + qe(5)*y) + (qe(6) + qe(7)*y)*y2)*y4
-        x(j) = p - log_pos(y)*y*q
+        x(j) = p - log_pos(y, 0)*y*q
       end do
     else
       do j = 1, n
@@ -450,7 +477,7 @@ contains
         y4 = y2*y2
         p = ((pk(0) + pk(1)*y) + (pk(2) + pk(3)*y)*y2) + ((pk(4) + pk(5)*y) + (pk(6) + pk(7)*y)*y2)*y4
         q = ((qk(0) + qk(1)*y) + (qk(2) + qk(3)*y)*y2) + ((qk(4) + qk(5)*y) + (qk(6) + qk(7)*y)*y2)*y4
-        x(j) = p - log_pos(y)*q
+        x(j) = p - log_pos(y, 0)*q
       end do
     end if
   end subroutine pass_log
