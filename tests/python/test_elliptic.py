@@ -92,6 +92,48 @@ def test_complete_integrals_against_mpmath():
         assert _rel(e, eref) <= TOL_ULPS, (p, comp, e, eref)
 
 
+def test_complete_integrals_at_table_edges():
+    # K, E at the edges of the interval table (mc = 1 - m = 2**e (1 + q/16), e = -5..0) and
+    # of the logarithmic form (mc < 2**-5), each with its two neighbours, against mpmath at
+    # the exact double inputs (m form and complement form); the arrays equal the scalars
+    import mpmath as mp
+
+    edges = np.array([2.0**e * (1 + q / 16) for e in range(-5, 1) for q in range(16)])
+    p = np.unique(np.concatenate([edges, np.nextafter(edges, 0), np.nextafter(edges, 2)]))
+    p = p[p <= 1]
+    for comp, x in ((True, p), (False, 1 - p)):
+        fk, fe = (pendula.ellipkm1, pendula.ellipem1) if comp else (pendula.ellipk, pendula.ellipe)
+        k, e = fk(x), fe(x)
+        assert np.array_equal(k, [fk(float(v)) for v in x]) and np.array_equal(e, [fe(float(v)) for v in x])
+        for i, v in enumerate(x):
+            with mp.workprec(300):
+                mm = 1 - mp.mpf(float(v)) if comp else mp.mpf(float(v))
+                kref, eref = float(mp.ellipk(mm)), float(mp.ellipe(mm))
+            assert _rel(k[i], kref) <= TOL_ULPS, (comp, v, k[i], kref)
+            assert _rel(e[i], eref) <= TOL_ULPS, (comp, v, e[i], eref)
+
+
+def test_complete_integral_arrays_equal_scalars_in_mixed_blocks():
+    # blocks (256 elements) mostly in the logarithmic form with a few table points, mostly
+    # in the table with a few logarithmic ones, with NaN, out-of-domain and subnormal
+    # complements among them: the array forms give the scalar forms' numbers to the bit
+    rng = np.random.default_rng(5)
+    p = np.concatenate(
+        [
+            10 ** rng.uniform(-320, -2, 250),
+            rng.uniform(0.04, 1, 6),
+            [0.0, np.nan, 3.0, 5e-324, 1e-310],
+            rng.uniform(0.04, 1, 250),
+            10 ** rng.uniform(-15, -2, 6),
+            [1.0, 0.03125, np.nextafter(0.03125, 0)],
+        ]
+    )
+    m = np.concatenate([1 - p, [-2.0, 1.0, 1.5, -np.inf]])
+    for f, x in ((pendula.ellipkm1, p), (pendula.ellipem1, p), (pendula.ellipk, m), (pendula.ellipe, m)):
+        arr = f(x, errors="nan")
+        assert np.array_equal(arr, [f(float(v), errors="nan") for v in x], equal_nan=True), f.__name__
+
+
 def test_incomplete_integral_against_mpmath():
     for phi, p, comp, fref, cond in DATA["f"]:
         f = pendula.ellipfm1(phi, p) if comp else pendula.ellipf(phi, p)
