@@ -12,6 +12,7 @@ pendula time, > 1 means pendula is faster) on N points (default 1e6):
   ellipe   m ~ U(0, 1)
   ellipk   near m = 1: 1 - m = 10**U(-15, -1), passed as m (scipy: ellipk(m) too)
   ellipe   near m = 1: the same m
+  ellipkm1 near m = 1: p = 1 - m = 10**U(-15, -1) itself (scipy: ellipkm1(p))
   ellipf   phi ~ U(-pi/2, pi/2), m ~ U(0, 1)      (scipy: ellipkinc)
 
 and Boost.Math's double-precision F (ellint_1 with promote_double<false>) on the same
@@ -54,7 +55,8 @@ def cases(n, rng):
     m = rng.uniform(0, 1, n)
     ubig = rng.uniform(20, 1000, n) * rng.choice([-1.0, 1.0], n)
     phi = rng.uniform(-np.pi / 2, np.pi / 2, n)
-    near = 1 - 10 ** rng.uniform(-15, -1, n)
+    p_near = 10 ** rng.uniform(-15, -1, n)
+    near = 1 - p_near
     return [
         ("ellipj random (u, m)", lambda: pendula.ellipj(u, m), lambda: sc.ellipj(u, m)),
         (LARGE_U, lambda: pendula.ellipj(ubig, m), lambda: sc.ellipj(ubig, m)),
@@ -63,6 +65,7 @@ def cases(n, rng):
         ("ellipe", lambda: pendula.ellipe(m), lambda: sc.ellipe(m)),
         ("ellipk near m = 1", lambda: pendula.ellipk(near), lambda: sc.ellipk(near)),
         ("ellipe near m = 1", lambda: pendula.ellipe(near), lambda: sc.ellipe(near)),
+        ("ellipkm1 near m = 1", lambda: pendula.ellipkm1(p_near), lambda: sc.ellipkm1(p_near)),
         ("ellipf", lambda: pendula.ellipf(phi, m), lambda: sc.ellipkinc(phi, m)),
     ]
 
