@@ -27,7 +27,7 @@ module pendula_dispatch
       integer(c_int) :: c_kernel_available
     end function c_kernel_available
     !> States per block (lanes) of the running path's batch RK4 kernel: the
-    !> largest nb that rk4_lanes takes (RK4_BATCH_LANES, or 16 on x86-64-v4).
+    !> largest nb that rk4_lanes takes (RK4_BATCH_LANES, or 128 on x86-64-v4).
     function rk4_lanes_width() bind(C, name='pendula_rk4_lanes_width')
       import :: c_int
       integer(c_int) :: rk4_lanes_width

@@ -5,7 +5,7 @@
 !>
 !> Why a separate kernel: rk4_grid's step is a dependent chain (two chained
 !> stage sines per recurrence) and so bound by latency.  Here the
-!> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes (16 on
+!> states run in structure-of-arrays blocks of RK4_BATCH_LANES lanes (128 on
 !> x86-64-v4: pendula_dispatch's rk4_lanes_width); one
 !> step of a block is a loop over lanes with no dependence between them, which
 !> gcc vectorises and whose independent chains fill the pipeline.  The block

@@ -1,7 +1,14 @@
 !> The batch RK4 kernel proper (pendula_rk4_batch): one block of up to
-!> RK4_BATCH_LANES states (16 on x86-64-v4) integrated over the whole output grid, lane by lane
+!> RK4_BATCH_LANES states (128 on x86-64-v4) integrated over the whole output grid, lane by lane
 !> exactly rk4_grid's operations (pendula_rk4_kernel).
 !>
+!> Shape: each substep is one loop over the block's lanes (table_step,
+!> inlined and vectorised across lanes), with the lanes' state in
+!> double-buffered arrays that stay in L1.  When the block shares w0, gamma
+!> and h (the common case), the interval's constants are scalars; otherwise
+!> they are formed per lane once per interval.  The rare plain (libm) steps
+!> and the idle lanes of unequal substep counts are patched after the loop,
+!> so that the loop itself has no branch.
 !> Why a file of its own, compiled several times: the kernel is a loop over
 !> lanes that gcc vectorises, and its speed is set by the vector width of
 !> the instruction set it may use.  meson compiles this file once per target
@@ -27,7 +34,7 @@
 #define PENDULA_LANES_WIDTH_FN pendula_rk4_lanes_baseline_width
 #endif
 ! The block width (lanes) of this variant: RK4_BATCH_LANES unless meson
-! asks for more (x86-64-v4: 16 lanes, two 512-bit vectors).
+! asks for more (x86-64-v4: 128 lanes).
 #ifndef PENDULA_LANES_WIDTH
 #define PENDULA_LANES_WIDTH RK4_BATCH_LANES
 #endif
@@ -41,10 +48,10 @@ module PENDULA_LANES_MODULE
   include 'pendula_rk4_tables.inc'
 
   integer, parameter :: nl = PENDULA_LANES_WIDTH
-  !> Block steps (of nl lanes each) between two polls of the cancel flag (~0.25 ms).
-  integer(i8), parameter :: poll_every = 2048
-  !> Output intervals per chunk (their substeps and step constants formed
-  !> together ahead of their steps, their outputs stored together).
+  !> Lane-steps between two polls of the cancel flag (~0.25 ms of work).
+  integer(i8), parameter :: poll_lane_steps = 32768
+  !> Output intervals per chunk (their outputs stored together, a cache line
+  !> of each state's series at a time).
   integer, parameter :: nchunk = 8
   !> Columns of the step constants (step_constants' outputs, in its order).
   integer, parameter :: c_half = 1, c_sixth = 2, c_h2q = 3, c_hh = 4, c_c6 = 5, c_w1 = 6, c_w2 = 7, c_cy = 8, &
@@ -87,20 +94,15 @@ contains
     integer(c_int64_t), intent(inout), volatile :: control(ncontrol)  !< control(icancel) /= 0 asks to stop
     integer(c_int), intent(in) :: icancel  !< index of the cancel flag in control
     integer(c_int), intent(out) :: done  !< 1 when the block ran to the end, 0 when cancelled
-    real(wp), dimension(nl) :: y, u, rh, wsq, gam, hl, fin, yn, un, rn
-    integer, dimension(nl) :: kk, kn
-    logical, dimension(nl) :: okv
-    integer(i8) :: ns(nl)
-    logical, dimension(nl) :: dlane
-    ! per chunk of output intervals: each interval's substep size and count
-    ! (per lane) and rk4_grid's per-interval constants, lane by lane; the
-    ! lanes' outputs
-    real(wp) :: hsc(nl, nchunk), cst(nl, ncst, nchunk), bth(nl, nchunk), bom(nl, nchunk)
-    integer(i8) :: msc(nl, nchunk), nmx(nchunk), nst
-    integer :: l, s, j0, jn, jj
-    integer(i8) :: i, m, work
-    real(wp) :: dt, hm
-    logical :: uniform
+    ! the lanes' state, double-buffered (a step reads buffer a and writes 1 - a)
+    real(wp) :: y(nl, 0:1), u(nl, 0:1), rh(nl, 0:1)
+    integer :: kk(nl, 0:1)
+    real(wp), dimension(nl) :: wsq, gam, hl, hsc, fin
+    real(wp) :: cst(nl, ncst), cs(ncst), bth(nl, nchunk), bom(nl, nchunk)
+    integer(i8) :: msc(nl), ns(nl), m, i, mx, work
+    logical :: dlane(nl), same, same_h
+    integer :: l, s, a, j0, jn, jj, c
+    real(wp) :: dt, hm, nbad
     done = 0
     nsteps = 0
     dead = 0
@@ -109,105 +111,109 @@ contains
     end if
     do l = 1, nl
       s = idx(min(l, nb))
-      y(l) = theta(1, s)
-      u(l) = omega(1, s)
+      y(l, 0) = theta(1, s)
+      u(l, 0) = omega(1, s)
       wsq(l) = w0(merge(1, s, nw == 1))*w0(merge(1, s, nw == 1))
       gam(l) = gamma(merge(1, s, ng == 1))
       hl(l) = h(merge(1, s, nh == 1))
-      call node_reduce(y(l), kk(l), rh(l))
+      call node_reduce(y(l, 0), kk(l, 0), rh(l, 0))
     end do
-    uniform = all(hl == hl(1))
+    ! One step size and pair of parameters for the whole block (the common
+    ! case: scalar w0, gamma and h) takes the interval's constants as scalars.
+    same_h = all(hl == hl(1))
+    same = same_h .and. all(wsq == wsq(1)) .and. all(gam == gam(1))
+    a = 0
     ns = 0
     dlane = .false.
     work = 0
     j0 = 1
     do while (j0 <= nt - 1)
       jn = min(nchunk, nt - j0)
-      ! The chunk's substeps and step constants first: they depend on t, h,
-      ! w0 and gamma only, and their divisions and branches then stay off the
-      ! states' dependency chain (rk4_grid forms them one interval ahead).
-      ! A chunk ends early once it holds poll_every steps (cancel latency).
-      nst = 0
       do jj = 1, jn
         dt = t(j0 + jj) - t(j0 + jj - 1)
-        if (uniform) then
+        if (same) then
           m = substeps(dt, hl(1))
           hm = dt
           if (m /= 1) hm = dt/real(m, wp)
-          msc(:, jj) = m
-          hsc(:, jj) = hm
-        else
-          do l = 1, nl
-            msc(l, jj) = substeps(dt, hl(l))
-            hsc(l, jj) = dt
-            if (msc(l, jj) /= 1) hsc(l, jj) = dt/real(msc(l, jj), wp)
+          call step_constants(hm, wsq(1), gam(1), cs(c_half), cs(c_sixth), cs(c_h2q), cs(c_hh), cs(c_c6), cs(c_w1), &
+                              cs(c_w2), cs(c_cy), cs(c_g2), cs(c_wa), cs(c_wb), cs(c_bu0), cs(c_bu1))
+          do i = 1, m
+            call same_step(y(:, a), u(:, a), rh(:, a), kk(:, a), wsq(1), gam(1), hm, cs, &
+                           y(:, 1 - a), u(:, 1 - a), rh(:, 1 - a), kk(:, 1 - a), fin, nbad)
+            if (nbad > 0) then
+              do l = 1, nl
+                hsc(l) = hm
+                do c = 1, ncst
+                  cst(l, c) = cs(c)
+                end do
+              end do
+              call plain_lanes(fin, y(:, a), u(:, a), wsq, gam, hsc, cst, y(:, 1 - a), u(:, 1 - a), &
+                               rh(:, 1 - a), kk(:, 1 - a))
+            end if
+            a = 1 - a
           end do
+          ns = ns + merge(0_i8, m, dlane)
+          work = work + m*nl
+        else
+          ! parameters per lane: the interval's constants per lane, and its
+          ! substeps too when the lanes' step bounds differ (lanes with fewer
+          ! substeps then keep their state through the others' last ones)
+          if (same_h) then
+            m = substeps(dt, hl(1))
+            hm = dt
+            if (m /= 1) hm = dt/real(m, wp)
+            hsc = hm
+            msc = merge(0_i8, m, dlane)
+            mx = m
+          else
+            do l = 1, nl
+              msc(l) = merge(0_i8, substeps(dt, hl(l)), dlane(l))
+              hsc(l) = dt
+              if (msc(l) > 1) hsc(l) = dt/real(msc(l), wp)
+            end do
+            mx = maxval(msc)
+          end if
+          call step_constants(hsc, wsq, gam, cst(:, c_half), cst(:, c_sixth), cst(:, c_h2q), cst(:, c_hh), &
+                              cst(:, c_c6), cst(:, c_w1), cst(:, c_w2), cst(:, c_cy), cst(:, c_g2), cst(:, c_wa), &
+                              cst(:, c_wb), cst(:, c_bu0), cst(:, c_bu1))
+          do i = 1, mx
+            call lane_step(y(:, a), u(:, a), rh(:, a), kk(:, a), wsq, gam, hsc, cst, &
+                           y(:, 1 - a), u(:, 1 - a), rh(:, 1 - a), kk(:, 1 - a), fin, nbad)
+            if (nbad > 0) call plain_lanes(fin, y(:, a), u(:, a), wsq, gam, hsc, cst, y(:, 1 - a), &
+                                           u(:, 1 - a), rh(:, 1 - a), kk(:, 1 - a))
+            if (.not. same_h) call keep_idle(i, msc, y(:, a), u(:, a), rh(:, a), kk(:, a), &
+                                             y(:, 1 - a), u(:, 1 - a), rh(:, 1 - a), kk(:, 1 - a))
+            a = 1 - a
+          end do
+          ns = ns + msc
+          work = work + mx*nl
         end if
-        nst = nst + maxval(msc(:, jj))
-        if (nst >= poll_every) then
+        bth(:, jj) = y(:, a)
+        bom(:, jj) = u(:, a)
+        if (work >= poll_lane_steps) then
           jn = jj
           exit
         end if
       end do
-      do jj = 1, jn
-        call step_constants(hsc(:, jj), wsq, gam, cst(:, c_half, jj), cst(:, c_sixth, jj), cst(:, c_h2q, jj), &
-                            cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), cst(:, c_cy, jj), &
-                            cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), cst(:, c_bu1, jj))
-      end do
-      ! Then the chunk's steps, with nothing between two intervals but the
-      ! loop control and the store of the lanes' outputs (a lane with fewer
-      ! substeps in an interval idles through the rest of it; a stopped lane
-      ! takes none).
-      do l = 1, nl
-        if (dlane(l)) msc(l, 1:jn) = 0
-      end do
-      nst = 0
-      do jj = 1, jn
-        nmx(jj) = maxval(msc(:, jj))
-        nst = nst + max(nmx(jj), 1_i8)
-        ns = ns + msc(:, jj)
-      end do
-      do jj = 1, jn
-        do i = 1, nmx(jj)
-          call fast_step(y, u, rh, kk, wsq, gam, hsc(:, jj), cst(:, c_half, jj), cst(:, c_sixth, jj), &
-                         cst(:, c_h2q, jj), cst(:, c_hh, jj), cst(:, c_c6, jj), cst(:, c_w1, jj), cst(:, c_w2, jj), &
-                         cst(:, c_cy, jj), cst(:, c_g2, jj), cst(:, c_wa, jj), cst(:, c_wb, jj), cst(:, c_bu0, jj), &
-                         cst(:, c_bu1, jj), yn, un, rn, kn, okv)
-          if (.not. all(okv)) call plain_lanes(i <= msc(:, jj), y, u, wsq, gam, hsc(:, jj), cst(:, c_half, jj), &
-                                               cst(:, c_sixth, jj), cst(:, c_c6, jj), okv, yn, un, rn, kn)
-          if (uniform) then
-            y = yn
-            u = un
-            rh = rn
-            kk = kn
-          else
-            where (i <= msc(:, jj))
-              y = yn
-              u = un
-              rh = rn
-              kk = kn
-            end where
-          end if
-        end do
-        bth(:, jj) = y
-        bom(:, jj) = u
-      end do
-      work = work + nst
       ! rk4_grid stops at the first output that is not finite and rk4_solve
       ! reports it; such a lane stops too (its outputs are discarded by the
       ! caller).  One branch-free test per chunk.
-      do l = 1, nl
-        fin(l) = merge(merge(1.0_wp, 0.0_wp, all(abs(bom(l, 1:jn)) <= huge(u))), 0.0_wp, all(abs(bth(l, 1:jn)) <= huge(y)))
+      fin = 1
+      do jj = 1, jn
+        do l = 1, nl
+          fin(l) = merge(fin(l), 0.0_wp, abs(bth(l, jj)) <= huge(dt))
+          fin(l) = merge(fin(l), 0.0_wp, abs(bom(l, jj)) <= huge(dt))
+        end do
       end do
       if (minval(fin) < 1) then
         do l = 1, nl
           if (fin(l) < 1) dlane(l) = .true.
         end do
         where (dlane)
-          y = 0
-          u = 0
-          rh = 0
-          kk = 0
+          y(:, a) = 0
+          u(:, a) = 0
+          rh(:, a) = 0
+          kk(:, a) = 0
         end where
       end if
       ! each state's outputs are contiguous: stored a chunk at a time (those
@@ -216,7 +222,7 @@ contains
         theta(j0 + 1:j0 + jn, idx(l)) = bth(l, 1:jn)
         omega(j0 + 1:j0 + jn, idx(l)) = bom(l, 1:jn)
       end do
-      if (poll /= 0 .and. work >= poll_every) then
+      if (poll /= 0 .and. work >= poll_lane_steps) then
         work = 0
         if (control(icancel) /= 0) return
       end if
@@ -229,120 +235,159 @@ contains
     done = 1
   end subroutine PENDULA_LANES_ENTRY
 
-  !> rk4_grid's plain libm step on the lanes l with okv(l) false that still
-  !> take this step (live(l)).  Out of line: the rare path stays out of the
-  !> hot loop's registers.  Not vectorised: with AVX2 gcc would call glibc's
-  !> vector sin (libmvec, up to 4 ulp), which gfortran declares SIMD-capable,
-  !> instead of the scalar libm sin of rk4_grid's plain step.
-  subroutine plain_lanes(live, y, u, wsq, gam, hs, half, sixth, c6, okv, yn, un, rn, kn)
-    logical, intent(in) :: live(nl)
-    real(wp), dimension(nl), intent(in) :: y, u, wsq, gam, hs, half, sixth, c6
-    logical, intent(in) :: okv(nl)
-    real(wp), dimension(nl), intent(inout) :: yn, un, rn
+  !> One table-path step of every lane when all lanes share hs, w0sq, gamma
+  !> and the interval's constants cs: (yo, uo, ro, ko) -> (yn, un, rn, kn).
+  !> okr(l) = 0 where lane l must take the plain step instead, and nbad
+  !> counts them.
+  pure subroutine same_step(yo, uo, ro, ko, wsq, gam, hs, cs, yn, un, rn, kn, okr, nbad)
+    real(wp), intent(in) :: yo(nl), uo(nl), ro(nl), wsq, gam, hs, cs(ncst)
+    integer, intent(in) :: ko(nl)
+    real(wp), intent(out) :: yn(nl), un(nl), rn(nl), okr(nl), nbad
+    integer, intent(out) :: kn(nl)
+    real(wp) :: sk(nl), ck(nl)
+    integer :: l
+    call node_values(ko, sk, ck)
+    nbad = 0
+    do l = 1, nl
+      call table_step(sk(l), ck(l), yo(l), uo(l), ro(l), wsq, gam, hs, cs(c_half), cs(c_sixth), cs(c_h2q), cs(c_hh), &
+                      cs(c_c6), cs(c_w1), cs(c_w2), cs(c_cy), cs(c_g2), cs(c_wa), cs(c_wb), cs(c_bu0), cs(c_bu1), &
+                      yn(l), un(l), rn(l), kn(l), okr(l))
+      nbad = max(nbad, 1 - okr(l))
+    end do
+  end subroutine same_step
+
+  !> One table-path step of every lane, each with its own parameters and
+  !> constants (cst(l, :)).  okr and nbad as same_step's.
+  pure subroutine lane_step(yo, uo, ro, ko, wsq, gam, hs, cst, yn, un, rn, kn, okr, nbad)
+    real(wp), intent(in) :: yo(nl), uo(nl), ro(nl), wsq(nl), gam(nl), hs(nl), cst(nl, ncst)
+    integer, intent(in) :: ko(nl)
+    real(wp), intent(out) :: yn(nl), un(nl), rn(nl), okr(nl), nbad
+    integer, intent(out) :: kn(nl)
+    real(wp) :: sk(nl), ck(nl)
+    integer :: l
+    call node_values(ko, sk, ck)
+    nbad = 0
+    do l = 1, nl
+      call table_step(sk(l), ck(l), yo(l), uo(l), ro(l), wsq(l), gam(l), hs(l), cst(l, c_half), cst(l, c_sixth), &
+                      cst(l, c_h2q), cst(l, c_hh), cst(l, c_c6), cst(l, c_w1), cst(l, c_w2), cst(l, c_cy), &
+                      cst(l, c_g2), cst(l, c_wa), cst(l, c_wb), cst(l, c_bu0), cst(l, c_bu1), yn(l), un(l), rn(l), &
+                      kn(l), okr(l))
+      nbad = max(nbad, 1 - okr(l))
+    end do
+  end subroutine lane_step
+
+  !> Substep i of an interval in which lane l takes msc(l) substeps: the
+  !> lanes past their last one keep their state (yo, ro, ...).
+  pure subroutine keep_idle(i, msc, yo, uo, ro, ko, yn, un, rn, kn)
+    integer(i8), intent(in) :: i, msc(nl)
+    real(wp), intent(in) :: yo(nl), uo(nl), ro(nl)
+    integer, intent(in) :: ko(nl)
+    real(wp), intent(inout) :: yn(nl), un(nl), rn(nl)
+    integer, intent(inout) :: kn(nl)
+    where (i > msc)
+      yn = yo
+      un = uo
+      rn = ro
+      kn = ko
+    end where
+  end subroutine keep_idle
+
+  !> rk4_grid's plain libm step on the lanes whose table step failed
+  !> (okr(l) = 0), from (yo, uo) with the lane's constants.
+  !> Out of line: the rare path stays out of the hot loop's registers.  Not
+  !> vectorised: with AVX2 gcc would call glibc's vector sin (libmvec, up to
+  !> 4 ulp), which gfortran declares SIMD-capable, instead of the scalar libm
+  !> sin of rk4_grid's plain step.
+  subroutine plain_lanes(okr, yo, uo, wsq, gam, hs, cst, yn, un, rn, kn)
+    real(wp), intent(in) :: okr(nl), yo(nl), uo(nl), wsq(nl), gam(nl), hs(nl), cst(nl, ncst)
+    real(wp), intent(inout) :: yn(nl), un(nl), rn(nl)
     integer, intent(inout) :: kn(nl)
     integer :: l
     !GCC$ novector
     do l = 1, nl
-      if (.not. okv(l) .and. live(l)) then
-        call plain_step(y(l), u(l), wsq(l), gam(l), hs(l), half(l), sixth(l), c6(l), yn(l), un(l))
+      if (okr(l) == 0) then
+        call plain_step(yo(l), uo(l), wsq(l), gam(l), hs(l), cst(l, c_half), cst(l, c_sixth), cst(l, c_c6), &
+                        yn(l), un(l))
         call node_reduce(yn(l), kn(l), rn(l))
       end if
     end do
   end subroutine plain_lanes
 
-  !> One table-path RK4 step on every lane (rk4_grid's fast branch, same
-  !> operations).  okv(l) is false where that lane must take the plain step
-  !> instead; such lanes are computed on a neutral state (0, 0) so that no
-  !> operation sees a huge argument, and their results are discarded.
-  !> The node's sine and cosine are gathered lane by lane first (SSE2 has no
-  !> gather; two loads per lane instead of rk4_grid's ten table entries, whose
-  !> products are formed here), then the arithmetic runs as branch-free loops
-  !> over lanes, which gcc vectorises.
-  pure subroutine fast_step(y, u, rh, kk, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
-                            bu0, bu1, yn, un, rn, kn, okv)
-    real(wp), dimension(nl), intent(in) :: y, u, rh, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
-                                           bu0, bu1
-    integer, dimension(nl), intent(in) :: kk
-    real(wp), dimension(nl), intent(out) :: yn, un, rn
-    integer, dimension(nl), intent(out) :: kn
-    logical, dimension(nl), intent(out) :: okv
-    real(wp), dimension(nl) :: sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9
-    real(wp) :: yv, uv, rv, p2, p4, a4, kfn, kp23
-    real(wp) :: r2, r3, r4, k1, k2, m2, m3, s1, s2, s3, s4, dy, z, zz
+  !> sin x_k and cos x_k of the lanes' nodes k.  A loop of its own: SSE2 has
+  !> no gather, and a table lookup inside the step's loop keeps gcc from
+  !> vectorising it there.
+  pure subroutine node_values(k, sk, ck)
+    integer, intent(in) :: k(nl)
+    real(wp), intent(out) :: sk(nl), ck(nl)
     integer :: l, ik
-    ! The path tests are 0/1 reals built by merges of locals: gfortran turns
-    ! .and. (and merges of array elements) into branches, which stop
-    ! vectorisation, while these become vector selects.
-    real(wp) :: ok0, oki(nl), bnd
     do l = 1, nl
-      ik = iand(kk(l), nnodes - 1)
+      ik = iand(k(l), nnodes - 1)
       sk(l) = node_sin(ik)
       ck(l) = node_cos(ik)
     end do
-    do l = 1, nl
-      ! the rows of `taylor`, formed as it was (one rounded product each)
-      c2(l) = sk(l)*taylor_factor(2)
-      c3(l) = ck(l)*taylor_factor(3)
-      c4(l) = sk(l)*taylor_factor(4)
-      c5(l) = ck(l)*taylor_factor(5)
-      c6t(l) = sk(l)*taylor_factor(6)
-      c7(l) = ck(l)*taylor_factor(7)
-      c8(l) = sk(l)*taylor_factor(8)
-      c9(l) = ck(l)*taylor_factor(9)
-    end do
-    do l = 1, nl
-      yv = y(l)
-      uv = u(l)
-      rv = rh(l)
-      bnd = abs(uv)*bu1(l) + bu0(l)
-      ok0 = merge(1.0_wp, 0.0_wp, bnd <= 1)
-      ok0 = merge(ok0, 0.0_wp, abs(rv) <= stage_rmax)
-      yv = merge(yv, 0.0_wp, ok0 == 1)
-      uv = merge(uv, 0.0_wp, ok0 == 1)
-      rv = merge(rv, 0.0_wp, ok0 == 1)
-      p2 = half(l)*uv
-      p4 = hs(l)*uv
-      a4 = yv + p4
-      kfn = round_away((a4 + p2)*nodes_per_radian)
-      kp23 = kfn*node_p2 + kfn*node_p3
-      r2 = rv + p2
-      ! the stage sines: pendula_rk4_kernel's sin_taylor, written out
-      z = rv*rv
-      zz = z*z
-      s1 = ((sk(l) + ck(l)*rv) + z*(c2(l) + c3(l)*rv)) + zz*(((c4(l) + c5(l)*rv) + z*(c6t(l) &
-                                                                                      + c7(l)*rv)) + zz*(c8(l) + c9(l)*rv))
-      z = r2*r2
-      zz = z*z
-      s2 = ((sk(l) + ck(l)*r2) + z*(c2(l) + c3(l)*r2)) + zz*(((c4(l) + c5(l)*r2) + z*(c6t(l) &
-                                                                                      + c7(l)*r2)) + zz*(c8(l) + c9(l)*r2))
-      k1 = -gam(l)*uv - wsq(l)*s1
-      r3 = (r2 - h2q(l)*gam(l)*uv) - w1(l)*s1
-      m2 = uv + half(l)*k1
-      r4 = ((rv + p4) - hh(l)*gam(l)*m2) - w2(l)*s2
-      k2 = -gam(l)*m2 - wsq(l)*s2
-      z = r3*r3
-      zz = z*z
-      s3 = ((sk(l) + ck(l)*r3) + z*(c2(l) + c3(l)*r3)) + zz*(((c4(l) + c5(l)*r3) + z*(c6t(l) &
-                                                                                      + c7(l)*r3)) + zz*(c8(l) + c9(l)*r3))
-      m3 = uv + half(l)*k2
-      dy = (p4 + c6(l)*((k1 + k2) - gam(l)*m3)) - cy(l)*s3
-      yn(l) = yv + dy
-      z = r4*r4
-      zz = z*z
-      s4 = ((sk(l) + ck(l)*r4) + z*(c2(l) + c3(l)*r4)) + zz*(((c4(l) + c5(l)*r4) + z*(c6t(l) &
-                                                                                      + c7(l)*r4)) + zz*(c8(l) + c9(l)*r4))
-      un(l) = uv + (((sixth(l)*((k1 + 2*k2) - gam(l)*uv - g2(l)*m3)) - wa(l)*s3) - wb(l)*s4)
-      rn(l) = ((yv - kfn*node_p1) - kp23) + dy
-      kn(l) = int(kfn)
-      ! (a NaN offset fails here but passes rk4_grid's max(); either way the
-      ! state is non-finite from this step on and reported the same)
-      oki(l) = merge(ok0, 0.0_wp, abs(a4) <= stage_xmax)
-      oki(l) = merge(oki(l), 0.0_wp, abs(r4) <= stage_rmax)
-      oki(l) = merge(oki(l), 0.0_wp, abs(r3) <= stage_rmax)
-      oki(l) = merge(oki(l), 0.0_wp, abs(r2) <= stage_rmax)
-    end do
-    okv = oki == 1
-  end subroutine fast_step
+  end subroutine node_values
+
+  !> One table-path RK4 step of one lane (rk4_grid's fast branch, the same
+  !> operations), inlined into the loops over lanes, which gcc vectorises.
+  !> ok = 0 where the lane must take the plain step instead; such a lane is
+  !> computed on a neutral state (0, 0) so that no operation sees a huge
+  !> argument, and its results are discarded.  The node's Taylor rows are
+  !> formed from sin x_k and cos x_k (one rounded product each, as the table
+  !> rows of rk4_grid: the same bits) instead of gathering eight more values.
+  pure subroutine table_step(sk, ck, y, u, rh, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, &
+                             bu0, bu1, yn, un, rn, kn, ok)
+    real(wp), intent(in) :: sk, ck  !< sin and cos of the lane's node
+    real(wp), intent(in) :: y, u, rh, wsq, gam, hs, half, sixth, h2q, hh, c6, w1, w2, cy, g2, wa, wb, bu0, bu1
+    real(wp), intent(out) :: yn, un, rn, ok
+    integer, intent(out) :: kn
+    real(wp) :: c2, c3, c4, c5, c6t, c7, c8, c9
+    real(wp) :: yv, uv, rv, p2, p4, a4, kfn, kp23, r2, r3, r4, k1, k2, m2, m3, s1, s2, s3, s4, dy, ok0
+    ! The path tests are 0/1 reals built by merges of locals: gfortran turns
+    ! .and. (and merges of array elements) into branches, which stop
+    ! vectorisation, while these become vector selects.
+    c2 = sk*taylor_factor(2)
+    c3 = ck*taylor_factor(3)
+    c4 = sk*taylor_factor(4)
+    c5 = ck*taylor_factor(5)
+    c6t = sk*taylor_factor(6)
+    c7 = ck*taylor_factor(7)
+    c8 = sk*taylor_factor(8)
+    c9 = ck*taylor_factor(9)
+    ok0 = merge(1.0_wp, 0.0_wp, abs(u)*bu1 + bu0 <= 1)
+    ok0 = merge(ok0, 0.0_wp, abs(rh) <= stage_rmax)
+    ! (products, not merges: these selects keep gcc from vectorising the
+    ! loop for SSE2; x*1 = x exactly, and a lane with ok0 = 0 is discarded)
+    yv = y*ok0
+    uv = u*ok0
+    rv = rh*ok0
+    p2 = half*uv
+    p4 = hs*uv
+    a4 = yv + p4
+    kfn = round_away((a4 + p2)*nodes_per_radian)
+    kp23 = kfn*node_p2 + kfn*node_p3
+    r2 = rv + p2
+    s1 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, rv)
+    s2 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r2)
+    k1 = -gam*uv - wsq*s1
+    r3 = (r2 - h2q*gam*uv) - w1*s1
+    m2 = uv + half*k1
+    r4 = ((rv + p4) - hh*gam*m2) - w2*s2
+    k2 = -gam*m2 - wsq*s2
+    s3 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r3)
+    m3 = uv + half*k2
+    dy = (p4 + c6*((k1 + k2) - gam*m3)) - cy*s3
+    yn = yv + dy
+    s4 = sin_taylor(sk, ck, c2, c3, c4, c5, c6t, c7, c8, c9, r4)
+    un = uv + (((sixth*((k1 + 2*k2) - gam*uv - g2*m3)) - wa*s3) - wb*s4)
+    rn = ((yv - kfn*node_p1) - kp23) + dy
+    kn = int(kfn)
+    ! (a NaN offset fails here but passes rk4_grid's max(); either way the
+    ! state is non-finite from this step on and reported the same)
+    ! (a product of 0/1 selects: a chain of merges becomes one branchy
+    ! multi-way join that gcc does not if-convert for SSE2)
+    ok = (ok0*merge(1.0_wp, 0.0_wp, abs(a4) <= stage_xmax))*(merge(1.0_wp, 0.0_wp, abs(r4) <= stage_rmax) &
+                                       *(merge(1.0_wp, 0.0_wp, abs(r3) <= stage_rmax)*merge(1.0_wp, 0.0_wp, abs(r2) <= stage_rmax)))
+  end subroutine table_step
 
   !> anint(x) (nearest integer, halves away from zero) for |x| < 2**51
   !> without a call to libm's round (baseline x86-64 has no rounding

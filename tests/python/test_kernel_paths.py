@@ -19,28 +19,54 @@ import sys
 import numpy as np
 import pendula
 from pendula._many import kernels as _batch
-n = 61
-k = np.arange(1, n + 1)
-th0 = -3.1 + 6.2 * ((k * 7) % n) / n
-om0 = -4.0 + 8.0 * ((k * 13) % n) / n
-w0 = 0.5 + 2.5 * ((k * 5) % n) / n
-gam = 0.4 * ((k * 11) % n) / n
-h = np.full(n, 0.05)
-gam[:5] = 0.0
-th0[8] = 3.0e6          # beyond the table path's range: libm steps
-om0[9] = 40.0           # fast rotation: libm steps
-h[19:30] = [0.01, 0.02, 0.03, 0.07, 0.1, 0.125, 0.3, 0.25, 0.0333, 0.2, 0.06]
-t = np.linspace(0.0, 30.0, 121)
-r = _batch.rk4_batch(t, th0, om0, w0, gam, h, threads=1)
-np.savez(sys.argv[1], theta=r.theta, omega=r.omega, steps=r.steps,
-         path=pendula.build_info()["kernel"]["path"])
+sys.path.insert(0, sys.argv[2])
+from test_kernel_paths import scenes
+out = {"path": pendula.build_info()["kernel"]["path"]}
+for name, (t, th0, om0, w0, gam, h) in scenes().items():
+    r = _batch.rk4_batch(t, th0, om0, w0, gam, h, threads=1)
+    out.update({f"{name}_theta": r.theta, f"{name}_omega": r.omega, f"{name}_steps": r.steps})
+np.savez(sys.argv[1], **out)
 """
+
+
+def scenes():
+    """The batches every path runs: (t, theta0, omega0, w0, gamma, h) by name.
+
+    mixed: each state its own w0, gamma and (some) h, one block, with states
+    beyond the table path's range; shared: one w0, gamma and h for 300 states
+    (several blocks, the block-wide constants); sweep: one h, w0 and gamma per
+    state (constants per lane, equal substeps).
+    """
+    n = 61
+    k = np.arange(1, n + 1)
+    th0 = -3.1 + 6.2 * ((k * 7) % n) / n
+    om0 = -4.0 + 8.0 * ((k * 13) % n) / n
+    w0 = 0.5 + 2.5 * ((k * 5) % n) / n
+    gam = 0.4 * ((k * 11) % n) / n
+    h = np.full(n, 0.05)
+    gam[:5] = 0.0
+    th0[8] = 3.0e6  # beyond the table path's range: libm steps
+    om0[9] = 40.0  # fast rotation: libm steps
+    h[19:30] = [0.01, 0.02, 0.03, 0.07, 0.1, 0.125, 0.3, 0.25, 0.0333, 0.2, 0.06]
+    t = np.linspace(0.0, 30.0, 121)
+    m = 300
+    j = np.arange(1, m + 1)
+    th0s = -3.1 + 6.2 * ((j * 7) % m) / m
+    om0s = -4.0 + 8.0 * ((j * 13) % m) / m
+    th0s[17], om0s[200] = 3.0e6, 40.0
+    ts = np.linspace(0.0, 10.0, 41)
+    return {
+        "mixed": (t, th0, om0, w0, gam, h),
+        "shared": (ts, th0s, om0s, np.array([1.3]), np.array([0.2]), np.array([0.04])),
+        "sweep": (ts, th0s, om0s, 0.5 + 2.5 * ((j * 5) % m) / m, 0.4 * ((j * 11) % m) / m, np.array([0.04])),
+    }
 
 
 def _run(tmp_path, path):
     out = tmp_path / f"{path}.npz"
     env = dict(os.environ, PENDULA_KERNEL=path)
-    subprocess.run([sys.executable, "-c", _SCRIPT, str(out)], env=env, check=True, timeout=120)
+    here = os.path.dirname(os.path.abspath(__file__))
+    subprocess.run([sys.executable, "-c", _SCRIPT, str(out), here], env=env, check=True, timeout=120)
     return np.load(out)
 
 
@@ -55,28 +81,18 @@ def test_every_path_gives_the_same_bits(tmp_path):
     available = pendula.build_info()["kernel"]["available"]
     base = _run(tmp_path, "baseline")
     assert str(base["path"]) == "baseline"
-    # the baseline path against single-state pendula.rk4, bit for bit
-    n = base["theta"].shape[0]
-    k = np.arange(1, n + 1)
-    th0 = -3.1 + 6.2 * ((k * 7) % n) / n
-    om0 = -4.0 + 8.0 * ((k * 13) % n) / n
-    w0 = 0.5 + 2.5 * ((k * 5) % n) / n
-    gam = 0.4 * ((k * 11) % n) / n
-    h = np.full(n, 0.05)
-    gam[:5] = 0.0
-    th0[8] = 3.0e6
-    om0[9] = 40.0
-    h[19:30] = [0.01, 0.02, 0.03, 0.07, 0.1, 0.125, 0.3, 0.25, 0.0333, 0.2, 0.06]
-    t = np.linspace(0.0, 30.0, 121)
-    for i in (0, 8, 9, 20, 26, 60):
-        one = pendula.rk4(t, th0[i], om0[i], w0[i], gamma=gam[i], h=h[i])
-        assert np.array_equal(one.theta, base["theta"][i])
-        assert np.array_equal(one.omega, base["omega"][i])
+    # the baseline path against single-state pendula.rk4, every state bit for bit
+    for name, (t, th0, om0, w0, gam, h) in scenes().items():
+        for i in range(th0.size):
+            one = pendula.rk4(t, th0[i], om0[i], w0[i % w0.size], gamma=gam[i % gam.size], h=h[i % h.size])
+            assert np.array_equal(one.theta, base[f"{name}_theta"][i]), (name, i)
+            assert np.array_equal(one.omega, base[f"{name}_omega"][i]), (name, i)
     for path in available[1:]:
         got = _run(tmp_path, path)
         assert str(got["path"]) == path
-        for key in ("theta", "omega", "steps"):
-            assert np.array_equal(got[key], base[key]), (path, key)
+        for key in base.files:
+            if key != "path":
+                assert np.array_equal(got[key], base[key]), (path, key)
 
 
 @pytest.mark.parametrize("value", ["v9", "AVX2", ""])
