@@ -4,7 +4,8 @@
 module pendula_undamped_eval
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_same_size, PENDULA_OK
-  use pendula_constants, only: pi, half_pi
+  use pendula_constants, only: pi, half_pi, half_pi_lo
+  use pendula_elliptic_tables, only: atan_poly
   use pendula_elliptic, only: ellipj_eval, ellipj_eval_array, ellipjm1
   use pendula_undamped_motion, only: undamped_motion_t, period_needed, REGIME_LIBRATION, &
                                      REGIME_SEPARATRIX, REGIME_ROTATION
@@ -116,16 +117,42 @@ contains
     x = da*motion%ch - sa*ca*motion%sh*motion%q
     z = ca*motion%q - sa*motion%sh*da*motion%ch
     den = ca*ca + (sa*motion%ch)**2
-    ! x = dn(a+b) D > 0 in exact arithmetic; atan(y/x) is cheaper than atan2
-    ! (~1/4 of the evaluation time) and as accurate.  Rounding can make x <= 0
-    ! only when 1 - m < eps^2 near a turning point: keep atan2 there.
+    ! x = dn(a+b) D > 0 in exact arithmetic; atan_ratio (a polynomial, no libm call)
+    ! is cheaper than atan2 and as accurate.  Rounding can make x <= 0 only when
+    ! 1 - m < eps^2 near a turning point: keep atan2 there.
     if (x > 0) then
-      theta = motion%center + 2*atan(y/x)
+      theta = motion%center + 2*atan_ratio(y, x)
     else
       theta = motion%center + 2*atan2(y, x)
     end if
     omega = 2*(motion%w0*(z/den))   ! w0 first: no spurious overflow
   end subroutine libration_at
+
+  !> atan(y/x) [rad] for x > 0 (finite y), within ~1 ulp: |y|/x is reduced to
+  !> |w| <= tan(pi/8) about 0, pi/4 or pi/2 (w = |y|/x, (|y| - x)/(|y| + x) or -x/|y|,
+  !> one division), then atan w = w + w t P(t), t = w^2, with pendula_elliptic_tables'
+  !> atan_poly, and pi/4, pi/2 carried in two parts.  Plain arithmetic and merges, no
+  !> libm call: the same bits in scalar and vectorised loops.
+  pure elemental real(wp) function atan_ratio(y, x) result(r)
+    real(wp), intent(in) :: y  !< numerator, finite
+    real(wp), intent(in) :: x  !< denominator, > 0
+    real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp, tan_3pi8 = 2.414213562373095_wp
+    real(wp) :: a, w, t, t2, t4, p, base, base_lo, mid, far
+    a = abs(y)
+    ! real flags, not logicals: the forms gcc vectorises
+    mid = merge(1.0_wp, 0.0_wp, a > tan_pi8*x)
+    far = merge(1.0_wp, 0.0_wp, a > tan_3pi8*x)
+    w = merge(-x, merge(a - x, a, mid > 0), far > 0)/merge(a, merge(a + x, x, mid > 0), far > 0)
+    base = merge(half_pi, merge(0.25_wp*pi, 0.0_wp, mid > 0), far > 0)
+    base_lo = merge(half_pi_lo, merge(0.5_wp*half_pi_lo, 0.0_wp, mid > 0), far > 0)
+    t = w*w
+    t2 = t*t
+    t4 = t2*t2
+    p = ((atan_poly(0) + atan_poly(1)*t) + (atan_poly(2) + atan_poly(3)*t)*t2) &
+        + ((atan_poly(4) + atan_poly(5)*t) + (atan_poly(6) + atan_poly(7)*t)*t2)*t4 &
+        + ((atan_poly(8) + atan_poly(9)*t) + atan_poly(10)*t2)*(t4*t4)
+    r = sign(base + (w + ((w*t)*p + base_lo)), y)
+  end function atan_ratio
 
   !> Same as `undamped_eval` for an array of times (results agree to a few
   !> ulps), organised for speed: blocks of times go through the Jacobi

@@ -13,7 +13,7 @@ module pendula_undamped_many
   use pendula_elliptic, only: ellipkm1, ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_apart
+  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_half
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_at
   implicit none
   private
@@ -323,7 +323,7 @@ contains
     near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
     have_sin = want_m .or. hlo /= 0 .or. near
     sh0 = 0
-    if (have_sin) sh0 = sin_apart(h)
+    if (have_sin) sh0 = sin_half(h)
     if (near) then
       call cos_dd(h, hlo, ch, chlo)
     else
@@ -350,7 +350,7 @@ contains
       regime = REGIME_SEPARATRIX
     end if
     if (want_m .or. regime == REGIME_ROTATION) then
-      if (.not. have_sin) sh0 = sin_apart(h)
+      if (.not. have_sin) sh0 = sin_half(h)
       sh = sh0 + ch0*hlo
       m = sh*sh + q*q
     end if

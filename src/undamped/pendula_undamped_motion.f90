@@ -10,7 +10,7 @@ module pendula_undamped_motion
   use pendula_constants, only: pi, two_pi, two_pi_lo
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1
-  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi
+  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_half
   implicit none
   private
 
@@ -179,7 +179,7 @@ contains
     hlo = 0.5_wp*r_lo
     motion%h = h
     motion%hlo = hlo
-    sh0 = sin(h)
+    sh0 = sin_half(h)             ! with cos_half: no libm call, the many-state loops' bits
     ch0 = cos_half(h)             ! the many-state loops' cosine (pendula_undamped_many): the same bits
     sh = sh0 + ch0*hlo            ! sin(theta_r/2), first-order correction for r_lo
     ! q = Omega0/(2 w0) with its rounding error qlo (exact residual by two_prod)
