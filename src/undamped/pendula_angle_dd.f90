@@ -10,18 +10,20 @@ module pendula_angle_dd
   implicit none
   private
 
-  public :: cos_dd, cos_half, reduce_angle_2pi, sin_half
+  public :: cos_dd, cos_half, reduce_angle_2pi, sincos_half
 
 contains
 
-  !> sin(x) for |x| <= pi/2 (a half angle theta/2, |theta| <= pi), within 0.75 ulp
-  !> (measured against mpmath), the companion of cos_half: for |x| <= pi/4 the Taylor
-  !> series x + x y (-1/3! + y/5! - ... - y^8/19!), y = x^2; above, cos(pi/2 - |x|) by
-  !> cos_half's compensated series with the low part of pi/2 as a first-order term.
-  !> Plain arithmetic and merges, no libm call (libm's sin was a fifth of a state's
-  !> set-up), so loops over it vectorise with the same bits as the scalar call.
-  pure elemental real(wp) function sin_half(x) result(s)
+  !> sin(x) and cos(x) for |x| <= pi/2 (a half angle theta/2, |theta| <= pi), each within
+  !> 0.75 ulp (measured against mpmath); c has cos_half's bits.  One Taylor series of sin
+  !> and one of cos (cos_half's, with 1 - y/2 compensated) at z = |x| for |x| <= pi/4, else
+  !> at z = pi/2 - |x| (exact) with the low part of pi/2 as a first-order term, the two
+  !> then swapped: no libm call and no branch (libm's sin and a mispredicted side of the
+  !> interval were a fifth of a state's set-up).
+  pure elemental subroutine sincos_half(x, s, c)
     real(wp), intent(in) :: x  !< angle [rad], |x| <= pi/2
+    real(wp), intent(out) :: s  !< sin(x)
+    real(wp), intent(out) :: c  !< cos(x)
     real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
     real(wp), parameter :: c4 = 1/24.0_wp, c6 = -1/720.0_wp, c8 = 1/40320.0_wp, c10 = -1/3628800.0_wp, &
                            c12 = 1/479001600.0_wp, c14 = -1/87178291200.0_wp, c16 = 1/20922789888000.0_wp, &
@@ -29,25 +31,28 @@ contains
     real(wp), parameter :: s3 = -1/6.0_wp, s5 = 1/120.0_wp, s7 = -1/5040.0_wp, s9 = 1/362880.0_wp, &
                            s11 = -1/39916800.0_wp, s13 = 1/6227020800.0_wp, s15 = -1/1307674368000.0_wp, &
                            s17 = 1/355687428096000.0_wp, s19 = -1/121645100408832000.0_wp
-    real(wp) :: a, vh, vl, y, ylo, hy, w, cc, v, ay, ss
+    real(wp) :: a, z, lo, zh, zl, y, ylo, hy, w, cz, sz, big
     a = abs(x)
-    ! sin side
-    ay = a*a
-    ss = a + (a*ay)*(s3 + ay*(s5 + ay*(s7 + ay*(s9 + ay*(s11 + ay*(s13 + ay*(s15 + ay*(s17 + ay*s19))))))))
-    ! cos side at v = pi/2 - a (exact, Sterbenz, for a >= pi/4): y + ylo = v^2 exactly,
-    ! cos v = (1 - y/2) + y^2 P(y) with 1 - y/2 compensated, then - sin(v) lo ~ - v lo
-    v = half_pi - a
-    y = v*v
-    vh = split*v
-    vh = vh - (vh - v)
-    vl = v - vh
-    ylo = ((vh*vh - y) + 2*(vh*vl)) + vl*vl
+    ! a real flag, not a logical: the form gcc keeps branch-free
+    big = merge(1.0_wp, 0.0_wp, a > 0.25_wp*pi)
+    z = merge(half_pi - a, a, big > 0)
+    lo = merge(half_pi_lo, 0.0_wp, big > 0)
+    y = z*z
+    ! sin(z + lo)
+    sz = z + (lo*(1 - 0.5_wp*y) + (z*y)*(s3 + y*(s5 + y*(s7 + y*(s9 + y*(s11 + y*(s13 + y*(s15 + y*(s17 &
+                                                                                                    + y*s19)))))))))
+    ! cos(z + lo): y + ylo = z^2 exactly, (1 - y/2) compensated, - sin(z) lo ~ - z lo
+    zh = split*z
+    zh = zh - (zh - z)
+    zl = z - zh
+    ylo = ((zh*zh - y) + 2*(zh*zl)) + zl*zl
     hy = 0.5_wp*y
     w = 1 - hy
-    cc = w + ((((1 - w) - hy) - 0.5_wp*ylo - v*half_pi_lo) + (y*y)*(c4 + y*(c6 + y*(c8 + y*(c10 + y*(c12 &
-                                                                                         + y*(c14 + y*(c16 + y*(c18 + y*c20)))))))))
-    s = sign(merge(cc, ss, a > 0.25_wp*pi), x)
-  end function sin_half
+    cz = w + ((((1 - w) - hy) - 0.5_wp*ylo - z*lo) &
+              + (y*y)*(c4 + y*(c6 + y*(c8 + y*(c10 + y*(c12 + y*(c14 + y*(c16 + y*(c18 + y*c20)))))))))
+    s = sign(merge(cz, sz, big > 0), x)
+    c = merge(sz, cz, big > 0)
+  end subroutine sincos_half
 
   !> cos(x) for |x| <= pi/2 (a half angle theta/2, |theta| <= pi), within 0.6 ulp
   !> (measured against mpmath), relatively accurate up to x = +-pi/2: for |x| <= pi/4 the

@@ -13,7 +13,7 @@ module pendula_undamped_many
   use pendula_elliptic, only: ellipkm1, ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_half
+  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sincos_half
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_at
   implicit none
   private
@@ -286,10 +286,9 @@ contains
   end subroutine undamped_properties
 
   !> 1 - m, the regime and (when want_m) m of a checked state: the numbers
-  !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion.  Only
-  !> cos(theta_r/2) is needed for 1 - m (hlo = 0 for |theta0| < pi); sin is
-  !> taken only for m or a reduced angle, cos in double-double only near the
-  !> separatrix.  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
+  !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion
+  !> (sin and cos of theta_r/2 by one sincos_half; cos in double-double only near the
+  !> separatrix).  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
   !> m = +inf, mc = -inf and regime REGIME_ROTATION.
   elemental subroutine state_parameter(theta0, omega0, w0, want_m, m, mc, regime)
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
@@ -300,7 +299,7 @@ contains
     real(wp), intent(out) :: mc  !< 1 - m without cancellation
     integer, intent(out) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
     real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
-    logical :: near, have_sin
+    logical :: near
     if (abs(theta0) < pi) then
       ! what reduce_angle_2pi returns for these angles, without the call
       h = 0.5_wp*theta0
@@ -319,11 +318,8 @@ contains
       regime = REGIME_ROTATION
       return
     end if
-    ch0 = cos_half(h)
+    call sincos_half(h, sh0, ch0)
     near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
-    have_sin = want_m .or. hlo /= 0 .or. near
-    sh0 = 0
-    if (have_sin) sh0 = sin_half(h)
     if (near) then
       call cos_dd(h, hlo, ch, chlo)
     else
@@ -350,7 +346,6 @@ contains
       regime = REGIME_SEPARATRIX
     end if
     if (want_m .or. regime == REGIME_ROTATION) then
-      if (.not. have_sin) sh0 = sin_half(h)
       sh = sh0 + ch0*hlo
       m = sh*sh + q*q
     end if
