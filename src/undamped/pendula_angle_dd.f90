@@ -10,7 +10,7 @@ module pendula_angle_dd
   implicit none
   private
 
-  public :: cos_dd, cos_half, reduce_angle_2pi, sincos_half
+  public :: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half
 
 contains
 
@@ -96,13 +96,28 @@ contains
   !> sin(pi/2 - |x|), in powers of y = x^2 up to y^16: the terms j >= 9 (below
   !> 3e-18) by Horner in double, the first nine by Horner in double-double
   !> with the coefficients 1/(2j)! (1/(2j+1)!) as double-double constants
-  !> (mpmath; 1/n! = hi + lo), so no division.
+  !> (mpmath; 1/n! = hi + lo), so no division.  One lane of cos_dd_lanes (the same bits).
   elemental subroutine cos_dd(xh, xl, ch, cl)
     real(wp), intent(in) :: xh  !< high part of x [rad], |x| <= pi/2
     real(wp), intent(in) :: xl  !< low part of x [rad]
     real(wp), intent(out) :: ch  !< high part of cos(x)
     real(wp), intent(out) :: cl  !< low part of cos(x)
-    integer :: j
+    real(wp) :: h(1), l(1)
+    call cos_dd_lanes(1, [xh], [xl], h, l)
+    ch = h(1)
+    cl = l(1)
+  end subroutine cos_dd
+
+  !> cos_dd at n points, in blocks whose points take each Horner step side by side: one
+  !> point's double-double Horner chain is latency-bound, a block's points fill the
+  !> pipeline (and vectorise).  The side of pi/4 picks the coefficients per point by merge.
+  pure subroutine cos_dd_lanes(n, xh, xl, ch, cl)
+    integer, intent(in) :: n  !< number of points
+    real(wp), intent(in) :: xh(n)  !< high parts of x [rad], |x| <= pi/2
+    real(wp), intent(in) :: xl(n)  !< low parts of x [rad]
+    real(wp), intent(out) :: ch(n)  !< high parts of cos(x)
+    real(wp), intent(out) :: cl(n)  !< low parts of cos(x)
+    integer, parameter :: nb = 64
     real(wp), parameter :: cos_hi(0:8) = [1.0_wp, 0.5_wp, 0.041666666666666664_wp, 0.001388888888888889_wp, &
                             2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
                                           4.779477332387385e-14_wp]
@@ -122,42 +137,44 @@ contains
     real(wp), parameter :: sin_tail(9:16) = [-8.22063524662433e-18_wp, &
                                              1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
                           -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
-    real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, sgn
-    logical :: use_sin
-    use_sin = abs(xh) > 0.25_wp*pi
-    if (use_sin) then
-      call add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh)*xl, yh, yl)
-    else
-      yh = xh
-      yl = xl
-    end if
-    call mul(yh, yl, yh, yl, y2h, y2l)
-    th = 0
-    do j = 16, 9, -1
-      if (use_sin) then
-        th = sin_tail(j) + y2h*th
-      else
-        th = cos_tail(j) + y2h*th
-      end if
+    real(wp), dimension(nb) :: yh, yl, y2h, y2l, th, tl, sside
+    real(wp) :: ah, al, uh, ul, sgn, chi, clo, xk, xlk
+    integer :: i0, m, k, j
+    do i0 = 1, n, nb
+      m = min(nb, n - i0 + 1)
+      do k = 1, m
+        ! sside: 1 on the sine side (a real flag: the form gcc vectorises)
+        xk = xh(i0 + k - 1)
+        xlk = xl(i0 + k - 1)
+        sside(k) = merge(1.0_wp, 0.0_wp, abs(xk) > 0.25_wp*pi)
+        call add_fast(half_pi, half_pi_lo, -abs(xk), -sign(1.0_wp, xk)*xlk, ah, al)
+        yh(k) = merge(ah, xk, sside(k) > 0)
+        yl(k) = merge(al, xlk, sside(k) > 0)
+        call mul(yh(k), yl(k), yh(k), yl(k), y2h(k), y2l(k))
+        th(k) = 0
+        tl(k) = 0
+      end do
+      do j = 16, 9, -1
+        do k = 1, m
+          th(k) = merge(sin_tail(j), cos_tail(j), sside(k) > 0) + y2h(k)*th(k)
+        end do
+      end do
+      do j = 8, 0, -1
+        ! t <- (-1)^j c_j + y^2 t
+        sgn = 1 - 2*modulo(j, 2)
+        do k = 1, m
+          call mul(y2h(k), y2l(k), th(k), tl(k), uh, ul)
+          call add_fast(sgn*merge(sin_hi(j), cos_hi(j), sside(k) > 0), sgn*merge(sin_lo(j), cos_lo(j), sside(k) > 0), &
+                        uh, ul, th(k), tl(k))
+        end do
+      end do
+      do k = 1, m
+        call mul(yh(k), yl(k), th(k), tl(k), chi, clo)
+        ch(i0 + k - 1) = merge(chi, th(k), sside(k) > 0)
+        cl(i0 + k - 1) = merge(clo, tl(k), sside(k) > 0)
+      end do
     end do
-    tl = 0
-    do j = 8, 0, -1
-      ! t <- (-1)^j c_j + y^2 t
-      call mul(y2h, y2l, th, tl, uh, ul)
-      sgn = 1 - 2*modulo(j, 2)
-      if (use_sin) then
-        call add_fast(sgn*sin_hi(j), sgn*sin_lo(j), uh, ul, th, tl)
-      else
-        call add_fast(sgn*cos_hi(j), sgn*cos_lo(j), uh, ul, th, tl)
-      end if
-    end do
-    if (use_sin) then
-      call mul(yh, yl, th, tl, ch, cl)
-    else
-      ch = th
-      cl = tl
-    end if
-  end subroutine cos_dd
+  end subroutine cos_dd_lanes
 
   !> Reduce an angle x [rad] about the nearest stable equilibrium 2 pi n:
   !> x = 2 pi n + (r_hi + r_lo) with |r_hi| <= pi, 2 pi carried in two doubles

@@ -14,7 +14,7 @@ module pendula_undamped_eval
 
   public :: undamped_eval, undamped_eval_many, undamped_theta, undamped_omega
   ! for pendula_undamped_many
-  public :: libration_at
+  public :: libration_at, libration_parts
 
 contains
 
@@ -109,24 +109,40 @@ contains
     real(wp), intent(in) :: da  !< dn(a)
     real(wp), intent(out) :: theta  !< angle [rad]
     real(wp), intent(out) :: omega  !< angular velocity [rad/s]
+    call libration_parts(motion%q, motion%ch, motion%sh, motion%center, motion%w0, sa, ca, da, theta, omega)
+  end subroutine libration_at
+
+  !> libration_at from the motion's numbers: q = Omega0/(2 w0), ch, sh = cos, sin of
+  !> theta_r/2, the centre 2 pi N and w0 (what pendula_undamped_many's blocks hold).
+  elemental subroutine libration_parts(q, ch, sh, center, w0, sa, ca, da, theta, omega)
+    real(wp), intent(in) :: q  !< Omega0/(2 w0) = k cn(u0|m)
+    real(wp), intent(in) :: ch  !< cos(theta_r/2) = dn(u0|m)
+    real(wp), intent(in) :: sh  !< sin(theta_r/2) = k sn(u0|m)
+    real(wp), intent(in) :: center  !< 2 pi N [rad]
+    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s]
+    real(wp), intent(in) :: sa  !< sn(a)
+    real(wp), intent(in) :: ca  !< cn(a)
+    real(wp), intent(in) :: da  !< dn(a)
+    real(wp), intent(out) :: theta  !< angle [rad]
+    real(wp), intent(out) :: omega  !< angular velocity [rad/s]
     real(wp) :: y, x, z, den
     ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
     ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
     ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
-    y = sa*motion%q*motion%ch + motion%sh*ca*da
-    x = da*motion%ch - sa*ca*motion%sh*motion%q
-    z = ca*motion%q - sa*motion%sh*da*motion%ch
-    den = ca*ca + (sa*motion%ch)**2
+    y = sa*q*ch + sh*ca*da
+    x = da*ch - sa*ca*sh*q
+    z = ca*q - sa*sh*da*ch
+    den = ca*ca + (sa*ch)**2
     ! x = dn(a+b) D > 0 in exact arithmetic; atan_ratio (a polynomial, no libm call)
     ! is cheaper than atan2 and as accurate.  Rounding can make x <= 0 only when
     ! 1 - m < eps^2 near a turning point: keep atan2 there.
     if (x > 0) then
-      theta = motion%center + 2*atan_ratio(y, x)
+      theta = center + 2*atan_ratio(y, x)
     else
-      theta = motion%center + 2*atan2(y, x)
+      theta = center + 2*atan2(y, x)
     end if
-    omega = 2*(motion%w0*(z/den))   ! w0 first: no spurious overflow
-  end subroutine libration_at
+    omega = 2*(w0*(z/den))   ! w0 first: no spurious overflow
+  end subroutine libration_parts
 
   !> atan(y/x) [rad] for x > 0 (finite y), within ~1 ulp: |y|/x is reduced to
   !> |w| <= tan(pi/8) about 0, pi/4 or pi/2 (w = |y|/x, (|y| - x)/(|y| + x) or -x/|y|,

@@ -7,14 +7,15 @@ module pendula_undamped_many
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
-                                     check_state, set_geometry, set_period, period_needed, UNDAMPED_PLAN_MIN_TIMES, &
+                                     check_state, set_geometry, set_period, period_needed, beyond_2_40, &
+                                     UNDAMPED_PLAN_MIN_TIMES, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1, ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sincos_half
-  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_at
+  use pendula_angle_dd, only: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half
+  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_parts
   implicit none
   private
 
@@ -72,7 +73,7 @@ contains
     real(wp), intent(out) :: omega(:)  !< Omega [rad/s] of each state at its time
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    type(undamped_motion_t) :: motion, queue(nq_max)
+    type(undamped_motion_t) :: motion
     integer :: i, j, n, run, nq, idx(nq_max)
     n = size(theta)
     if (size(omega) /= n .or. .not. (fits(t, n) .and. fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))) then
@@ -92,8 +93,7 @@ contains
         ! a state of its own: queued, and evaluated with the next nq_max in one block
         nq = nq + 1
         idx(nq) = i
-        call set_geometry(queue(nq), at(theta0, i), at(omega0, i), at(w0, i))
-        if (nq == nq_max) call states_block(nq, idx, queue, t, theta, omega)
+        if (nq == nq_max) call states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
         i = i + 1
         cycle
       end if
@@ -108,39 +108,91 @@ contains
       end do
       i = i + run
     end do
-    call states_block(nq, idx, queue, t, theta, omega)
+    call states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
   end subroutine undamped_states
 
-  ! Evaluate the queued states (motions queue(1:nq) of the elements idx(1:nq)) at their
-  ! times, then empty the queue (nq = 0): the librations that need no period reduction
-  ! with their Jacobi functions in one array call (its blocks vectorise), the rest one by
-  ! one as undamped_eval; the same numbers as undamped_eval for each.
-  pure subroutine states_block(nq, idx, queue, t, theta, omega)
+  ! Evaluate the queued states (the elements idx(1:nq)) at their times, then empty the
+  ! queue (nq = 0), with the numbers of set_geometry + undamped_eval for each.  A
+  ! libration with |theta0| < pi (no reduction) and |w0 t| < 2**40 (no period) is set up
+  ! here in passes over the block -- cos(theta0/2) in double-double for the states near
+  ! the separatrix by one cos_dd_lanes call -- and its Jacobi functions come from one
+  ! array call (their blocks vectorise); the others take set_geometry and undamped_eval
+  ! one by one.
+  pure subroutine states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
     integer, intent(inout) :: nq
     integer, intent(in) :: idx(:)
-    type(undamped_motion_t), intent(inout) :: queue(:)
-    real(wp), intent(in) :: t(:)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
     real(wp), intent(inout) :: theta(:), omega(:)
-    real(wp), dimension(nq_max) :: a, p, sa, ca, da
-    integer :: lane(nq_max), k, j, nl
+    real(wp), dimension(nq_max) :: th, om, w, tt, sh0, ch0, sh, q, ch, chlo, a, p, sa, ca, da, xn, cn, cln
+    integer :: lane(nq_max), near(nq_max), k, j, nl, nn
+    real(wp) :: hlo, w2, qlo, pp, e, d, dlo, s, mc
+    logical :: fast(nq_max)
+    type(undamped_motion_t) :: motion
     type(status_t) :: status
-    nl = 0
     do k = 1, nq
       j = idx(k)
-      if (queue(k)%regime == REGIME_LIBRATION .and. .not. queue(k)%free .and. .not. period_needed(queue(k), at(t, j))) then
-        nl = nl + 1
-        lane(nl) = k
-        a(nl) = queue(k)%rate*at(t, j)   ! as undamped_eval: the light motion's ellipjm1
-        p(nl) = queue(k)%pmc
-      else
-        if (queue(k)%period == 0 .and. period_needed(queue(k), at(t, j))) call set_period(queue(k))
-        call undamped_eval(queue(k), at(t, j), theta(j), omega(j))
+      th(k) = at(theta0, j); om(k) = at(omega0, j); w(k) = at(w0, j); tt(k) = at(t, j)
+      ! a harmless angle for the states left to the general path
+      a(k) = merge(0.5_wp*th(k), 0.0_wp, abs(th(k)) < pi)
+    end do
+    call sincos_half(a(1:nq), sh0(1:nq), ch0(1:nq))
+    ! set_geometry's steps for |theta0| < pi: reduce_angle_2pi gives n = 0, r = theta0
+    ! exactly (hlo = 0), the centre is 0
+    hlo = 0
+    nn = 0
+    do k = 1, nq
+      sh(k) = sh0(k) + ch0(k)*hlo
+      w2 = om(k)/w(k)
+      q(k) = 0.5_wp*w2
+      fast(k) = abs(th(k)) < pi .and. abs(q(k)) <= 1.0e150_wp .and. .not. beyond_2_40(w(k), tt(k))
+      ch(k) = ch0(k) - sh0(k)*hlo
+      chlo(k) = 0
+      if (fast(k) .and. abs(q(k)) >= 0.875_wp*ch0(k) .and. abs(q(k)) <= (8.0_wp/7)*ch0(k)) then
+        nn = nn + 1
+        near(nn) = k
+        xn(nn) = a(k)
       end if
     end do
+    if (nn > 0) then
+      call cos_dd_lanes(nn, xn(1:nn), spread(hlo, 1, nn), cn(1:nn), cln(1:nn))
+      ch(near(1:nn)) = cn(1:nn)
+      chlo(near(1:nn)) = cln(1:nn)
+    end if
+    nl = 0
+    do k = 1, nq
+      if (.not. fast(k)) cycle
+      qlo = 0
+      w2 = om(k)/w(k)
+      if (w2 /= 0 .and. max(abs(w2), w(k)) < 1.0e290_wp) then
+        call two_prod(w2, w(k), pp, e)
+        qlo = 0.5_wp*(((om(k) - pp) - e)/w(k))
+      end if
+      s = ch(k) + abs(q(k))
+      if (chlo(k) == 0 .and. qlo == 0) then
+        mc = (ch(k) - abs(q(k)))*s
+      else
+        call dd_add_fast(ch(k), chlo(k), -abs(q(k)), -sign(1.0_wp, q(k))*qlo, d, dlo)
+        mc = (d + dlo)*s
+      end if
+      fast(k) = mc > 0
+      if (.not. fast(k)) cycle
+      ! the light motion's ellipjm1 at a = rate t, rate = w0, parameter 1 - mc
+      nl = nl + 1
+      lane(nl) = k
+      a(nl) = w(k)*tt(k)
+      p(nl) = mc
+    end do
     if (nl > 0) call ellipjm1_array(a(1:nl), p(1:nl), sa(1:nl), ca(1:nl), da(1:nl), status)
-    do k = 1, nl
-      j = idx(lane(k))
-      call libration_at(queue(lane(k)), sa(k), ca(k), da(k), theta(j), omega(j))
+    do j = 1, nl
+      k = lane(j)
+      call libration_parts(q(k), ch(k), sh(k), 0.0_wp, w(k), sa(j), ca(j), da(j), theta(idx(k)), omega(idx(k)))
+    end do
+    do k = 1, nq
+      if (fast(k)) cycle
+      j = idx(k)
+      call set_geometry(motion, th(k), om(k), w(k))
+      if (period_needed(motion, tt(k))) call set_period(motion)
+      call undamped_eval(motion, tt(k), theta(j), omega(j))
     end do
     nq = 0
   end subroutine states_block
