@@ -10,7 +10,7 @@ module pendula_angle_dd
   implicit none
   private
 
-  public :: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half
+  public :: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half, sincos_half_array
 
 contains
 
@@ -53,6 +53,19 @@ contains
     s = sign(merge(cz, sz, big > 0), x)
     c = merge(sz, cz, big > 0)
   end subroutine sincos_half
+
+  !> sincos_half over arrays of n angles, in a loop that inlines it and vectorises (the
+  !> same bits as the elemental calls).
+  pure subroutine sincos_half_array(n, x, s, c)
+    integer, intent(in) :: n  !< number of angles
+    real(wp), intent(in) :: x(n)  !< angles [rad], |x| <= pi/2
+    real(wp), intent(out) :: s(n)  !< sin(x)
+    real(wp), intent(out) :: c(n)  !< cos(x)
+    integer :: i
+    do i = 1, n
+      call sincos_half(x(i), s(i), c(i))
+    end do
+  end subroutine sincos_half_array
 
   !> cos(x) for |x| <= pi/2 (a half angle theta/2, |theta| <= pi), within 0.6 ulp
   !> (measured against mpmath), relatively accurate up to x = +-pi/2: for |x| <= pi/4 the

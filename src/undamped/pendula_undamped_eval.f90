@@ -14,7 +14,7 @@ module pendula_undamped_eval
 
   public :: undamped_eval, undamped_eval_many, undamped_theta, undamped_omega
   ! for pendula_undamped_many
-  public :: libration_at, libration_parts
+  public :: libration_at, libration_parts, libration_lanes
 
 contains
 
@@ -125,24 +125,48 @@ contains
     real(wp), intent(in) :: da  !< dn(a)
     real(wp), intent(out) :: theta  !< angle [rad]
     real(wp), intent(out) :: omega  !< angular velocity [rad/s]
-    real(wp) :: y, x, z, den
-    ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
-    ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
-    ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
-    y = sa*q*ch + sh*ca*da
-    x = da*ch - sa*ca*sh*q
-    z = ca*q - sa*sh*da*ch
-    den = ca*ca + (sa*ch)**2
-    ! x = dn(a+b) D > 0 in exact arithmetic; atan_ratio (a polynomial, no libm call)
-    ! is cheaper than atan2 and as accurate.  Rounding can make x <= 0 only when
-    ! 1 - m < eps^2 near a turning point: keep atan2 there.
-    if (x > 0) then
-      theta = center + 2*atan_ratio(y, x)
-    else
-      theta = center + 2*atan2(y, x)
-    end if
-    omega = 2*(w0*(z/den))   ! w0 first: no spurious overflow
+    real(wp), dimension(64) :: q1, ch1, sh1, w1, sa1, ca1, da1, th, om
+    ! one lane of libration_lanes (its only caller of atan_ratio, which gcc then inlines)
+    q1(1) = q; ch1(1) = ch; sh1(1) = sh; w1(1) = w0; sa1(1) = sa; ca1(1) = ca; da1(1) = da
+    call libration_lanes(1, q1, ch1, sh1, w1, sa1, ca1, da1, th, om)
+    theta = center + th(1)
+    omega = om(1)
   end subroutine libration_parts
+
+  !> theta - 2 pi N and Omega of a libration at the first n of 64 points (arrays of 64:
+  !> the form gcc vectorises) from sn, cn, dn at a = w0 t (parameter 1 - m) and the
+  !> state's q = Omega0/(2 w0), ch, sh = cos, sin of theta_r/2: the addition theorem
+  !> about the initial state's argument.
+  pure subroutine libration_lanes(n, q, ch, sh, w0, sa, ca, da, theta, omega)
+    integer, intent(in) :: n  !< number of points, <= 64
+    real(wp), intent(in) :: q(64)  !< Omega0/(2 w0) = k cn(u0|m)
+    real(wp), intent(in) :: ch(64)  !< cos(theta_r/2) = dn(u0|m)
+    real(wp), intent(in) :: sh(64)  !< sin(theta_r/2) = k sn(u0|m)
+    real(wp), intent(in) :: w0(64)  !< small-angle angular frequencies [1/s]
+    real(wp), intent(in) :: sa(64)  !< sn(a)
+    real(wp), intent(in) :: ca(64)  !< cn(a)
+    real(wp), intent(in) :: da(64)  !< dn(a)
+    real(wp), intent(out) :: theta(64)  !< theta - 2 pi N [rad]
+    real(wp), intent(out) :: omega(64)  !< angular velocities [rad/s]
+    real(wp) :: y, x(64)
+    integer :: i
+    do i = 1, n
+      ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
+      ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
+      ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
+      y = sa(i)*q(i)*ch(i) + sh(i)*ca(i)*da(i)
+      x(i) = da(i)*ch(i) - sa(i)*ca(i)*sh(i)*q(i)
+      ! w0 first: no spurious overflow
+      omega(i) = 2*(w0(i)*((ca(i)*q(i) - sa(i)*sh(i)*da(i)*ch(i))/(ca(i)*ca(i) + (sa(i)*ch(i))**2)))
+      ! x = dn(a+b) D > 0 in exact arithmetic; atan_ratio (a polynomial, no libm call)
+      ! is cheaper than atan2 and as accurate.
+      theta(i) = 0 + 2*atan_ratio(y, merge(x(i), 1.0_wp, x(i) > 0))
+    end do
+    do i = 1, n
+      ! rounding can make x <= 0 only when 1 - m < eps^2 near a turning point: atan2 there
+      if (.not. x(i) > 0) theta(i) = 0 + 2*atan2(sa(i)*q(i)*ch(i) + sh(i)*ca(i)*da(i), x(i))
+    end do
+  end subroutine libration_lanes
 
   !> atan(y/x) [rad] for x > 0 (finite y), within ~1 ulp: |y|/x is reduced to
   !> |w| <= tan(pi/8) about 0, pi/4 or pi/2 (w = |y|/x, (|y| - x)/(|y| + x) or -x/|y|,

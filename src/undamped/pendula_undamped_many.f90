@@ -14,8 +14,8 @@ module pendula_undamped_many
   use pendula_elliptic, only: ellipkm1, ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half
-  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_parts
+  use pendula_angle_dd, only: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half, sincos_half_array
+  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_lanes
   implicit none
   private
 
@@ -123,9 +123,10 @@ contains
     integer, intent(in) :: idx(:)
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
     real(wp), intent(inout) :: theta(:), omega(:)
-    real(wp), dimension(nq_max) :: th, om, w, tt, sh0, ch0, sh, q, ch, chlo, a, p, sa, ca, da, xn, cn, cln
+    real(wp), dimension(nq_max) :: th, om, w, tt, sh0, ch0, sh, q, w2, ch, chlo, a, p, sa, ca, da, xn, cn, cln, &
+                                   lq, lch, lsh, lw, lth, lom
     integer :: lane(nq_max), near(nq_max), k, j, nl, nn
-    real(wp) :: hlo, w2, qlo, pp, e, d, dlo, s, mc
+    real(wp) :: hlo, qlo, pp, e, d, dlo, s, mc
     logical :: fast(nq_max)
     type(undamped_motion_t) :: motion
     type(status_t) :: status
@@ -135,15 +136,15 @@ contains
       ! a harmless angle for the states left to the general path
       a(k) = merge(0.5_wp*th(k), 0.0_wp, abs(th(k)) < pi)
     end do
-    call sincos_half(a(1:nq), sh0(1:nq), ch0(1:nq))
+    call sincos_half_array(nq, a(1:nq), sh0(1:nq), ch0(1:nq))
     ! set_geometry's steps for |theta0| < pi: reduce_angle_2pi gives n = 0, r = theta0
     ! exactly (hlo = 0), the centre is 0
     hlo = 0
     nn = 0
     do k = 1, nq
       sh(k) = sh0(k) + ch0(k)*hlo
-      w2 = om(k)/w(k)
-      q(k) = 0.5_wp*w2
+      w2(k) = om(k)/w(k)
+      q(k) = 0.5_wp*w2(k)
       fast(k) = abs(th(k)) < pi .and. abs(q(k)) <= 1.0e150_wp .and. .not. beyond_2_40(w(k), tt(k))
       ch(k) = ch0(k) - sh0(k)*hlo
       chlo(k) = 0
@@ -162,9 +163,8 @@ contains
     do k = 1, nq
       if (.not. fast(k)) cycle
       qlo = 0
-      w2 = om(k)/w(k)
-      if (w2 /= 0 .and. max(abs(w2), w(k)) < 1.0e290_wp) then
-        call two_prod(w2, w(k), pp, e)
+      if (w2(k) /= 0 .and. max(abs(w2(k)), w(k)) < 1.0e290_wp) then
+        call two_prod(w2(k), w(k), pp, e)
         qlo = 0.5_wp*(((om(k) - pp) - e)/w(k))
       end if
       s = ch(k) + abs(q(k))
@@ -185,7 +185,12 @@ contains
     if (nl > 0) call ellipjm1_array(a(1:nl), p(1:nl), sa(1:nl), ca(1:nl), da(1:nl), status)
     do j = 1, nl
       k = lane(j)
-      call libration_parts(q(k), ch(k), sh(k), 0.0_wp, w(k), sa(j), ca(j), da(j), theta(idx(k)), omega(idx(k)))
+      lq(j) = q(k); lch(j) = ch(k); lsh(j) = sh(k); lw(j) = w(k)
+    end do
+    call libration_lanes(nl, lq, lch, lsh, lw, sa, ca, da, lth, lom)
+    do j = 1, nl
+      theta(idx(lane(j))) = lth(j)
+      omega(idx(lane(j))) = lom(j)
     end do
     do k = 1, nq
       if (fast(k)) cycle
