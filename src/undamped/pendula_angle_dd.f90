@@ -151,7 +151,7 @@ contains
                                              1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
                           -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
     real(wp), dimension(nb) :: yh, yl, y2h, y2l, th, tl, sside
-    real(wp) :: ah, al, uh, ul, sgn, chi, clo, xk, xlk
+    real(wp) :: ah, al, uh, ul, sgn, chi, clo, xk, xlk, nth, ntl, s_hi, s_lo, c_hi, c_lo
     integer :: i0, m, k, j
     do i0 = 1, n, nb
       m = min(nb, n - i0 + 1)
@@ -168,17 +168,20 @@ contains
         tl(k) = 0
       end do
       do j = 16, 9, -1
+        s_hi = sin_tail(j); c_hi = cos_tail(j)
         do k = 1, m
-          th(k) = merge(sin_tail(j), cos_tail(j), sside(k) > 0) + y2h(k)*th(k)
+          th(k) = merge(s_hi, c_hi, sside(k) > 0) + y2h(k)*th(k)
         end do
       end do
       do j = 8, 0, -1
         ! t <- (-1)^j c_j + y^2 t
         sgn = 1 - 2*modulo(j, 2)
+        s_hi = sgn*sin_hi(j); s_lo = sgn*sin_lo(j); c_hi = sgn*cos_hi(j); c_lo = sgn*cos_lo(j)
         do k = 1, m
           call mul(y2h(k), y2l(k), th(k), tl(k), uh, ul)
-          call add_fast(sgn*merge(sin_hi(j), cos_hi(j), sside(k) > 0), sgn*merge(sin_lo(j), cos_lo(j), sside(k) > 0), &
-                        uh, ul, th(k), tl(k))
+          call add_fast(merge(s_hi, c_hi, sside(k) > 0), merge(s_lo, c_lo, sside(k) > 0), uh, ul, nth, ntl)
+          th(k) = nth
+          tl(k) = ntl
         end do
       end do
       do k = 1, m
