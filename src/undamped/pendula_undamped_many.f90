@@ -344,8 +344,8 @@ contains
 
   !> 1 - m, the regime and (when want_m) m of a checked state: the numbers
   !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion
-  !> (sin and cos of theta_r/2 by one sincos_half; cos in double-double only near the
-  !> separatrix).  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
+  !> (cos of theta_r/2 by cos_half, or with the sine by sincos_half where the sine is
+  !> needed -- for m or a reduced angle; cos in double-double only near the separatrix).  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
   !> m = +inf, mc = -inf and regime REGIME_ROTATION.
   elemental subroutine state_parameter(theta0, omega0, w0, want_m, m, mc, regime)
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
@@ -356,7 +356,7 @@ contains
     real(wp), intent(out) :: mc  !< 1 - m without cancellation
     integer, intent(out) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
     real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
-    logical :: near
+    logical :: near, need_sin
     if (abs(theta0) < pi) then
       ! what reduce_angle_2pi returns for these angles, without the call
       h = 0.5_wp*theta0
@@ -375,7 +375,14 @@ contains
       regime = REGIME_ROTATION
       return
     end if
-    call sincos_half(h, sh0, ch0)
+    ! the sine only where it is needed; cos_half has sincos_half's cosine bits
+    need_sin = want_m .or. hlo /= 0
+    if (need_sin) then
+      call sincos_half(h, sh0, ch0)
+    else
+      ch0 = cos_half(h)
+      sh0 = 0
+    end if
     near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
     if (near) then
       call cos_dd(h, hlo, ch, chlo)
@@ -403,6 +410,7 @@ contains
       regime = REGIME_SEPARATRIX
     end if
     if (want_m .or. regime == REGIME_ROTATION) then
+      if (.not. need_sin) call sincos_half(h, sh0, ch0)
       sh = sh0 + ch0*hlo
       m = sh*sh + q*q
     end if
