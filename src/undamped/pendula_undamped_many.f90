@@ -7,7 +7,7 @@ module pendula_undamped_many
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
-                                     check_state, set_geometry, set_period, period_needed, beyond_2_40, &
+                                     check_state, set_geometry, set_period, period_needed, &
                                      UNDAMPED_PLAN_MIN_TIMES, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
@@ -124,9 +124,9 @@ contains
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
     real(wp), intent(inout) :: theta(:), omega(:)
     real(wp), dimension(nq_max) :: th, om, w, tt, sh0, ch0, sh, q, w2, ch, chlo, a, p, sa, ca, da, xn, cn, cln, &
-                                   lq, lch, lsh, lw, lth, lom
+                                   lq, lch, lsh, lw, lth, lom, mcs
     integer :: lane(nq_max), near(nq_max), k, j, nl, nn
-    real(wp) :: hlo, qlo, pp, e, d, dlo, s, mc
+    real(wp) :: hlo, qlo, pp, e, d, dlo, s, ok, ok_q, wk, w2k, qk
     logical :: fast(nq_max)
     type(undamped_motion_t) :: motion
     type(status_t) :: status
@@ -145,7 +145,9 @@ contains
       sh(k) = sh0(k) + ch0(k)*hlo
       w2(k) = om(k)/w(k)
       q(k) = 0.5_wp*w2(k)
-      fast(k) = abs(th(k)) < pi .and. abs(q(k)) <= 1.0e150_wp .and. .not. beyond_2_40(w(k), tt(k))
+      ! |t| < 2**19 s and w0 < 2**19 /s keep |w0 t| below 2**38: no period reduction
+      ! (period_needed is false; larger ones take the general path, which decides)
+      fast(k) = abs(th(k)) < pi .and. abs(q(k)) <= 1.0e150_wp .and. abs(tt(k)) < 2.0_wp**19 .and. w(k) < 2.0_wp**19
       ch(k) = ch0(k) - sh0(k)*hlo
       chlo(k) = 0
       if (fast(k) .and. abs(q(k)) >= 0.875_wp*ch0(k) .and. abs(q(k)) <= (8.0_wp/7)*ch0(k)) then
@@ -159,28 +161,29 @@ contains
       ch(near(1:nn)) = cn(1:nn)
       chlo(near(1:nn)) = cln(1:nn)
     end if
+    do k = 1, nq
+      ! 1 - m as set_geometry forms it, branch-free (a loop gcc vectorises); the states
+      ! left to the general path get harmless numbers (no overflow)
+      ok = merge(1.0_wp, 0.0_wp, fast(k))
+      wk = merge(w(k), 1.0_wp, ok > 0)
+      w2k = merge(w2(k), 0.0_wp, ok > 0)
+      qk = merge(q(k), 0.0_wp, ok > 0)
+      ok_q = merge(1.0_wp, 0.0_wp, w2k /= 0 .and. max(abs(w2k), wk) < 1.0e290_wp)
+      call exact_product(merge(w2k, 0.0_wp, ok_q > 0), merge(wk, 0.0_wp, ok_q > 0), pp, e)
+      qlo = merge(0.5_wp*(((merge(om(k), 0.0_wp, ok > 0) - pp) - e)/wk), 0.0_wp, ok_q > 0)
+      s = ch(k) + abs(qk)
+      call sum_dd(ch(k), chlo(k), -abs(qk), -sign(1.0_wp, qk)*qlo, d, dlo)
+      mcs(k) = merge((ch(k) - abs(qk))*s, (d + dlo)*s, chlo(k) == 0 .and. qlo == 0)
+    end do
     nl = 0
     do k = 1, nq
-      if (.not. fast(k)) cycle
-      qlo = 0
-      if (w2(k) /= 0 .and. max(abs(w2(k)), w(k)) < 1.0e290_wp) then
-        call two_prod(w2(k), w(k), pp, e)
-        qlo = 0.5_wp*(((om(k) - pp) - e)/w(k))
-      end if
-      s = ch(k) + abs(q(k))
-      if (chlo(k) == 0 .and. qlo == 0) then
-        mc = (ch(k) - abs(q(k)))*s
-      else
-        call dd_add_fast(ch(k), chlo(k), -abs(q(k)), -sign(1.0_wp, q(k))*qlo, d, dlo)
-        mc = (d + dlo)*s
-      end if
-      fast(k) = mc > 0
+      fast(k) = fast(k) .and. mcs(k) > 0
       if (.not. fast(k)) cycle
       ! the light motion's ellipjm1 at a = rate t, rate = w0, parameter 1 - mc
       nl = nl + 1
       lane(nl) = k
       a(nl) = w(k)*tt(k)
-      p(nl) = mc
+      p(nl) = mcs(k)
     end do
     if (nl > 0) call ellipjm1_array(a(1:nl), p(1:nl), sa(1:nl), ca(1:nl), da(1:nl), status)
     do j = 1, nl
@@ -201,6 +204,35 @@ contains
     end do
     nq = 0
   end subroutine states_block
+
+  ! pendula_double_double's dd_add_fast and two_prod (for |a|, |b| <= 2**996), operation
+  ! for operation (the same bits), here so that states_block's lane loop inlines them.
+  elemental subroutine sum_dd(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: s, e, bb
+    s = ah + bh
+    bb = s - ah
+    e = (ah - (s - bb)) + (bh - bb)
+    e = e + (al + bl)
+    ch = s + e
+    cl = e - (ch - s)
+  end subroutine sum_dd
+
+  elemental subroutine exact_product(a, b, p, e)
+    real(wp), intent(in) :: a, b
+    real(wp), intent(out) :: p, e
+    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
+    real(wp) :: t, ah, al, bh, bl
+    p = a*b
+    t = split*a
+    ah = t - (t - a)
+    al = a - ah
+    t = split*b
+    bh = t - (t - b)
+    bl = b - bh
+    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
+  end subroutine exact_product
 
   !> Whether an input of size 1 or n fits n elements.
   pure logical function fits(x, n)

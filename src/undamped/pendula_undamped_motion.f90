@@ -17,7 +17,7 @@ module pendula_undamped_motion
   public :: undamped_motion_t, undamped_init, undamped_period, undamped_amplitude, undamped_energy, &
             undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan
   ! for pendula_undamped_eval and pendula_undamped_many only (not re-exported by pendula_undamped):
-  public :: check_state, set_geometry, set_period, motion_amplitude, period_needed, beyond_2_40
+  public :: check_state, set_geometry, set_period, motion_amplitude, period_needed
   public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
 
   !> The pendulum swings about theta = 2 pi N (m < 1).
@@ -296,16 +296,9 @@ contains
   elemental logical function period_needed(motion, t) result(needed)
     type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     real(wp), intent(in) :: t  !< time [s]
-    needed = .not. motion%free .and. motion%regime /= REGIME_SEPARATRIX .and. beyond_2_40(motion%rate, t)
+    needed = .not. motion%free .and. motion%regime /= REGIME_SEPARATRIX &
+             .and. exponent(t) > 40 - exponent(motion%rate)
   end function period_needed
-
-  !> Whether |rate t| may exceed 2**40 (by the exponents alone), where undamped_eval
-  !> takes whole periods out of t first.
-  elemental logical function beyond_2_40(rate, t) result(beyond)
-    real(wp), intent(in) :: rate  !< the motion's rate [1/s]
-    real(wp), intent(in) :: t  !< time [s]
-    beyond = exponent(t) > 40 - exponent(rate)
-  end function beyond_2_40
 
   !> Period [s]: 4 K(m)/w0 for libration (eq. 1.53 generalised to any state),
   !> the time of one full turn 2 K(1/m)/(k w0) for rotation (the period of
