@@ -10,17 +10,62 @@ module pendula_angle_dd
   implicit none
   private
 
-  public :: cos_dd, cos_half, reduce_angle_2pi, sin_apart
+  public :: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half, sincos_half_array
 
 contains
 
-  !> libm's sin(x) [rad], in a module of its own so that a caller which needs
-  !> the sine of an angle only now and then is not compiled into one sincos
-  !> (the cost of both) with the cosine it always takes.  The same bits as sin.
-  elemental real(wp) function sin_apart(x) result(s)
-    real(wp), intent(in) :: x  !< angle [rad]
-    s = sin(x)
-  end function sin_apart
+  !> sin(x) and cos(x) for |x| <= pi/2 (a half angle theta/2, |theta| <= pi), each within
+  !> 0.75 ulp (measured against mpmath); c has cos_half's bits.  One Taylor series of sin
+  !> and one of cos (cos_half's, with 1 - y/2 compensated) at z = |x| for |x| <= pi/4, else
+  !> at z = pi/2 - |x| (exact) with the low part of pi/2 as a first-order term, the two
+  !> then swapped: no libm call and no branch (libm's sin and a mispredicted side of the
+  !> interval were a fifth of a state's set-up).
+  pure elemental subroutine sincos_half(x, s, c)
+    real(wp), intent(in) :: x  !< angle [rad], |x| <= pi/2
+    real(wp), intent(out) :: s  !< sin(x)
+    real(wp), intent(out) :: c  !< cos(x)
+    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
+    real(wp), parameter :: c4 = 1/24.0_wp, c6 = -1/720.0_wp, c8 = 1/40320.0_wp, c10 = -1/3628800.0_wp, &
+                           c12 = 1/479001600.0_wp, c14 = -1/87178291200.0_wp, c16 = 1/20922789888000.0_wp, &
+                           c18 = -1/6402373705728000.0_wp, c20 = 1/2432902008176640000.0_wp
+    real(wp), parameter :: s3 = -1/6.0_wp, s5 = 1/120.0_wp, s7 = -1/5040.0_wp, s9 = 1/362880.0_wp, &
+                           s11 = -1/39916800.0_wp, s13 = 1/6227020800.0_wp, s15 = -1/1307674368000.0_wp, &
+                           s17 = 1/355687428096000.0_wp, s19 = -1/121645100408832000.0_wp
+    real(wp) :: a, z, lo, zh, zl, y, ylo, hy, w, cz, sz, big
+    a = abs(x)
+    ! a real flag, not a logical: the form gcc keeps branch-free
+    big = merge(1.0_wp, 0.0_wp, a > 0.25_wp*pi)
+    z = merge(half_pi - a, a, big > 0)
+    lo = merge(half_pi_lo, 0.0_wp, big > 0)
+    y = z*z
+    ! sin(z + lo)
+    sz = z + (lo*(1 - 0.5_wp*y) + (z*y)*(s3 + y*(s5 + y*(s7 + y*(s9 + y*(s11 + y*(s13 + y*(s15 + y*(s17 &
+                                                                                                    + y*s19)))))))))
+    ! cos(z + lo): y + ylo = z^2 exactly, (1 - y/2) compensated, - sin(z) lo ~ - z lo
+    zh = split*z
+    zh = zh - (zh - z)
+    zl = z - zh
+    ylo = ((zh*zh - y) + 2*(zh*zl)) + zl*zl
+    hy = 0.5_wp*y
+    w = 1 - hy
+    cz = w + ((((1 - w) - hy) - 0.5_wp*ylo - z*lo) &
+              + (y*y)*(c4 + y*(c6 + y*(c8 + y*(c10 + y*(c12 + y*(c14 + y*(c16 + y*(c18 + y*c20)))))))))
+    s = sign(merge(cz, sz, big > 0), x)
+    c = merge(sz, cz, big > 0)
+  end subroutine sincos_half
+
+  !> sincos_half over arrays of n angles, in a loop that inlines it and vectorises (the
+  !> same bits as the elemental calls).
+  pure subroutine sincos_half_array(n, x, s, c)
+    integer, intent(in) :: n  !< number of angles
+    real(wp), intent(in) :: x(n)  !< angles [rad], |x| <= pi/2
+    real(wp), intent(out) :: s(n)  !< sin(x)
+    real(wp), intent(out) :: c(n)  !< cos(x)
+    integer :: i
+    do i = 1, n
+      call sincos_half(x(i), s(i), c(i))
+    end do
+  end subroutine sincos_half_array
 
   !> cos(x) for |x| <= pi/2 (a half angle theta/2, |theta| <= pi), within 0.6 ulp
   !> (measured against mpmath), relatively accurate up to x = +-pi/2: for |x| <= pi/4 the
@@ -64,13 +109,28 @@ contains
   !> sin(pi/2 - |x|), in powers of y = x^2 up to y^16: the terms j >= 9 (below
   !> 3e-18) by Horner in double, the first nine by Horner in double-double
   !> with the coefficients 1/(2j)! (1/(2j+1)!) as double-double constants
-  !> (mpmath; 1/n! = hi + lo), so no division.
+  !> (mpmath; 1/n! = hi + lo), so no division.  One lane of cos_dd_lanes (the same bits).
   elemental subroutine cos_dd(xh, xl, ch, cl)
     real(wp), intent(in) :: xh  !< high part of x [rad], |x| <= pi/2
     real(wp), intent(in) :: xl  !< low part of x [rad]
     real(wp), intent(out) :: ch  !< high part of cos(x)
     real(wp), intent(out) :: cl  !< low part of cos(x)
-    integer :: j
+    real(wp) :: h(1), l(1)
+    call cos_dd_lanes(1, [xh], [xl], h, l)
+    ch = h(1)
+    cl = l(1)
+  end subroutine cos_dd
+
+  !> cos_dd at n points, in blocks whose points take each Horner step side by side: one
+  !> point's double-double Horner chain is latency-bound, a block's points fill the
+  !> pipeline (and vectorise).  The side of pi/4 picks the coefficients per point by merge.
+  pure subroutine cos_dd_lanes(n, xh, xl, ch, cl)
+    integer, intent(in) :: n  !< number of points
+    real(wp), intent(in) :: xh(n)  !< high parts of x [rad], |x| <= pi/2
+    real(wp), intent(in) :: xl(n)  !< low parts of x [rad]
+    real(wp), intent(out) :: ch(n)  !< high parts of cos(x)
+    real(wp), intent(out) :: cl(n)  !< low parts of cos(x)
+    integer, parameter :: nb = 64
     real(wp), parameter :: cos_hi(0:8) = [1.0_wp, 0.5_wp, 0.041666666666666664_wp, 0.001388888888888889_wp, &
                             2.48015873015873e-05_wp, 2.755731922398589e-07_wp, 2.08767569878681e-09_wp, 1.1470745597729725e-11_wp, &
                                           4.779477332387385e-14_wp]
@@ -90,42 +150,47 @@ contains
     real(wp), parameter :: sin_tail(9:16) = [-8.22063524662433e-18_wp, &
                                              1.9572941063391263e-20_wp, -3.868170170630684e-23_wp, 6.446950284384474e-26_wp, &
                           -9.183689863795546e-29_wp, 1.1309962886447716e-31_wp, -1.216125041553518e-34_wp, 1.151633562077195e-37_wp]
-    real(wp) :: yh, yl, y2h, y2l, th, tl, uh, ul, sgn
-    logical :: use_sin
-    use_sin = abs(xh) > 0.25_wp*pi
-    if (use_sin) then
-      call add_fast(half_pi, half_pi_lo, -abs(xh), -sign(1.0_wp, xh)*xl, yh, yl)
-    else
-      yh = xh
-      yl = xl
-    end if
-    call mul(yh, yl, yh, yl, y2h, y2l)
-    th = 0
-    do j = 16, 9, -1
-      if (use_sin) then
-        th = sin_tail(j) + y2h*th
-      else
-        th = cos_tail(j) + y2h*th
-      end if
+    real(wp), dimension(nb) :: yh, yl, y2h, y2l, th, tl, sside
+    real(wp) :: ah, al, uh, ul, sgn, chi, clo, xk, xlk, nth, ntl, s_hi, s_lo, c_hi, c_lo
+    integer :: i0, m, k, j
+    do i0 = 1, n, nb
+      m = min(nb, n - i0 + 1)
+      do k = 1, m
+        ! sside: 1 on the sine side (a real flag: the form gcc vectorises)
+        xk = xh(i0 + k - 1)
+        xlk = xl(i0 + k - 1)
+        sside(k) = merge(1.0_wp, 0.0_wp, abs(xk) > 0.25_wp*pi)
+        call add_fast(half_pi, half_pi_lo, -abs(xk), -sign(1.0_wp, xk)*xlk, ah, al)
+        yh(k) = merge(ah, xk, sside(k) > 0)
+        yl(k) = merge(al, xlk, sside(k) > 0)
+        call mul(yh(k), yl(k), yh(k), yl(k), y2h(k), y2l(k))
+        th(k) = 0
+        tl(k) = 0
+      end do
+      do j = 16, 9, -1
+        s_hi = sin_tail(j); c_hi = cos_tail(j)
+        do k = 1, m
+          th(k) = merge(s_hi, c_hi, sside(k) > 0) + y2h(k)*th(k)
+        end do
+      end do
+      do j = 8, 0, -1
+        ! t <- (-1)^j c_j + y^2 t
+        sgn = 1 - 2*modulo(j, 2)
+        s_hi = sgn*sin_hi(j); s_lo = sgn*sin_lo(j); c_hi = sgn*cos_hi(j); c_lo = sgn*cos_lo(j)
+        do k = 1, m
+          call mul(y2h(k), y2l(k), th(k), tl(k), uh, ul)
+          call add_fast(merge(s_hi, c_hi, sside(k) > 0), merge(s_lo, c_lo, sside(k) > 0), uh, ul, nth, ntl)
+          th(k) = nth
+          tl(k) = ntl
+        end do
+      end do
+      do k = 1, m
+        call mul(yh(k), yl(k), th(k), tl(k), chi, clo)
+        ch(i0 + k - 1) = merge(chi, th(k), sside(k) > 0)
+        cl(i0 + k - 1) = merge(clo, tl(k), sside(k) > 0)
+      end do
     end do
-    tl = 0
-    do j = 8, 0, -1
-      ! t <- (-1)^j c_j + y^2 t
-      call mul(y2h, y2l, th, tl, uh, ul)
-      sgn = 1 - 2*modulo(j, 2)
-      if (use_sin) then
-        call add_fast(sgn*sin_hi(j), sgn*sin_lo(j), uh, ul, th, tl)
-      else
-        call add_fast(sgn*cos_hi(j), sgn*cos_lo(j), uh, ul, th, tl)
-      end if
-    end do
-    if (use_sin) then
-      call mul(yh, yl, th, tl, ch, cl)
-    else
-      ch = th
-      cl = tl
-    end if
-  end subroutine cos_dd
+  end subroutine cos_dd_lanes
 
   !> Reduce an angle x [rad] about the nearest stable equilibrium 2 pi n:
   !> x = 2 pi n + (r_hi + r_lo) with |r_hi| <= pi, 2 pi carried in two doubles

@@ -7,14 +7,15 @@ module pendula_undamped_many
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
-                                     check_state, set_geometry, set_period, period_needed, UNDAMPED_PLAN_MIN_TIMES, &
+                                     check_state, set_geometry, set_period, period_needed, &
+                                     UNDAMPED_PLAN_MIN_TIMES, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1, ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sin_apart
-  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_at
+  use pendula_angle_dd, only: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half, sincos_half_array
+  use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_lanes
   implicit none
   private
 
@@ -72,7 +73,7 @@ contains
     real(wp), intent(out) :: omega(:)  !< Omega [rad/s] of each state at its time
     type(status_t), intent(out) :: status
     !< error code and message naming the bad argument (PENDULA_OK on success)
-    type(undamped_motion_t) :: motion, queue(nq_max)
+    type(undamped_motion_t) :: motion
     integer :: i, j, n, run, nq, idx(nq_max)
     n = size(theta)
     if (size(omega) /= n .or. .not. (fits(t, n) .and. fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))) then
@@ -92,8 +93,7 @@ contains
         ! a state of its own: queued, and evaluated with the next nq_max in one block
         nq = nq + 1
         idx(nq) = i
-        call set_geometry(queue(nq), at(theta0, i), at(omega0, i), at(w0, i))
-        if (nq == nq_max) call states_block(nq, idx, queue, t, theta, omega)
+        if (nq == nq_max) call states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
         i = i + 1
         cycle
       end if
@@ -108,42 +108,131 @@ contains
       end do
       i = i + run
     end do
-    call states_block(nq, idx, queue, t, theta, omega)
+    call states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
   end subroutine undamped_states
 
-  ! Evaluate the queued states (motions queue(1:nq) of the elements idx(1:nq)) at their
-  ! times, then empty the queue (nq = 0): the librations that need no period reduction
-  ! with their Jacobi functions in one array call (its blocks vectorise), the rest one by
-  ! one as undamped_eval; the same numbers as undamped_eval for each.
-  pure subroutine states_block(nq, idx, queue, t, theta, omega)
+  ! Evaluate the queued states (the elements idx(1:nq)) at their times, then empty the
+  ! queue (nq = 0), with the numbers of set_geometry + undamped_eval for each.  A
+  ! libration with |theta0| < pi (no reduction) and |w0 t| < 2**40 (no period) is set up
+  ! here in passes over the block -- cos(theta0/2) in double-double for the states near
+  ! the separatrix by one cos_dd_lanes call -- and its Jacobi functions come from one
+  ! array call (their blocks vectorise); the others take set_geometry and undamped_eval
+  ! one by one.
+  pure subroutine states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
     integer, intent(inout) :: nq
     integer, intent(in) :: idx(:)
-    type(undamped_motion_t), intent(inout) :: queue(:)
-    real(wp), intent(in) :: t(:)
+    real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
     real(wp), intent(inout) :: theta(:), omega(:)
-    real(wp), dimension(nq_max) :: a, p, sa, ca, da
-    integer :: lane(nq_max), k, j, nl
+    real(wp), dimension(nq_max) :: th, om, w, tt, sh0, ch0, sh, q, w2, ch, chlo, a, p, sa, ca, da, xn, cn, cln, &
+                                   lq, lch, lsh, lw, lth, lom, mcs
+    integer :: lane(nq_max), near(nq_max), k, j, nl, nn
+    real(wp) :: hlo, qlo, pp, e, d, dlo, s, ok, ok_q, wk, w2k, qk
+    logical :: fast(nq_max)
+    type(undamped_motion_t) :: motion
     type(status_t) :: status
-    nl = 0
     do k = 1, nq
       j = idx(k)
-      if (queue(k)%regime == REGIME_LIBRATION .and. .not. queue(k)%free .and. .not. period_needed(queue(k), at(t, j))) then
-        nl = nl + 1
-        lane(nl) = k
-        a(nl) = queue(k)%rate*at(t, j)   ! as undamped_eval: the light motion's ellipjm1
-        p(nl) = queue(k)%pmc
-      else
-        if (queue(k)%period == 0 .and. period_needed(queue(k), at(t, j))) call set_period(queue(k))
-        call undamped_eval(queue(k), at(t, j), theta(j), omega(j))
+      th(k) = at(theta0, j); om(k) = at(omega0, j); w(k) = at(w0, j); tt(k) = at(t, j)
+      ! a harmless angle for the states left to the general path
+      a(k) = merge(0.5_wp*th(k), 0.0_wp, abs(th(k)) < pi)
+    end do
+    call sincos_half_array(nq, a(1:nq), sh0(1:nq), ch0(1:nq))
+    ! set_geometry's steps for |theta0| < pi: reduce_angle_2pi gives n = 0, r = theta0
+    ! exactly (hlo = 0), the centre is 0
+    hlo = 0
+    nn = 0
+    do k = 1, nq
+      sh(k) = sh0(k) + ch0(k)*hlo
+      w2(k) = om(k)/w(k)
+      q(k) = 0.5_wp*w2(k)
+      ! |t| < 2**19 s and w0 < 2**19 /s keep |w0 t| below 2**38: no period reduction
+      ! (period_needed is false; larger ones take the general path, which decides)
+      fast(k) = abs(th(k)) < pi .and. abs(q(k)) <= 1.0e150_wp .and. abs(tt(k)) < 2.0_wp**19 .and. w(k) < 2.0_wp**19
+      ch(k) = ch0(k) - sh0(k)*hlo
+      chlo(k) = 0
+      if (fast(k) .and. abs(q(k)) >= 0.875_wp*ch0(k) .and. abs(q(k)) <= (8.0_wp/7)*ch0(k)) then
+        nn = nn + 1
+        near(nn) = k
+        xn(nn) = a(k)
       end if
     end do
+    if (nn > 0) then
+      call cos_dd_lanes(nn, xn(1:nn), spread(hlo, 1, nn), cn(1:nn), cln(1:nn))
+      ch(near(1:nn)) = cn(1:nn)
+      chlo(near(1:nn)) = cln(1:nn)
+    end if
+    do k = 1, nq
+      ! 1 - m as set_geometry forms it, branch-free (a loop gcc vectorises); the states
+      ! left to the general path get harmless numbers (no overflow)
+      ok = merge(1.0_wp, 0.0_wp, fast(k))
+      wk = merge(w(k), 1.0_wp, ok > 0)
+      w2k = merge(w2(k), 0.0_wp, ok > 0)
+      qk = merge(q(k), 0.0_wp, ok > 0)
+      ok_q = merge(1.0_wp, 0.0_wp, w2k /= 0 .and. max(abs(w2k), wk) < 1.0e290_wp)
+      call exact_product(merge(w2k, 0.0_wp, ok_q > 0), merge(wk, 0.0_wp, ok_q > 0), pp, e)
+      qlo = merge(0.5_wp*(((merge(om(k), 0.0_wp, ok > 0) - pp) - e)/wk), 0.0_wp, ok_q > 0)
+      s = ch(k) + abs(qk)
+      call sum_dd(ch(k), chlo(k), -abs(qk), -sign(1.0_wp, qk)*qlo, d, dlo)
+      mcs(k) = merge((ch(k) - abs(qk))*s, (d + dlo)*s, chlo(k) == 0 .and. qlo == 0)
+    end do
+    nl = 0
+    do k = 1, nq
+      fast(k) = fast(k) .and. mcs(k) > 0
+      if (.not. fast(k)) cycle
+      ! the light motion's ellipjm1 at a = rate t, rate = w0, parameter 1 - mc
+      nl = nl + 1
+      lane(nl) = k
+      a(nl) = w(k)*tt(k)
+      p(nl) = mcs(k)
+    end do
     if (nl > 0) call ellipjm1_array(a(1:nl), p(1:nl), sa(1:nl), ca(1:nl), da(1:nl), status)
-    do k = 1, nl
-      j = idx(lane(k))
-      call libration_at(queue(lane(k)), sa(k), ca(k), da(k), theta(j), omega(j))
+    do j = 1, nl
+      k = lane(j)
+      lq(j) = q(k); lch(j) = ch(k); lsh(j) = sh(k); lw(j) = w(k)
+    end do
+    call libration_lanes(nl, lq, lch, lsh, lw, sa, ca, da, lth, lom)
+    do j = 1, nl
+      theta(idx(lane(j))) = lth(j)
+      omega(idx(lane(j))) = lom(j)
+    end do
+    do k = 1, nq
+      if (fast(k)) cycle
+      j = idx(k)
+      call set_geometry(motion, th(k), om(k), w(k))
+      if (period_needed(motion, tt(k))) call set_period(motion)
+      call undamped_eval(motion, tt(k), theta(j), omega(j))
     end do
     nq = 0
   end subroutine states_block
+
+  ! pendula_double_double's dd_add_fast and two_prod (for |a|, |b| <= 2**996), operation
+  ! for operation (the same bits), here so that states_block's lane loop inlines them.
+  elemental subroutine sum_dd(ah, al, bh, bl, ch, cl)
+    real(wp), intent(in) :: ah, al, bh, bl
+    real(wp), intent(out) :: ch, cl
+    real(wp) :: s, e, bb
+    s = ah + bh
+    bb = s - ah
+    e = (ah - (s - bb)) + (bh - bb)
+    e = e + (al + bl)
+    ch = s + e
+    cl = e - (ch - s)
+  end subroutine sum_dd
+
+  elemental subroutine exact_product(a, b, p, e)
+    real(wp), intent(in) :: a, b
+    real(wp), intent(out) :: p, e
+    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
+    real(wp) :: t, ah, al, bh, bl
+    p = a*b
+    t = split*a
+    ah = t - (t - a)
+    al = a - ah
+    t = split*b
+    bh = t - (t - b)
+    bl = b - bh
+    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
+  end subroutine exact_product
 
   !> Whether an input of size 1 or n fits n elements.
   pure logical function fits(x, n)
@@ -286,10 +375,9 @@ contains
   end subroutine undamped_properties
 
   !> 1 - m, the regime and (when want_m) m of a checked state: the numbers
-  !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion.  Only
-  !> cos(theta_r/2) is needed for 1 - m (hlo = 0 for |theta0| < pi); sin is
-  !> taken only for m or a reduced angle, cos in double-double only near the
-  !> separatrix.  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
+  !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion
+  !> (cos of theta_r/2 by cos_half, or with the sine by sincos_half where the sine is
+  !> needed -- for m or a reduced angle; cos in double-double only near the separatrix).  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
   !> m = +inf, mc = -inf and regime REGIME_ROTATION.
   elemental subroutine state_parameter(theta0, omega0, w0, want_m, m, mc, regime)
     real(wp), intent(in) :: theta0  !< initial angle [rad], finite
@@ -300,7 +388,7 @@ contains
     real(wp), intent(out) :: mc  !< 1 - m without cancellation
     integer, intent(out) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
     real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
-    logical :: near, have_sin
+    logical :: near, need_sin
     if (abs(theta0) < pi) then
       ! what reduce_angle_2pi returns for these angles, without the call
       h = 0.5_wp*theta0
@@ -319,11 +407,15 @@ contains
       regime = REGIME_ROTATION
       return
     end if
-    ch0 = cos_half(h)
+    ! the sine only where it is needed; cos_half has sincos_half's cosine bits
+    need_sin = want_m .or. hlo /= 0
+    if (need_sin) then
+      call sincos_half(h, sh0, ch0)
+    else
+      ch0 = cos_half(h)
+      sh0 = 0
+    end if
     near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
-    have_sin = want_m .or. hlo /= 0 .or. near
-    sh0 = 0
-    if (have_sin) sh0 = sin_apart(h)
     if (near) then
       call cos_dd(h, hlo, ch, chlo)
     else
@@ -350,7 +442,7 @@ contains
       regime = REGIME_SEPARATRIX
     end if
     if (want_m .or. regime == REGIME_ROTATION) then
-      if (.not. have_sin) sh0 = sin_apart(h)
+      if (.not. need_sin) call sincos_half(h, sh0, ch0)
       sh = sh0 + ch0*hlo
       m = sh*sh + q*q
     end if

@@ -10,7 +10,7 @@ module pendula_undamped_motion
   use pendula_constants, only: pi, two_pi, two_pi_lo
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1
-  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi
+  use pendula_angle_dd, only: cos_dd, reduce_angle_2pi, sincos_half
   implicit none
   private
 
@@ -179,8 +179,7 @@ contains
     hlo = 0.5_wp*r_lo
     motion%h = h
     motion%hlo = hlo
-    sh0 = sin(h)
-    ch0 = cos_half(h)             ! the many-state loops' cosine (pendula_undamped_many): the same bits
+    call sincos_half(h, sh0, ch0)   ! no libm call; ch0 has the bits of the many-state loops' cos_half
     sh = sh0 + ch0*hlo            ! sin(theta_r/2), first-order correction for r_lo
     ! q = Omega0/(2 w0) with its rounding error qlo (exact residual by two_prod)
     w2 = omega0/w0                  ! Omega0/w0, halved below (exact); no 2 w0 overflow
@@ -207,7 +206,7 @@ contains
       ! ~t/(T (1-m) K); a double-double c keeps 1 - m relatively exact.
       call cos_dd(h, hlo, ch, chlo)
     else
-      ! c - |q| loses at most three bits: cos_half (< 1 ulp) keeps 1 - m to a
+      ! c - |q| loses at most three bits: sincos_half (< 1 ulp) keeps 1 - m to a
       ! few ulps (a few eps times its condition number in Omega0), at a twentieth
       ! of the cost of cos_dd
       ch = ch0 - sh0*hlo
