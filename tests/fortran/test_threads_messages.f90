@@ -14,13 +14,13 @@ program test_threads_messages
   use pendula_format, only: format_sci, format_fixed, format_general, format_short, format_int
   use pendula_scene_codes, only: scene_model_list, scene_want_list
   use pendula_status, only: check_positive
-  use pendula_testing, only: checker_t
+  use pendula_testing, only: checker_t, quick_mode
   implicit none
   integer, parameter :: N = 4000, REPEATS = 12, TEXT = 1600, THREADS = 4
   type(checker_t) :: t
   character(len=TEXT), allocatable :: serial(:)
   real(wp) :: x(N)
-  integer :: i, r, bad, first_bad
+  integer :: i, r, bad, first_bad, repeats
 
   ! values of every magnitude and sign, zeros and subnormals among them
   do i = 1, N
@@ -38,9 +38,13 @@ program test_threads_messages
   call t%check_true(index(serial(5), 'w0 = ') > 0 .and. len_trim(serial(4)) > 300, &
                     'serial texts carry the messages and the 309-digit fixed form')
 
+  ! one round under PENDULA_TEST_QUICK (the memcheck and checked legs, where
+  ! threads are serialised and a round costs ~10 s): they look for memory
+  ! errors, which one round exercises
+  repeats = merge(1, REPEATS, quick_mode())
   bad = 0
   first_bad = 0
-  do r = 1, REPEATS
+  do r = 1, repeats
     !$omp parallel do num_threads(THREADS) schedule(dynamic, 16) reduction(+:bad) reduction(max:first_bad)
     do i = 1, N
       if (texts(i) /= serial(i)) then
@@ -51,7 +55,7 @@ program test_threads_messages
     !$omp end parallel do
   end do
   call t%check_true(bad == 0, 'texts built in '//format_int(THREADS)//' threads equal the serial ones: '// &
-                    format_int(bad)//' of '//format_int(N*REPEATS)//' differ (e.g. item '//format_int(first_bad)//')')
+                    format_int(bad)//' of '//format_int(N*repeats)//' differ (e.g. item '//format_int(first_bad)//')')
   call t%report('test_threads_messages')
 
 contains
