@@ -20,7 +20,7 @@ program test_threads_messages
   type(checker_t) :: t
   character(len=TEXT), allocatable :: serial(:)
   real(wp) :: x(N)
-  integer :: i, r, bad, first_bad, repeats
+  integer :: i, r, bad, first_bad, rounds
 
   ! values of every magnitude and sign, zeros and subnormals among them
   do i = 1, N
@@ -41,10 +41,10 @@ program test_threads_messages
   ! one round under PENDULA_TEST_QUICK (the memcheck and checked legs, where
   ! threads are serialised and a round costs ~10 s): they look for memory
   ! errors, which one round exercises
-  repeats = merge(1, REPEATS, quick_mode())
+  rounds = merge(1, REPEATS, quick_mode())
   bad = 0
   first_bad = 0
-  do r = 1, repeats
+  do r = 1, rounds
     !$omp parallel do num_threads(THREADS) schedule(dynamic, 16) reduction(+:bad) reduction(max:first_bad)
     do i = 1, N
       if (texts(i) /= serial(i)) then
@@ -55,7 +55,7 @@ program test_threads_messages
     !$omp end parallel do
   end do
   call t%check_true(bad == 0, 'texts built in '//format_int(THREADS)//' threads equal the serial ones: '// &
-                    format_int(bad)//' of '//format_int(N*repeats)//' differ (e.g. item '//format_int(first_bad)//')')
+                    format_int(bad)//' of '//format_int(N*rounds)//' differ (e.g. item '//format_int(first_bad)//')')
   call t%report('test_threads_messages')
 
 contains
