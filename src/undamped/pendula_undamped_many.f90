@@ -11,10 +11,10 @@ module pendula_undamped_many
                                      UNDAMPED_PLAN_MIN_TIMES, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   use pendula_constants, only: pi
-  use pendula_elliptic, only: ellipkm1, ellipjm1_array
+  use pendula_elliptic, only: ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
-  use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half, sincos_half_array
+  use pendula_angle_dd, only: cos_half
+  use pendula_undamped_parameter, only: state_parameter, parameter_lanes, period_parts
   use pendula_undamped_eval, only: undamped_eval, undamped_eval_many, libration_lanes
   implicit none
   private
@@ -123,58 +123,21 @@ contains
     integer, intent(in) :: idx(:)
     real(wp), intent(in) :: t(:), theta0(:), omega0(:), w0(:)
     real(wp), intent(inout) :: theta(:), omega(:)
-    real(wp), dimension(nq_max) :: th, om, w, tt, sh0, ch0, sh, q, w2, ch, chlo, a, p, sa, ca, da, xn, cn, cln, &
-                                   lq, lch, lsh, lw, lth, lom, mcs
-    integer :: lane(nq_max), near(nq_max), k, j, nl, nn
-    real(wp) :: hlo, qlo, pp, e, d, dlo, s, ok, ok_q, wk, w2k, qk
+    real(wp), dimension(nq_max) :: th, om, w, tt, sh, q, ch, a, p, sa, ca, da, lq, lch, lsh, lw, lth, lom, mcs
+    integer :: lane(nq_max), k, j, nl
     logical :: fast(nq_max)
     type(undamped_motion_t) :: motion
     type(status_t) :: status
     do k = 1, nq
       j = idx(k)
       th(k) = at(theta0, j); om(k) = at(omega0, j); w(k) = at(w0, j); tt(k) = at(t, j)
-      ! a harmless angle for the states left to the general path
-      a(k) = merge(0.5_wp*th(k), 0.0_wp, abs(th(k)) < pi)
     end do
-    call sincos_half_array(nq, a(1:nq), sh0(1:nq), ch0(1:nq))
-    ! set_geometry's steps for |theta0| < pi: reduce_angle_2pi gives n = 0, r = theta0
-    ! exactly (hlo = 0), the centre is 0
-    hlo = 0
-    nn = 0
+    ! |t| < 2**19 s and w0 < 2**19 /s keep |w0 t| below 2**38: no period reduction
+    ! (period_needed is false; larger ones take the general path, which decides)
     do k = 1, nq
-      sh(k) = sh0(k) + ch0(k)*hlo
-      w2(k) = om(k)/w(k)
-      q(k) = 0.5_wp*w2(k)
-      ! |t| < 2**19 s and w0 < 2**19 /s keep |w0 t| below 2**38: no period reduction
-      ! (period_needed is false; larger ones take the general path, which decides)
-      fast(k) = abs(th(k)) < pi .and. abs(q(k)) <= 1.0e150_wp .and. abs(tt(k)) < 2.0_wp**19 .and. w(k) < 2.0_wp**19
-      ch(k) = ch0(k) - sh0(k)*hlo
-      chlo(k) = 0
-      if (fast(k) .and. abs(q(k)) >= 0.875_wp*ch0(k) .and. abs(q(k)) <= (8.0_wp/7)*ch0(k)) then
-        nn = nn + 1
-        near(nn) = k
-        xn(nn) = a(k)
-      end if
+      fast(k) = abs(th(k)) < pi .and. abs(tt(k)) < 2.0_wp**19 .and. w(k) < 2.0_wp**19
     end do
-    if (nn > 0) then
-      call cos_dd_lanes(nn, xn(1:nn), spread(hlo, 1, nn), cn(1:nn), cln(1:nn))
-      ch(near(1:nn)) = cn(1:nn)
-      chlo(near(1:nn)) = cln(1:nn)
-    end if
-    do k = 1, nq
-      ! 1 - m as set_geometry forms it, branch-free (a loop gcc vectorises); the states
-      ! left to the general path get harmless numbers (no overflow)
-      ok = merge(1.0_wp, 0.0_wp, fast(k))
-      wk = merge(w(k), 1.0_wp, ok > 0)
-      w2k = merge(w2(k), 0.0_wp, ok > 0)
-      qk = merge(q(k), 0.0_wp, ok > 0)
-      ok_q = merge(1.0_wp, 0.0_wp, w2k /= 0 .and. max(abs(w2k), wk) < 1.0e290_wp)
-      call exact_product(merge(w2k, 0.0_wp, ok_q > 0), merge(wk, 0.0_wp, ok_q > 0), pp, e)
-      qlo = merge(0.5_wp*(((merge(om(k), 0.0_wp, ok > 0) - pp) - e)/wk), 0.0_wp, ok_q > 0)
-      s = ch(k) + abs(qk)
-      call sum_dd(ch(k), chlo(k), -abs(qk), -sign(1.0_wp, qk)*qlo, d, dlo)
-      mcs(k) = merge((ch(k) - abs(qk))*s, (d + dlo)*s, chlo(k) == 0 .and. qlo == 0)
-    end do
+    call parameter_lanes(nq, th, om, w, fast, sh, ch, q, mcs)
     nl = 0
     do k = 1, nq
       fast(k) = fast(k) .and. mcs(k) > 0
@@ -204,35 +167,6 @@ contains
     end do
     nq = 0
   end subroutine states_block
-
-  ! pendula_double_double's dd_add_fast and two_prod (for |a|, |b| <= 2**996), operation
-  ! for operation (the same bits), here so that states_block's lane loop inlines them.
-  elemental subroutine sum_dd(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
-    real(wp) :: s, e, bb
-    s = ah + bh
-    bb = s - ah
-    e = (ah - (s - bb)) + (bh - bb)
-    e = e + (al + bl)
-    ch = s + e
-    cl = e - (ch - s)
-  end subroutine sum_dd
-
-  elemental subroutine exact_product(a, b, p, e)
-    real(wp), intent(in) :: a, b
-    real(wp), intent(out) :: p, e
-    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
-    real(wp) :: t, ah, al, bh, bl
-    p = a*b
-    t = split*a
-    ah = t - (t - a)
-    al = a - ah
-    t = split*b
-    bh = t - (t - b)
-    bl = b - bh
-    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
-  end subroutine exact_product
 
   !> Whether an input of size 1 or n fits n elements.
   pure logical function fits(x, n)
@@ -302,9 +236,10 @@ contains
     real(wp), intent(out), optional :: mc(:)  !< optional 1 - m
     integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
     integer, parameter :: nb = 256
-    real(wp) :: th, om, w, mi, mci, ch, den(nb)
-    integer :: i, i0, i1, n, reg
-    logical :: bad, want_m, amplitudes_only
+    real(wp) :: mi, mci, c, den(nb)
+    real(wp), dimension(nb) :: th, om, w, sh, ch, q, mb, mcb
+    integer :: i, i0, i1, n, reg, k, nk, regb(nb)
+    logical :: bad, want_m, amplitudes_only, fast(nb)
     n = max(size(theta0), size(omega0), size(w0))
     if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
     bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
@@ -330,32 +265,53 @@ contains
         ! The cosines in one vectorised pass (cos_half: no libm call), then K.
         if (all(abs(theta0(i0:i1)) < pi)) then
           do i = i0, i1
-            ch = cos_half(0.5_wp*theta0(i))
-            den(i - i0 + 1) = ch*ch
+            c = cos_half(0.5_wp*theta0(i))
+            den(i - i0 + 1) = c*c
           end do
           call k_unit_many(den(1:i1 - i0 + 1), period(i0:i1))   ! = ellipkm1, 0 < 1 - m <= 1 here
           period(i0:i1) = (4*period(i0:i1))/w0(1)
           cycle
         end if
       end if
-      do i = i0, i1
-        th = at(theta0, i)
-        om = at(omega0, i)
-        w = at(w0, i)
-        if (.not. (ieee_is_finite(th) .and. ieee_is_finite(om) .and. w > 0 .and. w <= huge(w))) then
-          ! checked here, not in a pass before: one read of the inputs
-          call check_state(th, om, w, status)
-          if (present(period)) period = 0
-          if (present(amplitude)) amplitude = 0
-          if (present(m)) m = 0
-          if (present(mc)) mc = 0
-          if (present(regime)) regime = 0
-          return
-        end if
-        ! the parameter alone (no motion built): cos(theta0/2), and sin only when m is asked
-        call state_parameter(th, om, w, want_m, mi, mci, reg)
+      nk = i1 - i0 + 1
+      do k = 1, nk
+        th(k) = at(theta0, i0 + k - 1)
+        om(k) = at(omega0, i0 + k - 1)
+        w(k) = at(w0, i0 + k - 1)
+        fast(k) = ieee_is_finite(th(k)) .and. ieee_is_finite(om(k)) .and. w(k) > 0 .and. w(k) <= huge(w)
+      end do
+      if (.not. all(fast(1:nk))) then
+        ! the first bad state names its argument (checked here, not in a pass over
+        ! all inputs before: one read of the inputs)
+        k = findloc(fast(1:nk), .false., dim=1)
+        call check_state(th(k), om(k), w(k), status)
+        if (present(period)) period = 0
+        if (present(amplitude)) amplitude = 0
+        if (present(m)) m = 0
+        if (present(mc)) mc = 0
+        if (present(regime)) regime = 0
+        return
+      end if
+      ! the parameter alone (no motion built): the block's |theta0| < pi states in
+      ! passes over the block, the others one by one (state_parameter: the same numbers)
+      do k = 1, nk
+        fast(k) = abs(th(k)) < pi
+      end do
+      call parameter_lanes(nk, th, om, w, fast, sh, ch, q, mcb)
+      do k = 1, nk
+        regb(k) = merge(REGIME_LIBRATION, merge(REGIME_ROTATION, REGIME_SEPARATRIX, mcb(k) < 0), mcb(k) > 0)
+        mb(k) = merge(sh(k)*sh(k) + q(k)*q(k), 0.0_wp, want_m .or. mcb(k) < 0)
+      end do
+      do k = 1, nk
+        if (.not. fast(k)) call state_parameter(th(k), om(k), w(k), want_m, mb(k), mcb(k), regb(k))
+      end do
+      do k = 1, nk
+        i = i0 + k - 1
+        mi = mb(k)
+        mci = mcb(k)
+        reg = regb(k)
         ! numerator and denominator: the divisions of a block run as one vector loop below
-        if (present(period)) call period_parts(reg, mi, mci, om, w, period(i), den(i - i0 + 1))
+        if (present(period)) call period_parts(reg, mi, mci, om(k), w(k), period(i), den(k))
         if (present(amplitude)) then
           select case (reg)
           case (REGIME_LIBRATION)
@@ -366,111 +322,12 @@ contains
             amplitude(i) = ieee_value(1.0_wp, ieee_positive_inf)
           end select
         end if
-        if (present(m)) m(i) = mi
-        if (present(mc)) mc(i) = mci
-        if (present(regime)) regime(i) = reg
       end do
+      if (present(m)) m(i0:i1) = mb(1:nk)
+      if (present(mc)) mc(i0:i1) = mcb(1:nk)
+      if (present(regime)) regime(i0:i1) = regb(1:nk)
       if (present(period)) period(i0:i1) = period(i0:i1)/den(1:i1 - i0 + 1)
     end do
   end subroutine undamped_properties
-
-  !> 1 - m, the regime and (when want_m) m of a checked state: the numbers
-  !> set_geometry (pendula_undamped_motion) gives, step for step, without building a motion
-  !> (cos of theta_r/2 by cos_half, or with the sine by sincos_half where the sine is
-  !> needed -- for m or a reduced angle; cos in double-double only near the separatrix).  m is left 0 when not wanted; a free rotor (|q| > 1e150) has
-  !> m = +inf, mc = -inf and regime REGIME_ROTATION.
-  elemental subroutine state_parameter(theta0, omega0, w0, want_m, m, mc, regime)
-    real(wp), intent(in) :: theta0  !< initial angle [rad], finite
-    real(wp), intent(in) :: omega0  !< initial angular velocity [rad/s], finite
-    real(wp), intent(in) :: w0  !< small-angle angular frequency [1/s], > 0 (checked)
-    logical, intent(in) :: want_m  !< also m (else m = 0 unless the regime needs it)
-    real(wp), intent(out) :: m  !< k^2 = E / E_separatrix (0 when not wanted)
-    real(wp), intent(out) :: mc  !< 1 - m without cancellation
-    integer, intent(out) :: regime  !< REGIME_LIBRATION, REGIME_SEPARATRIX or REGIME_ROTATION
-    real(wp) :: n, r_hi, r_lo, h, hlo, sh, ch, chlo, sh0, ch0, q, qlo, p, e, w2, d, dlo, a
-    logical :: near, need_sin
-    if (abs(theta0) < pi) then
-      ! what reduce_angle_2pi returns for these angles, without the call
-      h = 0.5_wp*theta0
-      hlo = 0
-    else
-      call reduce_angle_2pi(theta0, n, r_hi, r_lo)
-      h = 0.5_wp*r_hi
-      hlo = 0.5_wp*r_lo
-    end if
-    w2 = omega0/w0
-    q = 0.5_wp*w2
-    m = 0
-    if (abs(q) > 1.0e150_wp) then
-      m = ieee_value(1.0_wp, ieee_positive_inf)
-      mc = -m
-      regime = REGIME_ROTATION
-      return
-    end if
-    ! the sine only where it is needed; cos_half has sincos_half's cosine bits
-    need_sin = want_m .or. hlo /= 0
-    if (need_sin) then
-      call sincos_half(h, sh0, ch0)
-    else
-      ch0 = cos_half(h)
-      sh0 = 0
-    end if
-    near = abs(q) >= 0.875_wp*ch0 .and. abs(q) <= (8.0_wp/7)*ch0
-    if (near) then
-      call cos_dd(h, hlo, ch, chlo)
-    else
-      ch = ch0 - sh0*hlo      ! ch0 exactly when hlo = 0
-      chlo = 0
-    end if
-    qlo = 0
-    if (w2 /= 0 .and. max(abs(w2), w0) < 1.0e290_wp) then
-      call two_prod(w2, w0, p, e)
-      qlo = 0.5_wp*(((omega0 - p) - e)/w0)
-    end if
-    a = ch + abs(q)
-    if (chlo == 0 .and. qlo == 0) then
-      mc = (ch - abs(q))*a
-    else
-      call dd_add_fast(ch, chlo, -abs(q), -sign(1.0_wp, q)*qlo, d, dlo)
-      mc = (d + dlo)*a
-    end if
-    if (mc > 0) then
-      regime = REGIME_LIBRATION
-    else if (mc < 0) then
-      regime = REGIME_ROTATION
-    else
-      regime = REGIME_SEPARATRIX
-    end if
-    if (want_m .or. regime == REGIME_ROTATION) then
-      if (.not. need_sin) call sincos_half(h, sh0, ch0)
-      sh = sh0 + ch0*hlo
-      m = sh*sh + q*q
-    end if
-  end subroutine state_parameter
-
-  !> The period of a state from its regime, m and 1 - m (state_parameter) as
-  !> num / den: the numbers of set_period -- 4 K(m) / w0, 2 K(1/m) / (k w0),
-  !> 2 pi / |Omega0| for the free rotor (m = +inf), +inf / 1 on the separatrix.
-  elemental subroutine period_parts(regime, m, mc, omega0, w0, num, den)
-    integer, intent(in) :: regime
-    real(wp), intent(in) :: m, mc, omega0, w0
-    real(wp), intent(out) :: num, den
-    select case (regime)
-    case (REGIME_LIBRATION)
-      num = 4*ellipkm1(mc)
-      den = w0
-    case (REGIME_ROTATION)
-      if (m > huge(m)) then
-        num = 2*pi
-        den = abs(omega0)
-      else
-        num = 2*ellipkm1(-mc/m)
-        den = sqrt(m)*w0
-      end if
-    case default
-      num = ieee_value(1.0_wp, ieee_positive_inf)
-      den = 1
-    end select
-  end subroutine period_parts
 
 end module pendula_undamped_many
