@@ -126,6 +126,25 @@ def test_per_state_failures():
         assert np.array_equal(a, b, equal_nan=True)
 
 
+def test_overflow_mid_run_with_shared_parameters():
+    """States that overflow during the run in batches sharing w0, gamma and h (the
+    kernel's block-wide constants, several blocks): NaN rows and ERR_SOLVER for them,
+    and every other state bit for bit pendula.rk4."""
+    n = 300
+    th0, om0 = np.linspace(-3.0, 3.0, n), np.linspace(-2.0, 2.0, n)
+    dead = [5, 150, 299]
+    om0[dead] = [1e308, -1.5e308, 1e308]
+    t = np.linspace(0.0, 10.0, 41)
+    for threads in (1, 2):
+        r = _batch.rk4_batch(t, th0, om0, 1.3, 0.0, 0.05, threads=threads)
+        assert (r.codes[dead] == ERR_SOLVER).all() and r.first_failed == 5
+        assert np.isnan(r.theta[dead]).all() and np.isnan(r.omega[dead]).all()
+        for i in np.flatnonzero(r.ok):
+            s = pendula.rk4(t, th0[i], om0[i], 1.3, 0.0, 0.05)
+            assert np.array_equal(r.theta[i], s.theta) and np.array_equal(r.omega[i], s.omega)
+        assert r.ok.sum() == n - len(dead)
+
+
 def test_call_level_errors():
     with pytest.raises(ValueError, match="t"):
         _batch.rk4_batch(np.array([0.0, 1.0, 1.0]), [0.1, 0.2], 0.0, W0, 0.1, 0.05)
