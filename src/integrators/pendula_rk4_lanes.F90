@@ -131,10 +131,12 @@ contains
       jn = min(nchunk, nt - j0)
       do jj = 1, jn
         dt = t(j0 + jj) - t(j0 + jj - 1)
-        if (same) then
+        if (same_h) then
           m = substeps(dt, hl(1))
           hm = dt
           if (m /= 1) hm = dt/real(m, wp)
+        end if
+        if (same) then
           call step_constants(hm, wsq(1), gam(1), cs(c_half), cs(c_sixth), cs(c_h2q), cs(c_hh), cs(c_c6), cs(c_w1), &
                               cs(c_w2), cs(c_cy), cs(c_g2), cs(c_wa), cs(c_wb), cs(c_bu0), cs(c_bu1))
           do i = 1, m
@@ -159,9 +161,6 @@ contains
           ! substeps too when the lanes' step bounds differ (lanes with fewer
           ! substeps then keep their state through the others' last ones)
           if (same_h) then
-            m = substeps(dt, hl(1))
-            hm = dt
-            if (m /= 1) hm = dt/real(m, wp)
             hsc = hm
             msc = merge(0_i8, m, dlane)
             mx = m
