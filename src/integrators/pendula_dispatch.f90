@@ -1,5 +1,5 @@
 !> Which compiled variant of the hot kernels (the batch RK4 block kernel, the
-!> Taylor batch's series kernel) runs (runtime CPU dispatch):
+!> Taylor batch's series kernel, the block kernel of the K and E array forms) runs (runtime CPU dispatch):
 !> the portable baseline, x86-64-v3 (AVX2 + FMA) or x86-64-v4 (AVX-512).
 !> The choice is made once when the library is loaded, from the CPU's
 !> features or the environment variable PENDULA_KERNEL = baseline | v3 | v4
@@ -11,7 +11,7 @@ module pendula_dispatch
   implicit none
   private
   public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
-  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes
+  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes, ke_block_lanes
 
   !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
   integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
@@ -69,6 +69,16 @@ module pendula_dispatch
       real(c_double), intent(inout) :: xx(*)  !< series of theta
       real(c_double), intent(inout) :: vv(*)  !< series of Omega
     end subroutine taylor_series_lanes
+    !> The block kernel of the K and E array forms of the running path
+    !> (pendula_elliptic_ke_lanes.F90): K (second = 0) or E of n <= 256 pairs (m, 1 - m).
+    pure subroutine ke_block_lanes(n, m, mc, second, x) bind(C, name='pendula_ke_block')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: n  !< elements, 1 to 256
+      real(c_double), intent(in) :: m(n)  !< parameters m in [0, 1)
+      real(c_double), intent(in) :: mc(n)  !< 1 - m
+      integer(c_int), intent(in) :: second  !< 0: K, otherwise E
+      real(c_double), intent(out) :: x(n)  !< K(m(j)) or E(m(j))
+    end subroutine ke_block_lanes
   end interface
 
 contains

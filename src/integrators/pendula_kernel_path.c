@@ -1,7 +1,8 @@
 /* Runtime dispatch of pendula's hot kernels: which compiled variant runs.
  *
- * The batch RK4 kernel (pendula_rk4_lanes.F90) and the Taylor batch's series
- * kernel (pendula_taylor_series_lanes.F90) are compiled for baseline
+ * The batch RK4 kernel (pendula_rk4_lanes.F90), the Taylor batch's series
+ * kernel (pendula_taylor_series_lanes.F90) and the block kernel of the K and
+ * E array forms (special/pendula_elliptic_ke_lanes.F90) are compiled for baseline
  * x86-64 (SSE2), x86-64-v3 (AVX2, FMA, BMI2) and x86-64-v4 (AVX-512 F, BW,
  * CD, DQ, VL) when meson builds for x86_64 (PENDULA_KERNEL_VARIANTS), and
  * only in its portable form elsewhere.  The path is chosen once, when the
@@ -11,8 +12,8 @@
  * or v4 asks for one path (for reproducibility and for the tests); a path
  * the CPU cannot run gives the best one it can below it, and any other value
  * (or none, or "auto") the best one.  Fortran asks pendula_kernel_path()
- * which path runs and calls pendula_rk4_lanes() and
- * pendula_taylor_series_lanes(), which forward to them.
+ * which path runs and calls pendula_rk4_lanes(),
+ * pendula_taylor_series_lanes() and pendula_ke_block(), which forward to them.
  * The choice is written once, before any call can read it.
  */
 #include <stdlib.h>
@@ -41,10 +42,18 @@ extern series_fn pendula_taylor_series_lanes_v3;
 extern series_fn pendula_taylor_series_lanes_v4;
 #endif
 
+typedef void ke_fn(void *, void *, void *, void *, void *);
+extern ke_fn pendula_ke_block_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern ke_fn pendula_ke_block_v3;
+extern ke_fn pendula_ke_block_v4;
+#endif
+
 static int kernel_path = PATH_BASELINE;
 static lanes_fn *rk4_lanes_impl = pendula_rk4_lanes_baseline;
 static width_fn *rk4_lanes_width_impl = pendula_rk4_lanes_baseline_width;
 static series_fn *taylor_series_impl = pendula_taylor_series_lanes_baseline;
+static ke_fn *ke_block_impl = pendula_ke_block_baseline;
 
 /* 1 when this build has path p and this CPU (and OS) can run it. */
 int pendula_kernel_available(const int *p)
@@ -84,10 +93,12 @@ __attribute__((constructor)) static void choose_path(void)
         rk4_lanes_impl = pendula_rk4_lanes_v3;
         rk4_lanes_width_impl = pendula_rk4_lanes_v3_width;
         taylor_series_impl = pendula_taylor_series_lanes_v3;
+        ke_block_impl = pendula_ke_block_v3;
     } else if (p == PATH_V4) {
         rk4_lanes_impl = pendula_rk4_lanes_v4;
         rk4_lanes_width_impl = pendula_rk4_lanes_v4_width;
         taylor_series_impl = pendula_taylor_series_lanes_v4;
+        ke_block_impl = pendula_ke_block_v4;
     }
 #endif
 }
@@ -119,4 +130,11 @@ void pendula_rk4_lanes(void *a1, void *a2, void *a3, void *a4, void *a5, void *a
 void pendula_taylor_series_lanes(void *a1, void *a2, void *a3, void *a4, void *a5, void *a6, void *a7, void *a8)
 {
     taylor_series_impl(a1, a2, a3, a4, a5, a6, a7, a8);
+}
+
+/* The block kernel of the K and E array forms of the chosen path (arguments:
+ * see special/pendula_elliptic_ke_lanes.F90, all by reference). */
+void pendula_ke_block(void *n, void *m, void *mc, void *second, void *x)
+{
+    ke_block_impl(n, m, mc, second, x);
 }

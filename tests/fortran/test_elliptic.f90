@@ -135,6 +135,27 @@ program test_elliptic
   call t%check_true(all(d == ellipe(s) .or. (d /= d .and. ellipe(s) /= ellipe(s))), 'ellipe_array = ellipe near m = 1')
   call ellipkm1_array(s(1:10), c(1:3), st)
   call t%check_true(st%code == PENDULA_ERR_SIZE .and. all(ieee_is_nan(c(1:3))), 'ellipkm1_array size check')
+  ! blocks of mostly one kind with a few of the other (gathered into their own pass):
+  ! uniform m with every 9th element near m = 1, one subnormal complement; and the reverse
+  s = [(modulo(0.6180339887498949_wp*i, 1.0_wp), i=1, 2001)]
+  s(9:2001:9) = 1 - 10.0_wp**(-2 - 0.14_wp*[(i, i=1, 222)])
+  s(1000) = 1 - 1.0e-310_wp
+  pcs_a = 1 - s
+  pcs_a(1000) = 1.0e-310_wp
+  call ellipkm1_array(pcs_a, c, st)
+  call ellipem1_array(pcs_a, d, st)
+  call t%check_true(all(same_bits(c, ellipkm1(pcs_a))) .and. all(same_bits(d, ellipem1(pcs_a))), &
+                    'ellipkm1_array, ellipem1_array = scalars in mixed blocks')
+  call ellipk_array(s, c, st)
+  call ellipe_array(s, d, st)
+  call t%check_true(all(same_bits(c, ellipk(s))) .and. all(same_bits(d, ellipe(s))), &
+                    'ellipk_array, ellipe_array = scalars in mixed blocks')
+  pcs_a = 10.0_wp**(-2 - 0.14_wp*[(modulo(i*37, 222), i=1, 2001)])
+  pcs_a(5:2001:11) = [(modulo(0.6180339887498949_wp*i, 1.0_wp) + 0.01_wp, i=1, 182)]
+  call ellipkm1_array(pcs_a, c, st)
+  call ellipem1_array(pcs_a, d, st)
+  call t%check_true(all(same_bits(c, ellipkm1(pcs_a))) .and. all(same_bits(d, ellipem1(pcs_a))), &
+                    'ellipkm1_array, ellipem1_array = scalars in mostly logarithmic blocks')
 
   ! ---- 4K period and F(am(u)) = u
   x = ellipk(0.8_wp)

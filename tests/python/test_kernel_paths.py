@@ -3,9 +3,13 @@ this machine can run (build_info()["kernel"]["available"]) is forced with
 PENDULA_KERNEL in a fresh interpreter, reports itself in build_info(), and
 returns the same bits as the baseline path and as pendula.rk4 state by state
 (the variants differ in vector width only: -ffp-contract=off, no fast-math).
+Likewise the block kernel of the K and E array forms: the same bits on every
+path, and on every path the bits of the scalar Fortran functions (the Fortran
+test program test_elliptic, run with each path when the meson build is there).
 """
 
 import os
+import pathlib
 import subprocess
 import sys
 
@@ -116,3 +120,72 @@ def test_openmp_threads_sleep_unless_the_user_chose(user, want):
     out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True, timeout=120)
     assert f"OMP_WAIT_POLICY = '{want}'" in out.stderr
     assert out.stdout.strip() == str(user)
+
+
+_KE_SCRIPT = r"""
+import sys
+import numpy as np
+import pendula
+sys.path.insert(0, sys.argv[2])
+from test_kernel_paths import ke_inputs
+m, p = ke_inputs()
+out = {"path": pendula.build_info()["kernel"]["path"]}
+out.update(k=pendula.ellipk(m), e=pendula.ellipe(m), km1=pendula.ellipkm1(p), em1=pendula.ellipem1(p))
+out.update(period=pendula.period(np.arccos(1 - 2 * p[(p > 0) & (p <= 1)]), 0.0, 1.0))
+np.savez(sys.argv[1], **out)
+"""
+
+
+def ke_inputs():
+    """m and p = 1 - m for the K and E block kernel: uniform m, blocks of mostly one
+    kind (interval polynomial, logarithmic form) with a few of the other, subnormal
+    complements, and the values outside the unit interval (0, 1, m < 0, NaN)."""
+    rng = np.random.default_rng(7)
+    m = rng.uniform(0.0, 1.0, 3000)
+    m[::9] = 1 - 10.0 ** rng.uniform(-15, -1.5, m[::9].size)
+    p = 10.0 ** rng.uniform(-320, 0, 3000)
+    p[5::11] = rng.uniform(0.03, 1.0, p[5::11].size)
+    p[[10, 20, 30]] = [5e-324, 1e-310, 2.2250738585072014e-308]
+    m[[40, 41, 42, 43]] = [0.0, 1.0, -3.5, np.nan]
+    p[[40, 41, 42, 43]] = [0.0, 1.0, 4.5, np.nan]
+    return m, p
+
+
+def _run_ke(tmp_path, path):
+    out = tmp_path / f"ke_{path}.npz"
+    env = dict(os.environ, PENDULA_KERNEL=path)
+    here = os.path.dirname(os.path.abspath(__file__))
+    subprocess.run([sys.executable, "-c", _KE_SCRIPT, str(out), here], env=env, check=True, timeout=120)
+    return np.load(out)
+
+
+def test_elliptic_blocks_give_the_same_bits_on_every_path(tmp_path):
+    available = pendula.build_info()["kernel"]["available"]
+    base = _run_ke(tmp_path, "baseline")
+    assert str(base["path"]) == "baseline"
+    for path in available[1:]:
+        got = _run_ke(tmp_path, path)
+        assert str(got["path"]) == path
+        for key in base.files:
+            if key != "path":
+                assert np.array_equal(got[key], base[key], equal_nan=True), (path, key)
+
+
+def _fortran_test(name):
+    root = pathlib.Path(__file__).resolve().parents[2]
+    for cand in (os.environ.get("PENDULA_BUILD_DIR"), root / "build" / "test", root / "build" / "dev"):
+        if cand and (pathlib.Path(cand) / "tests" / name).is_file():
+            return pathlib.Path(cand) / "tests" / name
+    return None
+
+
+def test_elliptic_arrays_equal_the_scalars_on_every_path():
+    """test_elliptic checks the array forms against the scalar (baseline-compiled)
+    K and E bit for bit, in mixed blocks too: run it on every path."""
+    exe = _fortran_test("test_elliptic")
+    if exe is None:
+        pytest.skip("needs the meson build's Fortran tests (PENDULA_BUILD_DIR)")
+    for path in pendula.build_info()["kernel"]["available"]:
+        env = dict(os.environ, PENDULA_KERNEL=path)
+        r = subprocess.run([str(exe)], env=env, capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0, (path, r.stdout[-2000:], r.stderr[-2000:])
