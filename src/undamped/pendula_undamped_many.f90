@@ -238,7 +238,7 @@ contains
     integer, parameter :: nb = 256
     real(wp) :: mi, mci, c, den(nb)
     real(wp), dimension(nb) :: th, om, w, sh, ch, q, mb, mcb
-    integer :: i, i0, i1, n, reg, k, nk, regb(nb)
+    integer :: i, i0, i1, n, reg, k, nk, bad_k, regb(nb)
     logical :: bad, want_m, amplitudes_only, fast(nb)
     n = max(size(theta0), size(omega0), size(w0))
     if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
@@ -278,12 +278,19 @@ contains
         th(k) = at(theta0, i0 + k - 1)
         om(k) = at(omega0, i0 + k - 1)
         w(k) = at(w0, i0 + k - 1)
-        fast(k) = ieee_is_finite(th(k)) .and. ieee_is_finite(om(k)) .and. w(k) > 0 .and. w(k) <= huge(w)
       end do
-      if (.not. all(fast(1:nk))) then
-        ! the first bad state names its argument (checked here, not in a pass over
-        ! all inputs before: one read of the inputs)
-        k = findloc(fast(1:nk), .false., dim=1)
+      ! the first bad state names its argument (checked here, not in a pass over all
+      ! inputs before: one read of the inputs).  A scalar loop that stops there: a
+      ! vectorised test would compare NaNs with signalling compares (invalid).
+      bad_k = 0
+      do k = 1, nk
+        if (.not. (ieee_is_finite(th(k)) .and. ieee_is_finite(om(k)) .and. w(k) > 0 .and. w(k) <= huge(w))) then
+          bad_k = k
+          exit
+        end if
+      end do
+      if (bad_k > 0) then
+        k = bad_k
         call check_state(th(k), om(k), w(k), status)
         if (present(period)) period = 0
         if (present(amplitude)) amplitude = 0
