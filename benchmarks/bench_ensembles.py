@@ -22,10 +22,9 @@ flops/cycle, 2.6 GHz), and the largest error of any state against a fine
 reference (batch RK4 at h/16, itself checked against DOP853 at rtol 1e-13).
 Slow contenders run on fewer states and are scaled (the N column says how many).
 The batch rows include the first-touch page faults of their fresh outputs
-(2 x N x 601 doubles per call, ~15-30% of their time here); the loop recycles
-small arrays.  The kernel alone (outputs reused) is timed by the Fortran
-harness in the report of this benchmark's first run: 15.5 ns per state-step
-at the default flags, 10.4 with -Dnative=true, scalar rk4_solve 24-26.
+(2 x N x 601 doubles per call, ~15% of their time here); the loop recycles
+small arrays.  benchmarks/bench_kernels.py times the batch kernel on every
+dispatch path against a vectorised C loop (docs/performance.md).
 
     python benchmarks/bench_ensembles.py [--quick] [--n N] [--out DIR]
 
