@@ -23,8 +23,9 @@ module pendula_rk4_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: iso_c_binding, only: c_int
   use pendula_kinds, only: wp, i8
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use pendula_format, only: format_int
-  use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, &
+  use pendula_status, only: status_t, set_error, check_alloc, PENDULA_OK, PENDULA_ERR_DOMAIN, PENDULA_ERR_NONFINITE, &
                             PENDULA_ERR_SOLVER, PENDULA_ERR_CANCELLED, PENDULA_ERR_SIZE
   use pendula_control, only: CONTROL_SIZE, CONTROL_CANCEL, add_progress
   use pendula_ode, only: check_problem, check_batch_shapes, at => batch_index
@@ -142,15 +143,12 @@ contains
       call refuse_all(status%code, theta, omega, codes, steps)
       return
     end if
+    call state_codes(t, theta0, omega0, w0, gamma, h, budget, codes)
     nlive = 0
     do i = 1, n
-      st = status_t()
-      call check_problem(t(1:1), theta0(i), omega0(at(omega0, i)), w0(at(w0, i)), gamma(at(gamma, i)), st)
-      call check_step(t, w0(at(w0, i)), gamma(at(gamma, i)), h(at(h, i)), real(budget, wp), st)
-      codes(i) = st%code
       steps(i) = 0
       ! outputs are written by the blocks, and NaN below for failed states
-      if (st%code == PENDULA_OK) then
+      if (codes(i) == PENDULA_OK) then
         nlive = nlive + 1
         live(nlive) = i
         theta(1, i) = theta0(i)
@@ -197,6 +195,43 @@ contains
                                         gamma(at(gamma, first)), h(at(h, first)), codes(first), budget)
     call set_batch_error(status, codes, first, st%message)
   end subroutine rk4_batch_solve
+
+  !> The code of each state's checks (check_problem, then check_step), as
+  !> rk4_solve would report it.  Finite theta0 and omega0 pass check_problem
+  !> whatever their values, so w0, gamma and h are checked once per run of
+  !> equal values (all of a batch that shares them): check_step's stability
+  !> and budget test costs ~10 times a short window's integration.
+  pure subroutine state_codes(t, theta0, omega0, w0, gamma, h, budget, codes)
+    real(wp), intent(in) :: t(:)  !< output times [s], already checked
+    real(wp), intent(in) :: theta0(:)  !< initial angles [rad], one per state
+    real(wp), intent(in) :: omega0(:), w0(:), gamma(:), h(:)  !< per state or one for all
+    integer(i8), intent(in) :: budget  !< step budget per state
+    integer, intent(out) :: codes(:)  !< status code of each state
+    type(status_t) :: st
+    integer :: i, pcode
+    real(wp) :: pw, pg, ph
+    pcode = -1
+    pw = 0
+    pg = 0
+    ph = 0
+    do i = 1, size(theta0)
+      if (.not. (ieee_is_finite(theta0(i)) .and. ieee_is_finite(omega0(at(omega0, i))))) then
+        codes(i) = PENDULA_ERR_NONFINITE
+        cycle
+      end if
+      ! (compared by value: a NaN parameter never equals, and is checked each time)
+      if (pcode < 0 .or. .not. (w0(at(w0, i)) == pw .and. gamma(at(gamma, i)) == pg .and. h(at(h, i)) == ph)) then
+        pw = w0(at(w0, i))
+        pg = gamma(at(gamma, i))
+        ph = h(at(h, i))
+        st = status_t()
+        call check_problem(t(1:1), 0.0_wp, 0.0_wp, pw, pg, st)
+        call check_step(t, pw, pg, ph, real(budget, wp), st)
+        pcode = st%code
+      end if
+      codes(i) = pcode
+    end do
+  end subroutine state_codes
 
   !> A call refused as a whole: every state gets its code and no result.
   pure subroutine refuse_all(code, theta, omega, codes, steps)
