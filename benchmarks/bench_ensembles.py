@@ -58,8 +58,9 @@ def scene(n, seed=2024):
 # ---- contenders -----------------------------------------------------------
 
 
-def run_batch(th0, om0, threads):
-    r = _batch.rk4_batch(T, th0, om0, np.sqrt(W0SQ), GAMMA, H, threads=threads)
+def run_batch(th0, om0, threads, out=None):
+    """out: None, or (theta, omega) arrays the batch fills in place (reused pages)."""
+    r = _batch.rk4_batch(T, th0, om0, np.sqrt(W0SQ), GAMMA, H, threads=threads, out=out)
     assert r.code == 0, r.message
     return r.theta
 
@@ -146,9 +147,9 @@ def numba_kernels():
     parallel = numba.njit(parallel=True, cache=False)(rk4_states)
 
     def mk(fn, threads):
-        def run(th0, om0):
+        def run(th0, om0, out=None):
             numba.set_num_threads(threads)
-            out = np.empty((th0.size, T.size))
+            out = np.empty((th0.size, T.size)) if out is None else out
             fn(th0, om0, T.size, H, W0SQ, GAMMA, out)
             return out
 

@@ -205,6 +205,34 @@ def time_grid(t):
     return np.ascontiguousarray(arr)
 
 
+def output_pair(out, shape, names=("theta", "omega")):
+    """The caller's output arrays ``out`` (NumPy's ``out=`` convention) checked
+    for results of ``shape``: a tuple of two distinct, non-overlapping,
+    writeable, C-contiguous float64 arrays of exactly that shape.  None gives
+    None (the call allocates its own).  Refusing anything else (TypeError for
+    the wrong kind of object or dtype, ValueError for shape, layout, a
+    read-only or overlapping array) happens before any work, so a refused
+    ``out`` is never written."""
+    if out is None:
+        return None
+    what = f"out must be a tuple ({names[0]}, {names[1]}) of two float64 arrays of shape {shape}"
+    if not isinstance(out, tuple):
+        raise TypeError(f"{what}, got {type(out).__name__}")
+    if len(out) != 2:
+        raise ValueError(f"{what}, got a tuple of {len(out)}")
+    for name, a in zip(names, out):
+        if not isinstance(a, np.ndarray) or a.dtype != np.float64:
+            got = f"dtype {a.dtype}" if isinstance(a, np.ndarray) else type(a).__name__
+            raise TypeError(f"{what}; out {name} is {got}")
+        if a.shape != tuple(shape):
+            raise ValueError(f"{what}; out {name} has shape {a.shape}")
+        if not a.flags.c_contiguous or not a.flags.writeable:
+            raise ValueError(f"{what}; out {name} is {'read-only' if not a.flags.writeable else 'not C-contiguous'}")
+    if np.shares_memory(out[0], out[1]):
+        raise ValueError(f"{what}; out {names[0]} and {names[1]} share memory")
+    return out
+
+
 def step_budget(max_steps):
     """max_steps checked exactly (no wrap), capped at 2**62 for the Fortran double."""
     return min(integer_arg(max_steps, "max_steps", 1, 2**63 - 1, scalar=True), 2**62)

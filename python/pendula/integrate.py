@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _drive_args, _fortran, _longcall, _memory
-from ._arrays import check_size, integer_arg, real_scalar, step_budget, time_grid
+from ._arrays import check_size, integer_arg, output_pair, real_scalar, step_budget, time_grid
 from ._codes import CVODE_ADAMS, EVENT_TURNING, EVENT_ZERO
 from ._config import HAVE_CVODE
 from ._defaults import (
@@ -84,6 +84,7 @@ def rk4(
     progress: bool | Callable[[int, int | None], object] | None = None,
     threads: int | None = THREADS,
     drive: object | None = None,
+    out: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> IntegrationResult | BatchIntegrationResult:
     """Integrate theta'' + gamma theta' + w0**2 sin(theta) = 0 by classic RK4.
 
@@ -124,6 +125,14 @@ def rk4(
         periods lose no phase.  The step must resolve the drive too:
         h max(sqrt(w0**2 + abs(a/l) Omega**2), gamma) <= 1.5 and
         abs(omega0) h <= 1.5; abs(theta0) < 1e15 rad.
+    out : tuple of two ndarray, optional
+        Arrays (theta, omega) for the results, as NumPy's ``out=``: float64,
+        C-contiguous, writeable, not overlapping, of the result's shape
+        (batch_shape + (len(t),)); the result's theta and omega are these
+        arrays.  A batch writes into them directly, so repeated calls reuse
+        their memory instead of fresh pages; one state is copied in.  A
+        refused out is never written; after another exception its contents
+        are unspecified.
 
     Returns
     -------
@@ -190,9 +199,9 @@ def rk4(
     (3, 2)
     """
     if drive is not None:
-        return _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive)
+        return _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive, out)
     if _ensemble.is_batch(theta0, omega0, w0, gamma, h):
-        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads)
+        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads, out=out)
     if threads is not None:
         check_threads(threads)  # checked, unused: one state runs on one thread
     if type(t) is np.ndarray and t.dtype.char == "d" and t.ndim == 1 and t.size >= 1:
@@ -201,6 +210,7 @@ def rk4(
         tt = _memory.guard(t.copy, *_outputs(t.size, ("t", "theta", "omega")))
     else:
         tt = _grid(t)
+    output_pair(out, tt.shape)
     outputs = _outputs(tt.size)
     hh = _real(h, "h")
     budget = max_steps if type(max_steps) is int and 1 <= max_steps <= 2**62 else _step_budget(max_steps)
@@ -232,10 +242,19 @@ def rk4(
         )
     if code:
         raise_for_status(code, msg)
-    return quick_result(tt, theta, omega, rk4_stats(stats), "rk4")
+    return quick_result(tt, *_into(out, theta, omega), rk4_stats(stats), "rk4")
 
 
 _step_budget = step_budget
+
+
+def _into(out, theta, omega):
+    """(theta, omega) of one state, copied into the caller's out when given."""
+    if out is None:
+        return theta, omega
+    out[0][...] = theta
+    out[1][...] = omega
+    return out
 
 
 def _outputs(n_t, fields=("theta", "omega"), events=0):
@@ -248,14 +267,17 @@ def _outputs(n_t, fields=("theta", "omega"), events=0):
     return what, 8 * n_t * len(fields) + 28 * events
 
 
-def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive):
+def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive, out):
     """``rk4`` with a drive: the batch path for array states or drives, else one state."""
     if _drive_args.is_many(drive) or _ensemble.is_batch(theta0, omega0, w0, gamma, h):
         cols = _drive_args.columns(drive)  # TypeError naming drive for anything but Drives
-        return _ensemble.rk4_batch(_grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=cols)
+        return _ensemble.rk4_batch(
+            _grid(t), theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=cols, out=out
+        )
     if threads is not None:
         check_threads(threads)  # checked, unused: one state runs on one thread
     tt = _grid(t)
+    output_pair(out, tt.shape)
     hh = _real(h, "h")
     budget = _step_budget(max_steps)
     args = (
@@ -284,7 +306,7 @@ def _rk4_driven(t, theta0, omega0, w0, gamma, h, max_steps, progress, threads, d
     )
     if code:
         raise_for_status(code, msg)
-    return quick_result(tt, theta, omega, rk4_stats(stats), "rk4")
+    return quick_result(tt, *_into(out, theta, omega), rk4_stats(stats), "rk4")
 
 
 def rk4_max_stable_step(w0: float, gamma: float) -> float:

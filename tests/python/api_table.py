@@ -93,6 +93,18 @@ DAMPING = dict(
 
 # ---- the table ----------------------------------------------------------------
 # drive= of rk4, cvode and sweep: None, a pendula.Drive, or an array of them (pendula._many.drives)
+# out= of rk4 for the valid call's 4 times: every way to get it wrong, refused before any write
+_OUT4 = np.zeros(4)
+_RK4_OUT_BAD = (
+    ("out", TypeError),
+    ([np.zeros(4), np.zeros(4)], TypeError),
+    ((np.zeros(4),), ValueError),
+    ((_OUT4, _OUT4), ValueError),
+    ((np.zeros(4), np.zeros(5)), ValueError),
+    ((np.zeros(4, dtype=np.float32), np.zeros(4)), TypeError),
+    ((np.zeros(8)[::2], np.zeros(4)), ValueError),
+    ((np.zeros(4), np.broadcast_to(0.0, (4,))), ValueError),
+)
 _INTEGRATOR_DRIVE = Arg(OTHER, extra=(((1.0, 1.0), TypeError), ("torque", TypeError), ({"F": 1.0}, TypeError)))
 
 API: dict[str, Entry] = {
@@ -241,6 +253,8 @@ API: dict[str, Entry] = {
             max_steps=Arg(COUNT, extra=((3, ValueError),)),
             progress=Arg(OTHER, extra=(("yes", TypeError), (1.0, TypeError))),
             drive=_INTEGRATOR_DRIVE,
+            # the caller's (theta, omega) result arrays, of the result's shape (4 times here)
+            out=Arg(OTHER, extra=_RK4_OUT_BAD),
         ),
     ),
     # sweeps (sweep.py): inputs checked up front, before any chunk runs

@@ -212,3 +212,60 @@ def test_forked_child_after_threaded_parent_does_not_hang():
     assert (
         forked_child_exit_code(lambda: _batch.rk4_batch(T, np.linspace(-1, 1, 64), 2.0, W0, 0.1, 0.05, threads=2)) == 0
     )
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_out_arrays_are_filled_in_place(threads):
+    """out=(theta, omega): the result's arrays are the caller's, with the bits
+    of a call that allocates its own, stale contents overwritten; a state that
+    fails during the run gets NaN rows there too."""
+    th0, om0, w0, gam, h = mixed_states()
+    om0[11], w0[11], gam[11] = 1.7e308, 1e-3, 0.0  # overflows mid-run
+    want = pendula.rk4(T, th0, om0, w0, gam, h, threads=threads)
+    out = (np.full((th0.size, T.size), 7.0), np.full((th0.size, T.size), -7.0))
+    for _ in range(2):  # the second call writes over the first's results
+        r = pendula.rk4(T, th0, om0, w0, gam, h, threads=threads, out=out)
+        assert r.theta is out[0] and r.omega is out[1]
+        assert np.array_equal(out[0], want.theta, equal_nan=True) and np.array_equal(out[1], want.omega, equal_nan=True)
+        assert np.isnan(out[0][11]).all() and not r.ok[11] and np.array_equal(r.codes, want.codes)
+    # a batch shape and one state, with and without a drive
+    d = pendula.Drive("torque", 1.15, 2 / 3)
+    for kw in (
+        dict(theta0=[[0.1, 0.2], [0.3, 0.4]]),
+        dict(theta0=0.3),
+        dict(theta0=[0.1, 0.2], drive=d),
+        dict(theta0=0.3, drive=d),
+    ):
+        want = pendula.rk4(T, omega0=0.0, w0=1.0, gamma=0.5, h=0.05, **kw)
+        out = (np.full(want.theta.shape, np.nan), np.full(want.theta.shape, np.nan))
+        r = pendula.rk4(T, omega0=0.0, w0=1.0, gamma=0.5, h=0.05, out=out, **kw)
+        assert r.theta is out[0] and np.array_equal(out[0], want.theta) and np.array_equal(out[1], want.omega)
+
+
+def test_refused_out_is_never_written():
+    good = np.full((3, T.size), 5.0)
+    for bad in (np.zeros((3, T.size - 1)), np.zeros((T.size, 3)).T, good):
+        with pytest.raises(ValueError, match="out"):
+            pendula.rk4(T, [0.1, 0.2, 0.3], 0.0, W0, 0.1, 0.05, out=(good, bad))
+        assert (good == 5.0).all()
+
+
+def test_state_codes_with_shared_and_repeated_parameters():
+    """w0, gamma and h are checked once per run of equal values: the codes
+    must still be each state's own, as the scalar call would report them."""
+    th0 = np.array([0.1, np.nan, 0.3, 0.4, np.inf, 0.6])
+    om0 = np.array([0.0, 0.0, -np.inf, 0.0, 0.0, 0.0])
+    r = _batch.rk4_batch(T, th0, om0, W0, 0.1, 0.05)  # shared parameters, valid
+    assert r.codes.tolist() == [OK, ERR_NONFINITE, ERR_NONFINITE, OK, ERR_NONFINITE, OK]
+    r = _batch.rk4_batch(T, th0, om0, 100.0, 0.1, 0.05)  # shared and unstable
+    assert r.codes.tolist() == [ERR_UNSTABLE, ERR_NONFINITE, ERR_NONFINITE, ERR_UNSTABLE, ERR_NONFINITE, ERR_UNSTABLE]
+    # runs of equal parameters, a NaN one (never equal to the last) and a change back
+    w0 = np.array([W0, W0, 100.0, np.nan, W0, -1.0])
+    r = _batch.rk4_batch(T, np.full(6, 0.2), 0.0, w0, 0.1, 0.05)
+    assert r.codes.tolist() == [OK, OK, ERR_UNSTABLE, ERR_NONFINITE, OK, ERR_DOMAIN]
+    for w, code in zip(w0, r.codes):  # the scalar call agrees: integrated or refused
+        if code == OK:
+            assert np.array_equal(pendula.rk4(T, 0.2, 0.0, w, 0.1, 0.05).theta, r.theta[1])
+        else:
+            with pytest.raises(ValueError, match="w0|h ="):
+                pendula.rk4(T, 0.2, 0.0, w, 0.1, 0.05)

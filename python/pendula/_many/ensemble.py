@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _longcall, _tables
-from .._arrays import broadcast_real, integer_arg
+from .._arrays import broadcast_real, integer_arg, output_pair
 from .._defaults import CVODE_METHODS, POOL_STATE_WORK
 from .._errors import OK, batch_summary, for_state, raise_if_all_failed
 from . import kernels, pool
@@ -206,10 +206,12 @@ def _summarised(res, shape):
     return message
 
 
-def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=None):
-    # drive: None or its columns (pendula._many.drives.COLUMNS), which broadcast with the states
+def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads, drive=None, out=None):
+    # drive: None or its columns (pendula._many.drives.COLUMNS), which broadcast with the states;
+    # out: None or the caller's (theta, omega), checked here before any work
     dcols = drive or {}
     shape, _, _ = broadcast_real(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, **dcols)  # names a bad one
+    output_pair(out, shape + (tt.size,))
     args = dict(theta0=theta0, omega0=omega0, w0=w0, gamma=gamma, h=h, threads=threads)
     if drive is not None:
         args["drive"] = dcols
@@ -217,7 +219,7 @@ def rk4_batch(tt, theta0, omega0, w0, gamma, h, max_steps, progress, threads, dr
     hmin = float(np.min(h, initial=np.inf))
     steps = (tt[-1] - tt[0]) / hmin + tt.size
     res = _watched(
-        lambda c: kernels.rk4_batch(tt, control=c, max_steps=max_steps, **args),
+        lambda c: kernels.rk4_batch(tt, control=c, max_steps=max_steps, out=out, **args),
         int(np.prod(shape, dtype=np.int64)),
         steps,
         _longcall.RK4_LONG_STEPS,

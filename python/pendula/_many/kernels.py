@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _fortran, _memory
-from .._arrays import broadcast_real, integer_arg, time_grid
+from .._arrays import broadcast_real, integer_arg, output_pair, time_grid
 from .._defaults import (
     CVODE_ATOL,
     CVODE_MAX_STEPS,
@@ -110,7 +110,9 @@ def _with_drive(named, drive):
     return dict(named, **{k: drive[k] for k in _drives.COLUMNS})
 
 
-def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_steps=RK4_MAX_STEPS, drive=None):
+def rk4_batch(
+    t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_steps=RK4_MAX_STEPS, drive=None, out=None
+):
     """RK4 (as ``pendula.rk4``) for a batch of states over one output grid.
 
     t: strictly increasing, finite output times [s], 1-D, shared by every
@@ -130,6 +132,9 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     (pendula_rk4_batch's drive path, bit-identical to ``pendula.rk4`` with
     the state's drive).
 
+    out: None, or (theta, omega) arrays of the result's shape that the kernel
+    fills in place (``output_pair``): repeated calls then reuse their pages.
+
     Returns a ``BatchResult`` (a failed state's rows NaN: the kernel keeps no
     partial series).  Raises TypeError/ValueError for arguments that refuse
     the whole call (t, shapes, threads, control); per-state failures are
@@ -143,6 +148,7 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     n = flats["theta0"].size
     states = tuple(flats[k] for k in ("theta0", "omega0", "w0", "gamma", "h"))
     n_t = tt.size
+    given = output_pair(out, shape + (n_t,))
 
     # The outputs in C order (n, n_t), passed as their transposes, the Fortran
     # (n_t, n) blocks the kernel fills in place: each state's series is
@@ -151,7 +157,10 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     # allocates itself, on this thread, before any work).  f2py refuses a
     # zero-size inout array, so an empty batch passes one unused column.
     def outputs():
-        theta, omega = np.empty((n, n_t)), np.empty((n, n_t))
+        if given is not None:
+            theta, omega = (a.reshape(n, n_t) for a in given)  # views: C-contiguous
+        else:
+            theta, omega = np.empty((n, n_t)), np.empty((n, n_t))
         if n == 0:
             return theta, omega, np.empty((n_t, 1), order="F"), np.empty((n_t, 1), order="F")
         return theta, omega, theta.T, omega.T
@@ -181,10 +190,12 @@ def rk4_batch(t, theta0, omega0, w0, gamma, h, threads=None, control=None, max_s
     if code != OK and first == 0 and code != ERR_CANCELLED:
         raise_for_status(code, msg)  # the call itself was refused
     # a failed state's row is already NaN (pendula_rk4_batch writes NaN for it)
+    # the caller's arrays themselves when given, as NumPy's out= returns them
+    theta, omega = given or (theta.reshape(shape + (n_t,)), omega.reshape(shape + (n_t,)))
     return BatchResult(
         t=tt,
-        theta=theta.reshape(shape + (n_t,)),
-        omega=omega.reshape(shape + (n_t,)),
+        theta=theta,
+        omega=omega,
         codes=codes.astype(np.int64).reshape(shape),
         steps=steps.astype(np.int64).reshape(shape),
         code=code,
