@@ -1,6 +1,6 @@
 !> Which compiled variant of the hot kernels (the batch RK4 block kernel, the
 !> Taylor batch's series kernel, the block kernel of the K and E array forms, the
-!> compensated AGM of K in double-double for a block) runs (runtime CPU dispatch):
+!> compensated AGM of K in double-double for a block, the core of the Jacobi array forms) runs (runtime CPU dispatch):
 !> the portable baseline, x86-64-v3 (AVX2 + FMA) or x86-64-v4 (AVX-512).
 !> The choice is made once when the library is loaded, from the CPU's
 !> features or the environment variable PENDULA_KERNEL = baseline | v3 | v4
@@ -12,7 +12,8 @@ module pendula_dispatch
   implicit none
   private
   public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
-  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes, ke_block_lanes, k_dd_block_lanes
+  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes, ke_block_lanes, k_dd_block_lanes, &
+            core_block_lanes
 
   !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
   integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
@@ -92,6 +93,18 @@ module pendula_dispatch
       real(c_double), intent(out) :: khi(nb)  !< K, high part
       real(c_double), intent(out) :: klo(nb)  !< K, low part
     end subroutine k_dd_block_lanes
+    !> sn, cn, dn at nb core arguments 0 <= v <= K/2 (parameters m, mc = 1 - m), of the
+    !> running path (pendula_jacobi_lanes.F90).
+    pure subroutine core_block_lanes(nb, v, m, mc, s, c, d) bind(C, name='pendula_jacobi_core_block')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: nb  !< points, >= 0
+      real(c_double), intent(in) :: v(nb)  !< core arguments
+      real(c_double), intent(in) :: m(nb)  !< parameters m in [0, 1]
+      real(c_double), intent(in) :: mc(nb)  !< 1 - m
+      real(c_double), intent(out) :: s(nb)  !< sn(v|m)
+      real(c_double), intent(out) :: c(nb)  !< cn(v|m)
+      real(c_double), intent(out) :: d(nb)  !< dn(v|m)
+    end subroutine core_block_lanes
   end interface
 
 contains
