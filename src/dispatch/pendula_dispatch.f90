@@ -1,5 +1,7 @@
 !> Which compiled variant of the hot kernels (the batch RK4 block kernel, the
-!> Taylor batch's series kernel, the block kernel of the K and E array forms) runs (runtime CPU dispatch):
+!> Taylor batch's series kernel, the block kernel of the K and E array forms, the
+!> compensated AGM of K in double-double for a block, the core of the Jacobi array forms,
+!> the librations of undamped_states) runs (runtime CPU dispatch):
 !> the portable baseline, x86-64-v3 (AVX2 + FMA) or x86-64-v4 (AVX-512).
 !> The choice is made once when the library is loaded, from the CPU's
 !> features or the environment variable PENDULA_KERNEL = baseline | v3 | v4
@@ -11,7 +13,8 @@ module pendula_dispatch
   implicit none
   private
   public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
-  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes, ke_block_lanes
+  public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes, ke_block_lanes, k_dd_block_lanes, &
+            core_block_lanes, libration_block_lanes
 
   !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
   integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
@@ -79,6 +82,49 @@ module pendula_dispatch
       integer(c_int), intent(in) :: second  !< 0: K, otherwise E
       real(c_double), intent(out) :: x(n)  !< K(m(j)) or E(m(j))
     end subroutine ke_block_lanes
+    !> K in double-double of nb points by the compensated AGM, of the running path
+    !> (pendula_elliptic_k_lanes.F90): mc = mch + mcl > 0 each, pi/2 = hp + hp_lo.
+    pure subroutine k_dd_block_lanes(nb, mch, mcl, hp, hp_lo, khi, klo) bind(C, name='pendula_k_dd_block')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: nb  !< points, >= 0
+      real(c_double), intent(in) :: mch(nb)  !< 1 - m, high part, > 0 (1: no K wanted)
+      real(c_double), intent(in) :: mcl(nb)  !< 1 - m, low part
+      real(c_double), intent(in) :: hp  !< pi/2, high part
+      real(c_double), intent(in) :: hp_lo  !< pi/2, low part
+      real(c_double), intent(out) :: khi(nb)  !< K, high part
+      real(c_double), intent(out) :: klo(nb)  !< K, low part
+    end subroutine k_dd_block_lanes
+    !> sn, cn, dn at nb core arguments 0 <= v <= K/2 (parameters m, mc = 1 - m), of the
+    !> running path (pendula_jacobi_lanes.F90).
+    pure subroutine core_block_lanes(nb, v, m, mc, s, c, d) bind(C, name='pendula_jacobi_core_block')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: nb  !< points, >= 0
+      real(c_double), intent(in) :: v(nb)  !< core arguments
+      real(c_double), intent(in) :: m(nb)  !< parameters m in [0, 1]
+      real(c_double), intent(in) :: mc(nb)  !< 1 - m
+      real(c_double), intent(out) :: s(nb)  !< sn(v|m)
+      real(c_double), intent(out) :: c(nb)  !< cn(v|m)
+      real(c_double), intent(out) :: d(nb)  !< dn(v|m)
+    end subroutine core_block_lanes
+    !> theta - 2 pi N and Omega of n <= 64 librations by the addition theorem, of the
+    !> running path (undamped/pendula_undamped_lanes.F90).
+    pure subroutine libration_block_lanes(n, q, ch, sh, w0, sa, ca, da, hp, hp_lo, atanp, theta, omega) &
+      bind(C, name='pendula_libration_block')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: n  !< number of points, <= 64
+      real(c_double), intent(in) :: q(64)  !< Omega0/(2 w0)
+      real(c_double), intent(in) :: ch(64)  !< cos(theta_r/2)
+      real(c_double), intent(in) :: sh(64)  !< sin(theta_r/2)
+      real(c_double), intent(in) :: w0(64)  !< small-angle angular frequencies [1/s]
+      real(c_double), intent(in) :: sa(64)  !< sn(a)
+      real(c_double), intent(in) :: ca(64)  !< cn(a)
+      real(c_double), intent(in) :: da(64)  !< dn(a)
+      real(c_double), intent(in) :: hp  !< pi/2, high part
+      real(c_double), intent(in) :: hp_lo  !< pi/2, low part
+      real(c_double), intent(in) :: atanp(0:10)  !< the atan polynomial's coefficients
+      real(c_double), intent(out) :: theta(64)  !< theta - 2 pi N [rad]
+      real(c_double), intent(out) :: omega(64)  !< angular velocities [rad/s]
+    end subroutine libration_block_lanes
   end interface
 
 contains

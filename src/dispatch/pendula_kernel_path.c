@@ -1,8 +1,11 @@
 /* Runtime dispatch of pendula's hot kernels: which compiled variant runs.
  *
  * The batch RK4 kernel (pendula_rk4_lanes.F90), the Taylor batch's series
- * kernel (pendula_taylor_series_lanes.F90) and the block kernel of the K and
- * E array forms (special/pendula_elliptic_ke_lanes.F90) are compiled for baseline
+ * kernel (pendula_taylor_series_lanes.F90), the block kernel of the K and
+ * E array forms (special/pendula_elliptic_ke_lanes.F90), the compensated AGM
+ * of K for a block (special/pendula_elliptic_k_lanes.F90), the core of the
+ * Jacobi array forms (special/pendula_jacobi_lanes.F90) and the librations of
+ * undamped_states (undamped/pendula_undamped_lanes.F90) are compiled for baseline
  * x86-64 (SSE2), x86-64-v3 (AVX2, FMA, BMI2) and x86-64-v4 (AVX-512 F, BW,
  * CD, DQ, VL) when meson builds for x86_64 (PENDULA_KERNEL_VARIANTS), and
  * only in its portable form elsewhere.  The path is chosen once, when the
@@ -13,7 +16,9 @@
  * the CPU cannot run gives the best one it can below it, and any other value
  * (or none, or "auto") the best one.  Fortran asks pendula_kernel_path()
  * which path runs and calls pendula_rk4_lanes(),
- * pendula_taylor_series_lanes() and pendula_ke_block(), which forward to them.
+ * pendula_taylor_series_lanes(), pendula_ke_block(), pendula_k_dd_block(),
+ * pendula_jacobi_core_block() and pendula_libration_block(), which forward to
+ * them.
  * The choice is written once, before any call can read it.
  */
 #include <stdlib.h>
@@ -49,11 +54,36 @@ extern ke_fn pendula_ke_block_v3;
 extern ke_fn pendula_ke_block_v4;
 #endif
 
+typedef void kdd_fn(void *, void *, void *, void *, void *, void *, void *);
+extern kdd_fn pendula_k_dd_block_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern kdd_fn pendula_k_dd_block_v3;
+extern kdd_fn pendula_k_dd_block_v4;
+#endif
+
+typedef void jcore_fn(void *, void *, void *, void *, void *, void *, void *);
+extern jcore_fn pendula_jacobi_core_block_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern jcore_fn pendula_jacobi_core_block_v3;
+extern jcore_fn pendula_jacobi_core_block_v4;
+#endif
+
+typedef void libr_fn(void *, void *, void *, void *, void *, void *, void *, void *, void *, void *, void *,
+    void *, void *);
+extern libr_fn pendula_libration_block_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern libr_fn pendula_libration_block_v3;
+extern libr_fn pendula_libration_block_v4;
+#endif
+
 static int kernel_path = PATH_BASELINE;
 static lanes_fn *rk4_lanes_impl = pendula_rk4_lanes_baseline;
 static width_fn *rk4_lanes_width_impl = pendula_rk4_lanes_baseline_width;
 static series_fn *taylor_series_impl = pendula_taylor_series_lanes_baseline;
 static ke_fn *ke_block_impl = pendula_ke_block_baseline;
+static kdd_fn *k_dd_block_impl = pendula_k_dd_block_baseline;
+static jcore_fn *jacobi_core_impl = pendula_jacobi_core_block_baseline;
+static libr_fn *libration_impl = pendula_libration_block_baseline;
 
 /* 1 when this build has path p and this CPU (and OS) can run it. */
 int pendula_kernel_available(const int *p)
@@ -94,11 +124,17 @@ __attribute__((constructor)) static void choose_path(void)
         rk4_lanes_width_impl = pendula_rk4_lanes_v3_width;
         taylor_series_impl = pendula_taylor_series_lanes_v3;
         ke_block_impl = pendula_ke_block_v3;
+        k_dd_block_impl = pendula_k_dd_block_v3;
+        jacobi_core_impl = pendula_jacobi_core_block_v3;
+        libration_impl = pendula_libration_block_v3;
     } else if (p == PATH_V4) {
         rk4_lanes_impl = pendula_rk4_lanes_v4;
         rk4_lanes_width_impl = pendula_rk4_lanes_v4_width;
         taylor_series_impl = pendula_taylor_series_lanes_v4;
         ke_block_impl = pendula_ke_block_v4;
+        k_dd_block_impl = pendula_k_dd_block_v4;
+        jacobi_core_impl = pendula_jacobi_core_block_v4;
+        libration_impl = pendula_libration_block_v4;
     }
 #endif
 }
@@ -137,4 +173,26 @@ void pendula_taylor_series_lanes(void *a1, void *a2, void *a3, void *a4, void *a
 void pendula_ke_block(void *n, void *m, void *mc, void *second, void *x)
 {
     ke_block_impl(n, m, mc, second, x);
+}
+
+/* The compensated AGM of K for a block of the chosen path (arguments: see
+ * special/pendula_elliptic_k_lanes.F90, all by reference). */
+void pendula_k_dd_block(void *nb, void *mch, void *mcl, void *hp, void *hp_lo, void *khi, void *klo)
+{
+    k_dd_block_impl(nb, mch, mcl, hp, hp_lo, khi, klo);
+}
+
+/* The core of the Jacobi array forms of the chosen path (arguments: see
+ * special/pendula_jacobi_lanes.F90, all by reference). */
+void pendula_jacobi_core_block(void *nb, void *v, void *m, void *mc, void *s, void *c, void *d)
+{
+    jacobi_core_impl(nb, v, m, mc, s, c, d);
+}
+
+/* The librations of undamped_states of the chosen path (arguments: see
+ * undamped/pendula_undamped_lanes.F90, all by reference). */
+void pendula_libration_block(void *n, void *q, void *ch, void *sh, void *w0, void *sa, void *ca, void *da,
+    void *hp, void *hp_lo, void *atanp, void *theta, void *omega)
+{
+    libration_impl(n, q, ch, sh, w0, sa, ca, da, hp, hp_lo, atanp, theta, omega);
 }

@@ -1,9 +1,13 @@
 !> K(m) in double-double for a block of points at once (the Jacobi array loops' long
 !> arguments, beyond a few half periods, need K to ~1e-31): pendula_elliptic_ke's
-!> compensated AGM (k_double_double) stepped for every point of the block side by side.
+!> compensated AGM (k_double_double) stepped for every point of the block side by side,
+!> in the variant of the block kernel (pendula_elliptic_k_lanes.F90) that the runtime
+!> dispatch chose for this CPU.
 module pendula_elliptic_k_block
+  use, intrinsic :: iso_c_binding, only: c_int
   use pendula_kinds, only: wp
   use pendula_constants, only: half_pi, half_pi_lo
+  use pendula_dispatch, only: k_dd_block_lanes
   implicit none
   private
 
@@ -24,94 +28,7 @@ contains
     real(wp), intent(in) :: mcl(nb)  !< 1 - m, low part
     real(wp), intent(out) :: khi(nb)  !< K, high part
     real(wp), intent(out) :: klo(nb)  !< K, low part
-    real(wp), parameter :: tiny_mc = 2.0_wp**(-900), up = 2.0_wp**1000, down = 2.0_wp**(-500)
-    real(wp), dimension(nb) :: ah, al, bh, bl, ah2, al2, bh2, bl2
-    real(wp) :: x, xl, s, se, p, t, corr, nah, nal
-    integer :: i, j, nlive
-    do j = 1, nb
-      ! b = sqrt(mc) with its residual; tiny mc is scaled so that the residual stays exact
-      x = merge(mch(j)*up, mch(j), mch(j) < tiny_mc)
-      xl = merge(mcl(j)*up, mcl(j), mch(j) < tiny_mc)
-      bh(j) = sqrt(x)
-      bl(j) = ((x - bh(j)*bh(j)) - sq_err(bh(j)) + xl)/(2*bh(j))
-      bh(j) = merge(bh(j)*down, bh(j), mch(j) < tiny_mc)
-      bl(j) = merge(bl(j)*down, bl(j), mch(j) < tiny_mc)
-      ah(j) = 1; al(j) = 0
-    end do
-    ! steps in pairs, (ah, al, bh, bl) -> the second set -> back; a step where no point
-    ! moved leaves both sets equal (up to 80 steps, as k_double_double)
-    do i = 1, 40
-      call agm_steps(nb, ah, al, bh, bl, ah2, al2, bh2, bl2, nlive)
-      if (nlive == 0) exit
-      call agm_steps(nb, ah2, al2, bh2, bl2, ah, al, bh, bl, nlive)
-      if (nlive == 0) exit
-    end do
-    do j = 1, nb
-      ! A = (a + b)/2 and the series in t (a - b is exact: a and b agree to 26 bits)
-      s = ah(j) + bh(j)
-      se = (ah(j) - (s - (s - ah(j)))) + (bh(j) - (s - ah(j)))
-      t = ((ah(j) - bh(j)) + (al(j) - bl(j)))/s
-      t = t*t
-      corr = t*(0.25_wp + t*(5.0_wp/64))
-      nah = 0.5_wp*s
-      nal = 0.5_wp*((se + al(j)) + bl(j)) - nah*corr
-      ! M = ah + al normalised, then K = (pi/2)/M with one correction of the quotient
-      s = nah + nal
-      nal = nal - (s - nah)
-      nah = s
-      x = half_pi/nah
-      p = x*nah
-      xl = (((half_pi - p) - prod_err(x, nah, p)) + (half_pi_lo - x*nal))/nah
-      s = x + xl
-      klo(j) = xl - (s - x)
-      khi(j) = s
-    end do
+    call k_dd_block_lanes(int(nb, c_int), mch, mcl, half_pi, half_pi_lo, khi, klo)
   end subroutine k_double_double_block
-
-  !> One step of k_double_double_block's compensated AGM, from (ah, al, bh, bl) into
-  !> (ah2, al2, bh2, bl2), at each of nb points where t > 2**-27 still (the others copy
-  !> their values); nlive counts the points stepped.  A real flag and separate outputs:
-  !> the forms in which gcc vectorises the loop.
-  pure subroutine agm_steps(nb, ah, al, bh, bl, ah2, al2, bh2, bl2, nlive)
-    integer, intent(in) :: nb
-    real(wp), intent(in) :: ah(nb), al(nb), bh(nb), bl(nb)
-    real(wp), intent(out) :: ah2(nb), al2(nb), bh2(nb), bl2(nb)
-    integer, intent(out) :: nlive
-    real(wp) :: x, s, se, p, nah, nal, nbh, nbl, a, alo, b, blo, live
-    integer :: j
-    nlive = 0
-    do j = 1, nb
-      a = ah(j); alo = al(j); b = bh(j); blo = bl(j)
-      live = merge(1.0_wp, 0.0_wp, abs(a - b) > 2.0_wp**(-26)*a)
-      s = a + b
-      se = (a - (s - (s - a))) + (b - (s - a))
-      p = a*b
-      x = (prod_err(a, b, p) + a*blo) + alo*b
-      nah = 0.5_wp*s
-      nal = 0.5_wp*((se + alo) + blo)
-      nbh = sqrt(p)
-      nbl = (((p - nbh*nbh) - sq_err(nbh)) + x)/(2*nbh)
-      ah2(j) = merge(nah, a, live > 0); al2(j) = merge(nal, alo, live > 0)
-      bh2(j) = merge(nbh, b, live > 0); bl2(j) = merge(nbl, blo, live > 0)
-      nlive = nlive + merge(1, 0, live > 0)
-    end do
-  end subroutine agm_steps
-
-  !> Exact error a*b - p of p = fl(a*b) (Dekker, as pendula_elliptic_ke's; no range scaling:
-  !> the AGM's operands lie in (0, 2]).
-  pure elemental real(wp) function prod_err(a, b, p) result(e)
-    real(wp), intent(in) :: a, b, p
-    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
-    real(wp) :: ah, al, bh, bl
-    ah = split*a; ah = ah - (ah - a); al = a - ah
-    bh = split*b; bh = bh - (bh - b); bl = b - bh
-    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
-  end function prod_err
-
-  !> Exact error s*s - fl(s*s) of a square.
-  pure elemental real(wp) function sq_err(s) result(e)
-    real(wp), intent(in) :: s
-    e = prod_err(s, s, s*s)
-  end function sq_err
 
 end module pendula_elliptic_k_block

@@ -10,7 +10,9 @@
 !> of the plans' tables (degree 8 from the ODEs, DLMF 22.13).
 module pendula_jacobi_kernel
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
+  use, intrinsic :: iso_c_binding, only: c_int
   use pendula_kinds, only: wp
+  use pendula_dispatch, only: core_block_lanes
   use pendula_constants, only: pi, half_pi, quiet_nan
   use pendula_double_double, only: two_prod, veltkamp_split
   use pendula_elliptic_tables, only: atan_poly
@@ -25,10 +27,6 @@ module pendula_jacobi_kernel
   public :: eval_at_param, eval_table_array, ellipj_points, ellipj_point, taylor_row_at
   public :: ntay, tab_step, tab_inv_step, khi_tab_max
 
-  !> Largest argument fed to the Maclaurin series (truncation < eps/8 for every m in [0,1]).
-  real(wp), parameter :: wmax = 0.1_wp
-  !> Switch from complement (1-cn, 1-dn) to direct duplication once 1 - cn exceeds this.
-  real(wp), parameter :: xswitch = 0.25_wp
   !> Tabulated plans: Taylor polynomials of degree ntay about a grid of step 1/32 in the core
   !> argument; |delta| <= 1/64 and the nearest singularity is >= K' >= pi/2 away, so the
   !> truncation is below ~ (1/64 / (pi/2))**9 ~ 1e-18 relative.
@@ -38,9 +36,6 @@ module pendula_jacobi_kernel
   real(wp), parameter :: khi_tab_max = 400.0_wp
 
   real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp
-  !> 2**i, i = 0..11 (exact scalings of wmax for maclaurin_start)
-  real(wp), parameter :: halvings_up(0:11) = [1.0_wp, 2.0_wp, 4.0_wp, 8.0_wp, 16.0_wp, 32.0_wp, 64.0_wp, 128.0_wp, &
-                                              256.0_wp, 512.0_wp, 1024.0_wp, 2048.0_wp]
   !> Points per block of unit_block (its work arrays live on the stack).
   integer, parameter :: jblock = 64
 
@@ -50,86 +45,10 @@ contains
   pure subroutine sncndn_duplication(v, m, mc, s, c, d)
     real(wp), intent(in) :: v, m, mc
     real(wp), intent(out) :: s, c, d
-    real(wp) :: sa(1), x(1), y(1), n(1)
-    call maclaurin_start(1, [v], [m], sa, x, y, n)
-    s = sa(1)
-    call duplication_steps(int(n(1)), m, mc, s, x(1), y(1), c, d)
+    real(wp) :: sa(1), ca(1), da(1)
+    call core_block(1, [v], [m], [mc], sa, ca, da)
+    s = sa(1); c = ca(1); d = da(1)
   end subroutine sncndn_duplication
-
-  !> The start of sncndn_duplication at nb points: the number n of halvings that takes
-  !> 0 <= v <= 2**11 wmax (K/2 of every core m, 187 at most) to w = v / 2**n <= wmax, and
-  !> the Maclaurin values s = sn(w), x = 1 - cn(w), y = 1 - dn(w) at parameter m.  No
-  !> branch and no loop exit that depends on the data: the loop vectorises (unit_block
-  !> gives it a block of points).
-  pure subroutine maclaurin_start(nb, v, m, s, x, y, n)
-    integer, intent(in) :: nb
-    real(wp), intent(in) :: v(nb), m(nb)
-    real(wp), intent(out) :: s(nb), x(nb), y(nb)
-    real(wp), intent(out) :: n(nb)  ! a count, as a real: the loop then has one element type
-    real(wp) :: cs(0:6), cc(0:6), cd(0:6), w, w2, w4
-    integer :: i, j
-    do j = 1, nb
-      ! n = #{i >= 0 : v > wmax 2**i}, the least n with v / 2**n <= wmax; w exact
-      n(j) = 0
-      w = v(j)
-      do i = 0, 11
-        n(j) = n(j) + merge(1.0_wp, 0.0_wp, v(j) > wmax*halvings_up(i))
-        w = merge(0.5_wp*w, w, v(j) > wmax*halvings_up(i))
-      end do
-      call series_coeffs(m(j), cs, cc, cd)
-      w2 = w*w
-      w4 = w2*w2
-      ! Estrin's scheme (short dependency chains); terms fall by >= 400x each
-      s(j) = w*(((cs(0) + cs(1)*w2) + (cs(2) + cs(3)*w2)*w4) + ((cs(4) + cs(5)*w2) + cs(6)*w4)*(w4*w4))
-      x(j) = w2*(((cc(0) + cc(1)*w2) + (cc(2) + cc(3)*w2)*w4) + ((cc(4) + cc(5)*w2) + cc(6)*w4)*(w4*w4))
-      y(j) = w2*(((cd(0) + cd(1)*w2) + (cd(2) + cd(3)*w2)*w4) + ((cd(4) + cd(5)*w2) + cd(6)*w4)*(w4*w4))
-    end do
-  end subroutine maclaurin_start
-
-  !> The n duplications of sncndn_duplication from the Maclaurin values s, x = 1 - cn,
-  !> y = 1 - dn at w = v / 2**n to s, c, d at v (data-dependent step counts: scalar).
-  pure subroutine duplication_steps(n, m, mc, s, x, y, c, d)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: m, mc
-    real(wp), intent(inout) :: s, x, y
-    real(wp), intent(out) :: c, d
-    real(wp) :: s2, den, r, c2, d2, q
-    integer :: i
-    i = 0
-    ! duplication on the complements x = 1 - cn, y = 1 - dn (no cancellation for small u),
-    ! kept as fractions x = xq/q, y = yq/q, s = sq/q so that the steps need no division:
-    ! with c = q - xq, d = q - yq (times 1/q),
-    !   xq' = 2 sq^2 d^2, yq' = 2 m sq^2 c^2, sq' = 2 sq q c d, q' = c^2 q^2 + sq^2 d^2.
-    ! Here cn >= 3/4, so 1 - m sn^4 >= 0.8 and q' >= 0.8 q^4: at most 4 steps keep q >= 1e-8.
-    if (n > 0 .and. x < xswitch) then
-      q = 1
-      do while (i < n)
-        c = q - x; d = q - y
-        s2 = s*s
-        c2 = c*c; d2 = d*d
-        x = 2*s2*d2
-        y = 2*m*s2*c2
-        s = 2*s*q*c*d
-        q = c2*(q*q) + s2*d2
-        i = i + 1
-        if (x >= xswitch*q) exit
-      end do
-      r = 1/q
-      x = x*r; y = y*r; s = s*r
-    end if
-    c = 1 - x; d = 1 - y
-    ! direct duplication, cancellation-free forms for 0 <= m <= 1
-    do while (i < n)
-      s2 = s*s
-      c2 = c*c; d2 = d*d
-      den = c2 + s2*d2
-      r = 1/den
-      s = 2*r*s*c*d
-      c = r*(c2*d2 - mc*s2)
-      d = r*(mc + m*(c2*c2))
-      i = i + 1
-    end do
-  end subroutine duplication_steps
 
   !> cd = cn/dn without the cancellation of two nearly equal small numbers when m -> 1:
   !> dn^2 - cn^2 = mc sn^2, so cd = 1 - mc sn^2 / (dn (dn + cn)) (cn >= 0 here).
@@ -509,7 +428,7 @@ contains
     real(wp), intent(inout) :: am(nb)
     logical, intent(out) :: done(nb)
     real(wp), parameter :: nmax = 2.0_wp**26   ! n c1, n c2 exact below (Cody-Waite)
-    real(wp), dimension(jblock) :: m, mc, k, hn, r, w, aw, su, s, xc, yd, c, d, nd, mch, mcl, kh, kl
+    real(wp), dimension(jblock) :: m, mc, k, hn, r, w, aw, su, s, c, d, mch, mcl, kh, kl
     integer :: j
     real(wp) :: v, c1, c2, t, ps, half
     logical :: ok, need(jblock)
@@ -580,11 +499,8 @@ contains
       w(j) = merge(k(j) - t, t, t > 0.5_wp*k(j))
       aw(j) = abs(w(j))
     end do
-    call maclaurin_start(nb, aw, m, s, xc, yd, nd)
-    ! (3) the duplications
-    do j = 1, nb
-      call duplication_steps(int(nd(j)), m(j), mc(j), s(j), xc(j), yd(j), c(j), d(j))
-    end do
+    ! and (3) the duplications: the block kernel of the running path (pendula_jacobi_lanes.F90)
+    call core_block_lanes(int(nb, c_int), aw, m, mc, s, c, d)
     ! (4) back from K - w, the signs by merge (blends, not branches: the parity of n and the
     ! sign of u are random) and am
     do j = 1, nb
@@ -700,5 +616,10 @@ contains
   ! series_coeffs, generated (tools/gen/gen_elliptic_tables.py); included here so that the
   ! compiler inlines it into the short path (no inlining across modules without LTO)
   include 'pendula_jacobi_series.inc'
+
+  ! maclaurin_start, duplication_steps and core_block: the scalar paths run them here
+  ! (baseline code); unit_block calls the variant the runtime dispatch chose
+  ! (core_block_lanes, pendula_jacobi_lanes.F90), compiled from this same text.
+  include 'pendula_jacobi_core_block.inc'
 
 end module pendula_jacobi_kernel

@@ -2,10 +2,12 @@
 !> undamped_eval (elemental), undamped_eval_many (blocked, vectorised) and
 !> undamped_theta / undamped_omega.  Users `use pendula_undamped` (the facade).
 module pendula_undamped_eval
+  use, intrinsic :: iso_c_binding, only: c_int
   use pendula_kinds, only: wp
   use pendula_status, only: status_t, check_same_size, PENDULA_OK
   use pendula_constants, only: pi, half_pi, half_pi_lo
   use pendula_elliptic_tables, only: atan_poly
+  use pendula_dispatch, only: libration_block_lanes
   use pendula_elliptic, only: ellipj_eval, ellipj_eval_array, ellipjm1
   use pendula_undamped_motion, only: undamped_motion_t, period_needed, REGIME_LIBRATION, &
                                      REGIME_SEPARATRIX, REGIME_ROTATION
@@ -126,17 +128,18 @@ contains
     real(wp), intent(out) :: theta  !< angle [rad]
     real(wp), intent(out) :: omega  !< angular velocity [rad/s]
     real(wp), dimension(64) :: q1, ch1, sh1, w1, sa1, ca1, da1, th, om
-    ! one lane of libration_lanes (its only caller of atan_ratio, which gcc then inlines)
+    ! one lane of the block (here, where gcc inlines it: no call through the dispatch per point)
     q1(1) = q; ch1(1) = ch; sh1(1) = sh; w1(1) = w0; sa1(1) = sa; ca1(1) = ca; da1(1) = da
-    call libration_lanes(1, q1, ch1, sh1, w1, sa1, ca1, da1, th, om)
+    call libration_block(1, q1, ch1, sh1, w1, sa1, ca1, da1, half_pi, half_pi_lo, atan_poly, th, om)
     theta = center + th(1)
     omega = om(1)
   end subroutine libration_parts
 
-  !> theta - 2 pi N and Omega of a libration at the first n of 64 points (arrays of 64:
-  !> the form gcc vectorises) from sn, cn, dn at a = w0 t (parameter 1 - m) and the
-  !> state's q = Omega0/(2 w0), ch, sh = cos, sin of theta_r/2: the addition theorem
-  !> about the initial state's argument.
+  !> theta - 2 pi N and Omega of a libration at the first n of 64 points from sn, cn, dn at
+  !> a = w0 t (parameter 1 - m) and the state's q = Omega0/(2 w0), ch, sh = cos, sin of
+  !> theta_r/2: the addition theorem about the initial state's argument (libration_block),
+  !> in the variant of the block kernel (pendula_undamped_lanes.F90) that the runtime
+  !> dispatch chose for this CPU.
   pure subroutine libration_lanes(n, q, ch, sh, w0, sa, ca, da, theta, omega)
     integer, intent(in) :: n  !< number of points, <= 64
     real(wp), intent(in) :: q(64)  !< Omega0/(2 w0) = k cn(u0|m)
@@ -148,51 +151,13 @@ contains
     real(wp), intent(in) :: da(64)  !< dn(a)
     real(wp), intent(out) :: theta(64)  !< theta - 2 pi N [rad]
     real(wp), intent(out) :: omega(64)  !< angular velocities [rad/s]
-    real(wp) :: y, x(64)
-    integer :: i
-    do i = 1, n
-      ! k sn(a+b), dn(a+b), k cn(a+b), each times the denominator, with
-      ! k sn b = sh, dn b = ch, k cn b = q.  cos(theta/2) = dn keeps theta
-      ! accurate near the turning points (2 asin(k sn), eq. 1.52, does not).
-      y = sa(i)*q(i)*ch(i) + sh(i)*ca(i)*da(i)
-      x(i) = da(i)*ch(i) - sa(i)*ca(i)*sh(i)*q(i)
-      ! w0 first: no spurious overflow
-      omega(i) = 2*(w0(i)*((ca(i)*q(i) - sa(i)*sh(i)*da(i)*ch(i))/(ca(i)*ca(i) + (sa(i)*ch(i))**2)))
-      ! x = dn(a+b) D > 0 in exact arithmetic; atan_ratio (a polynomial, no libm call)
-      ! is cheaper than atan2 and as accurate.
-      theta(i) = 0 + 2*atan_ratio(y, merge(x(i), 1.0_wp, x(i) > 0))
-    end do
-    do i = 1, n
-      ! rounding can make x <= 0 only when 1 - m < eps^2 near a turning point: atan2 there
-      if (.not. x(i) > 0) theta(i) = 0 + 2*atan2(sa(i)*q(i)*ch(i) + sh(i)*ca(i)*da(i), x(i))
-    end do
+    call libration_block_lanes(int(n, c_int), q, ch, sh, w0, sa, ca, da, half_pi, half_pi_lo, atan_poly, theta, omega)
   end subroutine libration_lanes
 
-  !> atan(y/x) [rad] for x > 0 (finite y), within ~1 ulp: |y|/x is reduced to
-  !> |w| <= tan(pi/8) about 0, pi/4 or pi/2 (w = |y|/x, (|y| - x)/(|y| + x) or -x/|y|,
-  !> one division), then atan w = w + w t P(t), t = w^2, with pendula_elliptic_tables'
-  !> atan_poly, and pi/4, pi/2 carried in two parts.  Plain arithmetic and merges, no
-  !> libm call: the same bits in scalar and vectorised loops.
-  pure elemental real(wp) function atan_ratio(y, x) result(r)
-    real(wp), intent(in) :: y  !< numerator, finite
-    real(wp), intent(in) :: x  !< denominator, > 0
-    real(wp), parameter :: tan_pi8 = 0.41421356237309503_wp, tan_3pi8 = 2.414213562373095_wp
-    real(wp) :: a, w, t, t2, t4, p, base, base_lo, mid, far
-    a = abs(y)
-    ! real flags, not logicals: the forms gcc vectorises
-    mid = merge(1.0_wp, 0.0_wp, a > tan_pi8*x)
-    far = merge(1.0_wp, 0.0_wp, a > tan_3pi8*x)
-    w = merge(-x, merge(a - x, a, mid > 0), far > 0)/merge(a, merge(a + x, x, mid > 0), far > 0)
-    base = merge(half_pi, merge(0.25_wp*pi, 0.0_wp, mid > 0), far > 0)
-    base_lo = merge(half_pi_lo, merge(0.5_wp*half_pi_lo, 0.0_wp, mid > 0), far > 0)
-    t = w*w
-    t2 = t*t
-    t4 = t2*t2
-    p = ((atan_poly(0) + atan_poly(1)*t) + (atan_poly(2) + atan_poly(3)*t)*t2) &
-        + ((atan_poly(4) + atan_poly(5)*t) + (atan_poly(6) + atan_poly(7)*t)*t2)*t4 &
-        + ((atan_poly(8) + atan_poly(9)*t) + atan_poly(10)*t2)*(t4*t4)
-    r = sign(base + (w + ((w*t)*p + base_lo)), y)
-  end function atan_ratio
+  ! libration_block and atan_ratio: libration_parts runs them here (baseline code, inlined);
+  ! libration_lanes calls the variant the runtime dispatch chose (libration_block_lanes,
+  ! pendula_undamped_lanes.F90), compiled from this same text.
+  include 'pendula_libration_block.inc'
 
   !> Same as `undamped_eval` for an array of times (results agree to a few
   !> ulps), organised for speed: blocks of times go through the Jacobi

@@ -6,6 +6,7 @@ program test_elliptic
   use pendula_kinds, only: wp
   use pendula_elliptic
   use pendula_elliptic_ke, only: k_double_double
+  use pendula_elliptic_k_block, only: k_double_double_block
   use pendula_status, only: status_t, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_testing, only: checker_t, ulps_between
   implicit none
@@ -238,6 +239,7 @@ program test_elliptic
   call kdd(1.0e-3_wp, 0.0_wp, 4.841132560550297_wp, 1.8272748097769278e-16_wp, 'K dd (mc = 1e-3)')
   call kdd(1.0e-300_wp, 0.0_wp, 346.77405831022674_wp, 8.106670740906309e-15_wp, 'K dd (mc = 1e-300)')
   call kdd(5.0e-324_wp, 0.0_wp, 373.6063303218105_wp, 1.8383844357144884e-14_wp, 'K dd (mc = 5e-324)')
+  call kdd_block()
 
   call t%report('test_elliptic')
 
@@ -250,6 +252,30 @@ contains
     call k_double_double(mch, mcl, kh, kl)
     call t%check_true(abs((kh - refh) + (kl - refl)) <= 1.0e-30_wp*refh, label)
   end subroutine kdd
+
+  ! the block form (the kernel of the running path, compiled per instruction set) gives
+  ! k_double_double's bits at every point: mc over the whole range (tiny ones scaled,
+  ! subnormals, mc = 1 that needs no step, mc > 1) with and without low parts, in a block
+  ! whose points converge after different numbers of steps
+  subroutine kdd_block()
+    integer, parameter :: nb = 64
+    real(wp) :: mch(nb), mcl(nb), kh(nb), kl(nb), sh, sl
+    integer :: j
+    logical :: same
+    do j = 1, nb
+      mch(j) = 10.0_wp**(-323 + 5.1_wp*(j - 1))
+      mcl(j) = merge(mch(j)*1.0e-17_wp*(-1)**j, 0.0_wp, mod(j, 3) /= 0)
+    end do
+    mch(1) = 5.0e-324_wp; mcl(1) = 0
+    mch([10, 40, 63]) = [1.0_wp, 0.5_wp, 1.0e6_wp]
+    call k_double_double_block(nb, mch, mcl, kh, kl)
+    same = .true.
+    do j = 1, nb
+      call k_double_double(mch(j), mcl(j), sh, sl)
+      same = same .and. kh(j) == sh .and. kl(j) == sl
+    end do
+    call t%check_true(same, 'k_double_double_block = k_double_double (bits)')
+  end subroutine kdd_block
 
   subroutine jac(uu, p, comp, ref, cond, label)
     real(wp), intent(in) :: uu, p, ref(4), cond(4)

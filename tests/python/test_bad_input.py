@@ -292,6 +292,9 @@ FORTRAN_NO_STATUS = {
     "rk4_lanes_width": "no arguments (the running kernel path's block width)",
     "taylor_series_lanes": "unchecked series kernel behind taylor_batch_solve (pendula_dispatch)",
     "ke_block_lanes": "unchecked block kernel behind the K and E array forms (pendula_dispatch)",
+    "k_dd_block_lanes": "unchecked AGM kernel behind k_double_double_block (pendula_dispatch)",
+    "core_block_lanes": "unchecked block kernel behind the Jacobi array forms (pendula_dispatch)",
+    "libration_block_lanes": "unchecked block kernel behind undamped_states (pendula_dispatch)",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
     "ellipj_plan": "elliptic rule",
     "ellipj_planm1": "elliptic rule",

@@ -3,9 +3,12 @@ this machine can run (build_info()["kernel"]["available"]) is forced with
 PENDULA_KERNEL in a fresh interpreter, reports itself in build_info(), and
 returns the same bits as the baseline path and as pendula.rk4 state by state
 (the variants differ in vector width only: -ffp-contract=off, no fast-math).
-Likewise the block kernel of the K and E array forms: the same bits on every
-path, and on every path the bits of the scalar Fortran functions (the Fortran
-test program test_elliptic, run with each path when the meson build is there).
+Likewise the block kernel of the K and E array forms, the compensated AGM of K
+in double-double for a block and the core of the Jacobi array forms (Maclaurin
+start and duplications): the same bits on every path (also through
+pendula.undamped over many distinct states and the Jacobi array forms), and on
+every path the bits of the scalar Fortran functions (the Fortran test program
+test_elliptic, run with each path when the meson build is there).
 """
 
 import os
@@ -169,6 +172,68 @@ def test_elliptic_blocks_give_the_same_bits_on_every_path(tmp_path):
         for key in base.files:
             if key != "path":
                 assert np.array_equal(got[key], base[key], equal_nan=True), (path, key)
+
+
+_UNDAMPED_SCRIPT = r"""
+import sys
+import numpy as np
+import pendula
+sys.path.insert(0, sys.argv[2])
+from test_kernel_paths import undamped_inputs
+(t, th, om, w0), (u, p) = undamped_inputs()
+out = {"path": pendula.build_info()["kernel"]["path"]}
+out["theta"], out["omega"] = pendula.undamped(t, th, om, w0)
+out["sn"], out["cn"], out["dn"], out["am"] = pendula.ellipjm1(u, p)
+out["sn_m"], out["cn_m"], out["dn_m"], out["am_m"] = pendula.ellipj(u, 1 - p)
+np.savez(sys.argv[1], **out)
+"""
+
+
+def undamped_inputs():
+    """Distinct undamped states, one time each, and Jacobi arguments for the dispatched
+    AGM and Jacobi core: librations (t in 0..100 s: most reductions need K in
+    double-double), near the separatrix on both sides (1 - m down to ~1e-12), rotations,
+    |theta0| > pi, negative and zero times, long times (1e4 s); u up to 1e5 with
+    1 - m from 1e-300 to 1."""
+    rng = np.random.default_rng(11)
+    n = 2000
+    th = rng.uniform(-3.1, 3.1, n)
+    w0 = rng.uniform(0.5, 3.0, n)
+    ratio = rng.uniform(-0.99, 0.99, n)
+    ratio[::7] = np.sign(ratio[::7]) * (1 - 10.0 ** rng.uniform(-12, -1, ratio[::7].size))
+    ratio[3::7] = np.sign(ratio[3::7]) * (1 + 10.0 ** rng.uniform(-12, 0.5, ratio[3::7].size))
+    om = 2 * w0 * np.cos(th / 2) * ratio
+    th[5::13] += rng.choice([-1, 1], th[5::13].size) * 2 * np.pi * rng.integers(1, 5, th[5::13].size)
+    t = rng.uniform(0.0, 100.0, n)
+    t[1::11] = -t[1::11]
+    t[2::17] = rng.uniform(0, 1e4, t[2::17].size)
+    t[::97] = 0.0
+    u = rng.uniform(-1e5, 1e5, 1500)
+    u[::3] = rng.uniform(-10, 10, u[::3].size)
+    p = 10.0 ** rng.uniform(-300, 0, 1500)
+    p[1::4] = rng.uniform(0.0, 1.0, p[1::4].size)
+    return (t, th, om, w0), (u, p)
+
+
+def _run_undamped(tmp_path, path):
+    out = tmp_path / f"undamped_{path}.npz"
+    env = dict(os.environ, PENDULA_KERNEL=path)
+    here = os.path.dirname(os.path.abspath(__file__))
+    subprocess.run([sys.executable, "-c", _UNDAMPED_SCRIPT, str(out), here], env=env, check=True, timeout=120)
+    return np.load(out)
+
+
+def test_undamped_states_and_jacobi_arrays_give_the_same_bits_on_every_path(tmp_path):
+    available = pendula.build_info()["kernel"]["available"]
+    base = _run_undamped(tmp_path, "baseline")
+    assert str(base["path"]) == "baseline"
+    assert np.isfinite(base["theta"]).all() and np.isfinite(base["sn"]).all()
+    for path in available[1:]:
+        got = _run_undamped(tmp_path, path)
+        assert str(got["path"]) == path
+        for key in base.files:
+            if key != "path":
+                assert np.array_equal(got[key], base[key]), (path, key)
 
 
 def _fortran_test(name):
