@@ -53,9 +53,9 @@ contains
     real(c_double), intent(out) :: ch(n)  !< cos(theta0/2), high part
     real(c_double), intent(out) :: q(n)  !< Omega0/(2 w0)
     real(c_double), intent(out) :: mc(n)  !< 1 - m
-    real(wp), dimension(n) :: a, sh0, ch0, w2, chlo, xn, xl, cn, cln
+    real(wp), dimension(n) :: a, sh0, ch0, w2, chlo, xn, xl, cn, cln, okr, nearr, qlov
     integer :: near(n), k, nn
-    real(wp) :: h, hl, pi2, hlo, qlo, pp, e, d, dlo, s, ok, ok_q, wk, w2k, qk
+    real(wp) :: h, hl, pi2, hlo, omk, chk, chlok, qlo, pp, e, d, dlo, s, ok, ok_q, wk, w2k, qk
     ! local copies: the loops' stores then cannot touch them (what lets gcc vectorise)
     h = hp; hl = hp_lo
     pi2 = 2*h   ! pi: pendula_constants' pi/2 is pi halved exactly
@@ -69,15 +69,21 @@ contains
     ! set_geometry's steps for |theta0| < pi: reduce_angle_2pi gives n = 0, r = theta0
     ! exactly (hlo = 0), the centre is 0
     hlo = 0
-    nn = 0
     do k = 1, n
       sh(k) = sh0(k) + ch0(k)*hlo
       w2(k) = om(k)/w(k)
       q(k) = 0.5_wp*w2(k)
-      fast(k) = merge(fast(k), 0_c_int, abs(q(k)) <= 1.0e150_wp)
+      ! real flags and nested merges, not integers and .and. (control flow): the forms
+      ! gcc vectorises
+      okr(k) = merge(merge(1.0_wp, 0.0_wp, abs(q(k)) <= 1.0e150_wp), 0.0_wp, fast(k) /= 0)
       ch(k) = ch0(k) - sh0(k)*hlo
       chlo(k) = 0
-      if (fast(k) /= 0 .and. abs(q(k)) >= 0.875_wp*ch0(k) .and. abs(q(k)) <= (8.0_wp/7)*ch0(k)) then
+      nearr(k) = merge(merge(okr(k), 0.0_wp, abs(q(k)) <= (8.0_wp/7)*ch0(k)), 0.0_wp, abs(q(k)) >= 0.875_wp*ch0(k))
+    end do
+    nn = 0
+    do k = 1, n
+      fast(k) = merge(1_c_int, 0_c_int, okr(k) > 0)
+      if (nearr(k) > 0) then
         nn = nn + 1
         near(nn) = k
         xn(nn) = a(k)
@@ -92,18 +98,24 @@ contains
       end do
     end if
     do k = 1, n
-      ! 1 - m as set_geometry forms it, branch-free (a loop gcc vectorises); the states
-      ! left to the general path get harmless numbers (no overflow)
-      ok = merge(1.0_wp, 0.0_wp, fast(k) /= 0)
-      wk = merge(w(k), 1.0_wp, ok > 0)
-      w2k = merge(w2(k), 0.0_wp, ok > 0)
-      qk = merge(q(k), 0.0_wp, ok > 0)
-      ok_q = merge(1.0_wp, 0.0_wp, w2k /= 0 .and. max(abs(w2k), wk) < 1.0e290_wp)
+      ! 1 - m as set_geometry forms it, branch-free, in two loops gcc vectorises (one was
+      ! too much for it): the low part of q by the exact product, then 1 - m.  The states
+      ! left to the general path get harmless numbers (no overflow).  Every load is
+      ! unconditional (a merge of array elements is a conditional load: control flow)
+      ok = okr(k)
+      wk = w(k); w2k = w2(k); omk = om(k)
+      wk = merge(wk, 1.0_wp, ok > 0)
+      w2k = merge(w2k, 0.0_wp, ok > 0)
+      ok_q = merge(merge(1.0_wp, 0.0_wp, max(abs(w2k), wk) < 1.0e290_wp), 0.0_wp, w2k /= 0)
       call exact_product(merge(w2k, 0.0_wp, ok_q > 0), merge(wk, 0.0_wp, ok_q > 0), pp, e)
-      qlo = merge(0.5_wp*(((merge(om(k), 0.0_wp, ok > 0) - pp) - e)/wk), 0.0_wp, ok_q > 0)
-      s = ch(k) + abs(qk)
-      call sum_dd(ch(k), chlo(k), -abs(qk), -sign(1.0_wp, qk)*qlo, d, dlo)
-      mc(k) = merge((ch(k) - abs(qk))*s, (d + dlo)*s, chlo(k) == 0 .and. qlo == 0)
+      qlov(k) = merge(0.5_wp*(((merge(omk, 0.0_wp, ok > 0) - pp) - e)/wk), 0.0_wp, ok_q > 0)
+    end do
+    do k = 1, n
+      qk = q(k); chk = ch(k); chlok = chlo(k); qlo = qlov(k)
+      qk = merge(qk, 0.0_wp, okr(k) > 0)
+      s = chk + abs(qk)
+      call sum_dd(chk, chlok, -abs(qk), -sign(1.0_wp, qk)*qlo, d, dlo)
+      mc(k) = merge(merge((chk - abs(qk))*s, (d + dlo)*s, qlo == 0), (d + dlo)*s, chlok == 0)
     end do
   end subroutine PENDULA_PARAM_ENTRY
 
