@@ -114,8 +114,8 @@ contains
   ! Evaluate the queued states (the elements idx(1:nq)) at their times, then empty the
   ! queue (nq = 0), with the numbers of set_geometry + undamped_eval for each.  A
   ! libration with |theta0| < pi (no reduction) and |w0 t| < 2**40 (no period) is set up
-  ! here in passes over the block -- cos(theta0/2) in double-double for the states near
-  ! the separatrix by one cos_dd_lanes call -- and its Jacobi functions come from one
+  ! here in passes over the block (parameter_lanes, the block kernel of the running path;
+  ! cos(theta0/2) in double-double near the separatrix) -- and its Jacobi functions come from one
   ! array call (their blocks vectorise); the others take set_geometry and undamped_eval
   ! one by one.
   pure subroutine states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
