@@ -1,7 +1,7 @@
 !> Which compiled variant of the hot kernels (the batch RK4 block kernel, the
 !> Taylor batch's series kernel, the block kernel of the K and E array forms, the
 !> compensated AGM of K in double-double for a block, the core of the Jacobi array forms,
-!> the librations of undamped_states) runs (runtime CPU dispatch):
+!> the librations of undamped_states, the elliptic parameter of a block of undamped states) runs (runtime CPU dispatch):
 !> the portable baseline, x86-64-v3 (AVX2 + FMA) or x86-64-v4 (AVX-512).
 !> The choice is made once when the library is loaded, from the CPU's
 !> features or the environment variable PENDULA_KERNEL = baseline | v3 | v4
@@ -14,7 +14,7 @@ module pendula_dispatch
   private
   public :: KERNEL_BASELINE, KERNEL_V3, KERNEL_V4, kernel_path, kernel_path_available
   public :: rk4_lanes, rk4_lanes_width, taylor_series_lanes, ke_block_lanes, k_dd_block_lanes, &
-            core_block_lanes, libration_block_lanes
+            core_block_lanes, libration_block_lanes, parameter_block_lanes
 
   !> Kernel paths: portable baseline (SSE2 on x86-64), x86-64-v3, x86-64-v4.
   integer, parameter :: KERNEL_BASELINE = 0, KERNEL_V3 = 1, KERNEL_V4 = 2
@@ -125,6 +125,24 @@ module pendula_dispatch
       real(c_double), intent(out) :: theta(64)  !< theta - 2 pi N [rad]
       real(c_double), intent(out) :: omega(64)  !< angular velocities [rad/s]
     end subroutine libration_block_lanes
+    !> sin, cos of theta0/2, Omega0/(2 w0) and 1 - m of n undamped states with |theta0| < pi
+    !> (fast(k) /= 0; cleared where |q| > 1e150), of the running path
+    !> (undamped/pendula_undamped_parameter_lanes.F90).
+    pure subroutine parameter_block_lanes(n, th, om, w, fast, hp, hp_lo, sh, ch, q, mc) &
+      bind(C, name='pendula_parameter_block')
+      import :: c_int, c_double
+      integer(c_int), intent(in) :: n  !< states in the block
+      real(c_double), intent(in) :: th(n)  !< initial angles [rad], finite
+      real(c_double), intent(in) :: om(n)  !< initial angular velocities [rad/s], finite
+      real(c_double), intent(in) :: w(n)  !< angular frequencies [1/s], > 0
+      integer(c_int), intent(inout) :: fast(n)  !< 1: a state to set up; set to 0 where |q| > 1e150
+      real(c_double), intent(in) :: hp  !< pi/2, high part
+      real(c_double), intent(in) :: hp_lo  !< pi/2, low part
+      real(c_double), intent(out) :: sh(n)  !< sin(theta0/2)
+      real(c_double), intent(out) :: ch(n)  !< cos(theta0/2), high part
+      real(c_double), intent(out) :: q(n)  !< Omega0/(2 w0)
+      real(c_double), intent(out) :: mc(n)  !< 1 - m
+    end subroutine parameter_block_lanes
   end interface
 
 contains

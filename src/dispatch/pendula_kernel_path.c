@@ -4,8 +4,9 @@
  * kernel (pendula_taylor_series_lanes.F90), the block kernel of the K and
  * E array forms (special/pendula_elliptic_ke_lanes.F90), the compensated AGM
  * of K for a block (special/pendula_elliptic_k_lanes.F90), the core of the
- * Jacobi array forms (special/pendula_jacobi_lanes.F90) and the librations of
- * undamped_states (undamped/pendula_undamped_lanes.F90) are compiled for baseline
+ * Jacobi array forms (special/pendula_jacobi_lanes.F90), the librations of
+ * undamped_states (undamped/pendula_undamped_lanes.F90) and the elliptic parameter
+ * of a block of undamped states (undamped/pendula_undamped_parameter_lanes.F90) are compiled for baseline
  * x86-64 (SSE2), x86-64-v3 (AVX2, FMA, BMI2) and x86-64-v4 (AVX-512 F, BW,
  * CD, DQ, VL) when meson builds for x86_64 (PENDULA_KERNEL_VARIANTS), and
  * only in its portable form elsewhere.  The path is chosen once, when the
@@ -17,8 +18,8 @@
  * (or none, or "auto") the best one.  Fortran asks pendula_kernel_path()
  * which path runs and calls pendula_rk4_lanes(),
  * pendula_taylor_series_lanes(), pendula_ke_block(), pendula_k_dd_block(),
- * pendula_jacobi_core_block() and pendula_libration_block(), which forward to
- * them.
+ * pendula_jacobi_core_block(), pendula_libration_block() and
+ * pendula_parameter_block(), which forward to them.
  * The choice is written once, before any call can read it.
  */
 #include <stdlib.h>
@@ -76,6 +77,13 @@ extern libr_fn pendula_libration_block_v3;
 extern libr_fn pendula_libration_block_v4;
 #endif
 
+typedef void param_fn(void *, void *, void *, void *, void *, void *, void *, void *, void *, void *, void *);
+extern param_fn pendula_parameter_block_baseline;
+#ifdef PENDULA_KERNEL_VARIANTS
+extern param_fn pendula_parameter_block_v3;
+extern param_fn pendula_parameter_block_v4;
+#endif
+
 static int kernel_path = PATH_BASELINE;
 static lanes_fn *rk4_lanes_impl = pendula_rk4_lanes_baseline;
 static width_fn *rk4_lanes_width_impl = pendula_rk4_lanes_baseline_width;
@@ -84,6 +92,7 @@ static ke_fn *ke_block_impl = pendula_ke_block_baseline;
 static kdd_fn *k_dd_block_impl = pendula_k_dd_block_baseline;
 static jcore_fn *jacobi_core_impl = pendula_jacobi_core_block_baseline;
 static libr_fn *libration_impl = pendula_libration_block_baseline;
+static param_fn *parameter_impl = pendula_parameter_block_baseline;
 
 /* 1 when this build has path p and this CPU (and OS) can run it. */
 int pendula_kernel_available(const int *p)
@@ -127,6 +136,7 @@ __attribute__((constructor)) static void choose_path(void)
         k_dd_block_impl = pendula_k_dd_block_v3;
         jacobi_core_impl = pendula_jacobi_core_block_v3;
         libration_impl = pendula_libration_block_v3;
+        parameter_impl = pendula_parameter_block_v3;
     } else if (p == PATH_V4) {
         rk4_lanes_impl = pendula_rk4_lanes_v4;
         rk4_lanes_width_impl = pendula_rk4_lanes_v4_width;
@@ -135,6 +145,7 @@ __attribute__((constructor)) static void choose_path(void)
         k_dd_block_impl = pendula_k_dd_block_v4;
         jacobi_core_impl = pendula_jacobi_core_block_v4;
         libration_impl = pendula_libration_block_v4;
+        parameter_impl = pendula_parameter_block_v4;
     }
 #endif
 }
@@ -195,4 +206,12 @@ void pendula_libration_block(void *n, void *q, void *ch, void *sh, void *w0, voi
     void *hp, void *hp_lo, void *atanp, void *theta, void *omega)
 {
     libration_impl(n, q, ch, sh, w0, sa, ca, da, hp, hp_lo, atanp, theta, omega);
+}
+
+/* The elliptic parameter of a block of undamped states of the chosen path (arguments:
+ * see undamped/pendula_undamped_parameter_lanes.F90, all by reference). */
+void pendula_parameter_block(void *n, void *th, void *om, void *w, void *fast, void *hp, void *hp_lo,
+    void *sh, void *ch, void *q, void *mc)
+{
+    parameter_impl(n, th, om, w, fast, hp, hp_lo, sh, ch, q, mc);
 }

@@ -114,8 +114,8 @@ contains
   ! Evaluate the queued states (the elements idx(1:nq)) at their times, then empty the
   ! queue (nq = 0), with the numbers of set_geometry + undamped_eval for each.  A
   ! libration with |theta0| < pi (no reduction) and |w0 t| < 2**40 (no period) is set up
-  ! here in passes over the block -- cos(theta0/2) in double-double for the states near
-  ! the separatrix by one cos_dd_lanes call -- and its Jacobi functions come from one
+  ! here in passes over the block (parameter_lanes, the block kernel of the running path;
+  ! cos(theta0/2) in double-double near the separatrix) -- and its Jacobi functions come from one
   ! array call (their blocks vectorise); the others take set_geometry and undamped_eval
   ! one by one.
   pure subroutine states_block(nq, idx, t, theta0, omega0, w0, theta, omega)
@@ -317,8 +317,6 @@ contains
         mi = mb(k)
         mci = mcb(k)
         reg = regb(k)
-        ! numerator and denominator: the divisions of a block run as one vector loop below
-        if (present(period)) call period_parts(reg, mi, mci, om(k), w(k), period(i), den(k))
         if (present(amplitude)) then
           select case (reg)
           case (REGIME_LIBRATION)
@@ -330,11 +328,53 @@ contains
           end select
         end if
       end do
+      ! numerator and denominator: the divisions of a block run as one vector loop below
+      if (present(period)) call block_periods(nk, regb, mb, mcb, om, w, period(i0:i1), den)
       if (present(m)) m(i0:i1) = mb(1:nk)
       if (present(mc)) mc(i0:i1) = mcb(1:nk)
       if (present(regime)) regime(i0:i1) = regb(1:nk)
       if (present(period)) period(i0:i1) = period(i0:i1)/den(1:i1 - i0 + 1)
     end do
   end subroutine undamped_properties
+
+  ! period_parts of the n states of a block (num/den, the same numbers): the K of its
+  ! librations and rotations, ellipkm1 of an argument in (0, 1], by one k_unit_many call
+  ! (the array form: ellipkm1's bits there, from the block kernel of the running path),
+  ! the others (free rotor, separatrix, an argument that underflowed) by period_parts.
+  pure subroutine block_periods(n, reg, m, mc, om, w, num, den)
+    integer, intent(in) :: n, reg(:)
+    real(wp), intent(in) :: m(:), mc(:), om(:), w(:)
+    real(wp), intent(out) :: num(:), den(:)
+    real(wp) :: p(n), kk(n), pk
+    integer :: idx(n), j, k, nk
+    logical :: rot
+    nk = 0
+    do k = 1, n
+      rot = reg(k) == REGIME_ROTATION
+      if (rot) rot = m(k) <= huge(m)
+      ! ellipkm1's argument in period_parts: mc (libration), -mc/m (rotation)
+      pk = 0
+      if (reg(k) == REGIME_LIBRATION) pk = mc(k)
+      if (rot) pk = -mc(k)/m(k)
+      if (pk > 0 .and. pk <= 1) then
+        nk = nk + 1
+        idx(nk) = k
+        p(nk) = pk
+      else
+        call period_parts(reg(k), m(k), mc(k), om(k), w(k), num(k), den(k))
+      end if
+    end do
+    call k_unit_many(p(1:nk), kk(1:nk))
+    do j = 1, nk
+      k = idx(j)
+      if (reg(k) == REGIME_LIBRATION) then
+        num(k) = 4*kk(j)
+        den(k) = w(k)
+      else
+        num(k) = 2*kk(j)
+        den(k) = sqrt(m(k))*w(k)
+      end if
+    end do
+  end subroutine block_periods
 
 end module pendula_undamped_many

@@ -1,15 +1,17 @@
 !> The elliptic parameter of undamped states without building a motion: 1 - m, m and
 !> the regime of one state (state_parameter) or of a block of states side by side
-!> (parameter_lanes, whose loops gcc vectorises), and the period's parts from them.  The
-!> same numbers as set_geometry (pendula_undamped_motion) forms, step for step; used by
+!> (parameter_lanes, a block kernel compiled per instruction set: runtime CPU dispatch),
+!> and the period's parts from them.  The same numbers as set_geometry (pendula_undamped_motion) forms, step for step; used by
 !> undamped_states and undamped_properties (pendula_undamped_many).
 module pendula_undamped_parameter
+  use, intrinsic :: iso_c_binding, only: c_int
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use pendula_kinds, only: wp
-  use pendula_constants, only: pi
+  use pendula_constants, only: pi, half_pi, half_pi_lo
   use pendula_elliptic, only: ellipkm1
   use pendula_double_double, only: two_prod, dd_add_fast
-  use pendula_angle_dd, only: cos_dd, cos_dd_lanes, cos_half, reduce_angle_2pi, sincos_half, sincos_half_array
+  use pendula_angle_dd, only: cos_dd, cos_half, reduce_angle_2pi, sincos_half
+  use pendula_dispatch, only: parameter_block_lanes
   use pendula_undamped_motion, only: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
   implicit none
   private
@@ -22,9 +24,9 @@ contains
   !> cleared for the others, which get harmless numbers), as set_geometry forms it for
   !> |theta0| < pi (the caller's mask must imply it): sh = sin(theta0/2), ch =
   !> cos(theta0/2) (its high part in double-double near the separatrix), q =
-  !> Omega0/(2 w0) and mc = 1 - m without cancellation, in passes over the block --
-  !> the half-angle sines and cosines in one vectorised call, the cosines near the
-  !> separatrix by one cos_dd_lanes call, 1 - m in one branch-free loop.
+  !> Omega0/(2 w0) and mc = 1 - m without cancellation, in passes over the block, by the
+  !> variant of the block kernel (pendula_undamped_parameter_lanes.F90) that the runtime
+  !> dispatch chose for this CPU.
   pure subroutine parameter_lanes(n, th, om, w, fast, sh, ch, q, mc)
     integer, intent(in) :: n  !< states in the block
     real(wp), intent(in) :: th(:)  !< initial angles [rad], finite (n of them)
@@ -35,49 +37,14 @@ contains
     real(wp), intent(out) :: ch(:)  !< cos(theta0/2), high part
     real(wp), intent(out) :: q(:)  !< Omega0/(2 w0)
     real(wp), intent(out) :: mc(:)  !< 1 - m
-    real(wp), dimension(n) :: a, sh0, ch0, w2, chlo, xn, cn, cln
-    integer :: near(n), k, nn
-    real(wp) :: hlo, qlo, pp, e, d, dlo, s, ok, ok_q, wk, w2k, qk
+    integer(c_int) :: flag(n)
+    integer :: k
     do k = 1, n
-      ! a harmless angle for the states left to the general path
-      a(k) = merge(0.5_wp*th(k), 0.0_wp, abs(th(k)) < pi)
+      flag(k) = merge(1_c_int, 0_c_int, fast(k))
     end do
-    call sincos_half_array(n, a, sh0, ch0)
-    ! set_geometry's steps for |theta0| < pi: reduce_angle_2pi gives n = 0, r = theta0
-    ! exactly (hlo = 0), the centre is 0
-    hlo = 0
-    nn = 0
+    call parameter_block_lanes(int(n, c_int), th, om, w, flag, half_pi, half_pi_lo, sh, ch, q, mc)
     do k = 1, n
-      sh(k) = sh0(k) + ch0(k)*hlo
-      w2(k) = om(k)/w(k)
-      q(k) = 0.5_wp*w2(k)
-      fast(k) = fast(k) .and. abs(q(k)) <= 1.0e150_wp
-      ch(k) = ch0(k) - sh0(k)*hlo
-      chlo(k) = 0
-      if (fast(k) .and. abs(q(k)) >= 0.875_wp*ch0(k) .and. abs(q(k)) <= (8.0_wp/7)*ch0(k)) then
-        nn = nn + 1
-        near(nn) = k
-        xn(nn) = a(k)
-      end if
-    end do
-    if (nn > 0) then
-      call cos_dd_lanes(nn, xn(1:nn), spread(hlo, 1, nn), cn(1:nn), cln(1:nn))
-      ch(near(1:nn)) = cn(1:nn)
-      chlo(near(1:nn)) = cln(1:nn)
-    end if
-    do k = 1, n
-      ! 1 - m as set_geometry forms it, branch-free (a loop gcc vectorises); the states
-      ! left to the general path get harmless numbers (no overflow)
-      ok = merge(1.0_wp, 0.0_wp, fast(k))
-      wk = merge(w(k), 1.0_wp, ok > 0)
-      w2k = merge(w2(k), 0.0_wp, ok > 0)
-      qk = merge(q(k), 0.0_wp, ok > 0)
-      ok_q = merge(1.0_wp, 0.0_wp, w2k /= 0 .and. max(abs(w2k), wk) < 1.0e290_wp)
-      call exact_product(merge(w2k, 0.0_wp, ok_q > 0), merge(wk, 0.0_wp, ok_q > 0), pp, e)
-      qlo = merge(0.5_wp*(((merge(om(k), 0.0_wp, ok > 0) - pp) - e)/wk), 0.0_wp, ok_q > 0)
-      s = ch(k) + abs(qk)
-      call sum_dd(ch(k), chlo(k), -abs(qk), -sign(1.0_wp, qk)*qlo, d, dlo)
-      mc(k) = merge((ch(k) - abs(qk))*s, (d + dlo)*s, chlo(k) == 0 .and. qlo == 0)
+      fast(k) = flag(k) /= 0
     end do
   end subroutine parameter_lanes
 
@@ -183,34 +150,5 @@ contains
       den = 1
     end select
   end subroutine period_parts
-
-  ! pendula_double_double's dd_add_fast and two_prod (for |a|, |b| <= 2**996), operation
-  ! for operation (the same bits), here so that parameter_lanes' loop inlines them.
-  elemental subroutine sum_dd(ah, al, bh, bl, ch, cl)
-    real(wp), intent(in) :: ah, al, bh, bl
-    real(wp), intent(out) :: ch, cl
-    real(wp) :: s, e, bb
-    s = ah + bh
-    bb = s - ah
-    e = (ah - (s - bb)) + (bh - bb)
-    e = e + (al + bl)
-    ch = s + e
-    cl = e - (ch - s)
-  end subroutine sum_dd
-
-  elemental subroutine exact_product(a, b, p, e)
-    real(wp), intent(in) :: a, b
-    real(wp), intent(out) :: p, e
-    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
-    real(wp) :: t, ah, al, bh, bl
-    p = a*b
-    t = split*a
-    ah = t - (t - a)
-    al = a - ah
-    t = split*b
-    bh = t - (t - b)
-    bl = b - bh
-    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
-  end subroutine exact_product
 
 end module pendula_undamped_parameter

@@ -295,6 +295,7 @@ FORTRAN_NO_STATUS = {
     "k_dd_block_lanes": "unchecked AGM kernel behind k_double_double_block (pendula_dispatch)",
     "core_block_lanes": "unchecked block kernel behind the Jacobi array forms (pendula_dispatch)",
     "libration_block_lanes": "unchecked block kernel behind undamped_states (pendula_dispatch)",
+    "parameter_block_lanes": "unchecked block kernel behind parameter_lanes (pendula_dispatch)",
     # the elliptic functions' own rule (NaN in -> NaN out, out of domain -> NaN; Python raises)
     "ellipj_plan": "elliptic rule",
     "ellipj_planm1": "elliptic rule",

@@ -8,7 +8,9 @@ in double-double for a block and the core of the Jacobi array forms (Maclaurin
 start and duplications): the same bits on every path (also through
 pendula.undamped over many distinct states and the Jacobi array forms), and on
 every path the bits of the scalar Fortran functions (the Fortran test program
-test_elliptic, run with each path when the meson build is there).
+test_elliptic, run with each path when the meson build is there).  And the block
+kernel of the elliptic parameter of undamped states, through elliptic_parameter,
+amplitude, regime and period.
 """
 
 import os
@@ -230,6 +232,83 @@ def test_undamped_states_and_jacobi_arrays_give_the_same_bits_on_every_path(tmp_
     assert np.isfinite(base["theta"]).all() and np.isfinite(base["sn"]).all()
     for path in available[1:]:
         got = _run_undamped(tmp_path, path)
+        assert str(got["path"]) == path
+        for key in base.files:
+            if key != "path":
+                assert np.array_equal(got[key], base[key]), (path, key)
+
+
+_PROPERTIES_SCRIPT = r"""
+import sys
+import numpy as np
+import pendula
+sys.path.insert(0, sys.argv[2])
+from test_kernel_paths import properties_inputs
+th, om, w0 = properties_inputs()
+out = {"path": pendula.build_info()["kernel"]["path"]}
+out["m"], out["mc"] = pendula.elliptic_parameter(th, om, w0)
+out["amplitude"] = pendula.amplitude(th, om, w0)
+out["regime"] = pendula.regime(th, om, w0)
+out["period"] = pendula.period(th, om, w0)
+np.savez(sys.argv[1], **out)
+"""
+
+
+def properties_inputs():
+    """Undamped states for the dispatched elliptic-parameter block (half-angle sine and
+    cosine, the double-double cosine near the separatrix, 1 - m): librations and
+    rotations, near the separatrix on both sides (|q|/cos(theta0/2) within 1e-15 of 1,
+    the double-double band 7/8..8/7 and its edges), Omega0 = 0, theta0 = +-0, |theta0| >=
+    pi (the scalar path beside the block), huge and tiny w0 and Omega0 (free rotors, q
+    beyond 1e150, w0 Omega0 beyond 1e290)."""
+    rng = np.random.default_rng(13)
+    n = 3000
+    th = rng.uniform(-3.14, 3.14, n)
+    w0 = rng.uniform(0.2, 5.0, n)
+    ratio = rng.uniform(-1.5, 1.5, n)
+    ratio[::5] = rng.choice([-1, 1], ratio[::5].size) * (
+        1 + rng.choice([-1, 1], ratio[::5].size) * 10.0 ** rng.uniform(-15, -1, ratio[::5].size)
+    )
+    ratio[1::9] = rng.choice([0.875, 8 / 7, 0.8749999999, 1.1428572], ratio[1::9].size)
+    ratio[2::11] = 0.0
+    om = 2 * w0 * np.cos(th / 2) * ratio
+    th[3::13] = rng.choice([-1, 1], th[3::13].size) * (np.pi + rng.uniform(0, 20, th[3::13].size))
+    th[4::29] = np.pi * rng.choice([-1, 1], th[4::29].size)
+    th[[0, 1]] = [0.0, -0.0]
+    om[[0, 1]] = [0.0, 0.0]
+    th[9::43] = 0.0
+    om[9::43] = 2 * w0[9::43]  # on the separatrix exactly: q = 1 = cos(0)
+    w0[6::31] = 10.0 ** rng.uniform(-300, -100, w0[6::31].size)
+    w0[7::37] = 10.0 ** rng.uniform(100, 300, w0[7::37].size)
+    om[8::41] = rng.choice([-1, 1], om[8::41].size) * 10.0 ** rng.uniform(140, 300, om[8::41].size)
+    return th, om, w0
+
+
+def _run_properties(tmp_path, path):
+    out = tmp_path / f"properties_{path}.npz"
+    env = dict(os.environ, PENDULA_KERNEL=path)
+    here = os.path.dirname(os.path.abspath(__file__))
+    subprocess.run([sys.executable, "-c", _PROPERTIES_SCRIPT, str(out), here], env=env, check=True, timeout=120)
+    return np.load(out)
+
+
+@pytest.mark.filterwarnings("ignore::pendula.AngleWarning")
+def test_undamped_properties_give_the_same_bits_on_every_path(tmp_path):
+    """elliptic_parameter, amplitude, regime and period (Omega0 != 0: the block kernel of
+    the parameter) bit for bit on every path, and on the baseline path equal to the
+    one-state functions (state_parameter's scalar set-up) state by state."""
+    available = pendula.build_info()["kernel"]["available"]
+    base = _run_properties(tmp_path, "baseline")
+    assert str(base["path"]) == "baseline"
+    th, om, w0 = properties_inputs()
+    for i in range(0, th.size, 7):
+        m1, mc1 = pendula.elliptic_parameter(th[i], om[i], w0[i])
+        assert (m1, mc1) == (base["m"][i], base["mc"][i]), i
+        assert pendula.period(th[i], om[i], w0[i]) == base["period"][i], i
+    regimes = set(base["regime"].tolist())
+    assert len(regimes) == 3, regimes  # libration, separatrix and rotation all reached
+    for path in available[1:]:
+        got = _run_properties(tmp_path, path)
         assert str(got["path"]) == path
         for key in base.files:
             if key != "path":
