@@ -31,7 +31,7 @@
 #ifndef PENDULA_LANES_MODULE
 #define PENDULA_LANES_MODULE pendula_rk4_lanes_baseline_m
 #define PENDULA_LANES_ENTRY pendula_rk4_lanes_baseline
-#define PENDULA_LANES_WIDTH_FN pendula_rk4_lanes_baseline_width
+#define PENDULA_LANES_WIDTH_FN pendula_rk4_lanes_width_baseline
 #endif
 ! The block width (lanes) of this variant: RK4_BATCH_LANES unless meson
 ! asks for more (x86-64-v4: 128 lanes).
