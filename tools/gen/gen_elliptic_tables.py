@@ -243,12 +243,15 @@ def atan_poly(deg=10):
 
 def atan_fortran():
     vals = [_lit(x) for x in atan_poly()]
-    body = ", &\n      ".join(", ".join(vals[i : i + 3]) for i in range(0, len(vals), 3))
+    decl = "  real(wp), parameter :: "
+    # continuation lines under the name, as fprettify (tools/lint.sh) aligns them
+    cont = ", &\n" + " " * len(decl)
+    body = cont.join(", ".join(vals[i : i + 3]) for i in range(0, len(vals), 3))
     return "\n".join(
         [
             "  !> atan(w) = w + w t P(t), t = w**2 <= tan(pi/8)**2: P of degree 10 (Chebyshev",
             "  !> interpolant at 40 digits); atan on [-1, 1] within 1.2 ulps.",
-            f"  real(wp), parameter :: atan_poly(0:{len(vals) - 1}) = [ &\n      {body}]",
+            f"{decl}atan_poly(0:{len(vals) - 1}) = [ &\n{' ' * len(decl)}{body}]",
         ]
     )
 
