@@ -71,12 +71,24 @@ def scenes():
     }
 
 
-def _run(tmp_path, path):
-    out = tmp_path / f"{path}.npz"
+def _run(tmp_path, path, script=None):
+    """The npz that `script` (default _SCRIPT) writes in a fresh interpreter on kernel path `path`."""
+    script = _SCRIPT if script is None else script
+    out = tmp_path / f"{path}.npz"  # tmp_path is the test's own
     env = dict(os.environ, PENDULA_KERNEL=path)
     here = os.path.dirname(os.path.abspath(__file__))
-    subprocess.run([sys.executable, "-c", _SCRIPT, str(out), here], env=env, check=True, timeout=120)
+    subprocess.run([sys.executable, "-c", script, str(out), here], env=env, check=True, timeout=120)
     return np.load(out)
+
+
+def _other_paths_equal(tmp_path, base, script=None, equal_nan=False):
+    """Every array of `base` (the baseline path's run) bit for bit on every other path."""
+    for path in pendula.build_info()["kernel"]["available"][1:]:
+        got = _run(tmp_path, path, script)
+        assert str(got["path"]) == path
+        for key in base.files:
+            if key != "path":
+                assert np.array_equal(got[key], base[key], equal_nan=equal_nan), (path, key)
 
 
 def test_build_info_reports_a_path():
@@ -87,7 +99,6 @@ def test_build_info_reports_a_path():
 
 
 def test_every_path_gives_the_same_bits(tmp_path):
-    available = pendula.build_info()["kernel"]["available"]
     base = _run(tmp_path, "baseline")
     assert str(base["path"]) == "baseline"
     # the baseline path against single-state pendula.rk4, every state bit for bit
@@ -96,12 +107,7 @@ def test_every_path_gives_the_same_bits(tmp_path):
             one = pendula.rk4(t, th0[i], om0[i], w0[i % w0.size], gamma=gam[i % gam.size], h=h[i % h.size])
             assert np.array_equal(one.theta, base[f"{name}_theta"][i]), (name, i)
             assert np.array_equal(one.omega, base[f"{name}_omega"][i]), (name, i)
-    for path in available[1:]:
-        got = _run(tmp_path, path)
-        assert str(got["path"]) == path
-        for key in base.files:
-            if key != "path":
-                assert np.array_equal(got[key], base[key]), (path, key)
+    _other_paths_equal(tmp_path, base)
 
 
 @pytest.mark.parametrize("value", ["v9", "AVX2", ""])
@@ -156,24 +162,10 @@ def ke_inputs():
     return m, p
 
 
-def _run_ke(tmp_path, path):
-    out = tmp_path / f"ke_{path}.npz"
-    env = dict(os.environ, PENDULA_KERNEL=path)
-    here = os.path.dirname(os.path.abspath(__file__))
-    subprocess.run([sys.executable, "-c", _KE_SCRIPT, str(out), here], env=env, check=True, timeout=120)
-    return np.load(out)
-
-
 def test_elliptic_blocks_give_the_same_bits_on_every_path(tmp_path):
-    available = pendula.build_info()["kernel"]["available"]
-    base = _run_ke(tmp_path, "baseline")
+    base = _run(tmp_path, "baseline", _KE_SCRIPT)
     assert str(base["path"]) == "baseline"
-    for path in available[1:]:
-        got = _run_ke(tmp_path, path)
-        assert str(got["path"]) == path
-        for key in base.files:
-            if key != "path":
-                assert np.array_equal(got[key], base[key], equal_nan=True), (path, key)
+    _other_paths_equal(tmp_path, base, _KE_SCRIPT, equal_nan=True)
 
 
 _UNDAMPED_SCRIPT = r"""
@@ -217,25 +209,11 @@ def undamped_inputs():
     return (t, th, om, w0), (u, p)
 
 
-def _run_undamped(tmp_path, path):
-    out = tmp_path / f"undamped_{path}.npz"
-    env = dict(os.environ, PENDULA_KERNEL=path)
-    here = os.path.dirname(os.path.abspath(__file__))
-    subprocess.run([sys.executable, "-c", _UNDAMPED_SCRIPT, str(out), here], env=env, check=True, timeout=120)
-    return np.load(out)
-
-
 def test_undamped_states_and_jacobi_arrays_give_the_same_bits_on_every_path(tmp_path):
-    available = pendula.build_info()["kernel"]["available"]
-    base = _run_undamped(tmp_path, "baseline")
+    base = _run(tmp_path, "baseline", _UNDAMPED_SCRIPT)
     assert str(base["path"]) == "baseline"
     assert np.isfinite(base["theta"]).all() and np.isfinite(base["sn"]).all()
-    for path in available[1:]:
-        got = _run_undamped(tmp_path, path)
-        assert str(got["path"]) == path
-        for key in base.files:
-            if key != "path":
-                assert np.array_equal(got[key], base[key]), (path, key)
+    _other_paths_equal(tmp_path, base, _UNDAMPED_SCRIPT)
 
 
 _PROPERTIES_SCRIPT = r"""
@@ -284,21 +262,12 @@ def properties_inputs():
     return th, om, w0
 
 
-def _run_properties(tmp_path, path):
-    out = tmp_path / f"properties_{path}.npz"
-    env = dict(os.environ, PENDULA_KERNEL=path)
-    here = os.path.dirname(os.path.abspath(__file__))
-    subprocess.run([sys.executable, "-c", _PROPERTIES_SCRIPT, str(out), here], env=env, check=True, timeout=120)
-    return np.load(out)
-
-
 @pytest.mark.filterwarnings("ignore::pendula.AngleWarning")
 def test_undamped_properties_give_the_same_bits_on_every_path(tmp_path):
     """elliptic_parameter, amplitude, regime and period (Omega0 != 0: the block kernel of
     the parameter) bit for bit on every path, and on the baseline path equal to the
     one-state functions (state_parameter's scalar set-up) state by state."""
-    available = pendula.build_info()["kernel"]["available"]
-    base = _run_properties(tmp_path, "baseline")
+    base = _run(tmp_path, "baseline", _PROPERTIES_SCRIPT)
     assert str(base["path"]) == "baseline"
     th, om, w0 = properties_inputs()
     for i in range(0, th.size, 7):
@@ -307,12 +276,7 @@ def test_undamped_properties_give_the_same_bits_on_every_path(tmp_path):
         assert pendula.period(th[i], om[i], w0[i]) == base["period"][i], i
     regimes = set(base["regime"].tolist())
     assert len(regimes) == 3, regimes  # libration, separatrix and rotation all reached
-    for path in available[1:]:
-        got = _run_properties(tmp_path, path)
-        assert str(got["path"]) == path
-        for key in base.files:
-            if key != "path":
-                assert np.array_equal(got[key], base[key]), (path, key)
+    _other_paths_equal(tmp_path, base, _PROPERTIES_SCRIPT)
 
 
 def _fortran_test(name):
