@@ -13,6 +13,7 @@
 #                       debugoptimized: -O2 -g, the code users run, with lines)
 #   MEMCHECK_SUITES     meson suites to run (default: "fortran")
 #   MEMCHECK_ONLY       space-separated test names to restrict the run
+#   MEMCHECK_JOBS       programs under valgrind at once (default: the cores)
 #   PENDULA_TEST_QUICK  exported as 1 unless already set: Fortran tests that
 #                       honour it run a reduced sweep (valgrind is ~30x slower)
 set -euo pipefail
@@ -69,11 +70,10 @@ logdir="$bdir/memcheck-logs"
 rm -rf "$logdir"; mkdir -p "$logdir"
 supp=()
 [ -f "$here/tools/valgrind.supp" ] && supp=(--suppressions="$here/tools/valgrind.supp")
-fail=0
-summary=$(printf '%-28s %6s %8s %14s %14s %8s\n' program exit errors definitely indirectly seconds)
-while IFS=$'\x1f' read -r name workdir envs cmd; do
+# One program under valgrind; its row of the summary goes to $logdir/$name.row.
+check_one() {
+  local name=$1 workdir=$2 envs=$3 cmd=$4 log="$logdir/$1.log" ts rc errors definite indirect
   [ "$envs" = - ] && envs=
-  log="$logdir/$name.log"
   ts=$(date +%s)
   set +e
   (cd "$bdir" && cd "$workdir" && eval "env $envs valgrind --tool=memcheck --leak-check=full \
@@ -82,19 +82,36 @@ while IFS=$'\x1f' read -r name workdir envs cmd; do
       >"$logdir/$name.out" 2>&1)
   rc=$?
   set -e
-  secs=$(( $(date +%s) - ts ))
-  errors=$(sed -n 's/.*ERROR SUMMARY: \([0-9,]*\) errors.*/\1/p' "$log" | tr -d , | tail -n 1)
-  definite=$(sed -n 's/.*definitely lost: \([0-9,]*\) bytes.*/\1/p' "$log" | tr -d , | tail -n 1)
-  indirect=$(sed -n 's/.*indirectly lost: \([0-9,]*\) bytes.*/\1/p' "$log" | tr -d , | tail -n 1)
-  errors=${errors:-?}; definite=${definite:-0}; indirect=${indirect:-0}
+  errors=$(sed -n 's/.*ERROR SUMMARY: \([0-9,]*\) errors.*/\1/p' "$log" 2>/dev/null | tr -d , | tail -n 1) || true
+  definite=$(sed -n 's/.*definitely lost: \([0-9,]*\) bytes.*/\1/p' "$log" 2>/dev/null | tr -d , | tail -n 1) || true
+  indirect=$(sed -n 's/.*indirectly lost: \([0-9,]*\) bytes.*/\1/p' "$log" 2>/dev/null | tr -d , | tail -n 1) || true
+  echo "$rc ${errors:-?} ${definite:-0} ${indirect:-0} $(( $(date +%s) - ts ))" >"$logdir/$name.row"
+}
+
+# The programs run MEMCHECK_JOBS at a time (default: one per core; valgrind
+# runs a program's threads on one core, so the leg was one core's work).
+jobs=${MEMCHECK_JOBS:-$(nproc 2>/dev/null || echo 1)}
+names=()
+while IFS=$'\x1f' read -r name workdir envs cmd; do
+  names+=("$name")
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  check_one "$name" "$workdir" "$envs" "$cmd" </dev/null &
+done <<<"$list"
+wait
+
+fail=0
+summary=$(printf '%-28s %6s %8s %14s %14s %8s\n' program exit errors definitely indirectly seconds)
+for name in "${names[@]}"; do
+  read -r rc errors definite indirect secs <"$logdir/$name.row" || { rc=? errors=? definite=? indirect=? secs=?; }
   summary+=$(printf '\n%-28s %6s %8s %14s %14s %8s' "$name" "$rc" "$errors" "$definite" "$indirect" "$secs")
-  if [ "$rc" -ne 0 ] || [ "$errors" != 0 ] || [ "$definite" != 0 ] || [ "$indirect" != 0 ]; then
+  if [ "$rc" != 0 ] || [ "$errors" != 0 ] || [ "$definite" != 0 ] || [ "$indirect" != 0 ]; then
     fail=1
-    echo "memcheck: $name FAILED (exit $rc, $errors errors, $definite bytes definitely lost); log: $log" >&2
-    grep -E '^==[0-9]+== (Invalid|Conditional|Use of|Syscall|Mismatched|Source and|Argument)|definitely lost in|indirectly lost in' "$log" | head -20 >&2 || true
+    echo "memcheck: $name FAILED (exit $rc, $errors errors, $definite bytes definitely lost); log: $logdir/$name.log" >&2
+    grep -E '^==[0-9]+== (Invalid|Conditional|Use of|Syscall|Mismatched|Source and|Argument)|definitely lost in|indirectly lost in' \
+      "$logdir/$name.log" 2>/dev/null | head -20 >&2 || true
     tail -5 "$logdir/$name.out" >&2 || true
   fi
-done <<<"$list"
+done
 echo "memcheck summary (valgrind $(valgrind --version | sed 's/valgrind-//'), logs in $logdir):"
 echo "$summary"
 echo "memcheck: $( [ $fail -eq 0 ] && echo PASSED || echo FAILED ) in $(( $(date +%s) - t0 )) s"
