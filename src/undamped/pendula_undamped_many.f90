@@ -8,9 +8,10 @@ module pendula_undamped_many
   use pendula_status, only: status_t, check_finite, check_all_finite, set_error, PENDULA_OK, PENDULA_ERR_SIZE
   use pendula_undamped_motion, only: undamped_motion_t, undamped_init, &
                                      check_state, set_geometry, set_period, period_needed, &
-                                     UNDAMPED_PLAN_MIN_TIMES, &
+                                     UNDAMPED_PLAN_MIN_TIMES, M_TINY, motion_amplitude, &
                                      REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION
-  use pendula_constants, only: pi
+  use pendula_constants, only: pi, half_pi, half_pi_lo
+  use pendula_elliptic_tables, only: atan_poly
   use pendula_elliptic, only: ellipjm1_array
   use pendula_elliptic_ke, only: k_unit_many   ! ellipkm1 over an array, inside the elliptic concern
   use pendula_angle_dd, only: cos_half
@@ -236,10 +237,11 @@ contains
     real(wp), intent(out), optional :: mc(:)  !< optional 1 - m
     integer, intent(out), optional :: regime(:)  !< optional regime codes (REGIME_*)
     integer, parameter :: nb = 256
-    real(wp) :: mi, mci, c, den(nb)
-    real(wp), dimension(nb) :: th, om, w, sh, ch, q, mb, mcb
-    integer :: i, i0, i1, n, reg, k, nk, bad_k, regb(nb)
+    real(wp) :: c, den(nb), hp, hp_lo, atanp(0:10), inf
+    real(wp), dimension(nb) :: th, om, w, sh, ch, q, mb, mcb, lib, amp
+    integer :: i, i0, i1, n, k, nk, bad_k, regb(nb)
     logical :: bad, want_m, amplitudes_only, fast(nb)
+    type(undamped_motion_t) :: motion
     n = max(size(theta0), size(omega0), size(w0))
     if (min(size(theta0), size(omega0), size(w0)) == 0) n = 0
     bad = .not. (fits(theta0, n) .and. fits(omega0, n) .and. fits(w0, n))
@@ -254,6 +256,11 @@ contains
       return
     end if
     want_m = present(m) .or. present(amplitude)
+    ! local copies: the amplitude loop's stores then cannot touch them (it vectorises)
+    hp = half_pi
+    hp_lo = half_pi_lo
+    atanp = atan_poly
+    inf = ieee_value(1.0_wp, ieee_positive_inf)
     amplitudes_only = present(period) .and. .not. (want_m .or. present(mc) .or. present(regime)) .and. &
                       size(omega0) == 1 .and. size(w0) == 1 .and. size(theta0) == n
     if (amplitudes_only) amplitudes_only = omega0(1) == 0 .and. w0(1) > 0 .and. w0(1) <= huge(w0)
@@ -312,22 +319,26 @@ contains
       do k = 1, nk
         if (.not. fast(k)) call state_parameter(th(k), om(k), w(k), want_m, mb(k), mcb(k), regb(k))
       end do
-      do k = 1, nk
-        i = i0 + k - 1
-        mi = mb(k)
-        mci = mcb(k)
-        reg = regb(k)
-        if (present(amplitude)) then
-          select case (reg)
-          case (REGIME_LIBRATION)
-            amplitude(i) = 2*atan2(sqrt(mi), sqrt(mci))
-          case (REGIME_SEPARATRIX)
-            amplitude(i) = pi
-          case default
-            amplitude(i) = ieee_value(1.0_wp, ieee_positive_inf)
-          end select
-        end if
-      end do
+      if (present(amplitude)) then
+        ! motion_amplitude's numbers, 2 atan(k/sqrt(1 - m)) for a libration, as one
+        ! vector loop (atan_ratio is plain arithmetic); other regimes take a neutral
+        ! 0/1 there and their value after
+        do k = 1, nk
+          lib(k) = merge(1.0_wp, 0.0_wp, regb(k) == REGIME_LIBRATION)
+          amp(k) = 2*atan_ratio(sqrt(mb(k)*lib(k)), sqrt(merge(mcb(k), 1.0_wp, lib(k) > 0)), hp, hp_lo, atanp)
+        end do
+        do k = 1, nk
+          amplitude(i0 + k - 1) = merge(amp(k), merge(pi, inf, regb(k) == REGIME_SEPARATRIX), lib(k) > 0)
+        end do
+        ! m that lost bits to the subnormal range (tiny states): the one-state amplitude,
+        ! from the parts of m
+        do k = 1, nk
+          if (lib(k) > 0 .and. mb(k) < M_TINY) then
+            call set_geometry(motion, th(k), om(k), w(k))
+            amplitude(i0 + k - 1) = motion_amplitude(motion)
+          end if
+        end do
+      end if
       ! numerator and denominator: the divisions of a block run as one vector loop below
       if (present(period)) call block_periods(nk, regb, mb, mcb, om, w, period(i0:i1), den)
       if (present(m)) m(i0:i1) = mb(1:nk)
@@ -376,5 +387,8 @@ contains
       end if
     end do
   end subroutine block_periods
+
+  ! atan_ratio: the amplitudes' atan, the same text as motion_amplitude's
+  include 'pendula_atan_ratio.inc'
 
 end module pendula_undamped_many

@@ -7,7 +7,8 @@ module pendula_undamped_motion
   use pendula_kinds, only: wp
   use pendula_format, only: code_text
   use pendula_status, only: status_t, check_finite, check_positive, PENDULA_OK
-  use pendula_constants, only: pi, two_pi, two_pi_lo
+  use pendula_constants, only: pi, two_pi, two_pi_lo, half_pi, half_pi_lo
+  use pendula_elliptic_tables, only: atan_poly
   use pendula_double_double, only: two_prod, dd_add_fast
   use pendula_elliptic, only: ellipkm1, ellipfm1, ellipj_plan_t, ellipj_planm1
   use pendula_angle_dd, only: cos_dd, reduce_angle_2pi, sincos_half
@@ -18,7 +19,7 @@ module pendula_undamped_motion
             undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan
   ! for pendula_undamped_eval and pendula_undamped_many only (not re-exported by pendula_undamped):
   public :: check_state, set_geometry, set_period, motion_amplitude, period_needed
-  public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
+  public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES, M_TINY
 
   !> The pendulum swings about theta = 2 pi N (m < 1).
   integer, parameter :: REGIME_LIBRATION = 1
@@ -29,6 +30,10 @@ module pendula_undamped_motion
   ! undamped_regime_name's table
   integer, parameter :: REGIME_CODES(3) = [REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION]
   character(len=10), parameter :: REGIME_NAMES(3) = [character(len=10) :: 'libration', 'separatrix', 'rotation']
+
+  !> Below this m (2**-968), m = sin^2(theta_r/2) + (Omega0/(2 w0))^2 has lost bits to
+  !> the subnormal range: set_geometry then takes k = sqrt(m) from its two parts.
+  real(wp), parameter :: M_TINY = 2.0_wp**(-968)
 
   !> A state evaluated at this many times or more gets a Jacobi plan (~13 us
   !> once, then ~40 ns per time); below, each time costs ~0.3-0.7 us of
@@ -222,6 +227,10 @@ contains
     if (present(w0lo)) qlo = qlo - q*(w0lo/w0)
     motion%m = sh*sh + q*q
     motion%k = sqrt(motion%m)
+    ! sh**2 + q**2 has lost bits to the subnormal range, or underflowed to 0 (|theta0|
+    ! and |Omega0/w0| below ~1e-146): k from sh and q scaled by 2**600 (exact), so that
+    ! the amplitude 2 asin(k) and the energy stay accurate
+    if (motion%m < M_TINY) motion%k = 2.0_wp**(-600)*sqrt((sh*2.0_wp**600)**2 + (q*2.0_wp**600)**2)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double
     a = ch + abs(q)
     if (chlo == 0 .and. qlo == 0) then
@@ -284,7 +293,7 @@ contains
     type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
     select case (motion%regime)
     case (REGIME_LIBRATION)
-      amplitude = 2*atan2(motion%k, sqrt(motion%mc))
+      amplitude = 2*atan_ratio(motion%k, sqrt(motion%mc), half_pi, half_pi_lo, atan_poly)
     case (REGIME_SEPARATRIX)
       amplitude = pi
     case default
@@ -309,7 +318,7 @@ contains
   end function undamped_period
 
   !> Amplitude [rad]: max |theta - 2 pi N| = 2 asin(k) for libration (computed
-  !> as 2 atan2(k, sqrt(1-m)), accurate up to the separatrix), pi on the
+  !> as 2 atan(k/sqrt(1-m)) by atan_ratio, within ~1 ulp up to the separatrix), pi on the
   !> separatrix (approached, never reached), +inf for rotation.
   elemental real(wp) function undamped_amplitude(motion) result(amplitude)
     type(undamped_motion_t), intent(in) :: motion  !< a motion built by undamped_init (or set_geometry)
@@ -348,5 +357,8 @@ contains
     character(len=len(code_text(regime, REGIME_CODES, REGIME_NAMES, 'unknown'))) :: name
     name = code_text(regime, REGIME_CODES, REGIME_NAMES, 'unknown')
   end function undamped_regime_name
+
+  ! atan_ratio: the amplitude's atan, the same text as pendula_undamped_many's
+  include 'pendula_atan_ratio.inc'
 
 end module pendula_undamped_motion
