@@ -10,6 +10,7 @@ module pendula_scene_bounds
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
   use pendula_undamped, only: undamped_motion_t, REGIME_LIBRATION, REGIME_SEPARATRIX
+  use pendula_undamped_motion, only: M_TINY
   use pendula_linear_damped, only: linear_damped_t, linear_damped_init, linear_damped_state, DAMPING_UNDERDAMPED
   use pendula_scene_codes, only: SCENE_LINEAR_SAFETY
   implicit none
@@ -52,11 +53,12 @@ contains
     type(undamped_motion_t), intent(in) :: motion  !< the undamped motion (undamped_init)
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
     real(wp) :: omax
-    if (motion%m == 0) then
-      e = 0
+    if (motion%theta_r == 0 .and. motion%omega0 == 0) then
+      e = 0                                    ! at rest at the bottom: exactly 2 pi N
       return
     end if
     omax = 2*sqrt(motion%m)*motion%w0          ! max |Omega| (libration and rotation)
+    if (motion%m < M_TINY) omax = 2*motion%k*motion%w0   ! m lost to the subnormal range: k from its parts
     e = 4*eps*(abs(motion%theta0) + 2*pi + omax/motion%w0) &
         + 4*omax*tend*frequency_error(motion)
     e = min(e, 2*(omax/motion%w0 + 2*pi))

@@ -30,6 +30,7 @@ module pendula_small_angle
   use pendula_constants, only: pi
   use pendula_elliptic, only: ellipkm1
   use pendula_undamped, only: undamped_motion_t, REGIME_LIBRATION, reduce_angle_2pi
+  use pendula_undamped_motion, only: M_TINY
   implicit none
   private
   public :: small_angle, harmonic_state, small_angle_solve, small_angle_eval, small_angle_bound, small_angle_phase_drift
@@ -164,31 +165,41 @@ contains
     real(wp), intent(out) :: dtheta  !< bound on the angle error [rad]
     real(wp), intent(out) :: domega  !< bound on the angular velocity error [rad/s]
     real(wp), parameter :: eps = epsilon(1.0_wp)
+    real(wp), parameter :: subnormal_steps = scale(1.0_wp, -1070)  ! 16 of the smallest subnormal
     real(wp) :: q, kp, w, a1, amp, x, tail, dphi, drift, w0, ph, slack
     if (motion%regime /= REGIME_LIBRATION) then
       dtheta = ieee_value(1.0_wp, ieee_positive_inf)
       domega = dtheta
       return
     end if
-    if (motion%m == 0) then
+    if (motion%theta_r == 0 .and. motion%omega0 == 0) then
+      ! at rest at the bottom: both models give 2 pi N and 0 exactly
       dtheta = 0
       domega = 0
       return
     end if
     w0 = motion%w0
+    amp = hypot(motion%theta_r, motion%omega0/w0)
+    ! rounding of both computed solutions: phases w0 t, amplitudes, 2 pi N
+    slack = 16*eps*(abs(motion%center) + motion%amplitude + amp)*(1 + w0*abs(tmax))
+    if (motion%m < M_TINY) then
+      ! m lost to the subnormal range (|theta_r| and |Omega0/w0| below ~1e-146; the nome
+      ! would underflow): the model's own error, A O(m) (1 + w0 tmax), is below 1e-290 of
+      ! the rounding allowance; subnormal results also round to absolute steps
+      dtheta = min(slack, (motion%amplitude + amp)*(1 + 1.0e-12_wp)) + subnormal_steps
+      domega = min(w0*slack, (2*motion%k*w0 + amp*w0)*(1 + 1.0e-12_wp)) + subnormal_steps
+      return
+    end if
     kp = ellipkm1(motion%m)                 ! K'(m) = K(1 - m)
     q = exp(-pi*kp/motion%kk)
     drift = small_angle_phase_drift(motion)
     w = w0*(1 - drift)
     a1 = 8*sqrt(q)/(1 + q)
-    amp = hypot(motion%theta_r, motion%omega0/w0)
     dphi = pi*motion%phase/(2*motion%kk) - atan2(motion%theta_r, motion%omega0/w0)
     dphi = modulo(dphi + pi, 2*pi) - pi
     x = abs(dphi) + w0*drift*abs(tmax)
     ph = 2*sin(0.5_wp*min(pi, x))
     tail = 8*q*sqrt(q)/(1 - q)
-    ! rounding of both computed solutions: phases w0 t, amplitudes, 2 pi N
-    slack = 16*eps*(abs(motion%center) + motion%amplitude + amp)*(1 + w0*abs(tmax))
     dtheta = abs(a1 - amp) + amp*ph + tail/3
     dtheta = min(dtheta, motion%amplitude + amp)*(1 + 1.0e-12_wp) + slack
     domega = abs(a1*w - amp*w0) + amp*w0*ph + w*tail

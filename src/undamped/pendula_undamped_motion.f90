@@ -17,9 +17,10 @@ module pendula_undamped_motion
 
   public :: undamped_motion_t, undamped_init, undamped_period, undamped_amplitude, undamped_energy, &
             undamped_regime, pendulum_energy, undamped_regime_name, undamped_plan_pays, undamped_add_plan
-  ! for pendula_undamped_eval and pendula_undamped_many only (not re-exported by pendula_undamped):
-  public :: check_state, set_geometry, set_period, motion_amplitude, period_needed
-  public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES, M_TINY
+  ! for pendula_undamped_eval, pendula_undamped_many, pendula_small_angle and
+  ! pendula_scene_bounds only (not re-exported by pendula_undamped):
+  public :: check_state, set_geometry, set_period, motion_amplitude, period_needed, M_TINY
+  public :: REGIME_LIBRATION, REGIME_SEPARATRIX, REGIME_ROTATION, UNDAMPED_PLAN_MIN_TIMES
 
   !> The pendulum swings about theta = 2 pi N (m < 1).
   integer, parameter :: REGIME_LIBRATION = 1

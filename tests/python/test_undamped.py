@@ -404,6 +404,23 @@ def test_small_angle_bound_outside_libration_and_at_rest():
     assert pendula.small_angle_error(1e6, 0.0, 0.0, 1.0) == (0.0, 0.0)
 
 
+@pytest.mark.parametrize(
+    "theta0, omega0", [(1e-146, 1e-146), (1e-160, 0.0), (-1e-200, 3e-201), (0.0, 1e-250), (1e-310, 0.0), (5e-324, 0.0)]
+)
+def test_small_angle_bound_holds_for_tiny_states(theta0, omega0):
+    """States whose m = k^2 is lost to the subnormal range: the model and the exact motion
+    still differ by their roundings, and the bound (once 0 there) covers them, within a few
+    hundred times the truth."""
+    w0, tmax = 1.3, 10.0
+    t = np.linspace(-tmax, tmax, 4001)
+    ex, exo = pendula.undamped(t, theta0, omega0, w0)
+    sa, sao = pendula.small_angle(t, theta0, omega0, w0)
+    bt, bo = pendula.small_angle_error(tmax, theta0, omega0, w0)
+    err_t, err_o = np.max(np.abs(sa - ex)), np.max(np.abs(sao - exo))
+    assert 0 < err_t <= bt and 0 < err_o <= bo, (err_t, bt, err_o, bo)
+    assert bt <= 1000 * max(err_t, 5e-324) and bo <= 1000 * max(err_o, 5e-324)
+
+
 def test_fourier_series_of_the_angle():
     """The bound rests on theta = 8 sum q^(n+1/2)/((2n+1)(1+q^(2n+1))) sin((2n+1) pi u/(2K))."""
     with mp.workdps(30):
