@@ -1,7 +1,9 @@
 !> K(m) in double-double for a block of points at once: pendula_elliptic_ke's compensated
 !> AGM (k_double_double) stepped for every point of the block side by side, behind
 !> k_double_double_block (pendula_elliptic_k_block), which the Jacobi array loops call
-!> for their long arguments (beyond a few half periods they need K to ~1e-31).
+!> for their long arguments (beyond a few half periods they need K to ~1e-31).  The AGM's
+!> arithmetic (start, step, finish) is pendula_agm_dd.inc, the text k_double_double runs
+!> too; this file adds only the loops over the block.
 !>
 !> Why a file of its own, compiled several times: the AGM of one point is a chain of
 !> dependent square roots; the block's points side by side fill the pipeline and
@@ -17,8 +19,8 @@
 !> Bit-identity: pendula compiles everything with -ffp-contract=off and without
 !> -ffast-math, and the AGM uses only +, -, *, / and sqrt (correctly rounded in every
 !> instruction set), so every variant returns the same bits, those of the scalar
-!> k_double_double (tests/fortran/test_elliptic.f90 compares them; test_kernel_paths.py
-!> runs it on every path the machine has).
+!> k_double_double, which runs the same included steps (tests/fortran/test_elliptic.f90
+!> compares them; test_kernel_paths.py runs it on every path the machine has).
 ! meson defines the names per variant; a build that compiles the file once (fpm) gets the
 ! portable one, which pendula_kernel_path.c always has.
 #ifndef PENDULA_KDD_MODULE
@@ -35,9 +37,9 @@ module PENDULA_KDD_MODULE
 contains
 
   !> K in double-double for nb points, mc = mch + mcl > 0 each: the compensated AGM of
-  !> pendula_elliptic_ke's k_double_double, operation for operation (the same bits), with
-  !> its steps taken for the whole block in turn, a point that has converged (t <= 2**-27)
-  !> keeping its values by merge.  A point that needs no K passes mch = 1 (no step).
+  !> pendula_elliptic_ke's k_double_double, its steps (pendula_agm_dd.inc, the same bits)
+  !> taken for the whole block in turn, a point that has converged (t <= 2**-27) keeping
+  !> its values by merge.  A point that needs no K passes mch = 1 (no step).
   pure subroutine PENDULA_KDD_ENTRY(nb, mch, mcl, hp, hp_lo, khi, klo) bind(C)
     integer(c_int), intent(in) :: nb  !< points, >= 0 (a few dozen: the work arrays live on the stack)
     real(c_double), intent(in) :: mch(nb)  !< 1 - m, high part, > 0 (1: no K wanted)
@@ -46,19 +48,10 @@ contains
     real(c_double), intent(in) :: hp_lo  !< pi/2, low part
     real(c_double), intent(out) :: khi(nb)  !< K, high part
     real(c_double), intent(out) :: klo(nb)  !< K, low part
-    real(wp), parameter :: tiny_mc = 2.0_wp**(-900), up = 2.0_wp**1000, down = 2.0_wp**(-500)
     real(wp), dimension(nb) :: ah, al, bh, bl, ah2, al2, bh2, bl2
-    real(wp) :: x, xl, s, se, p, t, corr, nah, nal
     integer :: i, j, nlive
     do j = 1, nb
-      ! b = sqrt(mc) with its residual; tiny mc is scaled so that the residual stays exact
-      x = merge(mch(j)*up, mch(j), mch(j) < tiny_mc)
-      xl = merge(mcl(j)*up, mcl(j), mch(j) < tiny_mc)
-      bh(j) = sqrt(x)
-      bl(j) = ((x - bh(j)*bh(j)) - sq_err(bh(j)) + xl)/(2*bh(j))
-      bh(j) = merge(bh(j)*down, bh(j), mch(j) < tiny_mc)
-      bl(j) = merge(bl(j)*down, bl(j), mch(j) < tiny_mc)
-      ah(j) = 1; al(j) = 0
+      call agm_start(mch(j), mcl(j), ah(j), al(j), bh(j), bl(j))
     end do
     ! steps in pairs, (ah, al, bh, bl) -> the second set -> back; a step where no point
     ! moved leaves both sets equal (up to 80 steps, as k_double_double)
@@ -69,24 +62,7 @@ contains
       if (nlive == 0) exit
     end do
     do j = 1, nb
-      ! A = (a + b)/2 and the series in t (a - b is exact: a and b agree to 26 bits)
-      s = ah(j) + bh(j)
-      se = (ah(j) - (s - (s - ah(j)))) + (bh(j) - (s - ah(j)))
-      t = ((ah(j) - bh(j)) + (al(j) - bl(j)))/s
-      t = t*t
-      corr = t*(0.25_wp + t*(5.0_wp/64))
-      nah = 0.5_wp*s
-      nal = 0.5_wp*((se + al(j)) + bl(j)) - nah*corr
-      ! M = ah + al normalised, then K = (pi/2)/M with one correction of the quotient
-      s = nah + nal
-      nal = nal - (s - nah)
-      nah = s
-      x = hp/nah
-      p = x*nah
-      xl = (((hp - p) - prod_err(x, nah, p)) + (hp_lo - x*nal))/nah
-      s = x + xl
-      klo(j) = xl - (s - x)
-      khi(j) = s
+      call agm_finish(ah(j), al(j), bh(j), bl(j), hp, hp_lo, khi(j), klo(j))
     end do
   end subroutine PENDULA_KDD_ENTRY
 
@@ -99,41 +75,20 @@ contains
     real(wp), intent(in) :: ah(nb), al(nb), bh(nb), bl(nb)
     real(wp), intent(out) :: ah2(nb), al2(nb), bh2(nb), bl2(nb)
     integer, intent(out) :: nlive
-    real(wp) :: x, s, se, p, nah, nal, nbh, nbl, a, alo, b, blo, live
+    real(wp) :: nah, nal, nbh, nbl, live
     integer :: j
     nlive = 0
     do j = 1, nb
-      a = ah(j); alo = al(j); b = bh(j); blo = bl(j)
-      live = merge(1.0_wp, 0.0_wp, abs(a - b) > 2.0_wp**(-26)*a)
-      s = a + b
-      se = (a - (s - (s - a))) + (b - (s - a))
-      p = a*b
-      x = (prod_err(a, b, p) + a*blo) + alo*b
-      nah = 0.5_wp*s
-      nal = 0.5_wp*((se + alo) + blo)
-      nbh = sqrt(p)
-      nbl = (((p - nbh*nbh) - sq_err(nbh)) + x)/(2*nbh)
-      ah2(j) = merge(nah, a, live > 0); al2(j) = merge(nal, alo, live > 0)
-      bh2(j) = merge(nbh, b, live > 0); bl2(j) = merge(nbl, blo, live > 0)
+      live = merge(1.0_wp, 0.0_wp, agm_live(ah(j), bh(j)))
+      call agm_step(ah(j), al(j), bh(j), bl(j), nah, nal, nbh, nbl)
+      ah2(j) = merge(nah, ah(j), live > 0); al2(j) = merge(nal, al(j), live > 0)
+      bh2(j) = merge(nbh, bh(j), live > 0); bl2(j) = merge(nbl, bl(j), live > 0)
       nlive = nlive + merge(1, 0, live > 0)
     end do
   end subroutine agm_steps
 
-  !> Exact error a*b - p of p = fl(a*b) (Dekker, as pendula_elliptic_ke's; no range scaling:
-  !> the AGM's operands lie in (0, 2]).
-  pure elemental real(wp) function prod_err(a, b, p) result(e)
-    real(wp), intent(in) :: a, b, p
-    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
-    real(wp) :: ah, al, bh, bl
-    ah = split*a; ah = ah - (ah - a); al = a - ah
-    bh = split*b; bh = bh - (bh - b); bl = b - bh
-    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
-  end function prod_err
-
-  !> Exact error s*s - fl(s*s) of a square.
-  pure elemental real(wp) function sq_err(s) result(e)
-    real(wp), intent(in) :: s
-    e = prod_err(s, s, s*s)
-  end function sq_err
+  ! agm_start, agm_live, agm_step, agm_finish, prod_err and sq_err: the same text as
+  ! pendula_elliptic_ke's k_double_double runs for one point.
+  include 'pendula_agm_dd.inc'
 
 end module PENDULA_KDD_MODULE

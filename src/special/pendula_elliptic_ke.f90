@@ -13,7 +13,8 @@
 !> instruction set and chosen at load time (pendula_elliptic_ke_lanes.F90, runtime CPU
 !> dispatch; the same bits on every path).  m < 0 by the imaginary-modulus
 !> transformation (DLMF 19.7.5).  Measured <= 2.4 ulps against mpmath.  K in double-double
-!> by the AGM in double-double arithmetic (DLMF 19.8.5).
+!> by the AGM in double-double arithmetic (DLMF 19.8.5), its steps in pendula_agm_dd.inc,
+!> which the block form (pendula_elliptic_k_lanes.F90) includes too.
 module pendula_elliptic_ke
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_is_nan, ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: int32, int64
@@ -55,70 +56,22 @@ contains
     real(wp), intent(in) :: mcl  !< low part of mc
     real(wp), intent(out) :: khi  !< high part of K
     real(wp), intent(out) :: klo  !< low part of K
-    real(wp), parameter :: tiny_mc = 2.0_wp**(-900), up = 2.0_wp**1000, down = 2.0_wp**(-500)
-    real(wp) :: ah, al, bh, bl, x, xl, s, se, p, t, corr
+    real(wp) :: ah, al, bh, bl, nah, nal, nbh, nbl
     integer :: i
-    ! b = sqrt(mc) with its residual; tiny mc is scaled so that the residual stays exact
-    x = mch; xl = mcl
-    if (mch < tiny_mc) then
-      x = mch*up; xl = mcl*up
-    end if
-    bh = sqrt(x)
-    bl = ((x - bh*bh) - sq_err(bh) + xl)/(2*bh)
-    if (mch < tiny_mc) then
-      bh = bh*down; bl = bl*down
-    end if
-    ah = 1; al = 0
+    call agm_start(mch, mcl, ah, al, bh, bl)
     do i = 1, 80
-      if (abs(ah - bh) <= 2.0_wp**(-26)*ah) exit     ! t <= 2**-27
-      ! a' = (a + b)/2 (halving exact), b' = sqrt(a b): b'h = fl(sqrt(fl(a b))) and
-      ! b'l = (a b - b'h^2) / (2 b'h) to first order, every residual exact
-      s = ah + bh
-      se = (ah - (s - (s - ah))) + (bh - (s - ah))
-      p = ah*bh
-      x = (prod_err(ah, bh, p) + ah*bl) + al*bh
-      ah = 0.5_wp*s
-      al = 0.5_wp*((se + al) + bl)
-      bh = sqrt(p)
-      bl = (((p - bh*bh) - sq_err(bh)) + x)/(2*bh)
+      if (.not. agm_live(ah, bh)) exit
+      call agm_step(ah, al, bh, bl, nah, nal, nbh, nbl)
+      ah = nah; al = nal; bh = nbh; bl = nbl
     end do
-    ! A = (a + b)/2 and the series in t (a - b is exact: a and b agree to 26 bits)
-    s = ah + bh
-    se = (ah - (s - (s - ah))) + (bh - (s - ah))
-    t = ((ah - bh) + (al - bl))/s
-    t = t*t
-    corr = t*(0.25_wp + t*(5.0_wp/64))
-    ah = 0.5_wp*s
-    al = 0.5_wp*((se + al) + bl) - ah*corr
-    ! M = ah + al normalised, then K = (pi/2)/M with one correction of the quotient
-    s = ah + al
-    al = al - (s - ah)
-    ah = s
-    khi = half_pi/ah
-    p = khi*ah
-    klo = (((half_pi - p) - prod_err(khi, ah, p)) + (half_pi_lo - khi*al))/ah
-    s = khi + klo
-    klo = klo - (s - khi)
-    khi = s
+    call agm_finish(ah, al, bh, bl, half_pi, half_pi_lo, khi, klo)
   end subroutine k_double_double
 
-  !> Exact error a*b - p of p = fl(a*b) (Dekker; |a|, |b| <= 2**996, no underflow).  The
-  !> AGM of k_double_double needs it twice per step: here, where the compiler inlines it,
-  !> rather than a call to pendula_double_double per product.
-  pure elemental real(wp) function prod_err(a, b, p) result(e)
-    real(wp), intent(in) :: a, b, p
-    real(wp), parameter :: split = 134217729.0_wp   ! 2**27 + 1 (Veltkamp)
-    real(wp) :: ah, al, bh, bl
-    ah = split*a; ah = ah - (ah - a); al = a - ah
-    bh = split*b; bh = bh - (bh - b); bl = b - bh
-    e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
-  end function prod_err
-
-  !> Exact error s*s - fl(s*s) of a square (prod_err with a = b = s).
-  pure elemental real(wp) function sq_err(s) result(e)
-    real(wp), intent(in) :: s
-    e = prod_err(s, s, s*s)
-  end function sq_err
+  ! The AGM's steps (agm_start, agm_live, agm_step, agm_finish, prod_err, sq_err):
+  ! k_double_double runs them here for one point; k_double_double_block calls the variant
+  ! the runtime dispatch chose (k_dd_block_lanes, pendula_elliptic_k_lanes.F90), which
+  ! steps a block's points with this same text.
+  include 'pendula_agm_dd.inc'
 
   !> K(m) for 0 <= m < 1 given m and mc = 1 - m (m accurate when m < 1/2, mc when m > 1/2).
   !> Through the passes of the array forms with one element: their loops are the one home
