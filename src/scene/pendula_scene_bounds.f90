@@ -52,14 +52,18 @@ contains
   pure real(wp) function exact_estimate(motion, tend) result(e)
     type(undamped_motion_t), intent(in) :: motion  !< the undamped motion (undamped_init)
     real(wp), intent(in) :: tend  !< end of the window [s], >= 0
-    real(wp) :: omax
+    real(wp) :: omax, span
     if (motion%theta_r == 0 .and. motion%omega0 == 0) then
       e = 0                                    ! at rest at the bottom: exactly 2 pi N
       return
     end if
     omax = 2*sqrt(motion%m)*motion%w0          ! max |Omega| (libration and rotation)
     if (motion%m < M_TINY) omax = 2*motion%k*motion%w0   ! m lost to the subnormal range: k from its parts
-    e = 4*eps*(abs(motion%theta0) + 2*pi + omax/motion%w0) &
+    ! the angles the evaluation handles besides theta0: a libration's centre 2 pi N and
+    ! swing (so a tiny swing about 0 gets a tiny estimate), or a whole turn
+    span = 2*pi
+    if (motion%regime == REGIME_LIBRATION) span = abs(motion%center) + motion%amplitude
+    e = 4*eps*(abs(motion%theta0) + span + omax/motion%w0) &
         + 4*omax*tend*frequency_error(motion)
     e = min(e, 2*(omax/motion%w0 + 2*pi))
   end function exact_estimate

@@ -300,3 +300,31 @@ def test_integrated_event_times_within_their_estimate(model):
     np.testing.assert_array_equal(r.events.kind, c.events.kind)
     # the estimate includes the Hermite interpolation between samples (tol/10)
     assert np.max(np.abs(r.events.t - c.events.t)) <= r.event_time_error <= 3e-6
+
+
+def test_exact_estimate_scales_with_the_swing():
+    """The exact model's error estimate covers its error against mpmath's elliptic functions
+    for swings from 1e-12 rad to near pi, and scales with the swing: a swing of 1e-100 rad
+    meets a tolerance of 1e-113 rad by the exact model (the estimate once had a floor of
+    ~6e-15 rad, so solve said no model met it)."""
+    import mpmath as mp
+
+    rng = np.random.default_rng(12)
+    t = np.linspace(0.0, 20.0, 21)
+    for amp in 10 ** rng.uniform(-12, np.log10(3.1), 12):
+        th0 = amp * rng.uniform(-1, 1)
+        om0 = rng.choice([-1, 1]) * 2 * W0 * np.sqrt(max(np.sin(amp / 2) ** 2 - np.sin(th0 / 2) ** 2, 0.0))
+        r = pendula.run_model(pendula.Scene(theta0=th0, omega0=om0, t=t, tol=1e-6), "exact")
+        with mp.workdps(40):
+            m = mp.sin(mp.mpf(th0) / 2) ** 2 + (mp.mpf(om0) / (2 * mp.mpf(W0))) ** 2
+            k = mp.sqrt(m)
+            phi0 = mp.asin(mp.sin(mp.mpf(th0) / 2) / k)
+            u0 = mp.ellipf(phi0 if om0 >= 0 else mp.pi - phi0, m)
+            ref = [float(2 * mp.asin(k * mp.ellipfun("sn", mp.mpf(W0) * mp.mpf(x) + u0, m=m))) for x in t]
+        err = float(np.max(np.abs(r.theta - ref)))
+        assert err <= r.error_estimate <= 1e3 * max(err, 4e-16 * amp), (th0, om0, err, r.error_estimate)
+    s = 1e-100
+    r = pendula.solve(pendula.Scene(theta0=s, omega0=0.0, t=t, tol=1e-13 * s))
+    assert r.model == "exact" and r.tol_met and r.error_estimate <= 1e-13 * s
+    # the motion is harmonic to 1e-200 relative there
+    assert np.max(np.abs(r.theta - s * np.cos(W0 * t))) <= r.error_estimate
