@@ -333,11 +333,17 @@ def fit_motion(
             cache[key] = (np.concatenate(res), jac)
         return cache[key]
 
+    # The least squares see the rates (omega0, w0, gamma, omega_offset) in units of the
+    # starting w0: SciPy moves a start within 1e-10 of a bound of 0 to 1e-10 (its
+    # strictly feasible start), which in 1/s would put a slow pendulum's w0 and gamma
+    # (a record in other units than seconds) far off, and stall the fit there.
+    unit = np.array([x0[i_w0] if k in ("omega0", "w0", "gamma", "omega_offset") else 1.0 for k in names])
+
     def run(x, m, **tols):
-        return optimize.least_squares(
-            lambda x: evaluate(x, m)[0],
-            x,
-            jac=lambda x: evaluate(x, m)[1],
+        sol = optimize.least_squares(
+            lambda y: evaluate(y * unit, m)[0],
+            x / unit,
+            jac=lambda y: evaluate(y * unit, m)[1] * unit,
             bounds=(lower, np.full(npar, np.inf)),
             method="trf",
             x_scale="jac",
@@ -346,6 +352,8 @@ def fit_motion(
             max_nfev=max_nfev,
             **tols,
         )
+        sol.x = sol.x * unit
+        return sol
 
     # Continuation over the record: a w0 off by a fraction of a percent puts
     # a long record's later swings out of phase, a local minimum the solver

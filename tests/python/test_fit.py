@@ -212,6 +212,22 @@ def test_motion_fit_coverage_monte_carlo():
         assert 0.6 < np.mean(zz**2) < 1.5, n
 
 
+@pytest.mark.parametrize("unit", [1e-12, 1e-6, 1e6, 1e12])
+def test_motion_fit_does_not_depend_on_the_unit_of_time(unit):
+    """The same record with its clock in other units (t * unit): the fitted rates scale by
+    1/unit, to 1e-9.  A w0 below 1e-10 (t * 1e12) used to be moved to 1e-10 by the least
+    squares' strictly feasible start and the fit ran for minutes there."""
+    rng = np.random.default_rng(4)
+    t = np.linspace(0.0, 20.0, 300)
+    theta = pendula.rk4(t, 0.4, 0.0, 2.0, 0.05, h=1e-3).theta + rng.normal(0.0, 1e-3, t.size)
+    ref = pendula.fit_motion(t, theta, damping="linear")
+    r = pendula.fit_motion(t * unit, theta, damping="linear")
+    for k in ("omega0", "w0", "gamma"):
+        assert r[k] * unit == pytest.approx(ref[k], rel=1e-9, abs=1e-12), k
+        assert r.stderr[k] * unit == pytest.approx(ref.stderr[k], rel=1e-6), k
+    assert r["theta0"] == pytest.approx(ref["theta0"], rel=1e-9)
+
+
 def test_robust_loss_resists_outliers():
     rng = np.random.default_rng(4)
     t = np.linspace(0.0, 6.0, 200)
