@@ -322,10 +322,11 @@ contains
       if (present(amplitude)) then
         ! motion_amplitude's numbers, 2 atan(k/sqrt(1 - m)) for a libration, as one
         ! vector loop (atan_ratio is plain arithmetic); other regimes take a neutral
-        ! 0/1 there and their value after
+        ! 0/1 there and their value after (min first: a free rotor's m is +inf, and
+        ! inf*0 would raise invalid)
         do k = 1, nk
           lib(k) = merge(1.0_wp, 0.0_wp, regb(k) == REGIME_LIBRATION)
-          amp(k) = 2*atan_ratio(sqrt(mb(k)*lib(k)), sqrt(merge(mcb(k), 1.0_wp, lib(k) > 0)), hp, hp_lo, atanp)
+          amp(k) = 2*atan_ratio(sqrt(min(mb(k), 1.0_wp)*lib(k)), sqrt(merge(mcb(k), 1.0_wp, lib(k) > 0)), hp, hp_lo, atanp)
         end do
         do k = 1, nk
           amplitude(i0 + k - 1) = merge(amp(k), merge(pi, inf, regb(k) == REGIME_SEPARATRIX), lib(k) > 0)
