@@ -229,9 +229,9 @@ contains
     motion%m = sh*sh + q*q
     motion%k = sqrt(motion%m)
     ! sh**2 + q**2 has lost bits to the subnormal range, or underflowed to 0 (|theta0|
-    ! and |Omega0/w0| below ~1e-146): k from sh and q scaled by 2**600 (exact), so that
-    ! the amplitude 2 asin(k) and the energy stay accurate
-    if (motion%m < M_TINY) motion%k = 2.0_wp**(-600)*sqrt((sh*2.0_wp**600)**2 + (q*2.0_wp**600)**2)
+    ! and |Omega0/w0| below ~1e-146): k by hypot, which does not square, so that the
+    ! amplitude 2 asin(k) and the energy stay accurate
+    if (motion%m < M_TINY) motion%k = hypot(sh, q)
     ! 1 - m = cos^2 - q^2 = (c - |q|)(c + |q|), c - |q| in double-double
     a = ch + abs(q)
     if (chlo == 0 .and. qlo == 0) then
